@@ -1,0 +1,60 @@
+"""collisionkit: exact binary-collision physics.
+
+The collision core is available at the top level::
+
+    import collisionkit as ck
+    v1_after, v2_after = ck.resolve_contact(m1, v1, m2, v2, normal)
+
+Modules: :mod:`collisionkit.collisions` (contact resolution and detection),
+:mod:`collisionkit.kinematics` (geometry and frames),
+:mod:`collisionkit.scattering` (hard-sphere and Rutherford laws),
+:mod:`collisionkit.compat.irfpy` (irfpy's collision API).
+"""
+
+from . import compat, kinematics, scattering
+from .collisions import RESTITUTION_MODELS, Contact, collide, resolve_contact, time_to_contact
+from .kinematics import (
+    centre_of_mass_velocity,
+    energy_transfer_fraction,
+    from_centre_of_mass_frame,
+    impact_angle_2d,
+    impact_angles_3d,
+    impact_parameter,
+    kinetic_energy,
+    lab_scattering_angle,
+    normal_from_impact_angles,
+    recoil_angle,
+    reduced_mass,
+    resolve_impact_angles,
+    sample_impact,
+    scattering_angle_cm,
+    to_centre_of_mass_frame,
+)
+
+__version__ = "0.1.0"
+
+__all__ = [
+    "Contact",
+    "RESTITUTION_MODELS",
+    "centre_of_mass_velocity",
+    "collide",
+    "compat",
+    "energy_transfer_fraction",
+    "from_centre_of_mass_frame",
+    "impact_angle_2d",
+    "impact_angles_3d",
+    "impact_parameter",
+    "kinematics",
+    "kinetic_energy",
+    "lab_scattering_angle",
+    "normal_from_impact_angles",
+    "recoil_angle",
+    "reduced_mass",
+    "resolve_contact",
+    "resolve_impact_angles",
+    "sample_impact",
+    "scattering",
+    "scattering_angle_cm",
+    "time_to_contact",
+    "to_centre_of_mass_frame",
+]

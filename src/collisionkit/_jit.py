@@ -1,0 +1,31 @@
+"""The one place where numba compilation flags are set.
+
+Every numeric kernel in collisionkit is decorated with :func:`kernel`, so the
+flags (lazy compilation, on-disk cache, strict IEEE arithmetic) are the same
+everywhere and can be changed here alone.
+
+``fastmath`` stays off: the collision formulas rely on IEEE semantics for
+``inf`` masses and for the cancellation-free forms of the contact-time root.
+Set the environment variable ``NUMBA_CACHE_DIR`` to choose where compiled
+kernels are cached (``.ci/run`` does).
+"""
+
+from __future__ import annotations
+
+import numba
+
+JIT_OPTIONS = {
+    "cache": True,
+    "nogil": True,
+    "fastmath": False,
+    "error_model": "numpy",
+}
+
+
+def kernel(function):
+    """Compile ``function`` lazily with the project's numba options.
+
+    Compilation happens at the first call for each set of argument types,
+    and the machine code is cached on disk for the next process.
+    """
+    return numba.njit(**JIT_OPTIONS)(function)

@@ -1,0 +1,1 @@
+"""Drop-in interfaces that match other packages' collision APIs."""
