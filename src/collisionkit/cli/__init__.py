@@ -1,0 +1,79 @@
+"""The ``collisionkit`` command line (typer + rich)."""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+from typing import Annotated
+
+import typer
+from pydantic import Field
+
+from ._common import Options, console, load_options, print_table, progress_bar, write_summary
+
+app = typer.Typer(
+    name="collisionkit",
+    help="Exact binary-collision physics: two-body collisions and more.",
+    no_args_is_help=True,
+    add_completion=False,
+    pretty_exceptions_enable=False,
+)
+
+ConfigOption = Annotated[Path | None, typer.Option("--config", help="TOML file with these options (command line wins).")]
+
+
+@app.callback()
+def _root() -> None:
+    """collisionkit: exact binary-collision physics."""
+
+
+SummaryOption = Annotated[Path | None, typer.Option("--summary", help="Write the results as JSON to this file.")]
+
+
+class DemoOptions(Options):
+    out: Path = Path("demo-output")
+    pairs: int = Field(default=200_000, ge=1_000, le=50_000_000)
+    seed: int = Field(default=2026, ge=0)
+    plots: bool = True
+    summary: Path | None = None
+
+
+@app.command()
+def demo(
+    out: Annotated[Path | None, typer.Option(help="Folder for the summary and plots.  [default: demo-output]")] = None,
+    pairs: Annotated[int | None, typer.Option(help="Pairs per batch check (1000 to 5e7).  [default: 200000]")] = None,
+    seed: Annotated[int | None, typer.Option(help="Random seed (>= 0).  [default: 2026]")] = None,
+    plots: Annotated[bool | None, typer.Option("--plots/--no-plots", help="Write plots.  [default: plots]")] = None,
+    summary: SummaryOption = None,
+    config: ConfigOption = None,
+):
+    """Run every capability at small size: a summary table, plots and summary.json."""
+    options = load_options(DemoOptions, config, dict(out=out, pairs=pairs, seed=seed, plots=plots, summary=summary))
+    from . import _demo
+
+    plotting = None
+    if options.plots:
+        import matplotlib
+
+        matplotlib.use("Agg")
+        from .. import plotting
+    options.out.mkdir(parents=True, exist_ok=True)
+    results = []
+    section_list = _demo.sections()
+    with progress_bar("demo", total=len(section_list)) as advance:
+        for _, run in section_list:
+            results.append(run(options.pairs, options.seed, options.out, plotting))
+            advance()
+    rows = [(result.name, *row) for result in results for row in result.rows]
+    print_table("collisionkit demo", ("capability", "check", "value", "expected"), rows)
+    combined = {"sections": {result.name: result.summary for result in results}}
+    combined["files"] = [str(path) for result in results for path in result.files]
+    write_summary(options.out / "summary.json", combined)
+    write_summary(options.summary, combined)
+    for path in combined["files"]:
+        console.print(f"wrote {path}")
+
+
+def main(argv: list[str] | None = None) -> None:
+    """Entry point of the ``collisionkit`` script."""
+    app(args=argv if argv is not None else sys.argv[1:], prog_name="collisionkit")

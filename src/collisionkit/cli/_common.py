@@ -1,0 +1,118 @@
+"""Conventions shared by every ``collisionkit`` subcommand.
+
+* options on the command line or in a TOML file (``--config``), with the
+  same names (``packing-fraction`` or ``packing_fraction``); the command line
+  wins; unknown keys and bad values are reported clearly and exit with 2;
+* ``--summary FILE.json`` writes the run's results atomically;
+* a rich progress bar on stderr for anything longer than a second.
+"""
+
+from __future__ import annotations
+
+import tomllib
+from collections.abc import Iterable, Mapping
+from contextlib import contextmanager
+from pathlib import Path
+from typing import Any
+
+import typer
+from pydantic import BaseModel, ConfigDict, ValidationError
+from rich.console import Console
+from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn, TimeRemainingColumn
+from rich.table import Table
+
+from .._io import atomic_write_json
+
+console = Console()
+error_console = Console(stderr=True)
+
+BAD_INPUT_EXIT_CODE = 2
+
+
+def _dashed(name: str) -> str:
+    return name.replace("_", "-")
+
+
+class Options(BaseModel):
+    """Base of every subcommand's options: strict, dashed keys allowed."""
+
+    model_config = ConfigDict(extra="forbid", alias_generator=_dashed, populate_by_name=True, frozen=True)
+
+
+def fail(message: str) -> typer.Exit:
+    """Print ``message`` as an input error and return the exit to raise (code 2)."""
+    error_console.print(f"[bold red]error:[/] {message}")
+    return typer.Exit(BAD_INPUT_EXIT_CODE)
+
+
+def read_toml(path: Path) -> dict[str, Any]:
+    """Read a TOML options file; a missing or malformed file is an input error."""
+    try:
+        with open(path, "rb") as stream:
+            return tomllib.load(stream)
+    except FileNotFoundError:
+        raise fail(f"config file not found: {path}") from None
+    except tomllib.TOMLDecodeError as error:
+        raise fail(f"config file {path} is not valid TOML: {error}") from None
+
+
+def _describe(error: Mapping[str, Any]) -> str:
+    where = ".".join(str(part) for part in error["loc"]) or "options"
+    if error["type"] == "extra_forbidden":
+        return f"unknown option {where!r}"
+    return f"{where}: {error['msg']} (got {error.get('input')!r})"
+
+
+def load_options(model: type[Options], config: Path | None, given: Mapping[str, Any]):
+    """Merge a TOML file with command-line values and validate them.
+
+    Parameters
+    ----------
+    model : subclass of Options
+        The command's option schema.
+    config : Path or None
+        TOML file with option keys at the top level.
+    given : mapping
+        Command-line values; ``None`` means "not given on the command line".
+    """
+    values: dict[str, Any] = {}
+    if config is not None:
+        values.update({key.replace("-", "_"): value for key, value in read_toml(config).items()})
+    values.update({key: value for key, value in given.items() if value is not None})
+    try:
+        return model.model_validate(values)
+    except ValidationError as error:
+        details = "; ".join(_describe(item) for item in error.errors())
+        raise fail(f"invalid options: {details}") from None
+
+
+def write_summary(path: Path | None, summary: Mapping[str, Any]) -> None:
+    """Write the run's summary as JSON (atomically) if a path was given."""
+    if path is not None:
+        atomic_write_json(path, dict(summary))
+        console.print(f"summary written to [bold]{path}[/]")
+
+
+@contextmanager
+def progress_bar(description: str, total: float):
+    """A rich progress bar on stderr; yields a function ``advance(amount)``."""
+    columns = (
+        TextColumn("[progress.description]{task.description}"),
+        BarColumn(),
+        MofNCompleteColumn(),
+        TimeElapsedColumn(),
+        TimeRemainingColumn(),
+    )
+    with Progress(*columns, console=error_console, transient=False) as progress:
+        task = progress.add_task(description, total=total)
+        yield lambda amount=1: progress.advance(task, amount)
+
+
+def print_table(title: str, columns: Iterable[str], rows: Iterable[Iterable[Any]]) -> None:
+    """Print a rich table with the given column headers and rows."""
+    table = Table(title=title)
+    for column in columns:
+        table.add_column(column)
+    for row in rows:
+        table.add_row(*(str(cell) for cell in row))
+    console.print(table)

@@ -1,0 +1,29 @@
+"""The ``demo`` subcommand: every capability at small size.
+
+Each capability contributes a section: a function ``run(pairs, seed, out,
+plotting)`` returning a :class:`SectionResult`. The demo prints one table
+row per check and writes the plots and ``summary.json`` to the folder.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+
+@dataclass
+class SectionResult:
+    """What one capability's demo shows: table rows, summary values and files."""
+
+    name: str
+    rows: list[tuple[str, str, str]]
+    summary: dict[str, Any]
+    files: list[Path] = field(default_factory=list)
+
+
+def sections():
+    """The demo sections in display order (imported lazily: each may be slow to import)."""
+    from . import _demo_core
+
+    return [("collision core", _demo_core.run)]
