@@ -28,8 +28,8 @@ def plot_stationary_scan(mass_ratio=1.0, collision_length=1.0, points=201, ax=No
     --------
     >>> from collisionkit import plotting
     >>> ax = plotting.plot_stationary_scan(mass_ratio=2.0)
-    >>> len(ax.lines)
-    4
+    >>> [text.get_text() for text in ax.get_legend().get_texts()]
+    ['$V_1$', '$W_1$', '$V_2$', '$W_2$']
     """
     d = np.linspace(0.0, collision_length, points)
     V1, W1, V2, W2 = binary_collision_stationary(1.0, 1.0, mass_ratio, d, collision_length)
@@ -52,7 +52,7 @@ def plot_deflection_laws(sigma=1.0, coulomb_length=0.25, points=400, ax=None):
     Examples
     --------
     >>> from collisionkit import plotting
-    >>> len(plotting.plot_deflection_laws().lines)
+    >>> len(plotting.plot_deflection_laws().get_legend().get_texts())
     3
     """
     b = np.linspace(0.0, 2.0 * sigma, points)

@@ -1,0 +1,173 @@
+"""Tests of collisionkit.kinematics: geometry, frames, angles, random impacts."""
+
+import math
+
+import numpy as np
+import pytest
+from hypothesis import assume, given
+from hypothesis import strategies as st
+from scipy import stats
+
+import collisionkit as ck
+from collisionkit import kinematics
+from tests.strategies import masses, vectors
+
+
+def angle_between(a, b):
+    return math.acos(np.clip(np.dot(a, b) / (np.linalg.norm(a) * np.linalg.norm(b)), -1, 1))
+
+
+@given(m1=masses, m2=masses, v1=vectors(3), v2=vectors(3))
+def test_centre_of_mass_frame_round_trip_and_zero_momentum(m1, m2, v1, v2):
+    v_cm, w1, w2 = ck.to_centre_of_mass_frame(m1, v1, m2, v2)
+    scale = m1 * np.abs(v1).sum() + m2 * np.abs(v2).sum() + 1e-300
+    np.testing.assert_allclose(m1 * w1 + m2 * w2, 0.0, atol=1e-13 * scale)
+    back1, back2 = ck.from_centre_of_mass_frame(v_cm, w1, w2)
+    np.testing.assert_allclose(back1, v1, atol=1e-13 * (np.abs(v1).sum() + np.abs(v2).sum()))
+    np.testing.assert_allclose(back2, v2, atol=1e-13 * (np.abs(v1).sum() + np.abs(v2).sum()))
+
+
+def test_infinite_mass_carries_the_centre_of_mass():
+    np.testing.assert_array_equal(ck.centre_of_mass_velocity(np.inf, [1.0, 2.0], 3.0, [5.0, 5.0]), [1.0, 2.0])
+    np.testing.assert_array_equal(ck.centre_of_mass_velocity(3.0, [5.0, 5.0], np.inf, [1.0, 2.0]), [1.0, 2.0])
+    assert float(ck.reduced_mass(2.0, np.inf)) == 2.0
+    with pytest.raises(ValueError, match="both be infinite"):
+        ck.centre_of_mass_velocity(np.inf, [1.0], np.inf, [0.0])
+
+
+def test_kinetic_energy_and_its_bad_input():
+    np.testing.assert_allclose(ck.kinetic_energy([1.0, 2.0], [[1.0, 0.0], [0.0, 3.0]]), [0.5, 9.0])
+    with pytest.raises(ValueError, match="m"):
+        ck.kinetic_energy(-1.0, [1.0])
+
+
+@given(x2=vectors(3, 20.0), v1=vectors(3, 5.0), v2=vectors(3, 5.0), sigma=st.floats(0.1, 3.0))
+def test_impact_parameter_decides_whether_pairs_touch(x2, v1, v2, sigma):
+    x1 = np.zeros(3)
+    u = v1 - v2
+    assume(np.linalg.norm(x2) > sigma * 1.001 and np.linalg.norm(u) > 1e-3)
+    b = float(ck.impact_parameter(x1, v1, x2, v2))
+    assume(abs(b - sigma) > 1e-7 * sigma)
+    approaching = np.dot(x2, u) > 0
+    hit = math.isfinite(ck.time_to_contact(x1, v1, x2, v2, sigma))
+    assert hit == (approaching and b < sigma)
+    # independent: distance of closest approach by minimising over time
+    t_star = np.dot(x2, u) / np.dot(u, u)
+    assert b == pytest.approx(np.linalg.norm(x2 - u * t_star), rel=1e-9, abs=1e-12)
+
+
+def test_impact_parameter_of_pair_at_relative_rest_is_its_distance():
+    assert float(ck.impact_parameter([0.0, 0.0], [1.0, 1.0], [3.0, 4.0], [1.0, 1.0])) == 5.0
+
+
+@given(x2=vectors(2, 20.0), v1=vectors(2, 5.0), v2=vectors(2, 5.0), sigma=st.floats(0.1, 3.0))
+def test_smid_impact_angle_gives_the_line_of_centres_at_contact(x2, v1, v2, sigma):
+    x1 = np.zeros(2)
+    u = v1 - v2
+    assume(np.linalg.norm(x2) > sigma * 1.001 and np.linalg.norm(u) > 1e-3)
+    contact = ck.collide(1.0, x1, v1, 1.0, x2, v2, sigma)
+    alpha = float(ck.impact_angle_2d(x1, v1, x2, v2, sigma))
+    assert math.isnan(alpha) == (not bool(contact.hit))
+    if contact.hit:
+        assume(abs(abs(alpha) - math.pi / 2) > 1e-6)
+        normal = ck.normal_from_impact_angles(u, alpha)
+        np.testing.assert_allclose(normal, contact.normal, atol=1e-8)
+        # Smid's eq. (14) with explicit angles
+        gamma_xy = math.atan2(x2[1], x2[0])
+        gamma_v = math.atan2(u[1], u[0])
+        d = math.hypot(*x2)
+        assert alpha == pytest.approx(math.asin(d * math.sin(gamma_xy - gamma_v) / sigma), abs=1e-9)
+
+
+@given(x2=vectors(3, 20.0), v1=vectors(3, 5.0), v2=vectors(3, 5.0), sigma=st.floats(0.1, 3.0))
+def test_3d_impact_angles_give_the_line_of_centres_at_contact(x2, v1, v2, sigma):
+    x1 = np.zeros(3)
+    u = v1 - v2
+    assume(np.linalg.norm(x2) > sigma * 1.001 and np.linalg.norm(u) > 1e-3)
+    contact = ck.collide(1.0, x1, v1, 1.0, x2, v2, sigma)
+    alpha, phi = ck.impact_angles_3d(x1, v1, x2, v2, sigma)
+    assert math.isnan(alpha) == (not bool(contact.hit))
+    if contact.hit:
+        assume(float(alpha) < math.pi / 2 - 1e-6)
+        normal = ck.normal_from_impact_angles(u, alpha, phi)
+        np.testing.assert_allclose(normal, contact.normal, atol=1e-8)
+        assert float(alpha) == pytest.approx(angle_between(u, contact.normal), abs=1e-7)
+
+
+def test_planar_3d_collision_has_the_2d_impact_angle_magnitude():
+    args = ([0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [5.0, -0.5, 0.0], [0.0, 0.0, 0.0], 1.0)
+    alpha_3d, _ = ck.impact_angles_3d(*args)
+    alpha_2d = ck.impact_angle_2d(*(np.asarray(a)[:2] if np.ndim(a) else a for a in args))
+    assert float(alpha_3d) == pytest.approx(abs(float(alpha_2d)), rel=1e-14)
+
+
+@given(m1=masses, m2=masses, alpha=st.floats(-1.5, 1.5), v=st.floats(0.1, 100))
+def test_elastic_cm_scattering_angle_is_pi_minus_two_alpha(m1, m2, alpha, v):
+    v1, v2 = np.array([v, 0.0]), np.zeros(2)
+    a1, a2 = ck.resolve_impact_angles(m1, v1, m2, v2, alpha)
+    chi = float(ck.scattering_angle_cm(v1, v2, a1, a2))
+    assert chi == pytest.approx(float(kinematics.scattering_angle_from_impact_angle(alpha)), abs=1e-9)
+    assert abs(alpha) == pytest.approx(float(kinematics.impact_angle_from_scattering_angle(chi)), abs=1e-9)
+
+
+@given(m1=masses, m2=masses, alpha=st.floats(0.0, 1.5), phi=st.floats(-3.1, 3.1))
+def test_lab_angles_and_energy_transfer_off_a_target_at_rest(m1, m2, alpha, phi):
+    v1, v2 = np.array([0.3, -1.2, 2.0]), np.zeros(3)
+    a1, a2 = ck.resolve_impact_angles(m1, v1, m2, v2, alpha, phi)
+    chi = ck.scattering_angle_cm(v1, v2, a1, a2)
+    if np.linalg.norm(a1) > 1e-6 * np.linalg.norm(v1):
+        assert float(ck.lab_scattering_angle(chi, m1, m2)) == pytest.approx(angle_between(v1, a1), abs=1e-7)
+    if np.linalg.norm(a2) > 1e-6 * np.linalg.norm(v1):
+        assert float(ck.recoil_angle(chi)) == pytest.approx(angle_between(v1, a2), abs=1e-7)
+    transferred = ck.kinetic_energy(m2, a2) / ck.kinetic_energy(m1, v1)
+    assert float(ck.energy_transfer_fraction(chi, m1, m2)) == pytest.approx(float(transferred), abs=1e-12)
+
+
+def test_energy_transfer_limits():
+    assert float(ck.energy_transfer_fraction(np.pi, 1.0, np.inf)) == 0.0
+    assert float(ck.energy_transfer_fraction(np.pi, 1.0, 1.0)) == 1.0
+    with pytest.raises(ValueError, match="m1"):
+        ck.energy_transfer_fraction(1.0, np.inf, 1.0)
+    with pytest.raises(ValueError, match="chi"):
+        ck.lab_scattering_angle(4.0, 1.0, 1.0)
+
+
+def test_sampled_3d_impacts_are_uniform_over_the_collision_disc():
+    # b^2 / sigma^2 is uniform on [0, 1] for a uniform disc
+    normal, b = ck.sample_impact([0.0, 0.0, 2.0], 1.5, size=20_000, rng=7)
+    np.testing.assert_allclose(np.linalg.norm(normal, axis=1), 1.0)
+    assert stats.kstest((b / 1.5) ** 2, "uniform").pvalue > 1e-3
+    # the azimuth is uniform too: each quadrant of the disc gets a quarter (4 sigma binomial)
+    quadrant = (normal[:, 0] > 0) * 2 + (normal[:, 1] > 0)
+    counts = np.bincount(quadrant, minlength=4)
+    assert np.all(np.abs(counts - 5000) < 4 * math.sqrt(20_000 * 0.25 * 0.75))
+    # hard-sphere scattering is isotropic in the CM frame: cos(chi) uniform on [-1, 1]
+    v1 = np.array([0.0, 0.0, 2.0])
+    a1, a2 = ck.resolve_contact(1.0, v1, 3.0, np.zeros(3), normal)
+    chi = ck.scattering_angle_cm(v1, np.zeros(3), a1, a2)
+    assert stats.kstest(np.cos(chi), stats.uniform(-1, 2).cdf).pvalue > 1e-3
+
+
+def test_sampled_2d_impacts_have_uniform_impact_parameter():
+    normal, b = ck.sample_impact([1.0, 1.0], 2.0, size=20_000, rng=11)
+    assert stats.kstest(b / 2.0, "uniform").pvalue > 1e-3
+    signed = np.sign(normal[:, 1] - normal[:, 0])  # which side of the relative velocity
+    assert abs(signed.mean()) < 4 / math.sqrt(20_000)
+
+
+def test_sample_impact_bad_input():
+    with pytest.raises(ValueError, match="contact_distance"):
+        ck.sample_impact([1.0, 0.0], 0.0)
+    with pytest.raises(ValueError, match="relative_velocity"):
+        ck.sample_impact([0.0, 0.0], 1.0, size=3)
+
+
+def test_geometry_bad_input_names_arguments():
+    with pytest.raises(ValueError, match="x1"):
+        ck.impact_parameter([np.nan, 0.0], [1.0, 0.0], [0.0, 0.0], [0.0, 0.0])
+    with pytest.raises(ValueError, match="2D"):
+        ck.impact_angle_2d([0.0] * 3, [1.0, 0, 0], [3.0, 0, 0], [0.0] * 3, 1.0)
+    with pytest.raises(ValueError, match="3D"):
+        ck.impact_angles_3d([0.0] * 2, [1.0, 0], [3.0, 0], [0.0] * 2, 1.0)
+    with pytest.raises(ValueError, match="alpha"):
+        ck.normal_from_impact_angles([1.0, 0.0, 0.0], -0.1)
