@@ -1,0 +1,34 @@
+"""Tests of atomic file writing."""
+
+import json
+import os
+
+import numpy as np
+import pytest
+
+from collisionkit import _io
+
+
+def test_json_with_numpy_values_round_trips(tmp_path):
+    path = _io.atomic_write_json(tmp_path / "sub" / "s.json", {"a": np.float64(1.5), "b": np.arange(3), "c": np.int64(7)})
+    assert json.loads(path.read_text()) == {"a": 1.5, "b": [0, 1, 2], "c": 7}
+
+
+def test_failed_write_keeps_the_old_file_and_leaves_no_temporary(tmp_path, monkeypatch):
+    path = tmp_path / "results.json"
+    path.write_text("old")
+
+    def crash(*args, **kwargs):
+        raise OSError("disk died mid-rename")
+
+    monkeypatch.setattr(os, "replace", crash)
+    with pytest.raises(OSError, match="disk died"):
+        _io.atomic_write_text(path, "new")
+    assert path.read_text() == "old"
+    assert [p.name for p in tmp_path.iterdir()] == ["results.json"]
+
+
+def test_unserialisable_value_is_a_type_error(tmp_path):
+    with pytest.raises(TypeError, match="object"):
+        _io.atomic_write_json(tmp_path / "x.json", {"a": object()})
+    assert not (tmp_path / "x.json").exists()
