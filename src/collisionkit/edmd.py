@@ -1,0 +1,954 @@
+"""Event-driven molecular dynamics of hard spheres (3D) and hard discs (2D).
+
+Particles fly ballistically (parabolas under uniform gravity) between exact
+pair collisions, processed one event at a time in time order; collision
+times come from the contact quadratic and the collision rule acts along the
+line of centres (the pair-collision notes). Boxes may be periodic or closed by
+hard walls on each axis; radii and masses may differ (mixtures); collisions
+may be inelastic with a coefficient of normal restitution per species pair,
+optionally velocity dependent.
+
+The numeric work runs in :mod:`collisionkit._kernels.edmd` (cell lists, an
+array-backed tournament tree of events, lazily updated particles).
+
+Units: any consistent set; the CLI uses diameter 1 (largest species), mass 1
+and initial kT = 1.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from . import _arrays
+from ._io import atomic_write_bytes
+from ._kernels import edmd as _k
+
+__all__ = [
+    "HardSphereSystem",
+    "Measurement",
+    "OverlapError",
+    "carnahan_starling",
+    "hansen_goos",
+    "henderson",
+    "lattice",
+    "maxwell_boltzmann",
+    "random_fluid",
+    "enskog_collision_frequency",
+    "packing_fraction",
+]
+
+RESTITUTION_LAWS = {"constant": _k.LAW_CONSTANT, "bridges": _k.LAW_BRIDGES}
+
+
+class OverlapError(RuntimeError):
+    """Two particles (or a particle and a wall) overlap beyond round-off."""
+
+
+# ------------------------------------------------------------------ equations of state
+
+
+def carnahan_starling(eta):
+    r"""Carnahan-Starling compressibility factor of hard spheres.
+
+    :math:`Z = (1 + \eta + \eta^2 - \eta^3)/(1 - \eta)^3`
+    (J. Chem. Phys. 51, 635 (1969)).
+
+    Examples
+    --------
+    >>> from collisionkit.edmd import carnahan_starling
+    >>> round(float(carnahan_starling(0.4)), 6)
+    6.925926
+    """
+    eta = np.asarray(eta, dtype=float)
+    return (1 + eta + eta**2 - eta**3) / (1 - eta) ** 3
+
+
+_HANSEN_GOOS_B = (9.0, -19.0, 47.0 / 3.0, -2.635232, -1.265575, 0.041212, 0.248245, -0.096495)
+
+
+def hansen_goos(eta):
+    r"""Hansen-Goos compressibility factor of the hard-sphere fluid.
+
+    :math:`Z = 8\ln(1-\eta)/\eta + \sum_{i=0}^7 b_i\eta^i/(1-\eta)^3`
+    (J. Chem. Phys. 144, 164506 (2016)); more accurate than Carnahan-Starling
+    near freezing.
+
+    Examples
+    --------
+    >>> from collisionkit.edmd import hansen_goos
+    >>> round(float(hansen_goos(0.4)), 4)
+    6.9147
+    """
+    eta = np.asarray(eta, dtype=float)
+    series = sum(b * eta**i for i, b in enumerate(_HANSEN_GOOS_B))
+    return 8.0 * np.log1p(-eta) / eta + series / (1 - eta) ** 3
+
+
+def henderson(eta):
+    r"""Henderson's hard-disc equation of state :math:`Z = (1 + \eta^2/8)/(1 - \eta)^2`.
+
+    Mol. Phys. 30, 971 (1975).
+
+    Examples
+    --------
+    >>> from collisionkit.edmd import henderson
+    >>> round(float(henderson(0.3)), 6)
+    2.063776
+    """
+    eta = np.asarray(eta, dtype=float)
+    return (1 + eta**2 / 8) / (1 - eta) ** 2
+
+
+def enskog_collision_frequency(compressibility, dim, diameter=1.0, kT=1.0, mass=1.0):
+    r"""Collision frequency per particle from the pressure: :math:`\omega = (2d/\sigma)(Z-1)\sqrt{kT/(\pi m)}`.
+
+    Each pair collision counts for both particles.
+
+    Examples
+    --------
+    >>> from collisionkit.edmd import enskog_collision_frequency
+    >>> round(float(enskog_collision_frequency(2.0, 3)), 6)
+    3.385138
+    """
+    return (2.0 * dim / diameter) * (np.asarray(compressibility) - 1.0) * np.sqrt(kT / (np.pi * mass))
+
+
+def _ball_volume(radius, dim):
+    return np.pi * radius**2 if dim == 2 else 4.0 / 3.0 * np.pi * radius**3
+
+
+def packing_fraction(radii, box):
+    """Fraction of the box volume covered by the particles.
+
+    Examples
+    --------
+    >>> from collisionkit.edmd import packing_fraction
+    >>> round(packing_fraction([0.5], [1.0, 1.0]), 6)
+    0.785398
+    """
+    box = np.asarray(box, dtype=float)
+    return float(np.sum(_ball_volume(np.asarray(radii, dtype=float), box.size)) / np.prod(box))
+
+
+# ------------------------------------------------------------------ initial states
+
+
+def maxwell_boltzmann(masses, dim, kT=1.0, rng=None):
+    """Maxwell-Boltzmann velocities with zero total momentum and exactly ``kT``.
+
+    kT is defined by the kinetic energy, ``2 K / (d N)``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from collisionkit.edmd import maxwell_boltzmann
+    >>> v = maxwell_boltzmann(np.ones(100), 3, kT=2.0, rng=1)
+    >>> bool(np.allclose(v.sum(axis=0), 0)), round(float((v**2).sum() / (3 * 100)), 12)
+    (True, 2.0)
+    """
+    masses = np.asarray(masses, dtype=float)
+    generator = np.random.default_rng(rng)
+    velocities = generator.normal(size=(masses.size, dim)) * np.sqrt(kT / masses)[:, None]
+    velocities -= (masses[:, None] * velocities).sum(axis=0) / masses.sum()
+    kinetic = 0.5 * np.sum(masses[:, None] * velocities**2)
+    return velocities * math.sqrt(kT * dim * masses.size / (2.0 * kinetic))
+
+
+_LATTICE_BASES = {
+    "square": (2, np.array([[0.5, 0.5]]), np.array([1.0, 1.0])),
+    "hexagonal": (2, np.array([[0.25, 0.25], [0.75, 0.75]]), np.array([1.0, math.sqrt(3.0)])),
+    "sc": (3, np.array([[0.5, 0.5, 0.5]]), np.array([1.0, 1.0, 1.0])),
+    "fcc": (
+        3,
+        np.array([[0.25, 0.25, 0.25], [0.75, 0.75, 0.25], [0.75, 0.25, 0.75], [0.25, 0.75, 0.75]]),
+        np.array([1.0, 1.0, 1.0]),
+    ),
+}
+
+
+def lattice(kind, cells, packing_fraction, diameter=1.0):
+    """Particles on a lattice filling a periodic box at the given packing fraction.
+
+    Parameters
+    ----------
+    kind : {"square", "hexagonal", "sc", "fcc"}
+        2D square or hexagonal (triangular) lattice; 3D simple cubic or FCC.
+    cells : int
+        Unit cells per axis (N = cells^d times the basis size).
+    packing_fraction : float
+        Target eta; must leave the spheres apart on that lattice.
+    diameter : float
+
+    Returns
+    -------
+    positions : ndarray, shape (N, d)
+    box : ndarray, shape (d,)
+
+    Examples
+    --------
+    >>> from collisionkit.edmd import lattice
+    >>> positions, box = lattice("fcc", 3, 0.4)
+    >>> positions.shape
+    (108, 3)
+    """
+    if kind not in _LATTICE_BASES:
+        raise ValueError(f"kind must be one of {sorted(_LATTICE_BASES)}; got {kind!r}")
+    if not (isinstance(cells, (int, np.integer)) and cells >= 1):
+        raise ValueError(f"cells must be an integer >= 1; got {cells!r}")
+    dim, basis, aspect = _LATTICE_BASES[kind]
+    grid = np.stack(np.meshgrid(*[np.arange(cells)] * dim, indexing="ij"), axis=-1).reshape(-1, dim)
+    unit = (grid[:, None, :] + basis[None, :, :]).reshape(-1, dim) * aspect
+    count = unit.shape[0]
+    cell_volume = float(np.prod(aspect)) * cells**dim
+    particle_volume = _ball_volume(diameter / 2.0, dim)
+    if not 0.0 < packing_fraction:
+        raise ValueError(f"packing_fraction must be > 0; got {packing_fraction}")
+    scale = (count * particle_volume / (packing_fraction * cell_volume)) ** (1.0 / dim)
+    positions = unit * scale
+    nearest = _nearest_distance(kind) * scale
+    if nearest < diameter * (1 + 1e-12):
+        raise ValueError(
+            f"packing_fraction {packing_fraction} is above the close packing of the {kind} lattice"
+        )
+    return positions, aspect * cells * scale
+
+
+def _nearest_distance(kind):
+    return {"square": 1.0, "hexagonal": 1.0, "sc": 1.0, "fcc": math.sqrt(0.5)}[kind]
+
+
+# ------------------------------------------------------------------ the system
+
+
+def _per_particle(value, count, name, dtype=float):
+    array = np.asarray(value, dtype=dtype)
+    if array.ndim == 0:
+        return np.full(count, array, dtype=dtype)
+    if array.shape != (count,):
+        raise ValueError(f"{name} must be a scalar or have shape ({count},); got {array.shape}")
+    return array.copy()
+
+
+def _next_power_of_two(n):
+    return 1 << max(n - 1, 1).bit_length()
+
+
+@dataclass
+class _Events:
+    time: np.ndarray
+    kind: np.ndarray
+    partner: np.ndarray
+    count: np.ndarray
+    tree_index: np.ndarray
+    tree_time: np.ndarray
+    leaves: int
+
+
+class HardSphereSystem:
+    """N hard spheres (3D) or discs (2D) in a box, advanced event by event.
+
+    Parameters
+    ----------
+    positions : array_like, shape (N, d)
+        Centres, d = 2 or 3, inside the box [0, L) (for a walled axis the
+        whole particle must be inside). No two particles may overlap.
+    velocities : array_like, shape (N, d)
+    radii : float or array_like, shape (N,)
+        > 0.
+    box : float or array_like, shape (d,)
+        Box lengths L; each periodic axis must hold at least 3 cells of the
+        largest contact distance (L >= 3 * max diameter).
+    masses : float or array_like, shape (N,), optional
+        > 0, default 1.
+    periodic : bool or sequence of bool, optional
+        Per axis: periodic (True, default) or hard walls at 0 and L.
+    species : array_like of int, shape (N,), optional
+        Species index per particle (0 .. S-1) for the restitution matrix.
+    restitution : float or array_like, shape (S, S), optional
+        Coefficient of normal restitution per species pair, in [0, 1].
+    restitution_law : {"constant", "bridges"}
+        "bridges": e = min(e_pair, (u_n / law_speed)^(-law_exponent)), the
+        law measured for ice at planetary-ring temperatures (Bridges, Hatzes
+        & Lin, Nature 309, 333 (1984), exponent 0.234).
+    law_speed, law_exponent : float
+        Parameters of the Bridges law.
+    elastic_below : float, optional
+        Contacts with normal approach speed below this are elastic: protects
+        inelastic runs against inelastic collapse (infinitely many
+        collisions in finite time), in the spirit of the TC model of Luding &
+        McNamara (Granular Matter 1, 113 (1998)). Default: 0 for elastic
+        systems, 1e-6 times the initial rms speed otherwise.
+    wall_restitution : float
+        Restitution of particle-wall contacts, in [0, 1].
+    gravity : array_like, shape (d,), optional
+        Uniform acceleration; flights become exact parabolas.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from collisionkit.edmd import HardSphereSystem, lattice, maxwell_boltzmann
+    >>> positions, box = lattice("fcc", 3, 0.3)
+    >>> system = HardSphereSystem(positions, maxwell_boltzmann(np.ones(108), 3, rng=1), 0.5, box)
+    >>> system.run(collisions=2000)
+    2000
+    >>> system.check() > -1e-9
+    True
+    """
+
+    def __init__(
+        self,
+        positions,
+        velocities,
+        radii,
+        box,
+        masses=1.0,
+        periodic=True,
+        species=None,
+        restitution=1.0,
+        restitution_law="constant",
+        law_speed=1.0,
+        law_exponent=0.234,
+        elastic_below=None,
+        wall_restitution=1.0,
+        gravity=None,
+        *,
+        _growth=0.0,
+        _scale=1.0,
+    ):
+        positions = _arrays.as_float_array(positions, "positions")
+        if positions.ndim != 2 or positions.shape[1] not in (2, 3):
+            raise ValueError(f"positions must have shape (N, 2) or (N, 3); got {positions.shape}")
+        count, dim = positions.shape
+        if count < 2:
+            raise ValueError(f"positions must hold at least 2 particles; got {count}")
+        velocities = _arrays.as_float_array(velocities, "velocities")
+        if velocities.shape != positions.shape:
+            raise ValueError(f"velocities must have the shape of positions {positions.shape}; got {velocities.shape}")
+        for array, name in ((positions, "positions"), (velocities, "velocities")):
+            _arrays.require_finite(array, name)
+        self.dim = dim
+        self.radius = _per_particle(radii, count, "radii")
+        self.mass = _per_particle(masses, count, "masses")
+        _arrays.require_finite(self.radius, "radii")
+        _arrays.require_in_range(self.radius, "radii", 0.0, np.inf, inclusive=(False, False))
+        _arrays.require_finite(self.mass, "masses")
+        _arrays.require_in_range(self.mass, "masses", 0.0, np.inf, inclusive=(False, False))
+        box = _per_particle(box, dim, "box") if np.ndim(box) else np.full(dim, float(box))
+        _arrays.require_finite(box, "box")
+        _arrays.require_in_range(box, "box", 0.0, np.inf, inclusive=(False, False))
+        periodic = np.broadcast_to(np.asarray(periodic, dtype=bool), (dim,)).copy()
+        self.species = _per_particle(0 if species is None else species, count, "species", dtype=np.int64)
+        self._set_restitution(restitution, restitution_law, law_speed, law_exponent, wall_restitution)
+        gravity = np.zeros(dim) if gravity is None else _arrays.as_float_array(gravity, "gravity")
+        if gravity.shape != (dim,):
+            raise ValueError(f"gravity must have shape ({dim},); got {gravity.shape}")
+        _arrays.require_finite(gravity, "gravity")
+
+        self.box = np.ones(3)
+        self.box[:dim] = box
+        self.periodic = np.zeros(3, dtype=np.bool_)
+        self.periodic[:dim] = periodic
+        self.gravity = np.zeros(3)[:dim].copy()
+        self.gravity[:] = gravity
+        self.growth = float(_growth)
+        self.scale0 = float(_scale)
+        self.time = 0.0
+        self.elapsed = 0.0
+        self.pos = positions.copy()
+        self.vel = velocities.copy()
+        self._wrap_into_box()
+        self.tloc = np.zeros(count)
+        self.image = np.zeros((count, dim), dtype=np.int64)
+        self.counter = np.zeros(count, dtype=np.int64)
+        self.acc = np.zeros(_k.ACC_SIZE)
+        if elastic_below is None:
+            inelastic = np.any(self.restitution < 1.0) or restitution_law != "constant"
+            rms = math.sqrt(np.mean(np.sum(velocities**2, axis=1))) if inelastic else 0.0
+            elastic_below = 1e-6 * rms
+        if not (elastic_below >= 0 and math.isfinite(elastic_below)):
+            raise ValueError(f"elastic_below must be finite and >= 0; got {elastic_below}")
+        self.elastic_below = float(elastic_below)
+        self._setup_cells()
+        self._check_walls()
+        gap = self._pair_gap()
+        if gap < -1e-9 * float(np.max(self.radius)):
+            raise OverlapError(f"positions overlap: smallest surface gap {gap:.3g}")
+        self._events = self._new_events()
+        self._predict_all()
+
+    # -------------------------------------------------------------- set-up helpers
+
+    def _set_restitution(self, restitution, law, law_speed, law_exponent, wall_restitution):
+        species_count = int(self.species.max()) + 1
+        if np.any(self.species < 0):
+            raise ValueError("species must be >= 0")
+        matrix = np.asarray(restitution, dtype=float)
+        if matrix.ndim == 0:
+            matrix = np.full((species_count, species_count), float(matrix))
+        if matrix.shape[0] < species_count or matrix.shape != (matrix.shape[0], matrix.shape[0]):
+            raise ValueError(
+                f"restitution must be a scalar or a square matrix covering {species_count} species; got {matrix.shape}"
+            )
+        if not np.allclose(matrix, matrix.T):
+            raise ValueError("restitution matrix must be symmetric")
+        _arrays.require_in_range(matrix, "restitution", 0.0, 1.0)
+        if law not in RESTITUTION_LAWS:
+            raise ValueError(f"restitution_law must be one of {sorted(RESTITUTION_LAWS)}; got {law!r}")
+        for value, name in ((law_speed, "law_speed"), (law_exponent, "law_exponent")):
+            if not (value > 0 and math.isfinite(value)):
+                raise ValueError(f"{name} must be finite and > 0; got {value}")
+        if not 0.0 <= wall_restitution <= 1.0:
+            raise ValueError(f"wall_restitution must lie in [0, 1]; got {wall_restitution}")
+        self.restitution = np.ascontiguousarray(matrix)
+        self.restitution_law = law
+        self.law_speed = float(law_speed)
+        self.law_exponent = float(law_exponent)
+        self.wall_restitution = float(wall_restitution)
+
+    def _wrap_into_box(self):
+        for k in range(self.dim):
+            if self.periodic[k]:
+                self.pos[:, k] %= self.box[k]
+            elif np.any((self.pos[:, k] < 0) | (self.pos[:, k] > self.box[k])):
+                raise ValueError(f"positions must lie inside the walls on axis {k}: [0, {self.box[k]}]")
+
+    def _setup_cells(self):
+        # cells fit the largest contact distance the run will reach (radii only grow)
+        contact = 2.0 * float(np.max(self.radius)) * max(self.scale0, 1.0)
+        self.ncell = np.ones(3, dtype=np.int64)
+        self.cell_size = np.ones(3)
+        for k in range(self.dim):
+            cells = int(math.floor(self.box[k] / contact * (1 - 1e-12)))
+            if self.periodic[k] and cells < 3:
+                raise ValueError(
+                    f"box[{k}] = {self.box[k]:.6g} is too small: a periodic axis needs at least 3 times "
+                    f"the largest diameter ({contact:.6g})"
+                )
+            cells = max(cells, 1)
+            self.ncell[k] = cells
+            self.cell_size[k] = self.box[k] / cells
+        count = self.pos.shape[0]
+        self.cell_of = np.zeros(count, dtype=np.int64)
+        self.head = np.full(int(np.prod(self.ncell)), -1, dtype=np.int64)
+        self.next_in_cell = np.full(count, -1, dtype=np.int64)
+        self.prev_in_cell = np.full(count, -1, dtype=np.int64)
+        _k.build_cells(self.pos, self.ncell, self.cell_size, self.cell_of, self.head, self.next_in_cell, self.prev_in_cell)
+
+    def _check_walls(self):
+        if not np.all(self.periodic[: self.dim]):
+            gap = _k.wall_gap(self.pos, self.radius, self.scale, self.box, self.periodic)
+            if gap < -1e-9 * float(np.max(self.radius)):
+                raise ValueError(f"positions must keep every particle inside the walls (overlap {-gap:.3g})")
+
+    def _new_events(self):
+        count = self.pos.shape[0]
+        leaves = _next_power_of_two(count)
+        return _Events(
+            time=np.full(count, np.inf),
+            kind=np.zeros(count, dtype=np.int64),
+            partner=np.full(count, -1, dtype=np.int64),
+            count=np.zeros(count, dtype=np.int64),
+            tree_index=np.zeros(2 * leaves, dtype=np.int64),
+            tree_time=np.full(2 * leaves, np.inf),
+            leaves=leaves,
+        )
+
+    def _cell_args(self):
+        return (self.cell_of, self.head, self.next_in_cell)
+
+    def _predict_all(self):
+        e = self._events
+        _k.predict_all(
+            self.time, self.pos, self.vel, self.tloc, self.radius, self.cell_of, self.head,
+            self.next_in_cell, self.ncell, self.cell_size, self.box, self.periodic, self.gravity,
+            self.scale0, self.growth, self.counter, e.time, e.kind, e.partner, e.count,
+            e.tree_index, e.tree_time, e.leaves,
+        )
+
+    # -------------------------------------------------------------- state
+
+    @property
+    def count(self) -> int:
+        """Number of particles N."""
+        return self.pos.shape[0]
+
+    @property
+    def scale(self) -> float:
+        """Current radius scale factor (1 except during compression)."""
+        return self.scale0 + self.growth * self.time
+
+    @property
+    def volume(self) -> float:
+        return float(np.prod(self.box[: self.dim]))
+
+    @property
+    def collisions(self) -> int:
+        """Pair collisions processed so far."""
+        return int(self.acc[_k.ACC_PAIR_COLLISIONS])
+
+    def synchronise(self):
+        """Move every particle to the current time and restart the clock at 0.
+
+        Keeping event times small keeps their round-off small; the total
+        simulated time is kept in ``elapsed``.
+        """
+        _k.synchronise(self.time, self.pos, self.vel, self.tloc, self.gravity)
+        shift = self.time
+        if shift != 0.0:
+            e = self._events
+            self.tloc -= shift
+            e.time -= shift
+            e.tree_time -= shift
+            self.scale0 += self.growth * shift
+            self.elapsed += shift
+            self.time = 0.0
+
+    def positions(self, unwrapped=False):
+        """Positions at the current time (a copy); ``unwrapped`` adds the periodic images."""
+        self.synchronise()
+        if unwrapped:
+            return self.pos + self.image * self.box[: self.dim]
+        return self.pos.copy()
+
+    def velocities(self):
+        """Velocities at the current time (a copy)."""
+        self.synchronise()
+        return self.vel.copy()
+
+    def kinetic_energy(self) -> float:
+        self.synchronise()
+        return float(0.5 * np.sum(self.mass[:, None] * self.vel**2))
+
+    def temperature(self) -> float:
+        """kT = 2 K / (d N)."""
+        return 2.0 * self.kinetic_energy() / (self.dim * self.count)
+
+    def momentum(self):
+        self.synchronise()
+        return (self.mass[:, None] * self.vel).sum(axis=0)
+
+    def rescale_temperature(self, kT=1.0):
+        """Scale all velocities to the temperature kT (kinetic definition); re-predicts events."""
+        factor = math.sqrt(kT / self.temperature())
+        self.vel *= factor
+        self._predict_all()
+
+    def check(self, tolerance=1e-9):
+        """Verify the invariant: no overlaps between particles or with walls.
+
+        Returns the smallest surface gap (negative only within round-off);
+        raises :class:`OverlapError` if any gap is below ``-tolerance`` times
+        the largest radius.
+        """
+        self.synchronise()
+        gap = self._pair_gap()
+        if not np.all(self.periodic[: self.dim]):
+            gap = min(gap, _k.wall_gap(self.pos, self.radius, self.scale, self.box, self.periodic))
+        if gap < -tolerance * float(np.max(self.radius)):
+            raise OverlapError(f"overlap of {-gap:.3g} found at time {self.elapsed + self.time:.6g}")
+        return gap
+
+    def _pair_gap(self):
+        return _k.min_gap(
+            self.pos, self.radius, self.scale, self.cell_of, self.head, self.next_in_cell, self.ncell,
+            self.box, self.periodic,
+        )
+
+    # -------------------------------------------------------------- running
+
+    def run(self, collisions=None, time=None, progress=None, chunk=None):
+        """Advance by a number of pair collisions and/or a stretch of time.
+
+        Parameters
+        ----------
+        collisions : int, optional
+            Pair collisions to process.
+        time : float, optional
+            Simulated time to advance (the run stops at whichever comes first).
+        progress : callable, optional
+            Called with the number of collisions done after each chunk.
+        chunk : int, optional
+            Collisions per kernel call (default: max(N, 10^5)).
+
+        Returns
+        -------
+        int
+            Pair collisions processed.
+        """
+        if collisions is None and time is None:
+            raise ValueError("give collisions or time (or both)")
+        if collisions is not None and not (isinstance(collisions, (int, np.integer)) and collisions >= 0):
+            raise ValueError(f"collisions must be an integer >= 0; got {collisions!r}")
+        if time is not None and not (time >= 0 and math.isfinite(time)):
+            raise ValueError(f"time must be finite and >= 0; got {time!r}")
+        target = np.iinfo(np.int64).max if collisions is None else int(collisions)
+        chunk = max(self.count, 100_000) if chunk is None else int(chunk)
+        remaining = math.inf if time is None else float(time)
+        done = 0
+        while done < target and remaining > 0:
+            step = min(chunk, target - done)
+            before, start = self.collisions, self.time
+            self.time = self._run_kernel(step, start + remaining)
+            advanced = self.collisions - before
+            done += advanced
+            remaining -= self.time - start
+            if progress is not None:
+                progress(advanced)
+            self.synchronise()
+            if advanced < step:  # stopped by the time limit, or nothing left to happen
+                break
+        return done
+
+    def _run_kernel(self, collisions, stop):
+        e = self._events
+        # the clock restarts at each synchronise; carry the stop time with it
+        return _k.run_events(
+            self.time, collisions, stop, self.pos, self.vel, self.tloc, self.mass, self.radius,
+            self.species, self.image, self.counter, self.cell_of, self.head, self.next_in_cell,
+            self.prev_in_cell, self.ncell, self.cell_size, self.box, self.periodic, self.gravity,
+            self.scale0, self.growth, self.restitution, RESTITUTION_LAWS[self.restitution_law],
+            self.law_speed, self.law_exponent, self.elastic_below, self.wall_restitution,
+            e.time, e.kind, e.partner, e.count, e.tree_index, e.tree_time, e.leaves, self.acc,
+        )
+
+    # -------------------------------------------------------------- checkpoints
+
+    _ARRAYS = ("pos", "vel", "tloc", "radius", "mass", "species", "image", "counter", "acc", "box", "periodic",
+               "gravity", "restitution", "cell_of", "head", "next_in_cell", "prev_in_cell", "ncell", "cell_size")
+    _SCALARS = ("dim", "growth", "scale0", "time", "elapsed", "elastic_below", "law_speed", "law_exponent",
+                "wall_restitution")
+
+    def state_dict(self):
+        """Every array and number needed to continue the run bit for bit."""
+        e = self._events
+        state = {name: getattr(self, name) for name in self._ARRAYS}
+        state |= {f"event_{name}": getattr(e, name) for name in ("time", "kind", "partner", "count", "tree_index", "tree_time")}
+        state |= {name: np.asarray(getattr(self, name)) for name in self._SCALARS}
+        state["event_leaves"] = np.asarray(e.leaves)
+        state["restitution_law"] = np.asarray(self.restitution_law)
+        return state
+
+    @classmethod
+    def from_state_dict(cls, state):
+        """Rebuild a system from :meth:`state_dict` output (no re-prediction)."""
+        system = cls.__new__(cls)
+        for name in cls._ARRAYS:
+            setattr(system, name, np.array(state[name]))
+        for name in cls._SCALARS:
+            setattr(system, name, state[name].item())
+        system.restitution_law = str(state["restitution_law"])
+        system._events = _Events(
+            time=np.array(state["event_time"]),
+            kind=np.array(state["event_kind"]),
+            partner=np.array(state["event_partner"]),
+            count=np.array(state["event_count"]),
+            tree_index=np.array(state["event_tree_index"]),
+            tree_time=np.array(state["event_tree_time"]),
+            leaves=int(state["event_leaves"]),
+        )
+        return system
+
+    def save(self, path):
+        """Write a checkpoint (.npz) atomically: a kill mid-write keeps the old one."""
+        import io
+
+        buffer = io.BytesIO()
+        np.savez(buffer, **self.state_dict())
+        return atomic_write_bytes(path, buffer.getvalue())
+
+    @classmethod
+    def load(cls, path):
+        """Read a checkpoint written by :meth:`save`."""
+        with np.load(Path(path), allow_pickle=False) as data:
+            return cls.from_state_dict({name: data[name] for name in data.files})
+
+    def __repr__(self):
+        kind = "spheres" if self.dim == 3 else "discs"
+        return (
+            f"HardSphereSystem({self.count} {kind}, eta={packing_fraction(self.radius * self.scale, self.box[: self.dim]):.4f}, "
+            f"collisions={self.collisions}, time={self.elapsed + self.time:.6g})"
+        )
+
+
+# ------------------------------------------------------------------ compression
+
+
+def random_fluid(
+    dim,
+    particles,
+    packing_fraction,
+    rng=None,
+    diameters=1.0,
+    masses=1.0,
+    kT=1.0,
+    growth_rate=0.05,
+    progress=None,
+    **system_options,
+):
+    """A random fluid grown by Lubachevsky-Stillinger compression.
+
+    Points at random positions in a periodic box grow as spheres at a
+    constant rate while the system runs event by event (J. Stat. Phys. 60,
+    561 (1990)); velocities are rescaled to kT every time unit to remove the
+    heat of compression, and growth stops exactly at the target packing
+    fraction. Velocities finish Maxwell-Boltzmann at kT with zero momentum.
+
+    Parameters
+    ----------
+    dim : {2, 3}
+    particles : int
+        N >= 2.
+    packing_fraction : float
+        Target eta: up to 0.5 in 3D and 0.7 in 2D are supported (denser runs
+        risk jamming before the target; the run fails clearly if so).
+    rng : numpy.random.Generator or int, optional
+    diameters, masses : float or array_like, shape (N,)
+        Final diameters and masses (mixtures allowed).
+    kT : float
+    growth_rate : float
+        Relative growth of the diameters per unit time.
+    progress : callable, optional
+        Called with the fraction of the compression done.
+    **system_options
+        Passed to :class:`HardSphereSystem` (restitution, ...); the box is
+        periodic.
+
+    Examples
+    --------
+    >>> from collisionkit.edmd import random_fluid
+    >>> system = random_fluid(3, 200, 0.3, rng=1)
+    >>> round(float(system.temperature()), 12), system.check() > -1e-9
+    (1.0, True)
+    """
+    if dim not in (2, 3):
+        raise ValueError(f"dim must be 2 or 3; got {dim!r}")
+    if not (isinstance(particles, (int, np.integer)) and particles >= 2):
+        raise ValueError(f"particles must be an integer >= 2; got {particles!r}")
+    limit = 0.5 if dim == 3 else 0.7
+    if not 0.0 < packing_fraction <= limit:
+        raise ValueError(f"packing_fraction must lie in (0, {limit}] for dim={dim}; got {packing_fraction}")
+    if not (growth_rate > 0 and math.isfinite(growth_rate)):
+        raise ValueError(f"growth_rate must be finite and > 0; got {growth_rate}")
+    generator = np.random.default_rng(rng)
+    diameters = _per_particle(diameters, particles, "diameters")
+    masses = _per_particle(masses, particles, "masses")
+    radii = diameters / 2.0
+    side = (np.sum(_ball_volume(radii, dim)) / packing_fraction) ** (1.0 / dim)
+    if side < 3.0 * float(diameters.max()):
+        raise ValueError(
+            f"{particles} particles at packing_fraction {packing_fraction} give a box of side {side:.3g}, "
+            f"less than 3 diameters: use more particles"
+        )
+    positions = generator.uniform(0.0, side, size=(particles, dim))
+    velocities = maxwell_boltzmann(masses, dim, kT, generator)
+    # a small starting scale keeps the random points apart
+    start = 0.5 * _smallest_distance_bound(positions, side, diameters)
+    system = HardSphereSystem(
+        positions, velocities, radii, side, masses, periodic=True, _growth=growth_rate, _scale=start, **system_options
+    )
+    total_time = (1.0 - start) / growth_rate
+    done = 0.0
+    while done < total_time:
+        step = min(1.0, total_time - done)
+        system.run(time=step)
+        done += step
+        system.rescale_temperature(kT)
+        if progress is not None:
+            progress(done / total_time)
+    system.growth = 0.0
+    system.scale0 = 1.0
+    system.check(tolerance=1e-7)
+    system.vel[:] = maxwell_boltzmann(masses, dim, kT, generator)
+    system._predict_all()
+    return system
+
+
+def _smallest_distance_bound(positions, side, diameters):
+    """A scale s0 such that s0 * diameters keeps the random points from overlapping."""
+    from scipy.spatial import cKDTree
+
+    tree = cKDTree(positions, boxsize=side)
+    distances, _ = tree.query(positions, k=2)
+    return min(1.0, float(distances[:, 1].min() / diameters.max()))
+
+
+# ------------------------------------------------------------------ measurement
+
+
+def _block_error(values):
+    values = np.asarray(values, dtype=float)
+    if values.size < 2:
+        return math.nan
+    return float(values.std(ddof=1) / math.sqrt(values.size))
+
+
+@dataclass
+class Measurement:
+    """Observables of an EDMD run, block averaged; each ``*_error`` is one standard error.
+
+    Attributes follow the issue's JSON keys: ``compressibility_factor``,
+    ``pressure``, ``temperature`` (final kT), ``collision_frequency`` (per
+    particle, each pair collision counting for both), ``mean_free_time``,
+    ``mean_free_path``, ``diffusion_coefficient`` (from the mean squared
+    displacement), ``energy_lost``; arrays ``speeds`` (a sample), ``rdf_r``,
+    ``rdf`` (g(r)), ``msd_time``, ``msd``, ``block_*`` per block.
+    """
+
+    dim: int
+    particles: int
+    packing_fraction: float
+    collisions: int
+    time: float
+    wall_seconds: float
+    temperature: float
+    compressibility_factor: float
+    compressibility_factor_error: float
+    pressure: float
+    pressure_error: float
+    collision_frequency: float
+    collision_frequency_error: float
+    mean_free_time: float
+    mean_free_path: float
+    mean_speed: float
+    diffusion_coefficient: float
+    energy_lost: float
+    contact_value: float
+    contact_value_error: float
+    speeds: np.ndarray = field(repr=False)
+    rdf_r: np.ndarray = field(repr=False)
+    rdf: np.ndarray = field(repr=False)
+    msd_time: np.ndarray = field(repr=False)
+    msd: np.ndarray = field(repr=False)
+    block_temperature: np.ndarray = field(repr=False)
+    block_compressibility: np.ndarray = field(repr=False)
+    block_frequency: np.ndarray = field(repr=False)
+
+    @property
+    def collisions_per_second(self) -> float:
+        return self.collisions / self.wall_seconds if self.wall_seconds > 0 else math.inf
+
+    def summary(self) -> dict:
+        """Scalars as a JSON-ready dict."""
+        keys = (
+            "dim particles packing_fraction collisions time temperature compressibility_factor "
+            "compressibility_factor_error pressure pressure_error collision_frequency collision_frequency_error "
+            "mean_free_time mean_free_path mean_speed diffusion_coefficient energy_lost contact_value contact_value_error"
+        ).split()
+        result = {key: getattr(self, key) for key in keys}
+        result["collisions_per_second"] = self.collisions_per_second
+        return result
+
+
+def _pair_histogram(system, r_max, bins):
+    """Counts of pairs (each counted twice) per distance bin up to r_max, via scipy's k-d tree."""
+    from scipy.spatial import cKDTree
+
+    dim = system.dim
+    periodic = bool(np.all(system.periodic[:dim]))
+    boxsize = system.box[:dim] if periodic else None
+    points = np.mod(system.pos, system.box[:dim]) if periodic else system.pos
+    tree = cKDTree(points, boxsize=boxsize)
+    edges = np.linspace(0.0, r_max, bins + 1)
+    cumulative = tree.count_neighbors(tree, edges).astype(float)
+    return np.diff(cumulative)
+
+
+def _contact_value(r, g, counts, diameter):
+    """g at contact and its standard error: a weighted quadratic fit to the bins
+    within 0.1 diameter of contact, extrapolated to contact (Poisson errors per bin)."""
+    near = (r > diameter) & (r < 1.1 * diameter) & (counts > 0)
+    if near.sum() < 4:
+        return math.nan, math.nan
+    sigma = g[near] / np.sqrt(counts[near])
+    x = r[near] - diameter
+    coefficients, covariance = np.polyfit(x, g[near], 2, w=1.0 / sigma, cov="unscaled")
+    return float(coefficients[-1]), float(math.sqrt(covariance[-1, -1]))
+
+
+def measure(system: HardSphereSystem, collisions: int, blocks: int = 10, rdf_bins: int = 500, progress=None):
+    """Run ``collisions`` pair collisions in ``blocks`` blocks and measure.
+
+    Pressure from the collisional virial,
+    :math:`PV = NkT + \\frac{1}{d\\,t}\\sum_{coll} J\\sigma` (J the impulse,
+    sigma the contact distance); kT = 2K/(dN) averaged over each block's ends;
+    errors from the spread of the block values.
+    """
+    import time as _time
+
+    if not (isinstance(collisions, (int, np.integer)) and collisions >= blocks >= 2):
+        raise ValueError(f"collisions must be an integer >= blocks >= 2; got {collisions!r}, {blocks!r}")
+    dim, count = system.dim, system.count
+    volume = system.volume
+    per_block = collisions // blocks
+    start_positions = system.positions(unwrapped=True)
+    start_time = system.elapsed
+    start_lost = system.acc[_k.ACC_ENERGY_LOST]
+    r_max = float(min(system.box[:dim].min() / 2.0, 5.0 * 2.0 * np.max(system.radius)))
+    histogram = np.zeros(rdf_bins)
+    block_t, block_z, block_omega, block_p = [], [], [], []
+    speeds, msd_time, msd = [], [0.0], [0.0]
+    wall = 0.0
+    for _ in range(blocks):
+        kT_before = system.temperature()
+        virial0, coll0, t0 = system.acc[_k.ACC_VIRIAL], system.collisions, system.elapsed
+        tick = _time.perf_counter()
+        system.run(collisions=per_block, progress=progress)
+        wall += _time.perf_counter() - tick
+        kT_after = system.temperature()
+        kT = 0.5 * (kT_before + kT_after)
+        duration = system.elapsed - t0
+        virial = system.acc[_k.ACC_VIRIAL] - virial0
+        block_t.append(kT_after)
+        block_z.append(1.0 + virial / (dim * count * kT * duration))
+        block_p.append((count * kT + virial / (dim * duration)) / volume)
+        block_omega.append(2.0 * (system.collisions - coll0) / (count * duration))
+        speeds.append(np.linalg.norm(system.vel, axis=1))
+        histogram += _pair_histogram(system, r_max, rdf_bins)
+        displacement = system.positions(unwrapped=True) - start_positions
+        msd_time.append(system.elapsed - start_time)
+        msd.append(float(np.mean(np.sum(displacement**2, axis=1))))
+    edges = np.linspace(0.0, r_max, rdf_bins + 1)
+    shells = _ball_volume(edges[1:], dim) - _ball_volume(edges[:-1], dim)
+    density = count / volume
+    rdf = histogram / (blocks * count * density * shells)
+    speeds = np.concatenate(speeds)
+    omega = float(np.mean(block_omega))
+    mean_speed = float(np.mean(speeds))
+    msd_time, msd = np.asarray(msd_time), np.asarray(msd)
+    later = msd_time > 0.3 * msd_time[-1]
+    slope = float(np.polyfit(msd_time[later], msd[later], 1)[0]) if later.sum() >= 2 else math.nan
+    contact, contact_error = _contact_value(0.5 * (edges[1:] + edges[:-1]), rdf, histogram, 2.0 * float(np.max(system.radius)))
+    return Measurement(
+        dim=dim,
+        particles=count,
+        packing_fraction=packing_fraction(system.radius * system.scale, system.box[:dim]),
+        collisions=per_block * blocks,
+        time=float(msd_time[-1]),
+        wall_seconds=wall,
+        temperature=float(block_t[-1]),
+        compressibility_factor=float(np.mean(block_z)),
+        compressibility_factor_error=_block_error(block_z),
+        pressure=float(np.mean(block_p)),
+        pressure_error=_block_error(block_p),
+        collision_frequency=omega,
+        collision_frequency_error=_block_error(block_omega),
+        mean_free_time=1.0 / omega,
+        mean_free_path=mean_speed / omega,
+        mean_speed=mean_speed,
+        diffusion_coefficient=slope / (2.0 * dim),
+        energy_lost=float(system.acc[_k.ACC_ENERGY_LOST] - start_lost),
+        contact_value=contact,
+        contact_value_error=contact_error,
+        speeds=speeds,
+        rdf_r=0.5 * (edges[1:] + edges[:-1]),
+        rdf=rdf,
+        msd_time=msd_time,
+        msd=msd,
+        block_temperature=np.asarray(block_t),
+        block_compressibility=np.asarray(block_z),
+        block_frequency=np.asarray(block_omega),
+    )

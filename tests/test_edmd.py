@@ -1,0 +1,300 @@
+"""Tests of collisionkit.edmd: invariants, conservation and the hard-sphere equation of state."""
+
+import math
+
+import numpy as np
+import pytest
+from scipy import optimize, stats
+
+from collisionkit import edmd
+from collisionkit._kernels import edmd as kernels
+
+
+def fcc_system(cells=4, eta=0.4, seed=1, **options):
+    positions, box = edmd.lattice("fcc", cells, eta)
+    velocities = edmd.maxwell_boltzmann(np.ones(len(positions)), 3, rng=seed)
+    return edmd.HardSphereSystem(positions, velocities, 0.5, box, **options)
+
+
+def hexagonal_system(cells=12, eta=0.3, seed=1, **options):
+    positions, box = edmd.lattice("hexagonal", cells, eta)
+    velocities = edmd.maxwell_boltzmann(np.ones(len(positions)), 2, rng=seed)
+    return edmd.HardSphereSystem(positions, velocities, 0.5, box, **options)
+
+
+# ------------------------------------------------------------------ kernels
+
+
+@pytest.mark.parametrize("growth", [0.0, 0.05, 0.5])
+def test_pair_contact_time_matches_root_finding(growth):
+    rng = np.random.default_rng(5)
+    contact, scale = 1.0, 0.7
+    times = np.linspace(0, 20, 40001)
+    hits = misses = 0
+    for _ in range(200):
+        r = rng.normal(size=3) * 2
+        if np.linalg.norm(r) <= contact * scale:
+            continue
+        u = -r * rng.uniform(0, 1) + rng.normal(size=3) * 0.5  # mostly approaching
+        tau = kernels.pair_contact_time(*r, *u, contact, scale, growth, np.inf)
+
+        def gap(t):
+            return np.linalg.norm(r + np.multiply.outer(t, u), axis=-1) - contact * (scale + growth * t)
+
+        crossing = np.flatnonzero(gap(times) <= 0)
+        if crossing.size == 0:
+            assert tau == math.inf or tau > times[-2]
+            misses += 1
+            continue
+        first = crossing[0]
+        expected = optimize.brentq(lambda t: float(gap(np.array(t))), times[first - 1], times[first], xtol=1e-14)
+        assert tau == pytest.approx(expected, rel=1e-9, abs=1e-12)
+        hits += 1
+    assert hits > 30 and misses > 5
+
+
+def test_boundary_root_cases():
+    # a point 1 below a boundary moving up at 2: reaches it at 0.5
+    assert kernels.first_root_from_below(0.0, 2.0, -1.0) == 0.5
+    # thrown up against gravity it turns back before the boundary
+    assert kernels.first_root_from_below(-1.0, 1.0, -1.0) == math.inf
+    # accelerating towards it from rest: 0.5 t^2 = 2
+    assert kernels.first_root_from_below(0.5, 0.0, -2.0) == pytest.approx(2.0, rel=1e-15)
+    # round-off past the boundary but moving out: now
+    assert kernels.first_root_from_below(0.0, 1.0, 1e-17) == 0.0
+
+
+# ------------------------------------------------------------------ set-up
+
+
+def test_lattices_have_the_requested_packing_fraction():
+    for kind, dim in (("square", 2), ("hexagonal", 2), ("sc", 3), ("fcc", 3)):
+        positions, box = edmd.lattice(kind, 4, 0.3)
+        radii = np.full(len(positions), 0.5)
+        assert edmd.packing_fraction(radii, box) == pytest.approx(0.3, rel=1e-12)
+        assert positions.shape[1] == dim
+    with pytest.raises(ValueError, match="close packing"):
+        edmd.lattice("sc", 4, 0.6)
+    with pytest.raises(ValueError, match="kind"):
+        edmd.lattice("bcc", 4, 0.3)
+
+
+def test_maxwell_boltzmann_has_zero_momentum_and_exact_temperature():
+    masses = np.linspace(0.5, 2.0, 300)
+    v = edmd.maxwell_boltzmann(masses, 3, kT=1.7, rng=3)
+    np.testing.assert_allclose((masses[:, None] * v).sum(axis=0), 0.0, atol=1e-12)
+    assert 0.5 * np.sum(masses[:, None] * v**2) / (1.5 * 300) == pytest.approx(1.7, rel=1e-14)
+
+
+@pytest.mark.parametrize(("dim", "eta"), [(3, 0.5), (2, 0.7)])
+def test_compression_reaches_the_target_without_overlaps(dim, eta):
+    system = edmd.random_fluid(dim, 400, eta, rng=2)
+    assert edmd.packing_fraction(system.radius, system.box[:dim]) == pytest.approx(eta, rel=1e-12)
+    assert system.check() > -1e-9
+    assert system.temperature() == pytest.approx(1.0, rel=1e-12)
+    np.testing.assert_allclose(system.momentum(), 0.0, atol=1e-10)
+    system.run(collisions=20 * 400)
+    assert system.check() > -1e-9
+
+
+def test_bad_input_is_rejected_with_names():
+    positions, box = edmd.lattice("sc", 4, 0.3)
+    v = np.zeros_like(positions)
+    with pytest.raises(edmd.OverlapError):
+        edmd.HardSphereSystem(positions, v, 0.7, box)
+    with pytest.raises(ValueError, match="box"):
+        edmd.HardSphereSystem(positions[:8] * 0.3, v[:8], 0.5, 2.0)
+    with pytest.raises(ValueError, match="radii"):
+        edmd.HardSphereSystem(positions, v, -0.5, box)
+    with pytest.raises(ValueError, match="masses"):
+        edmd.HardSphereSystem(positions, v, 0.5, box, masses=0.0)
+    with pytest.raises(ValueError, match="restitution"):
+        edmd.HardSphereSystem(positions, v, 0.5, box, restitution=1.2)
+    with pytest.raises(ValueError, match="velocities"):
+        edmd.HardSphereSystem(positions, v[:, :2], 0.5, box)
+    with pytest.raises(ValueError, match="inside the walls"):
+        edmd.HardSphereSystem(positions + box[0], v, 0.5, box, periodic=False)
+    with pytest.raises(ValueError, match="packing_fraction"):
+        edmd.random_fluid(3, 100, 0.55)
+    system = edmd.HardSphereSystem(positions, v, 0.5, box)
+    with pytest.raises(ValueError, match="collisions"):
+        system.run(collisions=-1)
+    with pytest.raises(ValueError, match="collisions or time"):
+        system.run()
+
+
+# ------------------------------------------------------------------ dynamics
+
+
+def test_two_spheres_collide_when_the_quadratic_says():
+    positions = np.array([[2.0, 5.0, 5.0], [6.0, 5.3, 5.0]])
+    velocities = np.array([[1.0, 0.0, 0.0], [-1.0, 0.0, 0.0]])
+    system = edmd.HardSphereSystem(positions, velocities, 0.5, 20.0)
+    system.run(collisions=1)
+    expected = (4.0 - math.sqrt(1.0 - 0.3**2)) / 2.0
+    assert system.elapsed == pytest.approx(expected, rel=1e-14)
+    v = system.velocities()
+    np.testing.assert_allclose(v.sum(axis=0), 0.0, atol=1e-15)
+    assert np.sum(v**2) == pytest.approx(2.0, rel=1e-14)
+
+
+def test_long_elastic_run_keeps_the_invariants():
+    system = fcc_system(cells=5, eta=0.45)
+    energy = system.kinetic_energy()
+    for _ in range(5):
+        system.run(collisions=40_000)
+        assert system.check() > -1e-9  # no overlaps: no event was missed
+    assert system.kinetic_energy() == pytest.approx(energy, rel=1e-12)
+    np.testing.assert_allclose(system.momentum(), 0.0, atol=1e-10)
+    assert system.collisions == 200_000
+
+
+def test_closed_box_with_gravity_conserves_energy_and_keeps_particles_in():
+    positions, box = edmd.lattice("sc", 6, 0.2)
+    n = len(positions)
+    velocities = edmd.maxwell_boltzmann(np.ones(n), 3, rng=4)
+    system = edmd.HardSphereSystem(positions, velocities, 0.5, box, periodic=False, gravity=[0.0, 0.3, -1.0])
+
+    def energy():
+        return system.kinetic_energy() - np.sum(system.positions() @ np.array([0.0, 0.3, -1.0]))
+
+    before = energy()
+    system.run(collisions=30_000)
+    assert energy() == pytest.approx(before, rel=1e-11)
+    assert system.check() > -1e-9
+    inside = system.positions()
+    assert np.all(inside >= 0.5 - 1e-9) and np.all(inside <= box - 0.5 + 1e-9)
+    assert system.acc[kernels.ACC_WALL_COLLISIONS] > 0
+
+
+def test_polydisperse_mixture_in_a_channel():
+    rng = np.random.default_rng(6)
+    positions, box = edmd.lattice("sc", 6, 0.25)
+    n = len(positions)
+    radii = np.where(rng.random(n) < 0.5, 0.5, 0.3)
+    masses = (radii / 0.5) ** 3
+    velocities = edmd.maxwell_boltzmann(masses, 3, rng=rng)
+    system = edmd.HardSphereSystem(positions, velocities, radii, box, masses, periodic=[True, False, True])
+    energy, momentum = system.kinetic_energy(), system.momentum()
+    system.run(collisions=30_000)
+    assert system.check() > -1e-9
+    assert system.kinetic_energy() == pytest.approx(energy, rel=1e-11)
+    # walls only on y: momentum along x and z is conserved
+    np.testing.assert_allclose(system.momentum()[[0, 2]], momentum[[0, 2]], atol=1e-10)
+
+
+def test_species_restitution_matrix_and_energy_bookkeeping():
+    positions, box = edmd.lattice("sc", 6, 0.3)
+    n = len(positions)
+    species = np.arange(n) % 2
+    matrix = np.array([[1.0, 0.7], [0.7, 1.0]])
+    system = edmd.HardSphereSystem(
+        positions, edmd.maxwell_boltzmann(np.ones(n), 3, rng=7), 0.5, box, species=species, restitution=matrix
+    )
+    before = system.kinetic_energy()
+    system.run(collisions=5_000)
+    lost = before - system.kinetic_energy()
+    assert lost > 0
+    assert system.acc[kernels.ACC_ENERGY_LOST] == pytest.approx(lost, rel=1e-10)
+    np.testing.assert_allclose(system.momentum(), 0.0, atol=1e-10)
+
+
+def test_bridges_law_and_the_elastic_floor():
+    def head_on(speed, **options):
+        positions = np.array([[4.0, 5.0, 5.0], [6.0, 5.0, 5.0]])
+        velocities = np.array([[speed / 2, 0, 0], [-speed / 2, 0, 0]])
+        system = edmd.HardSphereSystem(positions, velocities, 0.5, 20.0, **options)
+        system.run(collisions=1)
+        v = system.velocities()
+        return (v[1, 0] - v[0, 0]) / speed  # separation / approach speed
+
+    assert head_on(4.0, restitution_law="bridges", law_speed=1.0) == pytest.approx(4.0**-0.234, rel=1e-12)
+    assert head_on(0.5, restitution_law="bridges", law_speed=1.0) == pytest.approx(1.0, rel=1e-12)
+    assert head_on(2.0, restitution=0.5) == pytest.approx(0.5, rel=1e-12)
+    assert head_on(2.0, restitution=0.5, elastic_below=3.0) == pytest.approx(1.0, rel=1e-12)
+
+
+def test_checkpoint_resume_is_bit_for_bit(tmp_path):
+    straight = fcc_system(cells=4, eta=0.4)
+    straight.run(collisions=10_000)
+    straight.run(collisions=10_000)
+
+    interrupted = fcc_system(cells=4, eta=0.4)
+    interrupted.run(collisions=10_000)
+    interrupted.save(tmp_path / "state.npz")
+    resumed = edmd.HardSphereSystem.load(tmp_path / "state.npz")
+    resumed.run(collisions=10_000)
+    np.testing.assert_array_equal(resumed.positions(), straight.positions())
+    np.testing.assert_array_equal(resumed.velocities(), straight.velocities())
+    np.testing.assert_array_equal(resumed.acc, straight.acc)
+    assert resumed.elapsed == straight.elapsed
+
+
+# ------------------------------------------------------------------ physics validation
+
+
+def reference_check(measurement, reference, tolerance=0.005):
+    z, error = measurement.compressibility_factor, measurement.compressibility_factor_error
+    assert error < 0.3 * tolerance * reference  # the run is long enough to test at this tolerance
+    assert abs(z - reference) < tolerance * reference
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("eta", [0.2, 0.4])
+def test_hard_sphere_equation_of_state(eta):
+    """Z within 0.5 % of Hansen-Goos (J. Chem. Phys. 144, 164506, 2016)."""
+    system = fcc_system(cells=6, eta=eta, seed=11)
+    system.run(collisions=100 * system.count)
+    m = edmd.measure(system, collisions=1_000 * system.count, blocks=20)
+    reference_check(m, float(edmd.hansen_goos(eta)))
+    # Enskog: omega = (2d / sigma) (Z - 1) sqrt(kT / (pi m)), within the statistical errors
+    expected = float(edmd.enskog_collision_frequency(m.compressibility_factor, 3, kT=m.temperature))
+    spread = math.hypot(m.collision_frequency_error, expected * m.compressibility_factor_error / (m.compressibility_factor - 1))
+    assert abs(m.collision_frequency - expected) < 4 * spread + 1e-3 * expected
+    # contact value: Z = 1 + 4 eta g(sigma), g from the pair distribution extrapolated to contact
+    from_pressure = (m.compressibility_factor - 1) / (4 * eta)
+    assert abs(m.contact_value - from_pressure) < 4 * m.contact_value_error + 0.01 * from_pressure
+
+
+@pytest.mark.slow
+def test_hard_disc_equation_of_state():
+    """Z within 0.5 % of Henderson (Mol. Phys. 30, 971, 1975) at eta = 0.3."""
+    system = hexagonal_system(cells=16, eta=0.3, seed=12)
+    system.run(collisions=100 * system.count)
+    m = edmd.measure(system, collisions=1_000 * system.count, blocks=20)
+    reference_check(m, float(edmd.henderson(0.3)))
+    expected = float(edmd.enskog_collision_frequency(m.compressibility_factor, 2, kT=m.temperature))
+    assert m.collision_frequency == pytest.approx(expected, rel=0.01)
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+def test_speeds_follow_maxwell_boltzmann(dim):
+    system = fcc_system(cells=8, eta=0.3) if dim == 3 else hexagonal_system(cells=32, eta=0.3)
+    system.run(collisions=30 * system.count)
+    speeds = np.linalg.norm(system.velocities(), axis=1)
+    scale = math.sqrt(system.temperature())
+    law = stats.maxwell(scale=scale) if dim == 3 else stats.rayleigh(scale=scale)
+    assert stats.kstest(speeds, law.cdf).pvalue > 1e-3
+    # a lattice start is not Maxwellian in position, but the run has had time to relax the speeds
+    assert abs(np.mean(speeds) - law.mean()) < 4 * law.std() / math.sqrt(len(speeds))
+
+
+@pytest.mark.slow
+def test_homogeneous_cooling_follows_haff_law():
+    """T = T0 exp(-2 (1 - e^2) C / (d N)) while the gas stays homogeneous (e = 0.9, small N)."""
+    e = 0.9
+    system = fcc_system(cells=4, eta=0.1, seed=13)  # N = 256
+    equilibrium = fcc_system(cells=4, eta=0.1, seed=13)
+    equilibrium.run(collisions=20 * system.count)
+    system = edmd.HardSphereSystem(
+        equilibrium.positions(), equilibrium.velocities(), 0.5, equilibrium.box[:3], restitution=e
+    )
+    t0 = system.temperature()
+    ratios = []
+    for _ in range(5):
+        system.run(collisions=system.count)  # one collision per particle... per two particles
+        expected = t0 * math.exp(-2 * (1 - e * e) * system.collisions / (3 * system.count))
+        ratios.append(system.temperature() / expected)
+    # the Sonine correction is under 0.4 %; fluctuations of T of a 256-particle gas are ~2 %
+    assert np.all(np.abs(np.array(ratios) - 1) < 0.05)
+    assert abs(np.mean(ratios) - 1) < 0.03
