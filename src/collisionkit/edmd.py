@@ -30,6 +30,8 @@ from ._kernels import edmd as _k
 __all__ = [
     "HardSphereSystem",
     "Measurement",
+    "Sampler",
+    "measure",
     "OverlapError",
     "carnahan_starling",
     "hansen_goos",
@@ -81,7 +83,7 @@ def hansen_goos(eta):
     --------
     >>> from collisionkit.edmd import hansen_goos
     >>> round(float(hansen_goos(0.4)), 4)
-    6.9147
+    6.945
     """
     eta = np.asarray(eta, dtype=float)
     series = sum(b * eta**i for i, b in enumerate(_HANSEN_GOOS_B))
@@ -869,86 +871,185 @@ def _contact_value(r, g, counts, diameter):
     return float(coefficients[-1]), float(math.sqrt(covariance[-1, -1]))
 
 
-def measure(system: HardSphereSystem, collisions: int, blocks: int = 10, rdf_bins: int = 500, progress=None):
-    """Run ``collisions`` pair collisions in ``blocks`` blocks and measure.
+class Sampler:
+    r"""Block-by-block measurement of an EDMD run, resumable from a checkpoint.
 
-    Pressure from the collisional virial,
-    :math:`PV = NkT + \\frac{1}{d\\,t}\\sum_{coll} J\\sigma` (J the impulse,
-    sigma the contact distance); kT = 2K/(dN) averaged over each block's ends;
-    errors from the spread of the block values.
+    Each block runs ``collisions // blocks`` pair collisions, then records:
+    kT = 2K/(dN); the compressibility factor from the collisional virial,
+    :math:`Z = 1 + \sum_{coll} J\sigma / (d N kT\,t)` (J the impulse, sigma
+    the contact distance; Allen & Tildesley, Computer Simulation of Liquids,
+    2nd ed., sec. 3.7); the collision frequency per particle
+    :math:`\omega = 2 C / (N t)`; speeds; pair distances for g(r); and the
+    mean squared displacement. Errors are standard errors of the block means.
+
+    Parameters
+    ----------
+    system : HardSphereSystem
+    collisions : int
+        Pair collisions over all blocks, >= blocks.
+    blocks : int
+        Number of blocks, >= 2.
+    rdf_bins : int
+        Bins of g(r) up to min(L/2, 5 diameters).
+
+    Examples
+    --------
+    >>> from collisionkit.edmd import Sampler, random_fluid
+    >>> system = random_fluid(3, 300, 0.3, rng=1)
+    >>> sampler = Sampler(system, collisions=30_000, blocks=3)
+    >>> while not sampler.finished:
+    ...     sampler.run_block()
+    >>> m = sampler.result()
+    >>> m.collisions, 3.5 < m.compressibility_factor < 4.5
+    (30000, True)
     """
-    import time as _time
 
-    if not (isinstance(collisions, (int, np.integer)) and collisions >= blocks >= 2):
-        raise ValueError(f"collisions must be an integer >= blocks >= 2; got {collisions!r}, {blocks!r}")
-    dim, count = system.dim, system.count
-    volume = system.volume
-    per_block = collisions // blocks
-    start_positions = system.positions(unwrapped=True)
-    start_time = system.elapsed
-    start_lost = system.acc[_k.ACC_ENERGY_LOST]
-    r_max = float(min(system.box[:dim].min() / 2.0, 5.0 * 2.0 * np.max(system.radius)))
-    histogram = np.zeros(rdf_bins)
-    block_t, block_z, block_omega, block_p = [], [], [], []
-    speeds, msd_time, msd = [], [0.0], [0.0]
-    wall = 0.0
-    for _ in range(blocks):
+    def __init__(self, system: HardSphereSystem, collisions: int, blocks: int = 10, rdf_bins: int = 500):
+        if not (isinstance(blocks, (int, np.integer)) and blocks >= 2):
+            raise ValueError(f"blocks must be an integer >= 2; got {blocks!r}")
+        if not (isinstance(collisions, (int, np.integer)) and collisions >= blocks):
+            raise ValueError(f"collisions must be an integer >= blocks ({blocks}); got {collisions!r}")
+        if not (isinstance(rdf_bins, (int, np.integer)) and rdf_bins >= 10):
+            raise ValueError(f"rdf_bins must be an integer >= 10; got {rdf_bins!r}")
+        self.system = system
+        self.blocks = int(blocks)
+        self.per_block = int(collisions) // self.blocks
+        dim = system.dim
+        self.r_max = float(min(system.box[:dim].min() / 2.0, 5.0 * 2.0 * np.max(system.radius)))
+        self.histogram = np.zeros(int(rdf_bins))
+        self.start_positions = system.positions(unwrapped=True)
+        self.start_time = system.elapsed
+        self.start_lost = float(system.acc[_k.ACC_ENERGY_LOST])
+        self.wall_seconds = 0.0
+        self.records = {name: [] for name in ("temperature", "compressibility", "pressure", "frequency", "time", "msd")}
+        self.speeds = []
+
+    @property
+    def done(self) -> int:
+        """Blocks finished."""
+        return len(self.records["temperature"])
+
+    @property
+    def finished(self) -> bool:
+        return self.done >= self.blocks
+
+    def run_block(self, progress=None):
+        """Run and record one block."""
+        import time as _time
+
+        system = self.system
+        dim, count = system.dim, system.count
         kT_before = system.temperature()
-        virial0, coll0, t0 = system.acc[_k.ACC_VIRIAL], system.collisions, system.elapsed
+        virial0, collisions0, time0 = system.acc[_k.ACC_VIRIAL], system.collisions, system.elapsed
         tick = _time.perf_counter()
-        system.run(collisions=per_block, progress=progress)
-        wall += _time.perf_counter() - tick
+        system.run(collisions=self.per_block, progress=progress)
+        self.wall_seconds += _time.perf_counter() - tick
         kT_after = system.temperature()
         kT = 0.5 * (kT_before + kT_after)
-        duration = system.elapsed - t0
+        duration = system.elapsed - time0
         virial = system.acc[_k.ACC_VIRIAL] - virial0
-        block_t.append(kT_after)
-        block_z.append(1.0 + virial / (dim * count * kT * duration))
-        block_p.append((count * kT + virial / (dim * duration)) / volume)
-        block_omega.append(2.0 * (system.collisions - coll0) / (count * duration))
-        speeds.append(np.linalg.norm(system.vel, axis=1))
-        histogram += _pair_histogram(system, r_max, rdf_bins)
-        displacement = system.positions(unwrapped=True) - start_positions
-        msd_time.append(system.elapsed - start_time)
-        msd.append(float(np.mean(np.sum(displacement**2, axis=1))))
-    edges = np.linspace(0.0, r_max, rdf_bins + 1)
-    shells = _ball_volume(edges[1:], dim) - _ball_volume(edges[:-1], dim)
-    density = count / volume
-    rdf = histogram / (blocks * count * density * shells)
-    speeds = np.concatenate(speeds)
-    omega = float(np.mean(block_omega))
-    mean_speed = float(np.mean(speeds))
-    msd_time, msd = np.asarray(msd_time), np.asarray(msd)
-    later = msd_time > 0.3 * msd_time[-1]
-    slope = float(np.polyfit(msd_time[later], msd[later], 1)[0]) if later.sum() >= 2 else math.nan
-    contact, contact_error = _contact_value(0.5 * (edges[1:] + edges[:-1]), rdf, histogram, 2.0 * float(np.max(system.radius)))
-    return Measurement(
-        dim=dim,
-        particles=count,
-        packing_fraction=packing_fraction(system.radius * system.scale, system.box[:dim]),
-        collisions=per_block * blocks,
-        time=float(msd_time[-1]),
-        wall_seconds=wall,
-        temperature=float(block_t[-1]),
-        compressibility_factor=float(np.mean(block_z)),
-        compressibility_factor_error=_block_error(block_z),
-        pressure=float(np.mean(block_p)),
-        pressure_error=_block_error(block_p),
-        collision_frequency=omega,
-        collision_frequency_error=_block_error(block_omega),
-        mean_free_time=1.0 / omega,
-        mean_free_path=mean_speed / omega,
-        mean_speed=mean_speed,
-        diffusion_coefficient=slope / (2.0 * dim),
-        energy_lost=float(system.acc[_k.ACC_ENERGY_LOST] - start_lost),
-        contact_value=contact,
-        contact_value_error=contact_error,
-        speeds=speeds,
-        rdf_r=0.5 * (edges[1:] + edges[:-1]),
-        rdf=rdf,
-        msd_time=msd_time,
-        msd=msd,
-        block_temperature=np.asarray(block_t),
-        block_compressibility=np.asarray(block_z),
-        block_frequency=np.asarray(block_omega),
-    )
+        record = self.records
+        record["temperature"].append(kT_after)
+        record["compressibility"].append(1.0 + virial / (dim * count * kT * duration))
+        record["pressure"].append((count * kT + virial / (dim * duration)) / system.volume)
+        record["frequency"].append(2.0 * (system.collisions - collisions0) / (count * duration))
+        record["time"].append(system.elapsed - self.start_time)
+        displacement = system.positions(unwrapped=True) - self.start_positions
+        record["msd"].append(float(np.mean(np.sum(displacement**2, axis=1))))
+        self.speeds.append(np.linalg.norm(system.vel, axis=1))
+        self.histogram += _pair_histogram(system, self.r_max, self.histogram.size)
+
+    def state_dict(self):
+        """The sampler's accumulators as arrays (the system is saved separately)."""
+        state = {f"sampler_{name}": np.asarray(values, dtype=float) for name, values in self.records.items()}
+        state |= {
+            "sampler_speeds": np.asarray(self.speeds, dtype=float).reshape(len(self.speeds), -1),
+            "sampler_histogram": self.histogram,
+            "sampler_start_positions": self.start_positions,
+            "sampler_scalars": np.array(
+                [self.blocks, self.per_block, self.r_max, self.start_time, self.start_lost, self.wall_seconds]
+            ),
+        }
+        return state
+
+    @classmethod
+    def from_state_dict(cls, system: HardSphereSystem, state):
+        """Rebuild a sampler of ``system`` from :meth:`state_dict` output."""
+        sampler = cls.__new__(cls)
+        sampler.system = system
+        blocks, per_block, r_max, start_time, start_lost, wall = state["sampler_scalars"]
+        sampler.blocks, sampler.per_block = int(blocks), int(per_block)
+        sampler.r_max, sampler.start_time, sampler.start_lost, sampler.wall_seconds = r_max, start_time, start_lost, wall
+        sampler.histogram = np.array(state["sampler_histogram"])
+        sampler.start_positions = np.array(state["sampler_start_positions"])
+        sampler.records = {name: list(state[f"sampler_{name}"]) for name in ("temperature", "compressibility", "pressure", "frequency", "time", "msd")}
+        sampler.speeds = [row for row in np.array(state["sampler_speeds"])]
+        return sampler
+
+    def result(self) -> Measurement:
+        """The observables over the blocks done so far (at least 2)."""
+        if self.done < 2:
+            raise ValueError(f"need at least 2 finished blocks for errors; have {self.done}")
+        system, dim, count = self.system, self.system.dim, self.system.count
+        record = self.records
+        edges = np.linspace(0.0, self.r_max, self.histogram.size + 1)
+        centres = 0.5 * (edges[1:] + edges[:-1])
+        shells = _ball_volume(edges[1:], dim) - _ball_volume(edges[:-1], dim)
+        rdf = self.histogram / (self.done * count * (count / system.volume) * shells)
+        speeds = np.concatenate(self.speeds)
+        omega = float(np.mean(record["frequency"]))
+        mean_speed = float(np.mean(speeds))
+        msd_time = np.concatenate([[0.0], record["time"]])
+        msd = np.concatenate([[0.0], record["msd"]])
+        later = msd_time > 0.3 * msd_time[-1]
+        slope = float(np.polyfit(msd_time[later], msd[later], 1)[0]) if later.sum() >= 2 else math.nan
+        diameter = 2.0 * float(np.max(system.radius))
+        contact, contact_error = _contact_value(centres, rdf, self.histogram, diameter)
+        return Measurement(
+            dim=dim,
+            particles=count,
+            packing_fraction=packing_fraction(system.radius * system.scale, system.box[:dim]),
+            collisions=self.per_block * self.done,
+            time=float(msd_time[-1]),
+            wall_seconds=self.wall_seconds,
+            temperature=float(record["temperature"][-1]),
+            compressibility_factor=float(np.mean(record["compressibility"])),
+            compressibility_factor_error=_block_error(record["compressibility"]),
+            pressure=float(np.mean(record["pressure"])),
+            pressure_error=_block_error(record["pressure"]),
+            collision_frequency=omega,
+            collision_frequency_error=_block_error(record["frequency"]),
+            mean_free_time=1.0 / omega,
+            mean_free_path=mean_speed / omega,
+            mean_speed=mean_speed,
+            diffusion_coefficient=slope / (2.0 * dim),
+            energy_lost=float(system.acc[_k.ACC_ENERGY_LOST] - self.start_lost),
+            contact_value=contact,
+            contact_value_error=contact_error,
+            speeds=speeds,
+            rdf_r=centres,
+            rdf=rdf,
+            msd_time=msd_time,
+            msd=msd,
+            block_temperature=np.asarray(record["temperature"]),
+            block_compressibility=np.asarray(record["compressibility"]),
+            block_frequency=np.asarray(record["frequency"]),
+        )
+
+
+def measure(system: HardSphereSystem, collisions: int, blocks: int = 10, rdf_bins: int = 500, progress=None):
+    """Run ``collisions`` pair collisions in ``blocks`` blocks and return the observables.
+
+    See :class:`Sampler` for the estimators.
+
+    Examples
+    --------
+    >>> from collisionkit.edmd import measure, random_fluid
+    >>> m = measure(random_fluid(2, 300, 0.3, rng=1), collisions=30_000, blocks=3)
+    >>> 1.8 < m.compressibility_factor < 2.3
+    True
+    """
+    sampler = Sampler(system, collisions, blocks, rdf_bins)
+    while not sampler.finished:
+        sampler.run_block(progress)
+    return sampler.result()
