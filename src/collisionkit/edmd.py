@@ -239,15 +239,13 @@ def _next_power_of_two(n):
     return 1 << max(n - 1, 1).bit_length()
 
 
-@dataclass
-class _Events:
-    time: np.ndarray
-    kind: np.ndarray
-    partner: np.ndarray
-    count: np.ndarray
-    tree_index: np.ndarray
-    tree_time: np.ndarray
-    leaves: int
+def _aligned_zeros(shape, dtype=np.float64, alignment=64):
+    """Zeros whose rows start on cache-line boundaries (64-byte particle records)."""
+    itemsize = np.dtype(dtype).itemsize
+    count = int(np.prod(shape))
+    raw = np.zeros(count + alignment // itemsize, dtype=dtype)
+    offset = (-raw.ctypes.data % alignment) // itemsize
+    return raw[offset : offset + count].reshape(shape)
 
 
 class HardSphereSystem:
@@ -333,10 +331,10 @@ class HardSphereSystem:
         for array, name in ((positions, "positions"), (velocities, "velocities")):
             _arrays.require_finite(array, name)
         self.dim = dim
-        self.radius = _per_particle(radii, count, "radii")
+        radius = _per_particle(radii, count, "radii")
         self.mass = _per_particle(masses, count, "masses")
-        _arrays.require_finite(self.radius, "radii")
-        _arrays.require_in_range(self.radius, "radii", 0.0, np.inf, inclusive=(False, False))
+        _arrays.require_finite(radius, "radii")
+        _arrays.require_in_range(radius, "radii", 0.0, np.inf, inclusive=(False, False))
         _arrays.require_finite(self.mass, "masses")
         _arrays.require_in_range(self.mass, "masses", 0.0, np.inf, inclusive=(False, False))
         box = _per_particle(box, dim, "box") if np.ndim(box) else np.full(dim, float(box))
@@ -350,22 +348,21 @@ class HardSphereSystem:
             raise ValueError(f"gravity must have shape ({dim},); got {gravity.shape}")
         _arrays.require_finite(gravity, "gravity")
 
-        self.box = np.ones(3)
-        self.box[:dim] = box
-        self.periodic = np.zeros(3, dtype=np.bool_)
-        self.periodic[:dim] = periodic
-        self.gravity = np.zeros(3)[:dim].copy()
-        self.gravity[:] = gravity
-        self.growth = float(_growth)
-        self.scale0 = float(_scale)
+        self.geom = np.zeros((4, 3))
+        self.geom[_k.G_BOX] = 1.0
+        self.geom[_k.G_BOX, :dim] = box
+        self.geom[_k.G_PERIODIC, :dim] = periodic
+        self.geom[_k.G_GRAVITY, :dim] = gravity
+        self.params[_k.P_SCALE0] = float(_scale)
+        self.params[_k.P_GROWTH] = float(_growth)
         self.time = 0.0
         self.elapsed = 0.0
-        self.pos = positions.copy()
-        self.vel = velocities.copy()
+        self.p = _aligned_zeros((count, 8))
+        self.p[:, _k.X : _k.X + dim] = positions
+        self.p[:, _k.V : _k.V + dim] = velocities
+        self.p[:, _k.R] = radius
         self._wrap_into_box()
-        self.tloc = np.zeros(count)
         self.image = np.zeros((count, dim), dtype=np.int64)
-        self.counter = np.zeros(count, dtype=np.int64)
         self.acc = np.zeros(_k.ACC_SIZE)
         if elastic_below is None:
             inelastic = np.any(self.restitution < 1.0) or restitution_law != "constant"
@@ -373,13 +370,13 @@ class HardSphereSystem:
             elastic_below = 1e-6 * rms
         if not (elastic_below >= 0 and math.isfinite(elastic_below)):
             raise ValueError(f"elastic_below must be finite and >= 0; got {elastic_below}")
-        self.elastic_below = float(elastic_below)
+        self.params[_k.P_ELASTIC_BELOW] = float(elastic_below)
         self._setup_cells()
         self._check_walls()
         gap = self._pair_gap()
-        if gap < -1e-9 * float(np.max(self.radius)):
+        if gap < -1e-9 * float(np.max(radius)):
             raise OverlapError(f"positions overlap: smallest surface gap {gap:.3g}")
-        self._events = self._new_events()
+        self._new_events()
         self._predict_all()
 
     # -------------------------------------------------------------- set-up helpers
@@ -407,22 +404,25 @@ class HardSphereSystem:
             raise ValueError(f"wall_restitution must lie in [0, 1]; got {wall_restitution}")
         self.restitution = np.ascontiguousarray(matrix)
         self.restitution_law = law
-        self.law_speed = float(law_speed)
-        self.law_exponent = float(law_exponent)
-        self.wall_restitution = float(wall_restitution)
+        self.params = np.zeros(_k.P_SIZE)
+        self.params[_k.P_LAW] = RESTITUTION_LAWS[law]
+        self.params[_k.P_LAW_SPEED] = float(law_speed)
+        self.params[_k.P_LAW_EXPONENT] = float(law_exponent)
+        self.params[_k.P_WALL_RESTITUTION] = float(wall_restitution)
 
     def _wrap_into_box(self):
         for k in range(self.dim):
+            column = self.p[:, _k.X + k]
             if self.periodic[k]:
-                self.pos[:, k] %= self.box[k]
-            elif np.any((self.pos[:, k] < 0) | (self.pos[:, k] > self.box[k])):
+                column %= self.box[k]
+            elif np.any((column < 0) | (column > self.box[k])):
                 raise ValueError(f"positions must lie inside the walls on axis {k}: [0, {self.box[k]}]")
 
     def _setup_cells(self):
         # cells fit the largest contact distance the run will reach (radii only grow)
         contact = 2.0 * float(np.max(self.radius)) * max(self.scale0, 1.0)
         self.ncell = np.ones(3, dtype=np.int64)
-        self.cell_size = np.ones(3)
+        self.geom[_k.G_CELL] = 1.0
         for k in range(self.dim):
             cells = int(math.floor(self.box[k] / contact * (1 - 1e-12)))
             if self.periodic[k] and cells < 3:
@@ -432,43 +432,28 @@ class HardSphereSystem:
                 )
             cells = max(cells, 1)
             self.ncell[k] = cells
-            self.cell_size[k] = self.box[k] / cells
-        count = self.pos.shape[0]
-        self.cell_of = np.zeros(count, dtype=np.int64)
+            self.geom[_k.G_CELL, k] = self.box[k] / cells
+        self.info = np.zeros((self.count, 8), dtype=np.int64)
+        self.info[:, _k.PARTNER] = -1
         self.head = np.full(int(np.prod(self.ncell)), -1, dtype=np.int64)
-        self.next_in_cell = np.full(count, -1, dtype=np.int64)
-        self.prev_in_cell = np.full(count, -1, dtype=np.int64)
-        _k.build_cells(self.pos, self.ncell, self.cell_size, self.cell_of, self.head, self.next_in_cell, self.prev_in_cell)
+        _k.build_cells(self.p, self.ncell, self.geom, self.dim, self.info, self.head)
 
     def _check_walls(self):
-        if not np.all(self.periodic[: self.dim]):
-            gap = _k.wall_gap(self.pos, self.radius, self.scale, self.box, self.periodic)
+        if not np.all(self.periodic):
+            gap = _k.wall_gap(self.p, self.scale, self.geom, self.dim)
             if gap < -1e-9 * float(np.max(self.radius)):
                 raise ValueError(f"positions must keep every particle inside the walls (overlap {-gap:.3g})")
 
     def _new_events(self):
-        count = self.pos.shape[0]
-        leaves = _next_power_of_two(count)
-        return _Events(
-            time=np.full(count, np.inf),
-            kind=np.zeros(count, dtype=np.int64),
-            partner=np.full(count, -1, dtype=np.int64),
-            count=np.zeros(count, dtype=np.int64),
-            tree_index=np.zeros(2 * leaves, dtype=np.int64),
-            tree_time=np.full(2 * leaves, np.inf),
-            leaves=leaves,
-        )
-
-    def _cell_args(self):
-        return (self.cell_of, self.head, self.next_in_cell)
+        self.leaves = _next_power_of_two(self.count)
+        self.times = np.full((self.count, 3), np.inf)
+        self.tree_index = np.zeros(2 * self.leaves, dtype=np.int64)
+        self.tree_time = np.full(2 * self.leaves, np.inf)
 
     def _predict_all(self):
-        e = self._events
         _k.predict_all(
-            self.time, self.pos, self.vel, self.tloc, self.radius, self.cell_of, self.head,
-            self.next_in_cell, self.ncell, self.cell_size, self.box, self.periodic, self.gravity,
-            self.scale0, self.growth, self.counter, e.time, e.kind, e.partner, e.count,
-            e.tree_index, e.tree_time, e.leaves,
+            self.p, self.info, self.times, self.head, self.ncell, self.geom, self.dim, self.params,
+            self.tree_index, self.tree_time, self.leaves,
         )
 
     # -------------------------------------------------------------- state
@@ -476,7 +461,52 @@ class HardSphereSystem:
     @property
     def count(self) -> int:
         """Number of particles N."""
-        return self.pos.shape[0]
+        return self.p.shape[0]
+
+    @property
+    def pos(self):
+        """Positions at each particle's own time (a view; prefer :meth:`positions`)."""
+        return self.p[:, _k.X : _k.X + self.dim]
+
+    @property
+    def vel(self):
+        """Velocities at each particle's own time (a view; prefer :meth:`velocities`)."""
+        return self.p[:, _k.V : _k.V + self.dim]
+
+    @property
+    def radius(self):
+        """Radii at scale 1 (a view)."""
+        return self.p[:, _k.R]
+
+    @property
+    def box(self):
+        """Box lengths (3 entries; the third is 1 in 2D)."""
+        return self.geom[_k.G_BOX]
+
+    @property
+    def periodic(self):
+        return self.geom[_k.G_PERIODIC, : self.dim] != 0.0
+
+    @property
+    def cell_size(self):
+        return self.geom[_k.G_CELL]
+
+    @property
+    def growth(self) -> float:
+        """Relative growth rate of the radii (non-zero only while compressing)."""
+        return float(self.params[_k.P_GROWTH])
+
+    @growth.setter
+    def growth(self, value):
+        self.params[_k.P_GROWTH] = value
+
+    @property
+    def scale0(self) -> float:
+        return float(self.params[_k.P_SCALE0])
+
+    @scale0.setter
+    def scale0(self, value):
+        self.params[_k.P_SCALE0] = value
 
     @property
     def scale(self) -> float:
@@ -498,14 +528,13 @@ class HardSphereSystem:
         Keeping event times small keeps their round-off small; the total
         simulated time is kept in ``elapsed``.
         """
-        _k.synchronise(self.time, self.pos, self.vel, self.tloc, self.gravity)
+        _k.synchronise(self.p, self.time, self.geom, self.dim)
         shift = self.time
         if shift != 0.0:
-            e = self._events
-            self.tloc -= shift
-            e.time -= shift
-            e.tree_time -= shift
-            self.scale0 += self.growth * shift
+            self.p[:, _k.T] -= shift
+            self.times -= shift
+            self.tree_time -= shift
+            self.scale0 = self.scale0 + self.growth * shift
             self.elapsed += shift
             self.time = 0.0
 
@@ -533,11 +562,20 @@ class HardSphereSystem:
         self.synchronise()
         return (self.mass[:, None] * self.vel).sum(axis=0)
 
+    def set_velocities(self, velocities):
+        """Replace all velocities (at the current time) and re-predict every event."""
+        velocities = _arrays.as_float_array(velocities, "velocities")
+        if velocities.shape != (self.count, self.dim):
+            raise ValueError(f"velocities must have shape {(self.count, self.dim)}; got {velocities.shape}")
+        _arrays.require_finite(velocities, "velocities")
+        self.synchronise()
+        self.p[:, _k.V : _k.V + self.dim] = velocities
+        self.info[:, _k.COUNTER] += 1
+        self._predict_all()
+
     def rescale_temperature(self, kT=1.0):
         """Scale all velocities to the temperature kT (kinetic definition); re-predicts events."""
-        factor = math.sqrt(kT / self.temperature())
-        self.vel *= factor
-        self._predict_all()
+        self.set_velocities(self.velocities() * math.sqrt(kT / self.temperature()))
 
     def check(self, tolerance=1e-9):
         """Verify the invariant: no overlaps between particles or with walls.
@@ -548,17 +586,14 @@ class HardSphereSystem:
         """
         self.synchronise()
         gap = self._pair_gap()
-        if not np.all(self.periodic[: self.dim]):
-            gap = min(gap, _k.wall_gap(self.pos, self.radius, self.scale, self.box, self.periodic))
+        if not np.all(self.periodic):
+            gap = min(gap, _k.wall_gap(self.p, self.scale, self.geom, self.dim))
         if gap < -tolerance * float(np.max(self.radius)):
             raise OverlapError(f"overlap of {-gap:.3g} found at time {self.elapsed + self.time:.6g}")
         return gap
 
     def _pair_gap(self):
-        return _k.min_gap(
-            self.pos, self.radius, self.scale, self.cell_of, self.head, self.next_in_cell, self.ncell,
-            self.box, self.periodic,
-        )
+        return _k.min_gap(self.p, self.scale, self.info, self.head, self.ncell, self.geom, self.dim)
 
     # -------------------------------------------------------------- running
 
@@ -594,7 +629,11 @@ class HardSphereSystem:
         while done < target and remaining > 0:
             step = min(chunk, target - done)
             before, start = self.collisions, self.time
-            self.time = self._run_kernel(step, start + remaining)
+            self.time = _k.run_events(
+                self.time, step, start + remaining, self.p, self.mass, self.species, self.image, self.info,
+                self.times, self.head, self.ncell, self.geom, self.dim, self.restitution, self.params,
+                self.tree_index, self.tree_time, self.leaves, self.acc,
+            )
             advanced = self.collisions - before
             done += advanced
             remaining -= self.time - start
@@ -605,32 +644,16 @@ class HardSphereSystem:
                 break
         return done
 
-    def _run_kernel(self, collisions, stop):
-        e = self._events
-        # the clock restarts at each synchronise; carry the stop time with it
-        return _k.run_events(
-            self.time, collisions, stop, self.pos, self.vel, self.tloc, self.mass, self.radius,
-            self.species, self.image, self.counter, self.cell_of, self.head, self.next_in_cell,
-            self.prev_in_cell, self.ncell, self.cell_size, self.box, self.periodic, self.gravity,
-            self.scale0, self.growth, self.restitution, RESTITUTION_LAWS[self.restitution_law],
-            self.law_speed, self.law_exponent, self.elastic_below, self.wall_restitution,
-            e.time, e.kind, e.partner, e.count, e.tree_index, e.tree_time, e.leaves, self.acc,
-        )
-
     # -------------------------------------------------------------- checkpoints
 
-    _ARRAYS = ("pos", "vel", "tloc", "radius", "mass", "species", "image", "counter", "acc", "box", "periodic",
-               "gravity", "restitution", "cell_of", "head", "next_in_cell", "prev_in_cell", "ncell", "cell_size")
-    _SCALARS = ("dim", "growth", "scale0", "time", "elapsed", "elastic_below", "law_speed", "law_exponent",
-                "wall_restitution")
+    _ARRAYS = ("p", "mass", "species", "image", "acc", "geom", "params", "restitution", "info", "head", "ncell",
+               "times", "tree_index", "tree_time")
+    _SCALARS = ("dim", "time", "elapsed", "leaves")
 
     def state_dict(self):
         """Every array and number needed to continue the run bit for bit."""
-        e = self._events
         state = {name: getattr(self, name) for name in self._ARRAYS}
-        state |= {f"event_{name}": getattr(e, name) for name in ("time", "kind", "partner", "count", "tree_index", "tree_time")}
         state |= {name: np.asarray(getattr(self, name)) for name in self._SCALARS}
-        state["event_leaves"] = np.asarray(e.leaves)
         state["restitution_law"] = np.asarray(self.restitution_law)
         return state
 
@@ -640,18 +663,12 @@ class HardSphereSystem:
         system = cls.__new__(cls)
         for name in cls._ARRAYS:
             setattr(system, name, np.array(state[name]))
+        aligned = _aligned_zeros(system.p.shape)
+        aligned[:] = system.p
+        system.p = aligned
         for name in cls._SCALARS:
             setattr(system, name, state[name].item())
         system.restitution_law = str(state["restitution_law"])
-        system._events = _Events(
-            time=np.array(state["event_time"]),
-            kind=np.array(state["event_kind"]),
-            partner=np.array(state["event_partner"]),
-            count=np.array(state["event_count"]),
-            tree_index=np.array(state["event_tree_index"]),
-            tree_time=np.array(state["event_tree_time"]),
-            leaves=int(state["event_leaves"]),
-        )
         return system
 
     def save(self, path):
@@ -764,8 +781,7 @@ def random_fluid(
     system.growth = 0.0
     system.scale0 = 1.0
     system.check(tolerance=1e-7)
-    system.vel[:] = maxwell_boltzmann(masses, dim, kT, generator)
-    system._predict_all()
+    system.set_velocities(maxwell_boltzmann(masses, dim, kT, generator))
     return system
 
 

@@ -3,12 +3,14 @@
 Algorithm (Rapaport; Isobe, Int. J. Mod. Phys. C 10, 1281 (1999)):
 
 * particles move ballistically (parabolas under uniform gravity) and are
-  updated lazily: ``pos[i]`` and ``vel[i]`` hold the state at the
-  particle's own time ``tloc[i]``;
+  updated lazily: row ``p[i]`` holds position, velocity, the particle's own
+  time and its radius (one 64-byte record, so a neighbour costs one cache
+  line);
 * a cell list with cells no smaller than the largest contact distance;
-  every particle has exactly one scheduled event, the earliest of: a
-  collision with a particle in the 3^d surrounding cells, leaving its cell,
-  or hitting a wall;
+  every particle keeps its best predicted collision (with a particle in the
+  3^d surrounding cells) and its next boundary event (leaving its cell or
+  hitting a wall); its event is the earlier of the two. After a cell
+  crossing only the newly adjacent cells are searched;
 * a complete binary tree over the particles' event times gives the next
   event in O(1) and updates in O(log N);
 * an event with partner j is stale if j has changed velocity since it was
@@ -36,6 +38,43 @@ NO_EVENT = 0
 PAIR = 1
 CELL = 2
 WALL = 3
+
+# columns of the particle records p (float64, N x 8)
+X = 0  # position x, y, z (z = 0 in 2D)
+V = 3  # velocity
+T = 6  # the particle's own time
+R = 7  # radius at scale 1
+
+# columns of the integer records info (int64, N x 8)
+CELL_OF = 0
+NEXT = 1  # next particle in the same cell (-1: none)
+PREV = 2
+COUNTER = 3  # velocity changes so far (stale-event detection)
+PARTNER = 4  # partner of the best predicted collision
+PARTNER_COUNT = 5  # the partner's counter when predicted
+BOUNDARY_CODE = 6  # 2 * axis + (1 upward, 0 downward)
+BOUNDARY_KIND = 7  # CELL or WALL
+
+# columns of the event times (float64, N x 3)
+EVENT_TIME = 0
+PAIR_TIME = 1
+BOUNDARY_TIME = 2
+
+# rows of the geometry array (float64, 4 x 3)
+G_BOX = 0
+G_CELL = 1
+G_GRAVITY = 2
+G_PERIODIC = 3  # 1.0 periodic, 0.0 walls
+
+# entries of the parameter array (float64)
+P_SCALE0 = 0  # radius scale at time 0
+P_GROWTH = 1  # d scale / dt (compression)
+P_LAW = 2
+P_LAW_SPEED = 3
+P_LAW_EXPONENT = 4
+P_ELASTIC_BELOW = 5
+P_WALL_RESTITUTION = 6
+P_SIZE = 7
 
 # accumulator slots (acc array)
 ACC_VIRIAL = 0  # sum over pair collisions of impulse * contact distance
@@ -122,23 +161,22 @@ def pair_contact_time(rx, ry, rz, ux, uy, uz, contact, scale, growth, beat):
 
 
 @kernel
-def advance(i, t, pos, vel, tloc, gravity):
+def advance(p, i, t, geom, dim):
     """Move particle i along its flight to time t (exact parabola)."""
-    dt = t - tloc[i]
+    dt = t - p[i, T]
     if dt != 0.0:
-        for k in range(pos.shape[1]):
-            pos[i, k] += (vel[i, k] + 0.5 * gravity[k] * dt) * dt
-            vel[i, k] += gravity[k] * dt
-        tloc[i] = t
+        for k in range(dim):
+            g = geom[G_GRAVITY, k]
+            p[i, X + k] += (p[i, V + k] + 0.5 * g * dt) * dt
+            p[i, V + k] += g * dt
+        p[i, T] = t
 
 
 @kernel
 def cell_coordinates(cell, ncell):
     cx = cell % ncell[0]
     rest = cell // ncell[0]
-    cy = rest % ncell[1]
-    cz = rest // ncell[1]
-    return cx, cy, cz
+    return cx, rest % ncell[1], rest // ncell[1]
 
 
 @kernel
@@ -147,10 +185,10 @@ def cell_index(cx, cy, cz, ncell):
 
 
 @kernel
-def tree_update(leaf, tree_index, tree_time, ev_time, leaves):
+def tree_update(leaf, tree_index, tree_time, time, leaves):
     """Propagate leaf's new event time up the tournament tree."""
     node = leaves + leaf
-    tree_time[node] = ev_time[leaf]
+    tree_time[node] = time
     node >>= 1
     while node >= 1:
         left = 2 * node
@@ -165,10 +203,11 @@ def tree_update(leaf, tree_index, tree_time, ev_time, leaves):
 
 
 @kernel
-def tree_build(tree_index, tree_time, ev_time, n, leaves):
+def tree_build(tree_index, tree_time, times, leaves):
+    n = times.shape[0]
     for leaf in range(leaves):
         tree_index[leaves + leaf] = leaf
-        tree_time[leaves + leaf] = ev_time[leaf] if leaf < n else math.inf
+        tree_time[leaves + leaf] = times[leaf, EVENT_TIME] if leaf < n else math.inf
     for node in range(leaves - 1, 0, -1):
         left = 2 * node
         right = left + 1
@@ -181,267 +220,310 @@ def tree_build(tree_index, tree_time, ev_time, n, leaves):
 
 
 @kernel
-def boundary_event(i, pos, vel, radius, cell_of, ncell, cell_size, box, periodic, gravity, scale, growth):
-    """Earliest time (from particle i's own time) it leaves its cell or hits a wall.
-
-    Returns (tau, kind, code) with code = 2 * axis + (1 if upward else 0).
-    """
-    d = pos.shape[1]
+def predict_boundary(p, i, info, times, ncell, geom, dim, scale, growth):
+    """Next time particle i (at its own time) leaves its cell or hits a wall."""
     best = math.inf
     kind = NO_EVENT
     code = -1
-    cx, cy, cz = cell_coordinates(cell_of[i], ncell)
+    cx, cy, cz = cell_coordinates(info[i, CELL_OF], ncell)
     cells = (cx, cy, cz)
-    r = radius[i]
-    for k in range(d):
+    r = p[i, R]
+    for k in range(dim):
         c = cells[k]
-        x = pos[i, k]
-        v = vel[i, k]
-        g = 0.5 * gravity[k]
-        # upper side
-        if periodic[k] or c < ncell[k] - 1:
-            tau = first_root_from_below(g, v, x - (c + 1) * cell_size[k])
+        x = p[i, X + k]
+        v = p[i, V + k]
+        g = 0.5 * geom[G_GRAVITY, k]
+        periodic = geom[G_PERIODIC, k] != 0.0
+        width = geom[G_CELL, k]
+        if periodic or c < ncell[k] - 1:
+            tau = first_root_from_below(g, v, x - (c + 1) * width)
             this_kind = CELL
         else:
-            tau = first_root_from_below(g, v + r * growth, x + r * scale - box[k])
+            tau = first_root_from_below(g, v + r * growth, x + r * scale - geom[G_BOX, k])
             this_kind = WALL
         if tau < best:
-            best = tau
-            kind = this_kind
-            code = 2 * k + 1
-        # lower side
-        if periodic[k] or c > 0:
-            tau = first_root_from_below(-g, -v, c * cell_size[k] - x)
+            best, kind, code = tau, this_kind, 2 * k + 1
+        if periodic or c > 0:
+            tau = first_root_from_below(-g, -v, c * width - x)
             this_kind = CELL
         else:
             tau = first_root_from_below(-g, -v + r * growth, r * scale - x)
             this_kind = WALL
         if tau < best:
-            best = tau
-            kind = this_kind
-            code = 2 * k
-    return best, kind, code
+            best, kind, code = tau, this_kind, 2 * k
+    times[i, BOUNDARY_TIME] = p[i, T] + best
+    info[i, BOUNDARY_KIND] = kind
+    info[i, BOUNDARY_CODE] = code
 
 
 @kernel
-def predict(
-    i, t, pos, vel, tloc, radius, cell_of, head, next_in_cell, ncell, cell_size, box, periodic,
-    gravity, scale0, growth, counter, ev_time, ev_kind, ev_partner, ev_count,
-):
-    """Schedule particle i's next event (i must be at time t)."""
-    d = pos.shape[1]
-    scale = scale0 + growth * t
-    tau, kind, code = boundary_event(i, pos, vel, radius, cell_of, ncell, cell_size, box, periodic, gravity, scale, growth)
-    best = tau
-    best_kind = kind
-    best_partner = code
-    cx, cy, cz = cell_coordinates(cell_of[i], ncell)
-    pix = pos[i, 0]
-    piy = pos[i, 1]
-    piz = pos[i, 2] if d == 3 else 0.0
-    vix = vel[i, 0]
-    viy = vel[i, 1]
-    viz = vel[i, 2] if d == 3 else 0.0
-    zrange = 1 if d == 3 else 0
-    for oz in range(-zrange, zrange + 1):
-        nz = cz + oz
-        shift_z = 0.0
-        if d == 3:
-            if nz < 0:
-                if not periodic[2]:
-                    continue
-                nz += ncell[2]
-                shift_z = -box[2]
-            elif nz >= ncell[2]:
-                if not periodic[2]:
-                    continue
-                nz -= ncell[2]
-                shift_z = box[2]
-        for oy in range(-1, 2):
-            ny = cy + oy
-            shift_y = 0.0
+def _neighbour(c, offset, n, periodic, length):
+    """Neighbour cell coordinate along one axis and the image shift; -1 if outside."""
+    c += offset
+    if c < 0:
+        if not periodic:
+            return -1, 0.0
+        return c + n, -length
+    if c >= n:
+        if not periodic:
+            return -1, 0.0
+        return c - n, length
+    return c, 0.0
+
+
+@kernel
+def scan_pairs(p, i, t, info, head, ncell, geom, dim, scale, growth, best, fixed_axis, fixed_offset):
+    """Earliest collision of particle i (at time t) with particles in nearby cells.
+
+    Searches the 3^d cells around i's cell, or, with ``fixed_axis`` >= 0,
+    only the layer at ``fixed_offset`` along that axis. Returns
+    (time from t, partner), partner -1 if nothing beats ``best``.
+    """
+    partner = -1
+    cx, cy, cz = cell_coordinates(info[i, CELL_OF], ncell)
+    xi = p[i, X]
+    yi = p[i, X + 1]
+    zi = p[i, X + 2]
+    vxi = p[i, V]
+    vyi = p[i, V + 1]
+    vzi = p[i, V + 2]
+    ri = p[i, R]
+    gx = 0.5 * geom[G_GRAVITY, 0]
+    gy = 0.5 * geom[G_GRAVITY, 1]
+    gz = 0.5 * geom[G_GRAVITY, 2]
+    z_low, z_high = (-1, 1) if dim == 3 else (0, 0)
+    y_low, y_high = -1, 1
+    x_low, x_high = -1, 1
+    if fixed_axis == 0:
+        x_low = x_high = fixed_offset
+    elif fixed_axis == 1:
+        y_low = y_high = fixed_offset
+    elif fixed_axis == 2:
+        z_low = z_high = fixed_offset
+    for oz in range(z_low, z_high + 1):
+        nz, shift_z = _neighbour(cz, oz, ncell[2], geom[G_PERIODIC, 2] != 0.0, geom[G_BOX, 2])
+        if nz < 0:
+            continue
+        for oy in range(y_low, y_high + 1):
+            ny, shift_y = _neighbour(cy, oy, ncell[1], geom[G_PERIODIC, 1] != 0.0, geom[G_BOX, 1])
             if ny < 0:
-                if not periodic[1]:
-                    continue
-                ny += ncell[1]
-                shift_y = -box[1]
-            elif ny >= ncell[1]:
-                if not periodic[1]:
-                    continue
-                ny -= ncell[1]
-                shift_y = box[1]
-            for ox in range(-1, 2):
-                nx = cx + ox
-                shift_x = 0.0
+                continue
+            for ox in range(x_low, x_high + 1):
+                nx, shift_x = _neighbour(cx, ox, ncell[0], geom[G_PERIODIC, 0] != 0.0, geom[G_BOX, 0])
                 if nx < 0:
-                    if not periodic[0]:
-                        continue
-                    nx += ncell[0]
-                    shift_x = -box[0]
-                elif nx >= ncell[0]:
-                    if not periodic[0]:
-                        continue
-                    nx -= ncell[0]
-                    shift_x = box[0]
+                    continue
                 j = head[cell_index(nx, ny, nz, ncell)]
                 while j >= 0:
                     if j != i:
-                        dt = t - tloc[j]
-                        # relative velocity is unchanged by gravity (both fall alike)
-                        rx = pos[j, 0] + vel[j, 0] * dt + 0.5 * gravity[0] * dt * dt + shift_x - pix
-                        ry = pos[j, 1] + vel[j, 1] * dt + 0.5 * gravity[1] * dt * dt + shift_y - piy
-                        ux = vel[j, 0] + gravity[0] * dt - vix
-                        uy = vel[j, 1] + gravity[1] * dt - viy
-                        if d == 3:
-                            rz = pos[j, 2] + vel[j, 2] * dt + 0.5 * gravity[2] * dt * dt + shift_z - piz
-                            uz = vel[j, 2] + gravity[2] * dt - viz
-                        else:
-                            rz = 0.0
-                            uz = 0.0
-                        tau = pair_contact_time(rx, ry, rz, ux, uy, uz, radius[i] + radius[j], scale, growth, best)
+                        dt = t - p[j, T]
+                        # the relative velocity is unchanged by gravity (both fall alike)
+                        rx = p[j, X] + (p[j, V] + gx * dt) * dt + shift_x - xi
+                        ry = p[j, X + 1] + (p[j, V + 1] + gy * dt) * dt + shift_y - yi
+                        rz = p[j, X + 2] + (p[j, V + 2] + gz * dt) * dt + shift_z - zi
+                        ux = p[j, V] + 2.0 * gx * dt - vxi
+                        uy = p[j, V + 1] + 2.0 * gy * dt - vyi
+                        uz = p[j, V + 2] + 2.0 * gz * dt - vzi
+                        tau = pair_contact_time(rx, ry, rz, ux, uy, uz, ri + p[j, R], scale, growth, best)
                         if tau < best:
                             best = tau
-                            best_kind = PAIR
-                            best_partner = j
-                    j = next_in_cell[j]
-    ev_time[i] = t + best
-    ev_kind[i] = best_kind
-    ev_partner[i] = best_partner
-    ev_count[i] = counter[best_partner] if best_kind == PAIR else 0
+                            partner = j
+                    j = info[j, NEXT]
+    return best, partner
 
 
 @kernel
-def cell_remove(i, cell, head, next_in_cell, prev_in_cell):
-    p = prev_in_cell[i]
-    n = next_in_cell[i]
-    if p >= 0:
-        next_in_cell[p] = n
+def predict_pairs(p, i, info, times, head, ncell, geom, dim, scale0, growth):
+    """Best collision of particle i (at its own time) over all nearby cells."""
+    t = p[i, T]
+    tau, partner = scan_pairs(p, i, t, info, head, ncell, geom, dim, scale0 + growth * t, growth, math.inf, -1, 0)
+    times[i, PAIR_TIME] = t + tau
+    info[i, PARTNER] = partner
+    info[i, PARTNER_COUNT] = info[partner, COUNTER] if partner >= 0 else 0
+
+
+@kernel
+def schedule(i, info, times, tree_index, tree_time, leaves):
+    """Make i's event the earlier of its collision and its boundary event."""
+    time = min(times[i, PAIR_TIME], times[i, BOUNDARY_TIME])
+    times[i, EVENT_TIME] = time
+    tree_update(i, tree_index, tree_time, time, leaves)
+
+
+@kernel
+def cell_remove(i, cell, head, info):
+    before = info[i, PREV]
+    after = info[i, NEXT]
+    if before >= 0:
+        info[before, NEXT] = after
     else:
-        head[cell] = n
-    if n >= 0:
-        prev_in_cell[n] = p
+        head[cell] = after
+    if after >= 0:
+        info[after, PREV] = before
 
 
 @kernel
-def cell_insert(i, cell, head, next_in_cell, prev_in_cell):
+def cell_insert(i, cell, head, info):
     first = head[cell]
-    next_in_cell[i] = first
-    prev_in_cell[i] = -1
+    info[i, NEXT] = first
+    info[i, PREV] = -1
     if first >= 0:
-        prev_in_cell[first] = i
+        info[first, PREV] = i
     head[cell] = i
+    info[i, CELL_OF] = cell
 
 
 @kernel
-def build_cells(pos, ncell, cell_size, cell_of, head, next_in_cell, prev_in_cell):
+def build_cells(p, ncell, geom, dim, info, head):
     head[:] = -1
-    d = pos.shape[1]
-    for i in range(pos.shape[0]):
-        c = [0, 0, 0]
-        for k in range(d):
-            ck = int(math.floor(pos[i, k] / cell_size[k]))
-            c[k] = min(max(ck, 0), ncell[k] - 1)
-        cell = cell_index(c[0], c[1], c[2], ncell)
-        cell_of[i] = cell
-        cell_insert(i, cell, head, next_in_cell, prev_in_cell)
+    for i in range(p.shape[0]):
+        c0 = c1 = c2 = 0
+        for k in range(dim):
+            c = int(math.floor(p[i, X + k] / geom[G_CELL, k]))
+            c = min(max(c, 0), ncell[k] - 1)
+            if k == 0:
+                c0 = c
+            elif k == 1:
+                c1 = c
+            else:
+                c2 = c
+        cell_insert(i, cell_index(c0, c1, c2, ncell), head, info)
 
 
 @kernel
-def restitution_for(i, j, approach, species, restitution, law, law_speed, law_exponent, elastic_below):
+def restitution_for(i, j, approach, species, restitution, params):
     """Coefficient of normal restitution of one contact."""
-    if approach < elastic_below:
+    if approach < params[P_ELASTIC_BELOW]:
         return 1.0
     e = restitution[species[i], species[j]]
-    if law == LAW_BRIDGES and approach > law_speed:
-        e = min(e, (approach / law_speed) ** (-law_exponent))
+    speed = params[P_LAW_SPEED]
+    if params[P_LAW] == LAW_BRIDGES and approach > speed:
+        e = min(e, (approach / speed) ** (-params[P_LAW_EXPONENT]))
     return e
 
 
 @kernel
-def collide_pair(
-    i, j, pos, vel, mass, radius, box, periodic, scale, growth, species, restitution, law, law_speed,
-    law_exponent, elastic_below, acc,
-):
+def collide_pair(p, i, j, mass, geom, dim, scale, growth, species, restitution, params, acc):
     """Resolve the contact of i and j (both at the current time)."""
-    d = pos.shape[1]
-    r = np.empty(3)
-    norm2 = 0.0
-    for k in range(d):
-        x = pos[j, k] - pos[i, k]
-        if periodic[k]:
-            x -= box[k] * round(x / box[k])
-        r[k] = x
-        norm2 += x * x
-    distance = math.sqrt(norm2)
-    approach = 0.0
-    for k in range(d):
-        r[k] /= distance
-        approach += (vel[i, k] - vel[j, k]) * r[k]
-    # the contact distance grows at rate (r_i + r_j) * growth during compression
-    surface_rate = (radius[i] + radius[j]) * growth
-    effective = approach + surface_rate
-    if effective <= 0.0:
+    rx = 0.0
+    ry = 0.0
+    rz = 0.0
+    for k in range(dim):
+        x = p[j, X + k] - p[i, X + k]
+        if geom[G_PERIODIC, k] != 0.0:
+            length = geom[G_BOX, k]
+            x -= length * round(x / length)
+        if k == 0:
+            rx = x
+        elif k == 1:
+            ry = x
+        else:
+            rz = x
+    distance = math.sqrt(rx * rx + ry * ry + rz * rz)
+    nx = rx / distance
+    ny = ry / distance
+    nz = rz / distance
+    approach = (p[i, V] - p[j, V]) * nx + (p[i, V + 1] - p[j, V + 1]) * ny + (p[i, V + 2] - p[j, V + 2]) * nz
+    # while compressing, the contact distance grows at (r_i + r_j) * growth
+    surface_rate = (p[i, R] + p[j, R]) * growth
+    if approach + surface_rate <= 0.0:
         return
-    e = restitution_for(i, j, approach, species, restitution, law, law_speed, law_exponent, elastic_below)
     mi = mass[i]
     mj = mass[j]
     reduced = mi * mj / (mi + mj)
-    impulse = reduced * ((1.0 + e) * approach + 2.0 * surface_rate) if growth != 0.0 else reduced * (1.0 + e) * approach
-    for k in range(d):
-        vel[i, k] -= impulse / mi * r[k]
-        vel[j, k] += impulse / mj * r[k]
+    if growth != 0.0:
+        impulse = reduced * 2.0 * (approach + surface_rate)
+    else:
+        e = restitution_for(i, j, approach, species, restitution, params)
+        impulse = reduced * (1.0 + e) * approach
+        acc[ACC_ENERGY_LOST] += 0.5 * reduced * (1.0 - e * e) * approach * approach
+    p[i, V] -= impulse / mi * nx
+    p[i, V + 1] -= impulse / mi * ny
+    p[i, V + 2] -= impulse / mi * nz
+    p[j, V] += impulse / mj * nx
+    p[j, V + 1] += impulse / mj * ny
+    p[j, V + 2] += impulse / mj * nz
     acc[ACC_VIRIAL] += impulse * distance
     acc[ACC_PAIR_COLLISIONS] += 1.0
-    acc[ACC_ENERGY_LOST] += 0.5 * reduced * (1.0 - e * e) * approach * approach if growth == 0.0 else 0.0
 
 
 @kernel
-def cross_cell(i, code, pos, cell_of, ncell, box, image, head, next_in_cell, prev_in_cell):
+def cross_cell(p, i, code, info, head, ncell, geom, image):
     """Move particle i into the neighbouring cell across face ``code``."""
     axis = code // 2
-    upward = code % 2 == 1
-    cx, cy, cz = cell_coordinates(cell_of[i], ncell)
-    cells = [cx, cy, cz]
-    c = cells[axis] + (1 if upward else -1)
+    step = 1 if code % 2 == 1 else -1
+    cx, cy, cz = cell_coordinates(info[i, CELL_OF], ncell)
+    c = (cx, cy, cz)[axis] + step
     if c >= ncell[axis]:
         c = 0
-        pos[i, axis] -= box[axis]
+        p[i, X + axis] -= geom[G_BOX, axis]
         image[i, axis] += 1
     elif c < 0:
         c = ncell[axis] - 1
-        pos[i, axis] += box[axis]
+        p[i, X + axis] += geom[G_BOX, axis]
         image[i, axis] -= 1
-    cells[axis] = c
-    new_cell = cell_index(cells[0], cells[1], cells[2], ncell)
-    cell_remove(i, cell_of[i], head, next_in_cell, prev_in_cell)
-    cell_insert(i, new_cell, head, next_in_cell, prev_in_cell)
-    cell_of[i] = new_cell
+    if axis == 0:
+        cx = c
+    elif axis == 1:
+        cy = c
+    else:
+        cz = c
+    cell_remove(i, info[i, CELL_OF], head, info)
+    cell_insert(i, cell_index(cx, cy, cz, ncell), head, info)
+    return axis, step
 
 
 @kernel
-def bounce_off_wall(i, code, vel, mass, wall_restitution, acc):
+def bounce_off_wall(p, i, code, mass, params, acc):
     axis = code // 2
     upward = code % 2 == 1
-    v = vel[i, axis]
+    v = p[i, V + axis]
     if (upward and v > 0.0) or ((not upward) and v < 0.0):
-        vel[i, axis] = -wall_restitution * v
-        acc[ACC_WALL_IMPULSE] += mass[i] * (1.0 + wall_restitution) * abs(v)
+        e = params[P_WALL_RESTITUTION]
+        p[i, V + axis] = -e * v
+        acc[ACC_WALL_IMPULSE] += mass[i] * (1.0 + e) * abs(v)
         acc[ACC_WALL_COLLISIONS] += 1.0
 
 
 @kernel
-def run_events(
-    t, max_pair_collisions, t_stop, pos, vel, tloc, mass, radius, species, image, counter,
-    cell_of, head, next_in_cell, prev_in_cell, ncell, cell_size, box, periodic, gravity,
-    scale0, growth, restitution, law, law_speed, law_exponent, elastic_below, wall_restitution,
-    ev_time, ev_kind, ev_partner, ev_count, tree_index, tree_time, leaves, acc,
-):
+def _repredict(p, i, info, times, head, ncell, geom, dim, params, tree_index, tree_time, leaves):
+    """Full prediction of i (at its own time): pairs, boundary, schedule."""
+    scale0 = params[P_SCALE0]
+    growth = params[P_GROWTH]
+    predict_pairs(p, i, info, times, head, ncell, geom, dim, scale0, growth)
+    predict_boundary(p, i, info, times, ncell, geom, dim, scale0 + growth * p[i, T], growth)
+    schedule(i, info, times, tree_index, tree_time, leaves)
+
+
+@kernel
+def _after_crossing(p, i, axis, step, info, times, head, ncell, geom, dim, params):
+    """Update i's collision after it entered a new cell: search the new layer only,
+    unless its stored collision went stale (then search everything)."""
+    t = p[i, T]
+    scale0 = params[P_SCALE0]
+    growth = params[P_GROWTH]
+    partner = info[i, PARTNER]
+    if partner >= 0 and info[partner, COUNTER] != info[i, PARTNER_COUNT]:
+        predict_pairs(p, i, info, times, head, ncell, geom, dim, scale0, growth)
+        return
+    best = times[i, PAIR_TIME] - t
+    tau, found = scan_pairs(p, i, t, info, head, ncell, geom, dim, scale0 + growth * t, growth, best, axis, step)
+    if found >= 0:
+        times[i, PAIR_TIME] = t + tau
+        info[i, PARTNER] = found
+        info[i, PARTNER_COUNT] = info[found, COUNTER]
+
+
+@kernel
+def run_events(t, max_pair_collisions, t_stop, p, mass, species, image, info, times, head, ncell, geom, dim,
+               restitution, params, tree_index, tree_time, leaves, acc):
     """Process events until ``max_pair_collisions`` collisions or time ``t_stop``.
 
     Returns the current time: the last event's time, or ``t_stop`` if that
-    came first (no particle is moved to it: call ``synchronise``).
+    came first (particles are not moved to it: call ``synchronise``).
     """
     done = 0
+    scale0 = params[P_SCALE0]
+    growth = params[P_GROWTH]
     while done < max_pair_collisions:
         i = tree_index[1]
         event_time = tree_time[1]
@@ -450,115 +532,95 @@ def run_events(
         if event_time == math.inf:
             return t
         t = event_time
-        kind = ev_kind[i]
-        if kind == PAIR:
-            j = ev_partner[i]
-            if counter[j] != ev_count[i]:
+        advance(p, i, t, geom, dim)
+        if times[i, PAIR_TIME] <= times[i, BOUNDARY_TIME]:
+            j = info[i, PARTNER]
+            if info[j, COUNTER] != info[i, PARTNER_COUNT]:
                 acc[ACC_STALE_EVENTS] += 1.0
-                advance(i, t, pos, vel, tloc, gravity)
-            else:
-                advance(i, t, pos, vel, tloc, gravity)
-                advance(j, t, pos, vel, tloc, gravity)
-                collide_pair(
-                    i, j, pos, vel, mass, radius, box, periodic, scale0 + growth * t, growth, species,
-                    restitution, law, law_speed, law_exponent, elastic_below, acc,
-                )
-                counter[i] += 1
-                counter[j] += 1
-                done += 1
-                predict(
-                    j, t, pos, vel, tloc, radius, cell_of, head, next_in_cell, ncell, cell_size, box,
-                    periodic, gravity, scale0, growth, counter, ev_time, ev_kind, ev_partner, ev_count,
-                )
-                tree_update(j, tree_index, tree_time, ev_time, leaves)
-        elif kind == CELL:
-            advance(i, t, pos, vel, tloc, gravity)
-            cross_cell(i, ev_partner[i], pos, cell_of, ncell, box, image, head, next_in_cell, prev_in_cell)
+                predict_pairs(p, i, info, times, head, ncell, geom, dim, scale0, growth)
+                schedule(i, info, times, tree_index, tree_time, leaves)
+                continue
+            advance(p, j, t, geom, dim)
+            collide_pair(p, i, j, mass, geom, dim, scale0 + growth * t, growth, species, restitution, params, acc)
+            info[i, COUNTER] += 1
+            info[j, COUNTER] += 1
+            done += 1
+            _repredict(p, j, info, times, head, ncell, geom, dim, params, tree_index, tree_time, leaves)
+            _repredict(p, i, info, times, head, ncell, geom, dim, params, tree_index, tree_time, leaves)
+        elif info[i, BOUNDARY_KIND] == CELL:
+            axis, step = cross_cell(p, i, info[i, BOUNDARY_CODE], info, head, ncell, geom, image)
             acc[ACC_CELL_CROSSINGS] += 1.0
-        elif kind == WALL:
-            advance(i, t, pos, vel, tloc, gravity)
-            bounce_off_wall(i, ev_partner[i], vel, mass, wall_restitution, acc)
-            counter[i] += 1
-        predict(
-            i, t, pos, vel, tloc, radius, cell_of, head, next_in_cell, ncell, cell_size, box,
-            periodic, gravity, scale0, growth, counter, ev_time, ev_kind, ev_partner, ev_count,
-        )
-        tree_update(i, tree_index, tree_time, ev_time, leaves)
+            predict_boundary(p, i, info, times, ncell, geom, dim, scale0 + growth * t, growth)
+            _after_crossing(p, i, axis, step, info, times, head, ncell, geom, dim, params)
+            schedule(i, info, times, tree_index, tree_time, leaves)
+        else:
+            bounce_off_wall(p, i, info[i, BOUNDARY_CODE], mass, params, acc)
+            info[i, COUNTER] += 1
+            _repredict(p, i, info, times, head, ncell, geom, dim, params, tree_index, tree_time, leaves)
     return t
 
 
 @kernel
-def predict_all(
-    t, pos, vel, tloc, radius, cell_of, head, next_in_cell, ncell, cell_size, box, periodic,
-    gravity, scale0, growth, counter, ev_time, ev_kind, ev_partner, ev_count, tree_index, tree_time, leaves,
-):
-    n = pos.shape[0]
-    for i in range(n):
-        predict(
-            i, t, pos, vel, tloc, radius, cell_of, head, next_in_cell, ncell, cell_size, box,
-            periodic, gravity, scale0, growth, counter, ev_time, ev_kind, ev_partner, ev_count,
-        )
-    tree_build(tree_index, tree_time, ev_time, n, leaves)
+def predict_all(p, info, times, head, ncell, geom, dim, params, tree_index, tree_time, leaves):
+    """Predict every particle's events (all at their own times) and rebuild the tree."""
+    scale0 = params[P_SCALE0]
+    growth = params[P_GROWTH]
+    for i in range(p.shape[0]):
+        predict_pairs(p, i, info, times, head, ncell, geom, dim, scale0, growth)
+        predict_boundary(p, i, info, times, ncell, geom, dim, scale0 + growth * p[i, T], growth)
+        times[i, EVENT_TIME] = min(times[i, PAIR_TIME], times[i, BOUNDARY_TIME])
+    tree_build(tree_index, tree_time, times, leaves)
 
 
 @kernel
-def synchronise(t, pos, vel, tloc, gravity):
+def synchronise(p, t, geom, dim):
     """Move every particle to time t."""
-    for i in range(pos.shape[0]):
-        advance(i, t, pos, vel, tloc, gravity)
+    for i in range(p.shape[0]):
+        advance(p, i, t, geom, dim)
 
 
 @kernel
-def min_gap(pos, radius, scale, cell_of, head, next_in_cell, ncell, box, periodic):
-    """Smallest (distance - contact distance) over all pairs in neighbouring cells.
+def min_gap(p, scale, info, head, ncell, geom, dim):
+    """Smallest (distance - contact distance) over pairs in neighbouring cells.
 
-    Positions must be synchronised. Negative means an overlap.
+    Particles must be synchronised. Negative means an overlap.
     """
-    d = pos.shape[1]
     worst = math.inf
-    for i in range(pos.shape[0]):
-        cx, cy, cz = cell_coordinates(cell_of[i], ncell)
-        zrange = 1 if d == 3 else 0
-        for oz in range(-zrange, zrange + 1):
-            nz = cz + oz
-            if d == 3 and (nz < 0 or nz >= ncell[2]):
-                if not periodic[2]:
-                    continue
-                nz %= ncell[2]
+    for i in range(p.shape[0]):
+        cx, cy, cz = cell_coordinates(info[i, CELL_OF], ncell)
+        for oz in range(-1 if dim == 3 else 0, 2 if dim == 3 else 1):
+            nz, _ = _neighbour(cz, oz, ncell[2], geom[G_PERIODIC, 2] != 0.0, 0.0)
+            if nz < 0:
+                continue
             for oy in range(-1, 2):
-                ny = cy + oy
-                if ny < 0 or ny >= ncell[1]:
-                    if not periodic[1]:
-                        continue
-                    ny %= ncell[1]
+                ny, _ = _neighbour(cy, oy, ncell[1], geom[G_PERIODIC, 1] != 0.0, 0.0)
+                if ny < 0:
+                    continue
                 for ox in range(-1, 2):
-                    nx = cx + ox
-                    if nx < 0 or nx >= ncell[0]:
-                        if not periodic[0]:
-                            continue
-                        nx %= ncell[0]
+                    nx, _ = _neighbour(cx, ox, ncell[0], geom[G_PERIODIC, 0] != 0.0, 0.0)
+                    if nx < 0:
+                        continue
                     j = head[cell_index(nx, ny, nz, ncell)]
                     while j >= 0:
                         if j > i:
                             norm2 = 0.0
-                            for k in range(d):
-                                x = pos[j, k] - pos[i, k]
-                                if periodic[k]:
-                                    x -= box[k] * round(x / box[k])
+                            for k in range(dim):
+                                x = p[j, X + k] - p[i, X + k]
+                                if geom[G_PERIODIC, k] != 0.0:
+                                    x -= geom[G_BOX, k] * round(x / geom[G_BOX, k])
                                 norm2 += x * x
-                            gap = math.sqrt(norm2) - (radius[i] + radius[j]) * scale
-                            worst = min(worst, gap)
-                        j = next_in_cell[j]
+                            worst = min(worst, math.sqrt(norm2) - (p[i, R] + p[j, R]) * scale)
+                        j = info[j, NEXT]
     return worst
 
 
 @kernel
-def wall_gap(pos, radius, scale, box, periodic):
-    """Smallest distance between a sphere's surface and a wall (negative: overlap)."""
+def wall_gap(p, scale, geom, dim):
+    """Smallest distance between a surface and a wall (negative: overlap)."""
     worst = math.inf
-    for i in range(pos.shape[0]):
-        for k in range(pos.shape[1]):
-            if not periodic[k]:
-                r = radius[i] * scale
-                worst = min(worst, pos[i, k] - r, box[k] - r - pos[i, k])
+    for i in range(p.shape[0]):
+        for k in range(dim):
+            if geom[G_PERIODIC, k] == 0.0:
+                r = p[i, R] * scale
+                worst = min(worst, p[i, X + k] - r, geom[G_BOX, k] - r - p[i, X + k])
     return worst
