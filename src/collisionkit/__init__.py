@@ -11,7 +11,7 @@ Modules: :mod:`collisionkit.collisions` (contact resolution and detection),
 :mod:`collisionkit.compat.irfpy` (irfpy's collision API).
 """
 
-from . import compat, kinematics, scattering
+from . import compat, encounters, kinematics, scattering
 from .collisions import RESTITUTION_MODELS, Contact, collide, resolve_contact, time_to_contact
 from .kinematics import (
     centre_of_mass_velocity,
@@ -39,6 +39,7 @@ __all__ = [
     "centre_of_mass_velocity",
     "collide",
     "compat",
+    "encounters",
     "energy_transfer_fraction",
     "from_centre_of_mass_frame",
     "impact_angle_2d",

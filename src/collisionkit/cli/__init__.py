@@ -77,3 +77,12 @@ def demo(
 def main(argv: list[str] | None = None) -> None:
     """Entry point of the ``collisionkit`` script."""
     app(args=argv if argv is not None else sys.argv[1:], prog_name="collisionkit")
+
+
+from . import _encounter  # noqa: E402
+
+_encounter.register(app)
+
+from . import _edmd  # noqa: E402
+
+_edmd.register(app)

@@ -24,6 +24,6 @@ class SectionResult:
 
 def sections():
     """The demo sections in display order (imported lazily: each may be slow to import)."""
-    from . import _demo_core
+    from . import _demo_core, _demo_encounter
 
-    return [("collision core", _demo_core.run)]
+    return [("collision core", _demo_core.run), ("two-body encounters", _demo_encounter.run)]

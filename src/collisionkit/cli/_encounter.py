@@ -1,0 +1,179 @@
+"""The ``encounter`` subcommand: a StarCrash-style hyperbolic two-body set-up."""
+
+from __future__ import annotations
+
+import math
+import warnings
+from pathlib import Path
+from typing import Annotated, Literal
+
+import typer
+from pydantic import Field
+
+from ._common import Options, console, fail, load_options, print_table, write_summary
+
+UnitsName = Literal["nbody", "si", "cgs", "solar", "stellar"]
+LayoutName = Literal["diagonal", "x"]
+
+
+class EncounterOptions(Options):
+    m1: float = Field(default=1.0, gt=0, allow_inf_nan=False)
+    m2: float = Field(default=1.0, gt=0, allow_inf_nan=False)
+    rp: float = Field(default=1.0, gt=0, allow_inf_nan=False)
+    vinf: float = Field(default=0.5, gt=0, allow_inf_nan=False)
+    sep0: float = Field(default=10.0, gt=0, allow_inf_nan=False)
+    units: UnitsName = "nbody"
+    layout: LayoutName = "diagonal"
+    radius1: float | None = Field(default=None, ge=0, allow_inf_nan=False)
+    radius2: float | None = Field(default=None, ge=0, allow_inf_nan=False)
+    out: Path = Path("encounter-output")
+    plots: bool = True
+    summary: Path | None = None
+
+
+def _unit_labels(system) -> dict[str, str]:
+    v = system.velocity
+    return {
+        "mass": system.mass,
+        "length": system.length,
+        "time": system.time,
+        "velocity": v,
+        "energy": f"{system.mass} ({v})^2",
+        "angular_momentum": f"{system.mass} {system.length} {v}",
+        "area": f"{system.length}^2",
+    }
+
+
+def _setup(options: EncounterOptions, G: float):
+    """The initial conditions, and the grid warning's text if there is one."""
+    from ..encounters import GridExitWarning, starcrash_initial_conditions
+
+    if options.sep0 < options.rp:
+        raise fail(f"sep0 must be >= rp (the stars start outside periastron); got sep0={options.sep0}, rp={options.rp}")
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", GridExitWarning)
+        try:
+            ic = starcrash_initial_conditions(
+                options.m1, options.m2, options.rp, options.vinf, options.sep0, G=G, layout=options.layout
+            )
+        except ValueError as error:
+            raise fail(str(error)) from None
+    messages = [str(item.message) for item in caught if issubclass(item.category, GridExitWarning)]
+    return ic, messages
+
+
+def _contact(options: EncounterOptions, ic):
+    """Contact summary for the given radii (None if no radii were given)."""
+    if options.radius1 is None and options.radius2 is None:
+        return None
+    r1 = options.radius1 or 0.0
+    r2 = options.radius2 or 0.0
+    if r1 + r2 == 0.0:
+        raise fail("radius1 + radius2 must be > 0 for contact detection")
+    contact = ic.orbit.contact(r1, r2)
+    result = {
+        "radius1": r1,
+        "radius2": r2,
+        "touches": contact.touches,
+        "time_from_start": contact.time + ic.time_to_periastron if contact.touches else None,
+        "time_from_periastron": contact.time if contact.touches else None,
+        "relative_speed": contact.relative_speed if contact.touches else None,
+        "normal_speed": contact.normal_speed if contact.touches else None,
+        "focusing_cross_section": ic.orbit.focusing_cross_section(r1, r2),
+        "overlap_at_start": ic.sep0 < r1 + r2,
+    }
+    return result
+
+
+def _rows(ic, contact, labels):
+    orbit = ic.orbit
+    rows = [
+        ("total mass M_T", ic.total_mass, labels["mass"]),
+        ("reduced mass mu", ic.reduced_mass, labels["mass"]),
+        ("energy E_T = mu vinf^2 / 2 (eq. 34)", ic.energy, labels["energy"]),
+        ("speed at sep0, v0 (eq. 35)", ic.v0, labels["velocity"]),
+        ("speed at periastron, vp (eq. 36)", ic.vp, labels["velocity"]),
+        ("angular momentum J_T (eq. 37)", ic.angular_momentum, labels["angular_momentum"]),
+        ("impact parameter b (eq. 38)", ic.impact_parameter, labels["length"]),
+        ("transverse speed vt (eq. 39)", ic.vt, labels["velocity"]),
+        ("radial speed vr", ic.vr, labels["velocity"]),
+        ("vt / v0 (grid limit sqrt(1/3) = 0.5774)", ic.speed_ratio, ""),
+        ("eccentricity e", orbit.eccentricity, ""),
+        ("semi-major axis a", orbit.semi_major_axis, labels["length"]),
+        ("deflection angle (degrees)", math.degrees(orbit.deflection_angle), "deg"),
+        ("time from sep0 to periastron", ic.time_to_periastron, labels["time"]),
+    ]
+    if contact is not None:
+        rows.append(("bodies touch (rp < R1 + R2)", contact["touches"], ""))
+        if contact["touches"]:
+            rows.append(("time from start to contact", contact["time_from_start"], labels["time"]))
+            rows.append(("relative speed at contact", contact["relative_speed"], labels["velocity"]))
+        rows.append(("focusing cross section", contact["focusing_cross_section"], labels["area"]))
+    return [(name, value if isinstance(value, (bool, str)) else f"{value:.10g}", unit) for name, value, unit in rows]
+
+
+def encounter(
+    m1: Annotated[float | None, typer.Option("--m1", help="Mass of body 1 (> 0).  [default: 1]")] = None,
+    m2: Annotated[float | None, typer.Option("--m2", help="Mass of body 2 (> 0).  [default: 1]")] = None,
+    rp: Annotated[float | None, typer.Option("--rp", help="Periastron distance (> 0).  [default: 1]")] = None,
+    vinf: Annotated[float | None, typer.Option("--vinf", help="Relative speed at infinity (> 0).  [default: 0.5]")] = None,
+    sep0: Annotated[float | None, typer.Option("--sep0", help="Initial separation (>= rp).  [default: 10]")] = None,
+    units: Annotated[
+        str | None,
+        typer.Option(help="nbody (G = 1), si (kg m s), cgs (g cm s), solar (Msun AU yr), stellar (Msun Rsun km/s).  [default: nbody]"),
+    ] = None,
+    layout: Annotated[
+        str | None, typer.Option(help="diagonal (opposite grid corners, as StarCrash) or x.  [default: diagonal]")
+    ] = None,
+    radius1: Annotated[float | None, typer.Option(help="Radius of body 1 for contact detection (>= 0).")] = None,
+    radius2: Annotated[float | None, typer.Option(help="Radius of body 2 for contact detection (>= 0).")] = None,
+    out: Annotated[
+        Path | None, typer.Option(help="Folder for the initial conditions and the plot.  [default: encounter-output]")
+    ] = None,
+    plots: Annotated[bool | None, typer.Option("--plots/--no-plots", help="Plot the trajectories.  [default: plots]")] = None,
+    summary: Annotated[Path | None, typer.Option("--summary", help="Write the results as JSON to this file.")] = None,
+    config: Annotated[Path | None, typer.Option("--config", help="TOML file with these options (command line wins).")] = None,
+):
+    """Set up a hyperbolic two-body encounter (StarCrash eqs. 34-39) and print its derived quantities."""
+    given = dict(
+        m1=m1, m2=m2, rp=rp, vinf=vinf, sep0=sep0, units=units, layout=layout,
+        radius1=radius1, radius2=radius2, out=out, plots=plots, summary=summary,
+    )  # fmt: skip
+    options = load_options(EncounterOptions, config, given)
+    from ..encounters import unit_system
+
+    system = unit_system(options.units)
+    ic, messages = _setup(options, system.G)
+    contact = _contact(options, ic)
+    if contact is not None and contact["overlap_at_start"]:
+        messages.append(f"the bodies overlap at sep0 = {ic.sep0:g} < radius1 + radius2; contact precedes the start")
+    labels = _unit_labels(system)
+    print_table(f"two-body encounter ({system.name} units, G = {system.G:.10g})", ("quantity", "value", "unit"), _rows(ic, contact, labels))
+    for message in messages:
+        console.print(f"[bold yellow]warning:[/] {message}")
+    files = list(ic.write(options.out, units=system))
+    if options.plots:
+        import matplotlib
+
+        matplotlib.use("Agg")
+        from .. import plotting
+
+        files.append(plotting.save(plotting.plot_encounter(ic), options.out / "encounter.png"))
+    result = {
+        "units": system.name,
+        "G": system.G,
+        "unit_labels": labels,
+        "initial_conditions": ic.to_dict(),
+        "orbit": ic.orbit.derived_quantities(),
+        "contact": contact,
+        "warnings": messages,
+        "files": [str(path) for path in files],
+    }
+    write_summary(options.summary, result)
+    for path in files:
+        console.print(f"wrote {path}")
+
+
+def register(app: typer.Typer) -> None:
+    """Add the ``encounter`` command to the ``collisionkit`` app."""
+    app.command("encounter")(encounter)
