@@ -45,6 +45,9 @@ __all__ = [
 
 RESTITUTION_LAWS = {"constant": _k.LAW_CONSTANT, "bridges": _k.LAW_BRIDGES}
 
+# re-sort particles in memory by cell after this many collisions per particle
+SORT_INTERVAL = 5
+
 
 class OverlapError(RuntimeError):
     """Two particles (or a particle and a wall) overlap beyond round-off."""
@@ -332,16 +335,16 @@ class HardSphereSystem:
             _arrays.require_finite(array, name)
         self.dim = dim
         radius = _per_particle(radii, count, "radii")
-        self.mass = _per_particle(masses, count, "masses")
+        self._mass = _per_particle(masses, count, "masses")
         _arrays.require_finite(radius, "radii")
         _arrays.require_in_range(radius, "radii", 0.0, np.inf, inclusive=(False, False))
-        _arrays.require_finite(self.mass, "masses")
-        _arrays.require_in_range(self.mass, "masses", 0.0, np.inf, inclusive=(False, False))
+        _arrays.require_finite(self._mass, "masses")
+        _arrays.require_in_range(self._mass, "masses", 0.0, np.inf, inclusive=(False, False))
         box = _per_particle(box, dim, "box") if np.ndim(box) else np.full(dim, float(box))
         _arrays.require_finite(box, "box")
         _arrays.require_in_range(box, "box", 0.0, np.inf, inclusive=(False, False))
         periodic = np.broadcast_to(np.asarray(periodic, dtype=bool), (dim,)).copy()
-        self.species = _per_particle(0 if species is None else species, count, "species", dtype=np.int64)
+        self._species = _per_particle(0 if species is None else species, count, "species", dtype=np.int64)
         self._set_restitution(restitution, restitution_law, law_speed, law_exponent, wall_restitution)
         gravity = np.zeros(dim) if gravity is None else _arrays.as_float_array(gravity, "gravity")
         if gravity.shape != (dim,):
@@ -362,7 +365,10 @@ class HardSphereSystem:
         self.p[:, _k.V : _k.V + dim] = velocities
         self.p[:, _k.R] = radius
         self._wrap_into_box()
-        self.image = np.zeros((count, dim), dtype=np.int64)
+        self._image = np.zeros((count, dim), dtype=np.int64)
+        # particles live in memory in cell order (re-sorted as they move); ids maps slot -> particle
+        self.ids = np.arange(count)
+        self.last_sort = 0
         self.acc = np.zeros(_k.ACC_SIZE)
         if elastic_below is None:
             inelastic = np.any(self.restitution < 1.0) or restitution_law != "constant"
@@ -382,8 +388,8 @@ class HardSphereSystem:
     # -------------------------------------------------------------- set-up helpers
 
     def _set_restitution(self, restitution, law, law_speed, law_exponent, wall_restitution):
-        species_count = int(self.species.max()) + 1
-        if np.any(self.species < 0):
+        species_count = int(self._species.max()) + 1
+        if np.any(self._species < 0):
             raise ValueError("species must be >= 0")
         matrix = np.asarray(restitution, dtype=float)
         if matrix.ndim == 0:
@@ -475,8 +481,47 @@ class HardSphereSystem:
 
     @property
     def radius(self):
-        """Radii at scale 1 (a view)."""
-        return self.p[:, _k.R]
+        """Radii at scale 1, in particle order."""
+        return self._to_user_order(self.p[:, _k.R])
+
+    @property
+    def mass(self):
+        """Masses, in particle order."""
+        return self._to_user_order(self._mass)
+
+    @property
+    def species(self):
+        """Species indices, in particle order."""
+        return self._to_user_order(self._species)
+
+    @property
+    def image(self):
+        """Periodic image counters (boundary crossings per axis), in particle order."""
+        return self._to_user_order(self._image)
+
+    def _to_user_order(self, internal):
+        result = np.empty_like(internal)
+        result[self.ids] = internal
+        return result
+
+    def _sort_by_cell(self):
+        """Renumber the memory slots in cell order so neighbours share cache lines.
+
+        Particles keep their identity through ``ids``; all events are
+        re-predicted (the partner slots changed).
+        """
+        self.synchronise()
+        order = np.argsort(self.info[:, _k.CELL_OF], kind="stable")
+        self.p[:] = self.p[order]
+        self._mass = self._mass[order]
+        self._species = self._species[order]
+        self._image = self._image[order]
+        self.ids = self.ids[order]
+        self.info[:] = 0
+        self.info[:, _k.PARTNER] = -1
+        _k.build_cells(self.p, self.ncell, self.geom, self.dim, self.info, self.head)
+        self._predict_all()
+        self.last_sort = self.collisions
 
     @property
     def box(self):
@@ -541,18 +586,17 @@ class HardSphereSystem:
     def positions(self, unwrapped=False):
         """Positions at the current time (a copy); ``unwrapped`` adds the periodic images."""
         self.synchronise()
-        if unwrapped:
-            return self.pos + self.image * self.box[: self.dim]
-        return self.pos.copy()
+        internal = self.pos + self._image * self.box[: self.dim] if unwrapped else self.pos
+        return self._to_user_order(internal)
 
     def velocities(self):
         """Velocities at the current time (a copy)."""
         self.synchronise()
-        return self.vel.copy()
+        return self._to_user_order(self.vel)
 
     def kinetic_energy(self) -> float:
         self.synchronise()
-        return float(0.5 * np.sum(self.mass[:, None] * self.vel**2))
+        return float(0.5 * np.sum(self._mass[:, None] * self.vel**2))
 
     def temperature(self) -> float:
         """kT = 2 K / (d N)."""
@@ -560,7 +604,7 @@ class HardSphereSystem:
 
     def momentum(self):
         self.synchronise()
-        return (self.mass[:, None] * self.vel).sum(axis=0)
+        return (self._mass[:, None] * self.vel).sum(axis=0)
 
     def set_velocities(self, velocities):
         """Replace all velocities (at the current time) and re-predict every event."""
@@ -569,7 +613,7 @@ class HardSphereSystem:
             raise ValueError(f"velocities must have shape {(self.count, self.dim)}; got {velocities.shape}")
         _arrays.require_finite(velocities, "velocities")
         self.synchronise()
-        self.p[:, _k.V : _k.V + self.dim] = velocities
+        self.p[:, _k.V : _k.V + self.dim] = velocities[self.ids]
         self.info[:, _k.COUNTER] += 1
         self._predict_all()
 
@@ -628,9 +672,11 @@ class HardSphereSystem:
         done = 0
         while done < target and remaining > 0:
             step = min(chunk, target - done)
+            if self.collisions - self.last_sort >= SORT_INTERVAL * self.count:
+                self._sort_by_cell()
             before, start = self.collisions, self.time
             self.time = _k.run_events(
-                self.time, step, start + remaining, self.p, self.mass, self.species, self.image, self.info,
+                self.time, step, start + remaining, self.p, self._mass, self._species, self._image, self.info,
                 self.times, self.head, self.ncell, self.geom, self.dim, self.restitution, self.params,
                 self.tree_index, self.tree_time, self.leaves, self.acc,
             )
@@ -646,9 +692,9 @@ class HardSphereSystem:
 
     # -------------------------------------------------------------- checkpoints
 
-    _ARRAYS = ("p", "mass", "species", "image", "acc", "geom", "params", "restitution", "info", "head", "ncell",
-               "times", "tree_index", "tree_time")
-    _SCALARS = ("dim", "time", "elapsed", "leaves")
+    _ARRAYS = ("p", "_mass", "_species", "_image", "ids", "acc", "geom", "params", "restitution", "info", "head",
+               "ncell", "times", "tree_index", "tree_time")
+    _SCALARS = ("dim", "time", "elapsed", "leaves", "last_sort")
 
     def state_dict(self):
         """Every array and number needed to continue the run bit for bit."""
@@ -972,7 +1018,7 @@ class Sampler:
         record["time"].append(system.elapsed - self.start_time)
         displacement = system.positions(unwrapped=True) - self.start_positions
         record["msd"].append(float(np.mean(np.sum(displacement**2, axis=1))))
-        self.speeds.append(np.linalg.norm(system.vel, axis=1))
+        self.speeds.append(np.linalg.norm(system.velocities(), axis=1))
         self.histogram += _pair_histogram(system, self.r_max, self.histogram.size)
 
     def state_dict(self):
