@@ -32,3 +32,12 @@ def test_unserialisable_value_is_a_type_error(tmp_path):
     with pytest.raises(TypeError, match="object"):
         _io.atomic_write_json(tmp_path / "x.json", {"a": object()})
     assert not (tmp_path / "x.json").exists()
+
+
+def test_written_files_get_ordinary_permissions(tmp_path):
+    mask = os.umask(0o022)
+    try:
+        path = _io.atomic_write_text(tmp_path / "a.txt", "x")
+    finally:
+        os.umask(mask)
+    assert path.stat().st_mode & 0o777 == 0o644

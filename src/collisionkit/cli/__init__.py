@@ -40,10 +40,10 @@ class DemoOptions(Options):
 
 @app.command()
 def demo(
-    out: Annotated[Path | None, typer.Option(help="Folder for the summary and plots.  [default: demo-output]")] = None,
-    pairs: Annotated[int | None, typer.Option(help="Pairs per batch check (1000 to 5e7).  [default: 200000]")] = None,
-    seed: Annotated[int | None, typer.Option(help="Random seed (>= 0).  [default: 2026]")] = None,
-    plots: Annotated[bool | None, typer.Option("--plots/--no-plots", help="Write plots.  [default: plots]")] = None,
+    out: Annotated[Path | None, typer.Option(help="Folder for the summary and plots.  \\[default: demo-output]")] = None,
+    pairs: Annotated[int | None, typer.Option(help="Pairs per batch check (1000 to 5e7).  \\[default: 200000]")] = None,
+    seed: Annotated[int | None, typer.Option(help="Random seed (>= 0).  \\[default: 2026]")] = None,
+    plots: Annotated[bool | None, typer.Option("--plots/--no-plots", help="Write plots.  \\[default: plots]")] = None,
     summary: SummaryOption = None,
     config: ConfigOption = None,
 ):

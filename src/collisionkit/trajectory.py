@@ -1,0 +1,369 @@
+"""Trajectory files of hard-sphere systems: GSD (HOOMD schema) and extended XYZ.
+
+GSD is the binary format that HOOMD-blue writes and OVITO, freud, MDAnalysis
+and VMD read; writing it needs the optional ``gsd`` package
+(``pip install 'collisionkit[io]'``). Frames follow the HOOMD conventions:
+the box is centred on the origin (positions are shifted by -L/2), 2D frames
+have ``dimensions = 2``, ``Lz = 0`` and z = 0, and floats are stored in single
+precision as the HOOMD schema specifies (a checkpoint, not a trajectory, is
+the exact state).
+
+Extended XYZ is the text format of ASE (``ase.io.read``) and OVITO; it needs
+nothing beyond numpy and is written atomically.
+
+Both writers take any object with the attributes of
+:class:`collisionkit.edmd.HardSphereSystem`: ``dim``, ``count``, ``box``,
+``radius``, ``mass``, ``species``, ``periodic``, ``positions()``,
+``velocities()`` (and, for XYZ, ``elapsed`` and ``collisions``).
+"""
+
+from __future__ import annotations
+
+import os
+import string
+import tempfile
+from pathlib import Path
+
+import numpy as np
+
+from ._io import atomic_write_text
+
+__all__ = ["GSDWriter", "read_gsd", "truncate_gsd", "type_names", "write_extended_xyz", "write_gsd_frame"]
+
+_XYZ_PROPERTIES = "species:S:1:pos:R:3:vel:R:3:radius:R:1:mass:R:1"
+
+
+def _gsd_hoomd():
+    try:
+        import gsd.hoomd
+    except ImportError:
+        raise ImportError(
+            "writing or reading GSD files needs the 'gsd' package: pip install 'collisionkit[io]' (or pip install gsd)"
+        ) from None
+    return gsd.hoomd
+
+
+def type_names(species):
+    """Names of the particle types: "A", "B", ... for species 0, 1, ... (then "T26", "T27", ...).
+
+    Parameters
+    ----------
+    species : array_like of int
+        Species index per particle, >= 0.
+
+    Returns
+    -------
+    list of str
+        One name per species index from 0 to ``max(species)``.
+
+    Examples
+    --------
+    >>> from collisionkit.trajectory import type_names
+    >>> type_names([0, 2, 1, 0])
+    ['A', 'B', 'C']
+    """
+    species = np.asarray(species)
+    if species.size == 0 or np.any(species < 0):
+        raise ValueError("species must be a non-empty array of integers >= 0")
+    letters = string.ascii_uppercase
+    return [letters[i] if i < len(letters) else f"T{i}" for i in range(int(species.max()) + 1)]
+
+
+def _centred_positions(system):
+    """Positions in the HOOMD box [-L/2, L/2), padded to 3 columns, single precision."""
+    dim = system.dim
+    box = np.asarray(system.box[:dim], dtype=float)
+    centred = (system.positions() - box / 2.0).astype(np.float32)
+    half = (box / 2.0).astype(np.float32)
+    centred = np.where(centred >= half, centred - box.astype(np.float32), centred)  # round-off at +L/2
+    return _pad(centred)
+
+
+def _pad(array, dtype=np.float32):
+    """(N, 2) or (N, 3) values as (N, 3) of ``dtype``, with z = 0 for 2D."""
+    array = np.asarray(array, dtype=dtype)
+    if array.shape[1] == 3:
+        return array
+    return np.column_stack([array, np.zeros(array.shape[0], dtype=dtype)])
+
+
+def _gsd_frame(system, step):
+    frame = _gsd_hoomd().Frame()
+    dim = system.dim
+    box = [float(length) for length in system.box[:dim]] + ([0.0] if dim == 2 else [])
+    frame.configuration.step = int(step)
+    frame.configuration.dimensions = dim
+    frame.configuration.box = np.array(box + [0.0, 0.0, 0.0], dtype=np.float32)
+    frame.particles.N = system.count
+    frame.particles.types = type_names(system.species)
+    frame.particles.typeid = np.asarray(system.species, dtype=np.uint32)
+    frame.particles.position = _centred_positions(system)
+    frame.particles.velocity = _pad(system.velocities())
+    frame.particles.diameter = (2.0 * np.asarray(system.radius)).astype(np.float32)
+    frame.particles.mass = np.asarray(system.mass, dtype=np.float32)
+    return frame
+
+
+class GSDWriter:
+    """A GSD trajectory open for writing: append one frame per call, then close.
+
+    Each frame is flushed to disk as it is written, so a run killed later
+    keeps every frame written before.
+
+    Parameters
+    ----------
+    path : str or Path
+        The ``.gsd`` file.
+    mode : {"w", "a"}
+        "w" creates or overwrites the file; "a" appends to it (creating it
+        if needed).
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> folder = tempfile.TemporaryDirectory()
+    >>> from collisionkit.edmd import random_fluid
+    >>> from collisionkit.trajectory import GSDWriter, read_gsd
+    >>> system = random_fluid(2, 50, 0.3, rng=1)
+    >>> path = pathlib.Path(folder.name) / "run.gsd"
+    >>> with GSDWriter(path) as writer:
+    ...     writer.write(system, step=0)
+    ...     _ = system.run(collisions=100)
+    ...     writer.write(system, step=100)
+    >>> writer.frames, read_gsd(path)["step"]
+    (2, 100)
+    """
+
+    def __init__(self, path, mode="w"):
+        if mode not in ("w", "a"):
+            raise ValueError(f"mode must be 'w' (overwrite) or 'a' (append); got {mode!r}")
+        self.path = Path(path)
+        self.path.parent.mkdir(parents=True, exist_ok=True)
+        self._file = _gsd_hoomd().open(str(self.path), mode)
+        self.frames = len(self._file)
+
+    def write(self, system, step):
+        """Append the system's current state as a frame labelled ``step`` (an integer >= 0)."""
+        if self._file is None:
+            raise ValueError(f"the GSD writer of {self.path} is closed")
+        if not (isinstance(step, (int, np.integer)) and step >= 0):
+            raise ValueError(f"step must be an integer >= 0; got {step!r}")
+        self._file.append(_gsd_frame(system, step))
+        self._file.flush()
+        self.frames += 1
+
+    def close(self):
+        """Flush and close the file (closing twice is harmless)."""
+        if self._file is not None:
+            self._file.close()
+            self._file = None
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc_info):
+        self.close()
+
+
+def write_gsd_frame(target, system, step):
+    """Append one frame of ``system`` to a GSD file.
+
+    Parameters
+    ----------
+    target : str, Path, GSDWriter or gsd.hoomd.HOOMDTrajectory
+        A path (opened in append mode, created if missing, and closed
+        again), or a file already open for writing.
+    system : HardSphereSystem
+    step : int
+        The frame's ``configuration.step`` (collisionkit writes the number
+        of pair collisions so far).
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> folder = tempfile.TemporaryDirectory()
+    >>> from collisionkit.edmd import lattice, HardSphereSystem
+    >>> from collisionkit.trajectory import read_gsd, write_gsd_frame
+    >>> positions, box = lattice("sc", 3, 0.2)
+    >>> system = HardSphereSystem(positions, positions * 0 + 1.0, 0.5, box)
+    >>> path = pathlib.Path(folder.name) / "lattice.gsd"
+    >>> write_gsd_frame(path, system, step=0)
+    >>> read_gsd(path)["positions"].shape
+    (27, 3)
+    """
+    if isinstance(target, GSDWriter):
+        target.write(system, step)
+    elif hasattr(target, "append") and hasattr(target, "flush"):
+        target.append(_gsd_frame(system, step))
+        target.flush()
+    else:
+        with GSDWriter(target, mode="a") as writer:
+            writer.write(system, step)
+
+
+def read_gsd(path, frame=-1):
+    """One frame of a GSD file in collisionkit's conventions.
+
+    Parameters
+    ----------
+    path : str or Path
+    frame : int
+        Frame index (negative counts from the end; default the last frame).
+
+    Returns
+    -------
+    dict
+        ``step`` (int), ``dim`` (2 or 3), ``box`` (the d box lengths),
+        ``positions`` (N, d) shifted back into [0, L), ``velocities`` (N, d),
+        ``diameters``, ``masses``, ``typeids`` (N,), ``types`` (list of str)
+        and ``frames`` (the number of frames in the file).
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> folder = tempfile.TemporaryDirectory()
+    >>> from collisionkit.edmd import random_fluid
+    >>> from collisionkit.trajectory import read_gsd, write_gsd_frame
+    >>> path = pathlib.Path(folder.name) / "fluid.gsd"
+    >>> write_gsd_frame(path, random_fluid(2, 40, 0.2, rng=3), step=7)
+    >>> data = read_gsd(path)
+    >>> data["dim"], data["positions"].shape, data["step"], data["types"]
+    (2, (40, 2), 7, ['A'])
+    """
+    with _gsd_hoomd().open(str(path), "r") as trajectory:
+        count = len(trajectory)
+        if count == 0:
+            raise ValueError(f"{path} holds no frames")
+        if not -count <= frame < count:
+            raise ValueError(f"frame must lie in [{-count}, {count}) for {path}; got {frame}")
+        snapshot = trajectory[frame]
+    dim = int(snapshot.configuration.dimensions)
+    box = np.asarray(snapshot.configuration.box[:dim], dtype=float)
+    positions = np.asarray(snapshot.particles.position[:, :dim], dtype=float) + box / 2.0
+    return {
+        "step": int(snapshot.configuration.step),
+        "dim": dim,
+        "box": box,
+        "positions": positions,
+        "velocities": np.asarray(snapshot.particles.velocity[:, :dim], dtype=float),
+        "diameters": np.asarray(snapshot.particles.diameter, dtype=float),
+        "masses": np.asarray(snapshot.particles.mass, dtype=float),
+        "typeids": np.asarray(snapshot.particles.typeid, dtype=np.int64),
+        "types": list(snapshot.particles.types),
+        "frames": count,
+    }
+
+
+def truncate_gsd(path, frames):
+    """Keep only the first ``frames`` frames of a GSD file (atomically).
+
+    Used when a run resumes from a checkpoint: frames written after the
+    checkpoint are dropped and written again as the run continues.
+
+    Parameters
+    ----------
+    path : str or Path
+        An existing GSD file.
+    frames : int
+        Frames to keep, >= 0; more than the file holds keeps them all.
+
+    Returns
+    -------
+    int
+        Frames in the file afterwards.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> folder = tempfile.TemporaryDirectory()
+    >>> from collisionkit.edmd import random_fluid
+    >>> from collisionkit.trajectory import GSDWriter, read_gsd, truncate_gsd
+    >>> system = random_fluid(3, 64, 0.2, rng=2)
+    >>> path = pathlib.Path(folder.name) / "run.gsd"
+    >>> with GSDWriter(path) as writer:
+    ...     for step in range(3):
+    ...         writer.write(system, step)
+    >>> truncate_gsd(path, 2), read_gsd(path)["step"]
+    (2, 1)
+    """
+    if not (isinstance(frames, (int, np.integer)) and frames >= 0):
+        raise ValueError(f"frames must be an integer >= 0; got {frames!r}")
+    hoomd = _gsd_hoomd()
+    path = Path(path)
+    handle, temporary = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    os.close(handle)
+    try:
+        with hoomd.open(str(path), "r") as source, hoomd.open(temporary, "w") as copy:
+            kept = min(frames, len(source))
+            for index in range(kept):
+                copy.append(source[index])
+        os.replace(temporary, path)
+    except BaseException:
+        Path(temporary).unlink(missing_ok=True)
+        raise
+    return kept
+
+
+def _xyz_header(system, comment):
+    dim = system.dim
+    lengths = [float(length) for length in system.box[:dim]]
+    if dim == 2:
+        lengths.append(float(2.0 * np.max(system.radius)))  # a slab one diameter thick
+    lattice = np.diag(lengths).ravel()
+    periodic = [bool(flag) for flag in system.periodic[:dim]] + ([False] if dim == 2 else [])
+    fields = [
+        'Lattice="' + " ".join(f"{value:.17g}" for value in lattice) + '"',
+        f"Properties={_XYZ_PROPERTIES}",
+        'pbc="' + " ".join("T" if flag else "F" for flag in periodic) + '"',
+        f"Time={float(system.elapsed):.17g}",
+        f"Step={int(system.collisions)}",
+    ]
+    if comment:
+        if '"' in comment or "\n" in comment:
+            raise ValueError("comment must not contain double quotes or newlines")
+        fields.append(f'Comment="{comment}"')
+    return " ".join(fields)
+
+
+def write_extended_xyz(path, system, comment=None):
+    """Write the system's current state as one extended-XYZ frame (atomically).
+
+    The header line holds ``Lattice`` (the box as 3 cell vectors),
+    ``Properties=species:S:1:pos:R:3:vel:R:3:radius:R:1:mass:R:1``, ``pbc``
+    (periodic axes "T", walls "F"), ``Time`` (simulated time) and ``Step``
+    (pair collisions); each particle line its type name ("A", "B", ...),
+    position in [0, L), velocity, radius and mass, written with 17
+    significant digits (exact round trip). 2D systems get z = 0, a third
+    cell vector one diameter long and pbc "F" along z. ASE reads the file
+    with ``ase.io.read(path)``.
+
+    Parameters
+    ----------
+    path : str or Path
+    system : HardSphereSystem
+    comment : str, optional
+        Stored as ``Comment="..."`` in the header (no quotes or newlines).
+
+    Returns
+    -------
+    Path
+        The file written.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> folder = tempfile.TemporaryDirectory()
+    >>> from collisionkit.edmd import random_fluid
+    >>> from collisionkit.trajectory import write_extended_xyz
+    >>> path = write_extended_xyz(pathlib.Path(folder.name) / "fluid.xyz", random_fluid(3, 30, 0.1, rng=1))
+    >>> lines = path.read_text().splitlines()
+    >>> lines[0], len(lines), 'pbc="T T T"' in lines[1]
+    ('30', 32, True)
+    """
+    header = _xyz_header(system, comment)
+    names = np.asarray(type_names(system.species))[np.asarray(system.species)]
+    positions, velocities = _pad(system.positions(), float), _pad(system.velocities(), float)
+    columns = np.column_stack([positions, velocities, system.radius, system.mass])
+    body = "\n".join(f"{name} " + " ".join(f"{value:.17g}" for value in row) for name, row in zip(names, columns))
+    return atomic_write_text(path, f"{system.count}\n{header}\n{body}\n")
+

@@ -1,0 +1,222 @@
+"""The ``collisionkit edmd`` command: summary, files, options, errors and bit-for-bit resume."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import gsd.hoomd
+import numpy as np
+import pytest
+from typer.testing import CliRunner
+
+from collisionkit import edmd
+from collisionkit.cli import _edmd, app
+from collisionkit.trajectory import read_gsd
+
+runner = CliRunner()
+
+# 108 spheres: equilibration in 3 chunks (10000, 10000, 5000), then 4 blocks of 2000
+SMALL = ("--particles", 108, "--equilibration", 25_000, "--collisions", 8_000, "--blocks", 4, "--seed", 5, "--no-plots")
+WALL_CLOCK_KEYS = {"collisions_per_second", "options", "files"}
+
+
+def invoke(*arguments):
+    return runner.invoke(app, ["edmd", *map(str, arguments)])
+
+
+def physics(summary_path: Path, ignore=()) -> str:
+    """The summary without wall-clock times and paths, as comparable text (NaN == NaN)."""
+    data = json.loads(summary_path.read_text())
+    left_out = WALL_CLOCK_KEYS | set(ignore)
+    return json.dumps({key: value for key, value in data.items() if key not in left_out}, sort_keys=True)
+
+
+def test_help_lists_the_command_and_its_defaults():
+    assert "edmd" in runner.invoke(app, ["--help"]).output
+    result = runner.invoke(app, ["edmd", "--help"], env={"COLUMNS": "200"})
+    assert result.exit_code == 0
+    for text in ("--packing-fraction", "[default: 0.3]", "[default: 20 per particle]", "--resume", "--frame-every"):
+        assert text in result.output, text
+
+
+def test_summary_holds_the_required_keys_and_plausible_physics(tmp_path):
+    summary = tmp_path / "s.json"
+    result = invoke("--particles", 256, "--equilibration", 5_000, "--collisions", 40_000, "--blocks", 5,
+                    "--seed", 1, "--no-plots", "--summary", summary)  # fmt: skip
+    assert result.exit_code == 0, result.output
+    data = json.loads(summary.read_text())
+    assert data["dim"] == 3 and data["particles"] == 256 and data["collisions"] == 40_000
+    assert data["packing_fraction"] == pytest.approx(0.3, rel=1e-12)
+    assert data["equilibration_collisions"] == 5_000 and data["seed"] == 1
+    assert data["temperature"] == pytest.approx(1.0, abs=1e-10)  # elastic: kT conserved
+    assert data["energy_lost"] == 0.0 and abs(data["energy_lost_total"]) < 1e-9
+    assert data["collisions_per_second"] > 1_000
+    assert data["theory"] == "Hansen-Goos (2016)"
+    assert data["compressibility_factor_theory"] == pytest.approx(float(edmd.hansen_goos(0.3)), rel=1e-12)
+    assert data["compressibility_factor"] == pytest.approx(data["compressibility_factor_theory"], rel=0.03)
+    assert 0 < data["compressibility_factor_error"] < 0.1
+    assert data["compressibility_factor_carnahan_starling"] == pytest.approx(3.97376, rel=1e-5)
+    # omega = (2d/sigma)(Z - 1) sqrt(kT/(pi m)): the collision count agrees with the virial pressure
+    assert data["collision_frequency"] == pytest.approx(data["collision_frequency_from_pressure"], rel=0.02)
+    for key in ("mean_free_time", "mean_free_path", "diffusion_coefficient", "pressure", "contact_value"):
+        assert data[key] > 0, key
+    assert data["options"]["collisions"] == 40_000 and data["files"] == []
+    assert "compressibility factor" in result.output and "Hansen-Goos" in result.output
+
+
+def test_hard_discs_from_a_lattice_with_plots_and_xyz(tmp_path):
+    summary, xyz, out = tmp_path / "s.json", tmp_path / "final.xyz", tmp_path / "plots"
+    result = invoke("--dim", 2, "--initial", "hexagonal", "--particles", 200, "--equilibration", 4_000,
+                    "--collisions", 30_000, "--blocks", 5, "--seed", 2, "--summary", summary, "--xyz", xyz, "--out", out)  # fmt: skip
+    assert result.exit_code == 0, result.output
+    data = json.loads(summary.read_text())
+    assert data["dim"] == 2 and data["initial"] == "hexagonal" and data["theory"] == "Henderson (1975)"
+    assert data["compressibility_factor"] == pytest.approx(float(edmd.henderson(0.3)), rel=0.03)
+    names = {"equation_of_state.png", "speed_distribution.png", "snapshot.png", "radial_distribution.png"}
+    assert {Path(name).name for name in data["files"]} == names | {"final.xyz"}
+    for name in names:
+        assert (out / name).stat().st_size > 10_000
+    lines = xyz.read_text().splitlines()
+    assert lines[0] == "200" and 'pbc="T T F"' in lines[1] and len(lines) == 202
+
+
+def test_inelastic_run_cools_and_skips_the_theory(tmp_path):
+    summary = tmp_path / "s.json"
+    result = invoke("--restitution", 0.9, "--particles", 108, "--equilibration", 0, "--collisions", 2000,
+                    "--blocks", 4, "--seed", 5, "--no-plots", "--summary", summary)  # fmt: skip
+    assert result.exit_code == 0, result.output
+    data = json.loads(summary.read_text())
+    assert data["elastic"] is False and "compressibility_factor_theory" not in data
+    assert 0.01 < data["temperature"] < 0.5  # ~37 collisions per sphere at e = 0.9
+    # kT = 1 exactly at the start, so the energy lost is 3N/2 (1 - kT_final), all of it while measuring
+    assert data["energy_lost_total"] == pytest.approx(1.5 * 108 * (1 - data["temperature"]), rel=1e-12)
+    assert data["energy_lost"] == pytest.approx(data["energy_lost_total"], rel=1e-12)
+    assert "no equilibrium" in result.output
+
+
+def test_toml_config_and_command_line_wins(tmp_path):
+    config = tmp_path / "run.toml"
+    config.write_text('dim = 2\nparticles = 128\npacking-fraction = 0.5\ninitial = "square"\ncollisions = 4000\n'
+                      f'equilibration = 0\nblocks = 2\nseed = 9\nplots = false\nsummary = "{tmp_path / "s.json"}"\n')  # fmt: skip
+    result = invoke("--config", config, "--packing-fraction", 0.4, "--particles", 144)
+    assert result.exit_code == 0, result.output
+    data = json.loads((tmp_path / "s.json").read_text())
+    assert (data["dim"], data["particles"], data["collisions"], data["seed"]) == (2, 144, 4000, 9)
+    assert data["packing_fraction"] == pytest.approx(0.4, rel=1e-12)
+    assert data["initial"] == "square" and data["equilibration_collisions"] == 0
+
+
+@pytest.mark.parametrize(
+    ("arguments", "words"),
+    [
+        (("--packing-fraction", 0.55), "packing_fraction must lie in (0, 0.5] for dim=3"),
+        (("--dim", 2, "--packing-fraction", 0.75), "packing_fraction"),
+        (("--dim", 4), "dim"),
+        (("--restitution", 1.5), "restitution"),
+        (("--particles", 1), "particles"),
+        (("--initial", "fcc", "--particles", 100), "needs particles = 4 * cells^3"),
+        (("--initial", "square", "--particles", 100), "2D lattice"),
+        (("--initial", "bcc"), "initial"),
+        (("--collisions", 5, "--blocks", 10), "collisions must be >= blocks"),
+        (("--frame-every", 100), "--frame-every needs --trajectory"),
+        (("--particles", 10, "--packing-fraction", 0.45), "less than 3 diameters"),
+        (("--resume", "missing.npz"), "checkpoint not found"),
+    ],
+)
+def test_bad_options_exit_with_2_and_say_why(tmp_path, arguments, words):
+    result = invoke(*arguments, "--no-plots", "--out", tmp_path)
+    assert result.exit_code == 2, result.output
+    assert words in " ".join(result.output.split())
+
+
+def test_unknown_or_bad_config_keys_exit_with_2(tmp_path):
+    config = tmp_path / "bad.toml"
+    config.write_text("particle = 100\n")
+    result = invoke("--config", config)
+    assert result.exit_code == 2 and "unknown option 'particle'" in result.output
+    config.write_text('blocks = "ten"\n')
+    result = invoke("--config", config)
+    assert result.exit_code == 2 and "blocks" in result.output
+    (tmp_path / "not_a_checkpoint.npz").write_bytes(b"junk")
+    result = invoke("--resume", tmp_path / "not_a_checkpoint.npz")
+    assert result.exit_code == 2 and "not a readable checkpoint" in " ".join(result.output.split())
+
+
+def test_trajectory_frames_at_chunk_ends_or_only_the_last(tmp_path):
+    every, last = tmp_path / "every.gsd", tmp_path / "last.gsd"
+    assert invoke(*SMALL, "--trajectory", every, "--frame-every", 1, "--summary", tmp_path / "a.json").exit_code == 0
+    assert invoke(*SMALL, "--trajectory", last, "--summary", tmp_path / "b.json").exit_code == 0
+    with gsd.hoomd.open(str(every), "r") as frames:
+        steps = [int(frame.configuration.step) for frame in frames]
+    assert steps == [0, 10_000, 20_000, 25_000, 27_000, 29_000, 31_000, 33_000]
+    final = read_gsd(last)
+    assert final["frames"] == 1 and final["step"] == 33_000 and final["positions"].shape == (108, 3)
+    assert np.array_equal(final["positions"], read_gsd(every)["positions"])
+    # writing frames never changes the dynamics
+    assert json.loads((tmp_path / "a.json").read_text())["trajectory_frames"] == 8
+    assert physics(tmp_path / "a.json", ["trajectory_frames"]) == physics(tmp_path / "b.json", ["trajectory_frames"])
+
+
+class Killed(Exception):
+    """Stands for a kill of the process."""
+
+
+def kill_at_checkpoint(monkeypatch, number):
+    """Make the ``number``-th checkpoint write die before it starts (the previous one survives)."""
+    real = _edmd.save_checkpoint
+    calls = []
+
+    def dying(path, run):
+        calls.append(path)
+        if len(calls) == number:
+            raise Killed(f"killed while writing checkpoint {number}")
+        return real(path, run)
+
+    monkeypatch.setattr(_edmd, "save_checkpoint", dying)
+
+
+@pytest.mark.parametrize("killed_at", [3, 7], ids=["during-equilibration", "during-measurement"])
+def test_resume_continues_bit_for_bit(tmp_path, monkeypatch, killed_at):
+    whole, part = tmp_path / "whole", tmp_path / "part"
+
+    def outputs(folder):
+        return ("--trajectory", folder / "t.gsd", "--frame-every", 1, "--checkpoint", folder / "c.npz", "--summary", folder / "s.json")
+
+    assert invoke(*SMALL, *outputs(whole)).exit_code == 0
+    kill_at_checkpoint(monkeypatch, killed_at)
+    interrupted = invoke(*SMALL, *outputs(part))
+    assert isinstance(interrupted.exception, Killed)
+    assert not (part / "s.json").exists()
+    monkeypatch.undo()
+    with np.load(part / "c.npz") as saved:
+        equilibrated, frames, _ = saved["run_counters"]
+        assert frames == killed_at - 1 and (equilibrated < 25_000) == (killed_at <= 4)
+    assert read_gsd(part / "t.gsd")["frames"] == killed_at  # one frame more than the checkpoint knows
+
+    resumed = invoke("--resume", part / "c.npz", "--seed", 5)  # the saved options, a physics option repeated
+    assert resumed.exit_code == 0, resumed.output
+    assert physics(part / "s.json") == physics(whole / "s.json")
+    with gsd.hoomd.open(str(whole / "t.gsd"), "r") as a, gsd.hoomd.open(str(part / "t.gsd"), "r") as b:
+        assert len(a) == len(b) == 8
+        for x, y in zip(a, b):
+            assert x.configuration.step == y.configuration.step
+            assert np.array_equal(x.particles.position, y.particles.position)
+            assert np.array_equal(x.particles.velocity, y.particles.velocity)
+    with np.load(whole / "c.npz") as a, np.load(part / "c.npz") as b:
+        assert set(a.files) == set(b.files)
+        for name in set(a.files) - {"run_options", "sampler_scalars"}:
+            assert np.array_equal(a[name], b[name]), name
+        assert np.array_equal(a["sampler_scalars"][:-1], b["sampler_scalars"][:-1])  # all but the wall clock
+
+
+def test_resume_refuses_other_physics_and_finishes_a_finished_run(tmp_path):
+    checkpoint, summary = tmp_path / "c.npz", tmp_path / "s.json"
+    assert invoke(*SMALL, "--checkpoint", checkpoint, "--summary", summary).exit_code == 0
+    result = invoke("--resume", checkpoint, "--packing-fraction", 0.35)
+    assert result.exit_code == 2
+    assert "packing_fraction = 0.35 differs from the checkpoint" in " ".join(result.output.split())
+    again = tmp_path / "again.json"
+    result = invoke("--resume", checkpoint, "--summary", again)
+    assert result.exit_code == 0, result.output
+    assert physics(again) == physics(summary)

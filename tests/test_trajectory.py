@@ -1,0 +1,172 @@
+"""Tests of collisionkit.trajectory: GSD frames (HOOMD conventions) and extended XYZ."""
+
+import shlex
+import sys
+
+import gsd.hoomd as gsd_hoomd  # the io extra is part of collisionkit[test]
+import numpy as np
+import pytest
+
+from collisionkit import edmd, trajectory
+
+
+def mixture_3d(periodic=True):
+    """108 FCC spheres of two species with different radii and masses."""
+    positions, box = edmd.lattice("fcc", 3, 0.2)
+    species = np.arange(len(positions)) % 2
+    radii = np.where(species == 0, 0.5, 0.35)
+    masses = np.where(species == 0, 1.0, 0.4)
+    velocities = edmd.maxwell_boltzmann(masses, 3, rng=4)
+    return edmd.HardSphereSystem(positions, velocities, radii, box, masses, periodic=periodic, species=species)
+
+
+def discs_2d():
+    positions, box = edmd.lattice("hexagonal", 6, 0.4)
+    velocities = edmd.maxwell_boltzmann(np.ones(len(positions)), 2, rng=2)
+    return edmd.HardSphereSystem(positions, velocities, 0.5, box)
+
+
+def test_gsd_frames_follow_the_hoomd_schema_in_3d(tmp_path):
+    system = mixture_3d()
+    path = tmp_path / "mixture.gsd"
+    with trajectory.GSDWriter(path) as writer:
+        writer.write(system, 0)
+        system.run(collisions=500)
+        writer.write(system, 500)
+    L = system.box[:3]
+    with gsd_hoomd.open(str(path), "r") as frames:
+        assert len(frames) == 2
+        frame = frames[1]
+    assert frame.configuration.step == 500 and frame.configuration.dimensions == 3
+    assert np.array_equal(frame.configuration.box, np.float32([*L, 0, 0, 0]))
+    position = frame.particles.position
+    assert position.dtype == np.float32 and position.shape == (108, 3)
+    assert np.all(position >= -L.astype(np.float32) / 2) and np.all(position < L.astype(np.float32) / 2)
+    assert position == pytest.approx(system.positions() - L / 2, abs=1e-6)
+    assert frame.particles.velocity == pytest.approx(system.velocities(), rel=1e-6, abs=1e-7)
+    assert list(frame.particles.types) == ["A", "B"]
+    assert np.array_equal(frame.particles.typeid, system.species)
+    assert np.array_equal(frame.particles.diameter, np.float32(2 * system.radius))
+    assert np.array_equal(frame.particles.mass, np.float32(system.mass))
+
+
+def test_gsd_frames_in_2d_have_zero_z_and_lz(tmp_path):
+    system = discs_2d()
+    path = tmp_path / "discs.gsd"
+    trajectory.write_gsd_frame(path, system, 3)
+    with gsd_hoomd.open(str(path), "r") as frames:
+        frame = frames[0]
+    assert frame.configuration.dimensions == 2
+    assert frame.configuration.box[2] == 0.0 and frame.configuration.box[:2] == pytest.approx(system.box[:2])
+    assert np.all(frame.particles.position[:, 2] == 0) and np.all(frame.particles.velocity[:, 2] == 0)
+    data = trajectory.read_gsd(path)
+    assert data["dim"] == 2 and data["step"] == 3 and data["frames"] == 1
+    assert data["positions"].shape == (72, 2)
+    assert data["positions"] == pytest.approx(system.positions(), abs=1e-5)
+    assert data["velocities"] == pytest.approx(system.velocities(), rel=1e-6, abs=1e-7)
+    assert np.all(data["diameters"] == 1.0) and np.all(data["masses"] == 1.0) and data["types"] == ["A"]
+
+
+def test_write_gsd_frame_appends_to_paths_and_open_files(tmp_path):
+    system = discs_2d()
+    path = tmp_path / "append.gsd"
+    for step in (0, 10):
+        trajectory.write_gsd_frame(path, system, step)
+    with gsd_hoomd.open(str(path), "a") as handle:
+        trajectory.write_gsd_frame(handle, system, 20)
+    with trajectory.GSDWriter(path, mode="a") as writer:
+        assert writer.frames == 3
+        trajectory.write_gsd_frame(writer, system, 30)
+    assert [trajectory.read_gsd(path, frame)["step"] for frame in range(4)] == [0, 10, 20, 30]
+    assert trajectory.read_gsd(path, -4)["step"] == 0
+    with pytest.raises(ValueError, match="frame must lie in"):
+        trajectory.read_gsd(path, 4)
+
+
+def test_truncate_gsd_keeps_the_first_frames(tmp_path):
+    system = mixture_3d()
+    path = tmp_path / "long.gsd"
+    with trajectory.GSDWriter(path) as writer:
+        for step in range(5):
+            system.run(collisions=50)
+            writer.write(system, step)
+    third = trajectory.read_gsd(path, 2)
+    assert trajectory.truncate_gsd(path, 3) == 3
+    data = trajectory.read_gsd(path)
+    assert data["frames"] == 3 and data["step"] == 2
+    assert np.array_equal(data["positions"], third["positions"])
+    assert trajectory.truncate_gsd(path, 10) == 3
+    assert trajectory.truncate_gsd(path, 0) == 0
+    with pytest.raises(ValueError, match="holds no frames"):
+        trajectory.read_gsd(path)
+    assert list(tmp_path.iterdir()) == [path]  # no temporary file left behind
+
+
+def test_gsd_writer_rejects_bad_arguments(tmp_path):
+    with pytest.raises(ValueError, match="mode must be"):
+        trajectory.GSDWriter(tmp_path / "x.gsd", mode="r")
+    writer = trajectory.GSDWriter(tmp_path / "x.gsd")
+    with pytest.raises(ValueError, match="step must be an integer >= 0"):
+        writer.write(discs_2d(), -1)
+    writer.close()
+    writer.close()
+    with pytest.raises(ValueError, match="closed"):
+        writer.write(discs_2d(), 0)
+    with pytest.raises(ValueError, match="frames must be an integer >= 0"):
+        trajectory.truncate_gsd(tmp_path / "x.gsd", -1)
+
+
+def test_missing_gsd_names_the_io_extra(tmp_path, monkeypatch):
+    monkeypatch.setitem(sys.modules, "gsd.hoomd", None)
+    with pytest.raises(ImportError, match=r"collisionkit\[io\]"):
+        trajectory.write_gsd_frame(tmp_path / "x.gsd", discs_2d(), 0)
+    assert not (tmp_path / "x.gsd").exists()
+
+
+def parse_extended_xyz(path):
+    """The particle count, header fields and particle rows of a one-frame extended XYZ file."""
+    lines = path.read_text().splitlines()
+    count = int(lines[0])
+    header = dict(field.split("=", 1) for field in shlex.split(lines[1]))
+    rows = [line.split() for line in lines[2:]]
+    assert len(rows) == count == len(lines) - 2
+    return count, header, rows
+
+
+def test_extended_xyz_header_and_exact_values_in_3d(tmp_path):
+    system = mixture_3d(periodic=[True, False, True])
+    system.run(collisions=300)
+    path = trajectory.write_extended_xyz(tmp_path / "mixture.xyz", system, comment="two species")
+    count, header, rows = parse_extended_xyz(path)
+    assert count == 108
+    assert header["Properties"] == "species:S:1:pos:R:3:vel:R:3:radius:R:1:mass:R:1"
+    assert header["pbc"] == "T F T"
+    assert np.array(header["Lattice"].split(), dtype=float).reshape(3, 3) == pytest.approx(np.diag(system.box), abs=0)
+    assert int(header["Step"]) == system.collisions == 300
+    assert float(header["Time"]) == system.elapsed > 0
+    assert header["Comment"] == "two species"
+    assert [row[0] for row in rows] == ["A" if s == 0 else "B" for s in system.species]
+    values = np.array([row[1:] for row in rows], dtype=float)
+    assert np.array_equal(values[:, 0:3], system.positions())  # 17 digits: exact round trip
+    assert np.array_equal(values[:, 3:6], system.velocities())
+    assert np.array_equal(values[:, 6], system.radius) and np.array_equal(values[:, 7], system.mass)
+
+
+def test_extended_xyz_of_discs_is_a_slab(tmp_path):
+    system = discs_2d()
+    count, header, rows = parse_extended_xyz(trajectory.write_extended_xyz(tmp_path / "discs.xyz", system))
+    lattice = np.array(header["Lattice"].split(), dtype=float).reshape(3, 3)
+    assert lattice == pytest.approx(np.diag([system.box[0], system.box[1], 1.0]), abs=0)
+    assert header["pbc"] == "T T F" and "Comment" not in header
+    values = np.array([row[1:] for row in rows], dtype=float)
+    assert np.all(values[:, 2] == 0) and np.all(values[:, 5] == 0)
+    assert np.array_equal(values[:, :2], system.positions())
+    with pytest.raises(ValueError, match="comment"):
+        trajectory.write_extended_xyz(tmp_path / "bad.xyz", system, comment='say "hi"')
+    assert not (tmp_path / "bad.xyz").exists()
+
+
+def test_type_names_beyond_the_alphabet():
+    assert trajectory.type_names([0, 27])[-3:] == ["Z", "T26", "T27"]
+    with pytest.raises(ValueError, match="species"):
+        trajectory.type_names([-1, 0])
