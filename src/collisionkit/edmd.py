@@ -453,13 +453,12 @@ class HardSphereSystem:
     def _new_events(self):
         self.leaves = _next_power_of_two(self.count)
         self.times = np.full((self.count, 3), np.inf)
-        self.tree_index = np.zeros(2 * self.leaves, dtype=np.int64)
-        self.tree_time = np.full(2 * self.leaves, np.inf)
+        self.tree = _aligned_zeros((2 * self.leaves, 2))
 
     def _predict_all(self):
         _k.predict_all(
             self.p, self.info, self.times, self.head, self.ncell, self.geom, self.dim, self.params,
-            self.tree_index, self.tree_time, self.leaves,
+            self.tree, self.leaves,
         )
 
     # -------------------------------------------------------------- state
@@ -578,7 +577,7 @@ class HardSphereSystem:
         if shift != 0.0:
             self.p[:, _k.T] -= shift
             self.times -= shift
-            self.tree_time -= shift
+            self.tree[:, 0] -= shift
             self.scale0 = self.scale0 + self.growth * shift
             self.elapsed += shift
             self.time = 0.0
@@ -678,7 +677,7 @@ class HardSphereSystem:
             self.time = _k.run_events(
                 self.time, step, start + remaining, self.p, self._mass, self._species, self._image, self.info,
                 self.times, self.head, self.ncell, self.geom, self.dim, self.restitution, self.params,
-                self.tree_index, self.tree_time, self.leaves, self.acc,
+                self.tree, self.leaves, self.acc,
             )
             advanced = self.collisions - before
             done += advanced
@@ -693,7 +692,7 @@ class HardSphereSystem:
     # -------------------------------------------------------------- checkpoints
 
     _ARRAYS = ("p", "_mass", "_species", "_image", "ids", "acc", "geom", "params", "restitution", "info", "head",
-               "ncell", "times", "tree_index", "tree_time")
+               "ncell", "times", "tree")
     _SCALARS = ("dim", "time", "elapsed", "leaves", "last_sort")
 
     def state_dict(self):
@@ -709,9 +708,10 @@ class HardSphereSystem:
         system = cls.__new__(cls)
         for name in cls._ARRAYS:
             setattr(system, name, np.array(state[name]))
-        aligned = _aligned_zeros(system.p.shape)
-        aligned[:] = system.p
-        system.p = aligned
+        for name in ("p", "tree"):
+            aligned = _aligned_zeros(getattr(system, name).shape)
+            aligned[:] = getattr(system, name)
+            setattr(system, name, aligned)
         for name in cls._SCALARS:
             setattr(system, name, state[name].item())
         system.restitution_law = str(state["restitution_law"])

@@ -185,38 +185,37 @@ def cell_index(cx, cy, cz, ncell):
 
 
 @kernel
-def tree_update(leaf, tree_index, tree_time, time, leaves):
-    """Propagate leaf's new event time up the tournament tree."""
+def tree_update(leaf, tree, time, leaves):
+    """Give ``leaf`` a new event time and replay its matches up the tournament tree.
+
+    ``tree[node] = (time, particle)`` of the winner below ``node`` (the
+    particle index stored as a float, exact below 2^53), so both sit in one
+    cache line with the sibling's; the climb stops where nothing changes.
+    """
     node = leaves + leaf
-    tree_time[node] = time
+    tree[node, 0] = time
     node >>= 1
     while node >= 1:
         left = 2 * node
-        right = left + 1
-        if tree_time[left] <= tree_time[right]:
-            tree_index[node] = tree_index[left]
-            tree_time[node] = tree_time[left]
-        else:
-            tree_index[node] = tree_index[right]
-            tree_time[node] = tree_time[right]
+        winner = left if tree[left, 0] <= tree[left + 1, 0] else left + 1
+        if tree[node, 0] == tree[winner, 0] and tree[node, 1] == tree[winner, 1]:
+            return
+        tree[node, 0] = tree[winner, 0]
+        tree[node, 1] = tree[winner, 1]
         node >>= 1
 
 
 @kernel
-def tree_build(tree_index, tree_time, times, leaves):
+def tree_build(tree, times, leaves):
     n = times.shape[0]
     for leaf in range(leaves):
-        tree_index[leaves + leaf] = leaf
-        tree_time[leaves + leaf] = times[leaf, EVENT_TIME] if leaf < n else math.inf
+        tree[leaves + leaf, 0] = times[leaf, EVENT_TIME] if leaf < n else math.inf
+        tree[leaves + leaf, 1] = leaf
     for node in range(leaves - 1, 0, -1):
         left = 2 * node
-        right = left + 1
-        if tree_time[left] <= tree_time[right]:
-            tree_index[node] = tree_index[left]
-            tree_time[node] = tree_time[left]
-        else:
-            tree_index[node] = tree_index[right]
-            tree_time[node] = tree_time[right]
+        winner = left if tree[left, 0] <= tree[left + 1, 0] else left + 1
+        tree[node, 0] = tree[winner, 0]
+        tree[node, 1] = tree[winner, 1]
 
 
 @kernel
@@ -291,6 +290,7 @@ def scan_pairs(p, i, t, info, head, ncell, geom, dim, scale, growth, best, fixed
     gx = 0.5 * geom[G_GRAVITY, 0]
     gy = 0.5 * geom[G_GRAVITY, 1]
     gz = 0.5 * geom[G_GRAVITY, 2]
+    falling = gx != 0.0 or gy != 0.0 or gz != 0.0
     z_low, z_high = (-1, 1) if dim == 3 else (0, 0)
     y_low, y_high = -1, 1
     x_low, x_high = -1, 1
@@ -314,16 +314,34 @@ def scan_pairs(p, i, t, info, head, ncell, geom, dim, scale, growth, best, fixed
                     continue
                 j = head[cell_index(nx, ny, nz, ncell)]
                 while j >= 0:
-                    if j != i:
-                        dt = t - p[j, T]
+                    dt = t - p[j, T]
+                    rx = p[j, X] + p[j, V] * dt + shift_x - xi
+                    ry = p[j, X + 1] + p[j, V + 1] * dt + shift_y - yi
+                    rz = p[j, X + 2] + p[j, V + 2] * dt + shift_z - zi
+                    ux = p[j, V] - vxi
+                    uy = p[j, V + 1] - vyi
+                    uz = p[j, V + 2] - vzi
+                    if falling:
                         # the relative velocity is unchanged by gravity (both fall alike)
-                        rx = p[j, X] + (p[j, V] + gx * dt) * dt + shift_x - xi
-                        ry = p[j, X + 1] + (p[j, V + 1] + gy * dt) * dt + shift_y - yi
-                        rz = p[j, X + 2] + (p[j, V + 2] + gz * dt) * dt + shift_z - zi
-                        ux = p[j, V] + 2.0 * gx * dt - vxi
-                        uy = p[j, V + 1] + 2.0 * gy * dt - vyi
-                        uz = p[j, V + 2] + 2.0 * gz * dt - vzi
-                        tau = pair_contact_time(rx, ry, rz, ux, uy, uz, ri + p[j, R], scale, growth, best)
+                        rx += gx * dt * dt
+                        ry += gy * dt * dt
+                        rz += gz * dt * dt
+                        ux += 2.0 * gx * dt
+                        uy += 2.0 * gy * dt
+                        uz += 2.0 * gz * dt
+                    contact = ri + p[j, R]
+                    if growth == 0.0:
+                        # cheap filter first: approaching, and able to touch before ``best``
+                        ru = rx * ux + ry * uy + rz * uz
+                        sigma = contact * scale
+                        c = rx * rx + ry * ry + rz * rz - sigma * sigma
+                        if ru < 0.0 and c < -2.0 * ru * best and j != i:
+                            tau = pair_contact_time(rx, ry, rz, ux, uy, uz, contact, scale, 0.0, best)
+                            if tau < best:
+                                best = tau
+                                partner = j
+                    elif j != i:
+                        tau = pair_contact_time(rx, ry, rz, ux, uy, uz, contact, scale, growth, best)
                         if tau < best:
                             best = tau
                             partner = j
@@ -342,11 +360,11 @@ def predict_pairs(p, i, info, times, head, ncell, geom, dim, scale0, growth):
 
 
 @kernel
-def schedule(i, info, times, tree_index, tree_time, leaves):
+def schedule(i, info, times, tree, leaves):
     """Make i's event the earlier of its collision and its boundary event."""
     time = min(times[i, PAIR_TIME], times[i, BOUNDARY_TIME])
     times[i, EVENT_TIME] = time
-    tree_update(i, tree_index, tree_time, time, leaves)
+    tree_update(i, tree, time, leaves)
 
 
 @kernel
@@ -485,13 +503,13 @@ def bounce_off_wall(p, i, code, mass, params, acc):
 
 
 @kernel
-def _repredict(p, i, info, times, head, ncell, geom, dim, params, tree_index, tree_time, leaves):
+def _repredict(p, i, info, times, head, ncell, geom, dim, params, tree, leaves):
     """Full prediction of i (at its own time): pairs, boundary, schedule."""
     scale0 = params[P_SCALE0]
     growth = params[P_GROWTH]
     predict_pairs(p, i, info, times, head, ncell, geom, dim, scale0, growth)
     predict_boundary(p, i, info, times, ncell, geom, dim, scale0 + growth * p[i, T], growth)
-    schedule(i, info, times, tree_index, tree_time, leaves)
+    schedule(i, info, times, tree, leaves)
 
 
 @kernel
@@ -515,7 +533,7 @@ def _after_crossing(p, i, axis, step, info, times, head, ncell, geom, dim, param
 
 @kernel
 def run_events(t, max_pair_collisions, t_stop, p, mass, species, image, info, times, head, ncell, geom, dim,
-               restitution, params, tree_index, tree_time, leaves, acc):
+               restitution, params, tree, leaves, acc):
     """Process events until ``max_pair_collisions`` collisions or time ``t_stop``.
 
     Returns the current time: the last event's time, or ``t_stop`` if that
@@ -525,8 +543,8 @@ def run_events(t, max_pair_collisions, t_stop, p, mass, species, image, info, ti
     scale0 = params[P_SCALE0]
     growth = params[P_GROWTH]
     while done < max_pair_collisions:
-        i = tree_index[1]
-        event_time = tree_time[1]
+        event_time = tree[1, 0]
+        i = int(tree[1, 1])
         if event_time > t_stop:
             return t_stop
         if event_time == math.inf:
@@ -538,30 +556,30 @@ def run_events(t, max_pair_collisions, t_stop, p, mass, species, image, info, ti
             if info[j, COUNTER] != info[i, PARTNER_COUNT]:
                 acc[ACC_STALE_EVENTS] += 1.0
                 predict_pairs(p, i, info, times, head, ncell, geom, dim, scale0, growth)
-                schedule(i, info, times, tree_index, tree_time, leaves)
+                schedule(i, info, times, tree, leaves)
                 continue
             advance(p, j, t, geom, dim)
             collide_pair(p, i, j, mass, geom, dim, scale0 + growth * t, growth, species, restitution, params, acc)
             info[i, COUNTER] += 1
             info[j, COUNTER] += 1
             done += 1
-            _repredict(p, j, info, times, head, ncell, geom, dim, params, tree_index, tree_time, leaves)
-            _repredict(p, i, info, times, head, ncell, geom, dim, params, tree_index, tree_time, leaves)
+            _repredict(p, j, info, times, head, ncell, geom, dim, params, tree, leaves)
+            _repredict(p, i, info, times, head, ncell, geom, dim, params, tree, leaves)
         elif info[i, BOUNDARY_KIND] == CELL:
             axis, step = cross_cell(p, i, info[i, BOUNDARY_CODE], info, head, ncell, geom, image)
             acc[ACC_CELL_CROSSINGS] += 1.0
             predict_boundary(p, i, info, times, ncell, geom, dim, scale0 + growth * t, growth)
             _after_crossing(p, i, axis, step, info, times, head, ncell, geom, dim, params)
-            schedule(i, info, times, tree_index, tree_time, leaves)
+            schedule(i, info, times, tree, leaves)
         else:
             bounce_off_wall(p, i, info[i, BOUNDARY_CODE], mass, params, acc)
             info[i, COUNTER] += 1
-            _repredict(p, i, info, times, head, ncell, geom, dim, params, tree_index, tree_time, leaves)
+            _repredict(p, i, info, times, head, ncell, geom, dim, params, tree, leaves)
     return t
 
 
 @kernel
-def predict_all(p, info, times, head, ncell, geom, dim, params, tree_index, tree_time, leaves):
+def predict_all(p, info, times, head, ncell, geom, dim, params, tree, leaves):
     """Predict every particle's events (all at their own times) and rebuild the tree."""
     scale0 = params[P_SCALE0]
     growth = params[P_GROWTH]
@@ -569,7 +587,7 @@ def predict_all(p, info, times, head, ncell, geom, dim, params, tree_index, tree
         predict_pairs(p, i, info, times, head, ncell, geom, dim, scale0, growth)
         predict_boundary(p, i, info, times, ncell, geom, dim, scale0 + growth * p[i, T], growth)
         times[i, EVENT_TIME] = min(times[i, PAIR_TIME], times[i, BOUNDARY_TIME])
-    tree_build(tree_index, tree_time, times, leaves)
+    tree_build(tree, times, leaves)
 
 
 @kernel
