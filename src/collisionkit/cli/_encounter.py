@@ -39,7 +39,7 @@ def _unit_labels(system) -> dict[str, str]:
         "time": system.time,
         "velocity": v,
         "energy": f"{system.mass} ({v})^2",
-        "angular_momentum": f"{system.mass} {system.length} {v}",
+        "angular_momentum": f"{system.mass} {system.length} ({v})",
         "area": f"{system.length}^2",
     }
 
