@@ -336,10 +336,14 @@ def scan_pairs(p, i, t, info, head, ncell, geom, dim, scale, growth, best, fixed
                         sigma = contact * scale
                         c = rx * rx + ry * ry + rz * rz - sigma * sigma
                         if ru < 0.0 and c < -2.0 * ru * best and j != i:
-                            tau = pair_contact_time(rx, ry, rz, ux, uy, uz, contact, scale, 0.0, best)
-                            if tau < best:
-                                best = tau
-                                partner = j
+                            # most approaching pairs pass by: discriminant < 0 (a miss by less
+                            # than round-off of sigma changes nothing: it would not touch)
+                            uu = ux * ux + uy * uy + uz * uz
+                            if ru * ru >= uu * c or c <= 0.0:
+                                tau = pair_contact_time(rx, ry, rz, ux, uy, uz, contact, scale, 0.0, best)
+                                if tau < best:
+                                    best = tau
+                                    partner = j
                     elif j != i:
                         tau = pair_contact_time(rx, ry, rz, ux, uy, uz, contact, scale, growth, best)
                         if tau < best:
