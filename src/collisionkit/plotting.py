@@ -384,3 +384,64 @@ def plot_radial_distribution(r, g, ax=None):
     ax.set_xlabel(r"distance $r/\sigma$")
     ax.set_ylabel("$g(r)$")
     return ax
+
+
+def _sweep_label(names, values):
+    return ", ".join(f"{name} = {value}" for name, value in zip(names, values))
+
+
+def plot_sweep(table, x, y, series=(), title=None, ax=None):
+    """A study's result ``y`` against the varied option ``x``: mean across replicas, standard error bars.
+
+    Parameters
+    ----------
+    table : sequence of dict
+        Rows of a study's ``results.csv`` (e.g. ``StudyResults.table``);
+        rows whose ``status`` is not ``"ok"`` are left out.
+    x, y : str
+        Column of the varied option and of the result.
+    series : sequence of str, optional
+        Other varied options: one line per combination of their values.
+    title : str, optional
+    ax : matplotlib Axes, optional
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+
+    Examples
+    --------
+    >>> from collisionkit import plotting
+    >>> rows = [{"eta": eta, "Z": z, "status": "ok"} for eta, z in [(0.1, 1.5), (0.1, 1.6), (0.2, 2.4), (0.2, 2.5)]]
+    >>> ax = plotting.plot_sweep(rows, "eta", "Z")
+    >>> ax.get_xlabel(), ax.get_ylabel(), len(ax.containers)
+    ('eta', 'Z (mean of replicas)', 1)
+    """
+    from .sweep import aggregate
+
+    series = list(series)
+    points = aggregate(table, y, [*series, x])
+    if not points:
+        raise ValueError(f"table has no successful row with a finite {y!r}")
+    groups = {}
+    for point in points:
+        groups.setdefault(tuple(point[name] for name in series), []).append(point)
+    ax = _axes(ax)
+    for values, group in groups.items():
+        errors = np.nan_to_num(np.array([point["error"] for point in group], dtype=float))
+        label = _sweep_label(series, values) or None
+        ax.errorbar([point[x] for point in group], [point["mean"] for point in group], yerr=errors,
+                    fmt="o-", capsize=3, label=label)  # fmt: skip
+    ax.set_xlabel(x)
+    ax.set_ylabel(f"{y} (mean of replicas)")
+    if title is not None:
+        ax.set_title(title)
+    if series:
+        ax.legend(fontsize="small")
+    return ax
+
+
+# ------------------------------------------------------------------ animations (collisionkit animate)
+
+COLOUR_MODES = ("none", "speed", "species")
+ANIMATION_FORMATS = (".gif", ".mp4")

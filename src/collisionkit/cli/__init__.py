@@ -86,3 +86,7 @@ _encounter.register(app)
 from . import _edmd  # noqa: E402
 
 _edmd.register(app)
+
+from . import _sweep  # noqa: E402
+
+_sweep.register(app)

@@ -1,0 +1,159 @@
+"""The ``sweep`` subcommand: run a study (parameter sweep with replicas) on a Dask cluster.
+
+The study file names a subcommand, its fixed and varied options, the
+replicas and a root seed (see :mod:`collisionkit.sweep`). By default the
+points run on an embedded local cluster of ``--workers`` processes;
+``--scheduler ADDRESS`` sends them to an existing Dask cluster instead.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import math
+from pathlib import Path
+from typing import Annotated, Any
+
+import typer
+
+from ._common import console, error_console, fail, print_table, progress_bar, write_summary
+
+INTERRUPTED_EXIT_CODE = 130
+FAILED_POINTS_EXIT_CODE = 1
+SHOWN_FAILURES = 10
+CONNECT_TIMEOUT = "15s"
+
+
+def _load(path: Path, out: Path, resume: bool):
+    """The validated study; any problem with it or with the folder is an input error (exit 2)."""
+    from .. import sweep as core
+
+    try:
+        study = core.load_study(path)
+        core.check_command(study)
+        core.check_folder(study, out, resume)
+    except (ValueError, TypeError) as error:
+        raise fail(f"invalid study {path}: {error}") from None
+    return study
+
+
+@contextlib.contextmanager
+def _executor(workers: int | None, scheduler: str | None):
+    """A client of the given scheduler, or of an embedded cluster of ``workers`` processes."""
+    from .. import sweep as core
+
+    if workers is not None and scheduler is not None:
+        raise fail("--workers sets the size of the embedded cluster; it cannot be used with --scheduler")
+    if workers is not None and workers < 1:
+        raise fail(f"--workers must be >= 1; got {workers}")
+    try:
+        from distributed import Client
+    except ImportError:
+        raise fail("sweep runs on dask.distributed: pip install 'collisionkit[cluster]'") from None
+    if scheduler is None:
+        with core.local_client(workers) as client:
+            yield client
+        return
+    try:
+        client = Client(scheduler, timeout=CONNECT_TIMEOUT)
+    except (OSError, TimeoutError, ValueError) as error:
+        raise fail(f"cannot connect to the Dask scheduler at {scheduler}: {error}") from None
+    with client:
+        yield client
+
+
+def _format(value: float, error: float) -> str:
+    if math.isnan(error):
+        return f"{value:.6g}"
+    return f"{value:.6g} ± {error:.2g}"
+
+
+def _point_rows(results) -> list[tuple]:
+    from .. import sweep as core
+
+    study = results.study
+    names = list(study.vary)
+    means = {}
+    if study.main is not None:
+        means = {tuple(row[name] for name in names): row for row in core.aggregate(results.table, study.main, names)}
+    rows = []
+    for parameters in core.expand(study):
+        key = tuple(parameters[name] for name in names)
+        ok = sum(1 for row in results.table if row["status"] == "ok" and all(row[n] == v for n, v in parameters.items()))
+        mean = means.get(key)
+        shown = _format(mean["mean"], mean["error"]) if mean else "-"
+        rows.append((*key, f"{ok}/{study.replicas}", shown))
+    return rows
+
+
+def _report(results, summary: Path | None) -> dict[str, Any]:
+    study = results.study
+    print_table(
+        f"sweep of collisionkit {study.command}: {len(results.records)} runs",
+        (*study.vary, "ok", f"{study.main or '-'} (mean ± s.e.)"),
+        _point_rows(results),
+    )
+    failures = [{"name": record["name"], "error": record["error"]} for record in results.failed]
+    for failure in failures[:SHOWN_FAILURES]:
+        error_console.print(f"[bold red]failed[/] {failure['name']}: {failure['error']}")
+    combined = {
+        "study": study.to_dict(),
+        "runs": len(results.records),
+        "ok": len(results.records) - len(failures),
+        "failed": len(failures),
+        "skipped": results.skipped,
+        "failures": failures,
+        "files": [str(path) for path in results.files],
+    }
+    write_summary(summary, combined)
+    for path in results.files:
+        console.print(f"wrote {path}")
+    return combined
+
+
+def sweep(
+    study: Annotated[
+        Path,
+        typer.Argument(metavar="STUDY.toml", help="TOML file of the study: command, seed, replicas, \\[fixed], \\[vary]."),
+    ],
+    out: Annotated[
+        Path | None, typer.Option(help="Folder for the points, results.csv and the plot.  \\[default: sweep-output]")
+    ] = None,
+    workers: Annotated[
+        int | None, typer.Option(help="Worker processes of the embedded cluster (>= 1).  \\[default: the cores]")
+    ] = None,
+    scheduler: Annotated[
+        str | None, typer.Option(
+            help="Run on the existing Dask cluster at this address (e.g. tcp://host:8786); "
+            "its workers need collisionkit installed and must see --out at the same path."
+        )
+    ] = None,
+    resume: Annotated[
+        bool, typer.Option("--resume", help="Continue the study in --out: skip finished points, rerun the rest.")
+    ] = False,
+    summary: Annotated[Path | None, typer.Option("--summary", help="Write the results as JSON to this file.")] = None,
+):
+    """Run a parameter sweep with replicas of a collisionkit command, on a local or remote Dask cluster.
+
+    Exit code 1 if some points failed (each is recorded with its error in
+    results.csv); rerun them with --resume.
+    """
+    from .. import sweep as core
+
+    out = out if out is not None else Path("sweep-output")
+    parsed = _load(study, out, resume)
+    total = len(core.expand(parsed)) * parsed.replicas
+    try:
+        with _executor(workers, scheduler) as client, progress_bar("points", total=total) as advance:
+            results = core.run_study(parsed, out, executor=client, resume=resume, progress=lambda record: advance())
+    except KeyboardInterrupt:
+        error_console.print(f"[bold yellow]interrupted:[/] finished points are saved; continue with --resume --out {out}")
+        raise typer.Exit(INTERRUPTED_EXIT_CODE) from None
+    combined = _report(results, summary)
+    if combined["failed"]:
+        error_console.print(f"{combined['failed']} of {combined['runs']} runs failed; rerun them with --resume")
+        raise typer.Exit(FAILED_POINTS_EXIT_CODE)
+
+
+def register(app: typer.Typer) -> None:
+    """Add the ``sweep`` command to the ``collisionkit`` app."""
+    app.command("sweep")(sweep)

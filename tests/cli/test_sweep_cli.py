@@ -1,0 +1,162 @@
+"""The ``collisionkit sweep`` command: bad studies, a remote scheduler, failures, the issue's study, a killed client."""
+
+from __future__ import annotations
+
+import json
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+from typer.testing import CliRunner
+
+from collisionkit import edmd
+from collisionkit.cli import app
+from tests.test_sweep import SMALL_EDMD, dask_client, deadline, physics_columns, read_table, serial_run  # noqa: F401
+
+runner = CliRunner()
+
+ISSUE_STUDY = """\
+command = "edmd"
+replicas = 2
+seed = 1
+[fixed]
+dim = 3
+particles = 500
+collisions = 20000
+[vary]
+packing-fraction = [0.1, 0.2, 0.3]
+"""
+
+ENCOUNTER_STUDY = """\
+command = "encounter"
+replicas = 2
+seed = 3
+[fixed]
+rp = 1.0
+[vary]
+sep0 = [10.0, 0.5, 20.0]
+"""
+
+
+def invoke(*arguments):
+    return runner.invoke(app, ["sweep", *map(str, arguments)], env={"COLUMNS": "200"})
+
+
+def study_file(tmp_path: Path, text: str, name: str = "study.toml") -> Path:
+    path = tmp_path / name
+    path.write_text(text)
+    return path
+
+
+def small_edmd_toml() -> str:
+    fixed = "\n".join(f"{key} = {value}" for key, value in SMALL_EDMD["fixed"].items())
+    return (
+        f'command = "edmd"\nreplicas = {SMALL_EDMD["replicas"]}\nseed = {SMALL_EDMD["seed"]}\n'
+        f"[fixed]\n{fixed}\n[vary]\npacking-fraction = {SMALL_EDMD['vary']['packing-fraction']}\n"
+    )
+
+
+def test_help_lists_the_command_and_its_options():
+    assert "sweep" in runner.invoke(app, ["--help"]).output
+    result = invoke("--help")
+    assert result.exit_code == 0
+    for text in ("--out", "--workers", "--scheduler", "--resume", "--summary", "STUDY"):
+        assert text in result.output, text
+
+
+@pytest.mark.parametrize(
+    ("text", "message"),
+    [
+        ('command = "edmd"\nseed = 1\nreplica = 2\n[vary]\ndim = [2, 3]\n', "unknown study key 'replica'"),
+        ('command = "nbody"\nseed = 1\n[vary]\ndim = [2, 3]\n', "unknown command 'nbody'"),
+        ('command = "edmd"\nseed = 1\n[vary]\npacking = [0.1]\n', "has no option 'packing'"),
+        ('command = "edmd"\nseed = 1\n[vary]\n', "at least one option"),
+        ('command = "edmd"\nseed = 1\n[vary]\ndim = []\n', "empty list"),
+        ('command = "edmd"\nseed = 1\nreplicas = 0\n[vary]\ndim = [2, 3]\n', "replicas must be in"),
+        ('command = "edmd"\nseed = 1\nreplicas = "two"\n[vary]\ndim = [2, 3]\n', "replicas must be an integer"),
+        ('command = "edmd"\nseed = 1\n[vary]\nseed = [1, 2]\n', "set by the sweep"),
+        ('command = "edmd"\nseed = 1\n[vary\n', "not valid TOML"),
+    ],
+)
+def test_bad_studies_exit_with_2_and_a_clear_message(tmp_path, text, message):
+    result = invoke(study_file(tmp_path, text), "--out", tmp_path / "out")
+    assert result.exit_code == 2, result.output
+    assert message in " ".join(result.output.split()), result.output
+    assert not (tmp_path / "out").exists()
+
+
+def test_missing_study_and_bad_worker_options_exit_with_2(tmp_path):
+    assert "study file not found" in invoke(tmp_path / "none.toml").output
+    study = study_file(tmp_path, ENCOUNTER_STUDY)
+    result = invoke(study, "--out", tmp_path / "a", "--workers", 0)
+    assert result.exit_code == 2 and "--workers must be >= 1" in result.output
+    result = invoke(study, "--out", tmp_path / "b", "--workers", 2, "--scheduler", "tcp://127.0.0.1:1")
+    assert result.exit_code == 2 and "cannot be used with --scheduler" in result.output
+
+
+def test_scheduler_runs_the_study_records_failures_and_resumes(tmp_path, dask_client):
+    study, out, summary = study_file(tmp_path, ENCOUNTER_STUDY), tmp_path / "out", tmp_path / "summary.json"
+    address = dask_client.scheduler.address
+    with deadline(120):
+        result = invoke(study, "--out", out, "--scheduler", address, "--summary", summary)
+    assert result.exit_code == 1, result.output  # two runs (sep0 < rp) failed, the others finished
+    assert "2 of 6 runs failed" in result.output and "sep0 must be >= rp" in result.output
+    rows = read_table(out / "results.csv")
+    assert [row["status"] for row in rows] == ["ok", "ok", "failed", "failed", "ok", "ok"]
+    data = json.loads(summary.read_text())
+    assert (data["runs"], data["ok"], data["failed"], data["skipped"]) == (6, 4, 2, 0)
+    assert (out / "main_result.png").exists()
+    with deadline(60):
+        again = invoke(study, "--out", out, "--scheduler", address)
+    assert again.exit_code == 2 and "already holds a study" in again.output
+    with deadline(120):
+        resumed = invoke(study, "--out", out, "--scheduler", address, "--resume", "--summary", summary)
+    assert resumed.exit_code == 1
+    assert json.loads(summary.read_text())["skipped"] == 4  # only the failed runs ran again
+
+
+@pytest.mark.slow
+def test_the_issue_study_on_an_embedded_cluster(tmp_path):
+    out = tmp_path / "out"
+    with deadline(300):
+        result = invoke(study_file(tmp_path, ISSUE_STUDY), "--out", out, "--workers", 2)
+    assert result.exit_code == 0, result.output
+    rows = read_table(out / "results.csv")
+    assert len(rows) == 6
+    for column in ("packing-fraction", "replica", "seed", "compressibility_factor", "pressure", "collision_frequency"):
+        assert column in rows[0], column
+    assert [(row["packing-fraction"], row["replica"]) for row in rows] == [
+        (eta, replica) for eta in ("0.1", "0.2", "0.3") for replica in ("0", "1")
+    ]
+    assert len({row["seed"] for row in rows}) == 6
+    for row in rows:  # elastic hard spheres: Z within 5 % of Hansen-Goos
+        eta = float(row["packing-fraction"])
+        assert float(row["compressibility_factor"]) == pytest.approx(float(edmd.hansen_goos(eta)), rel=0.05)
+    assert "compressibility_factor" in result.output and (out / "main_result.png").exists()
+
+
+@pytest.mark.slow
+def test_a_killed_client_resumes_to_the_serial_table(tmp_path, dask_client):
+    study = study_file(tmp_path, small_edmd_toml())
+    serial_run(study, tmp_path / "serial")
+    out = tmp_path / "out"
+    command = [sys.executable, "-c", "from collisionkit.cli import main; main()", "sweep", str(study), "--out", str(out)]
+    command += ["--scheduler", dask_client.scheduler.address]
+    client = subprocess.Popen(command, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, env=os.environ.copy())
+    try:
+        with deadline(180):
+            while len(list(out.glob("points/*/result.json"))) < 2 and client.poll() is None:
+                time.sleep(0.05)
+    finally:
+        client.send_signal(signal.SIGKILL)
+        client.wait(timeout=30)
+    assert client.returncode == -signal.SIGKILL  # killed mid-study, not finished
+    assert not (out / "results.csv").exists()
+    with deadline(180):
+        result = invoke(study, "--out", out, "--scheduler", dask_client.scheduler.address, "--resume")
+    assert result.exit_code == 0, result.output
+    assert physics_columns(read_table(out / "results.csv")) == physics_columns(read_table(tmp_path / "serial" / "results.csv"))
