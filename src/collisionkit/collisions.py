@@ -166,6 +166,15 @@ class Contact:
         Velocities after the contact (the initial velocities where no hit).
     normal : ndarray, shape (..., d)
         Unit line of centres at contact, from 1 to 2 (NaN where no hit).
+
+    Examples
+    --------
+    >>> import collisionkit as ck
+    >>> contact = ck.collide(1.0, [[0.0, 0.0], [0.0, 5.0]], [1.0, 0.0], 1.0, [3.0, 0.0], [0.0, 0.0], 1.0)
+    >>> contact.hit, contact.time
+    (array([ True, False]), array([ 2., inf]))
+    >>> contact
+    Contact(pairs=2, hits=1, dimension=2)
     """
 
     hit: np.ndarray
@@ -179,6 +188,11 @@ class Contact:
     def __repr__(self) -> str:
         hits = int(np.count_nonzero(self.hit))
         return f"Contact(pairs={self.hit.size}, hits={hits}, dimension={self.x1.shape[-1]})"
+
+    def _repr_html_(self) -> str:
+        from ._repr import contact_rows, html_table
+
+        return html_table("Contact", contact_rows(self))
 
 
 def collide(m1, x1, v1, m2, x2, v2, contact_distance, restitution=1.0, restitution_model="normal"):

@@ -50,7 +50,18 @@ SORT_INTERVAL = 5
 
 
 class OverlapError(RuntimeError):
-    """Two particles (or a particle and a wall) overlap beyond round-off."""
+    """Two particles (or a particle and a wall) overlap beyond round-off.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from collisionkit.edmd import HardSphereSystem, OverlapError
+    >>> try:
+    ...     HardSphereSystem([[1.0, 1.0], [1.5, 1.0]], np.zeros((2, 2)), 0.5, 10.0)
+    ... except OverlapError as error:
+    ...     print("refused:", error)
+    refused: positions overlap: smallest surface gap -0.5
+    """
 
 
 # ------------------------------------------------------------------ equations of state
@@ -571,6 +582,17 @@ class HardSphereSystem:
 
         Keeping event times small keeps their round-off small; the total
         simulated time is kept in ``elapsed``.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from collisionkit.edmd import HardSphereSystem, lattice, maxwell_boltzmann
+        >>> positions, box = lattice("square", 10, 0.3)
+        >>> system = HardSphereSystem(positions, maxwell_boltzmann(np.ones(100), 2, rng=1), 0.5, box)
+        >>> _ = system.run(collisions=500)
+        >>> system.synchronise()
+        >>> system.time, system.elapsed > 0
+        (0.0, True)
         """
         _k.synchronise(self.p, self.time, self.geom, self.dim)
         shift = self.time
@@ -583,30 +605,98 @@ class HardSphereSystem:
             self.time = 0.0
 
     def positions(self, unwrapped=False):
-        """Positions at the current time (a copy); ``unwrapped`` adds the periodic images."""
+        """Positions at the current time (a copy); ``unwrapped`` adds the periodic images.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from collisionkit.edmd import HardSphereSystem, lattice, maxwell_boltzmann
+        >>> positions, box = lattice("square", 10, 0.3)
+        >>> system = HardSphereSystem(positions, maxwell_boltzmann(np.ones(100), 2, rng=1), 0.5, box)
+        >>> _ = system.run(collisions=2000)
+        >>> inside = system.positions()
+        >>> bool((inside >= 0).all() and (inside < box).all())
+        True
+        >>> system.positions(unwrapped=True).shape
+        (100, 2)
+        """
         self.synchronise()
         internal = self.pos + self._image * self.box[: self.dim] if unwrapped else self.pos
         return self._to_user_order(internal)
 
     def velocities(self):
-        """Velocities at the current time (a copy)."""
+        """Velocities at the current time (a copy).
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from collisionkit.edmd import HardSphereSystem, lattice, maxwell_boltzmann
+        >>> positions, box = lattice("square", 10, 0.3)
+        >>> system = HardSphereSystem(positions, maxwell_boltzmann(np.ones(100), 2, rng=1), 0.5, box)
+        >>> bool(np.allclose(system.velocities().sum(axis=0), 0.0))
+        True
+        """
         self.synchronise()
         return self._to_user_order(self.vel)
 
     def kinetic_energy(self) -> float:
+        """Total kinetic energy sum(m v^2) / 2.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from collisionkit.edmd import HardSphereSystem, lattice, maxwell_boltzmann
+        >>> positions, box = lattice("square", 10, 0.3)
+        >>> system = HardSphereSystem(positions, maxwell_boltzmann(np.ones(100), 2, rng=1), 0.5, box)
+        >>> round(system.kinetic_energy(), 12)  # kT = 1 in 2D: K = N kT
+        100.0
+        """
         self.synchronise()
         return float(0.5 * np.sum(self._mass[:, None] * self.vel**2))
 
     def temperature(self) -> float:
-        """kT = 2 K / (d N)."""
+        """kT = 2 K / (d N).
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from collisionkit.edmd import HardSphereSystem, lattice, maxwell_boltzmann
+        >>> positions, box = lattice("square", 10, 0.3)
+        >>> system = HardSphereSystem(positions, maxwell_boltzmann(np.ones(100), 2, rng=1), 0.5, box)
+        >>> _ = system.run(collisions=1000)
+        >>> round(system.temperature(), 12)  # elastic: unchanged
+        1.0
+        """
         return 2.0 * self.kinetic_energy() / (self.dim * self.count)
 
     def momentum(self):
+        """Total momentum sum(m v).
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from collisionkit.edmd import HardSphereSystem, lattice, maxwell_boltzmann
+        >>> positions, box = lattice("square", 10, 0.3)
+        >>> system = HardSphereSystem(positions, maxwell_boltzmann(np.ones(100), 2, rng=1), 0.5, box)
+        >>> bool(np.allclose(system.momentum(), 0.0))
+        True
+        """
         self.synchronise()
         return (self._mass[:, None] * self.vel).sum(axis=0)
 
     def set_velocities(self, velocities):
-        """Replace all velocities (at the current time) and re-predict every event."""
+        """Replace all velocities (at the current time) and re-predict every event.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from collisionkit.edmd import HardSphereSystem, lattice, maxwell_boltzmann
+        >>> positions, box = lattice("square", 10, 0.3)
+        >>> system = HardSphereSystem(positions, maxwell_boltzmann(np.ones(100), 2, rng=1), 0.5, box)
+        >>> system.set_velocities(2.0 * system.velocities())
+        >>> round(system.temperature(), 12)
+        4.0
+        """
         velocities = _arrays.as_float_array(velocities, "velocities")
         if velocities.shape != (self.count, self.dim):
             raise ValueError(f"velocities must have shape {(self.count, self.dim)}; got {velocities.shape}")
@@ -617,7 +707,18 @@ class HardSphereSystem:
         self._predict_all()
 
     def rescale_temperature(self, kT=1.0):
-        """Scale all velocities to the temperature kT (kinetic definition); re-predicts events."""
+        """Scale all velocities to the temperature kT (kinetic definition); re-predicts events.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from collisionkit.edmd import HardSphereSystem, lattice, maxwell_boltzmann
+        >>> positions, box = lattice("square", 10, 0.3)
+        >>> system = HardSphereSystem(positions, maxwell_boltzmann(np.ones(100), 2, rng=1), 0.5, box)
+        >>> system.rescale_temperature(0.25)
+        >>> round(system.temperature(), 12)
+        0.25
+        """
         self.set_velocities(self.velocities() * math.sqrt(kT / self.temperature()))
 
     def check(self, tolerance=1e-9):
@@ -626,6 +727,16 @@ class HardSphereSystem:
         Returns the smallest surface gap (negative only within round-off);
         raises :class:`OverlapError` if any gap is below ``-tolerance`` times
         the largest radius.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from collisionkit.edmd import HardSphereSystem, lattice, maxwell_boltzmann
+        >>> positions, box = lattice("square", 10, 0.3)
+        >>> system = HardSphereSystem(positions, maxwell_boltzmann(np.ones(100), 2, rng=1), 0.5, box)
+        >>> _ = system.run(collisions=5000)
+        >>> system.check() > -1e-12
+        True
         """
         self.synchronise()
         gap = self._pair_gap()
@@ -658,6 +769,17 @@ class HardSphereSystem:
         -------
         int
             Pair collisions processed.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from collisionkit.edmd import HardSphereSystem, lattice, maxwell_boltzmann
+        >>> positions, box = lattice("square", 10, 0.3)
+        >>> system = HardSphereSystem(positions, maxwell_boltzmann(np.ones(100), 2, rng=1), 0.5, box)
+        >>> system.run(collisions=1000)
+        1000
+        >>> system.run(time=0.5) > 0, round(system.elapsed, 12) > 0
+        (True, True)
         """
         if collisions is None and time is None:
             raise ValueError("give collisions or time (or both)")
@@ -696,7 +818,20 @@ class HardSphereSystem:
     _SCALARS = ("dim", "time", "elapsed", "leaves", "last_sort")
 
     def state_dict(self):
-        """Every array and number needed to continue the run bit for bit."""
+        """Every array and number needed to continue the run bit for bit.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from collisionkit.edmd import HardSphereSystem, lattice, maxwell_boltzmann
+        >>> positions, box = lattice("square", 10, 0.3)
+        >>> system = HardSphereSystem(positions, maxwell_boltzmann(np.ones(100), 2, rng=1), 0.5, box)
+        >>> copy = HardSphereSystem.from_state_dict(system.state_dict())
+        >>> system.run(collisions=300), copy.run(collisions=300)
+        (300, 300)
+        >>> bool((system.positions() == copy.positions()).all())
+        True
+        """
         state = {name: getattr(self, name) for name in self._ARRAYS}
         state |= {name: np.asarray(getattr(self, name)) for name in self._SCALARS}
         state["restitution_law"] = np.asarray(self.restitution_law)
@@ -704,7 +839,17 @@ class HardSphereSystem:
 
     @classmethod
     def from_state_dict(cls, state):
-        """Rebuild a system from :meth:`state_dict` output (no re-prediction)."""
+        """Rebuild a system from :meth:`state_dict` output (no re-prediction).
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from collisionkit.edmd import HardSphereSystem, lattice, maxwell_boltzmann
+        >>> positions, box = lattice("square", 10, 0.3)
+        >>> system = HardSphereSystem(positions, maxwell_boltzmann(np.ones(100), 2, rng=1), 0.5, box)
+        >>> HardSphereSystem.from_state_dict(system.state_dict()).count
+        100
+        """
         system = cls.__new__(cls)
         for name in cls._ARRAYS:
             setattr(system, name, np.array(state[name]))
@@ -718,7 +863,20 @@ class HardSphereSystem:
         return system
 
     def save(self, path):
-        """Write a checkpoint (.npz) atomically: a kill mid-write keeps the old one."""
+        """Write a checkpoint (.npz) atomically: a kill mid-write keeps the old one.
+
+        Examples
+        --------
+        >>> import tempfile, pathlib
+        >>> import numpy as np
+        >>> from collisionkit.edmd import HardSphereSystem, lattice, maxwell_boltzmann
+        >>> positions, box = lattice("square", 10, 0.3)
+        >>> system = HardSphereSystem(positions, maxwell_boltzmann(np.ones(100), 2, rng=1), 0.5, box)
+        >>> path = pathlib.Path(tempfile.mkdtemp()) / "run.npz"
+        >>> _ = system.save(path)
+        >>> HardSphereSystem.load(path).collisions == system.collisions
+        True
+        """
         import io
 
         buffer = io.BytesIO()
@@ -727,7 +885,24 @@ class HardSphereSystem:
 
     @classmethod
     def load(cls, path):
-        """Read a checkpoint written by :meth:`save`."""
+        """Read a checkpoint written by :meth:`save`.
+
+        Examples
+        --------
+        >>> import tempfile, pathlib
+        >>> import numpy as np
+        >>> from collisionkit.edmd import HardSphereSystem, lattice, maxwell_boltzmann
+        >>> positions, box = lattice("square", 10, 0.3)
+        >>> system = HardSphereSystem(positions, maxwell_boltzmann(np.ones(100), 2, rng=1), 0.5, box)
+        >>> path = pathlib.Path(tempfile.mkdtemp()) / "run.npz"
+        >>> _ = system.run(collisions=100)
+        >>> _ = system.save(path)
+        >>> restored = HardSphereSystem.load(path)
+        >>> restored.run(collisions=100), system.run(collisions=100)
+        (100, 100)
+        >>> bool((restored.velocities() == system.velocities()).all())
+        True
+        """
         with np.load(Path(path), allow_pickle=False) as data:
             return cls.from_state_dict({name: data[name] for name in data.files})
 
@@ -737,6 +912,11 @@ class HardSphereSystem:
             f"HardSphereSystem({self.count} {kind}, eta={packing_fraction(self.radius * self.scale, self.box[: self.dim]):.4f}, "
             f"collisions={self.collisions}, time={self.elapsed + self.time:.6g})"
         )
+
+    def _repr_html_(self):
+        from ._repr import hard_sphere_system_rows, html_table
+
+        return html_table("HardSphereSystem", hard_sphere_system_rows(self))
 
 
 # ------------------------------------------------------------------ compression
@@ -854,12 +1034,20 @@ def _block_error(values):
 class Measurement:
     """Observables of an EDMD run, block averaged; each ``*_error`` is one standard error.
 
-    Attributes follow the issue's JSON keys: ``compressibility_factor``,
-    ``pressure``, ``temperature`` (final kT), ``collision_frequency`` (per
-    particle, each pair collision counting for both), ``mean_free_time``,
-    ``mean_free_path``, ``diffusion_coefficient`` (from the mean squared
-    displacement), ``energy_lost``; arrays ``speeds`` (a sample), ``rdf_r``,
-    ``rdf`` (g(r)), ``msd_time``, ``msd``, ``block_*`` per block.
+    Attributes: ``compressibility_factor``, ``pressure``, ``temperature``
+    (final kT), ``collision_frequency`` (per particle, each pair collision
+    counting for both), ``mean_free_time``, ``mean_free_path``,
+    ``diffusion_coefficient`` (from the mean squared displacement),
+    ``energy_lost``, ``contact_value`` (g at contact); arrays ``speeds`` (a
+    sample), ``rdf_r``, ``rdf`` (g(r)), ``msd_time``, ``msd``, ``block_*`` per
+    block.
+
+    Examples
+    --------
+    >>> from collisionkit.edmd import henderson, measure, random_fluid
+    >>> m = measure(random_fluid(2, 400, 0.3, rng=2), collisions=40_000, blocks=4)
+    >>> abs(m.compressibility_factor - float(henderson(0.3))) < 5 * m.compressibility_factor_error + 0.05
+    True
     """
 
     dim: int
@@ -896,7 +1084,15 @@ class Measurement:
         return self.collisions / self.wall_seconds if self.wall_seconds > 0 else math.inf
 
     def summary(self) -> dict:
-        """Scalars as a JSON-ready dict."""
+        """Scalars as a JSON-ready dict.
+
+        Examples
+        --------
+        >>> from collisionkit.edmd import measure, random_fluid
+        >>> summary = measure(random_fluid(2, 200, 0.3, rng=1), collisions=4000, blocks=2).summary()
+        >>> summary["collisions"], "compressibility_factor" in summary
+        (4000, True)
+        """
         keys = (
             "dim particles packing_fraction collisions time temperature compressibility_factor "
             "compressibility_factor_error pressure pressure_error collision_frequency collision_frequency_error "
@@ -905,6 +1101,11 @@ class Measurement:
         result = {key: getattr(self, key) for key in keys}
         result["collisions_per_second"] = self.collisions_per_second
         return result
+
+    def _repr_html_(self):
+        from ._repr import html_table, measurement_rows
+
+        return html_table("Measurement", measurement_rows(self))
 
 
 def _pair_histogram(system, r_max, bins):
@@ -996,7 +1197,19 @@ class Sampler:
         return self.done >= self.blocks
 
     def run_block(self, progress=None):
-        """Run and record one block."""
+        """Run and record one block.
+
+        Examples
+        --------
+        >>> from collisionkit.edmd import Sampler, lattice, maxwell_boltzmann, HardSphereSystem
+        >>> import numpy as np
+        >>> positions, box = lattice("square", 10, 0.3)
+        >>> system = HardSphereSystem(positions, maxwell_boltzmann(np.ones(100), 2, rng=1), 0.5, box)
+        >>> sampler = Sampler(system, collisions=4000, blocks=2)
+        >>> sampler.run_block()
+        >>> sampler.done, sampler.finished
+        (1, False)
+        """
         import time as _time
 
         system = self.system
@@ -1022,7 +1235,19 @@ class Sampler:
         self.histogram += _pair_histogram(system, self.r_max, self.histogram.size)
 
     def state_dict(self):
-        """The sampler's accumulators as arrays (the system is saved separately)."""
+        """The sampler's accumulators as arrays (the system is saved separately).
+
+        Examples
+        --------
+        >>> from collisionkit.edmd import Sampler, lattice, maxwell_boltzmann, HardSphereSystem
+        >>> import numpy as np
+        >>> positions, box = lattice("square", 10, 0.3)
+        >>> system = HardSphereSystem(positions, maxwell_boltzmann(np.ones(100), 2, rng=1), 0.5, box)
+        >>> sampler = Sampler(system, collisions=4000, blocks=2)
+        >>> sampler.run_block()
+        >>> sorted(sampler.state_dict())[:3]
+        ['sampler_compressibility', 'sampler_frequency', 'sampler_histogram']
+        """
         state = {f"sampler_{name}": np.asarray(values, dtype=float) for name, values in self.records.items()}
         state |= {
             "sampler_speeds": np.asarray(self.speeds, dtype=float).reshape(len(self.speeds), -1),
@@ -1036,7 +1261,19 @@ class Sampler:
 
     @classmethod
     def from_state_dict(cls, system: HardSphereSystem, state):
-        """Rebuild a sampler of ``system`` from :meth:`state_dict` output."""
+        """Rebuild a sampler of ``system`` from :meth:`state_dict` output.
+
+        Examples
+        --------
+        >>> from collisionkit.edmd import Sampler, lattice, maxwell_boltzmann, HardSphereSystem
+        >>> import numpy as np
+        >>> positions, box = lattice("square", 10, 0.3)
+        >>> system = HardSphereSystem(positions, maxwell_boltzmann(np.ones(100), 2, rng=1), 0.5, box)
+        >>> sampler = Sampler(system, collisions=4000, blocks=2)
+        >>> sampler.run_block()
+        >>> Sampler.from_state_dict(system, sampler.state_dict()).done
+        1
+        """
         sampler = cls.__new__(cls)
         sampler.system = system
         blocks, per_block, r_max, start_time, start_lost, wall = state["sampler_scalars"]
@@ -1049,7 +1286,20 @@ class Sampler:
         return sampler
 
     def result(self) -> Measurement:
-        """The observables over the blocks done so far (at least 2)."""
+        """The observables over the blocks done so far (at least 2).
+
+        Examples
+        --------
+        >>> from collisionkit.edmd import Sampler, lattice, maxwell_boltzmann, HardSphereSystem
+        >>> import numpy as np
+        >>> positions, box = lattice("square", 10, 0.3)
+        >>> system = HardSphereSystem(positions, maxwell_boltzmann(np.ones(100), 2, rng=1), 0.5, box)
+        >>> sampler = Sampler(system, collisions=4000, blocks=2)
+        >>> while not sampler.finished:
+        ...     sampler.run_block()
+        >>> 1.5 < sampler.result().compressibility_factor < 2.6
+        True
+        """
         if self.done < 2:
             raise ValueError(f"need at least 2 finished blocks for errors; have {self.done}")
         system, dim, count = self.system, self.system.dim, self.system.count

@@ -832,6 +832,11 @@ class TwoBodyOrbit:
             "period": self.period,
         }
 
+    def _repr_html_(self) -> str:
+        from ._repr import html_table, orbit_rows
+
+        return html_table(type(self).__name__, orbit_rows(self))
+
 
 class Hyperbolic(TwoBodyOrbit):
     r"""Unbound encounter set by the periastron distance r_p and the speed at infinity.
@@ -920,6 +925,15 @@ class EncounterContact:
 
     @classmethod
     def miss(cls, distance: float) -> EncounterContact:
+        """The outcome of an encounter whose bodies never come closer than ``distance``.
+
+        Examples
+        --------
+        >>> from collisionkit.encounters import EncounterContact
+        >>> contact = EncounterContact.miss(3.0)
+        >>> contact.touches, contact.time
+        (False, inf)
+        """
         nan = np.full((2, 3), np.nan)
         return cls(False, math.inf, distance, nan, nan.copy())
 
@@ -1146,7 +1160,16 @@ class InitialConditions:
         return self.vt / self.v0
 
     def to_dict(self) -> dict:
-        """The inputs, eqs. 34-39, orbit elements and the arrays (JSON-ready)."""
+        """The inputs, eqs. 34-39, orbit elements and the arrays (JSON-ready).
+
+        Examples
+        --------
+        >>> import json
+        >>> from collisionkit.encounters import starcrash_initial_conditions
+        >>> data = starcrash_initial_conditions(1.0, 1.0, 1.0, 0.5, 10.0).to_dict()
+        >>> round(data["impact_parameter"], 6), len(json.dumps(data)) > 100  # sqrt(17)
+        (4.123106, True)
+        """
         orbit = self.orbit
         return {
             "m1": self.m1,
@@ -1225,6 +1248,11 @@ class InitialConditions:
             f"InitialConditions(m1={self.m1!r}, m2={self.m2!r}, rp={self.rp!r}, v_inf={self.v_inf!r}, "
             f"sep0={self.sep0!r}, layout={self.layout!r})"
         )
+
+    def _repr_html_(self) -> str:
+        from ._repr import html_table, initial_conditions_rows
+
+        return html_table("InitialConditions", initial_conditions_rows(self))
 
 
 def starcrash_initial_conditions(m1, m2, rp, vinf, sep0, G=1.0, *, layout: str = "diagonal") -> InitialConditions:

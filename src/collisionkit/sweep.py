@@ -480,7 +480,14 @@ def point_name(index: int, replica: int) -> str:
 
 @dataclass(frozen=True)
 class OptionSpec:
-    """What the sweep needs to know of one option of a subcommand."""
+    """What the sweep needs to know of one option of a subcommand.
+
+    Examples
+    --------
+    >>> spec = OptionSpec("plots", "--plots", "--no-plots", is_flag=True, annotation=bool)
+    >>> spec.flag, spec.negative_flag, spec.is_flag
+    ('--plots', '--no-plots', True)
+    """
 
     name: str
     flag: str
@@ -784,6 +791,12 @@ def local_client(workers: int | None = None):
     ------
     distributed.Client
         Closed, with the cluster, on leaving the ``with`` block.
+
+    Examples
+    --------
+    >>> with local_client(workers=1) as client:
+    ...     print(client.submit(sum, [1, 2, 3]).result())
+    6
     """
     if workers is not None:
         _check_integer("workers", workers, 1, None)
@@ -846,6 +859,16 @@ class StudyResults:
         The study-level files written (table, plot, study description).
     skipped : int
         Points found complete and not rerun (``resume=True``).
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> from concurrent.futures import ThreadPoolExecutor
+    >>> study = {"command": "encounter", "seed": 2, "vary": {"vinf": [0.5, 2.0]}}
+    >>> with ThreadPoolExecutor(1) as pool:
+    ...     results = run_study(study, tempfile.mkdtemp(), executor=pool)
+    >>> len(results.records), results.failed, results.skipped
+    (2, [], 0)
     """
 
     study: Study
@@ -1114,6 +1137,15 @@ def write_outputs(study: Study, out, table: list[Mapping[str, Any]]) -> list[Pat
     """Write ``results.csv``, ``results.parquet`` (with pyarrow) and ``main_result.png`` (with matplotlib).
 
     The plot needs the study's main key in at least one successful row.
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> study = Study("encounter", seed=0, vary={"vinf": [1.0, 2.0]}, main="deflection")
+    >>> table = [{"vinf": 1.0, "replica": 0, "status": "ok", "deflection": 1.2},
+    ...          {"vinf": 2.0, "replica": 0, "status": "ok", "deflection": 0.6}]
+    >>> sorted(path.name for path in write_outputs(study, tempfile.mkdtemp(), table))
+    ['main_result.png', 'results.csv', 'results.parquet']
     """
     out = Path(out)
     files = [write_csv(out / "results.csv", table)]

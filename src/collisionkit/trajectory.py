@@ -143,7 +143,19 @@ class GSDWriter:
         self.frames = len(self._file)
 
     def write(self, system, step):
-        """Append the system's current state as a frame labelled ``step`` (an integer >= 0)."""
+        """Append the system's current state as a frame labelled ``step`` (an integer >= 0).
+
+        Examples
+        --------
+        >>> import pathlib, tempfile
+        >>> from collisionkit.edmd import random_fluid
+        >>> system = random_fluid(2, 50, 0.3, rng=1)
+        >>> writer = GSDWriter(pathlib.Path(tempfile.mkdtemp()) / "run.gsd")
+        >>> writer.write(system, step=0)
+        >>> writer.frames
+        1
+        >>> writer.close()
+        """
         if self._file is None:
             raise ValueError(f"the GSD writer of {self.path} is closed")
         if not (isinstance(step, (int, np.integer)) and step >= 0):
@@ -153,7 +165,21 @@ class GSDWriter:
         self.frames += 1
 
     def close(self):
-        """Flush and close the file (closing twice is harmless)."""
+        """Flush and close the file (closing twice is harmless).
+
+        Examples
+        --------
+        >>> import pathlib, tempfile
+        >>> from collisionkit.edmd import random_fluid
+        >>> writer = GSDWriter(pathlib.Path(tempfile.mkdtemp()) / "run.gsd")
+        >>> writer.write(random_fluid(2, 50, 0.3, rng=1), step=0)
+        >>> writer.close()
+        >>> writer.close()
+        >>> writer.write(random_fluid(2, 50, 0.3, rng=1), step=1)
+        Traceback (most recent call last):
+        ...
+        ValueError: the GSD writer of ... is closed
+        """
         if self._file is not None:
             self._file.close()
             self._file = None

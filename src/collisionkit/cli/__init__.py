@@ -31,6 +31,15 @@ SummaryOption = Annotated[Path | None, typer.Option("--summary", help="Write the
 
 
 class DemoOptions(Options):
+    """Options of ``collisionkit demo`` (validated; TOML keys may use dashes).
+
+    Examples
+    --------
+    >>> from collisionkit.cli import DemoOptions
+    >>> DemoOptions.model_validate({"pairs": 5000, "out": "here"}).pairs
+    5000
+    """
+
     out: Path = Path("demo-output")
     pairs: int = Field(default=200_000, ge=1_000, le=50_000_000)
     seed: int = Field(default=2026, ge=0)
@@ -47,7 +56,17 @@ def demo(
     summary: SummaryOption = None,
     config: ConfigOption = None,
 ):
-    """Run every capability at small size: a summary table, plots and summary.json."""
+    """Run every capability at small size: a summary table, plots and summary.json.
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> from typer.testing import CliRunner
+    >>> from collisionkit.cli import app
+    >>> result = CliRunner().invoke(app, ["demo", "--pairs", "2000", "--no-plots", "--out", tempfile.mkdtemp()])
+    >>> result.exit_code
+    0
+    """
     options = load_options(DemoOptions, config, dict(out=out, pairs=pairs, seed=seed, plots=plots, summary=summary))
     from . import _demo
 
@@ -75,7 +94,17 @@ def demo(
 
 
 def main(argv: list[str] | None = None) -> None:
-    """Entry point of the ``collisionkit`` script."""
+    """Entry point of the ``collisionkit`` script.
+
+    Examples
+    --------
+    >>> from collisionkit.cli import main
+    >>> try:
+    ...     main(["demo", "--pairs", "5"])  # below the allowed 1000: bad input
+    ... except SystemExit as stop:
+    ...     print("exit code", stop.code)
+    exit code 2
+    """
     app(args=argv if argv is not None else sys.argv[1:], prog_name="collisionkit")
 
 
@@ -90,3 +119,7 @@ _edmd.register(app)
 from . import _sweep  # noqa: E402
 
 _sweep.register(app)
+
+from . import _animate  # noqa: E402
+
+_animate.register(app)

@@ -1,1 +1,5 @@
-"""Drop-in interfaces that match other packages' collision APIs."""
+"""Drop-in interfaces that match other packages' collision APIs (``collisionkit.compat.irfpy``)."""
+
+from . import irfpy
+
+__all__ = ["irfpy"]

@@ -1,0 +1,56 @@
+"""Every gallery example (``examples/plot_*.py``) and the validation page's script run to the end."""
+
+import runpy
+from pathlib import Path
+
+import matplotlib
+import pytest
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+ROOT = Path(__file__).resolve().parents[1]
+EXAMPLES = sorted((ROOT / "examples").glob("plot_*.py"))
+VALIDATION = sorted((ROOT / "docs" / "validation_src").glob("plot_*.py"))
+
+
+def run_script(path, tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)  # anything a script writes lands here
+    plt.close("all")
+    try:
+        namespace = runpy.run_path(str(path), run_name="__main__")
+        assert plt.get_fignums(), f"{path.name} drew no figure"
+    finally:
+        plt.close("all")
+    return namespace
+
+
+def test_the_gallery_has_the_examples_of_the_issue():
+    names = {path.stem for path in EXAMPLES}
+    expected = {
+        "plot_newtons_cradle", "plot_billiard_break", "plot_stationary_scan", "plot_hard_sphere_eos",
+        "plot_granular_cooling", "plot_stellar_flyby", "plot_rutherford",
+    }  # fmt: skip
+    assert expected <= names
+
+
+@pytest.mark.parametrize("path", EXAMPLES, ids=lambda path: path.stem)
+def test_example_runs(path, tmp_path, monkeypatch):
+    text = path.read_text()
+    assert text.startswith('"""'), f"{path.name} needs a sphinx-gallery docstring header"
+    title = text.split("\n")[1:3]
+    assert title[1].startswith("===") and len(title[1]) >= len(title[0]), f"{path.name}: title and underline"
+    run_script(path, tmp_path, monkeypatch)
+
+
+def test_newtons_cradle_hands_the_momentum_along(tmp_path, monkeypatch):
+    namespace = run_script(ROOT / "examples" / "plot_newtons_cradle.py", tmp_path, monkeypatch)
+    for moving in (1, 2, 3):
+        _, _, v = namespace["cradle"](moving)
+        assert list(v > 0.5) == [False] * (5 - moving) + [True] * moving
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("path", VALIDATION, ids=lambda path: path.stem)
+def test_validation_script_runs(path, tmp_path, monkeypatch):
+    run_script(path, tmp_path, monkeypatch)
