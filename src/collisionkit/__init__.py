@@ -11,7 +11,7 @@ Modules: :mod:`collisionkit.collisions` (contact resolution and detection),
 :mod:`collisionkit.compat.irfpy` (irfpy's collision API).
 """
 
-from . import compat, encounters, kinematics, scattering, sweep
+from . import compat, encounters, kinematics, scattering, sweep, transport
 from .collisions import RESTITUTION_MODELS, Contact, collide, resolve_contact, time_to_contact
 from .kinematics import (
     centre_of_mass_velocity,
@@ -59,4 +59,5 @@ __all__ = [
     "sweep",
     "time_to_contact",
     "to_centre_of_mass_frame",
+    "transport",
 ]

@@ -120,6 +120,10 @@ from . import _sweep  # noqa: E402
 
 _sweep.register(app)
 
+from . import _transport  # noqa: E402
+
+_transport.register(app)
+
 from . import _animate  # noqa: E402
 
 _animate.register(app)

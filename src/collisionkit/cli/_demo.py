@@ -24,10 +24,11 @@ class SectionResult:
 
 def sections():
     """The demo sections in display order (imported lazily: each may be slow to import)."""
-    from . import _demo_core, _demo_edmd, _demo_encounter
+    from . import _demo_core, _demo_edmd, _demo_encounter, _demo_transport
 
     return [
         ("collision core", _demo_core.run),
         ("two-body encounters", _demo_encounter.run),
         ("event-driven MD", _demo_edmd.run),
+        ("Monte Carlo transport", _demo_transport.run),
     ]

@@ -1,0 +1,192 @@
+"""The ``swarm`` and ``slab`` subcommands: Monte Carlo transport."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Annotated, Literal
+
+import typer
+from pydantic import Field, field_validator, model_validator
+
+from ._common import Options, console, fail, load_options, print_table, progress_bar, write_summary
+
+ModelName = Literal["maxwell", "hard_sphere", "reid", "lucas_saelee"]
+
+
+class SwarmOptions(Options):
+    model: ModelName | None = None
+    cross_sections: Path | None = None
+    species: list[str] | None = None
+    fractions: list[float] | None = None
+    e_n: list[float] = Field(default=[12.0], min_length=1)
+    b_n: float = Field(default=0.0, allow_inf_nan=False)
+    gas_temperature: float = Field(default=0.0, ge=0, allow_inf_nan=False)
+    particles: int = Field(default=20_000, ge=128, le=10_000_000)
+    seed: int = Field(default=2026, ge=0)
+    tolerance: float = Field(default=2e-3, gt=0, le=0.5)
+    collision_budget: float = Field(default=5e8, ge=1e4, allow_inf_nan=False)
+    sharing: Literal["equal", "uniform"] = "equal"
+    out: Path | None = None
+    summary: Path | None = None
+
+    @field_validator("e_n")
+    @classmethod
+    def _non_negative(cls, values):
+        if any(not (v >= 0 and v < float("inf")) for v in values):
+            raise ValueError("E/N values must be finite and >= 0 Td")
+        return values
+
+    @model_validator(mode="after")
+    def _one_gas(self):
+        if (self.model is None) == (self.cross_sections is None):
+            raise ValueError("give exactly one of --model and --cross-sections")
+        return self
+
+
+def _e_n_values(raw: list[str] | None) -> list[float] | None:
+    if raw is None:
+        return None
+    values = []
+    for item in raw:
+        for part in str(item).split(","):
+            if part.strip():
+                try:
+                    values.append(float(part))
+                except ValueError:
+                    raise fail(f"--E-N: {part!r} is not a number (Td)") from None
+    return values
+
+
+def _gas(options: SwarmOptions):
+    from ..transport import model_gas, read_lxcat
+
+    if options.model is not None:
+        return model_gas(options.model)
+    try:
+        return read_lxcat(options.cross_sections, species=options.species, fractions=options.fractions)
+    except ValueError as error:
+        raise fail(str(error)) from None
+
+
+def _swarm_row(result):
+    return (f"{result.reduced_field:g}", f"{result.mean_energy:.5g} ± {result.mean_energy_error:.2g}",
+            f"{-result.drift_velocity_bulk[2]:.5g} ± {result.drift_velocity_bulk_error[2]:.2g}",
+            f"{result.diffusion_L_N:.4g} ± {result.diffusion_L_N_error:.2g}",
+            f"{result.diffusion_T_N:.4g} ± {result.diffusion_T_N_error:.2g}",
+            f"{result.collisions_per_second:.3g}")
+
+
+def _swarm_plots(results, out: Path) -> list[Path]:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from .. import plotting
+
+    out.mkdir(parents=True, exist_ok=True)
+    files = [plotting.save(plotting.plot_energy_distribution(results), out / "eedf.png")]
+    if len(results) > 1:
+        files.append(plotting.save(plotting.plot_transport_coefficients(results).flat[0], out / "transport_coefficients.png"))
+    return files
+
+
+def swarm(
+    model: Annotated[str | None, typer.Option(help="Model gas: maxwell, hard_sphere, reid, lucas_saelee.")] = None,
+    cross_sections: Annotated[Path | None, typer.Option("--cross-sections", help="LXCat cross-section file.")] = None,
+    species: Annotated[list[str] | None, typer.Option(help="Species of the LXCat file to use (repeat).")] = None,
+    fractions: Annotated[list[float] | None, typer.Option(help="Their number fractions (repeat).")] = None,
+    e_n: Annotated[list[str] | None, typer.Option("--E-N", help="E/N in Td; repeat or comma list for a sweep.  [default: 12]")] = None,
+    b_n: Annotated[float | None, typer.Option("--B-N", help="B/N in Hx, B along y (E along z).  [default: 0]")] = None,
+    gas_temperature: Annotated[float | None, typer.Option(help="Gas temperature in K (>= 0).  [default: 0]")] = None,
+    particles: Annotated[int | None, typer.Option(help="Simulated particles (128 to 1e7).  [default: 20000]")] = None,
+    seed: Annotated[int | None, typer.Option(help="Random seed (>= 0).  [default: 2026]")] = None,
+    tolerance: Annotated[float | None, typer.Option(help="Target relative error of mean energy and drift.  [default: 0.002]")] = None,
+    collision_budget: Annotated[float | None, typer.Option(help="Stop after this many real collisions per E/N.  [default: 5e8]")] = None,
+    sharing: Annotated[str | None, typer.Option(help="Ionization energy sharing: equal or uniform.  [default: equal]")] = None,
+    out: Annotated[Path | None, typer.Option(help="Folder for plots (none if not given).")] = None,
+    summary: Annotated[Path | None, typer.Option("--summary", help="Write the results as JSON to this file.")] = None,
+    config: Annotated[Path | None, typer.Option("--config", help="TOML file with these options (command line wins).")] = None,
+):
+    """Electron swarm transport coefficients (mean energy, drift, diffusion, rates) against E/N."""
+    given = dict(model=model, cross_sections=cross_sections, species=species, fractions=fractions, e_n=_e_n_values(e_n),
+                 b_n=b_n, gas_temperature=gas_temperature, particles=particles, seed=seed, tolerance=tolerance,
+                 collision_budget=collision_budget, sharing=sharing, out=out, summary=summary)
+    options = load_options(SwarmOptions, config, given)
+    gas = _gas(options)
+    from ..transport import simulate_swarm
+
+    tolerances = {"mean_energy": options.tolerance, "drift_velocity_bulk": options.tolerance}
+    results = []
+    with progress_bar("swarm", total=len(options.e_n)) as advance:
+        for value in options.e_n:
+            done = [0.0]
+
+            def report(fraction, done=done):
+                advance(fraction - done[0])
+                done[0] = fraction
+
+            result = simulate_swarm(gas, value, reduced_magnetic_field=options.b_n,
+                                    gas_temperature=options.gas_temperature, particles=options.particles,
+                                    seed=options.seed, sharing=options.sharing, tolerances=tolerances,
+                                    collision_budget=options.collision_budget, progress=report)
+            advance(1.0 - done[0])
+            results.append(result)
+    print_table("swarm transport (W along -z for electrons)",
+                ("E/N (Td)", "mean energy (eV)", "bulk W (m/s)", "N D_L (1/m/s)", "N D_T (1/m/s)", "collisions/s"),
+                [_swarm_row(r) for r in results])
+    files = _swarm_plots(results, options.out) if options.out is not None else []
+    entries = []
+    for r in results:
+        entry = r.to_dict()
+        entry["E_N"] = r.reduced_field
+        entries.append(entry)
+    write_summary(options.summary, {"gas": str(options.model or options.cross_sections), "results": entries,
+                                    "files": [str(p) for p in files]})
+    for path in files:
+        console.print(f"wrote {path}")
+
+
+class SlabOptions(Options):
+    thickness: float = Field(default=1.0, ge=0, le=1e4, allow_inf_nan=False)
+    albedo: float = Field(default=1.0, ge=0, le=1)
+    incidence: Literal["normal", "isotropic"] = "normal"
+    model: Literal["isotropic", "rod"] = "isotropic"
+    mass_ratio: float = Field(default=float("inf"), gt=1)
+    particles: int = Field(default=100_000, ge=64, le=1_000_000_000)
+    seed: int = Field(default=2026, ge=0)
+    summary: Path | None = None
+
+
+def slab(
+    thickness: Annotated[float | None, typer.Option(help="Slab thickness in mean free paths (>= 0).  [default: 1]")] = None,
+    albedo: Annotated[float | None, typer.Option(help="Single-scattering albedo in [0, 1].  [default: 1]")] = None,
+    incidence: Annotated[str | None, typer.Option(help="normal or isotropic.  [default: normal]")] = None,
+    model: Annotated[str | None, typer.Option(help="isotropic (3D) or rod (1D).  [default: isotropic]")] = None,
+    mass_ratio: Annotated[float | None, typer.Option(help="Target/particle mass (> 1; inf: no energy loss).  [default: inf]")] = None,
+    particles: Annotated[int | None, typer.Option(help="Histories (>= 64).  [default: 100000]")] = None,
+    seed: Annotated[int | None, typer.Option(help="Random seed (>= 0).  [default: 2026]")] = None,
+    summary: Annotated[Path | None, typer.Option("--summary", help="Write the results as JSON to this file.")] = None,
+    config: Annotated[Path | None, typer.Option("--config", help="TOML file with these options (command line wins).")] = None,
+):
+    """Transmission and reflection of a beam by a scattering slab (Krasov, sec. 5.5)."""
+    given = dict(thickness=thickness, albedo=albedo, incidence=incidence, model=model, mass_ratio=mass_ratio,
+                 particles=particles, seed=seed, summary=summary)
+    options = load_options(SlabOptions, config, given)
+    from ..transport import simulate_slab
+
+    with progress_bar("slab", total=1) as advance:
+        result = simulate_slab(options.thickness, options.albedo, incidence=options.incidence, model=options.model,
+                               mass_ratio=options.mass_ratio, particles=options.particles, seed=options.seed)
+        advance()
+    rows = [("transmission (x > d)", f"{result.transmission:.6f}", f"{result.transmission_error:.2g}"),
+            ("reflection (x < 0)", f"{result.reflection:.6f}", f"{result.reflection_error:.2g}"),
+            ("absorption", f"{result.absorption:.6f}", f"{result.absorption_error:.2g}"),
+            ("collisions per particle", f"{result.collisions_per_particle:.4f}", "")]
+    print_table(f"slab d = {options.thickness:g} mfp, albedo {options.albedo:g}, {options.incidence} incidence",
+                ("quantity", "value", "error"), rows)
+    write_summary(options.summary, result.to_dict())
+
+
+def register(app: typer.Typer) -> None:
+    """Add the ``swarm`` and ``slab`` commands to the ``collisionkit`` app."""
+    app.command("swarm")(swarm)
+    app.command("slab")(slab)

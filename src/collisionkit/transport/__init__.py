@@ -1,0 +1,54 @@
+"""Monte Carlo transport of particles with collisions: swarms in fields and slabs.
+
+Following Krasov (sec. 5.5): a particle moves under a force field, a free
+path is drawn at random (``s = -lambda ln xi``), the trajectory is followed
+until the path is used up, the particle collides and scatters, and a new
+free path is drawn. Extended with energy-dependent cross sections (null
+collisions), real gases (LXCat files) and transport coefficients.
+
+* :func:`simulate_swarm` - drift, diffusion, rates and mean energy of a
+  swarm in E (and B) fields; :class:`SwarmResult`;
+* :func:`simulate_slab` - transmission and reflection of a beam by a slab;
+* gases: :class:`Gas`, :class:`Species`, :class:`Process`, model gases
+  (:func:`maxwell_model`, :func:`hard_sphere_gas`, :func:`reid_ramp`,
+  :func:`lucas_saelee`) and :func:`read_lxcat`.
+"""
+
+from .gases import (
+    MODEL_GASES,
+    Gas,
+    Process,
+    Species,
+    hard_sphere_gas,
+    lucas_saelee,
+    maxwell_model,
+    model_gas,
+    reid_ramp,
+    screened_coulomb_momentum_ratio,
+)
+from .lxcat import LXCatError, parse_lxcat, read_lxcat
+from .slab import SlabResult, simulate_slab
+from .swarm import DEFAULT_TOLERANCES, HUXLEY, TOWNSEND, SwarmResult, simulate_swarm
+
+__all__ = [
+    "DEFAULT_TOLERANCES",
+    "HUXLEY",
+    "MODEL_GASES",
+    "TOWNSEND",
+    "Gas",
+    "LXCatError",
+    "Process",
+    "Species",
+    "SlabResult",
+    "SwarmResult",
+    "hard_sphere_gas",
+    "lucas_saelee",
+    "maxwell_model",
+    "model_gas",
+    "parse_lxcat",
+    "read_lxcat",
+    "reid_ramp",
+    "screened_coulomb_momentum_ratio",
+    "simulate_slab",
+    "simulate_swarm",
+]

@@ -1,0 +1,148 @@
+"""Turn a :class:`~collisionkit.transport.gases.Gas` into the kernel's arrays.
+
+All processes are evaluated on the union of their energy nodes (exact for
+piecewise-linear tables, with an extra node just below a table that starts
+with a jump). The trial-frequency bound per species is, on uniform speed
+bins, the running maximum of ``max(sigma_tot) * v_high + k_tot`` (the maximum
+of a piecewise-linear function on a bin is at its ends or at a node inside).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from scipy import constants
+
+from .._kernels import transport as _k
+from .gases import Gas
+
+EV = constants.e
+ACCELERATOR_CELLS = 4096
+BOUND_BINS = 4096
+GAS_SPEED_SIGMAS = 8.0  # P(|V| > 8 sigma) ~ 1e-14 for a 3D Maxwellian
+
+KIND_CODES = {"elastic": _k.ELASTIC, "excitation": _k.EXCITATION, "ionization": _k.IONIZATION,
+              "attachment": _k.ATTACHMENT}
+ANGULAR_CODES = {"isotropic": _k.ISOTROPIC, "screened_coulomb": _k.SCREENED_COULOMB}
+
+
+@dataclass(frozen=True)
+class KernelTables:
+    """Arrays handed to :func:`collisionkit._kernels.transport.advance_swarm`."""
+
+    labels: tuple[str, ...]
+    kinds: tuple[str, ...]
+    gas: np.ndarray
+    kind: np.ndarray
+    species_of: np.ndarray
+    threshold: np.ndarray
+    const_rate: np.ndarray
+    angular: np.ndarray
+    screening: np.ndarray
+    nodes: np.ndarray
+    sigma: np.ndarray
+    accelerator: np.ndarray
+    accelerator_step: float
+    bound: np.ndarray
+    bound_step: float
+    sigma_max: np.ndarray
+    const_max: np.ndarray
+
+    def arrays(self):
+        """The table arguments of ``advance_swarm`` after ``density``, in order."""
+        return (self.gas, self.kind, self.species_of, self.threshold, self.const_rate, self.angular,
+                self.screening)
+
+    def lookup(self):
+        return (self.nodes, self.sigma, self.accelerator, self.accelerator_step, self.bound, self.bound_step,
+                self.sigma_max, self.const_max)
+
+
+def _union_nodes(processes):
+    nodes = [np.zeros(1)]
+    for _, p in processes:
+        if p.energy.size:
+            nodes.append(p.energy)
+            if p.kind != "elastic" and p.energy[0] > 0 and p.cross_section[0] > 0:
+                nodes.append(np.array([np.nextafter(p.energy[0], 0.0)]))
+        if p.threshold > 0:
+            nodes.append(np.array([p.threshold]))
+    union = np.unique(np.concatenate(nodes))
+    return union if union.size > 1 else np.array([0.0, 1.0])
+
+
+def _column(p, nodes):
+    if p.energy.size == 0:
+        return np.zeros(nodes.size)
+    left = p.cross_section[0] if p.kind == "elastic" else 0.0
+    column = np.interp(nodes, p.energy, p.cross_section, left=left, right=p.cross_section[-1])
+    if p.kind != "elastic":
+        column[nodes < p.threshold] = 0.0
+    return column
+
+
+def _accelerator(nodes_joule):
+    step = nodes_joule[-1] / ACCELERATOR_CELLS
+    starts = np.arange(ACCELERATOR_CELLS) * step
+    index = np.clip(np.searchsorted(nodes_joule, starts, side="right") - 1, 0, nodes_joule.size - 1)
+    return index.astype(np.int64), float(step)
+
+
+def _species_bound(total_sigma, const_total, nodes_joule, mass):
+    """Running maximum over speed bins of the largest sigma_tot * v + k."""
+    v_top = math.sqrt(2.0 * nodes_joule[-1] / mass)
+    step = v_top / BOUND_BINS
+    edges = np.arange(BOUND_BINS + 1) * step
+    edge_energy = 0.5 * mass * edges**2
+    at_edges = np.interp(edge_energy, nodes_joule, total_sigma)
+    bin_max = np.maximum(at_edges[:-1], at_edges[1:])
+    node_bins = np.minimum((np.sqrt(2.0 * nodes_joule / mass) / step).astype(np.int64), BOUND_BINS - 1)
+    np.maximum.at(bin_max, node_bins, total_sigma)
+    bound = np.maximum.accumulate(bin_max * edges[1:] + const_total)
+    return bound * (1.0 + 1e-12), step
+
+
+def build_tables(gas: Gas, mass: float, gas_temperature: float) -> KernelTables:
+    """Kernel arrays for a projectile of ``mass`` (kg) in ``gas`` at ``gas_temperature`` (K)."""
+    processes = gas.processes
+    nodes = _union_nodes(processes)
+    nodes_joule = nodes * EV
+    fractions = [gas.fractions[s] for s, _ in processes]
+    sigma = np.column_stack([_column(p, nodes) * f for (_, p), f in zip(processes, fractions)])
+    n_species = len(gas.species)
+    species_of = np.array([s for s, _ in processes], dtype=np.int64)
+    const_rate = np.array([p.rate_coefficient * f for (_, p), f in zip(processes, fractions)])
+    bounds, sigma_max, const_max, step = [], np.zeros(n_species), np.zeros(n_species), 1.0
+    for s in range(n_species):
+        mine = species_of == s
+        total = sigma[:, mine].sum(axis=1)
+        const_max[s] = const_rate[mine].sum()
+        sigma_max[s] = total.max() * (1.0 + 1e-12)
+        bound, step = _species_bound(total, const_max[s], nodes_joule, mass)
+        bounds.append(bound)
+    gas_rows = []
+    for member in gas.species:
+        thermal = math.sqrt(constants.k * gas_temperature / member.mass)
+        gas_rows.append((member.mass, thermal, GAS_SPEED_SIGMAS * thermal))
+    accelerator, accelerator_step = _accelerator(nodes_joule)
+    return KernelTables(
+        labels=tuple(f"{gas.species[s].name}:{p.label}" for s, p in processes),
+        kinds=tuple(p.kind for _, p in processes),
+        gas=np.array(gas_rows, dtype=float),
+        kind=np.array([KIND_CODES[p.kind] for _, p in processes], dtype=np.int64),
+        species_of=species_of,
+        threshold=np.array([p.threshold for _, p in processes]) * EV,
+        const_rate=const_rate,
+        angular=np.array([ANGULAR_CODES[p.scattering] for _, p in processes], dtype=np.int64),
+        screening=np.array([p.screening_energy for _, p in processes]) * EV,
+        nodes=np.ascontiguousarray(nodes_joule),
+        sigma=np.ascontiguousarray(sigma),
+        accelerator=accelerator,
+        accelerator_step=accelerator_step,
+        bound=np.ascontiguousarray(np.array(bounds)),
+        bound_step=step,
+        sigma_max=sigma_max,
+        const_max=const_max,
+    )

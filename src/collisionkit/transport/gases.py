@@ -1,0 +1,339 @@
+"""Gases for the transport engine: collision processes, species, mixtures, model gases.
+
+A :class:`Process` is one collision channel of a projectile with a target
+species: a cross section tabulated against the projectile energy in the
+target's rest frame (linear interpolation, constant beyond the last point,
+zero below the threshold) plus an optional constant rate coefficient
+``k`` (``nu = N (sigma g + k)``; the Maxwell model is ``sigma = 0``, ``k > 0``).
+A :class:`Species` is a target with its mass and processes; a :class:`Gas`
+is a mixture of species with number fractions.
+
+Units: energies in eV, cross sections in m^2, rate coefficients in m^3/s,
+masses in kg.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy import constants
+
+from .. import _arrays
+
+__all__ = [
+    "PROCESS_KINDS",
+    "SCATTERING_MODELS",
+    "Process",
+    "Species",
+    "Gas",
+    "maxwell_model",
+    "hard_sphere_gas",
+    "reid_ramp",
+    "lucas_saelee",
+    "model_gas",
+    "MODEL_GASES",
+    "screened_coulomb_momentum_ratio",
+]
+
+PROCESS_KINDS = ("elastic", "excitation", "ionization", "attachment")
+SCATTERING_MODELS = ("isotropic", "screened_coulomb")
+
+ELECTRON_MASS = constants.m_e
+AMU = constants.atomic_mass
+
+
+def _checked_table(energy, cross_section, label):
+    energy = _arrays.as_float_array(energy, f"{label} energy").reshape(-1)
+    cross_section = _arrays.as_float_array(cross_section, f"{label} cross_section").reshape(-1)
+    if energy.shape != cross_section.shape:
+        raise ValueError(f"{label}: energy and cross_section must have the same length; got {energy.size} and {cross_section.size}")
+    _arrays.require_finite(energy, f"{label} energy")
+    _arrays.require_finite(cross_section, f"{label} cross_section")
+    _arrays.require_in_range(energy, f"{label} energy", 0.0, math.inf)
+    _arrays.require_in_range(cross_section, f"{label} cross_section (m^2)", 0.0, math.inf)
+    if energy.size and np.any(np.diff(energy) <= 0):
+        raise ValueError(f"{label}: energies must be strictly increasing")
+    return energy, cross_section
+
+
+@dataclass(frozen=True, eq=False)
+class Process:
+    """One collision process with a target species.
+
+    Parameters
+    ----------
+    kind : {"elastic", "excitation", "ionization", "attachment"}
+    energy : array_like
+        Projectile energies of the table (eV, strictly increasing, >= 0).
+    cross_section : array_like
+        Cross sections at those energies (m^2, >= 0).
+    threshold : float
+        Energy lost (excitation) or ionization energy (eV, >= 0); the cross
+        section is zero below it.
+    rate_coefficient : float
+        Constant rate coefficient k (m^3/s, >= 0) added to ``sigma * g``.
+    scattering : {"isotropic", "screened_coulomb"}
+        Angular distribution in the centre-of-mass frame.
+    screening_energy : float
+        Screened Coulomb only: eta = screening_energy / (4 eps) (eV, > 0).
+    label : str
+
+    Examples
+    --------
+    >>> from collisionkit.transport import Process
+    >>> p = Process("excitation", [0.2, 10.0], [0.0, 9.8e-19], threshold=0.2, label="ramp")
+    >>> p.kind, p.threshold
+    ('excitation', 0.2)
+    """
+
+    kind: str
+    energy: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    cross_section: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    threshold: float = 0.0
+    rate_coefficient: float = 0.0
+    scattering: str = "isotropic"
+    screening_energy: float = 1.0
+    label: str = ""
+
+    def __post_init__(self):
+        if self.kind not in PROCESS_KINDS:
+            raise ValueError(f"kind must be one of {PROCESS_KINDS}; got {self.kind!r}")
+        if self.scattering not in SCATTERING_MODELS:
+            raise ValueError(f"scattering must be one of {SCATTERING_MODELS}; got {self.scattering!r}")
+        label = self.label or self.kind
+        energy, sigma = _checked_table(self.energy, self.cross_section, label)
+        object.__setattr__(self, "energy", energy)
+        object.__setattr__(self, "cross_section", sigma)
+        object.__setattr__(self, "label", label)
+        for name, low in (("threshold", 0.0), ("rate_coefficient", 0.0)):
+            value = float(getattr(self, name))
+            if not (math.isfinite(value) and value >= low):
+                raise ValueError(f"{label}: {name} must be finite and >= 0; got {value}")
+            object.__setattr__(self, name, value)
+        if not (self.screening_energy > 0 and math.isfinite(self.screening_energy)):
+            raise ValueError(f"{label}: screening_energy must be > 0 (eV); got {self.screening_energy}")
+        if energy.size == 0 and self.rate_coefficient == 0.0:
+            raise ValueError(f"{label}: give a cross-section table or a rate_coefficient > 0")
+
+    def with_scattering(self, scattering: str, screening_energy: float = 1.0) -> "Process":
+        """The same process with another angular model."""
+        return Process(self.kind, self.energy, self.cross_section, self.threshold, self.rate_coefficient,
+                       scattering, screening_energy, self.label)
+
+
+@dataclass(frozen=True, eq=False)
+class Species:
+    """A target species: name, mass (kg) and its processes.
+
+    Examples
+    --------
+    >>> from collisionkit.transport import Species, Process
+    >>> he = Species("He", 4 * 1.66053906660e-27, (Process("elastic", [0, 100], [6e-20, 6e-20]),))
+    >>> he.name, len(he.processes)
+    ('He', 1)
+    """
+
+    name: str
+    mass: float
+    processes: tuple[Process, ...]
+
+    def __post_init__(self):
+        if not (self.mass > 0 and math.isfinite(self.mass)):
+            raise ValueError(f"mass of {self.name} must be > 0 and finite (kg); got {self.mass}")
+        processes = tuple(self.processes)
+        if not processes:
+            raise ValueError(f"species {self.name} needs at least one process")
+        if not all(isinstance(p, Process) for p in processes):
+            raise TypeError(f"processes of {self.name} must be Process objects")
+        object.__setattr__(self, "processes", processes)
+
+
+@dataclass(frozen=True, eq=False)
+class Gas:
+    """A gas: species with number fractions (summing to 1).
+
+    Examples
+    --------
+    >>> from collisionkit.transport import reid_ramp, hard_sphere_gas, Gas
+    >>> mix = Gas.mixture({reid_ramp(): 0.5, hard_sphere_gas(1e-19, name="HS"): 0.5})
+    >>> [s.name for s in mix.species], mix.fractions
+    (['reid', 'HS'], (0.5, 0.5))
+    """
+
+    species: tuple[Species, ...]
+    fractions: tuple[float, ...] = ()
+
+    def __post_init__(self):
+        species = tuple(self.species)
+        if not species:
+            raise ValueError("a gas needs at least one species")
+        fractions = tuple(float(f) for f in self.fractions) or tuple(1.0 / len(species) for _ in species)
+        if len(fractions) != len(species):
+            raise ValueError(f"fractions must have one value per species ({len(species)}); got {len(fractions)}")
+        if any(not (f >= 0 and math.isfinite(f)) for f in fractions) or not math.isclose(sum(fractions), 1.0, rel_tol=1e-9):
+            raise ValueError(f"fractions must be >= 0 and sum to 1; got {fractions}")
+        object.__setattr__(self, "species", species)
+        object.__setattr__(self, "fractions", fractions)
+
+    @classmethod
+    def mixture(cls, parts) -> "Gas":
+        """Mix gases: ``{gas_or_species: fraction}``; fractions are normalised to sum 1."""
+        species, fractions = [], []
+        total = float(sum(parts.values()))
+        if not total > 0:
+            raise ValueError(f"mixture fractions must sum to > 0; got {total}")
+        for part, fraction in parts.items():
+            if fraction < 0:
+                raise ValueError(f"mixture fractions must be >= 0; got {fraction}")
+            members = part.species if isinstance(part, Gas) else (part,)
+            inner = part.fractions if isinstance(part, Gas) else (1.0,)
+            for member, share in zip(members, inner):
+                species.append(member)
+                fractions.append(fraction / total * share)
+        return cls(tuple(species), tuple(fractions))
+
+    @property
+    def processes(self) -> list[tuple[int, Process]]:
+        """(species index, process) for every process of every species."""
+        return [(s, p) for s, member in enumerate(self.species) for p in member.processes]
+
+    def with_scattering(self, scattering: str, screening_energy: float = 1.0, kinds=("elastic",)) -> "Gas":
+        """The gas with another angular model for the processes of ``kinds``."""
+        species = tuple(
+            Species(s.name, s.mass, tuple(p.with_scattering(scattering, screening_energy) if p.kind in kinds else p
+                                          for p in s.processes))
+            for s in self.species
+        )
+        return Gas(species, self.fractions)
+
+
+def screened_coulomb_momentum_ratio(energy, screening_energy):
+    r"""Ratio sigma_m / sigma_el of the screened Coulomb (Wentzel) angular distribution.
+
+    With :math:`p(\cos\chi) \propto (1 + 2\eta - \cos\chi)^{-2}` and
+    :math:`\eta = \epsilon_s / (4 \epsilon)`,
+    :math:`\langle 1 - \cos\chi \rangle = 2\eta(1 + \eta)\ln(1 + 1/\eta) - 2\eta`
+    (1 for isotropic scattering, eta -> infinity). Divide a momentum-transfer
+    cross section by this ratio to get the elastic cross section to sample.
+
+    Examples
+    --------
+    >>> from collisionkit.transport import screened_coulomb_momentum_ratio
+    >>> round(float(screened_coulomb_momentum_ratio(1e-6, 1.0)), 4)
+    1.0
+    >>> 0 < float(screened_coulomb_momentum_ratio(10.0, 1.0)) < 0.5
+    True
+    """
+    energy = np.asarray(energy, dtype=float)
+    eta = screening_energy / (4.0 * np.maximum(energy, 1e-300))
+    small = eta > 1e6
+    safe = np.where(small, 1.0, eta)
+    exact = 2.0 * safe * (1.0 + safe) * np.log1p(1.0 / safe) - 2.0 * safe
+    return np.where(small, 1.0, exact)
+
+
+# ------------------------------------------------------------------ model gases
+
+
+def maxwell_model(rate_coefficient=1e-13, mass=4 * AMU, name="maxwell") -> Gas:
+    r"""Maxwell model gas: elastic, isotropic, constant collision frequency ``nu = N k``.
+
+    Exact swarm results (any mass ratio): drift velocity
+    :math:`W = qE/(\mu \nu)` and mean energy
+    :math:`\langle\epsilon\rangle = \tfrac32 kT + \tfrac12 (m + M) W^2`
+    (Wannier; see e.g. White, Robson, Dujko et al., J. Phys. D 42, 194001 (2009)).
+
+    Examples
+    --------
+    >>> from collisionkit.transport import maxwell_model
+    >>> gas = maxwell_model(2e-13)
+    >>> gas.species[0].processes[0].rate_coefficient
+    2e-13
+    """
+    return Gas((Species(name, float(mass), (Process("elastic", rate_coefficient=rate_coefficient, label="elastic"),)),))
+
+
+def hard_sphere_gas(cross_section=6e-20, mass=4 * AMU, name="hard_sphere", top_energy=1000.0) -> Gas:
+    """Hard-sphere gas: elastic, isotropic, constant cross section (m^2).
+
+    Examples
+    --------
+    >>> from collisionkit.transport import hard_sphere_gas
+    >>> float(hard_sphere_gas(1e-19).species[0].processes[0].cross_section[0])
+    1e-19
+    """
+    process = Process("elastic", [0.0, top_energy], [cross_section, cross_section], label="elastic")
+    return Gas((Species(name, float(mass), (process,)),))
+
+
+REID_MASS_RATIO = 1.37145e-4
+
+
+def reid_ramp(top_energy=100.0) -> Gas:
+    r"""Reid's ramp model (Reid, Aust. J. Phys. 32, 231 (1979)).
+
+    Elastic :math:`\sigma = 6 \times 10^{-20}` m^2, m/M = 1.37145e-4;
+    excitation :math:`\sigma = 10^{-19} (\epsilon - 0.2)` m^2 (eps in eV)
+    above 0.2 eV; gas at 0 K. Tabulated up to ``top_energy`` (eV), far above
+    the energies reached at E/N <= 100 Td.
+
+    Examples
+    --------
+    >>> from collisionkit.transport import reid_ramp
+    >>> [p.label for p in reid_ramp().species[0].processes]
+    ['elastic', 'excitation']
+    """
+    elastic = Process("elastic", [0.0, top_energy], [6e-20, 6e-20], label="elastic")
+    excitation = Process("excitation", [0.2, top_energy], [0.0, 1e-19 * (top_energy - 0.2)], threshold=0.2,
+                         label="excitation")
+    return Gas((Species("reid", ELECTRON_MASS / REID_MASS_RATIO, (elastic, excitation)),))
+
+
+def lucas_saelee(F=0.5, mass=4 * AMU, top_energy=1000.0) -> Gas:
+    r"""Lucas-Saelee model (Lucas & Saelee, J. Phys. D 8, 640 (1975)).
+
+    Elastic :math:`\sigma = 4 \epsilon^{-1/2}` Angstrom^2, i.e. a constant
+    rate coefficient :math:`k = 4\times10^{-20}\,\sqrt{2e/m_e}` m^3/s;
+    excitation :math:`0.1 (1 - F)(\epsilon - 15.6)` Angstrom^2 and
+    ionization :math:`0.1 F (\epsilon - 15.6)` Angstrom^2 above 15.6 eV.
+    The gas mass is a parameter (4 amu by default).
+
+    Examples
+    --------
+    >>> from collisionkit.transport import lucas_saelee
+    >>> [p.kind for p in lucas_saelee(0.5).species[0].processes]
+    ['elastic', 'excitation', 'ionization']
+    """
+    if not 0.0 <= F <= 1.0:
+        raise ValueError(f"F must lie in [0, 1]; got {F}")
+    k = 4e-20 * math.sqrt(2.0 * constants.e / ELECTRON_MASS)
+    ramp = 1e-21 * (top_energy - 15.6)
+    processes = [Process("elastic", rate_coefficient=k, label="elastic"),
+                 Process("excitation", [15.6, top_energy], [0.0, (1 - F) * ramp], threshold=15.6, label="excitation"),
+                 Process("ionization", [15.6, top_energy], [0.0, F * ramp], threshold=15.6, label="ionization")]
+    processes = [p for p in processes if p.kind == "elastic" or p.cross_section[-1] > 0]
+    return Gas((Species("lucas_saelee", float(mass), tuple(processes)),))
+
+
+MODEL_GASES = {
+    "maxwell": maxwell_model,
+    "hard_sphere": hard_sphere_gas,
+    "reid": reid_ramp,
+    "lucas_saelee": lucas_saelee,
+}
+
+
+def model_gas(name: str) -> Gas:
+    """A built-in model gas by name: maxwell, hard_sphere, reid, lucas_saelee.
+
+    Examples
+    --------
+    >>> from collisionkit.transport import model_gas
+    >>> model_gas("reid").species[0].name
+    'reid'
+    """
+    if name not in MODEL_GASES:
+        raise ValueError(f"model must be one of {sorted(MODEL_GASES)}; got {name!r}")
+    return MODEL_GASES[name]()

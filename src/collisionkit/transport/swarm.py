@@ -1,0 +1,611 @@
+"""Swarm simulation: a cloud of charged particles drifting through a gas in E (and B) fields.
+
+Krasov's trajectory algorithm (sec. 5.5: a random free path, exact motion
+under the force, a collision, a new direction) with energy-dependent cross
+sections through null collisions (Skullerud 1968); the kernels are in
+:mod:`collisionkit._kernels.transport`.
+
+Observables (Robson, Ness, White, Dujko; e.g. Dujko et al., J. Phys. D 41,
+245205 (2008)) over the steady-state window, from per-step sums:
+
+* flux drift velocity ``W_flux = <v>``; flux diffusion
+  ``D_flux,zz = <z v_z> - <z><v_z>`` (transverse: the mean of xx and yy);
+* bulk drift velocity ``W_bulk = d<r>/dt`` and bulk diffusion
+  ``D_bulk,zz = (1/2) d(<z^2> - <z>^2)/dt`` (least-squares slopes);
+* rate coefficients ``k_j = (collisions j) / (N x particle time)``;
+  effective ionization / attachment frequencies the same without ``1/N``;
+* mean energy and the energy distribution.
+
+Statistical errors come from independent groups: particles are dealt into
+``groups`` groups with their own random streams (``SeedSequence.spawn``),
+ionization children stay in their parent's group, every quantity is
+estimated per group, and the error is the standard error of the group
+mean. The result does not depend on the number of threads.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import time
+from concurrent.futures import ThreadPoolExecutor
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy import constants
+
+from .. import _arrays
+from .._kernels import transport as _k
+from ._tables import KernelTables, build_tables
+from .gases import Gas
+
+__all__ = ["SwarmResult", "simulate_swarm", "DEFAULT_TOLERANCES", "TOWNSEND", "HUXLEY", "REFERENCE_DENSITY"]
+
+TOWNSEND = 1e-21  # V m^2
+HUXLEY = 1e-27  # T m^3
+REFERENCE_DENSITY = 1e24  # m^-3; N-scaled results do not depend on it
+EV = constants.e
+SHARING = {"equal": _k.SHARE_EQUAL, "uniform": _k.SHARE_UNIFORM}
+DEFAULT_TOLERANCES = {"mean_energy": 2e-3, "drift_velocity_bulk": 2e-3, "diffusion_L_N": 2e-2, "diffusion_T_N": 2e-2}
+STEPS_PER_CHUNK = 25
+GROWTH_LIMIT = 1.5  # population growth per sample that halves the interval during the transient
+MAX_SLOTS = 16  # child slots per particle and step before a step is split
+MOMENT_COLUMNS = 14
+
+
+@dataclass
+class SwarmResult:
+    """Transport coefficients of one swarm run (SI units, energies in eV).
+
+    Every value has an ``*_error`` partner (standard error over the
+    independent groups). N-scaled coefficients are per unit gas density.
+    """
+
+    reduced_field: float
+    reduced_magnetic_field: float
+    gas_temperature: float
+    mean_energy: float
+    mean_energy_error: float
+    drift_velocity_flux: np.ndarray
+    drift_velocity_flux_error: np.ndarray
+    drift_velocity_bulk: np.ndarray
+    drift_velocity_bulk_error: np.ndarray
+    diffusion_L_N_flux: float
+    diffusion_L_N_flux_error: float
+    diffusion_T_N_flux: float
+    diffusion_T_N_flux_error: float
+    diffusion_L_N: float
+    diffusion_L_N_error: float
+    diffusion_T_N: float
+    diffusion_T_N_error: float
+    rate_coefficients: dict
+    rate_coefficient_errors: dict
+    ionization_frequency_N: float
+    ionization_frequency_N_error: float
+    attachment_frequency_N: float
+    attachment_frequency_N_error: float
+    eedf_energy: np.ndarray
+    eedf: np.ndarray
+    collisions: int
+    null_collisions: int
+    seconds: float
+    simulated_time: float
+    steady_from: float
+    particles: int
+    groups: int
+    converged: bool
+    extras: dict = field(default_factory=dict)
+
+    @property
+    def collisions_per_second(self) -> float:
+        """Real collisions per wall-clock second."""
+        return self.collisions / self.seconds if self.seconds > 0 else 0.0
+
+    def relative_error(self, name: str) -> float:
+        """Relative standard error of ``mean_energy``, ``drift_velocity_bulk`` (z), ``diffusion_L_N`` ..."""
+        value = np.asarray(getattr(self, name), dtype=float)
+        error = np.asarray(getattr(self, f"{name}_error"), dtype=float)
+        if value.ndim:
+            value, error = value[2], error[2]
+        return float(abs(error / value)) if value != 0 else math.inf
+
+    def to_dict(self) -> dict:
+        """A JSON-ready dictionary (vectors as lists, with ``collisions_per_second``)."""
+        out = {}
+        for name in self.__dataclass_fields__:
+            value = getattr(self, name)
+            out[name] = value.tolist() if isinstance(value, np.ndarray) else value
+        out["collisions_per_second"] = self.collisions_per_second
+        return out
+
+
+# ------------------------------------------------------------------ the particle store
+
+
+@dataclass
+class _Swarm:
+    pos: np.ndarray
+    vel: np.ndarray
+    states: np.ndarray
+    alive: np.ndarray
+    group: np.ndarray
+
+    def copy(self):
+        return _Swarm(self.pos.copy(), self.vel.copy(), self.states.copy(), self.alive.copy(), self.group.copy())
+
+    @property
+    def size(self):
+        return self.pos.shape[0]
+
+    def take(self, index):
+        return _Swarm(self.pos[index], self.vel[index], self.states[index], self.alive[index], self.group[index])
+
+
+def _initial_swarm(particles, groups, seed, mass, initial_energy):
+    sequences = np.random.SeedSequence(seed).spawn(groups)
+    per_group = np.full(groups, particles // groups)
+    per_group[: particles % groups] += 1
+    parts = []
+    for g, (sequence, count) in enumerate(zip(sequences, per_group)):
+        stream_seq, velocity_seq = sequence.spawn(2)
+        states = stream_seq.generate_state(4 * count, np.uint64).reshape(count, 4)
+        sigma = math.sqrt(2.0 * initial_energy * EV / (3.0 * mass))
+        vel = np.random.default_rng(velocity_seq).normal(0.0, sigma, (count, 3))
+        parts.append((np.zeros((count, 3)), vel, states, np.ones(count, bool), np.full(count, g, np.int64)))
+    return _Swarm(*(np.ascontiguousarray(np.concatenate(column)) for column in zip(*parts)))
+
+
+class _Stepper:
+    """Advances the swarm by one sampling interval, in parallel threads."""
+
+    def __init__(self, tables: KernelTables, field_record, mass, density, sharing, threads):
+        self.tables = tables
+        self.field = field_record
+        self.mass = mass
+        self.density = density
+        self.sharing = sharing
+        self.threads = threads
+        self.slots = 4 if np.any(tables.kind == _k.IONIZATION) else 0
+        self.pool = ThreadPoolExecutor(threads) if threads > 1 else None
+
+    def close(self):
+        if self.pool is not None:
+            self.pool.shutdown()
+
+    def _run(self, swarm, t0, t1, buffers):
+        tallies, child_pos, child_vel, child_state, child_alive, child_count = buffers
+        n = swarm.size
+        chunks = max(1, min(n, 8 * self.threads))
+        bounds = np.linspace(0, n, chunks + 1).astype(np.int64)
+
+        def work(c):
+            _k.advance_swarm(int(bounds[c]), int(bounds[c + 1]), swarm.pos, swarm.vel, swarm.states, swarm.alive,
+                             t0, t1, self.field, self.mass, self.density, *self.tables.arrays(), self.sharing,
+                             *self.tables.lookup(), tallies, child_pos, child_vel, child_state, child_alive,
+                             child_count)
+
+        if self.pool is None:
+            for c in range(chunks):
+                work(c)
+        else:
+            list(self.pool.map(work, range(chunks)))
+
+    def step(self, swarm: _Swarm, t0, t1, groups, control=None):
+        """Advance from t0 to t1; return (swarm with children appended, per-group tallies).
+
+        More children than slots: the step is repeated with twice the slots,
+        up to MAX_SLOTS, then split into two half steps.
+        """
+        while True:
+            n, slots = swarm.size, self.slots
+            buffers = (np.zeros((n, self.tables.kind.size + _k.EXTRA_COLUMNS)), np.zeros((n, slots, 3)),
+                       np.zeros((n, slots, 3)), np.zeros((n, slots, 4), np.uint64), np.zeros((n, slots), bool),
+                       np.zeros(n, np.int64))
+            backup = swarm.copy() if slots else None
+            self._run(swarm, t0, t1, buffers)
+            tallies, child_pos, child_vel, child_state, child_alive, child_count = buffers
+            if np.all(child_count <= slots):
+                break
+            swarm = backup
+            if self.slots < MAX_SLOTS:
+                self.slots *= 2
+                continue
+            middle = 0.5 * (t0 + t1)
+            swarm, first = self.step(swarm, t0, middle, groups, control)
+            if control is not None:
+                swarm = control(swarm)
+            swarm, second = self.step(swarm, middle, t1, groups, control)
+            return swarm, first + second
+        group_tally = _k.group_sums(tallies, swarm.group, groups)
+        if slots and child_count.any():
+            born = (np.arange(slots)[None, :] < child_count[:, None]) & child_alive
+            owner = np.nonzero(born)[0]
+            swarm = _Swarm(np.concatenate([swarm.pos, child_pos[born]]), np.concatenate([swarm.vel, child_vel[born]]),
+                           np.concatenate([swarm.states, child_state[born]]),
+                           np.concatenate([swarm.alive, np.ones(owner.size, bool)]),
+                           np.concatenate([swarm.group, swarm.group[owner]]))
+        return swarm, group_tally
+
+
+def _control_population(swarm: _Swarm, groups, target, rng):
+    """Drop the dead; keep each group between target/2 and 2 target by random thinning or cloning."""
+    if swarm.alive.all():
+        alive_swarm = swarm
+    else:
+        alive_swarm = swarm.take(np.nonzero(swarm.alive)[0])
+    counts = np.bincount(alive_swarm.group, minlength=groups)
+    if np.all((counts >= target / 2) & (counts <= 2 * target)) or counts.min() == 0:
+        return alive_swarm
+    keep = []
+    for g in range(groups):
+        members = np.nonzero(alive_swarm.group == g)[0]
+        if members.size > 2 * target or members.size < target / 2:
+            members = np.sort(rng.choice(members, size=target, replace=members.size < target))
+        keep.append(members)
+    index = np.concatenate(keep)
+    result = alive_swarm.take(index)
+    repeated = np.zeros(index.size, bool)
+    repeated[1:] = index[1:] == index[:-1]
+    for row in np.nonzero(repeated)[0]:  # clones get fresh streams
+        result.states[row] = np.random.SeedSequence(int(rng.integers(2**63))).generate_state(4, np.uint64)
+    return result
+
+
+# ------------------------------------------------------------------ estimators
+
+
+def _slope(t, y):
+    """Least-squares slope of y(t) along axis 0."""
+    tc = t - t.mean()
+    return np.tensordot(tc, y - y.mean(axis=0), axes=(0, 0)) / np.dot(tc, tc)
+
+
+def _estimates(times, moments, tallies, kinds, density):
+    """Per-group estimates (groups on the first axis) from the steady window."""
+    n = moments[..., 0]
+    mean = moments[..., 1:14] / n[..., None]
+    centroid = mean[..., 0:3]
+    variance = (mean[..., 3:6] - centroid**2) * (n / np.maximum(n - 1, 1))[..., None]
+    velocity = mean[..., 6:9]
+    energy = mean[..., 9] / EV
+    cross = mean[..., 10:13] - centroid * velocity
+    rates_time = tallies.sum(axis=0)
+    particle_time = rates_time[:, -1]
+    counts = rates_time[:, :-2]
+    est = {
+        "mean_energy": energy.mean(axis=0),
+        "drift_velocity_flux": velocity.mean(axis=0),
+        "drift_velocity_bulk": _slope(times, centroid),
+        "diffusion_L_N_flux": density * cross[..., 2].mean(axis=0),
+        "diffusion_T_N_flux": density * 0.5 * (cross[..., 0] + cross[..., 1]).mean(axis=0),
+        "diffusion_L_N": density * 0.5 * _slope(times, variance[..., 2]),
+        "diffusion_T_N": density * 0.25 * _slope(times, variance[..., 0] + variance[..., 1]),
+        "rates": counts / (particle_time[:, None] * density),
+    }
+    ionization = np.array([kind == "ionization" for kind in kinds])
+    attachment = np.array([kind == "attachment" for kind in kinds])
+    est["ionization_frequency_N"] = counts[:, ionization].sum(axis=1) / (particle_time * density)
+    est["attachment_frequency_N"] = counts[:, attachment].sum(axis=1) / (particle_time * density)
+    return est
+
+
+def _mean_and_error(values):
+    values = np.asarray(values, dtype=float)
+    return values.mean(axis=0), values.std(axis=0, ddof=1) / math.sqrt(values.shape[0])
+
+
+def _validated(reduced_field, reduced_magnetic_field, gas_temperature, particles, groups, mass, charge,
+               initial_energy, tolerances):
+    for name, value, low in (("reduced_field (Td)", reduced_field, 0.0),
+                             ("reduced_magnetic_field (Hx)", reduced_magnetic_field, -math.inf),
+                             ("gas_temperature (K)", gas_temperature, 0.0)):
+        array = _arrays.as_float_array(value, name)
+        _arrays.require_finite(array, name)
+        _arrays.require_in_range(array, name, low, math.inf)
+    if not (isinstance(groups, (int, np.integer)) and 4 <= groups <= 1024):
+        raise ValueError(f"groups must be an integer in [4, 1024]; got {groups}")
+    if not (isinstance(particles, (int, np.integer)) and groups * 8 <= particles):
+        raise ValueError(f"particles must be an integer >= 8 * groups ({8 * groups}); got {particles}")
+    if not (mass > 0 and math.isfinite(mass)):
+        raise ValueError(f"mass must be > 0 and finite (kg); got {mass}")
+    if not math.isfinite(charge):
+        raise ValueError(f"charge must be finite (C); got {charge}")
+    if not (initial_energy > 0 and math.isfinite(initial_energy)):
+        raise ValueError(f"initial_energy must be > 0 (eV); got {initial_energy}")
+    unknown = set(tolerances) - set(DEFAULT_TOLERANCES)
+    if unknown:
+        raise ValueError(f"tolerances keys must be among {sorted(DEFAULT_TOLERANCES)}; got {sorted(unknown)}")
+
+
+def _field_record(reduced_field, reduced_magnetic_field, density, mass, charge, gravity):
+    electric = np.array([0.0, 0.0, reduced_field * TOWNSEND * density])
+    magnetic = np.array([0.0, reduced_magnetic_field * HUXLEY * density, 0.0])
+    acceleration = charge * electric / mass + np.asarray(gravity, dtype=float)
+    return _k.derived_field(acceleration, charge * magnetic / mass)
+
+
+def simulate_swarm(
+    gas: Gas,
+    reduced_field: float,
+    *,
+    reduced_magnetic_field: float = 0.0,
+    gas_temperature: float = 0.0,
+    particles: int = 20_000,
+    groups: int = 16,
+    seed: int = 0,
+    mass: float = constants.m_e,
+    charge: float = -constants.e,
+    gravity=(0.0, 0.0, 0.0),
+    sharing: str = "equal",
+    initial_energy: float = 1.0,
+    tolerances: dict | None = None,
+    collision_budget: float = 2e9,
+    max_seconds: float = math.inf,
+    collisions_per_sample: float = 20.0,
+    min_samples: int = 4 * STEPS_PER_CHUNK,
+    energy_bins: int = 200,
+    threads: int | None = None,
+    progress=None,
+) -> SwarmResult:
+    r"""Run a swarm to steady state and measure its transport coefficients.
+
+    Parameters
+    ----------
+    gas : Gas
+        Target gas (see :mod:`collisionkit.transport.gases`, :mod:`~collisionkit.transport.lxcat`).
+    reduced_field : float
+        E/N in Td (>= 0); E points along +z.
+    reduced_magnetic_field : float
+        B/N in Hx; B points along +y.
+    gas_temperature : float
+        K (>= 0); 0 puts the targets at rest.
+    particles, groups, seed : int
+        Initial particles, independent groups (errors), seed of the streams.
+    mass, charge : float
+        Projectile (kg, C); an electron by default.
+    gravity : 3-vector
+        Extra uniform acceleration (m/s^2).
+    sharing : {"equal", "uniform"}
+        Energy sharing between the two electrons after ionization.
+    initial_energy : float
+        Mean energy (eV) of the initial Maxwellian.
+    tolerances : dict
+        Target relative errors (``mean_energy``, ``drift_velocity_bulk``,
+        ``diffusion_L_N``, ``diffusion_T_N``); the run stops when all are met,
+        or at ``collision_budget`` real collisions, or after ``max_seconds``.
+    collisions_per_sample : float
+        Mean real collisions per particle between samples.
+    min_samples : int
+        Samples after the transient before convergence is tested.
+    threads : int
+        Worker threads (default: all cores); results do not depend on it.
+    progress : callable
+        Called with the fraction of the collision budget used so far.
+
+    Returns
+    -------
+    SwarmResult
+
+    Notes
+    -----
+    The transient ends when the chunk-averaged mean energy of the last
+    chunks shows no trend (its change over three chunks is below three
+    standard errors or 1e-3 relative).
+
+    Examples
+    --------
+    Maxwell model, W = qE/(mu nu) exactly:
+
+    >>> from collisionkit.transport import maxwell_model, simulate_swarm
+    >>> me = 9.1093837e-31
+    >>> r = simulate_swarm(maxwell_model(1e-13, mass=10 * me), 10.0, particles=1000, seed=1,
+    ...                    tolerances={"drift_velocity_bulk": 0.02}, threads=1)
+    >>> exact = 1.602176634e-19 * 10e-21 * 1e24 / (me * 10 / 11 * 1e11)  # qE / (mu nu)
+    >>> bool(abs(abs(r.drift_velocity_flux[2]) / exact - 1) < 0.03)
+    True
+    """
+    tolerances = dict(DEFAULT_TOLERANCES if tolerances is None else tolerances)
+    _validated(reduced_field, reduced_magnetic_field, gas_temperature, particles, groups, mass, charge,
+               initial_energy, tolerances)
+    if sharing not in SHARING:
+        raise ValueError(f"sharing must be one of {sorted(SHARING)}; got {sharing!r}")
+    threads = threads or os.cpu_count() or 1
+    density = REFERENCE_DENSITY
+    tables = build_tables(gas, mass, gas_temperature)
+    field_record = _field_record(reduced_field, reduced_magnetic_field, density, mass, charge, gravity)
+    swarm = _initial_swarm(particles, groups, seed, mass, initial_energy)
+    rng = np.random.default_rng(np.random.SeedSequence(seed).spawn(groups + 1)[-1])
+    stepper = _Stepper(tables, field_record, mass, density, SHARING[sharing], threads)
+    target = max(1, particles // groups)
+    run = _Run(stepper, swarm, groups, target, rng, tables, density)
+    try:
+        run.calibrate(collisions_per_sample)
+        return run.until_converged(tolerances, collision_budget, max_seconds, min_samples, energy_bins, progress,
+                                   (reduced_field, reduced_magnetic_field, gas_temperature, particles))
+    finally:
+        stepper.close()
+
+
+class _Run:
+    """State of one swarm run: the particles, the clock and the per-step sums."""
+
+    def __init__(self, stepper, swarm, groups, target, rng, tables, density):
+        self.stepper, self.swarm, self.groups, self.target, self.rng = stepper, swarm, groups, target, rng
+        self.tables, self.density = tables, density
+        self.t = 0.0
+        self.dt = 0.0
+        self.times, self.moments, self.tallies = [], [], []
+        self.collisions = 0
+        self.nulls = 0
+        self.seconds = 0.0
+        self.conservative = not np.any((tables.kind == _k.IONIZATION) | (tables.kind == _k.ATTACHMENT))
+        self.histogram = None
+        self.histogram_step = 0.0
+        self.steady_found = False
+
+    def step(self):
+        start = time.perf_counter()
+        control = None if self.conservative else self._control
+        before = max(1, int(self.swarm.alive.sum()))
+        swarm, group_tally = self.stepper.step(self.swarm, self.t, self.t + self.dt, self.groups, control)
+        self.t += self.dt
+        self.seconds += time.perf_counter() - start
+        if not self.steady_found and int(swarm.alive.sum()) > GROWTH_LIMIT * before:
+            self.dt *= 0.5  # keep the population change per sample moderate (transient only)
+        if not self.conservative:
+            swarm = _control_population(swarm, self.groups, self.target, self.rng)
+        if swarm.size == 0 or not swarm.alive.any():
+            raise RuntimeError("every particle was attached: no swarm left (lower attachment or raise E/N)")
+        self.swarm = swarm
+        moments = np.zeros((self.groups, MOMENT_COLUMNS))
+        _k.group_moments(swarm.pos, swarm.vel, swarm.alive, swarm.group, self.groups, self.stepper.mass, moments)
+        self.times.append(self.t)
+        self.moments.append(moments)
+        self.tallies.append(group_tally)
+        real = int(group_tally[:, :-2].sum())
+        self.collisions += real
+        self.nulls += int(group_tally[:, -2].sum())
+        if self.histogram is not None:
+            _k.energy_histogram(swarm.vel, swarm.alive, self.stepper.mass, self.histogram_step, self.histogram)
+
+    def _control(self, swarm):
+        return _control_population(swarm, self.groups, self.target, self.rng)
+
+    def calibrate(self, collisions_per_sample):
+        """Pick the sampling interval from the measured collision frequency (the probe step is discarded)."""
+        speed = np.sqrt((self.swarm.vel**2).sum(axis=1)).mean()
+        bound = self.tables.bound
+        k = min(int(speed / self.tables.bound_step), bound.shape[1] - 1)
+        self.dt = collisions_per_sample / max(self.density * bound[:, k].sum(), 1e-300)
+        self.step()
+        tally = self.tallies[-1]
+        frequency = tally[:, :-2].sum() / max(tally[:, -1].sum(), 1e-300)
+        ionizing = tally[:, :-2][:, self.tables.kind == _k.IONIZATION].sum() / max(tally[:, -1].sum(), 1e-300)
+        if frequency > 0:
+            self.dt = collisions_per_sample / frequency
+        if ionizing > 0:
+            self.dt = min(self.dt, 0.1 / ionizing)
+        self.times, self.moments, self.tallies = [], [], []
+
+    def _chunk_energy(self, chunk):
+        m = np.array(self.moments[-STEPS_PER_CHUNK * chunk:][:STEPS_PER_CHUNK] if chunk == 1 else
+                     self.moments[-STEPS_PER_CHUNK * chunk:-STEPS_PER_CHUNK * (chunk - 1)])
+        per_group = (m[..., 10] / m[..., 0]).mean(axis=0) / EV
+        return _mean_and_error(per_group)
+
+    def _steady(self):
+        if len(self.moments) < 3 * STEPS_PER_CHUNK:
+            return False
+        (last, last_err), (first, first_err) = self._chunk_energy(1), self._chunk_energy(3)
+        change = abs(last - first)
+        return change < max(3.0 * math.hypot(last_err, first_err), 1e-3 * abs(last))
+
+    def until_converged(self, tolerances, budget, max_seconds, min_samples, energy_bins, progress, setup):
+        while not self._steady():
+            for _ in range(STEPS_PER_CHUNK):
+                self.step()
+            if self.collisions >= budget or self.seconds >= max_seconds:
+                break
+            if progress:
+                progress(min(1.0, self.collisions / budget))
+        self.steady_found = True
+        start = len(self.times)
+        energies = self._current_energies()
+        self.histogram_step = 4.0 * energies.mean() / energy_bins
+        self.histogram = np.zeros(energy_bins)
+        converged = False
+        while True:
+            for _ in range(STEPS_PER_CHUNK):
+                self.step()
+            samples = len(self.times) - start
+            if samples >= min_samples:
+                result = self._result(start, setup, False)
+                converged = all(result.relative_error(name) < tol for name, tol in tolerances.items())
+                if converged or self.collisions >= budget or self.seconds >= max_seconds:
+                    result.converged = converged
+                    return result
+            if progress:
+                progress(min(1.0, self.collisions / budget))
+
+    def _current_energies(self):
+        alive = self.swarm.alive
+        return 0.5 * self.stepper.mass * (self.swarm.vel[alive] ** 2).sum(axis=1) / EV
+
+    def _result(self, start, setup, converged):
+        times = np.array(self.times[start:])
+        moments = np.array(self.moments[start:])
+        tallies = np.array(self.tallies[start + 1:]) if len(self.tallies) > start + 1 else np.array(self.tallies[start:])
+        est = _estimates(times, moments, tallies, self.tables.kinds, self.density)
+        values = {name: _mean_and_error(value) for name, value in est.items()}
+        rates, rate_errors = values.pop("rates")
+        centres = (np.arange(self.histogram.size) + 0.5) * self.histogram_step
+        density = self.histogram / max(self.histogram.sum(), 1.0) / self.histogram_step
+        reduced_field, reduced_magnetic_field, gas_temperature, particles = setup
+        return SwarmResult(
+            reduced_field=float(reduced_field),
+            reduced_magnetic_field=float(reduced_magnetic_field),
+            gas_temperature=float(gas_temperature),
+            mean_energy=float(values["mean_energy"][0]),
+            mean_energy_error=float(values["mean_energy"][1]),
+            drift_velocity_flux=values["drift_velocity_flux"][0],
+            drift_velocity_flux_error=values["drift_velocity_flux"][1],
+            drift_velocity_bulk=values["drift_velocity_bulk"][0],
+            drift_velocity_bulk_error=values["drift_velocity_bulk"][1],
+            diffusion_L_N_flux=float(values["diffusion_L_N_flux"][0]),
+            diffusion_L_N_flux_error=float(values["diffusion_L_N_flux"][1]),
+            diffusion_T_N_flux=float(values["diffusion_T_N_flux"][0]),
+            diffusion_T_N_flux_error=float(values["diffusion_T_N_flux"][1]),
+            diffusion_L_N=float(values["diffusion_L_N"][0]),
+            diffusion_L_N_error=float(values["diffusion_L_N"][1]),
+            diffusion_T_N=float(values["diffusion_T_N"][0]),
+            diffusion_T_N_error=float(values["diffusion_T_N"][1]),
+            rate_coefficients=dict(zip(self.tables.labels, rates.tolist())),
+            rate_coefficient_errors=dict(zip(self.tables.labels, rate_errors.tolist())),
+            ionization_frequency_N=float(values["ionization_frequency_N"][0]),
+            ionization_frequency_N_error=float(values["ionization_frequency_N"][1]),
+            attachment_frequency_N=float(values["attachment_frequency_N"][0]),
+            attachment_frequency_N_error=float(values["attachment_frequency_N"][1]),
+            eedf_energy=centres,
+            eedf=density,
+            collisions=self.collisions,
+            null_collisions=self.nulls,
+            seconds=self.seconds,
+            simulated_time=self.t,
+            steady_from=float(times[0]),
+            particles=int(particles),
+            groups=self.groups,
+            converged=converged,
+        )
+
+
+def trace_trajectories(gas: Gas, reduced_field: float, *, particles: int = 5, collisions: float = 200.0,
+                       points: int = 2000, reduced_magnetic_field: float = 0.0, seed: int = 0,
+                       initial_energy: float = 1.0) -> tuple[np.ndarray, np.ndarray]:
+    """Positions of a few particles sampled on a uniform time grid (for plots).
+
+    Returns ``(times, positions)`` with positions of shape (points, particles, 3);
+    the run lasts about ``collisions`` real collisions per particle.
+
+    Examples
+    --------
+    >>> from collisionkit.transport import reid_ramp
+    >>> from collisionkit.transport.swarm import trace_trajectories
+    >>> t, r = trace_trajectories(reid_ramp(), 12.0, particles=2, points=50, seed=1)
+    >>> r.shape
+    (50, 2, 3)
+    """
+    _validated(reduced_field, reduced_magnetic_field, 0.0, 8 * 4, 4, constants.m_e, -constants.e, initial_energy, {})
+    tables = build_tables(gas, constants.m_e, 0.0)
+    field_record = _field_record(reduced_field, reduced_magnetic_field, REFERENCE_DENSITY, constants.m_e,
+                                 -constants.e, (0.0, 0.0, 0.0))
+    swarm = _initial_swarm(particles, 1, seed, constants.m_e, initial_energy)
+    stepper = _Stepper(tables, field_record, constants.m_e, REFERENCE_DENSITY, _k.SHARE_EQUAL, 1)
+    stepper.slots = 0  # children are not followed in a trace
+    run = _Run(stepper, swarm, 1, particles, None, tables, REFERENCE_DENSITY)
+    run.conservative = True
+    run.calibrate(collisions / points)
+    positions = np.empty((points, particles, 3))
+    for k in range(points):
+        run.step()
+        positions[k] = run.swarm.pos[:particles]
+    return np.array(run.times), positions

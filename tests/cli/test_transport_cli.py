@@ -1,0 +1,59 @@
+"""Command line: ``collisionkit swarm`` and ``collisionkit slab``."""
+
+import json
+from pathlib import Path
+
+from typer.testing import CliRunner
+
+from collisionkit.cli import app
+
+runner = CliRunner()
+DATA = Path(__file__).parent.parent / "data"
+
+
+def test_swarm_sweep_writes_one_entry_per_e_n(tmp_path):
+    summary = tmp_path / "swarm.json"
+    result = runner.invoke(app, ["swarm", "--model", "reid", "--E-N", "12,24", "--particles", "640", "--seed", "3",
+                                 "--tolerance", "0.02", "--collision-budget", "5e6", "--summary", str(summary),
+                                 "--out", str(tmp_path / "plots")])
+    assert result.exit_code == 0, result.output
+    entries = json.loads(summary.read_text())["results"]
+    assert [e["E_N"] for e in entries] == [12.0, 24.0]
+    for entry in entries:
+        for key in ("mean_energy", "diffusion_L_N", "diffusion_T_N", "collisions", "collisions_per_second"):
+            assert isinstance(entry[key], (int, float))
+        assert len(entry["drift_velocity_flux"]) == 3 and len(entry["drift_velocity_bulk"]) == 3
+    assert entries[1]["mean_energy"] > entries[0]["mean_energy"]
+    assert (tmp_path / "plots" / "transport_coefficients.png").stat().st_size > 1000
+
+
+def test_swarm_reads_lxcat_and_a_toml_config(tmp_path):
+    config = tmp_path / "swarm.toml"
+    config.write_text(f'cross-sections = "{DATA / "lxcat_classic_reid.txt"}"\ne-n = [12.0]\nparticles = 640\n'
+                      'tolerance = 0.05\ncollision-budget = 2e6\ngas-temperature = 300.0\nb-n = 100.0\n')
+    summary = tmp_path / "s.json"
+    result = runner.invoke(app, ["swarm", "--config", str(config), "--summary", str(summary)])
+    assert result.exit_code == 0, result.output
+    (entry,) = json.loads(summary.read_text())["results"]
+    assert entry["gas_temperature"] == 300.0 and entry["reduced_magnetic_field"] == 100.0
+    assert abs(entry["drift_velocity_bulk"][0]) > 0  # E x B deflection
+
+
+def test_swarm_bad_input_exits_with_2(tmp_path):
+    assert runner.invoke(app, ["swarm", "--model", "reid", "--E-N", "-3"]).exit_code == 2
+    assert runner.invoke(app, ["swarm", "--model", "argon"]).exit_code == 2
+    assert runner.invoke(app, ["swarm"]).exit_code == 2  # no gas
+    bad = runner.invoke(app, ["swarm", "--cross-sections", str(DATA / "lxcat_bad_negative.txt")])
+    assert bad.exit_code == 2 and "line 8" in bad.output.replace("\n", "")
+
+
+def test_slab_summary_has_transmission_reflection_and_errors(tmp_path):
+    summary = tmp_path / "slab.json"
+    result = runner.invoke(app, ["slab", "--thickness", "2", "--albedo", "1", "--incidence", "isotropic",
+                                 "--particles", "20000", "--seed", "4", "--summary", str(summary)])
+    assert result.exit_code == 0, result.output
+    data = json.loads(summary.read_text())
+    assert abs(data["transmission"] + data["reflection"] - 1.0) < 1e-12
+    assert data["transmission_error"] > 0 and data["reflection_error"] > 0
+    assert runner.invoke(app, ["slab", "--albedo", "2"]).exit_code == 2
+    assert runner.invoke(app, ["slab", "--incidence", "oblique"]).exit_code == 2

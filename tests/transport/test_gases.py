@@ -1,0 +1,53 @@
+"""Gas definitions: validation of input and the model gases."""
+
+import math
+
+import numpy as np
+import pytest
+from scipy import constants
+
+from collisionkit.transport import (
+    Gas, Process, Species, hard_sphere_gas, lucas_saelee, maxwell_model, model_gas, reid_ramp,
+)
+
+
+def test_reid_ramp_is_the_published_model():
+    # Reid, Aust. J. Phys. 32, 231 (1979); as tabulated in /work/shared/reference/validation-data.md
+    species = reid_ramp().species[0]
+    assert constants.m_e / species.mass == pytest.approx(1.37145e-4)
+    elastic, excitation = species.processes
+    assert np.all(elastic.cross_section == 6e-20)
+    assert excitation.threshold == 0.2
+    assert np.interp(1.2, excitation.energy, excitation.cross_section) == pytest.approx(1e-19)
+
+
+def test_lucas_saelee_elastic_is_a_constant_rate():
+    elastic = lucas_saelee(0.5).species[0].processes[0]
+    speed = math.sqrt(2 * 4.0 * constants.e / constants.m_e)  # 4 eV
+    assert elastic.rate_coefficient == pytest.approx(4e-20 / math.sqrt(4.0) * speed)
+
+
+@pytest.mark.parametrize("name", ["maxwell", "hard_sphere", "reid", "lucas_saelee"])
+def test_model_gases_by_name(name):
+    assert isinstance(model_gas(name), Gas)
+
+
+def test_unknown_model_names_the_choices():
+    with pytest.raises(ValueError, match="reid"):
+        model_gas("argon")
+
+
+def test_negative_threshold_and_kind_are_refused():
+    with pytest.raises(ValueError, match="threshold"):
+        Process("excitation", [1, 2], [0, 1e-20], threshold=-1.0)
+    with pytest.raises(ValueError, match="kind"):
+        Process("fusion", [1, 2], [0, 1e-20])
+    with pytest.raises(ValueError, match="increasing"):
+        Process("elastic", [2, 1], [1e-20, 1e-20])
+
+
+def test_mixture_fractions_are_normalised_and_checked():
+    mix = Gas.mixture({maxwell_model(): 3.0, hard_sphere_gas(): 1.0})
+    assert mix.fractions == (0.75, 0.25)
+    with pytest.raises(ValueError, match="fractions"):
+        Gas((Species("a", 1e-26, (Process("elastic", [0, 1], [1e-20, 1e-20]),)),), (0.5,))

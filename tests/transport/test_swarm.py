@@ -1,0 +1,160 @@
+"""Swarm validation: Maxwell model (exact), Reid's ramp (published), non-conservative runs.
+
+Reference values: /work/shared/reference/validation-data.md.
+"""
+
+import math
+
+import numpy as np
+import pytest
+from scipy import constants
+
+from collisionkit.transport import (
+    Gas, Process, Species, lucas_saelee, maxwell_model, read_lxcat, reid_ramp, simulate_swarm,
+)
+from collisionkit.transport.swarm import HUXLEY, REFERENCE_DENSITY, TOWNSEND
+
+E = constants.e
+ME = constants.m_e
+LIGHT_GAS = 10 * ME  # light targets relax the energy in a few collisions: a fast exact test
+RATE = 1e-13  # m^3/s, nu = N k
+
+
+def _maxwell_exact(e_over_n, temperature=0.0, mass=LIGHT_GAS, b_over_n=0.0):
+    """Wannier's exact Maxwell-model drift (any mass ratio): mu nu W = q (E + W x B); E on z, B on y.
+
+    Mean energy 3/2 kT + 1/2 (m + M) W^2 (validation-data.md, "Maxwell model").
+    """
+    mu = ME * mass / (ME + mass)
+    nu = RATE * REFERENCE_DENSITY
+    w0 = -E * e_over_n * TOWNSEND * REFERENCE_DENSITY / (mu * nu)
+    beta = -E * b_over_n * HUXLEY * REFERENCE_DENSITY / (mu * nu)
+    w = np.array([-beta * w0 / (1 + beta**2), 0.0, w0 / (1 + beta**2)])
+    energy = 1.5 * constants.k * temperature + 0.5 * (ME + mass) * (w @ w)
+    return w, energy / E
+
+
+def _within(value, error, expected, sigmas=4.0):
+    return np.all(np.abs(np.asarray(value) - expected) <= sigmas * np.asarray(error) + 1e-12 * np.abs(expected))
+
+
+@pytest.mark.parametrize("temperature", [0.0, 3000.0])
+def test_maxwell_model_drift_and_energy_are_exact(temperature):
+    w, energy = _maxwell_exact(5.0, temperature)
+    r = simulate_swarm(maxwell_model(RATE, mass=LIGHT_GAS), 5.0, gas_temperature=temperature, particles=4000, seed=11,
+                       tolerances={"mean_energy": 3e-3, "drift_velocity_bulk": 1e-2}, threads=2)
+    assert r.converged
+    assert r.mean_energy_error < 3e-3 * energy and r.relative_error("drift_velocity_bulk") < 1e-2
+    assert _within(r.mean_energy, r.mean_energy_error, energy)
+    assert _within(r.drift_velocity_flux, r.drift_velocity_flux_error, w)
+    assert _within(r.drift_velocity_bulk, r.drift_velocity_bulk_error, w)
+    rate = r.rate_coefficients["maxwell:elastic"]
+    assert rate == pytest.approx(RATE, rel=1e-12)  # constant frequency: every trial is real
+
+
+def test_maxwell_model_in_crossed_fields_gives_the_exact_e_cross_b_drift():
+    w, energy = _maxwell_exact(5.0, b_over_n=400.0)
+    r = simulate_swarm(maxwell_model(RATE, mass=LIGHT_GAS), 5.0, reduced_magnetic_field=400.0, particles=4000,
+                       seed=12, tolerances={"mean_energy": 3e-3, "drift_velocity_bulk": 3e-3}, threads=2)
+    assert abs(w[0]) > 0.3 * abs(w[2])  # a real deflection
+    assert _within(r.drift_velocity_flux, r.drift_velocity_flux_error, w)
+    assert _within(r.mean_energy, r.mean_energy_error, energy)
+
+
+def test_results_do_not_depend_on_the_number_of_threads():
+    options = dict(particles=320, seed=5, tolerances={"mean_energy": 0.05}, collision_budget=5e5)
+    one = simulate_swarm(lucas_saelee(0.5), 300.0, threads=1, **options)
+    two = simulate_swarm(lucas_saelee(0.5), 300.0, threads=2, **options)
+    assert one.collisions == two.collisions
+    assert one.mean_energy == two.mean_energy
+    np.testing.assert_array_equal(one.drift_velocity_bulk, two.drift_velocity_bulk)
+
+
+def test_different_seeds_give_different_but_compatible_results():
+    options = dict(particles=1000, tolerances={"mean_energy": 0.01}, threads=2)
+    a = simulate_swarm(maxwell_model(RATE, mass=LIGHT_GAS), 5.0, seed=1, **options)
+    b = simulate_swarm(maxwell_model(RATE, mass=LIGHT_GAS), 5.0, seed=2, **options)
+    assert a.mean_energy != b.mean_energy
+    assert abs(a.mean_energy - b.mean_energy) < 5 * math.hypot(a.mean_energy_error, b.mean_energy_error)
+
+
+@pytest.mark.slow
+def test_ionization_makes_bulk_drift_exceed_flux_drift():
+    # Lucas-Saelee with F = 1 (all inelastic collisions ionize) at high E/N: ionization at the swarm's
+    # front raises the bulk velocity above the flux velocity (Ness & Robson, Phys. Rev. A 34, 2185 (1986)).
+    r = simulate_swarm(lucas_saelee(1.0), 600.0, particles=2000, seed=4, threads=2,
+                       tolerances={"mean_energy": 1e-2, "drift_velocity_bulk": 2e-2}, collision_budget=3e7)
+    assert r.ionization_frequency_N > 10 * r.ionization_frequency_N_error > 0
+    wf, wb = abs(r.drift_velocity_flux[2]), abs(r.drift_velocity_bulk[2])
+    assert wb - wf > 4 * math.hypot(r.drift_velocity_flux_error[2], r.drift_velocity_bulk_error[2])
+    ionization = r.rate_coefficients["lucas_saelee:ionization"]
+    assert ionization == pytest.approx(r.ionization_frequency_N)
+    assert r.eedf.sum() * (r.eedf_energy[1] - r.eedf_energy[0]) == pytest.approx(1.0)
+
+
+def test_attachment_in_an_lxcat_mixture_is_counted():
+    from pathlib import Path
+
+    gas = read_lxcat(Path(__file__).parent.parent / "data" / "lxcat_new_mixture.txt", fractions=(0.5, 0.5))
+    r = simulate_swarm(gas, 50.0, particles=1600, seed=2, threads=2, tolerances={"mean_energy": 0.01},
+                       collision_budget=3e7)
+    assert r.attachment_frequency_N > 0
+    # attachment: 1e-22 m^2 on half the gas, so k_att = 0.5 * 1e-22 <v> up to the 1-100 eV ramp
+    speed = math.sqrt(2 * r.mean_energy * E / ME)
+    assert 0.05 * 0.5e-22 * speed < r.attachment_frequency_N < 2 * 0.5e-22 * speed
+
+
+def test_screened_coulomb_scattering_runs_and_changes_the_drift():
+    gas = reid_ramp()
+    iso = simulate_swarm(gas, 12.0, particles=1600, seed=3, threads=2, tolerances={"mean_energy": 0.01})
+    screened = simulate_swarm(gas.with_scattering("screened_coulomb", 0.1), 12.0, particles=1600, seed=3,
+                              threads=2, tolerances={"mean_energy": 0.01})
+    # forward scattering transfers less momentum: faster drift for the same elastic cross section
+    assert abs(screened.drift_velocity_flux[2]) > abs(iso.drift_velocity_flux[2]) * 1.05
+
+
+@pytest.mark.parametrize(
+    "kwargs, message",
+    [
+        (dict(reduced_field=-1.0), "reduced_field"),
+        (dict(reduced_field=1.0, gas_temperature=-5.0), "gas_temperature"),
+        (dict(reduced_field=1.0, particles=10), "particles"),
+        (dict(reduced_field=1.0, sharing="half"), "sharing"),
+        (dict(reduced_field=1.0, tolerances={"speed": 0.1}), "tolerances"),
+    ],
+)
+def test_bad_input_is_refused(kwargs, message):
+    with pytest.raises(ValueError, match=message):
+        simulate_swarm(reid_ramp(), **kwargs)
+
+
+# Reid's ramp: Dias et al., Comput. Phys. Commun. 282, 108554 (2023), Table 1 (LoKI-MC, MultiBolt,
+# Raspopovic et al. 1999); copied in /work/shared/reference/validation-data.md.
+# Columns: E/N (Td), mean energy (eV), bulk W (m/s), N D_T, N D_L (m^-1 s^-1); LoKI-MC and MultiBolt rows.
+REID = {
+    1.0: {"LoKI-MC": (0.1014, 1.264e4, 0.9637e24, 0.7542e24), "MultiBolt": (0.1014, 1.272e4, 0.9746e24, 0.7593e24)},
+    12.0: {"LoKI-MC": (0.2691, 6.838e4, 1.137e24, 0.5679e24), "MultiBolt": (0.2688, 6.839e4, 1.134e24, 0.5688e24)},
+    24.0: {"LoKI-MC": (0.4081, 8.881e4, 1.138e24, 0.4595e24), "MultiBolt": (0.40922, 8.8522e4, 1.137e24, 0.4601e24)},
+}
+
+
+def _close_to_one_of(value, references, tolerance):
+    return min(abs(value / ref - 1) for ref in references) < tolerance
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("e_over_n", sorted(REID))
+def test_reids_ramp_matches_published_transport_coefficients(e_over_n):
+    r = simulate_swarm(reid_ramp(), e_over_n, particles=20000, seed=7, threads=2,
+                       tolerances={"mean_energy": 1.5e-3, "drift_velocity_bulk": 1.5e-3,
+                                   "diffusion_L_N": 0.015, "diffusion_T_N": 0.015},
+                       collision_budget=4e8)
+    published = REID[e_over_n].values()
+    # statistical errors small enough for the 0.5 % and 3 % tolerances to mean something
+    assert r.relative_error("mean_energy") < 1.5e-3
+    assert r.relative_error("drift_velocity_bulk") < 1.5e-3
+    assert r.relative_error("diffusion_L_N") < 0.015 and r.relative_error("diffusion_T_N") < 0.015
+    assert _close_to_one_of(r.mean_energy, [p[0] for p in published], 0.005)
+    assert _close_to_one_of(-r.drift_velocity_bulk[2], [p[1] for p in published], 0.005)
+    assert _close_to_one_of(r.diffusion_T_N, [p[2] for p in published], 0.03)
+    assert _close_to_one_of(r.diffusion_L_N, [p[3] for p in published], 0.03)
