@@ -4,6 +4,7 @@ import runpy
 from pathlib import Path
 
 import matplotlib
+import numpy as np
 import pytest
 
 matplotlib.use("Agg")
@@ -29,7 +30,8 @@ def test_the_gallery_has_the_examples_of_the_issue():
     names = {path.stem for path in EXAMPLES}
     expected = {
         "plot_newtons_cradle", "plot_billiard_break", "plot_stationary_scan", "plot_hard_sphere_eos",
-        "plot_granular_cooling", "plot_stellar_flyby", "plot_rutherford",
+        "plot_granular_cooling", "plot_stellar_flyby", "plot_rutherford", "plot_reid_ramp",
+        "plot_slab_transmission",
     }  # fmt: skip
     assert expected <= names
 
@@ -54,3 +56,12 @@ def test_newtons_cradle_hands_the_momentum_along(tmp_path, monkeypatch):
 @pytest.mark.parametrize("path", VALIDATION, ids=lambda path: path.stem)
 def test_validation_script_runs(path, tmp_path, monkeypatch):
     run_script(path, tmp_path, monkeypatch)
+
+
+def test_slab_example_meets_the_exact_results(tmp_path, monkeypatch):
+    namespace = run_script(ROOT / "examples" / "plot_slab_transmission.py", tmp_path, monkeypatch)
+    for result, tau in zip(namespace["rod"], namespace["thickness"]):
+        assert abs(result.transmission - 1 / (1 + tau / 2)) < 4 * result.transmission_error + 1e-12
+    for result, tau in zip(namespace["absorbing"], namespace["thickness"]):
+        assert abs(result.transmission - np.exp(-tau)) < 4 * result.transmission_error + 1e-12
+    assert namespace["worst"] < 1e-12
