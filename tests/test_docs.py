@@ -121,7 +121,7 @@ def test_guide_examples_run(path):
 
 def test_the_guides_exist_for_each_capability():
     names = {path.stem for path in (ROOT / "docs" / "guide").glob("*.rst")}
-    assert {"collisions", "edmd", "encounters"} <= names
+    assert {"collisions", "edmd", "encounters", "transport", "sweeps"} <= names
 
 
 # ---------------------------------------------------------------- README quick start
