@@ -36,19 +36,7 @@ EXAMPLES_SECTION = re.compile(r"^\s*Examples\n\s*-{8,}\s*$", re.MULTILINE)
 # offender NOT listed here, and for any entry listed here that has since been
 # fixed (so the list only shrinks). Please add an Examples section and delete
 # the entry rather than adding entries.
-KNOWN_MISSING = {
-    # Monte Carlo transport: still being written when this list was made
-    "collisionkit.transport.gases.Process.with_scattering",
-    "collisionkit.transport.gases.Gas.mixture",
-    "collisionkit.transport.gases.Gas.with_scattering",
-    "collisionkit.transport.lxcat.LXCatError",
-    "collisionkit.transport.lxcat.LXCatBlock",
-    "collisionkit.transport.slab.SlabResult",
-    "collisionkit.transport.slab.SlabResult.to_dict",
-    "collisionkit.transport.swarm.SwarmResult",
-    "collisionkit.transport.swarm.SwarmResult.relative_error",
-    "collisionkit.transport.swarm.SwarmResult.to_dict",
-}
+KNOWN_MISSING: set[str] = set()
 
 
 def public_modules():

@@ -118,7 +118,15 @@ class Process:
             raise ValueError(f"{label}: give a cross-section table or a rate_coefficient > 0")
 
     def with_scattering(self, scattering: str, screening_energy: float = 1.0) -> "Process":
-        """The same process with another angular model."""
+        """The same process with another angular model.
+
+        Examples
+        --------
+        >>> from collisionkit.transport import reid_ramp
+        >>> elastic = reid_ramp().species[0].processes[0]
+        >>> elastic.with_scattering("screened_coulomb", screening_energy=0.5).scattering
+        'screened_coulomb'
+        """
         return Process(self.kind, self.energy, self.cross_section, self.threshold, self.rate_coefficient,
                        scattering, screening_energy, self.label)
 
@@ -179,7 +187,15 @@ class Gas:
 
     @classmethod
     def mixture(cls, parts) -> "Gas":
-        """Mix gases: ``{gas_or_species: fraction}``; fractions are normalised to sum 1."""
+        """Mix gases: ``{gas_or_species: fraction}``; fractions are normalised to sum 1.
+
+        Examples
+        --------
+        >>> from collisionkit.transport import Gas, hard_sphere_gas, reid_ramp
+        >>> mixture = Gas.mixture({reid_ramp(): 3.0, hard_sphere_gas(): 1.0})
+        >>> [float(f) for f in mixture.fractions]
+        [0.75, 0.25]
+        """
         species, fractions = [], []
         total = float(sum(parts.values()))
         if not total > 0:
@@ -200,7 +216,15 @@ class Gas:
         return [(s, p) for s, member in enumerate(self.species) for p in member.processes]
 
     def with_scattering(self, scattering: str, screening_energy: float = 1.0, kinds=("elastic",)) -> "Gas":
-        """The gas with another angular model for the processes of ``kinds``."""
+        """The gas with another angular model for the processes of ``kinds``.
+
+        Examples
+        --------
+        >>> from collisionkit.transport import reid_ramp
+        >>> gas = reid_ramp().with_scattering("screened_coulomb")
+        >>> [process.scattering for process in gas.species[0].processes]
+        ['screened_coulomb', 'isotropic']
+        """
         species = tuple(
             Species(s.name, s.mass, tuple(p.with_scattering(scattering, screening_energy) if p.kind in kinds else p
                                           for p in s.processes))

@@ -40,12 +40,29 @@ NUMBER = r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eEdD][-+]?\d+)?"
 
 
 class LXCatError(ValueError):
-    """A malformed or unphysical LXCat file; the message names the line."""
+    """A malformed or unphysical LXCat file; the message names the line.
+
+    Examples
+    --------
+    >>> from collisionkit.transport import LXCatError, parse_lxcat
+    >>> try:
+    ...     parse_lxcat(chr(10).join(["ELASTIC", "Ar", " not a number", "-----", "1 2", "-----"]))
+    ... except LXCatError as error:
+    ...     print("refused")
+    refused
+    """
 
 
 @dataclass
 class LXCatBlock:
-    """One process block as read from the file."""
+    """One process block as read from the file.
+
+    Examples
+    --------
+    >>> from collisionkit.transport.lxcat import LXCatBlock
+    >>> LXCatBlock(kind="EXCITATION", species="Ar", line=12, parameter=11.5).parameter
+    11.5
+    """
 
     kind: str
     species: str

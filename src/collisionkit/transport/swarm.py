@@ -59,6 +59,14 @@ class SwarmResult:
 
     Every value has an ``*_error`` partner (standard error over the
     independent groups). N-scaled coefficients are per unit gas density.
+
+    Examples
+    --------
+    >>> from collisionkit.transport import maxwell_model, simulate_swarm
+    >>> result = simulate_swarm(maxwell_model(), 10.0, particles=1000, groups=4, seed=1,
+    ...                         tolerances={"mean_energy": 0.05})
+    >>> result.mean_energy > 0, result.drift_velocity_bulk.shape
+    (True, (3,))
     """
 
     reduced_field: float
@@ -102,7 +110,16 @@ class SwarmResult:
         return self.collisions / self.seconds if self.seconds > 0 else 0.0
 
     def relative_error(self, name: str) -> float:
-        """Relative standard error of ``mean_energy``, ``drift_velocity_bulk`` (z), ``diffusion_L_N`` ..."""
+        """Relative standard error of ``mean_energy``, ``drift_velocity_bulk`` (z), ``diffusion_L_N`` ...
+
+        Examples
+        --------
+        >>> from collisionkit.transport import maxwell_model, simulate_swarm
+        >>> result = simulate_swarm(maxwell_model(), 10.0, particles=1000, groups=4, seed=1,
+        ...                         tolerances={"mean_energy": 0.05})
+        >>> result.relative_error("mean_energy") < 0.05
+        True
+        """
         value = np.asarray(getattr(self, name), dtype=float)
         error = np.asarray(getattr(self, f"{name}_error"), dtype=float)
         if value.ndim:
@@ -110,7 +127,17 @@ class SwarmResult:
         return float(abs(error / value)) if value != 0 else math.inf
 
     def to_dict(self) -> dict:
-        """A JSON-ready dictionary (vectors as lists, with ``collisions_per_second``)."""
+        """A JSON-ready dictionary (vectors as lists, with ``collisions_per_second``).
+
+        Examples
+        --------
+        >>> import json
+        >>> from collisionkit.transport import maxwell_model, simulate_swarm
+        >>> data = simulate_swarm(maxwell_model(), 10.0, particles=1000, groups=4, seed=1,
+        ...                       tolerances={"mean_energy": 0.05}).to_dict()
+        >>> "collisions_per_second" in data, len(json.dumps(data)) > 100
+        (True, True)
+        """
         out = {}
         for name in self.__dataclass_fields__:
             value = getattr(self, name)
