@@ -113,24 +113,24 @@ def _rows(ic, contact, labels):
 
 
 def encounter(
-    m1: Annotated[float | None, typer.Option("--m1", help="Mass of body 1 (> 0).  [default: 1]")] = None,
-    m2: Annotated[float | None, typer.Option("--m2", help="Mass of body 2 (> 0).  [default: 1]")] = None,
-    rp: Annotated[float | None, typer.Option("--rp", help="Periastron distance (> 0).  [default: 1]")] = None,
-    vinf: Annotated[float | None, typer.Option("--vinf", help="Relative speed at infinity (> 0).  [default: 0.5]")] = None,
-    sep0: Annotated[float | None, typer.Option("--sep0", help="Initial separation (>= rp).  [default: 10]")] = None,
+    m1: Annotated[float | None, typer.Option("--m1", help="Mass of body 1 (> 0).  \\[default: 1]")] = None,
+    m2: Annotated[float | None, typer.Option("--m2", help="Mass of body 2 (> 0).  \\[default: 1]")] = None,
+    rp: Annotated[float | None, typer.Option("--rp", help="Periastron distance (> 0).  \\[default: 1]")] = None,
+    vinf: Annotated[float | None, typer.Option("--vinf", help="Relative speed at infinity (> 0).  \\[default: 0.5]")] = None,
+    sep0: Annotated[float | None, typer.Option("--sep0", help="Initial separation (>= rp).  \\[default: 10]")] = None,
     units: Annotated[
         str | None,
-        typer.Option(help="nbody (G = 1), si (kg m s), cgs (g cm s), solar (Msun AU yr), stellar (Msun Rsun km/s).  [default: nbody]"),
+        typer.Option(help="nbody (G = 1), si (kg m s), cgs (g cm s), solar (Msun AU yr), stellar (Msun Rsun km/s).  \\[default: nbody]"),
     ] = None,
     layout: Annotated[
-        str | None, typer.Option(help="diagonal (opposite grid corners, as StarCrash) or x.  [default: diagonal]")
+        str | None, typer.Option(help="diagonal (opposite grid corners, as StarCrash) or x.  \\[default: diagonal]")
     ] = None,
     radius1: Annotated[float | None, typer.Option(help="Radius of body 1 for contact detection (>= 0).")] = None,
     radius2: Annotated[float | None, typer.Option(help="Radius of body 2 for contact detection (>= 0).")] = None,
     out: Annotated[
-        Path | None, typer.Option(help="Folder for the initial conditions and the plot.  [default: encounter-output]")
+        Path | None, typer.Option(help="Folder for the initial conditions and the plot.  \\[default: encounter-output]")
     ] = None,
-    plots: Annotated[bool | None, typer.Option("--plots/--no-plots", help="Plot the trajectories.  [default: plots]")] = None,
+    plots: Annotated[bool | None, typer.Option("--plots/--no-plots", help="Plot the trajectories.  \\[default: plots]")] = None,
     summary: Annotated[Path | None, typer.Option("--summary", help="Write the results as JSON to this file.")] = None,
     config: Annotated[Path | None, typer.Option("--config", help="TOML file with these options (command line wins).")] = None,
 ):
