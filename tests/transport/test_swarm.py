@@ -158,3 +158,16 @@ def test_reids_ramp_matches_published_transport_coefficients(e_over_n):
     assert _close_to_one_of(-r.drift_velocity_bulk[2], [p[1] for p in published], 0.005)
     assert _close_to_one_of(r.diffusion_T_N, [p[2] for p in published], 0.03)
     assert _close_to_one_of(r.diffusion_L_N, [p[3] for p in published], 0.03)
+
+
+def test_a_neutral_particle_falling_through_the_gas_drifts_like_a_charge_in_a_field():
+    """Wannier's Maxwell-model relation holds for any uniform force: m g plays the part of q E."""
+    w, energy = _maxwell_exact(5.0)
+    field = 5.0 * TOWNSEND * REFERENCE_DENSITY  # the E of 5 Td
+    g = E * field / ME  # the acceleration that field gives an electron
+    r = simulate_swarm(maxwell_model(RATE, mass=LIGHT_GAS), 0.0, charge=0.0, gravity=(0.0, 0.0, -g),
+                       particles=4000, seed=13, tolerances={"mean_energy": 3e-3, "drift_velocity_bulk": 1e-2},
+                       threads=2)
+    assert r.converged and r.relative_error("drift_velocity_bulk") < 1e-2
+    assert _within(r.drift_velocity_bulk, r.drift_velocity_bulk_error, w)
+    assert _within(r.mean_energy, r.mean_energy_error, energy)
