@@ -4,7 +4,7 @@ import math
 
 import numpy as np
 import pytest
-from scipy import constants
+from scipy import constants, stats
 from scipy.integrate import solve_ivp
 
 from collisionkit._kernels import transport as K
@@ -79,3 +79,37 @@ def test_slab_elastic_energy_loss_matches_the_mass_ratio_law():
 def test_tables_refuse_bad_cross_sections(bad):
     with pytest.raises(ValueError, match="cross_section"):
         Process("elastic", [0, 1], [1e-20, bad])
+
+
+def _ionize_many(sharing, draws=20_000, energy_ev=40.0, threshold_ev=15.0):
+    """Energies (eV) of the primary and the new electron after ionizing collisions on a target at rest."""
+    mass = constants.m_e
+    energy = energy_ev * constants.e
+    kind = np.array([K.IONIZATION])
+    threshold = np.array([threshold_ev * constants.e])
+    angular = np.array([K.ISOTROPIC])
+    screening = np.array([1.0])
+    state = np.zeros(4, dtype=np.uint64)
+    K.seed_state(np.uint64(12345), state)
+    gas_v = np.zeros(3)
+    speed = math.sqrt(2 * energy / mass)
+    primary, secondary = np.empty(draws), np.empty(draws)
+    for n in range(draws):
+        vel = np.array([0.0, 0.0, speed])
+        g = vel.copy()
+        child = np.zeros(3)
+        outcome = K._collide(0, vel, gas_v, g, speed, energy, mass, 1e3 * mass, kind, threshold, angular,
+                             screening, sharing, state, child, np.zeros(16))
+        assert outcome == 2
+        primary[n] = 0.5 * mass * vel @ vel / constants.e
+        secondary[n] = 0.5 * mass * child @ child / constants.e
+    return primary, secondary
+
+
+def test_ionization_shares_the_energy_left_above_the_threshold():
+    primary, secondary = _ionize_many(K.SHARE_EQUAL, draws=200)
+    np.testing.assert_allclose(primary, 12.5, rtol=1e-12)
+    np.testing.assert_allclose(secondary, 12.5, rtol=1e-12)
+    primary, secondary = _ionize_many(K.SHARE_UNIFORM)
+    np.testing.assert_allclose(primary + secondary, 25.0, rtol=1e-12)  # energy conserved
+    assert stats.kstest(primary / 25.0, "uniform").pvalue > 1e-3  # the primary's share is uniform
