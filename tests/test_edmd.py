@@ -283,18 +283,22 @@ def test_speeds_follow_maxwell_boltzmann(dim):
 def test_homogeneous_cooling_follows_haff_law():
     """T = T0 exp(-2 (1 - e^2) C / (d N)) while the gas stays homogeneous (e = 0.9, small N)."""
     e = 0.9
-    system = fcc_system(cells=4, eta=0.1, seed=13)  # N = 256
-    equilibrium = fcc_system(cells=4, eta=0.1, seed=13)
-    equilibrium.run(collisions=20 * system.count)
-    system = edmd.HardSphereSystem(
-        equilibrium.positions(), equilibrium.velocities(), 0.5, equilibrium.box[:3], restitution=e
-    )
-    t0 = system.temperature()
-    ratios = []
-    for _ in range(5):
-        system.run(collisions=system.count)  # one collision per particle... per two particles
-        expected = t0 * math.exp(-2 * (1 - e * e) * system.collisions / (3 * system.count))
-        ratios.append(system.temperature() / expected)
-    # the Sonine correction is under 0.4 %; fluctuations of T of a 256-particle gas are ~2 %
-    assert np.all(np.abs(np.array(ratios) - 1) < 0.05)
-    assert abs(np.mean(ratios) - 1) < 0.03
+    means = []
+    for seed in (11, 12, 13, 14):
+        equilibrium = fcc_system(cells=4, eta=0.1, seed=seed)  # N = 256
+        equilibrium.run(collisions=20 * equilibrium.count)
+        system = edmd.HardSphereSystem(
+            equilibrium.positions(), equilibrium.velocities(), 0.5, equilibrium.box[:3], restitution=e
+        )
+        t0 = system.temperature()
+        ratios = []
+        for _ in range(5):
+            system.run(collisions=system.count)  # two collisions per particle
+            expected = t0 * math.exp(-2 * (1 - e * e) * system.collisions / (3 * system.count))
+            ratios.append(system.temperature() / expected)
+        system.check()
+        # the Sonine correction is under 0.4 %; T of a 256-particle gas fluctuates by ~2 %
+        assert np.all(np.abs(np.array(ratios) - 1) < 0.06)
+        means.append(np.mean(ratios))
+    # one run's mean scatters by ~1.2 % (8 seeds); the mean of four by ~0.6 %: 4 sigma
+    assert abs(np.mean(means) - 1) < 0.025

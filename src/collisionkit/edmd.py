@@ -46,7 +46,11 @@ __all__ = [
 RESTITUTION_LAWS = {"constant": _k.LAW_CONSTANT, "bridges": _k.LAW_BRIDGES}
 
 # re-sort particles in memory by cell after this many collisions per particle
-SORT_INTERVAL = 5
+SORT_INTERVAL = 20
+# neighbour-list shell (skin) in units of the largest diameter; benchmarks/bench_edmd.py --shells tunes it
+DEFAULT_SHELL = 0.3
+# while compressing, lists cover radii up to the current scale plus this (then all are rebuilt)
+LIST_SCALE_MARGIN = 0.05
 
 
 class OverlapError(RuntimeError):
@@ -300,6 +304,11 @@ class HardSphereSystem:
         Restitution of particle-wall contacts, in [0, 1].
     gravity : array_like, shape (d,), optional
         Uniform acceleration; flights become exact parabolas.
+    neighbour_shell : float, optional
+        Skin of the neighbour lists in units of the largest diameter, > 0
+        (default 0.3): a wider shell means longer lists but fewer rebuilds.
+        Only speed depends on it; in small periodic boxes it is narrowed
+        so that twice the list radius stays below the box.
 
     Examples
     --------
@@ -329,6 +338,7 @@ class HardSphereSystem:
         elastic_below=None,
         wall_restitution=1.0,
         gravity=None,
+        neighbour_shell=DEFAULT_SHELL,
         *,
         _growth=0.0,
         _scale=1.0,
@@ -361,6 +371,9 @@ class HardSphereSystem:
         if gravity.shape != (dim,):
             raise ValueError(f"gravity must have shape ({dim},); got {gravity.shape}")
         _arrays.require_finite(gravity, "gravity")
+        if not (neighbour_shell > 0 and math.isfinite(neighbour_shell)):
+            raise ValueError(f"neighbour_shell must be finite and > 0; got {neighbour_shell!r}")
+        self._shell_request = float(neighbour_shell)
 
         self.geom = np.zeros((4, 3))
         self.geom[_k.G_BOX] = 1.0
@@ -388,13 +401,12 @@ class HardSphereSystem:
         if not (elastic_below >= 0 and math.isfinite(elastic_below)):
             raise ValueError(f"elastic_below must be finite and >= 0; got {elastic_below}")
         self.params[_k.P_ELASTIC_BELOW] = float(elastic_below)
-        self._setup_cells()
+        self._new_events()
+        self._refresh_lists()
         self._check_walls()
         gap = self._pair_gap()
         if gap < -1e-9 * float(np.max(radius)):
             raise OverlapError(f"positions overlap: smallest surface gap {gap:.3g}")
-        self._new_events()
-        self._predict_all()
 
     # -------------------------------------------------------------- set-up helpers
 
@@ -435,25 +447,71 @@ class HardSphereSystem:
             elif np.any((column < 0) | (column > self.box[k])):
                 raise ValueError(f"positions must lie inside the walls on axis {k}: [0, {self.box[k]}]")
 
-    def _setup_cells(self):
-        # cells fit the largest contact distance the run will reach (radii only grow)
-        contact = 2.0 * float(np.max(self.radius)) * max(self.scale0, 1.0)
-        self.ncell = np.ones(3, dtype=np.int64)
-        self.geom[_k.G_CELL] = 1.0
+    def _list_geometry(self, list_scale):
+        """Shell and cells for lists valid up to radius scale ``list_scale``."""
+        largest = 2.0 * float(np.max(self.p[:, _k.R])) * list_scale
+        periodic_sides = self.box[: self.dim][self.periodic]
+        if periodic_sides.size and periodic_sides.min() < 3.0 * largest * (1 - 1e-12):
+            k = int(np.flatnonzero(self.periodic)[np.argmin(periodic_sides)])
+            raise ValueError(
+                f"box[{k}] = {self.box[k]:.6g} is too small: a periodic axis needs at least 3 times "
+                f"the largest diameter ({largest:.6g})"
+            )
+        shell = self._shell_request * 2.0 * float(np.max(self.p[:, _k.R])) * max(list_scale, 1.0)
+        if periodic_sides.size:
+            # the minimum image must be unique within the list radius: 2 (largest + shell) < L
+            shell = min(shell, 0.98 * (0.5 * periodic_sides.min() - largest))
+        reach = largest + shell
+        ncell = np.ones(3, dtype=np.int64)
+        widths = np.ones(3)
         for k in range(self.dim):
-            cells = int(math.floor(self.box[k] / contact * (1 - 1e-12)))
-            if self.periodic[k] and cells < 3:
-                raise ValueError(
-                    f"box[{k}] = {self.box[k]:.6g} is too small: a periodic axis needs at least 3 times "
-                    f"the largest diameter ({contact:.6g})"
-                )
-            cells = max(cells, 1)
-            self.ncell[k] = cells
-            self.geom[_k.G_CELL, k] = self.box[k] / cells
-        self.info = np.zeros((self.count, 8), dtype=np.int64)
-        self.info[:, _k.PARTNER] = -1
-        self.head = np.full(int(np.prod(self.ncell)), -1, dtype=np.int64)
-        _k.build_cells(self.p, self.ncell, self.geom, self.dim, self.info, self.head)
+            ncell[k] = max(int(math.floor(self.box[k] / reach * (1 - 1e-12))), 1)
+            widths[k] = self.box[k] / ncell[k]
+        return shell, ncell, widths
+
+    def _refresh_lists(self):
+        """Re-anchor every particle, rebuild every neighbour list and re-predict every event.
+
+        Lists cover the radius scale of now (plus a margin while growing);
+        cells and list rows are enlarged when needed.
+        """
+        self.synchronise()
+        list_scale = self.scale0 + LIST_SCALE_MARGIN if self.growth > 0 else self.scale0
+        shell, ncell, widths = self._list_geometry(list_scale)
+        self.params[_k.P_SHELL] = shell
+        self.params[_k.P_LIST_SCALE] = list_scale
+        if not np.array_equal(ncell, getattr(self, "ncell", None)):
+            self.ncell = ncell
+            self._grow_cells(self.cell_members.shape[1] if hasattr(self, "cell_members") else 8)
+        self.geom[_k.G_CELL] = widths
+        while True:
+            needed, fullest = _k.build_all_lists(
+                self.p, self.info, self.anchor, self.neighbours, self.neighbour_count, self.cell_members,
+                self.cell_count, self.cell_points, self.ncell, self.geom, self.dim, self.params, self._image,
+            )
+            if fullest > self.cell_members.shape[1]:
+                self._grow_cells(fullest)
+            elif needed > self.neighbours.shape[1]:
+                self._grow_lists(needed)
+            else:
+                break
+        self._predict_all()
+
+    @staticmethod
+    def _room_for(needed):
+        return max(needed + 4, int(1.25 * needed))
+
+    def _grow_lists(self, needed):
+        """Widen the neighbour-list rows to hold ``needed`` entries with room to spare."""
+        self.neighbours = np.zeros((self.count, self._room_for(needed)), dtype=np.int32)
+        self.neighbour_count[:] = 0
+
+    def _grow_cells(self, needed):
+        """(Re)allocate the cells with ``needed`` slots each, with room to spare."""
+        cells, slots = int(np.prod(self.ncell)), self._room_for(needed)
+        self.cell_members = np.zeros((cells, slots), dtype=np.int32)
+        self.cell_count = np.zeros(cells, dtype=np.int32)
+        self.cell_points = np.zeros((cells, slots, 4))
 
     def _check_walls(self):
         if not np.all(self.periodic):
@@ -462,14 +520,20 @@ class HardSphereSystem:
                 raise ValueError(f"positions must keep every particle inside the walls (overlap {-gap:.3g})")
 
     def _new_events(self):
-        self.leaves = _next_power_of_two(self.count)
-        self.times = np.full((self.count, 3), np.inf)
+        count = self.count
+        self.info = np.zeros((count, 8), dtype=np.int64)
+        self.info[:, _k.PARTNER] = -1
+        self.anchor = np.zeros((count, 3))
+        self.neighbours = np.zeros((count, 16), dtype=np.int32)
+        self.neighbour_count = np.zeros(count, dtype=np.int32)
+        self.leaves = _next_power_of_two(count)
+        self.times = np.full((count, 3), np.inf)
         self.tree = _aligned_zeros((2 * self.leaves, 2))
 
     def _predict_all(self):
         _k.predict_all(
-            self.p, self.info, self.times, self.head, self.ncell, self.geom, self.dim, self.params,
-            self.tree, self.leaves,
+            self.p, self.info, self.times, self.anchor, self.neighbours, self.neighbour_count, self.geom, self.dim,
+            self.params, self.tree, self.leaves, self.acc,
         )
 
     # -------------------------------------------------------------- state
@@ -506,8 +570,27 @@ class HardSphereSystem:
 
     @property
     def image(self):
-        """Periodic image counters (boundary crossings per axis), in particle order."""
-        return self._to_user_order(self._image)
+        """Periodic image counters (boundary crossings per axis) at the current time, in particle order."""
+        self.synchronise()
+        return self._to_user_order(self._folded()[1])
+
+    def _folded(self):
+        """Internal positions folded into [0, L) on periodic axes, and the matching image counters.
+
+        The engine wraps a particle only when it rebuilds its neighbour list,
+        so stored positions may lie up to half a shell outside the box.
+        """
+        pos = self.pos.copy()
+        image = self._image.copy()
+        for k in np.flatnonzero(self.periodic):
+            length = self.box[k]
+            shift = np.floor(pos[:, k] / length)
+            pos[:, k] -= shift * length
+            image[:, k] += shift.astype(np.int64)
+            rounded_up = pos[:, k] >= length  # -tiny + L rounds to L
+            pos[rounded_up, k] -= length
+            image[rounded_up, k] += 1
+        return pos, image
 
     def _to_user_order(self, internal):
         result = np.empty_like(internal)
@@ -517,10 +600,10 @@ class HardSphereSystem:
     def _sort_by_cell(self):
         """Renumber the memory slots in cell order so neighbours share cache lines.
 
-        Particles keep their identity through ``ids``; all events are
-        re-predicted (the partner slots changed).
+        Particles keep their identity through ``ids``; all lists are rebuilt
+        and all events re-predicted (the slots changed).
         """
-        self.synchronise()
+        self._refresh_lists()
         order = np.argsort(self.info[:, _k.CELL_OF], kind="stable")
         self.p[:] = self.p[order]
         self._mass = self._mass[order]
@@ -529,8 +612,7 @@ class HardSphereSystem:
         self.ids = self.ids[order]
         self.info[:] = 0
         self.info[:, _k.PARTNER] = -1
-        _k.build_cells(self.p, self.ncell, self.geom, self.dim, self.info, self.head)
-        self._predict_all()
+        self._refresh_lists()
         self.last_sort = self.collisions
 
     @property
@@ -551,17 +633,16 @@ class HardSphereSystem:
         """Relative growth rate of the radii (non-zero only while compressing)."""
         return float(self.params[_k.P_GROWTH])
 
-    @growth.setter
-    def growth(self, value):
-        self.params[_k.P_GROWTH] = value
-
     @property
     def scale0(self) -> float:
         return float(self.params[_k.P_SCALE0])
 
-    @scale0.setter
-    def scale0(self, value):
-        self.params[_k.P_SCALE0] = value
+    def _stop_growing(self, scale):
+        """End a compression: radii fixed at ``scale`` from now on (lists rebuilt)."""
+        self.synchronise()
+        self.params[_k.P_GROWTH] = 0.0
+        self.params[_k.P_SCALE0] = scale
+        self._refresh_lists()
 
     @property
     def scale(self) -> float:
@@ -600,7 +681,7 @@ class HardSphereSystem:
             self.p[:, _k.T] -= shift
             self.times -= shift
             self.tree[:, 0] -= shift
-            self.scale0 = self.scale0 + self.growth * shift
+            self.params[_k.P_SCALE0] += self.growth * shift
             self.elapsed += shift
             self.time = 0.0
 
@@ -621,7 +702,7 @@ class HardSphereSystem:
         (100, 2)
         """
         self.synchronise()
-        internal = self.pos + self._image * self.box[: self.dim] if unwrapped else self.pos
+        internal = self.pos + self._image * self.box[: self.dim] if unwrapped else self._folded()[0]
         return self._to_user_order(internal)
 
     def velocities(self):
@@ -703,7 +784,6 @@ class HardSphereSystem:
         _arrays.require_finite(velocities, "velocities")
         self.synchronise()
         self.p[:, _k.V : _k.V + self.dim] = velocities[self.ids]
-        self.info[:, _k.COUNTER] += 1
         self._predict_all()
 
     def rescale_temperature(self, kT=1.0):
@@ -744,10 +824,17 @@ class HardSphereSystem:
             gap = min(gap, _k.wall_gap(self.p, self.scale, self.geom, self.dim))
         if gap < -tolerance * float(np.max(self.radius)):
             raise OverlapError(f"overlap of {-gap:.3g} found at time {self.elapsed + self.time:.6g}")
+        drift = _k.largest_anchor_drift(self.p, self.anchor, self.dim)
+        allowed = 0.5 * self.params[_k.P_SHELL] + tolerance * float(np.max(self.box[: self.dim]))
+        if drift > allowed:
+            # the lists would miss collisions: an engine bug, never a user error
+            raise RuntimeError(f"a particle drifted {drift:.6g} from its list anchor (allowed {allowed:.6g})")
         return gap
 
     def _pair_gap(self):
-        return _k.min_gap(self.p, self.scale, self.info, self.head, self.ncell, self.geom, self.dim)
+        return _k.min_gap(
+            self.p, self.scale, self.info, self.cell_members, self.cell_count, self.ncell, self.geom, self.dim
+        )
 
     # -------------------------------------------------------------- running
 
@@ -796,26 +883,42 @@ class HardSphereSystem:
             if self.collisions - self.last_sort >= SORT_INTERVAL * self.count:
                 self._sort_by_cell()
             before, start = self.collisions, self.time
-            self.time = _k.run_events(
-                self.time, step, start + remaining, self.p, self._mass, self._species, self._image, self.info,
-                self.times, self.head, self.ncell, self.geom, self.dim, self.restitution, self.params,
-                self.tree, self.leaves, self.acc,
-            )
+            # while growing, the lists hold only up to the radius scale they were built for
+            lists_expire = (self.params[_k.P_LIST_SCALE] - self.scale) / self.growth if self.growth > 0 else math.inf
+            span = max(min(remaining, lists_expire), 0.0)
+            self.time = self._run_events(step, start + span)
+            lists_expired = lists_expire < remaining and self.time == start + span
             advanced = self.collisions - before
             done += advanced
             remaining -= self.time - start
             if progress is not None:
                 progress(advanced)
             self.synchronise()
-            if advanced < step:  # stopped by the time limit, or nothing left to happen
+            if self.acc[_k.ACC_LIST_OVERFLOW] > 0 or self.acc[_k.ACC_CELL_OVERFLOW] > 0:
+                if self.acc[_k.ACC_LIST_OVERFLOW] > 0:
+                    self._grow_lists(int(self.acc[_k.ACC_LIST_OVERFLOW]))
+                if self.acc[_k.ACC_CELL_OVERFLOW] > 0:
+                    self._grow_cells(int(self.acc[_k.ACC_CELL_OVERFLOW]))
+                self.acc[_k.ACC_LIST_OVERFLOW] = self.acc[_k.ACC_CELL_OVERFLOW] = 0.0
+                self._refresh_lists()
+            elif lists_expired:
+                self._refresh_lists()
+            elif advanced < step:  # stopped by the time limit, or nothing left to happen
                 break
         return done
 
+    def _run_events(self, collisions, t_stop):
+        return _k.run_events(
+            self.time, collisions, t_stop, self.p, self._mass, self._species, self._image, self.info, self.times,
+            self.anchor, self.neighbours, self.neighbour_count, self.cell_members, self.cell_count, self.cell_points,
+            self.ncell, self.geom, self.dim, self.restitution, self.params, self.tree, self.leaves, self.acc,
+        )
+
     # -------------------------------------------------------------- checkpoints
 
-    _ARRAYS = ("p", "_mass", "_species", "_image", "ids", "acc", "geom", "params", "restitution", "info", "head",
-               "ncell", "times", "tree")
-    _SCALARS = ("dim", "time", "elapsed", "leaves", "last_sort")
+    _ARRAYS = ("p", "_mass", "_species", "_image", "ids", "acc", "geom", "params", "restitution", "info", "ncell",
+               "times", "tree", "anchor", "neighbours", "neighbour_count", "cell_members", "cell_count", "cell_points")
+    _SCALARS = ("dim", "time", "elapsed", "leaves", "last_sort", "_shell_request")
 
     def state_dict(self):
         """Every array and number needed to continue the run bit for bit.
@@ -1004,8 +1107,7 @@ def random_fluid(
         system.rescale_temperature(kT)
         if progress is not None:
             progress(done / total_time)
-    system.growth = 0.0
-    system.scale0 = 1.0
+    system._stop_growing(1.0)
     system.check(tolerance=1e-7)
     system.set_velocities(maxwell_boltzmann(masses, dim, kT, generator))
     return system
@@ -1115,7 +1217,7 @@ def _pair_histogram(system, r_max, bins):
     dim = system.dim
     periodic = bool(np.all(system.periodic[:dim]))
     boxsize = system.box[:dim] if periodic else None
-    points = np.mod(system.pos, system.box[:dim]) if periodic else system.pos
+    points = system._folded()[0]
     tree = cKDTree(points, boxsize=boxsize)
     edges = np.linspace(0.0, r_max, bins + 1)
     cumulative = tree.count_neighbors(tree, edges).astype(float)

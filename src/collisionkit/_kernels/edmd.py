@@ -1,28 +1,42 @@
 """Numba kernels of the event-driven engine for hard spheres and discs.
 
-Algorithm (Rapaport; Isobe, Int. J. Mod. Phys. C 10, 1281 (1999)):
+Algorithm (Rapaport; Isobe, Int. J. Mod. Phys. C 10, 1281 (1999); neighbour
+lists after Donev, Torquato & Stillinger, J. Comput. Phys. 202, 737 (2005),
+as used for speed by Smallenburg, arXiv:2201.01100):
 
 * particles move ballistically (parabolas under uniform gravity) and are
   updated lazily: row ``p[i]`` holds position, velocity, the particle's own
   time and its radius (one 64-byte record, so a neighbour costs one cache
   line);
-* a cell list with cells no smaller than the largest contact distance;
-  every particle keeps its best predicted collision (with a particle in the
-  3^d surrounding cells) and its next boundary event (leaving its cell or
-  hitting a wall); its event is the earlier of the two. After a cell
-  crossing only the newly adjacent cells are searched;
+* every particle carries a neighbour list: the particles whose *anchors*
+  (positions when their lists were last built) lie within
+  ``(r_i + r_j) * list_scale + shell``. A particle's list is rebuilt (a LIST
+  event) when it has moved ``shell / 2`` from its anchor, so two particles
+  that are not neighbours cannot touch before one of them rebuilds. Lists are
+  symmetric: a rebuild removes the particle from its old neighbours' lists
+  and adds it to its new ones'. A cell list of the anchors (cells no smaller
+  than the list radius, each a contiguous block of slots holding the anchors
+  and radii, so a scan streams memory instead of chasing pointers) finds the
+  new neighbours;
+* every particle keeps its best predicted collision (over its list) and its
+  next boundary event (list expiry or a wall); its event is the earlier;
 * a complete binary tree over the particles' event times gives the next
   event in O(1) and updates in O(log N);
-* an event with partner j is stale if j has changed velocity since it was
-  predicted (``counter[j]`` moved on); stale events are re-predicted.
+* events are numbered; an event with partner j is stale if j has changed
+  velocity since it was predicted (j's CHANGED_AT is later than i's
+  PREDICTED_AT). Unlike per-particle counters, this needs no read of the
+  partner's record when predicting, one memory round trip fewer. Stale
+  events are re-predicted.
+
+Positions are not wrapped into a periodic box at every crossing, only when a
+particle rebuilds its list, so they may lie up to ``shell / 2`` outside
+[0, L); separations use the minimum image, valid because every periodic box
+length exceeds twice the largest list radius.
 
 Growing particles (Lubachevsky-Stillinger compression) use radii
-``radius * (scale0 + growth * t)``; with growth 0 the contact quadratic is the
-one of :mod:`collisionkit._kernels.collisions`.
-
-Boxes span [0, L) on every axis; an axis is periodic or closed by hard walls
-at 0 and L. Periodic images are fixed by which neighbour cell a partner sits
-in, so boxes of only 3 cells per axis are handled exactly.
+``radius * (scale0 + growth * t)``; lists cover radii up to ``list_scale``
+and the caller stops the run when the scale reaches it. With growth 0 the
+contact quadratic is the one of :mod:`collisionkit._kernels.collisions`.
 """
 
 from __future__ import annotations
@@ -31,12 +45,13 @@ import math
 
 import numpy as np
 
-from .._jit import kernel
+from .._jit import inline_kernel, kernel
+from ._memory import prefetch
 
 # event kinds
 NO_EVENT = 0
 PAIR = 1
-CELL = 2
+LIST = 2  # the particle moved shell / 2 from its anchor: rebuild its neighbour list
 WALL = 3
 
 # columns of the particle records p (float64, N x 8)
@@ -46,14 +61,14 @@ T = 6  # the particle's own time
 R = 7  # radius at scale 1
 
 # columns of the integer records info (int64, N x 8)
-CELL_OF = 0
-NEXT = 1  # next particle in the same cell (-1: none)
-PREV = 2
-COUNTER = 3  # velocity changes so far (stale-event detection)
+CELL_OF = 0  # cell of the anchor
+SLOT = 1  # slot in that cell
+UNUSED = 2
+CHANGED_AT = 3  # number of the event that last changed the velocity
 PARTNER = 4  # partner of the best predicted collision
-PARTNER_COUNT = 5  # the partner's counter when predicted
-BOUNDARY_CODE = 6  # 2 * axis + (1 upward, 0 downward)
-BOUNDARY_KIND = 7  # CELL or WALL
+PREDICTED_AT = 5  # number of the event at which the collision was predicted
+BOUNDARY_CODE = 6  # wall face 2 * axis + (1 upward, 0 downward); -1 for list expiry
+BOUNDARY_KIND = 7  # LIST or WALL
 
 # columns of the event times (float64, N x 3)
 EVENT_TIME = 0
@@ -74,17 +89,25 @@ P_LAW_SPEED = 3
 P_LAW_EXPONENT = 4
 P_ELASTIC_BELOW = 5
 P_WALL_RESTITUTION = 6
-P_SIZE = 7
+P_SHELL = 7  # neighbour-list shell (skin) width
+P_LIST_SCALE = 8  # largest radius scale the lists are valid for
+P_SIZE = 9
 
 # accumulator slots (acc array)
 ACC_VIRIAL = 0  # sum over pair collisions of impulse * contact distance
 ACC_PAIR_COLLISIONS = 1
 ACC_WALL_COLLISIONS = 2
-ACC_CELL_CROSSINGS = 3
+ACC_LIST_REBUILDS = 3
 ACC_STALE_EVENTS = 4
 ACC_ENERGY_LOST = 5
 ACC_WALL_IMPULSE = 6  # sum of |momentum| transferred to walls
-ACC_SIZE = 7
+ACC_LIST_OVERFLOW = 7  # > 0: a neighbour list outgrew its row; the run stopped to grow the rows
+ACC_EVENTS = 8  # events processed (pair, stale, list, wall): numbers them for stale detection
+ACC_CELL_OVERFLOW = 9  # > 0: a cell outgrew its slots; the run stopped to grow them
+ACC_SIZE = 10
+
+# lowest levels of a particle's path up the event tree to prefetch (the upper ones stay cached)
+TREE_LEVELS_PREFETCHED = 8
 
 # restitution laws
 LAW_CONSTANT = 0
@@ -160,7 +183,7 @@ def pair_contact_time(rx, ry, rz, ux, uy, uz, contact, scale, growth, beat):
     return math.inf
 
 
-@kernel
+@inline_kernel
 def advance(p, i, t, geom, dim):
     """Move particle i along its flight to time t (exact parabola)."""
     dt = t - p[i, T]
@@ -184,7 +207,7 @@ def cell_index(cx, cy, cz, ncell):
     return cx + ncell[0] * (cy + ncell[1] * cz)
 
 
-@kernel
+@inline_kernel
 def tree_update(leaf, tree, time, leaves):
     """Give ``leaf`` a new event time and replay its matches up the tournament tree.
 
@@ -219,43 +242,6 @@ def tree_build(tree, times, leaves):
 
 
 @kernel
-def predict_boundary(p, i, info, times, ncell, geom, dim, scale, growth):
-    """Next time particle i (at its own time) leaves its cell or hits a wall."""
-    best = math.inf
-    kind = NO_EVENT
-    code = -1
-    cx, cy, cz = cell_coordinates(info[i, CELL_OF], ncell)
-    cells = (cx, cy, cz)
-    r = p[i, R]
-    for k in range(dim):
-        c = cells[k]
-        x = p[i, X + k]
-        v = p[i, V + k]
-        g = 0.5 * geom[G_GRAVITY, k]
-        periodic = geom[G_PERIODIC, k] != 0.0
-        width = geom[G_CELL, k]
-        if periodic or c < ncell[k] - 1:
-            tau = first_root_from_below(g, v, x - (c + 1) * width)
-            this_kind = CELL
-        else:
-            tau = first_root_from_below(g, v + r * growth, x + r * scale - geom[G_BOX, k])
-            this_kind = WALL
-        if tau < best:
-            best, kind, code = tau, this_kind, 2 * k + 1
-        if periodic or c > 0:
-            tau = first_root_from_below(-g, -v, c * width - x)
-            this_kind = CELL
-        else:
-            tau = first_root_from_below(-g, -v + r * growth, r * scale - x)
-            this_kind = WALL
-        if tau < best:
-            best, kind, code = tau, this_kind, 2 * k
-    times[i, BOUNDARY_TIME] = p[i, T] + best
-    info[i, BOUNDARY_KIND] = kind
-    info[i, BOUNDARY_CODE] = code
-
-
-@kernel
 def _neighbour(c, offset, n, periodic, length):
     """Neighbour cell coordinate along one axis and the image shift; -1 if outside."""
     c += offset
@@ -270,148 +256,37 @@ def _neighbour(c, offset, n, periodic, length):
     return c, 0.0
 
 
-@kernel
-def scan_pairs(p, i, t, info, head, ncell, geom, dim, scale, growth, best, fixed_axis, fixed_offset):
-    """Earliest collision of particle i (at time t) with particles in nearby cells.
-
-    Searches the 3^d cells around i's cell, or, with ``fixed_axis`` >= 0,
-    only the layer at ``fixed_offset`` along that axis. Returns
-    (time from t, partner), partner -1 if nothing beats ``best``.
-    """
-    partner = -1
-    cx, cy, cz = cell_coordinates(info[i, CELL_OF], ncell)
-    xi = p[i, X]
-    yi = p[i, X + 1]
-    zi = p[i, X + 2]
-    vxi = p[i, V]
-    vyi = p[i, V + 1]
-    vzi = p[i, V + 2]
-    ri = p[i, R]
-    gx = 0.5 * geom[G_GRAVITY, 0]
-    gy = 0.5 * geom[G_GRAVITY, 1]
-    gz = 0.5 * geom[G_GRAVITY, 2]
-    falling = gx != 0.0 or gy != 0.0 or gz != 0.0
-    z_low, z_high = (-1, 1) if dim == 3 else (0, 0)
-    y_low, y_high = -1, 1
-    x_low, x_high = -1, 1
-    if fixed_axis == 0:
-        x_low = x_high = fixed_offset
-    elif fixed_axis == 1:
-        y_low = y_high = fixed_offset
-    elif fixed_axis == 2:
-        z_low = z_high = fixed_offset
-    for oz in range(z_low, z_high + 1):
-        nz, shift_z = _neighbour(cz, oz, ncell[2], geom[G_PERIODIC, 2] != 0.0, geom[G_BOX, 2])
-        if nz < 0:
-            continue
-        for oy in range(y_low, y_high + 1):
-            ny, shift_y = _neighbour(cy, oy, ncell[1], geom[G_PERIODIC, 1] != 0.0, geom[G_BOX, 1])
-            if ny < 0:
-                continue
-            for ox in range(x_low, x_high + 1):
-                nx, shift_x = _neighbour(cx, ox, ncell[0], geom[G_PERIODIC, 0] != 0.0, geom[G_BOX, 0])
-                if nx < 0:
-                    continue
-                j = head[cell_index(nx, ny, nz, ncell)]
-                while j >= 0:
-                    dt = t - p[j, T]
-                    rx = p[j, X] + p[j, V] * dt + shift_x - xi
-                    ry = p[j, X + 1] + p[j, V + 1] * dt + shift_y - yi
-                    rz = p[j, X + 2] + p[j, V + 2] * dt + shift_z - zi
-                    ux = p[j, V] - vxi
-                    uy = p[j, V + 1] - vyi
-                    uz = p[j, V + 2] - vzi
-                    if falling:
-                        # the relative velocity is unchanged by gravity (both fall alike)
-                        rx += gx * dt * dt
-                        ry += gy * dt * dt
-                        rz += gz * dt * dt
-                        ux += 2.0 * gx * dt
-                        uy += 2.0 * gy * dt
-                        uz += 2.0 * gz * dt
-                    contact = ri + p[j, R]
-                    if growth == 0.0:
-                        # cheap filter first: approaching, and able to touch before ``best``
-                        ru = rx * ux + ry * uy + rz * uz
-                        sigma = contact * scale
-                        c = rx * rx + ry * ry + rz * rz - sigma * sigma
-                        if ru < 0.0 and c < -2.0 * ru * best and j != i:
-                            # most approaching pairs pass by: discriminant < 0 (a miss by less
-                            # than round-off of sigma changes nothing: it would not touch)
-                            uu = ux * ux + uy * uy + uz * uz
-                            if ru * ru >= uu * c or c <= 0.0:
-                                tau = pair_contact_time(rx, ry, rz, ux, uy, uz, contact, scale, 0.0, best)
-                                if tau < best:
-                                    best = tau
-                                    partner = j
-                    elif j != i:
-                        tau = pair_contact_time(rx, ry, rz, ux, uy, uz, contact, scale, growth, best)
-                        if tau < best:
-                            best = tau
-                            partner = j
-                    j = info[j, NEXT]
-    return best, partner
+@inline_kernel
+def cell_remove(i, info, cell_members, cell_count, cell_points):
+    """Take particle i out of its cell (the last member moves into its slot)."""
+    cell = info[i, CELL_OF]
+    slot = info[i, SLOT]
+    last = cell_count[cell] - 1
+    moved = cell_members[cell, last]
+    cell_members[cell, slot] = moved
+    for k in range(4):
+        cell_points[cell, slot, k] = cell_points[cell, last, k]
+    info[moved, SLOT] = slot
+    cell_count[cell] = last
 
 
-@kernel
-def predict_pairs(p, i, info, times, head, ncell, geom, dim, scale0, growth):
-    """Best collision of particle i (at its own time) over all nearby cells."""
-    t = p[i, T]
-    tau, partner = scan_pairs(p, i, t, info, head, ncell, geom, dim, scale0 + growth * t, growth, math.inf, -1, 0)
-    times[i, PAIR_TIME] = t + tau
-    info[i, PARTNER] = partner
-    info[i, PARTNER_COUNT] = info[partner, COUNTER] if partner >= 0 else 0
-
-
-@kernel
-def schedule(i, info, times, tree, leaves):
-    """Make i's event the earlier of its collision and its boundary event."""
-    time = min(times[i, PAIR_TIME], times[i, BOUNDARY_TIME])
-    times[i, EVENT_TIME] = time
-    tree_update(i, tree, time, leaves)
-
-
-@kernel
-def cell_remove(i, cell, head, info):
-    before = info[i, PREV]
-    after = info[i, NEXT]
-    if before >= 0:
-        info[before, NEXT] = after
-    else:
-        head[cell] = after
-    if after >= 0:
-        info[after, PREV] = before
-
-
-@kernel
-def cell_insert(i, cell, head, info):
-    first = head[cell]
-    info[i, NEXT] = first
-    info[i, PREV] = -1
-    if first >= 0:
-        info[first, PREV] = i
-    head[cell] = i
+@inline_kernel
+def cell_insert(i, cell, anchor, radius, info, cell_members, cell_count, cell_points):
+    """Append particle i (anchor and radius) to ``cell``; False if the cell is full."""
+    slot = cell_count[cell]
+    if slot >= cell_members.shape[1]:
+        return False
+    cell_members[cell, slot] = i
+    for k in range(3):
+        cell_points[cell, slot, k] = anchor[i, k]
+    cell_points[cell, slot, 3] = radius
+    cell_count[cell] = slot + 1
     info[i, CELL_OF] = cell
+    info[i, SLOT] = slot
+    return True
 
 
-@kernel
-def build_cells(p, ncell, geom, dim, info, head):
-    head[:] = -1
-    for i in range(p.shape[0]):
-        c0 = c1 = c2 = 0
-        for k in range(dim):
-            c = int(math.floor(p[i, X + k] / geom[G_CELL, k]))
-            c = min(max(c, 0), ncell[k] - 1)
-            if k == 0:
-                c0 = c
-            elif k == 1:
-                c1 = c
-            else:
-                c2 = c
-        cell_insert(i, cell_index(c0, c1, c2, ncell), head, info)
-
-
-@kernel
+@inline_kernel
 def restitution_for(i, j, approach, species, restitution, params):
     """Coefficient of normal restitution of one contact."""
     if approach < params[P_ELASTIC_BELOW]:
@@ -423,7 +298,7 @@ def restitution_for(i, j, approach, species, restitution, params):
     return e
 
 
-@kernel
+@inline_kernel
 def collide_pair(p, i, j, mass, geom, dim, scale, growth, species, restitution, params, acc):
     """Resolve the contact of i and j (both at the current time)."""
     rx = 0.0
@@ -469,32 +344,6 @@ def collide_pair(p, i, j, mass, geom, dim, scale, growth, species, restitution, 
 
 
 @kernel
-def cross_cell(p, i, code, info, head, ncell, geom, image):
-    """Move particle i into the neighbouring cell across face ``code``."""
-    axis = code // 2
-    step = 1 if code % 2 == 1 else -1
-    cx, cy, cz = cell_coordinates(info[i, CELL_OF], ncell)
-    c = (cx, cy, cz)[axis] + step
-    if c >= ncell[axis]:
-        c = 0
-        p[i, X + axis] -= geom[G_BOX, axis]
-        image[i, axis] += 1
-    elif c < 0:
-        c = ncell[axis] - 1
-        p[i, X + axis] += geom[G_BOX, axis]
-        image[i, axis] -= 1
-    if axis == 0:
-        cx = c
-    elif axis == 1:
-        cy = c
-    else:
-        cz = c
-    cell_remove(i, info[i, CELL_OF], head, info)
-    cell_insert(i, cell_index(cx, cy, cz, ncell), head, info)
-    return axis, step
-
-
-@kernel
 def bounce_off_wall(p, i, code, mass, params, acc):
     axis = code // 2
     upward = code % 2 == 1
@@ -507,91 +356,454 @@ def bounce_off_wall(p, i, code, mass, params, acc):
 
 
 @kernel
-def _repredict(p, i, info, times, head, ncell, geom, dim, params, tree, leaves):
-    """Full prediction of i (at its own time): pairs, boundary, schedule."""
-    scale0 = params[P_SCALE0]
+def minimum_image(dx, length, half):
+    """Shortest periodic image of a separation no longer than 1.5 box lengths (half = inf: walls)."""
+    if dx > half:
+        return dx - length
+    if dx < -half:
+        return dx + length
+    return dx
+
+
+@kernel
+def _half_box(geom, k):
+    return 0.5 * geom[G_BOX, k] if geom[G_PERIODIC, k] != 0.0 else math.inf
+
+
+@inline_kernel
+def predict_pairs(p, i, info, times, neighbours, neighbour_count, geom, dim, scale0, growth, event):
+    """Best collision of particle i (at its own time) with the particles of its list (at event ``event``)."""
+    t = p[i, T]
+    scale = scale0 + growth * t
+    xi = p[i, X]
+    yi = p[i, X + 1]
+    zi = p[i, X + 2]
+    vxi = p[i, V]
+    vyi = p[i, V + 1]
+    vzi = p[i, V + 2]
+    ri = p[i, R]
+    lx, ly, lz = geom[G_BOX, 0], geom[G_BOX, 1], geom[G_BOX, 2]
+    hx, hy, hz = _half_box(geom, 0), _half_box(geom, 1), _half_box(geom, 2)
+    gx = 0.5 * geom[G_GRAVITY, 0]
+    gy = 0.5 * geom[G_GRAVITY, 1]
+    gz = 0.5 * geom[G_GRAVITY, 2]
+    falling = gx != 0.0 or gy != 0.0 or gz != 0.0
+    best = math.inf
+    partner = -1
+    for m in range(neighbour_count[i]):
+        j = neighbours[i, m]
+        dt = t - p[j, T]
+        rx = minimum_image(p[j, X] + p[j, V] * dt - xi, lx, hx)
+        ry = minimum_image(p[j, X + 1] + p[j, V + 1] * dt - yi, ly, hy)
+        rz = minimum_image(p[j, X + 2] + p[j, V + 2] * dt - zi, lz, hz)
+        ux = p[j, V] - vxi
+        uy = p[j, V + 1] - vyi
+        uz = p[j, V + 2] - vzi
+        if falling:
+            # the relative velocity is unchanged by gravity (both fall alike)
+            rx += gx * dt * dt
+            ry += gy * dt * dt
+            rz += gz * dt * dt
+            ux += 2.0 * gx * dt
+            uy += 2.0 * gy * dt
+            uz += 2.0 * gz * dt
+        contact = ri + p[j, R]
+        if growth == 0.0:
+            # cheap filter first: approaching, and able to touch before ``best``
+            ru = rx * ux + ry * uy + rz * uz
+            sigma = contact * scale
+            c = rx * rx + ry * ry + rz * rz - sigma * sigma
+            if ru < 0.0 and c < -2.0 * ru * best:
+                # most approaching pairs pass by: discriminant < 0 (a miss by less
+                # than round-off of sigma changes nothing: it would not touch)
+                uu = ux * ux + uy * uy + uz * uz
+                if ru * ru >= uu * c or c <= 0.0:
+                    tau = pair_contact_time(rx, ry, rz, ux, uy, uz, contact, scale, 0.0, best)
+                    if tau < best:
+                        best = tau
+                        partner = j
+        else:
+            tau = pair_contact_time(rx, ry, rz, ux, uy, uz, contact, scale, growth, best)
+            if tau < best:
+                best = tau
+                partner = j
+    times[i, PAIR_TIME] = t + best
+    info[i, PARTNER] = partner
+    info[i, PREDICTED_AT] = event
+
+
+@inline_kernel
+def list_expiry(p, i, anchor, geom, dim, reach):
+    """Time (from i's own time) until particle i is ``reach`` away from its anchor.
+
+    Without gravity the distance is measured in full (a quadratic); under
+    gravity each axis is held within reach / sqrt(d), which keeps the
+    distance within reach and leaves one quadratic per axis and direction.
+    """
+    falling = geom[G_GRAVITY, 0] != 0.0 or geom[G_GRAVITY, 1] != 0.0 or geom[G_GRAVITY, 2] != 0.0
+    if not falling:
+        a = 0.0
+        b = 0.0
+        c = -reach * reach
+        for k in range(dim):
+            d = p[i, X + k] - anchor[i, k]
+            v = p[i, V + k]
+            a += v * v
+            b += 2.0 * d * v
+            c += d * d
+        return first_root_from_below(a, b, c)
+    side = reach / math.sqrt(dim)
+    best = math.inf
+    for k in range(dim):
+        d = p[i, X + k] - anchor[i, k]
+        v = p[i, V + k]
+        g = 0.5 * geom[G_GRAVITY, k]
+        best = min(best, first_root_from_below(g, v, d - side), first_root_from_below(-g, -v, -d - side))
+    return best
+
+
+@inline_kernel
+def predict_boundary(p, i, info, times, anchor, geom, dim, params):
+    """Next time particle i (at its own time) must rebuild its list or hits a wall."""
     growth = params[P_GROWTH]
-    predict_pairs(p, i, info, times, head, ncell, geom, dim, scale0, growth)
-    predict_boundary(p, i, info, times, ncell, geom, dim, scale0 + growth * p[i, T], growth)
+    scale = params[P_SCALE0] + growth * p[i, T]
+    best = list_expiry(p, i, anchor, geom, dim, 0.5 * params[P_SHELL])
+    kind = LIST
+    code = -1
+    r = p[i, R]
+    for k in range(dim):
+        if geom[G_PERIODIC, k] != 0.0:
+            continue
+        x = p[i, X + k]
+        v = p[i, V + k]
+        g = 0.5 * geom[G_GRAVITY, k]
+        tau = first_root_from_below(g, v + r * growth, x + r * scale - geom[G_BOX, k])
+        if tau < best:
+            best, kind, code = tau, WALL, 2 * k + 1
+        tau = first_root_from_below(-g, -v + r * growth, r * scale - x)
+        if tau < best:
+            best, kind, code = tau, WALL, 2 * k
+    times[i, BOUNDARY_TIME] = p[i, T] + best
+    info[i, BOUNDARY_KIND] = kind
+    info[i, BOUNDARY_CODE] = code
+
+
+@inline_kernel
+def schedule(i, info, times, tree, leaves):
+    """Make i's event the earlier of its collision and its boundary event."""
+    time = min(times[i, PAIR_TIME], times[i, BOUNDARY_TIME])
+    times[i, EVENT_TIME] = time
+    tree_update(i, tree, time, leaves)
+
+
+@kernel
+def wrap_into_box(p, i, geom, dim, image):
+    """Bring particle i back into [0, L) on periodic axes (it is at most a box length out)."""
+    for k in range(dim):
+        if geom[G_PERIODIC, k] != 0.0:
+            length = geom[G_BOX, k]
+            if p[i, X + k] >= length:
+                p[i, X + k] -= length
+                image[i, k] += 1
+            elif p[i, X + k] < 0.0:
+                p[i, X + k] += length
+                image[i, k] -= 1
+                if p[i, X + k] >= length:  # -tiny + L rounds to L
+                    p[i, X + k] = 0.0
+
+
+@kernel
+def cell_of_position(p, i, ncell, geom, dim):
+    c0 = c1 = c2 = 0
+    for k in range(dim):
+        c = int(math.floor(p[i, X + k] / geom[G_CELL, k]))
+        c = min(max(c, 0), ncell[k] - 1)
+        if k == 0:
+            c0 = c
+        elif k == 1:
+            c1 = c
+        else:
+            c2 = c
+    return cell_index(c0, c1, c2, ncell)
+
+
+@kernel
+def _offsets(n, periodic):
+    """Cell offsets to visit along one axis: each neighbouring cell once, also when n < 3."""
+    if periodic and n < 3:
+        return 0, n - 1
+    return -1, 1
+
+
+@kernel
+def list_radius(ri, rj, params):
+    return (ri + rj) * params[P_LIST_SCALE] + params[P_SHELL]
+
+
+@inline_kernel
+def gather_neighbours(p, i, info, anchor, neighbours, neighbour_count, cell_members, cell_count, cell_points, ncell,
+                      geom, dim, params, symmetric):
+    """Fill i's list from the anchors in the cells around i's anchor.
+
+    With ``symmetric`` i is also appended to each neighbour's list. Returns
+    the length the longest list touched would need (more than the row
+    length: nothing beyond the row is written, the caller must grow it).
+    """
+    width = neighbours.shape[1]
+    needed = 0
+    count = 0
+    cx, cy, cz = cell_coordinates(info[i, CELL_OF], ncell)
+    zl, zh = _offsets(ncell[2], geom[G_PERIODIC, 2] != 0.0) if dim == 3 else (0, 0)
+    yl, yh = _offsets(ncell[1], geom[G_PERIODIC, 1] != 0.0)
+    xl, xh = _offsets(ncell[0], geom[G_PERIODIC, 0] != 0.0)
+    lx, ly, lz = geom[G_BOX, 0], geom[G_BOX, 1], geom[G_BOX, 2]
+    hx, hy, hz = _half_box(geom, 0), _half_box(geom, 1), _half_box(geom, 2)
+    ax, ay, az = anchor[i, 0], anchor[i, 1], anchor[i, 2]
+    reach_i = p[i, R] * params[P_LIST_SCALE] + params[P_SHELL]
+    list_scale = params[P_LIST_SCALE]
+    for oz in range(zl, zh + 1):
+        nz, _ = _neighbour(cz, oz, ncell[2], geom[G_PERIODIC, 2] != 0.0, 0.0)
+        if nz < 0:
+            continue
+        for oy in range(yl, yh + 1):
+            ny, _ = _neighbour(cy, oy, ncell[1], geom[G_PERIODIC, 1] != 0.0, 0.0)
+            if ny < 0:
+                continue
+            for ox in range(xl, xh + 1):
+                nx, _ = _neighbour(cx, ox, ncell[0], geom[G_PERIODIC, 0] != 0.0, 0.0)
+                if nx < 0:
+                    continue
+                cell = cell_index(nx, ny, nz, ncell)
+                for slot in range(cell_count[cell]):
+                    dx = minimum_image(cell_points[cell, slot, 0] - ax, lx, hx)
+                    dy = minimum_image(cell_points[cell, slot, 1] - ay, ly, hy)
+                    dz = minimum_image(cell_points[cell, slot, 2] - az, lz, hz)
+                    reach = reach_i + cell_points[cell, slot, 3] * list_scale
+                    if dx * dx + dy * dy + dz * dz <= reach * reach:
+                        j = cell_members[cell, slot]
+                        if j == i:
+                            continue
+                        if count < width:
+                            neighbours[i, count] = j
+                        count += 1
+                        if symmetric:
+                            other = neighbour_count[j]
+                            if other < width:
+                                neighbours[j, other] = i
+                                neighbour_count[j] = other + 1
+                            needed = max(needed, other + 1)
+    neighbour_count[i] = min(count, width)
+    return max(needed, count)
+
+
+@inline_kernel
+def _prefetch_cells(cell, cell_members, cell_count, cell_points, ncell, geom, dim):
+    """Start loading the cells around ``cell`` (their counts and first slots)."""
+    cx, cy, cz = cell_coordinates(cell, ncell)
+    zl, zh = _offsets(ncell[2], geom[G_PERIODIC, 2] != 0.0) if dim == 3 else (0, 0)
+    yl, yh = _offsets(ncell[1], geom[G_PERIODIC, 1] != 0.0)
+    for oz in range(zl, zh + 1):
+        nz, _ = _neighbour(cz, oz, ncell[2], geom[G_PERIODIC, 2] != 0.0, 0.0)
+        if nz < 0:
+            continue
+        for oy in range(yl, yh + 1):
+            ny, _ = _neighbour(cy, oy, ncell[1], geom[G_PERIODIC, 1] != 0.0, 0.0)
+            if ny < 0:
+                continue
+            for ox in range(-1, 2):
+                nx = min(max(cx + ox, 0), ncell[0] - 1)
+                neighbour_cell = cell_index(nx, ny, nz, ncell)
+                prefetch(cell_points, neighbour_cell)
+                prefetch(cell_count, neighbour_cell)
+                prefetch(cell_members, neighbour_cell)
+
+
+@inline_kernel
+def _drop_from_list(j, i, neighbours, neighbour_count):
+    """Remove i from j's list (order not kept)."""
+    last = neighbour_count[j] - 1
+    for m in range(last + 1):
+        if neighbours[j, m] == i:
+            neighbours[j, m] = neighbours[j, last]
+            neighbour_count[j] = last
+            return
+
+
+@inline_kernel
+def rebuild_list(p, i, info, anchor, neighbours, neighbour_count, cell_members, cell_count, cell_points, ncell, geom,
+                 dim, params, image, acc):
+    """Re-anchor particle i at its position (at its own time) and rebuild its list.
+
+    Returns False, with ``acc[ACC_LIST_OVERFLOW]`` or ``acc[ACC_CELL_OVERFLOW]``
+    set to the size needed, if a list or a cell outgrew its row; the lists
+    are then incomplete and must all be rebuilt.
+    """
+    wrap_into_box(p, i, geom, dim, image)
+    cell = cell_of_position(p, i, ncell, geom, dim)
+    _prefetch_cells(cell, cell_members, cell_count, cell_points, ncell, geom, dim)
+    for m in range(neighbour_count[i]):
+        prefetch(neighbours, neighbours[i, m])
+        prefetch(neighbour_count, neighbours[i, m])
+    for m in range(neighbour_count[i]):
+        _drop_from_list(neighbours[i, m], i, neighbours, neighbour_count)
+    for k in range(3):
+        anchor[i, k] = p[i, X + k]
+    cell_remove(i, info, cell_members, cell_count, cell_points)
+    if not cell_insert(i, cell, anchor, p[i, R], info, cell_members, cell_count, cell_points):
+        acc[ACC_CELL_OVERFLOW] = cell_count[cell] + 1
+        return False
+    needed = gather_neighbours(p, i, info, anchor, neighbours, neighbour_count, cell_members, cell_count, cell_points,
+                               ncell, geom, dim, params, True)
+    if needed > neighbours.shape[1]:
+        acc[ACC_LIST_OVERFLOW] = needed
+        return False
+    return True
+
+
+@kernel
+def build_all_lists(p, info, anchor, neighbours, neighbour_count, cell_members, cell_count, cell_points, ncell, geom,
+                    dim, params, image):
+    """Anchor every particle at its position (all synchronised) and build every list.
+
+    Returns the longest list and the fullest cell needed; if either exceeds
+    its row length the structures are incomplete and the caller must grow
+    them and call again.
+    """
+    cell_count[:] = 0
+    most = 0
+    for i in range(p.shape[0]):
+        wrap_into_box(p, i, geom, dim, image)
+        for k in range(3):
+            anchor[i, k] = p[i, X + k]
+        cell = cell_of_position(p, i, ncell, geom, dim)
+        if not cell_insert(i, cell, anchor, p[i, R], info, cell_members, cell_count, cell_points):
+            cell_count[cell] += 1  # count what would not fit, to report the size needed
+        most = max(most, cell_count[cell])
+    if most > cell_members.shape[1]:
+        return 0, most
+    needed = 0
+    for i in range(p.shape[0]):
+        count = gather_neighbours(p, i, info, anchor, neighbours, neighbour_count, cell_members, cell_count,
+                                  cell_points, ncell, geom, dim, params, False)
+        needed = max(needed, count)
+    return needed, most
+
+
+@inline_kernel
+def _prefetch_particle(i, p, info, times, anchor, neighbours, neighbour_count, tree, leaves):
+    """Start loading everything an event of particle i reads, so the misses overlap."""
+    prefetch(p, i)
+    prefetch(info, i)
+    prefetch(times, i)
+    prefetch(anchor, i)
+    prefetch(neighbours, i)
+    prefetch(neighbour_count, i)
+    node = leaves + i
+    for _ in range(TREE_LEVELS_PREFETCHED):
+        prefetch(tree, node)
+        node >>= 1
+
+
+@inline_kernel
+def _prefetch_neighbours(i, p, neighbours, neighbour_count):
+    for m in range(neighbour_count[i]):
+        prefetch(p, neighbours[i, m])
+
+
+@inline_kernel
+def _repredict(p, i, info, times, anchor, neighbours, neighbour_count, geom, dim, params, tree, leaves, event):
+    """Full prediction of i (at its own time): pairs, boundary, schedule."""
+    predict_pairs(p, i, info, times, neighbours, neighbour_count, geom, dim, params[P_SCALE0], params[P_GROWTH],
+                  event)
+    predict_boundary(p, i, info, times, anchor, geom, dim, params)
     schedule(i, info, times, tree, leaves)
 
 
 @kernel
-def _after_crossing(p, i, axis, step, info, times, head, ncell, geom, dim, params):
-    """Update i's collision after it entered a new cell: search the new layer only,
-    unless its stored collision went stale (then search everything)."""
-    t = p[i, T]
-    scale0 = params[P_SCALE0]
-    growth = params[P_GROWTH]
-    partner = info[i, PARTNER]
-    if partner >= 0 and info[partner, COUNTER] != info[i, PARTNER_COUNT]:
-        predict_pairs(p, i, info, times, head, ncell, geom, dim, scale0, growth)
-        return
-    best = times[i, PAIR_TIME] - t
-    tau, found = scan_pairs(p, i, t, info, head, ncell, geom, dim, scale0 + growth * t, growth, best, axis, step)
-    if found >= 0:
-        times[i, PAIR_TIME] = t + tau
-        info[i, PARTNER] = found
-        info[i, PARTNER_COUNT] = info[found, COUNTER]
-
-
-@kernel
-def run_events(t, max_pair_collisions, t_stop, p, mass, species, image, info, times, head, ncell, geom, dim,
-               restitution, params, tree, leaves, acc):
+def run_events(t, max_pair_collisions, t_stop, p, mass, species, image, info, times, anchor, neighbours,
+               neighbour_count, cell_members, cell_count, cell_points, ncell, geom, dim, restitution, params, tree,
+               leaves, acc):
     """Process events until ``max_pair_collisions`` collisions or time ``t_stop``.
 
     Returns the current time: the last event's time, or ``t_stop`` if that
-    came first (particles are not moved to it: call ``synchronise``).
+    came first (particles are not moved to it: call ``synchronise``). Stops
+    early, with ``acc[ACC_LIST_OVERFLOW]`` or ``acc[ACC_CELL_OVERFLOW]`` set
+    to the size needed, if a neighbour list or a cell outgrows its row (grow
+    the rows and rebuild every list).
     """
     done = 0
     scale0 = params[P_SCALE0]
     growth = params[P_GROWTH]
+    event = int(acc[ACC_EVENTS])
     while done < max_pair_collisions:
         event_time = tree[1, 0]
         i = int(tree[1, 1])
         if event_time > t_stop:
-            return t_stop
+            t = t_stop
+            break
         if event_time == math.inf:
-            return t
+            break
         t = event_time
+        event += 1
+        # memory latency dominates: start every load whose address is known, then compute
+        _prefetch_particle(i, p, info, times, anchor, neighbours, neighbour_count, tree, leaves)
+        if info[i, PARTNER] >= 0:
+            _prefetch_particle(info[i, PARTNER], p, info, times, anchor, neighbours, neighbour_count, tree, leaves)
+        _prefetch_neighbours(i, p, neighbours, neighbour_count)
         advance(p, i, t, geom, dim)
+        partner = -1  # the second particle to re-predict, if any
         if times[i, PAIR_TIME] <= times[i, BOUNDARY_TIME]:
             j = info[i, PARTNER]
-            if info[j, COUNTER] != info[i, PARTNER_COUNT]:
+            _prefetch_neighbours(j, p, neighbours, neighbour_count)
+            if info[j, CHANGED_AT] > info[i, PREDICTED_AT]:
                 acc[ACC_STALE_EVENTS] += 1.0
-                predict_pairs(p, i, info, times, head, ncell, geom, dim, scale0, growth)
-                schedule(i, info, times, tree, leaves)
-                continue
-            advance(p, j, t, geom, dim)
-            collide_pair(p, i, j, mass, geom, dim, scale0 + growth * t, growth, species, restitution, params, acc)
-            info[i, COUNTER] += 1
-            info[j, COUNTER] += 1
-            done += 1
-            _repredict(p, j, info, times, head, ncell, geom, dim, params, tree, leaves)
-            _repredict(p, i, info, times, head, ncell, geom, dim, params, tree, leaves)
-        elif info[i, BOUNDARY_KIND] == CELL:
-            axis, step = cross_cell(p, i, info[i, BOUNDARY_CODE], info, head, ncell, geom, image)
-            acc[ACC_CELL_CROSSINGS] += 1.0
-            predict_boundary(p, i, info, times, ncell, geom, dim, scale0 + growth * t, growth)
-            _after_crossing(p, i, axis, step, info, times, head, ncell, geom, dim, params)
-            schedule(i, info, times, tree, leaves)
+            else:
+                advance(p, j, t, geom, dim)
+                collide_pair(p, i, j, mass, geom, dim, scale0 + growth * t, growth, species, restitution, params, acc)
+                info[i, CHANGED_AT] = event
+                info[j, CHANGED_AT] = event
+                done += 1
+                partner = j
+        elif info[i, BOUNDARY_KIND] == LIST:
+            acc[ACC_LIST_REBUILDS] += 1.0
+            if not rebuild_list(p, i, info, anchor, neighbours, neighbour_count, cell_members, cell_count, cell_points,
+                                ncell, geom, dim, params, image, acc):
+                break
         else:
             bounce_off_wall(p, i, info[i, BOUNDARY_CODE], mass, params, acc)
-            info[i, COUNTER] += 1
-            _repredict(p, i, info, times, head, ncell, geom, dim, params, tree, leaves)
+            info[i, CHANGED_AT] = event
+        # one call site, so the inlined prediction is compiled once
+        for q in range(1 if partner < 0 else 2):
+            _repredict(p, i if q == 0 else partner, info, times, anchor, neighbours, neighbour_count, geom, dim,
+                       params, tree, leaves, event)
+    acc[ACC_EVENTS] = event
     return t
 
 
 @kernel
-def predict_all(p, info, times, head, ncell, geom, dim, params, tree, leaves):
+def predict_all(p, info, times, anchor, neighbours, neighbour_count, geom, dim, params, tree, leaves, acc):
     """Predict every particle's events (all at their own times) and rebuild the tree."""
-    scale0 = params[P_SCALE0]
-    growth = params[P_GROWTH]
+    event = int(acc[ACC_EVENTS])
     for i in range(p.shape[0]):
-        predict_pairs(p, i, info, times, head, ncell, geom, dim, scale0, growth)
-        predict_boundary(p, i, info, times, ncell, geom, dim, scale0 + growth * p[i, T], growth)
+        predict_pairs(p, i, info, times, neighbours, neighbour_count, geom, dim, params[P_SCALE0], params[P_GROWTH],
+                      event)
+        predict_boundary(p, i, info, times, anchor, geom, dim, params)
         times[i, EVENT_TIME] = min(times[i, PAIR_TIME], times[i, BOUNDARY_TIME])
     tree_build(tree, times, leaves)
+
+
+@kernel
+def largest_anchor_drift(p, anchor, dim):
+    """Largest distance of a particle (synchronised) from its anchor: at most shell / 2."""
+    worst = 0.0
+    for i in range(p.shape[0]):
+        norm2 = 0.0
+        for k in range(dim):
+            d = p[i, X + k] - anchor[i, k]
+            norm2 += d * d
+        worst = max(worst, math.sqrt(norm2))
+    return worst
+
 
 
 @kernel
@@ -602,28 +814,33 @@ def synchronise(p, t, geom, dim):
 
 
 @kernel
-def min_gap(p, scale, info, head, ncell, geom, dim):
+def min_gap(p, scale, info, cell_members, cell_count, ncell, geom, dim):
     """Smallest (distance - contact distance) over pairs in neighbouring cells.
 
-    Particles must be synchronised. Negative means an overlap.
+    Particles must be synchronised and within the list shell of their
+    anchors (cells hold anchors). Negative means an overlap.
     """
     worst = math.inf
     for i in range(p.shape[0]):
         cx, cy, cz = cell_coordinates(info[i, CELL_OF], ncell)
-        for oz in range(-1 if dim == 3 else 0, 2 if dim == 3 else 1):
+        zl, zh = _offsets(ncell[2], geom[G_PERIODIC, 2] != 0.0) if dim == 3 else (0, 0)
+        yl, yh = _offsets(ncell[1], geom[G_PERIODIC, 1] != 0.0)
+        xl, xh = _offsets(ncell[0], geom[G_PERIODIC, 0] != 0.0)
+        for oz in range(zl, zh + 1):
             nz, _ = _neighbour(cz, oz, ncell[2], geom[G_PERIODIC, 2] != 0.0, 0.0)
             if nz < 0:
                 continue
-            for oy in range(-1, 2):
+            for oy in range(yl, yh + 1):
                 ny, _ = _neighbour(cy, oy, ncell[1], geom[G_PERIODIC, 1] != 0.0, 0.0)
                 if ny < 0:
                     continue
-                for ox in range(-1, 2):
+                for ox in range(xl, xh + 1):
                     nx, _ = _neighbour(cx, ox, ncell[0], geom[G_PERIODIC, 0] != 0.0, 0.0)
                     if nx < 0:
                         continue
-                    j = head[cell_index(nx, ny, nz, ncell)]
-                    while j >= 0:
+                    cell = cell_index(nx, ny, nz, ncell)
+                    for slot in range(cell_count[cell]):
+                        j = cell_members[cell, slot]
                         if j > i:
                             norm2 = 0.0
                             for k in range(dim):
@@ -632,7 +849,6 @@ def min_gap(p, scale, info, head, ncell, geom, dim):
                                     x -= geom[G_BOX, k] * round(x / geom[G_BOX, k])
                                 norm2 += x * x
                             worst = min(worst, math.sqrt(norm2) - (p[i, R] + p[j, R]) * scale)
-                        j = info[j, NEXT]
     return worst
 
 
