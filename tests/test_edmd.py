@@ -183,6 +183,78 @@ def test_polydisperse_mixture_in_a_channel():
     np.testing.assert_allclose(system.momentum()[[0, 2]], momentum[[0, 2]], atol=1e-10)
 
 
+def test_neighbour_lists_are_symmetric_and_complete():
+    """Every pair whose anchors are within the list radius is listed, both ways, and no other."""
+    rng = np.random.default_rng(3)
+    positions, box = edmd.lattice("fcc", 4, 0.35)
+    radii = np.where(rng.random(len(positions)) < 0.5, 0.5, 0.35)
+    system = edmd.HardSphereSystem(positions, edmd.maxwell_boltzmann(np.ones(len(radii)), 3, rng=rng), radii, box)
+    system.run(collisions=20 * system.count)  # lists rebuilt one particle at a time
+    shell, scale = system.params[kernels.P_SHELL], system.params[kernels.P_LIST_SCALE]
+    length = system.box[:3]
+    listed = {(i, int(j)) for i in range(system.count) for j in system.neighbours[i, : system.neighbour_count[i]]}
+    expected = set()
+    for i in range(system.count):
+        separation = system.anchor - system.anchor[i]
+        separation -= length * np.round(separation / length)
+        reach = (system.p[:, kernels.R] + system.p[i, kernels.R]) * scale + shell
+        for j in np.flatnonzero(np.sum(separation**2, axis=1) <= reach**2):
+            if j != i:
+                expected.add((i, int(j)))
+    assert listed == expected
+    assert all((j, i) in listed for i, j in listed)
+
+
+def test_lists_grow_when_they_overflow_mid_run():
+    """Rows cut to the longest list of the lattice: the melting fluid outgrows them at once."""
+    system = fcc_system(cells=4, eta=0.45)
+    width = int(system.neighbour_count.max())
+    system.neighbours = np.ascontiguousarray(system.neighbours[:, :width])
+    energy = system.kinetic_energy()
+    system.run(collisions=40 * system.count)
+    assert system.neighbours.shape[1] > width
+    assert system.check() > -1e-9
+    assert system.kinetic_energy() == pytest.approx(energy, rel=1e-12)
+
+
+def test_cells_grow_for_a_mixture_of_small_and_large_spheres():
+    rng = np.random.default_rng(8)
+    diameters = np.where(rng.random(400) < 0.8, 0.2, 1.0)
+    system = edmd.random_fluid(3, 400, 0.3, rng=rng, diameters=diameters, masses=diameters**3)
+    assert system.cell_members.shape[1] > 12  # more small spheres per cell than the default slots
+    energy = system.kinetic_energy()
+    system.run(collisions=20 * system.count)
+    assert system.check() > -1e-9
+    assert system.kinetic_energy() == pytest.approx(energy, rel=1e-11)
+
+
+def test_smallest_periodic_box_narrows_the_shell():
+    """A box of 3 diameters leaves room for a shell below half a diameter; runs stay exact."""
+    positions = np.array([[0.5, 0.5, 0.5], [2.0, 1.5, 1.0], [1.0, 2.2, 2.4]])
+    velocities = edmd.maxwell_boltzmann(np.ones(3), 3, rng=2)
+    system = edmd.HardSphereSystem(positions, velocities, 0.5, 3.0)
+    assert 0 < system.params[kernels.P_SHELL] < 0.5
+    energy = system.kinetic_energy()
+    system.run(collisions=5000)
+    assert system.check() > -1e-9
+    assert system.kinetic_energy() == pytest.approx(energy, rel=1e-12)
+
+
+def test_positions_are_folded_into_the_box_with_consistent_images():
+    system = fcc_system(cells=3, eta=0.2)
+    system.run(collisions=3000)
+    folded, unwrapped = system.positions(), system.positions(unwrapped=True)
+    box = system.box[:3]
+    assert np.all((folded >= 0) & (folded < box))
+    np.testing.assert_allclose(folded + system.image * box, unwrapped, atol=1e-12)
+
+
+def test_neighbour_shell_is_validated():
+    positions, box = edmd.lattice("sc", 4, 0.3)
+    with pytest.raises(ValueError, match="neighbour_shell"):
+        edmd.HardSphereSystem(positions, np.zeros_like(positions), 0.5, box, neighbour_shell=0.0)
+
+
 def test_species_restitution_matrix_and_energy_bookkeeping():
     positions, box = edmd.lattice("sc", 6, 0.3)
     n = len(positions)

@@ -8,8 +8,9 @@ hard walls on each axis; radii and masses may differ (mixtures); collisions
 may be inelastic with a coefficient of normal restitution per species pair,
 optionally velocity dependent.
 
-The numeric work runs in :mod:`collisionkit._kernels.edmd` (cell lists, an
-array-backed tournament tree of events, lazily updated particles).
+The numeric work runs in :mod:`collisionkit._kernels.edmd` (neighbour lists
+with a shell, rebuilt from cell lists; an array-backed tournament tree of
+events; lazily updated particles).
 
 Units: any consistent set; the CLI uses diameter 1 (largest species), mass 1
 and initial kT = 1.
@@ -48,7 +49,7 @@ RESTITUTION_LAWS = {"constant": _k.LAW_CONSTANT, "bridges": _k.LAW_BRIDGES}
 # re-sort particles in memory by cell after this many collisions per particle
 SORT_INTERVAL = 20
 # neighbour-list shell (skin) in units of the largest diameter; benchmarks/bench_edmd.py --shells tunes it
-DEFAULT_SHELL = 0.3
+DEFAULT_SHELL = 0.7
 # while compressing, lists cover radii up to the current scale plus this (then all are rebuilt)
 LIST_SCALE_MARGIN = 0.05
 
@@ -306,9 +307,10 @@ class HardSphereSystem:
         Uniform acceleration; flights become exact parabolas.
     neighbour_shell : float, optional
         Skin of the neighbour lists in units of the largest diameter, > 0
-        (default 0.3): a wider shell means longer lists but fewer rebuilds.
-        Only speed depends on it; in small periodic boxes it is narrowed
-        so that twice the list radius stays below the box.
+        (default 0.7, the fastest at eta = 0.45 in benchmarks/bench_edmd.py).
+        A wider shell means longer lists but fewer rebuilds. Only speed
+        depends on it; in small periodic boxes it is narrowed so that twice
+        the list radius stays below the box.
 
     Examples
     --------
@@ -503,7 +505,7 @@ class HardSphereSystem:
 
     def _grow_lists(self, needed):
         """Widen the neighbour-list rows to hold ``needed`` entries with room to spare."""
-        self.neighbours = np.zeros((self.count, self._room_for(needed)), dtype=np.int32)
+        self.neighbours = np.zeros((self.count, self._room_for(needed)), dtype=np.uint32)
         self.neighbour_count[:] = 0
 
     def _grow_cells(self, needed):
@@ -524,7 +526,7 @@ class HardSphereSystem:
         self.info = np.zeros((count, 8), dtype=np.int64)
         self.info[:, _k.PARTNER] = -1
         self.anchor = np.zeros((count, 3))
-        self.neighbours = np.zeros((count, 16), dtype=np.int32)
+        self.neighbours = np.zeros((count, 16), dtype=np.uint32)
         self.neighbour_count = np.zeros(count, dtype=np.int32)
         self.leaves = _next_power_of_two(count)
         self.times = np.full((count, 3), np.inf)

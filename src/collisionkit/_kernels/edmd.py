@@ -214,18 +214,24 @@ def tree_update(leaf, tree, time, leaves):
     ``tree[node] = (time, particle)`` of the winner below ``node`` (the
     particle index stored as a float, exact below 2^53), so both sit in one
     cache line with the sibling's; the climb stops where nothing changes.
+    The winner so far rides up in registers and meets one sibling per level
+    (the left one wins ties).
     """
     node = leaves + leaf
     tree[node, 0] = time
-    node >>= 1
-    while node >= 1:
-        left = 2 * node
-        winner = left if tree[left, 0] <= tree[left + 1, 0] else left + 1
-        if tree[node, 0] == tree[winner, 0] and tree[node, 1] == tree[winner, 1]:
-            return
-        tree[node, 0] = tree[winner, 0]
-        tree[node, 1] = tree[winner, 1]
+    best_time = time
+    best_id = tree[node, 1]
+    while node > 1:
+        sibling_time = tree[node ^ 1, 0]
+        sibling_wins = sibling_time <= best_time if node & 1 else sibling_time < best_time
+        if sibling_wins:
+            best_time = sibling_time
+            best_id = tree[node ^ 1, 1]
         node >>= 1
+        if tree[node, 0] == best_time and tree[node, 1] == best_id:
+            return
+        tree[node, 0] = best_time
+        tree[node, 1] = best_id
 
 
 @kernel
@@ -371,6 +377,51 @@ def _half_box(geom, k):
 
 
 @inline_kernel
+def _first_contact_ballistic(p, i, neighbours, neighbour_count, geom, scale):
+    """Earliest contact of i (at its own time) with its list: fixed radii, straight flights.
+
+    Returns (time from i's time, partner or -1). The root of
+    |r + u tau| = sigma is tau = c / (-b + sqrt(D)) with b = r.u,
+    c = |r|^2 - sigma^2 and D = sigma^2 |u|^2 - |r x u|^2 (= b^2 - |u|^2 c
+    by Lagrange's identity, without its cancellation), taken when the pair
+    approaches (b < 0) and D >= 0; an overlap by round-off (c <= 0) while
+    approaching collides at once. Written without branches on the data, which
+    are unpredictable (half the pairs approach) and cost more than the
+    arithmetic: every neighbour gets a root, misses get inf.
+    """
+    t = p[i, T]
+    xi, yi, zi = p[i, X], p[i, X + 1], p[i, X + 2]
+    vxi, vyi, vzi = p[i, V], p[i, V + 1], p[i, V + 2]
+    ri = p[i, R]
+    lx, ly, lz = geom[G_BOX, 0], geom[G_BOX, 1], geom[G_BOX, 2]
+    hx, hy, hz = _half_box(geom, 0), _half_box(geom, 1), _half_box(geom, 2)
+    best = math.inf
+    partner = -1
+    for m in range(neighbour_count[i]):
+        j = neighbours[i, m]
+        dt = t - p[j, T]
+        rx = minimum_image(p[j, X] + p[j, V] * dt - xi, lx, hx)
+        ry = minimum_image(p[j, X + 1] + p[j, V + 1] * dt - yi, ly, hy)
+        rz = minimum_image(p[j, X + 2] + p[j, V + 2] * dt - zi, lz, hz)
+        ux = p[j, V] - vxi
+        uy = p[j, V + 1] - vyi
+        uz = p[j, V + 2] - vzi
+        sigma = (ri + p[j, R]) * scale
+        b = rx * ux + ry * uy + rz * uz
+        c = rx * rx + ry * ry + rz * rz - sigma * sigma
+        cx = ry * uz - rz * uy
+        cy = rz * ux - rx * uz
+        cz = rx * uy - ry * ux
+        discriminant = sigma * sigma * (ux * ux + uy * uy + uz * uz) - (cx * cx + cy * cy + cz * cz)
+        tau = max(c, 0.0) / (math.sqrt(max(discriminant, 0.0)) - b)
+        tau = tau if (b < 0.0) & ((discriminant >= 0.0) | (c <= 0.0)) else math.inf
+        if tau < best:
+            best = tau
+            partner = j
+    return best, partner
+
+
+@inline_kernel
 def predict_pairs(p, i, info, times, neighbours, neighbour_count, geom, dim, scale0, growth, event):
     """Best collision of particle i (at its own time) with the particles of its list (at event ``event``)."""
     t = p[i, T]
@@ -388,6 +439,12 @@ def predict_pairs(p, i, info, times, neighbours, neighbour_count, geom, dim, sca
     gy = 0.5 * geom[G_GRAVITY, 1]
     gz = 0.5 * geom[G_GRAVITY, 2]
     falling = gx != 0.0 or gy != 0.0 or gz != 0.0
+    if growth == 0.0 and not falling:
+        best, partner = _first_contact_ballistic(p, i, neighbours, neighbour_count, geom, scale)
+        times[i, PAIR_TIME] = t + best
+        info[i, PARTNER] = partner
+        info[i, PREDICTED_AT] = event
+        return
     best = math.inf
     partner = -1
     for m in range(neighbour_count[i]):
@@ -535,22 +592,15 @@ def _offsets(n, periodic):
     return -1, 1
 
 
-@kernel
-def list_radius(ri, rj, params):
-    return (ri + rj) * params[P_LIST_SCALE] + params[P_SHELL]
-
-
 @inline_kernel
 def gather_neighbours(p, i, info, anchor, neighbours, neighbour_count, cell_members, cell_count, cell_points, ncell,
-                      geom, dim, params, symmetric):
+                      geom, dim, params):
     """Fill i's list from the anchors in the cells around i's anchor.
 
-    With ``symmetric`` i is also appended to each neighbour's list. Returns
-    the length the longest list touched would need (more than the row
-    length: nothing beyond the row is written, the caller must grow it).
+    Returns the length the list would need (more than the row length:
+    nothing beyond the row is written, the caller must grow it).
     """
     width = neighbours.shape[1]
-    needed = 0
     count = 0
     cx, cy, cz = cell_coordinates(info[i, CELL_OF], ncell)
     zl, zh = _offsets(ncell[2], geom[G_PERIODIC, 2] != 0.0) if dim == 3 else (0, 0)
@@ -586,14 +636,26 @@ def gather_neighbours(p, i, info, anchor, neighbours, neighbour_count, cell_memb
                         if count < width:
                             neighbours[i, count] = j
                         count += 1
-                        if symmetric:
-                            other = neighbour_count[j]
-                            if other < width:
-                                neighbours[j, other] = i
-                                neighbour_count[j] = other + 1
-                            needed = max(needed, other + 1)
     neighbour_count[i] = min(count, width)
-    return max(needed, count)
+    return count
+
+
+@inline_kernel
+def _join_neighbours(i, neighbours, neighbour_count):
+    """Append i to the list of each particle in i's list; returns the longest length needed."""
+    width = neighbours.shape[1]
+    for m in range(neighbour_count[i]):
+        prefetch(neighbours, neighbours[i, m])
+        prefetch(neighbour_count, neighbours[i, m])
+    needed = 0
+    for m in range(neighbour_count[i]):
+        j = neighbours[i, m]
+        other = neighbour_count[j]
+        if other < width:
+            neighbours[j, other] = i
+            neighbour_count[j] = other + 1
+        needed = max(needed, other + 1)
+    return needed
 
 
 @inline_kernel
@@ -611,11 +673,10 @@ def _prefetch_cells(cell, cell_members, cell_count, cell_points, ncell, geom, di
             if ny < 0:
                 continue
             for ox in range(-1, 2):
-                nx = min(max(cx + ox, 0), ncell[0] - 1)
+                nx = (cx + ox) % ncell[0]  # a wrong guess at a walled edge costs nothing
                 neighbour_cell = cell_index(nx, ny, nz, ncell)
                 prefetch(cell_points, neighbour_cell)
                 prefetch(cell_count, neighbour_cell)
-                prefetch(cell_members, neighbour_cell)
 
 
 @inline_kernel
@@ -653,7 +714,8 @@ def rebuild_list(p, i, info, anchor, neighbours, neighbour_count, cell_members, 
         acc[ACC_CELL_OVERFLOW] = cell_count[cell] + 1
         return False
     needed = gather_neighbours(p, i, info, anchor, neighbours, neighbour_count, cell_members, cell_count, cell_points,
-                               ncell, geom, dim, params, True)
+                               ncell, geom, dim, params)
+    needed = max(needed, _join_neighbours(i, neighbours, neighbour_count))
     if needed > neighbours.shape[1]:
         acc[ACC_LIST_OVERFLOW] = needed
         return False
@@ -684,14 +746,16 @@ def build_all_lists(p, info, anchor, neighbours, neighbour_count, cell_members, 
     needed = 0
     for i in range(p.shape[0]):
         count = gather_neighbours(p, i, info, anchor, neighbours, neighbour_count, cell_members, cell_count,
-                                  cell_points, ncell, geom, dim, params, False)
+                                  cell_points, ncell, geom, dim, params)
         needed = max(needed, count)
     return needed, most
 
 
 @inline_kernel
-def _prefetch_particle(i, p, info, times, anchor, neighbours, neighbour_count, tree, leaves):
+def _prefetch_particle(i, p, info, times, anchor, neighbours, neighbour_count, tree, leaves, mass, species):
     """Start loading everything an event of particle i reads, so the misses overlap."""
+    prefetch(mass, i)
+    prefetch(species, i)
     prefetch(p, i)
     prefetch(info, i)
     prefetch(times, i)
@@ -702,6 +766,26 @@ def _prefetch_particle(i, p, info, times, anchor, neighbours, neighbour_count, t
     for _ in range(TREE_LEVELS_PREFETCHED):
         prefetch(tree, node)
         node >>= 1
+
+
+@inline_kernel
+def _likely_next(i, tree, leaves):
+    """The particle of the second-earliest event, a guess good enough for prefetching.
+
+    The runner-up of the tournament is the best of the siblings along the
+    winner i's path; the lowest levels (cold in cache) are skipped, so the
+    guess misses only if the runner-up lies among i's nearest 32 leaves.
+    Returns -1 if there is no guess.
+    """
+    node = (leaves + i) >> 5 if leaves >= 64 else leaves + i
+    best_time = math.inf
+    best = -1
+    while node > 1:
+        if tree[node ^ 1, 0] < best_time:
+            best_time = tree[node ^ 1, 0]
+            best = int(tree[node ^ 1, 1])
+        node >>= 1
+    return best
 
 
 @inline_kernel
@@ -745,10 +829,16 @@ def run_events(t, max_pair_collisions, t_stop, p, mass, species, image, info, ti
             break
         t = event_time
         event += 1
-        # memory latency dominates: start every load whose address is known, then compute
-        _prefetch_particle(i, p, info, times, anchor, neighbours, neighbour_count, tree, leaves)
+        # memory latency dominates: start every load whose address is known, then compute;
+        # also for the particle of the next event, most likely the runner-up now
+        _prefetch_particle(i, p, info, times, anchor, neighbours, neighbour_count, tree, leaves, mass, species)
+        upcoming = _likely_next(i, tree, leaves)
+        if upcoming >= 0:
+            _prefetch_particle(upcoming, p, info, times, anchor, neighbours, neighbour_count, tree, leaves, mass,
+                               species)
         if info[i, PARTNER] >= 0:
-            _prefetch_particle(info[i, PARTNER], p, info, times, anchor, neighbours, neighbour_count, tree, leaves)
+            _prefetch_particle(info[i, PARTNER], p, info, times, anchor, neighbours, neighbour_count, tree, leaves,
+                               mass, species)
         _prefetch_neighbours(i, p, neighbours, neighbour_count)
         advance(p, i, t, geom, dim)
         partner = -1  # the second particle to re-predict, if any
@@ -772,6 +862,11 @@ def run_events(t, max_pair_collisions, t_stop, p, mass, species, image, info, ti
         else:
             bounce_off_wall(p, i, info[i, BOUNDARY_CODE], mass, params, acc)
             info[i, CHANGED_AT] = event
+        if upcoming >= 0:  # its rows have arrived by now: fetch what they point to
+            _prefetch_neighbours(upcoming, p, neighbours, neighbour_count)
+            if info[upcoming, PARTNER] >= 0:
+                _prefetch_particle(info[upcoming, PARTNER], p, info, times, anchor, neighbours, neighbour_count, tree,
+                                   leaves, mass, species)
         # one call site, so the inlined prediction is compiled once
         for q in range(1 if partner < 0 else 2):
             _repredict(p, i if q == 0 else partner, info, times, anchor, neighbours, neighbour_count, geom, dim,
