@@ -55,6 +55,9 @@ def test_rate_bound_is_never_below_the_true_rate():
         Process("excitation", [1.5, 4, 50], [2e-20, 1e-19, 0.0], threshold=1.5))),)): 0.4})
     tables = build_tables(gas, constants.m_e, 0.0)
     energies = np.concatenate([np.linspace(0, 120, 20001), [0.2, 1.5, 3.0]]) * constants.e
+    edges = np.arange(tables.bound.shape[1] + 1) * tables.bound_step  # speeds exactly on the bin edges too
+    energies = np.concatenate([energies, 0.5 * constants.m_e * edges**2])
+    inverse_step = (1.0 / tables.bound_step) * (1.0 + 1e-12)
     for s in range(2):
         for energy in energies:
             speed = math.sqrt(2 * energy / constants.m_e)
@@ -64,6 +67,9 @@ def test_rate_bound_is_never_below_the_true_rate():
                        if tables.species_of[j] == s and energy >= tables.threshold[j])
             bound = K.rate_bound(s, speed, tables.bound, tables.bound_step, tables.sigma_max, tables.const_max)
             assert bound >= rate * (1 - 1e-12)
+            # the kernel's form: a multiplication by the inverse bin width, rounded up
+            fast = K._bound_fast(s, speed, tables.bound, inverse_step, tables.sigma_max, tables.const_max)
+            assert fast >= bound
 
 
 def test_slab_elastic_energy_loss_matches_the_mass_ratio_law():
@@ -113,3 +119,140 @@ def test_ionization_shares_the_energy_left_above_the_threshold():
     primary, secondary = _ionize_many(K.SHARE_UNIFORM)
     np.testing.assert_allclose(primary + secondary, 25.0, rtol=1e-12)  # energy conserved
     assert stats.kstest(primary / 25.0, "uniform").pvalue > 1e-3  # the primary's share is uniform
+
+
+# ------------------------------------------------------------------ exactness of the null-collision method
+
+
+def _advance(tables, field, vel, seed, t_end, check=True, window=K.WINDOW_COLLISIONS, scale=1.0):
+    """Run advance_swarm on particles at the origin with velocities ``vel``; return (alive, tallies).
+
+    ``scale`` multiplies the trial-frequency bound (table and beyond-table slope): below 1 it is wrong.
+    """
+    n = vel.shape[0]
+    states = np.random.SeedSequence(seed).generate_state(4 * n, np.uint64).reshape(n, 4)
+    tallies = np.zeros((n, tables.kind.size + K.EXTRA_COLUMNS))
+    alive = np.ones(n, bool)
+    lookup = list(tables.lookup())
+    lookup[4] = scale * tables.bound
+    lookup[6] = scale * tables.sigma_max
+    K.advance_swarm(0, n, np.zeros((n, 3)), vel.copy(), states, alive, 0.0, t_end, field, constants.m_e, 1e24,
+                    *tables.arrays(), K.SHARE_EQUAL, *lookup, tallies, np.zeros((n, 0, 3)), np.zeros((n, 0, 3)),
+                    np.zeros((n, 0, 4), np.uint64), np.zeros((n, 0), bool), np.zeros(n, np.int64), check, window)
+    return alive, tallies
+
+
+# attachment only: a cross section that falls and rises (the bound, a running maximum, is loose there), and
+# one that rises steeply (a window reaching far too high a speed would make a bound far above the rate)
+_ATTACHING = Gas((Species("a", 1e-26, (
+    Process("attachment", [0.0, 0.5, 2.0, 100.0], [0.25e-20, 1e-20, 0.125e-20, 0.75e-20]),)),))
+_STEEP = Gas((Species("a", 1e-26, (Process("attachment", [0.0, 100.0], [0.2e-20, 20e-20]),)),))
+
+
+def _survival(field, v0, t_end, points=200_001, gas=_ATTACHING):
+    """Exact probability of no collision up to t: exp(-N int sigma(eps(t')) |v(t')| dt'), with v(t) from fly."""
+    times = np.linspace(0.0, t_end, points)
+    speeds = np.empty(points)
+    for k, t in enumerate(times):
+        pos, vel = np.zeros(3), v0.copy()
+        K.fly(pos, vel, t, field)
+        speeds[k] = math.sqrt(vel @ vel)
+    energies = 0.5 * constants.m_e * speeds**2 / constants.e
+    process = gas.species[0].processes[0]
+    rate = 1e24 * np.interp(energies, process.energy, process.cross_section) * speeds
+    hazard = np.concatenate([[0.0], np.cumsum(0.5 * (rate[1:] + rate[:-1]) * np.diff(times))])
+    return times, np.exp(-hazard)
+
+
+@pytest.mark.parametrize("gas", [_ATTACHING, _STEEP], ids=["falling-rising", "steep"])
+@pytest.mark.parametrize("magnetic", [False, True])
+@pytest.mark.parametrize("window", [0.2, K.WINDOW_COLLISIONS, 5.0])
+def test_first_collision_times_follow_the_exact_survival_law(gas, magnetic, window):
+    """Windows, optical depths and nulls together give the exact collision statistics.
+
+    Attachment ends a particle's flight at its first real collision, so the
+    surviving fraction at t_end is exp(-integral of the true rate), and the
+    mean time alive is the integral of that survival curve. The particle
+    first slows down (v against a), then speeds up; the magnetic field has
+    a component along a. The field is strong: the speed changes by more
+    than itself between collisions.
+    """
+    tables = build_tables(gas, constants.m_e, 0.0)
+    acceleration = np.array([0.3e15, 0.0, 4e15])
+    omega = np.array([0.0, 3e10, 1e10]) if magnetic else np.zeros(3)
+    field = K.derived_field(acceleration, omega)
+    v0 = np.array([1e5, 2e5, -5e5])
+    t_end = 2.5e-10
+    times, survival = _survival(field, v0, t_end, gas=gas)
+    n = 100_000
+    alive, tallies = _advance(tables, field, np.tile(v0, (n, 1)), 7, t_end, window=window)
+    P = tables.kind.size
+    expected = survival[-1]
+    assert 0.2 < expected < 0.8
+    assert abs(alive.mean() - expected) < 4.5 * math.sqrt(expected * (1 - expected) / n)
+    assert tallies[:, 0].sum() == n - alive.sum()  # every collision was an attachment
+    mean_time = np.trapezoid(survival, times)
+    time_alive = tallies[:, P + K.TIME_COLUMN_OFFSET]
+    assert abs(time_alive.mean() - mean_time) < 4.5 * time_alive.std() / math.sqrt(n)
+    nulls = tallies[:, P + K.NULL_COLUMN_OFFSET].sum()
+    assert nulls > 0.02 * n  # the null path was exercised
+    if window <= K.WINDOW_COLLISIONS:  # ... but the windows keep the bound tight (WINDOW_GROWTH)
+        assert nulls < 0.5 * n
+    assert tallies[:, P + K.BOUND_COLUMN_OFFSET].sum() == 0
+
+
+def test_the_bound_check_catches_a_bound_below_the_true_rate():
+    tables = build_tables(_ATTACHING, constants.m_e, 0.0)
+    field = K.derived_field(np.array([0.0, 0.0, 4e15]), np.zeros(3))
+    v0 = np.array([1e5, 2e5, -5e5])
+    n = 20_000
+    alive, tallies = _advance(tables, field, np.tile(v0, (n, 1)), 8, 2.5e-10, scale=0.5)
+    assert tallies[:, tables.kind.size + K.BOUND_COLUMN_OFFSET].sum() > 0.01 * n
+    _, survival = _survival(field, v0, 2.5e-10, points=20_001)
+    assert alive.mean() > survival[-1] + 10 * math.sqrt(0.25 / n)  # too few collisions: visibly wrong
+
+
+@pytest.mark.parametrize("omega", [np.zeros(3), np.array([0.0, 3e10, 1e10])])
+def test_window_speed_bound_holds_along_the_whole_window(omega):
+    rng = np.random.default_rng(4)
+    for _ in range(200):
+        field = K.derived_field(rng.normal(0, 4e15, 3), omega)
+        vel = rng.normal(0, 3e5, 3)
+        t1, t2 = np.sort(rng.uniform(0, 3e-10, 2))
+        bound = K.window_bound_speed(vel, field, t1, t2)
+        speeds = []
+        for t in np.linspace(t1, t2, 101):
+            pos, v = np.zeros(3), vel.copy()
+            K.fly(pos, v, t, field)
+            speeds.append(math.sqrt(v @ v))
+        assert max(speeds) <= bound * (1 + 1e-12)
+        if not omega.any():  # exact without B: the bound is attained at an end of the window
+            assert max(speeds[0], speeds[-1]) == pytest.approx(bound, rel=1e-12)
+
+
+def test_rate_bound_is_a_running_maximum():
+    tables = build_tables(_ATTACHING, constants.m_e, 0.0)
+    assert np.all(np.diff(tables.bound, axis=1) >= 0)
+
+
+def test_isotropic_directions_are_uniform_on_the_sphere():
+    state = _state(9)
+    out = np.empty(3)
+    samples = np.empty((100_000, 3))
+    for k in range(samples.shape[0]):
+        K.isotropic_direction(state, out)
+        samples[k] = out
+    np.testing.assert_allclose(np.linalg.norm(samples, axis=1), 1.0, rtol=1e-12)
+    error = 1 / math.sqrt(3 * samples.shape[0])
+    assert np.all(np.abs(samples.mean(axis=0)) < 5 * error)
+    for axis in range(3):  # Archimedes: each coordinate of a uniform point on the sphere is uniform on [-1, 1]
+        assert stats.kstest(samples[:, axis], "uniform", args=(-1, 2)).pvalue > 1e-3
+    assert stats.kstest(np.arctan2(samples[:, 1], samples[:, 0]), "uniform", args=(-math.pi, 2 * math.pi)).pvalue > 1e-3
+
+
+def test_normal_pairs_are_independent_standard_normals():
+    state = _state(10)
+    pairs = np.array([K.normal_pair(state) for _ in range(50_000)])
+    for column in pairs.T:
+        assert stats.kstest(column, "norm").pvalue > 1e-3
+    assert abs(np.corrcoef(pairs.T)[0, 1]) < 5 / math.sqrt(pairs.shape[0])

@@ -9,11 +9,17 @@ Algorithm (Krasov, sec. 5.5, extended as in Skullerud, J. Phys. D 1, 1567
 * free flight is exact: constant acceleration, or gyration about B plus the
   E x B drift (the closed-form solution of dv/dt = a + v x Omega);
 * collisions by the null-collision method with an exact, speed-dependent
-  trial frequency: within a window ``Tw`` the speed cannot exceed
-  ``|v| + |a| Tw``, and the trial frequency is the table bound ``B(v)`` of
-  ``sum_j N sigma_j(eps) g`` over all speeds up to that value (plus the
-  largest gas speed that can occur). A trial time beyond the window only
-  moves the particle (exponential times are memoryless);
+  trial frequency, piecewise constant in time: a flight (from one real
+  collision to the next) is cut into windows of about WINDOW_COLLISIONS
+  trial collisions; in a window the trial frequency is the table bound
+  ``B(v)`` of ``sum_j N sigma_j(eps) g`` (a running maximum over speed
+  bins, so it covers every lower speed) at the largest speed the particle
+  can reach in the window (exact without B: |v + a t|^2 is convex in t, so
+  the largest speed is at an end of the window; with B, |v| + |a| t), plus
+  the largest gas speed that can occur. One exponential optical depth is
+  drawn per trial and used up window by window (the integrated hazard of a
+  piecewise-constant rate). Null trials do not move the particle: it is
+  moved to a real collision, or to the end of the step;
 * at a trial collision the target species is chosen by its share of the
   trial frequency, a target velocity is drawn from the gas Maxwellian, and
   the process by its rate ``N sigma_j(eps) g + N k_j``; otherwise the
@@ -54,10 +60,15 @@ OMEGA = 3
 # columns of the per-particle tallies: one per process, then these
 NULL_COLUMN_OFFSET = 0  # tallies[i, P]: null collisions
 TIME_COLUMN_OFFSET = 1  # tallies[i, P + 1]: particle time alive in the step
-EXTRA_COLUMNS = 2
+BOUND_COLUMN_OFFSET = 2  # tallies[i, P + 2]: trials where the true rate exceeded the bound (checked runs)
+EXTRA_COLUMNS = 3
 
-# a trial window is WINDOW_COLLISIONS / (trial frequency at the current speed)
-WINDOW_COLLISIONS = 0.7
+# a flight window lasts WINDOW_COLLISIONS / (trial frequency of the previous window): longer windows mean
+# fewer window updates but a looser bound (more null trials); 1.3 is the fastest on Reid's ramp at 1-12 Td
+WINDOW_COLLISIONS = 1.3
+# ... and at most the time in which |a| t reaches WINDOW_GROWTH times the speed (or 16 speed bins): in a strong
+# field, a long window would reach speeds where the bound is far above the rate along most of the window
+WINDOW_GROWTH = 0.5
 
 _SM1 = np.uint64(0x9E3779B97F4A7C15)
 _SM2 = np.uint64(0xBF58476D1CE4E5B9)
@@ -113,10 +124,14 @@ def seed_state(seed, out):
 
 @kernel
 def normal_pair(state):
-    """Two independent standard normal numbers (Box-Muller)."""
-    r = math.sqrt(-2.0 * math.log(uniform(state)))
-    phi = 2.0 * math.pi * uniform(state)
-    return r * math.cos(phi), r * math.sin(phi)
+    """Two independent standard normal numbers (Marsaglia's polar method: no trigonometry)."""
+    while True:
+        u1 = 2.0 * uniform(state) - 1.0
+        u2 = 2.0 * uniform(state) - 1.0
+        s = u1 * u1 + u2 * u2
+        if s < 1.0:
+            f = math.sqrt(-2.0 * math.log(s) / s)
+            return u1 * f, u2 * f
 
 
 # ------------------------------------------------------------------ free flight
@@ -145,32 +160,141 @@ def derived_field(acceleration, omega_vector):
 
 
 @kernel
-def fly(pos, vel, dt, field):
-    """Exact free flight for a time ``dt`` in place (uniform a, uniform Omega)."""
+def _flown_velocity(vx, vy, vz, dt, field):
+    """Velocity after a free flight of ``dt`` from (vx, vy, vz) (the same arithmetic as :func:`fly`)."""
     w = field[12]
     if w == 0.0:
-        for k in range(3):
-            pos[k] += vel[k] * dt + 0.5 * field[k] * dt * dt
-            vel[k] += field[k] * dt
-        return
+        return vx + field[0] * dt, vy + field[1] * dt, vz + field[2] * dt
     bx, by, bz = field[3], field[4], field[5]
-    vb = vel[0] * bx + vel[1] * by + vel[2] * bz
-    # gyrating part w = v - v_par - u_drift, rotated: w c + (w x b) s
-    wx = vel[0] - vb * bx - field[9]
-    wy = vel[1] - vb * by - field[10]
-    wz = vel[2] - vb * bz - field[11]
+    vb = vx * bx + vy * by + vz * bz
+    wx = vx - vb * bx - field[9]
+    wy = vy - vb * by - field[10]
+    wz = vz - vb * bz - field[11]
     cx = wy * bz - wz * by
     cy = wz * bx - wx * bz
     cz = wx * by - wy * bx
     c = math.cos(w * dt)
     s = math.sin(w * dt)
+    return (vb * bx + field[6] * dt + field[9] + wx * c + cx * s,
+            vb * by + field[7] * dt + field[10] + wy * c + cy * s,
+            vb * bz + field[8] * dt + field[11] + wz * c + cz * s)
+
+
+@kernel
+def _flown_position(x, y, z, vx, vy, vz, dt, field):
+    """Position after a free flight of ``dt`` (the same arithmetic as :func:`fly`)."""
+    w = field[12]
+    if w == 0.0:
+        half = 0.5 * dt * dt
+        return x + vx * dt + field[0] * half, y + vy * dt + field[1] * half, z + vz * dt + field[2] * half
+    bx, by, bz = field[3], field[4], field[5]
+    vb = vx * bx + vy * by + vz * bz
+    wx = vx - vb * bx - field[9]
+    wy = vy - vb * by - field[10]
+    wz = vz - vb * bz - field[11]
+    cx = wy * bz - wz * by
+    cy = wz * bx - wx * bz
+    cz = wx * by - wy * bx
+    s = math.sin(w * dt)
     one_minus_c = 2.0 * math.sin(0.5 * w * dt) ** 2
-    pos[0] += (vb * bx + field[9]) * dt + 0.5 * field[6] * dt * dt + (wx * s + cx * one_minus_c) / w
-    pos[1] += (vb * by + field[10]) * dt + 0.5 * field[7] * dt * dt + (wy * s + cy * one_minus_c) / w
-    pos[2] += (vb * bz + field[11]) * dt + 0.5 * field[8] * dt * dt + (wz * s + cz * one_minus_c) / w
-    vel[0] = vb * bx + field[6] * dt + field[9] + wx * c + cx * s
-    vel[1] = vb * by + field[7] * dt + field[10] + wy * c + cy * s
-    vel[2] = vb * bz + field[8] * dt + field[11] + wz * c + cz * s
+    return (x + (vb * bx + field[9]) * dt + 0.5 * field[6] * dt * dt + (wx * s + cx * one_minus_c) / w,
+            y + (vb * by + field[10]) * dt + 0.5 * field[7] * dt * dt + (wy * s + cy * one_minus_c) / w,
+            z + (vb * bz + field[11]) * dt + 0.5 * field[8] * dt * dt + (wz * s + cz * one_minus_c) / w)
+
+
+@kernel
+def fly(pos, vel, dt, field):
+    """Exact free flight for a time ``dt`` in place (uniform a, uniform Omega)."""
+    x, y, z = _flown_position(pos[0], pos[1], pos[2], vel[0], vel[1], vel[2], dt, field)
+    vx, vy, vz = _flown_velocity(vel[0], vel[1], vel[2], dt, field)
+    pos[0], pos[1], pos[2] = x, y, z
+    vel[0], vel[1], vel[2] = vx, vy, vz
+
+
+@kernel
+def flight_envelope(vx, vy, vz, field):
+    """Constants of a flight's speed bound in a magnetic field: (v . b, |u| + |w|, a . b).
+
+    The exact motion (:func:`fly`) is v(t) = (v.b + (a.b) t) b + u + w(t),
+    with the E x B drift u and the gyrating part w(t) both perpendicular to
+    b = Omega/|Omega| and |w(t)| = |w(0)|, so
+    |v(t)|^2 <= (v.b + (a.b) t)^2 + (|u| + |w|)^2. Zeros without B.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from collisionkit._kernels.transport import derived_field, flight_envelope
+    >>> field = derived_field(np.array([0.0, 0.0, 1.0]), np.array([0.0, 2.0, 0.0]))
+    >>> [float(round(value, 12)) for value in flight_envelope(0.0, 3.0, 0.0, field)]  # drift speed 0.5
+    [3.0, 1.0, 0.0]
+    """
+    if field[12] == 0.0:
+        return 0.0, 0.0, 0.0
+    bx, by, bz = field[3], field[4], field[5]
+    vb = vx * bx + vy * by + vz * bz
+    wx = vx - vb * bx - field[9]
+    wy = vy - vb * by - field[10]
+    wz = vz - vb * bz - field[11]
+    drift = math.sqrt(field[9] ** 2 + field[10] ** 2 + field[11] ** 2)
+    a_par = field[6] * bx + field[7] * by + field[8] * bz
+    return vb, drift + math.sqrt(wx * wx + wy * wy + wz * wz), a_par
+
+
+@kernel
+def window_top_speed(vx, vy, vz, t, field, exact, vb, radius, a_par):
+    """A convex-in-time bound f(t) of the speed at flight time ``t`` (see :func:`window_bound_speed`).
+
+    Without B it is |v + a t| itself, from the components (the arithmetic
+    of the flown velocity, free of the cancellation of |v|^2 + 2 a.v t +
+    a^2 t^2 near a stop). With B it is sqrt((v.b + a_par t)^2 + radius^2)
+    (:func:`flight_envelope`), padded by 1e-10 against the rounding of the
+    gyration formula.
+    """
+    if exact:
+        x = vx + field[0] * t
+        y = vy + field[1] * t
+        z = vz + field[2] * t
+        return math.sqrt(x * x + y * y + z * z)
+    along = vb + a_par * t
+    return math.sqrt(along * along + radius * radius) * (1.0 + 1e-10)
+
+
+@kernel
+def window_growth_speed(speed0, accel_mag, t, exact, radius):
+    """The bound |v| + |a| t of the speed at flight time ``t`` in a magnetic field (inf without one).
+
+    d|v|/dt = a . v/|v| <= |a|: the magnetic force does no work. Padded by
+    1e-10 of the speeds involved against the rounding of the gyration formula.
+    """
+    if exact:
+        return math.inf
+    return (speed0 + accel_mag * t + radius) * (1.0 + 1e-10) - radius
+
+
+@kernel
+def window_bound_speed(vel, field, t1, t2):
+    """Largest speed a particle starting with ``vel`` can have at times in [t1, t2] of a free flight.
+
+    Without a magnetic field the speed is |v + a t|, whose square is convex
+    in t: the maximum is at an end of the window (exact). With one, the
+    smaller of two bounds: the convex bound of :func:`window_top_speed` at
+    the ends of the window, and |v| + |a| t2 (:func:`window_growth_speed`).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from collisionkit._kernels.transport import derived_field, window_bound_speed
+    >>> field = derived_field(np.array([0.0, 0.0, -2.0]), np.zeros(3))
+    >>> float(window_bound_speed(np.array([0.0, 0.0, 3.0]), field, 0.5, 1.0))  # |3 - 2 t| on [0.5, 1]
+    2.0
+    """
+    speed0 = math.sqrt(vel[0] ** 2 + vel[1] ** 2 + vel[2] ** 2)
+    accel_mag = math.sqrt(field[0] ** 2 + field[1] ** 2 + field[2] ** 2)
+    exact = field[12] == 0.0
+    vb, radius, a_par = flight_envelope(vel[0], vel[1], vel[2], field)
+    s1 = window_top_speed(vel[0], vel[1], vel[2], t1, field, exact, vb, radius, a_par)
+    s2 = window_top_speed(vel[0], vel[1], vel[2], t2, field, exact, vb, radius, a_par)
+    return min(max(s1, s2), window_growth_speed(speed0, accel_mag, t2, exact, radius))
 
 
 # ------------------------------------------------------------------ cross sections
@@ -189,6 +313,25 @@ def node_index(energy, nodes, accelerator, accelerator_step):
     if cell >= accelerator.shape[0]:
         return last
     i = accelerator[cell]
+    while i < last and nodes[i + 1] <= energy:
+        i += 1
+    return i
+
+
+@kernel
+def _node_index_fast(energy, nodes, accelerator, inverse_cell):
+    """:func:`node_index` with a multiplication: ``inverse_cell`` is 1/accelerator_step rounded down by 1e-12.
+
+    The cell is then never above int(energy / accelerator_step), and the
+    search upwards from the cell's first interval stays exact.
+    """
+    if energy < nodes[0]:
+        return -1
+    x = energy * inverse_cell
+    last = nodes.shape[0] - 1
+    if x >= accelerator.shape[0]:
+        return last
+    i = accelerator[int(x)]
     while i < last and nodes[i + 1] <= energy:
         i += 1
     return i
@@ -214,6 +357,30 @@ def rate_bound(species, speed, bound, bound_step, sigma_max, const_rate):
     return max(bound[species, bound.shape[1] - 1], sigma_max[species] * speed + const_rate[species])
 
 
+@kernel
+def _bound_fast(species, speed, bound, inverse_step, sigma_max, const_rate):
+    """:func:`rate_bound` with a multiplication: ``inverse_step`` is 1/bound_step rounded up by 1e-12.
+
+    The bin index is then never below int(speed / bound_step); a higher bin of
+    the running maximum is a larger, still valid bound.
+    """
+    x = speed * inverse_step
+    if x < bound.shape[1]:
+        return bound[species, int(x)]
+    return max(bound[species, bound.shape[1] - 1], sigma_max[species] * speed + const_rate[species])
+
+
+@kernel
+def _trial_frequencies(speed, density, gas, bound, inverse_step, sigma_max, const_max, nu_s):
+    """Trial frequency per species (in ``nu_s``) and their sum for projectile speeds <= ``speed``."""
+    total = 0.0
+    for s in range(gas.shape[0]):
+        nu = density * _bound_fast(s, speed + gas[s, 2], bound, inverse_step, sigma_max, const_max)
+        nu_s[s] = nu
+        total += nu
+    return total
+
+
 # ------------------------------------------------------------------ scattering
 
 
@@ -234,197 +401,332 @@ def scattering_cosine(model, energy, screening, state):
 
 
 @kernel
-def rotate(direction, cos_chi, phi, out):
-    """Unit vector at angle chi from unit ``direction``, azimuth ``phi``."""
+def _rotated(ux, uy, uz, cos_chi, phi):
+    """Unit vector at angle chi from the unit vector u, azimuth ``phi`` (a tuple)."""
     sin_chi = math.sqrt(max(0.0, 1.0 - cos_chi * cos_chi))
-    ux, uy, uz = direction[0], direction[1], direction[2]
     cp = math.cos(phi)
     sp = math.sin(phi)
     if abs(uz) > 0.99999999:
-        out[0] = sin_chi * cp
-        out[1] = sin_chi * sp
-        out[2] = cos_chi * (1.0 if uz > 0 else -1.0)
-        return
+        return sin_chi * cp, sin_chi * sp, cos_chi * (1.0 if uz > 0 else -1.0)
     t = math.sqrt(1.0 - uz * uz)
-    out[0] = sin_chi * (ux * uz * cp - uy * sp) / t + ux * cos_chi
-    out[1] = sin_chi * (uy * uz * cp + ux * sp) / t + uy * cos_chi
-    out[2] = -sin_chi * cp * t + uz * cos_chi
+    return (sin_chi * (ux * uz * cp - uy * sp) / t + ux * cos_chi,
+            sin_chi * (uy * uz * cp + ux * sp) / t + uy * cos_chi,
+            -sin_chi * cp * t + uz * cos_chi)
+
+
+@kernel
+def rotate(direction, cos_chi, phi, out):
+    """Unit vector at angle chi from unit ``direction``, azimuth ``phi``."""
+    out[0], out[1], out[2] = _rotated(direction[0], direction[1], direction[2], cos_chi, phi)
+
+
+@kernel
+def _isotropic(state):
+    """A uniformly distributed unit vector (Marsaglia 1972: no trigonometry), as a tuple."""
+    while True:
+        u1 = 2.0 * uniform(state) - 1.0
+        u2 = 2.0 * uniform(state) - 1.0
+        s = u1 * u1 + u2 * u2
+        if s < 1.0:
+            f = 2.0 * math.sqrt(1.0 - s)
+            return u1 * f, u2 * f, 1.0 - 2.0 * s
 
 
 @kernel
 def isotropic_direction(state, out):
     """A uniformly distributed unit vector."""
-    c = 2.0 * uniform(state) - 1.0
-    s = math.sqrt(max(0.0, 1.0 - c * c))
-    phi = 2.0 * math.pi * uniform(state)
-    out[0] = s * math.cos(phi)
-    out[1] = s * math.sin(phi)
-    out[2] = c
+    out[0], out[1], out[2] = _isotropic(state)
+
+
+@kernel
+def _scattered(model, energy, screening, gx, gy, gz, g_speed, state):
+    """Direction of the relative velocity g after scattering (isotropic: g is not needed)."""
+    if model == ISOTROPIC:
+        return _isotropic(state)
+    cos_chi = scattering_cosine(model, energy, screening, state)
+    return _rotated(gx / g_speed, gy / g_speed, gz / g_speed, cos_chi, 2.0 * math.pi * uniform(state))
 
 
 # ------------------------------------------------------------------ the swarm step
+#
+# The helpers below take scalars (and the random state) and return tuples:
+# a numba function that is not inlined increments and decrements the
+# reference count of every array it receives, which costs more than a
+# collision when the argument list is long.
+
+
+@kernel
+def _two_body(vx, vy, vz, gas_vx, gas_vy, gas_vz, gx, gy, gz, g_speed, energy, mass, target_mass, loss, model,
+              screening, state):
+    """Projectile velocity after an elastic (``loss`` = 0) or inelastic two-body collision.
+
+    The relative kinetic energy drops by ``loss`` (the threshold), the
+    relative velocity turns in the centre-of-mass frame and the
+    centre-of-mass velocity is kept (exact recoil).
+    """
+    total = mass + target_mass
+    g_after = g_speed
+    if loss > 0.0:
+        mu = mass * target_mass / total
+        g_after = math.sqrt(2.0 * max(0.0, 0.5 * mu * g_speed * g_speed - loss) / mu)
+    nx, ny, nz = _scattered(model, energy, screening, gx, gy, gz, g_speed, state)
+    light = mass / total
+    heavy = target_mass / total
+    share = heavy * g_after
+    return (light * vx + heavy * gas_vx + share * nx,
+            light * vy + heavy * gas_vy + share * ny,
+            light * vz + heavy * gas_vz + share * nz)
+
+
+@kernel
+def _ionized(gas_vx, gas_vy, gas_vz, gx, gy, gz, g_speed, energy, mass, loss, sharing, model, screening, state):
+    """Velocities of the scattered and the new electron after an ionizing collision (a 6-tuple).
+
+    The energy left above the threshold ``loss`` is shared equally or
+    uniformly; the scattered electron follows the angular model, the new
+    one leaves isotropically, both from the target's frame.
+    """
+    available = energy - loss
+    share = 0.5 if sharing == SHARE_EQUAL else uniform(state)
+    e1 = max(0.0, share * available)
+    e2 = max(0.0, available - e1)
+    nx, ny, nz = _scattered(model, energy, screening, gx, gy, gz, g_speed, state)
+    u1 = math.sqrt(2.0 * e1 / mass)
+    cx, cy, cz = _isotropic(state)
+    u2 = math.sqrt(2.0 * e2 / mass)
+    return (gas_vx + u1 * nx, gas_vy + u1 * ny, gas_vz + u1 * nz,
+            gas_vx + u2 * cx, gas_vy + u2 * cy, gas_vz + u2 * cz)
 
 
 @kernel
 def _collide(j, vel, gas_v, g, g_speed, energy, mass, target_mass, kind, threshold, angular, screening,
              sharing, state, child_vel, scratch):
-    """Apply process ``j`` to ``vel`` in place; return 0 (alive), 1 (attached) or 2 (ionized: child_vel set)."""
+    """Apply process ``j`` to ``vel`` in place; return 0 (alive), 1 (attached) or 2 (ionized: child_vel set).
+
+    The array form of what :func:`advance_swarm` does inline; ``scratch`` is unused.
+    """
     if kind[j] == ATTACHMENT:
         return 1
-    gx, gy, gz = g[0] / g_speed, g[1] / g_speed, g[2] / g_speed
-    scratch[0], scratch[1], scratch[2] = gx, gy, gz
-    direction = scratch[0:3]
-    new_dir = scratch[3:6]
     if kind[j] == IONIZATION:
-        available = energy - threshold[j]
-        share = 0.5 if sharing == SHARE_EQUAL else uniform(state)
-        e1 = max(0.0, share * available)
-        e2 = max(0.0, available - e1)
-        cos_chi = scattering_cosine(angular[j], energy, screening[j], state)
-        rotate(direction, cos_chi, 2.0 * math.pi * uniform(state), new_dir)
-        u1 = math.sqrt(2.0 * e1 / mass)
-        isotropic_direction(state, scratch[6:9])
-        u2 = math.sqrt(2.0 * e2 / mass)
-        for k in range(3):
-            vel[k] = gas_v[k] + u1 * new_dir[k]
-            child_vel[k] = gas_v[k] + u2 * scratch[6 + k]
+        v1x, v1y, v1z, v2x, v2y, v2z = _ionized(gas_v[0], gas_v[1], gas_v[2], g[0], g[1], g[2], g_speed, energy,
+                                                mass, threshold[j], sharing, angular[j], screening[j], state)
+        vel[0], vel[1], vel[2] = v1x, v1y, v1z
+        child_vel[0], child_vel[1], child_vel[2] = v2x, v2y, v2z
         return 2
-    mu = mass * target_mass / (mass + target_mass)
-    relative_energy = 0.5 * mu * g_speed * g_speed
-    if kind[j] == EXCITATION:
-        relative_energy = max(0.0, relative_energy - threshold[j])
-    g_after = math.sqrt(2.0 * relative_energy / mu)
-    cos_chi = scattering_cosine(angular[j], energy, screening[j], state)
-    rotate(direction, cos_chi, 2.0 * math.pi * uniform(state), new_dir)
-    share = target_mass / (mass + target_mass)
-    for k in range(3):
-        centre = (mass * vel[k] + target_mass * gas_v[k]) / (mass + target_mass)
-        vel[k] = centre + share * g_after * new_dir[k]
+    loss = threshold[j] if kind[j] == EXCITATION else 0.0
+    vel[0], vel[1], vel[2] = _two_body(vel[0], vel[1], vel[2], gas_v[0], gas_v[1], gas_v[2], g[0], g[1], g[2],
+                                       g_speed, energy, mass, target_mass, loss, angular[j], screening[j], state)
     return 0
-
-
-@kernel
-def _advance_one(pos, vel, state, t_start, t_end, field, accel_mag, mass, density, gas, kind, species_of, threshold,
-                 const_rate, angular, screening, sharing, nodes, sigma, accelerator, accelerator_step, bound,
-                 bound_step, sigma_max, const_max, tally, child_pos, child_vel, child_time, child_state, n_children,
-                 scratch):
-    """Advance one particle from t_start to t_end; return (alive, n_children)."""
-    n_species = gas.shape[0]
-    n_proc = kind.shape[0]
-    t = t_start
-    nu_s = scratch[16:16 + n_species]
-    gas_v = scratch[9:12]
-    g = scratch[12:15]
-    while True:
-        speed = math.sqrt(vel[0] ** 2 + vel[1] ** 2 + vel[2] ** 2)
-        nu_here = 0.0
-        for s in range(n_species):
-            nu_here += density * rate_bound(s, speed + gas[s, 2], bound, bound_step, sigma_max, const_max)
-        window = math.inf
-        reach = speed
-        if accel_mag > 0.0:
-            window = WINDOW_COLLISIONS / nu_here if nu_here > 0.0 else 0.01 * bound_step * bound.shape[1] / accel_mag
-            reach = speed + accel_mag * window
-        nu_trial = 0.0
-        for s in range(n_species):
-            nu_s[s] = density * rate_bound(s, reach + gas[s, 2], bound, bound_step, sigma_max, const_max)
-            nu_trial += nu_s[s]
-        flight = -math.log(uniform(state)) / nu_trial if nu_trial > 0.0 else math.inf
-        step = min(flight, window)
-        if t + step >= t_end:
-            fly(pos, vel, t_end - t, field)
-            tally[n_proc + TIME_COLUMN_OFFSET] += t_end - t
-            return True, n_children
-        fly(pos, vel, step, field)
-        tally[n_proc + TIME_COLUMN_OFFSET] += step
-        t += step
-        if flight > window:
-            continue
-        # choose the target species by its share of the trial frequency
-        r = uniform(state) * nu_trial
-        s = 0
-        while s < n_species - 1 and r >= nu_s[s]:
-            r -= nu_s[s]
-            s += 1
-        if gas[s, 1] > 0.0:
-            gas_v[0], gas_v[1] = normal_pair(state)
-            gas_v[2], _ = normal_pair(state)
-            for k in range(3):
-                gas_v[k] *= gas[s, 1]
-        else:
-            gas_v[0] = 0.0
-            gas_v[1] = 0.0
-            gas_v[2] = 0.0
-        for k in range(3):
-            g[k] = vel[k] - gas_v[k]
-        g_speed = math.sqrt(g[0] ** 2 + g[1] ** 2 + g[2] ** 2)
-        energy = 0.5 * mass * g_speed * g_speed
-        i = node_index(energy, nodes, accelerator, accelerator_step)
-        chosen = -1
-        cumulative = 0.0
-        for j in range(n_proc):
-            if species_of[j] != s:
-                continue
-            rate = const_rate[j]
-            if energy >= threshold[j]:
-                rate += cross_section(j, energy, i, nodes, sigma) * g_speed
-            cumulative += density * rate
-            if r < cumulative:
-                chosen = j
-                break
-        if chosen < 0:
-            tally[n_proc + NULL_COLUMN_OFFSET] += 1.0
-            continue
-        tally[chosen] += 1.0
-        outcome = _collide(chosen, vel, gas_v, g, g_speed, energy, mass, gas[s, 0], kind, threshold, angular,
-                           screening, sharing, state, scratch[20 + n_species:23 + n_species], scratch)
-        if outcome == 1:
-            return False, n_children
-        if outcome == 2:
-            if n_children >= child_pos.shape[0]:
-                return True, n_children + 1  # overflow: the caller retries with more slots
-            for k in range(3):
-                child_pos[n_children, k] = pos[k]
-                child_vel[n_children, k] = scratch[20 + n_species + k]
-            child_time[n_children] = t
-            seed_state(next_u64(state), child_state[n_children])
-            n_children += 1
 
 
 @kernel
 def advance_swarm(lo, hi, pos, vel, states, alive, t_start, t_end, field, mass, density, gas, kind, species_of,
                   threshold, const_rate, angular, screening, sharing, nodes, sigma, accelerator, accelerator_step,
                   bound, bound_step, sigma_max, const_max, tallies, child_pos, child_vel, child_state, child_alive,
-                  child_count):
+                  child_count, check=False, window=WINDOW_COLLISIONS, growth=WINDOW_GROWTH):
     """Advance particles lo..hi-1 (and their descendants) from t_start to t_end.
 
-    ``tallies[i]`` receives the collisions per process, the null collisions
-    and the particle time of particle i and its children; children are
-    stored in ``child_*[i]`` (``child_count[i]`` of them, more than the slots
-    means overflow and the step must be repeated with more slots).
+    ``tallies[i]`` receives the collisions per process, the null collisions,
+    the particle time of particle i and its children and (with ``check``)
+    the trials at which the true collision rate exceeded the trial bound
+    (never, if the method is exact); children are stored in ``child_*[i]``
+    (``child_count[i]`` of them, more than the slots means overflow and the
+    step must be repeated with more slots).
+
+    A flight runs from one real collision to the next. Trial collisions
+    along it form a Poisson process whose rate is piecewise constant over
+    windows of the flight (each ``window`` / its previous rate long): in a
+    window, the table bound at the largest speed the particle can reach in
+    it (:func:`window_bound_speed`). An exponential optical depth is drawn
+    per trial and used up window after window (the integrated hazard of a
+    piecewise-constant rate: exact). A null trial leaves the flight as it
+    is: particles move only at real collisions and at ``t_end``.
+
+    The particle loop is written out in this one function: a numba call
+    that is not inlined costs two atomic reference-count operations per
+    array argument.
     """
+    n_species = gas.shape[0]
+    n_proc = kind.shape[0]
+    null_column = n_proc + NULL_COLUMN_OFFSET
+    time_column = n_proc + TIME_COLUMN_OFFSET
+    bound_column = n_proc + BOUND_COLUMN_OFFSET
     accel_mag = math.sqrt(field[0] ** 2 + field[1] ** 2 + field[2] ** 2)
+    ax, ay, az = field[0], field[1], field[2]
+    exact = field[12] == 0.0
+    inverse_step = (1.0 / bound_step) * (1.0 + 1e-12)
+    inverse_cell = (1.0 / accelerator_step) * (1.0 - 1e-12)
+    fallback = 0.01 * bound.shape[1] * bound_step / accel_mag if accel_mag > 0.0 else math.inf
+    speed_floor = 16.0 * bound_step
+    last_node = nodes.shape[0] - 1
     slots = child_pos.shape[1]
     child_time = np.empty(slots)
-    scratch = np.zeros(32 + gas.shape[0])
+    rng = np.empty(4, np.uint64)
+    nu_s = np.empty(n_species)
     for i in range(lo, hi):
         if not alive[i]:
             continue
-        ok, n = _advance_one(pos[i], vel[i], states[i], t_start, t_end, field, accel_mag, mass, density, gas, kind,
-                             species_of, threshold, const_rate, angular, screening, sharing, nodes, sigma,
-                             accelerator, accelerator_step, bound, bound_step, sigma_max, const_max, tallies[i],
-                             child_pos[i], child_vel[i], child_time, child_state[i], 0, scratch)
-        alive[i] = ok
-        c = 0
-        while c < n and n <= slots:
-            child_ok, n = _advance_one(child_pos[i, c], child_vel[i, c], child_state[i, c], child_time[c], t_end,
-                                       field, accel_mag, mass, density, gas, kind, species_of, threshold,
-                                       const_rate, angular, screening, sharing, nodes, sigma, accelerator,
-                                       accelerator_step, bound, bound_step, sigma_max, const_max, tallies[i],
-                                       child_pos[i], child_vel[i], child_time, child_state[i], n, scratch)
-            child_alive[i, c] = child_ok
-            c += 1
-        child_count[i] = n
+        n_children = 0
+        member = -1  # -1: the particle itself, then its children
+        while True:
+            if member < 0:
+                x, y, z = pos[i, 0], pos[i, 1], pos[i, 2]
+                vx, vy, vz = vel[i, 0], vel[i, 1], vel[i, 2]
+                for k in range(4):
+                    rng[k] = states[i, k]
+                t = t_start
+            else:
+                x, y, z = child_pos[i, member, 0], child_pos[i, member, 1], child_pos[i, member, 2]
+                vx, vy, vz = child_vel[i, member, 0], child_vel[i, member, 1], child_vel[i, member, 2]
+                for k in range(4):
+                    rng[k] = child_state[i, member, k]
+                t = child_time[member]
+            t_begin = t
+            survives = True
+            speed0 = math.sqrt(vx * vx + vy * vy + vz * vz)
+            nu_window = _trial_frequencies(speed0, density, gas, bound, inverse_step, sigma_max, const_max, nu_s)
+            while True:  # one flight, from the last real collision
+                speed0 = math.sqrt(vx * vx + vy * vy + vz * vz)
+                vb, radius, a_par = flight_envelope(vx, vy, vz, field)
+                horizon = t_end - t
+                elapsed = 0.0  # flight time so far
+                window_end = 0.0
+                s_low = window_top_speed(vx, vy, vz, 0.0, field, exact, vb, radius, a_par)  # f at the window start
+                tau = -math.log(uniform(rng))
+                landed = False  # reached t_end without a real collision
+                while True:  # windows and trials of this flight
+                    if elapsed >= window_end:  # open the next window
+                        if accel_mag > 0.0:
+                            h = window / nu_window if nu_window > 0.0 else fallback
+                            h = min(h, growth * max(s_low, speed_floor) / accel_mag)
+                            s_high = window_top_speed(vx, vy, vz, window_end + h, field, exact, vb, radius, a_par)
+                            s_window = min(max(s_low, s_high),
+                                           window_growth_speed(speed0, accel_mag, window_end + h, exact, radius))
+                            nu_window = _trial_frequencies(s_window, density, gas, bound, inverse_step, sigma_max,
+                                                           const_max, nu_s)
+                            s_low = s_high
+                            window_end += h
+                        else:
+                            nu_window = _trial_frequencies(speed0, density, gas, bound, inverse_step, sigma_max,
+                                                           const_max, nu_s)
+                            window_end = math.inf
+                    stop = min(window_end, horizon)
+                    room = nu_window * (stop - elapsed)
+                    if tau >= room:
+                        if stop >= horizon:
+                            landed = True
+                            break
+                        tau -= room
+                        elapsed = window_end
+                        continue
+                    elapsed = min(stop, elapsed + tau / nu_window)
+                    # a trial: the velocity it would have, the target species by its share of the trial frequency
+                    if exact:
+                        tvx, tvy, tvz = vx + ax * elapsed, vy + ay * elapsed, vz + az * elapsed
+                    else:
+                        tvx, tvy, tvz = _flown_velocity(vx, vy, vz, elapsed, field)
+                    r = uniform(rng) * nu_window
+                    s = 0
+                    while s < n_species - 1 and r >= nu_s[s]:
+                        r -= nu_s[s]
+                        s += 1
+                    gas_vx = gas_vy = gas_vz = 0.0
+                    if gas[s, 1] > 0.0:
+                        gas_vx, gas_vy = normal_pair(rng)
+                        gas_vz, _ = normal_pair(rng)
+                        gas_vx *= gas[s, 1]
+                        gas_vy *= gas[s, 1]
+                        gas_vz *= gas[s, 1]
+                    gx, gy, gz = tvx - gas_vx, tvy - gas_vy, tvz - gas_vz
+                    g_speed = math.sqrt(gx * gx + gy * gy + gz * gz)
+                    energy = 0.5 * mass * g_speed * g_speed
+                    # linear interpolation in node interval `node` (one division for all processes)
+                    node = _node_index_fast(energy, nodes, accelerator, inverse_cell)
+                    if node < 0:
+                        node, w = 0, 0.0
+                    elif node >= last_node:
+                        node, w = last_node - 1, 1.0
+                    else:
+                        w = (energy - nodes[node]) / (nodes[node + 1] - nodes[node])
+                    chosen = -1
+                    cumulative = 0.0
+                    for j in range(n_proc):
+                        if species_of[j] != s:
+                            continue
+                        rate = const_rate[j]
+                        if energy >= threshold[j]:
+                            rate += (sigma[node, j] + w * (sigma[node + 1, j] - sigma[node, j])) * g_speed
+                        cumulative += density * rate
+                        if chosen < 0 and r < cumulative:
+                            chosen = j
+                            if not check:
+                                break
+                    if check and cumulative > nu_s[s]:
+                        tallies[i, bound_column] += 1.0
+                    if chosen >= 0:
+                        break
+                    tallies[i, null_column] += 1.0
+                    tau = -math.log(uniform(rng))
+                if landed:
+                    elapsed = horizon
+                if exact:
+                    half = 0.5 * elapsed * elapsed
+                    x, y, z = x + vx * elapsed + ax * half, y + vy * elapsed + ay * half, z + vz * elapsed + az * half
+                else:
+                    x, y, z = _flown_position(x, y, z, vx, vy, vz, elapsed, field)
+                if landed:
+                    if exact:
+                        vx, vy, vz = vx + ax * elapsed, vy + ay * elapsed, vz + az * elapsed
+                    else:
+                        vx, vy, vz = _flown_velocity(vx, vy, vz, elapsed, field)
+                    t = t_end
+                    break
+                # a real collision, where the particle now is
+                vx, vy, vz = tvx, tvy, tvz
+                t += elapsed
+                tallies[i, chosen] += 1.0
+                process = kind[chosen]
+                if process == ELASTIC or process == EXCITATION:
+                    loss = threshold[chosen] if process == EXCITATION else 0.0
+                    vx, vy, vz = _two_body(vx, vy, vz, gas_vx, gas_vy, gas_vz, gx, gy, gz, g_speed, energy, mass,
+                                           gas[s, 0], loss, angular[chosen], screening[chosen], rng)
+                elif process == ATTACHMENT:
+                    survives = False
+                    break
+                else:
+                    v1x, v1y, v1z, v2x, v2y, v2z = _ionized(gas_vx, gas_vy, gas_vz, gx, gy, gz, g_speed, energy,
+                                                            mass, threshold[chosen], sharing, angular[chosen],
+                                                            screening[chosen], rng)
+                    vx, vy, vz = v1x, v1y, v1z
+                    if n_children >= slots:
+                        n_children += 1  # overflow: the caller repeats the step with more slots
+                        break
+                    child_pos[i, n_children, 0] = x
+                    child_pos[i, n_children, 1] = y
+                    child_pos[i, n_children, 2] = z
+                    child_vel[i, n_children, 0] = v2x
+                    child_vel[i, n_children, 1] = v2y
+                    child_vel[i, n_children, 2] = v2z
+                    child_time[n_children] = t
+                    seed_state(next_u64(rng), child_state[i, n_children])
+                    n_children += 1
+            tallies[i, time_column] += t - t_begin
+            if member < 0:
+                pos[i, 0], pos[i, 1], pos[i, 2] = x, y, z
+                vel[i, 0], vel[i, 1], vel[i, 2] = vx, vy, vz
+                for k in range(4):
+                    states[i, k] = rng[k]
+                alive[i] = survives
+            else:
+                child_pos[i, member, 0], child_pos[i, member, 1], child_pos[i, member, 2] = x, y, z
+                child_vel[i, member, 0], child_vel[i, member, 1], child_vel[i, member, 2] = vx, vy, vz
+                for k in range(4):
+                    child_state[i, member, k] = rng[k]
+                child_alive[i, member] = survives
+            member += 1
+            if member >= n_children or n_children > slots:
+                break
+        child_count[i] = n_children
 
 
 @kernel

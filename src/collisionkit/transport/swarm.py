@@ -51,6 +51,10 @@ STEPS_PER_CHUNK = 25
 GROWTH_LIMIT = 1.5  # population growth per sample that halves the interval during the transient
 MAX_SLOTS = 16  # child slots per particle and step before a step is split
 MOMENT_COLUMNS = 14
+# Count the trial collisions at which the true collision rate exceeded the trial bound (the null-collision
+# method is exact only if that never happens) and report them as ``extras["bound_violations"]``. Off by
+# default (it evaluates every process at every trial); the tests switch it on.
+CHECK_BOUND = False
 
 
 @dataclass
@@ -59,6 +63,9 @@ class SwarmResult:
 
     Every value has an ``*_error`` partner (standard error over the
     independent groups). N-scaled coefficients are per unit gas density.
+    ``extras["bound_violations"]`` (only when the module switch
+    ``CHECK_BOUND`` is on) counts the trial collisions at which the true
+    collision rate exceeded the trial bound: 0 for an exact run.
 
     Examples
     --------
@@ -193,6 +200,7 @@ class _Stepper:
         self.sharing = sharing
         self.threads = threads
         self.slots = 4 if np.any(tables.kind == _k.IONIZATION) else 0
+        self.check = bool(CHECK_BOUND)
         self.pool = ThreadPoolExecutor(threads) if threads > 1 else None
 
     def close(self):
@@ -209,7 +217,7 @@ class _Stepper:
             _k.advance_swarm(int(bounds[c]), int(bounds[c + 1]), swarm.pos, swarm.vel, swarm.states, swarm.alive,
                              t0, t1, self.field, self.mass, self.density, *self.tables.arrays(), self.sharing,
                              *self.tables.lookup(), tallies, child_pos, child_vel, child_state, child_alive,
-                             child_count)
+                             child_count, self.check)
 
         if self.pool is None:
             for c in range(chunks):
@@ -297,8 +305,9 @@ def _estimates(times, moments, tallies, kinds, density):
     energy = mean[..., 9] / EV
     cross = mean[..., 10:13] - centroid * velocity
     rates_time = tallies.sum(axis=0)
-    particle_time = rates_time[:, -1]
-    counts = rates_time[:, :-2]
+    n_proc = len(kinds)
+    particle_time = rates_time[:, n_proc + _k.TIME_COLUMN_OFFSET]
+    counts = rates_time[:, :n_proc]
     est = {
         "mean_energy": energy.mean(axis=0),
         "drift_velocity_flux": velocity.mean(axis=0),
@@ -464,6 +473,7 @@ class _Run:
         self.times, self.moments, self.tallies = [], [], []
         self.collisions = 0
         self.nulls = 0
+        self.bound_violations = 0
         self.seconds = 0.0
         self.conservative = not np.any((tables.kind == _k.IONIZATION) | (tables.kind == _k.ATTACHMENT))
         self.histogram = None
@@ -489,9 +499,11 @@ class _Run:
         self.times.append(self.t)
         self.moments.append(moments)
         self.tallies.append(group_tally)
-        real = int(group_tally[:, :-2].sum())
+        n_proc = self.tables.kind.size
+        real = int(group_tally[:, :n_proc].sum())
         self.collisions += real
-        self.nulls += int(group_tally[:, -2].sum())
+        self.nulls += int(group_tally[:, n_proc + _k.NULL_COLUMN_OFFSET].sum())
+        self.bound_violations += int(group_tally[:, n_proc + _k.BOUND_COLUMN_OFFSET].sum())
         if self.histogram is not None:
             _k.energy_histogram(swarm.vel, swarm.alive, self.stepper.mass, self.histogram_step, self.histogram)
 
@@ -506,8 +518,10 @@ class _Run:
         self.dt = collisions_per_sample / max(self.density * bound[:, k].sum(), 1e-300)
         self.step()
         tally = self.tallies[-1]
-        frequency = tally[:, :-2].sum() / max(tally[:, -1].sum(), 1e-300)
-        ionizing = tally[:, :-2][:, self.tables.kind == _k.IONIZATION].sum() / max(tally[:, -1].sum(), 1e-300)
+        n_proc = self.tables.kind.size
+        particle_time = max(tally[:, n_proc + _k.TIME_COLUMN_OFFSET].sum(), 1e-300)
+        frequency = tally[:, :n_proc].sum() / particle_time
+        ionizing = tally[:, :n_proc][:, self.tables.kind == _k.IONIZATION].sum() / particle_time
         if frequency > 0:
             self.dt = collisions_per_sample / frequency
         if ionizing > 0:
@@ -602,6 +616,7 @@ class _Run:
             particles=int(particles),
             groups=self.groups,
             converged=converged,
+            extras={"bound_violations": self.bound_violations} if self.stepper.check else {},
         )
 
 
