@@ -2,9 +2,9 @@
 
 Measures (1) real collisions per second per core at 12 Td on one thread and
 on all cores, and (2) the wall time to a converged point (mean energy to
-0.1 %, bulk drift to 0.2 %) at 12 Td with all cores. Tries ThunderBoltz
-(``pip install thunderboltz``) on the same model and records why if it
-cannot run. Writes benchmarks/results/transport.md and transport.json.
+0.1 %, bulk drift to 0.2 %) at 12 Td with all cores. The side-by-side run
+with ThunderBoltz is benchmarks/bench_thunderboltz.py (it needs its own
+venv). Writes benchmarks/results/transport.md and transport.json.
 
     NUMBA_CACHE_DIR=.numba_cache .venv/bin/python benchmarks/bench_transport.py
 """
@@ -45,14 +45,8 @@ def converged_point(threads: int) -> dict:
 
 
 def thunderboltz_status() -> str:
-    try:
-        import thunderboltz  # noqa: F401
-    except Exception as error:  # not installed or fails to import
-        return (f"not run: `import thunderboltz` failed ({type(error).__name__}: {error}). thunderboltz 0.4.4 "
-                "requires numpy<=1.27 and matplotlib<=3.9; `pip install thunderboltz` downgrades the project venv "
-                "(numpy 2.4.6 -> 1.26.4, matplotlib 3.11.2 -> 3.9.0), so it was uninstalled again; run it in a "
-                "separate venv to compare")
-    return "installed; side-by-side run not implemented in this benchmark"
+    return ("measured side by side in its own venv by benchmarks/bench_thunderboltz.py "
+            "(results in benchmarks/results/thunderboltz.md)")
 
 
 def main() -> None:
