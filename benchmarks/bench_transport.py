@@ -79,7 +79,7 @@ Kernel: trial frequency piecewise constant over flight windows of {window} trial
 largest speed reachable in each window), null trials without moving the particle, the particle loop
 written out in one numba function (no per-particle reference counting). Against the previous kernel
 (one window of 0.7 collisions bounded by |v| + |a| t, a separate non-inlined per-particle function),
-measured in one process on this machine: 2.1-2.4x the real collisions/s on one thread (12 Td).
+measured in one process on this machine: 1.9-2.3x the real collisions/s on one thread (12 Td).
 
 ThunderBoltz: {rows['thunderboltz']}
 

@@ -66,10 +66,10 @@ def test_maxwell_model_transverse_diffusion_is_exact():
     v2 = 2 * energy * E / ME
     exact = REFERENCE_DENSITY * v2 * (ME + LIGHT_GAS) / (3 * nu * (2 * ME + LIGHT_GAS))
     r = simulate_swarm(maxwell_model(RATE, mass=LIGHT_GAS), 5.0, particles=20000, seed=14, threads=2,
-                       tolerances={"diffusion_T_N": 0.01}, collision_budget=3e8)
-    assert r.converged and r.relative_error("diffusion_T_N") < 0.01
+                       tolerances={"diffusion_T_N": 0.02}, collision_budget=2e8)
+    assert r.converged and r.relative_error("diffusion_T_N") < 0.02
     assert _within(r.diffusion_T_N, r.diffusion_T_N_error, exact)
-    assert r.diffusion_T_N_flux_error < 0.03 * exact
+    assert r.diffusion_T_N_flux_error < 0.04 * exact
     assert _within(r.diffusion_T_N_flux, r.diffusion_T_N_flux_error, exact)
 
 

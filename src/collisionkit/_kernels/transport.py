@@ -230,18 +230,22 @@ def flight_envelope(vx, vy, vz, field):
     """
     if field[12] == 0.0:
         return 0.0, 0.0, 0.0
-    bx, by, bz = field[3], field[4], field[5]
-    vb = vx * bx + vy * by + vz * bz
-    wx = vx - vb * bx - field[9]
-    wy = vy - vb * by - field[10]
-    wz = vz - vb * bz - field[11]
-    drift = math.sqrt(field[9] ** 2 + field[10] ** 2 + field[11] ** 2)
-    a_par = field[6] * bx + field[7] * by + field[8] * bz
-    return vb, drift + math.sqrt(wx * wx + wy * wy + wz * wz), a_par
+    return _envelope(vx, vy, vz, field[3], field[4], field[5], field[9], field[10], field[11],
+                     field[6] * field[3] + field[7] * field[4] + field[8] * field[5])
 
 
 @kernel
-def window_top_speed(vx, vy, vz, t, field, exact, vb, radius, a_par):
+def _envelope(vx, vy, vz, bx, by, bz, ux, uy, uz, a_par):
+    """:func:`flight_envelope` from scalars (unit b, drift u, a . b): no array, so no reference counting."""
+    vb = vx * bx + vy * by + vz * bz
+    wx = vx - vb * bx - ux
+    wy = vy - vb * by - uy
+    wz = vz - vb * bz - uz
+    return vb, math.sqrt(ux * ux + uy * uy + uz * uz) + math.sqrt(wx * wx + wy * wy + wz * wz), a_par
+
+
+@kernel
+def window_top_speed(vx, vy, vz, ax, ay, az, t, exact, vb, radius, a_par):
     """A convex-in-time bound f(t) of the speed at flight time ``t`` (see :func:`window_bound_speed`).
 
     Without B it is |v + a t| itself, from the components (the arithmetic
@@ -251,9 +255,9 @@ def window_top_speed(vx, vy, vz, t, field, exact, vb, radius, a_par):
     gyration formula.
     """
     if exact:
-        x = vx + field[0] * t
-        y = vy + field[1] * t
-        z = vz + field[2] * t
+        x = vx + ax * t
+        y = vy + ay * t
+        z = vz + az * t
         return math.sqrt(x * x + y * y + z * z)
     along = vb + a_par * t
     return math.sqrt(along * along + radius * radius) * (1.0 + 1e-10)
@@ -292,8 +296,8 @@ def window_bound_speed(vel, field, t1, t2):
     accel_mag = math.sqrt(field[0] ** 2 + field[1] ** 2 + field[2] ** 2)
     exact = field[12] == 0.0
     vb, radius, a_par = flight_envelope(vel[0], vel[1], vel[2], field)
-    s1 = window_top_speed(vel[0], vel[1], vel[2], t1, field, exact, vb, radius, a_par)
-    s2 = window_top_speed(vel[0], vel[1], vel[2], t2, field, exact, vb, radius, a_par)
+    s1 = window_top_speed(vel[0], vel[1], vel[2], field[0], field[1], field[2], t1, exact, vb, radius, a_par)
+    s2 = window_top_speed(vel[0], vel[1], vel[2], field[0], field[1], field[2], t2, exact, vb, radius, a_par)
     return min(max(s1, s2), window_growth_speed(speed0, accel_mag, t2, exact, radius))
 
 
@@ -554,6 +558,8 @@ def advance_swarm(lo, hi, pos, vel, states, alive, t_start, t_end, field, mass, 
     accel_mag = math.sqrt(field[0] ** 2 + field[1] ** 2 + field[2] ** 2)
     ax, ay, az = field[0], field[1], field[2]
     exact = field[12] == 0.0
+    bx, by, bz, ux, uy, uz = field[3], field[4], field[5], field[9], field[10], field[11]
+    a_par_field = field[6] * bx + field[7] * by + field[8] * bz
     inverse_step = (1.0 / bound_step) * (1.0 + 1e-12)
     inverse_cell = (1.0 / accelerator_step) * (1.0 - 1e-12)
     fallback = 0.01 * bound.shape[1] * bound_step / accel_mag if accel_mag > 0.0 else math.inf
@@ -587,11 +593,13 @@ def advance_swarm(lo, hi, pos, vel, states, alive, t_start, t_end, field, mass, 
             nu_window = _trial_frequencies(speed0, density, gas, bound, inverse_step, sigma_max, const_max, nu_s)
             while True:  # one flight, from the last real collision
                 speed0 = math.sqrt(vx * vx + vy * vy + vz * vz)
-                vb, radius, a_par = flight_envelope(vx, vy, vz, field)
+                vb, radius, a_par = 0.0, 0.0, 0.0
+                if not exact:
+                    vb, radius, a_par = _envelope(vx, vy, vz, bx, by, bz, ux, uy, uz, a_par_field)
                 horizon = t_end - t
                 elapsed = 0.0  # flight time so far
                 window_end = 0.0
-                s_low = window_top_speed(vx, vy, vz, 0.0, field, exact, vb, radius, a_par)  # f at the window start
+                s_low = speed0 if exact else window_top_speed(vx, vy, vz, ax, ay, az, 0.0, exact, vb, radius, a_par)
                 tau = -math.log(uniform(rng))
                 landed = False  # reached t_end without a real collision
                 while True:  # windows and trials of this flight
@@ -599,7 +607,8 @@ def advance_swarm(lo, hi, pos, vel, states, alive, t_start, t_end, field, mass, 
                         if accel_mag > 0.0:
                             h = window / nu_window if nu_window > 0.0 else fallback
                             h = min(h, growth * max(s_low, speed_floor) / accel_mag)
-                            s_high = window_top_speed(vx, vy, vz, window_end + h, field, exact, vb, radius, a_par)
+                            s_high = window_top_speed(vx, vy, vz, ax, ay, az, window_end + h, exact, vb, radius,
+                                                      a_par)
                             s_window = min(max(s_low, s_high),
                                            window_growth_speed(speed0, accel_mag, window_end + h, exact, radius))
                             nu_window = _trial_frequencies(s_window, density, gas, bound, inverse_step, sigma_max,
