@@ -45,7 +45,9 @@ import math
 
 import numpy as np
 
-from .._jit import inline_kernel, kernel
+# no EDMD kernel allocates or returns an array: all of them borrow, without reference counting
+from .._jit import borrowing_inline_kernel as inline_kernel
+from .._jit import borrowing_kernel as kernel
 from ._memory import prefetch
 
 # event kinds
@@ -195,14 +197,14 @@ def advance(p, i, t, geom, dim):
         p[i, T] = t
 
 
-@kernel
+@inline_kernel
 def cell_coordinates(cell, ncell):
     cx = cell % ncell[0]
     rest = cell // ncell[0]
     return cx, rest % ncell[1], rest // ncell[1]
 
 
-@kernel
+@inline_kernel
 def cell_index(cx, cy, cz, ncell):
     return cx + ncell[0] * (cy + ncell[1] * cz)
 
@@ -349,7 +351,7 @@ def collide_pair(p, i, j, mass, geom, dim, scale, growth, species, restitution, 
     acc[ACC_PAIR_COLLISIONS] += 1.0
 
 
-@kernel
+@inline_kernel
 def bounce_off_wall(p, i, code, mass, params, acc):
     axis = code // 2
     upward = code % 2 == 1
@@ -371,7 +373,7 @@ def minimum_image(dx, length, half):
     return dx
 
 
-@kernel
+@inline_kernel
 def _half_box(geom, k):
     return 0.5 * geom[G_BOX, k] if geom[G_PERIODIC, k] != 0.0 else math.inf
 
@@ -553,7 +555,7 @@ def schedule(i, info, times, tree, leaves):
     tree_update(i, tree, time, leaves)
 
 
-@kernel
+@inline_kernel
 def wrap_into_box(p, i, geom, dim, image):
     """Bring particle i back into [0, L) on periodic axes (it is at most a box length out)."""
     for k in range(dim):
@@ -569,7 +571,7 @@ def wrap_into_box(p, i, geom, dim, image):
                     p[i, X + k] = 0.0
 
 
-@kernel
+@inline_kernel
 def cell_of_position(p, i, ncell, geom, dim):
     c0 = c1 = c2 = 0
     for k in range(dim):
