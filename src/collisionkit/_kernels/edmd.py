@@ -379,17 +379,21 @@ def _half_box(geom, k):
 
 
 @inline_kernel
-def _first_contact_ballistic(p, i, neighbours, neighbour_count, geom, scale):
-    """Earliest contact of i (at its own time) with its list: fixed radii, straight flights.
+def _first_contact_ballistic(p, i, neighbours, neighbour_count, geom, scale, horizon):
+    """Earliest contact of i (at its own time) with its list before ``horizon``: fixed radii, straight flights.
 
-    Returns (time from i's time, partner or -1). The root of
-    |r + u tau| = sigma is tau = c / (-b + sqrt(D)) with b = r.u,
-    c = |r|^2 - sigma^2 and D = sigma^2 |u|^2 - |r x u|^2 (= b^2 - |u|^2 c
-    by Lagrange's identity, without its cancellation), taken when the pair
-    approaches (b < 0) and D >= 0; an overlap by round-off (c <= 0) while
-    approaching collides at once. Written without branches on the data, which
-    are unpredictable (half the pairs approach) and cost more than the
-    arithmetic: every neighbour gets a root, misses get inf.
+    Returns (time from i's time, partner), or (inf, -1) if no contact comes
+    before ``horizon``. The root of |r + u tau| = sigma is
+    tau = c / (-b + sqrt(D)) with b = r.u, c = |r|^2 - sigma^2 and
+    D = sigma^2 |u|^2 - |r x u|^2 (= b^2 - |u|^2 c by Lagrange's identity,
+    without its cancellation), taken when the pair approaches (b < 0) and
+    D >= 0; an overlap by round-off (c <= 0) while approaching collides at
+    once. Since sqrt(D) <= -b when c >= 0, tau >= c / (-2 b): one cheap
+    test, c < -2 b best, rejects the receding pairs and those that cannot
+    beat the best so far before the square root and the division. It rarely
+    passes, so its branch is well predicted; a branch on b < 0 alone would
+    be a coin toss, and a mispredicted branch costs more than the
+    arithmetic it saves.
     """
     t = p[i, T]
     xi, yi, zi = p[i, X], p[i, X + 1], p[i, X + 2]
@@ -397,7 +401,7 @@ def _first_contact_ballistic(p, i, neighbours, neighbour_count, geom, scale):
     ri = p[i, R]
     lx, ly, lz = geom[G_BOX, 0], geom[G_BOX, 1], geom[G_BOX, 2]
     hx, hy, hz = _half_box(geom, 0), _half_box(geom, 1), _half_box(geom, 2)
-    best = math.inf
+    best = horizon
     partner = -1
     for m in range(neighbour_count[i]):
         j = neighbours[i, m]
@@ -411,22 +415,32 @@ def _first_contact_ballistic(p, i, neighbours, neighbour_count, geom, scale):
         sigma = (ri + p[j, R]) * scale
         b = rx * ux + ry * uy + rz * uz
         c = rx * rx + ry * ry + rz * rz - sigma * sigma
-        cx = ry * uz - rz * uy
-        cy = rz * ux - rx * uz
-        cz = rx * uy - ry * ux
-        discriminant = sigma * sigma * (ux * ux + uy * uy + uz * uz) - (cx * cx + cy * cy + cz * cz)
-        tau = max(c, 0.0) / (math.sqrt(max(discriminant, 0.0)) - b)
-        tau = tau if (b < 0.0) & ((discriminant >= 0.0) | (c <= 0.0)) else math.inf
-        if tau < best:
-            best = tau
-            partner = j
+        # b < 0 and c + 2 b best < 0 in one comparison, so one (rarely taken, well predicted) branch
+        if max(b, c + 2.0 * b * best) < 0.0:
+            cx = ry * uz - rz * uy
+            cy = rz * ux - rx * uz
+            cz = rx * uy - ry * ux
+            discriminant = sigma * sigma * (ux * ux + uy * uy + uz * uz) - (cx * cx + cy * cy + cz * cz)
+            if discriminant >= 0.0 or c <= 0.0:
+                tau = max(c, 0.0) / (math.sqrt(max(discriminant, 0.0)) - b)
+                if tau < best:
+                    best = tau
+                    partner = j
+    if partner < 0:
+        return math.inf, -1
     return best, partner
 
 
 @inline_kernel
 def predict_pairs(p, i, info, times, neighbours, neighbour_count, geom, dim, scale0, growth, event):
-    """Best collision of particle i (at its own time) with the particles of its list (at event ``event``)."""
+    """Best collision of particle i (at its own time) with its list (at event ``event``).
+
+    Only collisions before i's boundary event (``times[i, BOUNDARY_TIME]``,
+    predicted first) matter: a later one would be re-predicted at that event
+    anyway. ``PAIR_TIME`` is inf if there is none.
+    """
     t = p[i, T]
+    horizon = times[i, BOUNDARY_TIME] - t
     scale = scale0 + growth * t
     xi = p[i, X]
     yi = p[i, X + 1]
@@ -442,12 +456,12 @@ def predict_pairs(p, i, info, times, neighbours, neighbour_count, geom, dim, sca
     gz = 0.5 * geom[G_GRAVITY, 2]
     falling = gx != 0.0 or gy != 0.0 or gz != 0.0
     if growth == 0.0 and not falling:
-        best, partner = _first_contact_ballistic(p, i, neighbours, neighbour_count, geom, scale)
+        best, partner = _first_contact_ballistic(p, i, neighbours, neighbour_count, geom, scale, horizon)
         times[i, PAIR_TIME] = t + best
         info[i, PARTNER] = partner
         info[i, PREDICTED_AT] = event
         return
-    best = math.inf
+    best = horizon
     partner = -1
     for m in range(neighbour_count[i]):
         j = neighbours[i, m]
@@ -486,7 +500,7 @@ def predict_pairs(p, i, info, times, neighbours, neighbour_count, geom, dim, sca
             if tau < best:
                 best = tau
                 partner = j
-    times[i, PAIR_TIME] = t + best
+    times[i, PAIR_TIME] = t + best if partner >= 0 else math.inf
     info[i, PARTNER] = partner
     info[i, PREDICTED_AT] = event
 
@@ -798,10 +812,10 @@ def _prefetch_neighbours(i, p, neighbours, neighbour_count):
 
 @inline_kernel
 def _repredict(p, i, info, times, anchor, neighbours, neighbour_count, geom, dim, params, tree, leaves, event):
-    """Full prediction of i (at its own time): pairs, boundary, schedule."""
+    """Full prediction of i (at its own time): boundary, pairs before it, schedule."""
+    predict_boundary(p, i, info, times, anchor, geom, dim, params)
     predict_pairs(p, i, info, times, neighbours, neighbour_count, geom, dim, params[P_SCALE0], params[P_GROWTH],
                   event)
-    predict_boundary(p, i, info, times, anchor, geom, dim, params)
     schedule(i, info, times, tree, leaves)
 
 
@@ -882,9 +896,9 @@ def predict_all(p, info, times, anchor, neighbours, neighbour_count, geom, dim, 
     """Predict every particle's events (all at their own times) and rebuild the tree."""
     event = int(acc[ACC_EVENTS])
     for i in range(p.shape[0]):
+        predict_boundary(p, i, info, times, anchor, geom, dim, params)
         predict_pairs(p, i, info, times, neighbours, neighbour_count, geom, dim, params[P_SCALE0], params[P_GROWTH],
                       event)
-        predict_boundary(p, i, info, times, anchor, geom, dim, params)
         times[i, EVENT_TIME] = min(times[i, PAIR_TIME], times[i, BOUNDARY_TIME])
     tree_build(tree, times, leaves)
 
