@@ -2,8 +2,11 @@
 
 import math
 
+import numba
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 from scipy import optimize, stats
 
 from collisionkit import edmd
@@ -374,3 +377,36 @@ def test_homogeneous_cooling_follows_haff_law():
         means.append(np.mean(ratios))
     # one run's mean scatters by ~1.2 % (8 seeds); the mean of four by ~0.6 %: 4 sigma
     assert abs(np.mean(means) - 1) < 0.025
+
+
+@numba.njit
+def _apply_queue_updates(updates, queue, tree, leaves):
+    """Apply (particle, time) updates through the kernel; return the tree's winner after each."""
+    winners = np.empty((len(updates), 2))
+    for k in range(len(updates)):
+        kernels.queue_update(int(updates[k, 0]), updates[k, 1], queue, tree, leaves)
+        winners[k, 0] = tree[1, 0]
+        winners[k, 1] = tree[1, 1]
+    return winners
+
+
+@settings(max_examples=60, deadline=None)
+@given(
+    count=st.integers(1, 40),
+    updates=st.lists(st.tuples(st.integers(0, 39), st.sampled_from([0.0, 0.5, 1.0, 2.0, math.inf])), max_size=60),
+)
+def test_event_queue_gives_the_earliest_event_lowest_index_on_ties(count, updates):
+    blocks = -(-count // kernels.QUEUE_BLOCK)
+    leaves = 1 << max(blocks - 1, 1).bit_length()
+    queue = np.full(blocks * kernels.QUEUE_BLOCK, math.inf)
+    queue[:count] = np.linspace(3.0, 4.0, count)
+    tree = np.zeros((2 * leaves, 2))
+    kernels.tree_build(tree, queue, leaves)
+    reference = queue[:count].copy()
+    assert tree[1, 1] == 0
+    steps = np.array([(i % count, time) for i, time in updates], dtype=float).reshape(-1, 2)
+    winners = _apply_queue_updates(steps, queue, tree, leaves)
+    for (i, time), (winner_time, winner) in zip(steps, winners):
+        reference[int(i)] = time
+        assert winner_time == reference.min()
+        assert winner == np.flatnonzero(reference == reference.min())[0]

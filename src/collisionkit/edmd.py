@@ -9,8 +9,8 @@ may be inelastic with a coefficient of normal restitution per species pair,
 optionally velocity dependent.
 
 The numeric work runs in :mod:`collisionkit._kernels.edmd` (neighbour lists
-with a shell, rebuilt from cell lists; an array-backed tournament tree of
-events; lazily updated particles).
+with a shell, rebuilt from cell lists; an array-backed tournament tree over
+blocks of event times; lazily updated particles).
 
 Units: any consistent set; the CLI uses diameter 1 (largest species), mass 1
 and initial kT = 1.
@@ -528,14 +528,16 @@ class HardSphereSystem:
         self.anchor = np.zeros((count, 3))
         self.neighbours = np.zeros((count, 16), dtype=np.uint32)
         self.neighbour_count = np.zeros(count, dtype=np.int32)
-        self.leaves = _next_power_of_two(count)
-        self.times = np.full((count, 3), np.inf)
+        blocks = -(-count // _k.QUEUE_BLOCK)
+        self.leaves = _next_power_of_two(blocks)
+        self.times = np.full((count, 2), np.inf)
+        self.queue = _aligned_zeros(blocks * _k.QUEUE_BLOCK)
         self.tree = _aligned_zeros((2 * self.leaves, 2))
 
     def _predict_all(self):
         _k.predict_all(
             self.p, self.info, self.times, self.anchor, self.neighbours, self.neighbour_count, self.geom, self.dim,
-            self.params, self.tree, self.leaves, self.acc,
+            self.params, self.queue, self.tree, self.leaves, self.acc,
         )
 
     # -------------------------------------------------------------- state
@@ -682,6 +684,7 @@ class HardSphereSystem:
         if shift != 0.0:
             self.p[:, _k.T] -= shift
             self.times -= shift
+            self.queue -= shift
             self.tree[:, 0] -= shift
             self.params[_k.P_SCALE0] += self.growth * shift
             self.elapsed += shift
@@ -913,13 +916,14 @@ class HardSphereSystem:
         return _k.run_events(
             self.time, collisions, t_stop, self.p, self._mass, self._species, self._image, self.info, self.times,
             self.anchor, self.neighbours, self.neighbour_count, self.cell_members, self.cell_count, self.cell_points,
-            self.ncell, self.geom, self.dim, self.restitution, self.params, self.tree, self.leaves, self.acc,
+            self.ncell, self.geom, self.dim, self.restitution, self.params, self.queue, self.tree, self.leaves,
+            self.acc,
         )
 
     # -------------------------------------------------------------- checkpoints
 
     _ARRAYS = ("p", "_mass", "_species", "_image", "ids", "acc", "geom", "params", "restitution", "info", "ncell",
-               "times", "tree", "anchor", "neighbours", "neighbour_count", "cell_members", "cell_count", "cell_points")
+               "times", "queue", "tree", "anchor", "neighbours", "neighbour_count", "cell_members", "cell_count", "cell_points")
     _SCALARS = ("dim", "time", "elapsed", "leaves", "last_sort", "_shell_request")
 
     def state_dict(self):
@@ -958,7 +962,7 @@ class HardSphereSystem:
         system = cls.__new__(cls)
         for name in cls._ARRAYS:
             setattr(system, name, np.array(state[name]))
-        for name in ("p", "tree"):
+        for name in ("p", "queue", "tree"):
             aligned = _aligned_zeros(getattr(system, name).shape)
             aligned[:] = getattr(system, name)
             setattr(system, name, aligned)

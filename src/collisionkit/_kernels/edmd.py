@@ -20,8 +20,12 @@ as used for speed by Smallenburg, arXiv:2201.01100):
   new neighbours;
 * every particle keeps its best predicted collision (over its list) and its
   next boundary event (list expiry or a wall); its event is the earlier;
-* a complete binary tree over the particles' event times gives the next
-  event in O(1) and updates in O(log N);
+* the particles' event times sit in blocks of 8 (one cache line); a
+  complete binary tree over the blocks' earliest events gives the next event
+  in O(1) and updates in O(log N). The tree is 16 times smaller than one over
+  the particles, small enough to stay in the core's cache, and most updates
+  end at the block (a particle that is not its block's first stays behind
+  it);
 * events are numbered; an event with partner j is stale if j has changed
   velocity since it was predicted (j's CHANGED_AT is later than i's
   PREDICTED_AT). Unlike per-particle counters, this needs no read of the
@@ -72,10 +76,12 @@ PREDICTED_AT = 5  # number of the event at which the collision was predicted
 BOUNDARY_CODE = 6  # wall face 2 * axis + (1 upward, 0 downward); -1 for list expiry
 BOUNDARY_KIND = 7  # LIST or WALL
 
-# columns of the event times (float64, N x 3)
-EVENT_TIME = 0
-PAIR_TIME = 1
-BOUNDARY_TIME = 2
+# columns of the event times (float64, N x 2)
+PAIR_TIME = 0
+BOUNDARY_TIME = 1
+
+# particles per block of the event queue: their event times fill one 64-byte cache line
+QUEUE_BLOCK = 8
 
 # rows of the geometry array (float64, 4 x 3)
 G_BOX = 0
@@ -108,8 +114,8 @@ ACC_EVENTS = 8  # events processed (pair, stale, list, wall): numbers them for s
 ACC_CELL_OVERFLOW = 9  # > 0: a cell outgrew its slots; the run stopped to grow them
 ACC_SIZE = 10
 
-# lowest levels of a particle's path up the event tree to prefetch (the upper ones stay cached)
-TREE_LEVELS_PREFETCHED = 8
+# lowest levels of a block's path up the event tree to prefetch (the upper ones stay cached)
+TREE_LEVELS_PREFETCHED = 6
 
 # restitution laws
 LAW_CONSTANT = 0
@@ -210,8 +216,8 @@ def cell_index(cx, cy, cz, ncell):
 
 
 @inline_kernel
-def tree_update(leaf, tree, time, leaves):
-    """Give ``leaf`` a new event time and replay its matches up the tournament tree.
+def tree_update(leaf, tree, time, winner, leaves):
+    """Give ``leaf`` (a block) a new earliest event and replay its matches up the tournament tree.
 
     ``tree[node] = (time, particle)`` of the winner below ``node`` (the
     particle index stored as a float, exact below 2^53), so both sit in one
@@ -221,8 +227,9 @@ def tree_update(leaf, tree, time, leaves):
     """
     node = leaves + leaf
     tree[node, 0] = time
+    tree[node, 1] = winner
     best_time = time
-    best_id = tree[node, 1]
+    best_id = winner
     while node > 1:
         sibling_time = tree[node ^ 1, 0]
         sibling_wins = sibling_time <= best_time if node & 1 else sibling_time < best_time
@@ -236,12 +243,54 @@ def tree_update(leaf, tree, time, leaves):
         tree[node, 1] = best_id
 
 
+@inline_kernel
+def _block_first(block, queue):
+    """Earliest event of a block of the queue: (time, particle); the lowest index wins ties."""
+    first = block * QUEUE_BLOCK
+    best_time = queue[first]
+    best = first
+    for k in range(first + 1, first + QUEUE_BLOCK):
+        earlier = queue[k] < best_time
+        best = k if earlier else best
+        best_time = queue[k] if earlier else best_time
+    return best_time, best
+
+
+@inline_kernel
+def queue_update(i, time, queue, tree, leaves):
+    """Give particle i the event time ``time`` in the queue.
+
+    The block's entry in the tree changes only if i was its first particle
+    or now comes first; otherwise the update ends here, without a scan.
+    """
+    queue[i] = time
+    block = i // QUEUE_BLOCK
+    node = leaves + block
+    block_time = tree[node, 0]
+    block_first = int(tree[node, 1])
+    if block_first != i:
+        if time > block_time or (time == block_time and i > block_first):
+            return
+        tree_update(block, tree, time, float(i), leaves)
+        return
+    if time <= block_time:
+        tree_update(block, tree, time, float(i), leaves)
+        return
+    best_time, best = _block_first(block, queue)
+    tree_update(block, tree, best_time, float(best), leaves)
+
+
 @kernel
-def tree_build(tree, times, leaves):
-    n = times.shape[0]
+def tree_build(tree, queue, leaves):
+    """Fill the tree over the queue's blocks (queue padded with inf to whole blocks)."""
+    blocks = queue.shape[0] // QUEUE_BLOCK
     for leaf in range(leaves):
-        tree[leaves + leaf, 0] = times[leaf, EVENT_TIME] if leaf < n else math.inf
-        tree[leaves + leaf, 1] = leaf
+        if leaf < blocks:
+            best_time, best = _block_first(leaf, queue)
+        else:
+            best_time, best = math.inf, leaf * QUEUE_BLOCK
+        tree[leaves + leaf, 0] = best_time
+        tree[leaves + leaf, 1] = best
     for node in range(leaves - 1, 0, -1):
         left = 2 * node
         winner = left if tree[left, 0] <= tree[left + 1, 0] else left + 1
@@ -562,11 +611,9 @@ def predict_boundary(p, i, info, times, anchor, geom, dim, params):
 
 
 @inline_kernel
-def schedule(i, info, times, tree, leaves):
+def schedule(i, times, queue, tree, leaves):
     """Make i's event the earlier of its collision and its boundary event."""
-    time = min(times[i, PAIR_TIME], times[i, BOUNDARY_TIME])
-    times[i, EVENT_TIME] = time
-    tree_update(i, tree, time, leaves)
+    queue_update(i, min(times[i, PAIR_TIME], times[i, BOUNDARY_TIME]), queue, tree, leaves)
 
 
 @inline_kernel
@@ -768,7 +815,7 @@ def build_all_lists(p, info, anchor, neighbours, neighbour_count, cell_members, 
 
 
 @inline_kernel
-def _prefetch_particle(i, p, info, times, anchor, neighbours, neighbour_count, tree, leaves, mass, species):
+def _prefetch_particle(i, p, info, times, anchor, neighbours, neighbour_count, queue, tree, leaves, mass, species):
     """Start loading everything an event of particle i reads, so the misses overlap."""
     prefetch(mass, i)
     prefetch(species, i)
@@ -778,7 +825,8 @@ def _prefetch_particle(i, p, info, times, anchor, neighbours, neighbour_count, t
     prefetch(anchor, i)
     prefetch(neighbours, i)
     prefetch(neighbour_count, i)
-    node = leaves + i
+    prefetch(queue, i)
+    node = leaves + i // QUEUE_BLOCK
     for _ in range(TREE_LEVELS_PREFETCHED):
         prefetch(tree, node)
         node >>= 1
@@ -789,11 +837,11 @@ def _likely_next(i, tree, leaves):
     """The particle of the second-earliest event, a guess good enough for prefetching.
 
     The runner-up of the tournament is the best of the siblings along the
-    winner i's path; the lowest levels (cold in cache) are skipped, so the
-    guess misses only if the runner-up lies among i's nearest 32 leaves.
-    Returns -1 if there is no guess.
+    winner i's path; the block and the lowest levels (cold in cache) are
+    skipped, so the guess misses if the runner-up lies among i's nearest
+    32 particles. Returns -1 if there is no guess.
     """
-    node = (leaves + i) >> 5 if leaves >= 64 else leaves + i
+    node = (leaves + i // QUEUE_BLOCK) >> 2 if leaves >= 8 else leaves + i // QUEUE_BLOCK
     best_time = math.inf
     best = -1
     while node > 1:
@@ -811,18 +859,18 @@ def _prefetch_neighbours(i, p, neighbours, neighbour_count):
 
 
 @inline_kernel
-def _repredict(p, i, info, times, anchor, neighbours, neighbour_count, geom, dim, params, tree, leaves, event):
+def _repredict(p, i, info, times, anchor, neighbours, neighbour_count, geom, dim, params, queue, tree, leaves, event):
     """Full prediction of i (at its own time): boundary, pairs before it, schedule."""
     predict_boundary(p, i, info, times, anchor, geom, dim, params)
     predict_pairs(p, i, info, times, neighbours, neighbour_count, geom, dim, params[P_SCALE0], params[P_GROWTH],
                   event)
-    schedule(i, info, times, tree, leaves)
+    schedule(i, times, queue, tree, leaves)
 
 
 @kernel
 def run_events(t, max_pair_collisions, t_stop, p, mass, species, image, info, times, anchor, neighbours,
-               neighbour_count, cell_members, cell_count, cell_points, ncell, geom, dim, restitution, params, tree,
-               leaves, acc):
+               neighbour_count, cell_members, cell_count, cell_points, ncell, geom, dim, restitution, params, queue,
+               tree, leaves, acc):
     """Process events until ``max_pair_collisions`` collisions or time ``t_stop``.
 
     Returns the current time: the last event's time, or ``t_stop`` if that
@@ -847,14 +895,14 @@ def run_events(t, max_pair_collisions, t_stop, p, mass, species, image, info, ti
         event += 1
         # memory latency dominates: start every load whose address is known, then compute;
         # also for the particle of the next event, most likely the runner-up now
-        _prefetch_particle(i, p, info, times, anchor, neighbours, neighbour_count, tree, leaves, mass, species)
+        _prefetch_particle(i, p, info, times, anchor, neighbours, neighbour_count, queue, tree, leaves, mass, species)
         upcoming = _likely_next(i, tree, leaves)
         if upcoming >= 0:
-            _prefetch_particle(upcoming, p, info, times, anchor, neighbours, neighbour_count, tree, leaves, mass,
-                               species)
-        if info[i, PARTNER] >= 0:
-            _prefetch_particle(info[i, PARTNER], p, info, times, anchor, neighbours, neighbour_count, tree, leaves,
+            _prefetch_particle(upcoming, p, info, times, anchor, neighbours, neighbour_count, queue, tree, leaves,
                                mass, species)
+        if info[i, PARTNER] >= 0:
+            _prefetch_particle(info[i, PARTNER], p, info, times, anchor, neighbours, neighbour_count, queue, tree,
+                               leaves, mass, species)
         _prefetch_neighbours(i, p, neighbours, neighbour_count)
         advance(p, i, t, geom, dim)
         partner = -1  # the second particle to re-predict, if any
@@ -881,26 +929,28 @@ def run_events(t, max_pair_collisions, t_stop, p, mass, species, image, info, ti
         if upcoming >= 0:  # its rows have arrived by now: fetch what they point to
             _prefetch_neighbours(upcoming, p, neighbours, neighbour_count)
             if info[upcoming, PARTNER] >= 0:
-                _prefetch_particle(info[upcoming, PARTNER], p, info, times, anchor, neighbours, neighbour_count, tree,
-                                   leaves, mass, species)
+                _prefetch_particle(info[upcoming, PARTNER], p, info, times, anchor, neighbours, neighbour_count,
+                                   queue, tree, leaves, mass, species)
         # one call site, so the inlined prediction is compiled once
         for q in range(1 if partner < 0 else 2):
             _repredict(p, i if q == 0 else partner, info, times, anchor, neighbours, neighbour_count, geom, dim,
-                       params, tree, leaves, event)
+                       params, queue, tree, leaves, event)
     acc[ACC_EVENTS] = event
     return t
 
 
 @kernel
-def predict_all(p, info, times, anchor, neighbours, neighbour_count, geom, dim, params, tree, leaves, acc):
+def predict_all(p, info, times, anchor, neighbours, neighbour_count, geom, dim, params, queue, tree, leaves, acc):
     """Predict every particle's events (all at their own times) and rebuild the tree."""
     event = int(acc[ACC_EVENTS])
     for i in range(p.shape[0]):
         predict_boundary(p, i, info, times, anchor, geom, dim, params)
         predict_pairs(p, i, info, times, neighbours, neighbour_count, geom, dim, params[P_SCALE0], params[P_GROWTH],
                       event)
-        times[i, EVENT_TIME] = min(times[i, PAIR_TIME], times[i, BOUNDARY_TIME])
-    tree_build(tree, times, leaves)
+        queue[i] = min(times[i, PAIR_TIME], times[i, BOUNDARY_TIME])
+    for padding in range(p.shape[0], queue.shape[0]):
+        queue[padding] = math.inf
+    tree_build(tree, queue, leaves)
 
 
 @kernel
