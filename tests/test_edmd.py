@@ -187,7 +187,11 @@ def test_polydisperse_mixture_in_a_channel():
 
 
 def test_neighbour_lists_are_symmetric_and_complete():
-    """Every pair whose anchors are within the list radius is listed, both ways, and no other."""
+    """Every pair whose anchors are within the list radius is listed, both ways, and no pair beyond it.
+
+    The cells hold float32 anchors, so a pair within their round-off of the
+    radius may be listed too (harmless: the list is a superset).
+    """
     rng = np.random.default_rng(3)
     positions, box = edmd.lattice("fcc", 4, 0.35)
     radii = np.where(rng.random(len(positions)) < 0.5, 0.5, 0.35)
@@ -195,16 +199,18 @@ def test_neighbour_lists_are_symmetric_and_complete():
     system.run(collisions=20 * system.count)  # lists rebuilt one particle at a time
     shell, scale = system.params[kernels.P_SHELL], system.params[kernels.P_LIST_SCALE]
     length = system.box[:3]
+    slack = kernels.ANCHOR_ROUNDING * (length.max() + 1.0)
     listed = {(i, int(j)) for i in range(system.count) for j in system.neighbours[i, : system.neighbour_count[i]]}
-    expected = set()
+    within, allowed = set(), set()
     for i in range(system.count):
         separation = system.anchor - system.anchor[i]
         separation -= length * np.round(separation / length)
+        distance = np.sqrt(np.sum(separation**2, axis=1))
         reach = (system.p[:, kernels.R] + system.p[i, kernels.R]) * scale + shell
-        for j in np.flatnonzero(np.sum(separation**2, axis=1) <= reach**2):
-            if j != i:
-                expected.add((i, int(j)))
-    assert listed == expected
+        within |= {(i, int(j)) for j in np.flatnonzero(distance <= reach) if j != i}
+        allowed |= {(i, int(j)) for j in np.flatnonzero(distance <= reach + 2 * slack) if j != i}
+    assert within <= listed <= allowed
+    assert len(within) > 8 * system.count
     assert all((j, i) in listed for i, j in listed)
 
 

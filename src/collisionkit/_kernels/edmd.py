@@ -52,7 +52,7 @@ import numpy as np
 # no EDMD kernel allocates or returns an array: all of them borrow, without reference counting
 from .._jit import borrowing_inline_kernel as inline_kernel
 from .._jit import borrowing_kernel as kernel
-from ._memory import prefetch
+from ._memory import prefetch, prefetch_at
 
 # event kinds
 NO_EVENT = 0
@@ -68,8 +68,6 @@ R = 7  # radius at scale 1
 
 # columns of the integer records info (int64, N x 8)
 CELL_OF = 0  # cell of the anchor
-SLOT = 1  # slot in that cell
-UNUSED = 2
 CHANGED_AT = 3  # number of the event that last changed the velocity
 PARTNER = 4  # partner of the best predicted collision
 PREDICTED_AT = 5  # number of the event at which the collision was predicted
@@ -113,6 +111,12 @@ ACC_LIST_OVERFLOW = 7  # > 0: a neighbour list outgrew its row; the run stopped 
 ACC_EVENTS = 8  # events processed (pair, stale, list, wall): numbers them for stale detection
 ACC_CELL_OVERFLOW = 9  # > 0: a cell outgrew its slots; the run stopped to grow them
 ACC_SIZE = 10
+
+# float32 anchor-and-radius slots of a cell in one 64-byte cache line
+CELL_SLOTS_PER_LINE = 4
+
+# relative round-off bound of the float32 anchors in the cell lists (8 float32 ulps), times the box size
+ANCHOR_ROUNDING = 2.0**-21
 
 # lowest levels of a block's path up the event tree to prefetch (the upper ones stay cached)
 TREE_LEVELS_PREFETCHED = 6
@@ -315,15 +319,20 @@ def _neighbour(c, offset, n, periodic, length):
 
 @inline_kernel
 def cell_remove(i, info, cell_members, cell_count, cell_points):
-    """Take particle i out of its cell (the last member moves into its slot)."""
+    """Take particle i out of its cell (the last member moves into its slot).
+
+    i's slot is found by a scan of the cell (a few members, in cache lines
+    the rebuild reads anyway) rather than kept per particle, which would
+    cost a write to the moved particle's record, a cache miss.
+    """
     cell = info[i, CELL_OF]
-    slot = info[i, SLOT]
     last = cell_count[cell] - 1
-    moved = cell_members[cell, last]
-    cell_members[cell, slot] = moved
+    slot = last
+    while cell_members[cell, slot] != i:
+        slot -= 1
+    cell_members[cell, slot] = cell_members[cell, last]
     for k in range(4):
         cell_points[cell, slot, k] = cell_points[cell, last, k]
-    info[moved, SLOT] = slot
     cell_count[cell] = last
 
 
@@ -339,7 +348,6 @@ def cell_insert(i, cell, anchor, radius, info, cell_members, cell_count, cell_po
     cell_points[cell, slot, 3] = radius
     cell_count[cell] = slot + 1
     info[i, CELL_OF] = cell
-    info[i, SLOT] = slot
     return True
 
 
@@ -672,7 +680,9 @@ def gather_neighbours(p, i, info, anchor, neighbours, neighbour_count, cell_memb
     lx, ly, lz = geom[G_BOX, 0], geom[G_BOX, 1], geom[G_BOX, 2]
     hx, hy, hz = _half_box(geom, 0), _half_box(geom, 1), _half_box(geom, 2)
     ax, ay, az = anchor[i, 0], anchor[i, 1], anchor[i, 2]
-    reach_i = p[i, R] * params[P_LIST_SCALE] + params[P_SHELL]
+    # anchors are stored in float32 in the cells: widen the test by their round-off
+    slack = ANCHOR_ROUNDING * (max(lx, ly, lz) + 1.0)
+    reach_i = p[i, R] * params[P_LIST_SCALE] + params[P_SHELL] + slack
     list_scale = params[P_LIST_SCALE]
     for oz in range(zl, zh + 1):
         nz, _ = _neighbour(cz, oz, ncell[2], geom[G_PERIODIC, 2] != 0.0, 0.0)
@@ -739,6 +749,7 @@ def _prefetch_cells(cell, cell_members, cell_count, cell_points, ncell, geom, di
                 nx = (cx + ox) % ncell[0]  # a wrong guess at a walled edge costs nothing
                 neighbour_cell = cell_index(nx, ny, nz, ncell)
                 prefetch(cell_points, neighbour_cell)
+                prefetch_at(cell_points, neighbour_cell, CELL_SLOTS_PER_LINE)  # a fifth sphere is common
                 prefetch(cell_count, neighbour_cell)
 
 
