@@ -488,7 +488,7 @@ class HardSphereSystem:
         self.geom[_k.G_CELL] = widths
         while True:
             needed, fullest = _k.build_all_lists(
-                self.p, self.info, self.anchor, self.neighbours, self.neighbour_count, self.cell_members,
+                self.p, self.book, self.cell_of, self.neighbours, self.neighbour_count, self.cell_members,
                 self.cell_count, self.cell_points, self.ncell, self.geom, self.dim, self.params, self._image,
             )
             if fullest > self.cell_members.shape[1]:
@@ -524,22 +524,33 @@ class HardSphereSystem:
 
     def _new_events(self):
         count = self.count
-        self.info = np.zeros((count, 8), dtype=np.int64)
-        self.info[:, _k.PARTNER] = -1
-        self.anchor = np.zeros((count, 3))
+        # one 64-byte bookkeeping record per particle (next event, event numbers, anchor, mass, species)
+        self.book = _aligned_zeros((count, 8))
+        self.book[:, _k.TARGET] = _k.LIST_TARGET
+        self._copy_masses_and_species()
+        self.cell_of = np.zeros(count, dtype=np.int32)
         self.neighbours = np.zeros((count, 16), dtype=np.uint32)
         self.neighbour_count = np.zeros(count, dtype=np.int32)
         blocks = -(-count // _k.QUEUE_BLOCK)
         self.leaves = _next_power_of_two(blocks)
-        self.times = np.full((count, 2), np.inf)
         self.queue = _aligned_zeros(blocks * _k.QUEUE_BLOCK)
         self.tree = _aligned_zeros((2 * self.leaves, 2))
 
+    def _copy_masses_and_species(self):
+        """The kernels read masses and species from the bookkeeping records."""
+        self.book[:, _k.MASS] = self._mass
+        self.book[:, _k.SPECIES] = self._species
+
     def _predict_all(self):
         _k.predict_all(
-            self.p, self.info, self.times, self.anchor, self.neighbours, self.neighbour_count, self.geom, self.dim,
-            self.params, self.queue, self.tree, self.leaves, self.acc,
+            self.p, self.book, self.neighbours, self.neighbour_count, self.geom, self.dim, self.params, self.queue,
+            self.tree, self.leaves, self.acc,
         )
+
+    @property
+    def anchor(self):
+        """Neighbour-list anchors: where each particle's list was last built (a view)."""
+        return self.book[:, _k.ANCHOR : _k.ANCHOR + 3]
 
     # -------------------------------------------------------------- state
 
@@ -609,14 +620,15 @@ class HardSphereSystem:
         and all events re-predicted (the slots changed).
         """
         self._refresh_lists()
-        order = np.argsort(self.info[:, _k.CELL_OF], kind="stable")
+        order = np.argsort(self.cell_of, kind="stable")
         self.p[:] = self.p[order]
         self._mass = self._mass[order]
         self._species = self._species[order]
         self._image = self._image[order]
         self.ids = self.ids[order]
-        self.info[:] = 0
-        self.info[:, _k.PARTNER] = -1
+        self.book[:] = 0.0
+        self.book[:, _k.TARGET] = _k.LIST_TARGET
+        self._copy_masses_and_species()
         self._refresh_lists()
         self.last_sort = self.collisions
 
@@ -684,7 +696,6 @@ class HardSphereSystem:
         shift = self.time
         if shift != 0.0:
             self.p[:, _k.T] -= shift
-            self.times -= shift
             self.queue -= shift
             self.tree[:, 0] -= shift
             self.params[_k.P_SCALE0] += self.growth * shift
@@ -830,7 +841,7 @@ class HardSphereSystem:
             gap = min(gap, _k.wall_gap(self.p, self.scale, self.geom, self.dim))
         if gap < -tolerance * float(np.max(self.radius)):
             raise OverlapError(f"overlap of {-gap:.3g} found at time {self.elapsed + self.time:.6g}")
-        drift = _k.largest_anchor_drift(self.p, self.anchor, self.dim)
+        drift = _k.largest_anchor_drift(self.p, self.book, self.dim)
         allowed = 0.5 * self.params[_k.P_SHELL] + tolerance * float(np.max(self.box[: self.dim]))
         if drift > allowed:
             # the lists would miss collisions: an engine bug, never a user error
@@ -839,7 +850,7 @@ class HardSphereSystem:
 
     def _pair_gap(self):
         return _k.min_gap(
-            self.p, self.scale, self.info, self.cell_members, self.cell_count, self.ncell, self.geom, self.dim
+            self.p, self.scale, self.cell_of, self.cell_members, self.cell_count, self.ncell, self.geom, self.dim
         )
 
     # -------------------------------------------------------------- running
@@ -915,16 +926,15 @@ class HardSphereSystem:
 
     def _run_events(self, collisions, t_stop):
         return _k.run_events(
-            self.time, collisions, t_stop, self.p, self._mass, self._species, self._image, self.info, self.times,
-            self.anchor, self.neighbours, self.neighbour_count, self.cell_members, self.cell_count, self.cell_points,
-            self.ncell, self.geom, self.dim, self.restitution, self.params, self.queue, self.tree, self.leaves,
-            self.acc,
+            self.time, collisions, t_stop, self.p, self.book, self._image, self.cell_of, self.neighbours,
+            self.neighbour_count, self.cell_members, self.cell_count, self.cell_points, self.ncell, self.geom, self.dim,
+            self.restitution, self.params, self.queue, self.tree, self.leaves, self.acc,
         )
 
     # -------------------------------------------------------------- checkpoints
 
-    _ARRAYS = ("p", "_mass", "_species", "_image", "ids", "acc", "geom", "params", "restitution", "info", "ncell",
-               "times", "queue", "tree", "anchor", "neighbours", "neighbour_count", "cell_members", "cell_count", "cell_points")
+    _ARRAYS = ("p", "_mass", "_species", "_image", "ids", "acc", "geom", "params", "restitution", "book", "cell_of",
+               "ncell", "queue", "tree", "neighbours", "neighbour_count", "cell_members", "cell_count", "cell_points")
     _SCALARS = ("dim", "time", "elapsed", "leaves", "last_sort", "_shell_request")
 
     def state_dict(self):
@@ -963,7 +973,7 @@ class HardSphereSystem:
         system = cls.__new__(cls)
         for name in cls._ARRAYS:
             setattr(system, name, np.array(state[name]))
-        for name in ("p", "queue", "tree"):
+        for name in ("p", "book", "queue", "tree"):
             aligned = _aligned_zeros(getattr(system, name).shape)
             aligned[:] = getattr(system, name)
             setattr(system, name, aligned)

@@ -10,7 +10,7 @@ as used for speed by Smallenburg, arXiv:2201.01100):
   line);
 * every particle carries a neighbour list: the particles whose *anchors*
   (positions when their lists were last built) lie within
-  ``(r_i + r_j) * list_scale + shell``. A particle's list is rebuilt (a LIST
+  ``(r_i + r_j) * list_scale + shell``. A particle's list is rebuilt (a list
   event) when it has moved ``shell / 2`` from its anchor, so two particles
   that are not neighbours cannot touch before one of them rebuilds. Lists are
   symmetric: a rebuild removes the particle from its old neighbours' lists
@@ -30,7 +30,12 @@ as used for speed by Smallenburg, arXiv:2201.01100):
   velocity since it was predicted (j's CHANGED_AT is later than i's
   PREDICTED_AT). Unlike per-particle counters, this needs no read of the
   partner's record when predicting, one memory round trip fewer. Stale
-  events are re-predicted.
+  events are re-predicted;
+* what an event needs of a particle sits in two 64-byte records: ``p``
+  (position, velocity, own time, radius: all a neighbour's prediction
+  reads) and ``b`` (next event, event numbers, anchor, mass, species), so
+  an event touches few cache lines: memory latency, not arithmetic, bounds
+  the engine once the particles outgrow the caches.
 
 Positions are not wrapped into a periodic box at every crossing, only when a
 particle rebuilds its list, so they may lie up to ``shell / 2`` outside
@@ -54,29 +59,22 @@ from .._jit import borrowing_inline_kernel as inline_kernel
 from .._jit import borrowing_kernel as kernel
 from ._memory import prefetch, prefetch_at
 
-# event kinds
-NO_EVENT = 0
-PAIR = 1
-LIST = 2  # the particle moved shell / 2 from its anchor: rebuild its neighbour list
-WALL = 3
-
 # columns of the particle records p (float64, N x 8)
 X = 0  # position x, y, z (z = 0 in 2D)
 V = 3  # velocity
 T = 6  # the particle's own time
 R = 7  # radius at scale 1
 
-# columns of the integer records info (int64, N x 8)
-CELL_OF = 0  # cell of the anchor
-CHANGED_AT = 3  # number of the event that last changed the velocity
-PARTNER = 4  # partner of the best predicted collision
-PREDICTED_AT = 5  # number of the event at which the collision was predicted
-BOUNDARY_CODE = 6  # wall face 2 * axis + (1 upward, 0 downward); -1 for list expiry
-BOUNDARY_KIND = 7  # LIST or WALL
+# columns of the bookkeeping records b (float64, N x 8: one 64-byte cache line a particle, so an
+# event reads and writes one line besides p; integers are stored as floats, exact below 2^53)
+TARGET = 0  # the particle's next event: a collision with partner TARGET (>= 0), else LIST_TARGET or wall_target(face)
+PREDICTED_AT = 1  # number of the event at which that event was predicted
+CHANGED_AT = 2  # number of the event that last changed the velocity
+ANCHOR = 3  # anchor x, y, z: the position where the neighbour list was last built
+MASS = 6
+SPECIES = 7
 
-# columns of the event times (float64, N x 2)
-PAIR_TIME = 0
-BOUNDARY_TIME = 1
+LIST_TARGET = -1  # next event: the particle moved shell / 2 from its anchor, rebuild its list
 
 # particles per block of the event queue: their event times fill one 64-byte cache line
 QUEUE_BLOCK = 8
@@ -120,6 +118,12 @@ ANCHOR_ROUNDING = 2.0**-21
 
 # lowest levels of a block's path up the event tree to prefetch (the upper ones stay cached)
 TREE_LEVELS_PREFETCHED = 6
+
+@kernel
+def wall_target(face):
+    """TARGET code of a collision with wall ``face`` (2 * axis + 1 upper, 2 * axis lower); its own inverse."""
+    return -2 - face
+
 
 # restitution laws
 LAW_CONSTANT = 0
@@ -318,14 +322,14 @@ def _neighbour(c, offset, n, periodic, length):
 
 
 @inline_kernel
-def cell_remove(i, info, cell_members, cell_count, cell_points):
+def cell_remove(i, cell_of, cell_members, cell_count, cell_points):
     """Take particle i out of its cell (the last member moves into its slot).
 
     i's slot is found by a scan of the cell (a few members, in cache lines
     the rebuild reads anyway) rather than kept per particle, which would
     cost a write to the moved particle's record, a cache miss.
     """
-    cell = info[i, CELL_OF]
+    cell = cell_of[i]
     last = cell_count[cell] - 1
     slot = last
     while cell_members[cell, slot] != i:
@@ -337,26 +341,26 @@ def cell_remove(i, info, cell_members, cell_count, cell_points):
 
 
 @inline_kernel
-def cell_insert(i, cell, anchor, radius, info, cell_members, cell_count, cell_points):
+def cell_insert(i, cell, b, radius, cell_of, cell_members, cell_count, cell_points):
     """Append particle i (anchor and radius) to ``cell``; False if the cell is full."""
     slot = cell_count[cell]
     if slot >= cell_members.shape[1]:
         return False
     cell_members[cell, slot] = i
     for k in range(3):
-        cell_points[cell, slot, k] = anchor[i, k]
+        cell_points[cell, slot, k] = b[i, ANCHOR + k]
     cell_points[cell, slot, 3] = radius
     cell_count[cell] = slot + 1
-    info[i, CELL_OF] = cell
+    cell_of[i] = cell
     return True
 
 
 @inline_kernel
-def restitution_for(i, j, approach, species, restitution, params):
+def restitution_for(i, j, approach, b, restitution, params):
     """Coefficient of normal restitution of one contact."""
     if approach < params[P_ELASTIC_BELOW]:
         return 1.0
-    e = restitution[species[i], species[j]]
+    e = restitution[int(b[i, SPECIES]), int(b[j, SPECIES])]
     speed = params[P_LAW_SPEED]
     if params[P_LAW] == LAW_BRIDGES and approach > speed:
         e = min(e, (approach / speed) ** (-params[P_LAW_EXPONENT]))
@@ -364,7 +368,7 @@ def restitution_for(i, j, approach, species, restitution, params):
 
 
 @inline_kernel
-def collide_pair(p, i, j, mass, geom, dim, scale, growth, species, restitution, params, acc):
+def collide_pair(p, i, j, b, geom, dim, scale, growth, restitution, params, acc):
     """Resolve the contact of i and j (both at the current time)."""
     rx = 0.0
     ry = 0.0
@@ -389,13 +393,13 @@ def collide_pair(p, i, j, mass, geom, dim, scale, growth, species, restitution, 
     surface_rate = (p[i, R] + p[j, R]) * growth
     if approach + surface_rate <= 0.0:
         return
-    mi = mass[i]
-    mj = mass[j]
+    mi = b[i, MASS]
+    mj = b[j, MASS]
     reduced = mi * mj / (mi + mj)
     if growth != 0.0:
         impulse = reduced * 2.0 * (approach + surface_rate)
     else:
-        e = restitution_for(i, j, approach, species, restitution, params)
+        e = restitution_for(i, j, approach, b, restitution, params)
         impulse = reduced * (1.0 + e) * approach
         acc[ACC_ENERGY_LOST] += 0.5 * reduced * (1.0 - e * e) * approach * approach
     p[i, V] -= impulse / mi * nx
@@ -409,14 +413,14 @@ def collide_pair(p, i, j, mass, geom, dim, scale, growth, species, restitution, 
 
 
 @inline_kernel
-def bounce_off_wall(p, i, code, mass, params, acc):
+def bounce_off_wall(p, i, code, b, params, acc):
     axis = code // 2
     upward = code % 2 == 1
     v = p[i, V + axis]
     if (upward and v > 0.0) or ((not upward) and v < 0.0):
         e = params[P_WALL_RESTITUTION]
         p[i, V + axis] = -e * v
-        acc[ACC_WALL_IMPULSE] += mass[i] * (1.0 + e) * abs(v)
+        acc[ACC_WALL_IMPULSE] += b[i, MASS] * (1.0 + e) * abs(v)
         acc[ACC_WALL_COLLISIONS] += 1.0
 
 
@@ -489,15 +493,14 @@ def _first_contact_ballistic(p, i, neighbours, neighbour_count, geom, scale, hor
 
 
 @inline_kernel
-def predict_pairs(p, i, info, times, neighbours, neighbour_count, geom, dim, scale0, growth, event):
-    """Best collision of particle i (at its own time) with its list (at event ``event``).
+def predict_pairs(p, i, neighbours, neighbour_count, geom, scale0, growth, horizon):
+    """Earliest collision of particle i (at its own time) with its list within ``horizon``.
 
-    Only collisions before i's boundary event (``times[i, BOUNDARY_TIME]``,
-    predicted first) matter: a later one would be re-predicted at that event
-    anyway. ``PAIR_TIME`` is inf if there is none.
+    Returns (time from i's time, partner), or (inf, -1) if none comes
+    before ``horizon``, i's boundary event: a later collision would be
+    re-predicted at that event anyway.
     """
     t = p[i, T]
-    horizon = times[i, BOUNDARY_TIME] - t
     scale = scale0 + growth * t
     xi = p[i, X]
     yi = p[i, X + 1]
@@ -513,11 +516,7 @@ def predict_pairs(p, i, info, times, neighbours, neighbour_count, geom, dim, sca
     gz = 0.5 * geom[G_GRAVITY, 2]
     falling = gx != 0.0 or gy != 0.0 or gz != 0.0
     if growth == 0.0 and not falling:
-        best, partner = _first_contact_ballistic(p, i, neighbours, neighbour_count, geom, scale, horizon)
-        times[i, PAIR_TIME] = t + best
-        info[i, PARTNER] = partner
-        info[i, PREDICTED_AT] = event
-        return
+        return _first_contact_ballistic(p, i, neighbours, neighbour_count, geom, scale, horizon)
     best = horizon
     partner = -1
     for m in range(neighbour_count[i]):
@@ -557,13 +556,13 @@ def predict_pairs(p, i, info, times, neighbours, neighbour_count, geom, dim, sca
             if tau < best:
                 best = tau
                 partner = j
-    times[i, PAIR_TIME] = t + best if partner >= 0 else math.inf
-    info[i, PARTNER] = partner
-    info[i, PREDICTED_AT] = event
+    if partner < 0:
+        return math.inf, -1
+    return best, partner
 
 
 @inline_kernel
-def list_expiry(p, i, anchor, geom, dim, reach):
+def list_expiry(p, i, b, geom, dim, reach):
     """Time (from i's own time) until particle i is ``reach`` away from its anchor.
 
     Without gravity the distance is measured in full (a quadratic); under
@@ -572,20 +571,20 @@ def list_expiry(p, i, anchor, geom, dim, reach):
     """
     falling = geom[G_GRAVITY, 0] != 0.0 or geom[G_GRAVITY, 1] != 0.0 or geom[G_GRAVITY, 2] != 0.0
     if not falling:
-        a = 0.0
-        b = 0.0
-        c = -reach * reach
+        quadratic = 0.0
+        linear = 0.0
+        constant = -reach * reach
         for k in range(dim):
-            d = p[i, X + k] - anchor[i, k]
+            d = p[i, X + k] - b[i, ANCHOR + k]
             v = p[i, V + k]
-            a += v * v
-            b += 2.0 * d * v
-            c += d * d
-        return first_root_from_below(a, b, c)
+            quadratic += v * v
+            linear += 2.0 * d * v
+            constant += d * d
+        return first_root_from_below(quadratic, linear, constant)
     side = reach / math.sqrt(dim)
     best = math.inf
     for k in range(dim):
-        d = p[i, X + k] - anchor[i, k]
+        d = p[i, X + k] - b[i, ANCHOR + k]
         v = p[i, V + k]
         g = 0.5 * geom[G_GRAVITY, k]
         best = min(best, first_root_from_below(g, v, d - side), first_root_from_below(-g, -v, -d - side))
@@ -593,13 +592,15 @@ def list_expiry(p, i, anchor, geom, dim, reach):
 
 
 @inline_kernel
-def predict_boundary(p, i, info, times, anchor, geom, dim, params):
-    """Next time particle i (at its own time) must rebuild its list or hits a wall."""
+def predict_boundary(p, i, b, geom, dim, params):
+    """When particle i (at its own time) must next rebuild its list or hits a wall.
+
+    Returns (time from i's time, target: LIST_TARGET or the wall's target).
+    """
     growth = params[P_GROWTH]
     scale = params[P_SCALE0] + growth * p[i, T]
-    best = list_expiry(p, i, anchor, geom, dim, 0.5 * params[P_SHELL])
-    kind = LIST
-    code = -1
+    best = list_expiry(p, i, b, geom, dim, 0.5 * params[P_SHELL])
+    target = LIST_TARGET
     r = p[i, R]
     for k in range(dim):
         if geom[G_PERIODIC, k] != 0.0:
@@ -609,19 +610,28 @@ def predict_boundary(p, i, info, times, anchor, geom, dim, params):
         g = 0.5 * geom[G_GRAVITY, k]
         tau = first_root_from_below(g, v + r * growth, x + r * scale - geom[G_BOX, k])
         if tau < best:
-            best, kind, code = tau, WALL, 2 * k + 1
+            best, target = tau, wall_target(2 * k + 1)
         tau = first_root_from_below(-g, -v + r * growth, r * scale - x)
         if tau < best:
-            best, kind, code = tau, WALL, 2 * k
-    times[i, BOUNDARY_TIME] = p[i, T] + best
-    info[i, BOUNDARY_KIND] = kind
-    info[i, BOUNDARY_CODE] = code
+            best, target = tau, wall_target(2 * k)
+    return best, target
 
 
 @inline_kernel
-def schedule(i, times, queue, tree, leaves):
-    """Make i's event the earlier of its collision and its boundary event."""
-    queue_update(i, min(times[i, PAIR_TIME], times[i, BOUNDARY_TIME]), queue, tree, leaves)
+def predict(p, i, b, neighbours, neighbour_count, geom, dim, params, event):
+    """Predict particle i's next event (i at its own time): its boundary event, then the collisions before it.
+
+    Records the event's target in ``b`` and returns its absolute time.
+    """
+    boundary, target = predict_boundary(p, i, b, geom, dim, params)
+    pair, partner = predict_pairs(p, i, neighbours, neighbour_count, geom, params[P_SCALE0], params[P_GROWTH],
+                                  boundary)
+    b[i, PREDICTED_AT] = event
+    if partner >= 0:
+        b[i, TARGET] = partner
+        return p[i, T] + pair
+    b[i, TARGET] = target
+    return p[i, T] + boundary
 
 
 @inline_kernel
@@ -664,7 +674,7 @@ def _offsets(n, periodic):
 
 
 @inline_kernel
-def gather_neighbours(p, i, info, anchor, neighbours, neighbour_count, cell_members, cell_count, cell_points, ncell,
+def gather_neighbours(p, i, b, cell_of, neighbours, neighbour_count, cell_members, cell_count, cell_points, ncell,
                       geom, dim, params):
     """Fill i's list from the anchors in the cells around i's anchor.
 
@@ -673,13 +683,13 @@ def gather_neighbours(p, i, info, anchor, neighbours, neighbour_count, cell_memb
     """
     width = neighbours.shape[1]
     count = 0
-    cx, cy, cz = cell_coordinates(info[i, CELL_OF], ncell)
+    cx, cy, cz = cell_coordinates(cell_of[i], ncell)
     zl, zh = _offsets(ncell[2], geom[G_PERIODIC, 2] != 0.0) if dim == 3 else (0, 0)
     yl, yh = _offsets(ncell[1], geom[G_PERIODIC, 1] != 0.0)
     xl, xh = _offsets(ncell[0], geom[G_PERIODIC, 0] != 0.0)
     lx, ly, lz = geom[G_BOX, 0], geom[G_BOX, 1], geom[G_BOX, 2]
     hx, hy, hz = _half_box(geom, 0), _half_box(geom, 1), _half_box(geom, 2)
-    ax, ay, az = anchor[i, 0], anchor[i, 1], anchor[i, 2]
+    ax, ay, az = b[i, ANCHOR], b[i, ANCHOR + 1], b[i, ANCHOR + 2]
     # anchors are stored in float32 in the cells: widen the test by their round-off
     slack = ANCHOR_ROUNDING * (max(lx, ly, lz) + 1.0)
     reach_i = p[i, R] * params[P_LIST_SCALE] + params[P_SHELL] + slack
@@ -765,7 +775,7 @@ def _drop_from_list(j, i, neighbours, neighbour_count):
 
 
 @inline_kernel
-def rebuild_list(p, i, info, anchor, neighbours, neighbour_count, cell_members, cell_count, cell_points, ncell, geom,
+def rebuild_list(p, i, b, cell_of, neighbours, neighbour_count, cell_members, cell_count, cell_points, ncell, geom,
                  dim, params, image, acc):
     """Re-anchor particle i at its position (at its own time) and rebuild its list.
 
@@ -782,12 +792,12 @@ def rebuild_list(p, i, info, anchor, neighbours, neighbour_count, cell_members, 
     for m in range(neighbour_count[i]):
         _drop_from_list(neighbours[i, m], i, neighbours, neighbour_count)
     for k in range(3):
-        anchor[i, k] = p[i, X + k]
-    cell_remove(i, info, cell_members, cell_count, cell_points)
-    if not cell_insert(i, cell, anchor, p[i, R], info, cell_members, cell_count, cell_points):
+        b[i, ANCHOR + k] = p[i, X + k]
+    cell_remove(i, cell_of, cell_members, cell_count, cell_points)
+    if not cell_insert(i, cell, b, p[i, R], cell_of, cell_members, cell_count, cell_points):
         acc[ACC_CELL_OVERFLOW] = cell_count[cell] + 1
         return False
-    needed = gather_neighbours(p, i, info, anchor, neighbours, neighbour_count, cell_members, cell_count, cell_points,
+    needed = gather_neighbours(p, i, b, cell_of, neighbours, neighbour_count, cell_members, cell_count, cell_points,
                                ncell, geom, dim, params)
     needed = max(needed, _join_neighbours(i, neighbours, neighbour_count))
     if needed > neighbours.shape[1]:
@@ -797,7 +807,7 @@ def rebuild_list(p, i, info, anchor, neighbours, neighbour_count, cell_members, 
 
 
 @kernel
-def build_all_lists(p, info, anchor, neighbours, neighbour_count, cell_members, cell_count, cell_points, ncell, geom,
+def build_all_lists(p, b, cell_of, neighbours, neighbour_count, cell_members, cell_count, cell_points, ncell, geom,
                     dim, params, image):
     """Anchor every particle at its position (all synchronised) and build every list.
 
@@ -810,30 +820,26 @@ def build_all_lists(p, info, anchor, neighbours, neighbour_count, cell_members, 
     for i in range(p.shape[0]):
         wrap_into_box(p, i, geom, dim, image)
         for k in range(3):
-            anchor[i, k] = p[i, X + k]
+            b[i, ANCHOR + k] = p[i, X + k]
         cell = cell_of_position(p, i, ncell, geom, dim)
-        if not cell_insert(i, cell, anchor, p[i, R], info, cell_members, cell_count, cell_points):
+        if not cell_insert(i, cell, b, p[i, R], cell_of, cell_members, cell_count, cell_points):
             cell_count[cell] += 1  # count what would not fit, to report the size needed
         most = max(most, cell_count[cell])
     if most > cell_members.shape[1]:
         return 0, most
     needed = 0
     for i in range(p.shape[0]):
-        count = gather_neighbours(p, i, info, anchor, neighbours, neighbour_count, cell_members, cell_count,
+        count = gather_neighbours(p, i, b, cell_of, neighbours, neighbour_count, cell_members, cell_count,
                                   cell_points, ncell, geom, dim, params)
         needed = max(needed, count)
     return needed, most
 
 
 @inline_kernel
-def _prefetch_particle(i, p, info, times, anchor, neighbours, neighbour_count, queue, tree, leaves, mass, species):
+def _prefetch_particle(i, p, b, queue, neighbours, neighbour_count, tree, leaves):
     """Start loading everything an event of particle i reads, so the misses overlap."""
-    prefetch(mass, i)
-    prefetch(species, i)
     prefetch(p, i)
-    prefetch(info, i)
-    prefetch(times, i)
-    prefetch(anchor, i)
+    prefetch(b, i)
     prefetch(neighbours, i)
     prefetch(neighbour_count, i)
     prefetch(queue, i)
@@ -870,18 +876,14 @@ def _prefetch_neighbours(i, p, neighbours, neighbour_count):
 
 
 @inline_kernel
-def _repredict(p, i, info, times, anchor, neighbours, neighbour_count, geom, dim, params, queue, tree, leaves, event):
-    """Full prediction of i (at its own time): boundary, pairs before it, schedule."""
-    predict_boundary(p, i, info, times, anchor, geom, dim, params)
-    predict_pairs(p, i, info, times, neighbours, neighbour_count, geom, dim, params[P_SCALE0], params[P_GROWTH],
-                  event)
-    schedule(i, times, queue, tree, leaves)
+def _repredict(p, i, b, neighbours, neighbour_count, geom, dim, params, queue, tree, leaves, event):
+    """Predict i's next event (i at its own time) and queue it."""
+    queue_update(i, predict(p, i, b, neighbours, neighbour_count, geom, dim, params, event), queue, tree, leaves)
 
 
 @kernel
-def run_events(t, max_pair_collisions, t_stop, p, mass, species, image, info, times, anchor, neighbours,
-               neighbour_count, cell_members, cell_count, cell_points, ncell, geom, dim, restitution, params, queue,
-               tree, leaves, acc):
+def run_events(t, max_pair_collisions, t_stop, p, b, image, cell_of, neighbours, neighbour_count, cell_members,
+               cell_count, cell_points, ncell, geom, dim, restitution, params, queue, tree, leaves, acc):
     """Process events until ``max_pair_collisions`` collisions or time ``t_stop``.
 
     Returns the current time: the last event's time, or ``t_stop`` if that
@@ -906,72 +908,68 @@ def run_events(t, max_pair_collisions, t_stop, p, mass, species, image, info, ti
         event += 1
         # memory latency dominates: start every load whose address is known, then compute;
         # also for the particle of the next event, most likely the runner-up now
-        _prefetch_particle(i, p, info, times, anchor, neighbours, neighbour_count, queue, tree, leaves, mass, species)
+        _prefetch_particle(i, p, b, queue, neighbours, neighbour_count, tree, leaves)
         upcoming = _likely_next(i, tree, leaves)
         if upcoming >= 0:
-            _prefetch_particle(upcoming, p, info, times, anchor, neighbours, neighbour_count, queue, tree, leaves,
-                               mass, species)
-        if info[i, PARTNER] >= 0:
-            _prefetch_particle(info[i, PARTNER], p, info, times, anchor, neighbours, neighbour_count, queue, tree,
-                               leaves, mass, species)
+            _prefetch_particle(upcoming, p, b, queue, neighbours, neighbour_count, tree, leaves)
+        target = int(b[i, TARGET])
+        if target >= 0:
+            _prefetch_particle(target, p, b, queue, neighbours, neighbour_count, tree, leaves)
         _prefetch_neighbours(i, p, neighbours, neighbour_count)
         advance(p, i, t, geom, dim)
         partner = -1  # the second particle to re-predict, if any
-        if times[i, PAIR_TIME] <= times[i, BOUNDARY_TIME]:
-            j = info[i, PARTNER]
+        if target >= 0:
+            j = target
             _prefetch_neighbours(j, p, neighbours, neighbour_count)
-            if info[j, CHANGED_AT] > info[i, PREDICTED_AT]:
+            if b[j, CHANGED_AT] > b[i, PREDICTED_AT]:
                 acc[ACC_STALE_EVENTS] += 1.0
             else:
                 advance(p, j, t, geom, dim)
-                collide_pair(p, i, j, mass, geom, dim, scale0 + growth * t, growth, species, restitution, params, acc)
-                info[i, CHANGED_AT] = event
-                info[j, CHANGED_AT] = event
+                collide_pair(p, i, j, b, geom, dim, scale0 + growth * t, growth, restitution, params, acc)
+                b[i, CHANGED_AT] = event
+                b[j, CHANGED_AT] = event
                 done += 1
                 partner = j
-        elif info[i, BOUNDARY_KIND] == LIST:
+        elif target == LIST_TARGET:
             acc[ACC_LIST_REBUILDS] += 1.0
-            if not rebuild_list(p, i, info, anchor, neighbours, neighbour_count, cell_members, cell_count, cell_points,
+            if not rebuild_list(p, i, b, cell_of, neighbours, neighbour_count, cell_members, cell_count, cell_points,
                                 ncell, geom, dim, params, image, acc):
                 break
         else:
-            bounce_off_wall(p, i, info[i, BOUNDARY_CODE], mass, params, acc)
-            info[i, CHANGED_AT] = event
+            bounce_off_wall(p, i, wall_target(target), b, params, acc)
+            b[i, CHANGED_AT] = event
         if upcoming >= 0:  # its rows have arrived by now: fetch what they point to
             _prefetch_neighbours(upcoming, p, neighbours, neighbour_count)
-            if info[upcoming, PARTNER] >= 0:
-                _prefetch_particle(info[upcoming, PARTNER], p, info, times, anchor, neighbours, neighbour_count,
-                                   queue, tree, leaves, mass, species)
+            upcoming_target = int(b[upcoming, TARGET])
+            if upcoming_target >= 0:
+                _prefetch_particle(upcoming_target, p, b, queue, neighbours, neighbour_count, tree, leaves)
         # one call site, so the inlined prediction is compiled once
         for q in range(1 if partner < 0 else 2):
-            _repredict(p, i if q == 0 else partner, info, times, anchor, neighbours, neighbour_count, geom, dim,
-                       params, queue, tree, leaves, event)
+            _repredict(p, i if q == 0 else partner, b, neighbours, neighbour_count, geom, dim, params, queue, tree,
+                       leaves, event)
     acc[ACC_EVENTS] = event
     return t
 
 
 @kernel
-def predict_all(p, info, times, anchor, neighbours, neighbour_count, geom, dim, params, queue, tree, leaves, acc):
-    """Predict every particle's events (all at their own times) and rebuild the tree."""
+def predict_all(p, b, neighbours, neighbour_count, geom, dim, params, queue, tree, leaves, acc):
+    """Predict every particle's next event (all at their own times) and rebuild the tree."""
     event = int(acc[ACC_EVENTS])
     for i in range(p.shape[0]):
-        predict_boundary(p, i, info, times, anchor, geom, dim, params)
-        predict_pairs(p, i, info, times, neighbours, neighbour_count, geom, dim, params[P_SCALE0], params[P_GROWTH],
-                      event)
-        queue[i] = min(times[i, PAIR_TIME], times[i, BOUNDARY_TIME])
+        queue[i] = predict(p, i, b, neighbours, neighbour_count, geom, dim, params, event)
     for padding in range(p.shape[0], queue.shape[0]):
         queue[padding] = math.inf
     tree_build(tree, queue, leaves)
 
 
 @kernel
-def largest_anchor_drift(p, anchor, dim):
+def largest_anchor_drift(p, b, dim):
     """Largest distance of a particle (synchronised) from its anchor: at most shell / 2."""
     worst = 0.0
     for i in range(p.shape[0]):
         norm2 = 0.0
         for k in range(dim):
-            d = p[i, X + k] - anchor[i, k]
+            d = p[i, X + k] - b[i, ANCHOR + k]
             norm2 += d * d
         worst = max(worst, math.sqrt(norm2))
     return worst
@@ -986,7 +984,7 @@ def synchronise(p, t, geom, dim):
 
 
 @kernel
-def min_gap(p, scale, info, cell_members, cell_count, ncell, geom, dim):
+def min_gap(p, scale, cell_of, cell_members, cell_count, ncell, geom, dim):
     """Smallest (distance - contact distance) over pairs in neighbouring cells.
 
     Particles must be synchronised and within the list shell of their
@@ -994,7 +992,7 @@ def min_gap(p, scale, info, cell_members, cell_count, ncell, geom, dim):
     """
     worst = math.inf
     for i in range(p.shape[0]):
-        cx, cy, cz = cell_coordinates(info[i, CELL_OF], ncell)
+        cx, cy, cz = cell_coordinates(cell_of[i], ncell)
         zl, zh = _offsets(ncell[2], geom[G_PERIODIC, 2] != 0.0) if dim == 3 else (0, 0)
         yl, yh = _offsets(ncell[1], geom[G_PERIODIC, 1] != 0.0)
         xl, xh = _offsets(ncell[0], geom[G_PERIODIC, 0] != 0.0)
