@@ -239,11 +239,12 @@ def tree_update(leaf, tree, time, winner, leaves):
     best_time = time
     best_id = winner
     while node > 1:
+        # loads first, then selects (cmov): which side wins is a coin toss, a poor bet for a branch
         sibling_time = tree[node ^ 1, 0]
-        sibling_wins = sibling_time <= best_time if node & 1 else sibling_time < best_time
-        if sibling_wins:
-            best_time = sibling_time
-            best_id = tree[node ^ 1, 1]
+        sibling_id = tree[node ^ 1, 1]
+        sibling_wins = (sibling_time < best_time) | ((sibling_time == best_time) & (node & 1 == 1))
+        best_id = sibling_id if sibling_wins else best_id
+        best_time = min(sibling_time, best_time)
         node >>= 1
         if tree[node, 0] == best_time and tree[node, 1] == best_id:
             return
