@@ -861,13 +861,14 @@ def _likely_next(i, tree, leaves):
     """
     node = (leaves + i // QUEUE_BLOCK) >> 2 if leaves >= 8 else leaves + i // QUEUE_BLOCK
     best_time = math.inf
-    best = -1
+    best = -1.0
     while node > 1:
-        if tree[node ^ 1, 0] < best_time:
-            best_time = tree[node ^ 1, 0]
-            best = int(tree[node ^ 1, 1])
+        sibling_time = tree[node ^ 1, 0]
+        sibling_id = tree[node ^ 1, 1]
+        best = sibling_id if sibling_time < best_time else best
+        best_time = min(sibling_time, best_time)
         node >>= 1
-    return best
+    return int(best)
 
 
 @inline_kernel
