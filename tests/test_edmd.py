@@ -311,6 +311,14 @@ def test_checkpoint_resume_is_bit_for_bit(tmp_path):
     assert resumed.elapsed == straight.elapsed
 
 
+def test_a_checkpoint_of_another_engine_format_is_refused():
+    state = fcc_system(cells=2, eta=0.3).state_dict()
+    edmd.HardSphereSystem.from_state_dict(state)  # its own format: fine
+    del state["format"]  # as written before formats were numbered
+    with pytest.raises(ValueError, match="engine format 1"):
+        edmd.HardSphereSystem.from_state_dict(state)
+
+
 # ------------------------------------------------------------------ physics validation
 
 

@@ -936,6 +936,8 @@ class HardSphereSystem:
     _ARRAYS = ("p", "_mass", "_species", "_image", "ids", "acc", "geom", "params", "restitution", "book", "cell_of",
                "ncell", "queue", "tree", "neighbours", "neighbour_count", "cell_members", "cell_count", "cell_points")
     _SCALARS = ("dim", "time", "elapsed", "leaves", "last_sort", "_shell_request")
+    # layout of the engine's arrays in a checkpoint; raise it when they change (2: bookkeeping records, block queue)
+    STATE_FORMAT = 2
 
     def state_dict(self):
         """Every array and number needed to continue the run bit for bit.
@@ -955,6 +957,7 @@ class HardSphereSystem:
         state = {name: getattr(self, name) for name in self._ARRAYS}
         state |= {name: np.asarray(getattr(self, name)) for name in self._SCALARS}
         state["restitution_law"] = np.asarray(self.restitution_law)
+        state["format"] = np.asarray(self.STATE_FORMAT)
         return state
 
     @classmethod
@@ -970,6 +973,12 @@ class HardSphereSystem:
         >>> HardSphereSystem.from_state_dict(system.state_dict()).count
         100
         """
+        written = int(state["format"]) if "format" in state else 1
+        if written != cls.STATE_FORMAT:
+            raise ValueError(
+                f"state has engine format {written}; this collisionkit reads format {cls.STATE_FORMAT} "
+                "(checkpoints do not carry over between engine versions: restart the run)"
+            )
         system = cls.__new__(cls)
         for name in cls._ARRAYS:
             setattr(system, name, np.array(state[name]))

@@ -220,3 +220,15 @@ def test_resume_refuses_other_physics_and_finishes_a_finished_run(tmp_path):
     result = invoke("--resume", checkpoint, "--summary", again)
     assert result.exit_code == 0, result.output
     assert physics(again) == physics(summary)
+
+
+def test_resume_refuses_a_checkpoint_of_another_engine_format(tmp_path):
+    checkpoint = tmp_path / "c.npz"
+    assert invoke(*SMALL, "--checkpoint", checkpoint).exit_code == 0
+    with np.load(checkpoint) as data:
+        state = {name: data[name] for name in data.files}
+    state["format"] = np.asarray(1)
+    np.savez(checkpoint, **state)
+    result = invoke("--resume", checkpoint)
+    assert result.exit_code == 2
+    assert "engine format 1" in " ".join(result.output.split())

@@ -208,7 +208,10 @@ def load_checkpoint(path: Path) -> tuple[dict, dict]:
 def _restore(options: EdmdOptions, state: dict) -> _Run:
     from ..edmd import HardSphereSystem, Sampler
 
-    system = HardSphereSystem.from_state_dict(state)
+    try:
+        system = HardSphereSystem.from_state_dict(state)
+    except ValueError as error:  # written by another engine version
+        raise fail(f"cannot resume: {error}") from None
     sampler = Sampler.from_state_dict(system, state) if "sampler_scalars" in state else None
     equilibrated, frames, last_frame = (int(value) for value in state["run_counters"])
     return _Run(options, system, sampler, equilibrated, frames, last_frame, float(state["run_initial_energy"]))
