@@ -4,6 +4,7 @@ Reference values: /work/shared/reference/validation-data.md.
 """
 
 import math
+import time
 
 import numpy as np
 import pytest
@@ -89,6 +90,27 @@ def test_results_do_not_depend_on_the_number_of_threads():
     assert one.collisions == two.collisions
     assert one.mean_energy == two.mean_energy
     np.testing.assert_array_equal(one.drift_velocity_bulk, two.drift_velocity_bulk)
+
+
+def test_the_rate_leaves_out_the_probe_step_which_compiles_on_a_cold_cache(monkeypatch):
+    # stand in for numba's first compilation (seconds on a cold cache) with a pause in the first step only
+    from collisionkit.transport import swarm as swarm_module
+
+    original = swarm_module._Stepper.step
+    steps = []
+
+    def slow_first_step(self, *args):
+        if not steps:
+            time.sleep(2.0)
+        steps.append(None)
+        return original(self, *args)
+
+    options = dict(particles=320, seed=3, tolerances={"mean_energy": 0.05}, threads=1)
+    plain = simulate_swarm(maxwell_model(), 10.0, **options)
+    monkeypatch.setattr(swarm_module._Stepper, "step", slow_first_step)
+    paused = simulate_swarm(maxwell_model(), 10.0, **options)
+    assert len(steps) > 1 and paused.collisions == plain.collisions
+    assert paused.seconds < plain.seconds + 1.0  # the 2 s in the probe step are not in the timed steps
 
 
 def test_different_seeds_give_different_but_compatible_results():

@@ -25,7 +25,10 @@ def run(pairs: int, seed: int, out: Path, plotting) -> SectionResult:
         ("Reid 12 Td mean energy (eV)", f"{swarm.mean_energy:.4f} ± {swarm.mean_energy_error:.1g}", "0.2691 (LoKI-MC)"),
         ("Reid 12 Td |bulk W| (m/s)", f"{abs(swarm.drift_velocity_bulk[2]):.4g} ± {swarm.drift_velocity_bulk_error[2]:.1g}",
          "6.838e4 (LoKI-MC)"),
-        ("real collisions per second", f"{swarm.collisions_per_second:.3g}", ">= 3e6 per core (target)"),
+        # a demo-size swarm (hundreds to thousands of particles) does few collisions a step, so the fixed cost of
+        # a step weighs more than in a full run: benchmarks/bench_transport.py measures the speed
+        ("real collisions per second", f"{swarm.collisions_per_second:.3g}",
+         "demo size; speed: benchmarks/bench_transport.py"),
         ("rod slab d = 2: transmission", f"{slab.transmission:.4f} ± {slab.transmission_error:.1g}", "0.5 = 1/(1 + d/2)"),
     ]
     summary = {"reid_12Td": {"mean_energy": swarm.mean_energy, "mean_energy_error": swarm.mean_energy_error,

@@ -513,7 +513,7 @@ class _Run:
         return _control_population(swarm, self.groups, self.target, self.rng)
 
     def calibrate(self, collisions_per_sample):
-        """Pick the sampling interval from the measured collision frequency (the probe step is discarded)."""
+        """Pick the sampling interval from the measured collision frequency; the probe step is then forgotten."""
         speed = np.sqrt((self.swarm.vel**2).sum(axis=1)).mean()
         bound = self.tables.bound
         k = min(int(speed / self.tables.bound_step), bound.shape[1] - 1)
@@ -529,6 +529,10 @@ class _Run:
         if ionizing > 0:
             self.dt = min(self.dt, 0.1 / ionizing)
         self.times, self.moments, self.tallies = [], [], []
+        # the probe is the first step, which compiles the kernel on a cold numba cache (seconds): counting it
+        # would make collisions_per_second measure the compiler
+        self.seconds = 0.0
+        self.collisions = self.nulls = 0
 
     def _chunk_energy(self, chunk):
         m = np.array(self.moments[-STEPS_PER_CHUNK * chunk:][:STEPS_PER_CHUNK] if chunk == 1 else
