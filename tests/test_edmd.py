@@ -1,6 +1,7 @@
 """Tests of collisionkit.edmd: invariants, conservation and the hard-sphere equation of state."""
 
 import math
+import time
 
 import numba
 import numpy as np
@@ -317,6 +318,23 @@ def test_a_checkpoint_of_another_engine_format_is_refused():
     del state["format"]  # as written before formats were numbered
     with pytest.raises(ValueError, match="engine format 1"):
         edmd.HardSphereSystem.from_state_dict(state)
+
+
+def test_the_measured_rate_leaves_out_compiling_the_event_loop(monkeypatch):
+    # stand in for numba's first compilation (tens of seconds on a cold cache) with a pause in the first call
+    original = edmd.HardSphereSystem._run_events
+    calls = []
+
+    def slow_first_call(self, collisions, t_stop):
+        if not calls:
+            time.sleep(2.0)
+        calls.append(collisions)
+        return original(self, collisions, t_stop)
+
+    monkeypatch.setattr(edmd.HardSphereSystem, "_run_events", slow_first_call)
+    m = edmd.measure(fcc_system(cells=3, eta=0.3), collisions=4_000, blocks=2)
+    assert calls[0] == 0 and m.collisions == 4_000  # compiled by a run of no collisions, before the clock
+    assert m.wall_seconds < 1.0
 
 
 # ------------------------------------------------------------------ physics validation
