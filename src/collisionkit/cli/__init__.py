@@ -9,7 +9,7 @@ from typing import Annotated
 import typer
 from pydantic import Field
 
-from ._common import Options, console, load_options, print_table, progress_bar, write_summary
+from ._common import Options, console, load_options, print_table, progress_bar, require_plotting, write_summary
 
 app = typer.Typer(
     name="collisionkit",
@@ -72,6 +72,7 @@ def demo(
 
     plotting = None
     if options.plots:
+        require_plotting()
         import matplotlib
 
         matplotlib.use("Agg")

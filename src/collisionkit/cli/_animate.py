@@ -9,7 +9,7 @@ from typing import Annotated, Literal
 import typer
 from pydantic import Field
 
-from ._common import Options, console, fail, load_options, progress_bar, write_summary
+from ._common import Options, console, fail, load_options, progress_bar, require, require_gsd, write_summary
 
 ColourName = Literal["speed", "species", "none"]
 ENCOUNTER_KEYS = ("m1", "m2", "rp", "vinf", "sep0")
@@ -164,6 +164,9 @@ def animate(
         out=out, colour=colour, fps=fps, frames=frames, every=every, dpi=dpi, summary=summary,
     )  # fmt: skip
     options = load_options(AnimateOptions, config, given)
+    require("matplotlib", "plot", "an animation")
+    if options.trajectory is not None:
+        require_gsd()
     import matplotlib
 
     matplotlib.use("Agg")

@@ -9,6 +9,7 @@
 
 from __future__ import annotations
 
+import importlib.util
 import tomllib
 from collections.abc import Iterable, Mapping
 from contextlib import contextmanager
@@ -18,6 +19,7 @@ from typing import Any
 import typer
 from pydantic import BaseModel, ConfigDict, ValidationError
 from rich.console import Console
+from rich.markup import escape
 from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn, TimeRemainingColumn
 from rich.table import Table
 
@@ -40,9 +42,39 @@ class Options(BaseModel):
 
 
 def fail(message: str) -> typer.Exit:
-    """Print ``message`` as an input error and return the exit to raise (code 2)."""
-    error_console.print(f"[bold red]error:[/] {message}")
+    """Print ``message`` as an input error and return the exit to raise (code 2).
+
+    The message is printed as it is: brackets in it (``collisionkit[plot]``,
+    a list the user gave) are not rich markup.
+    """
+    error_console.print(f"[bold red]error:[/] {escape(message)}")
     return typer.Exit(BAD_INPUT_EXIT_CODE)
+
+
+def require(module: str, extra: str, purpose: str) -> None:
+    """Stop with an input error (exit 2) before any work if ``module``, of the optional ``extra``, is missing.
+
+    Examples
+    --------
+    >>> require("json", "io", "reading JSON")  # installed: nothing happens
+    >>> try:
+    ...     require("no_such_module_here", "plot", "plots")
+    ... except Exception as stop:
+    ...     print(type(stop).__name__, stop.exit_code)
+    Exit 2
+    """
+    if importlib.util.find_spec(module) is None:
+        raise fail(f"{purpose} needs {module}, which is not installed: pip install 'collisionkit[{extra}]'")
+
+
+def require_plotting() -> None:
+    """:func:`require` matplotlib (the ``plot`` extra), with a hint to turn plots off."""
+    require("matplotlib", "plot", "plotting (pass --no-plots to skip it)")
+
+
+def require_gsd() -> None:
+    """:func:`require` gsd (the ``io`` extra) for GSD trajectories."""
+    require("gsd", "io", "a GSD trajectory")
 
 
 def read_toml(path: Path) -> dict[str, Any]:

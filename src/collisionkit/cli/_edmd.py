@@ -23,7 +23,9 @@ import typer
 from pydantic import Field, ValidationError
 
 from .._io import atomic_write_bytes
-from ._common import Options, console, fail, load_options, print_table, progress_bar, write_summary
+from ._common import (
+    Options, console, fail, load_options, print_table, progress_bar, require_gsd, require_plotting, write_summary,
+)
 
 if TYPE_CHECKING:  # the engine (numba) is imported only when a run starts
     from ..edmd import HardSphereSystem, Sampler
@@ -99,6 +101,14 @@ def _resolve(options: EdmdOptions) -> EdmdOptions:
     if options.frame_every is not None and options.trajectory is None:
         raise fail("--frame-every needs --trajectory FILE.gsd to write the frames to")
     return resolved
+
+
+def _require_outputs(options: EdmdOptions) -> None:
+    """Stop before the run if an output asked for needs an extra that is not installed."""
+    if options.plots:
+        require_plotting()
+    if options.trajectory is not None:
+        require_gsd()
 
 
 def _resumed_options(options: EdmdOptions, saved: dict, resume: Path) -> EdmdOptions:
@@ -473,10 +483,12 @@ def edmd(
     if resume is not None:
         saved, state = load_checkpoint(resume)
         options = _resumed_options(options, saved, resume)
+        _require_outputs(options)
         run = _restore(options, state)
         appending = _same_file(options.trajectory, saved.get("trajectory"))
     else:
         options = _resolve(options)
+        _require_outputs(options)
         run = _new_run(options)
         appending = False
     outputs = _Outputs(run, append_frames=appending)

@@ -10,7 +10,7 @@ from typing import Annotated, Literal
 import typer
 from pydantic import Field
 
-from ._common import Options, console, fail, load_options, print_table, write_summary
+from ._common import Options, console, fail, load_options, print_table, require_plotting, write_summary
 
 UnitsName = Literal["nbody", "si", "cgs", "solar", "stellar"]
 LayoutName = Literal["diagonal", "x"]
@@ -140,6 +140,8 @@ def encounter(
         radius1=radius1, radius2=radius2, out=out, plots=plots, summary=summary,
     )  # fmt: skip
     options = load_options(EncounterOptions, config, given)
+    if options.plots:
+        require_plotting()
     from ..encounters import unit_system
 
     system = unit_system(options.units)

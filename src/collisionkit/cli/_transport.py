@@ -8,7 +8,7 @@ from typing import Annotated, Literal
 import typer
 from pydantic import Field, field_validator, model_validator
 
-from ._common import Options, console, fail, load_options, print_table, progress_bar, write_summary
+from ._common import Options, console, fail, load_options, print_table, progress_bar, require, write_summary
 
 ModelName = Literal["maxwell", "hard_sphere", "reid", "lucas_saelee"]
 
@@ -111,6 +111,8 @@ def swarm(
                  b_n=b_n, gas_temperature=gas_temperature, particles=particles, seed=seed, tolerance=tolerance,
                  collision_budget=collision_budget, sharing=sharing, out=out, summary=summary)
     options = load_options(SwarmOptions, config, given)
+    if options.out is not None:
+        require("matplotlib", "plot", "plots (--out)")
     gas = _gas(options)
     from ..transport import simulate_swarm
 

@@ -1,0 +1,27 @@
+"""The ``collisionkit`` script: it names the extra to install when the command line's packages are missing."""
+
+from __future__ import annotations
+
+import importlib.util
+
+import pytest
+
+from collisionkit import _command
+
+
+def test_missing_command_line_packages_are_named_with_the_extra(monkeypatch, capsys):
+    real_find_spec = importlib.util.find_spec
+    monkeypatch.setattr(importlib.util, "find_spec", lambda name: None if name == "typer" else real_find_spec(name))
+    with pytest.raises(SystemExit) as stop:
+        _command.main(["--help"])
+    assert stop.value.code == 2
+    message = capsys.readouterr().err
+    assert "typer" in message and "pip install 'collisionkit[cli]'" in message
+    assert "rich" not in message  # only what is missing
+
+
+def test_with_the_packages_the_script_runs_the_command_line(capsys):
+    with pytest.raises(SystemExit) as stop:
+        _command.main(["--help"])
+    assert stop.value.code == 0
+    assert "edmd" in capsys.readouterr().out
