@@ -1,6 +1,7 @@
 """Tests of collisionkit.kinematics: geometry, frames, angles, random impacts."""
 
 import math
+from fractions import Fraction
 
 import numpy as np
 import pytest
@@ -19,16 +20,29 @@ def angle_between(a, b):
 
 @given(m1=masses, m2=masses, v1=vectors(3), v2=vectors(3))
 @example(m1=0.001, m2=1.0, v1=np.array([0.0, 0.0, 1.0]), v2=np.zeros(3))
+@example(m1=1e-3, m2=1e3, v1=np.array([1.0, 0.0, 0.0]), v2=np.zeros(3))  # light projectile, heavy target at rest
 def test_centre_of_mass_frame_round_trip_and_zero_momentum(m1, m2, v1, v2):
     v_cm, w1, w2 = ck.to_centre_of_mass_frame(m1, v1, m2, v2)
-    # v_cm = v1 + m2 / (m1 + m2) (v2 - v1) is good to a few ulps of the speeds, and both
-    # masses carry that error: the residual momentum scales with (m1 + m2)(|v1| + |v2|)
-    # (m1 = 0.001, m2 = 1, v1 = e_z, v2 = 0 leaves 1.45e-16 against momenta of 0.001)
-    scale = (m1 + m2) * (np.abs(v1).sum() + np.abs(v2).sum()) + 1e-300
-    np.testing.assert_allclose(m1 * w1 + m2 * w2, 0.0, atol=1e-13 * scale)
+    # the residual momentum is round-off of the momenta involved, however unequal the masses
+    scale = m1 * (np.abs(v1) + np.abs(w1)) + m2 * (np.abs(v2) + np.abs(w2)) + 1e-300
+    assert np.all(np.abs(m1 * w1 + m2 * w2) <= 1e-14 * scale)
     back1, back2 = ck.from_centre_of_mass_frame(v_cm, w1, w2)
     np.testing.assert_allclose(back1, v1, atol=1e-13 * (np.abs(v1).sum() + np.abs(v2).sum()))
     np.testing.assert_allclose(back2, v2, atol=1e-13 * (np.abs(v1).sum() + np.abs(v2).sum()))
+
+
+@given(m1=st.floats(1e-12, 1e12), m2=st.floats(1e-12, 1e12), v1=vectors(2), v2=vectors(2))
+@example(m1=1e-8, m2=1.0, v1=np.array([1.0, 0.0]), v2=np.zeros(2))  # 7e-9 relative error before the fix
+@example(m1=9.1093837e-31 / 6.63e-26, m2=1.0, v1=np.array([1e6, 0.0]), v2=np.zeros(2))  # an electron on argon
+def test_centre_of_mass_velocity_is_exact_to_round_off_for_any_mass_ratio(m1, m2, v1, v2):
+    exact = [(Fraction(m1) * Fraction(a) + Fraction(m2) * Fraction(b)) / (Fraction(m1) + Fraction(m2))
+             for a, b in zip(v1, v2)]
+    v_cm = ck.centre_of_mass_velocity(m1, v1, m2, v2)
+    light_share = min(m1, m2) / (m1 + m2)
+    for computed, value, a, b in zip(v_cm, exact, v1, v2):
+        # a few ulps of the result and of the lighter body's share of the velocity difference
+        bound = 4 * np.finfo(float).eps * (abs(float(value)) + light_share * abs(a - b)) + 1e-300
+        assert abs(Fraction(float(computed)) - value) <= Fraction(bound)
 
 
 def test_infinite_mass_carries_the_centre_of_mass():

@@ -59,7 +59,11 @@ def reduced_mass(m1, m2):
 def centre_of_mass_velocity(m1, v1, m2, v2):
     """Velocity of the centre of mass ``(m1 v1 + m2 v2) / (m1 + m2)`` (Smid eqs. 22-23).
 
-    An infinite mass carries the centre of mass with it.
+    Evaluated as ``v_heavy + m_light / (m1 + m2) (v_light - v_heavy)``: the
+    share of the lighter body is at most 1/2, so nothing cancels, also for a
+    light projectile on a heavy target at rest (an electron on argon), where
+    ``v1 + m2 / (m1 + m2) (v2 - v1)`` would lose digits to ``m2 / (m1 + m2)``
+    rounding near 1. An infinite mass carries the centre of mass with it.
 
     Examples
     --------
@@ -72,9 +76,10 @@ def centre_of_mass_velocity(m1, v1, m2, v2):
         raise ValueError("m1 and m2 cannot both be infinite")
     v1 = _arrays.as_vector_array(v1, "v1")
     v2 = _arrays.as_vector_array(v2, "v2")
-    with np.errstate(invalid="ignore"):
-        share2 = np.where(np.isinf(m1), 0.0, np.where(np.isinf(m2), 1.0, m2 / (m1 + m2)))
-    return v1 + share2 * (v2 - v1)
+    first_heavier = m1 >= m2
+    heavy_v, light_v = np.where(first_heavier, v1, v2), np.where(first_heavier, v2, v1)
+    light_share = np.where(first_heavier, m2, m1) / (m1 + m2)  # 0 when the other mass is infinite
+    return heavy_v + light_share * (light_v - heavy_v)
 
 
 def to_centre_of_mass_frame(m1, v1, m2, v2):
