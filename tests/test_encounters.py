@@ -329,6 +329,22 @@ def test_repulsive_head_on_is_radial():
     assert energy == pytest.approx(0.5, rel=1e-14, abs=0)
 
 
+@pytest.mark.parametrize("b", [1e-8, 1e-6, 1e-4, 1e-2])
+def test_near_head_on_repulsion_keeps_the_impact_parameter(b):
+    # h^2 = r_p (mu_K + q) = r_p |mu_K| (e - 1) cancels as e -> 1: 9e-4 relative error at b = 1e-6 when
+    # h came from r_p; from b v (or |r x v| of a state) it keeps every digit
+    m1, m2, v, k = 1.0, 1.0, 1.0, 1.0
+    mu = m1 * m2 / (m1 + m2)
+    orbit = Hyperbolic.from_impact_parameter(m1, m2, b, v, k=k)
+    assert orbit.impact_parameter == pytest.approx(b, rel=4e-16, abs=0)
+    assert orbit.angular_momentum == pytest.approx(mu * b * v, rel=4e-16, abs=0)
+    assert orbit.deflection_angle == pytest.approx(2 * math.atan(k / (mu * v**2 * b)), rel=4e-16, abs=0)
+    far = 1e3
+    state = TwoBodyOrbit.from_state(m1, m2, [-far, b], [v, 0.0], k=k)
+    v_inf = math.sqrt(v**2 + 2 * (k / mu) / math.hypot(far, b))  # energy: v^2 / 2 + (k / mu) / r
+    assert state.impact_parameter == pytest.approx(b * v / v_inf, rel=1e-15, abs=0)
+
+
 def test_gravity_and_coulomb_add():
     """V = (k - G m1 m2) / r: gravity cancelled by an equal repulsion leaves no force."""
     with pytest.raises(ValueError, match="vanishes"):

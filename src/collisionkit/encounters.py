@@ -287,17 +287,22 @@ class TwoBodyOrbit:
 
     # -- construction ---------------------------------------------------------
 
-    def _setup(self, m1, m2, G, k, mu_k, rp, beta, basis):
+    def _setup(self, m1, m2, G, k, mu_k, rp, beta, basis, h=None):
+        """Store the elements; ``h`` = |r x v| when the caller knows it better than r_p (mu_K + q) does.
+
+        For a repulsive force mu_K + q = |mu_K| (e - 1) cancels as e -> 1 (a
+        near head-on encounter): there h = b v_inf or |r x v| keeps all its digits.
+        """
         self.m1, self.m2, self.G, self.k = m1, m2, G, k
         self._mu_k, self._rp, self._beta = mu_k, rp, beta
         self._q = max(mu_k - beta * rp, 0.0)  # |mu_K| e, >= 0 (round-off of a circular state)
-        self._h = math.sqrt(max(rp * (mu_k + self._q), 0.0))
+        self._h = math.sqrt(max(rp * (mu_k + self._q), 0.0)) if h is None else float(h)
         self._basis = np.array(basis, dtype=float)
 
     @staticmethod
-    def _from_elements(m1, m2, G, k, mu_k, rp, beta, basis) -> TwoBodyOrbit:
+    def _from_elements(m1, m2, G, k, mu_k, rp, beta, basis, h=None) -> TwoBodyOrbit:
         orbit = object.__new__(Hyperbolic if beta < 0 else TwoBodyOrbit)
-        orbit._setup(m1, m2, G, k, mu_k, rp, beta, basis)
+        orbit._setup(m1, m2, G, k, mu_k, rp, beta, basis, h)
         return orbit
 
     @classmethod
@@ -327,7 +332,7 @@ class TwoBodyOrbit:
         b = _scalar(impact_parameter, "impact_parameter", 0.0, inclusive=mu_k < 0)
         mu = m1 * m2 / (m1 + m2)
         rp = float(scattering.coulomb_closest_approach(b, -mu * mu_k, mu, v))
-        return cls._from_elements(m1, m2, G, k, mu_k, rp, -v * v, np.eye(3))
+        return cls._from_elements(m1, m2, G, k, mu_k, rp, -v * v, np.eye(3), h=b * v)
 
     @classmethod
     def from_state(cls, m1, m2, separation, relative_velocity, *, G=None, k=None) -> TwoBodyOrbit:
@@ -382,14 +387,14 @@ class TwoBodyOrbit:
         q = max(mu_k - beta * rp, 0.0)  # as in _setup, so the anomaly and the orbit agree
         sigma = float(r_vec @ v_vec)
         s = _k.anomaly_of_state(r, sigma, rp, beta, q)
-        x_p, x_q = _k.perifocal_position(s, mu_k, rp, beta, q, math.sqrt(max(rp * (mu_k + q), 0.0)))
+        x_p, x_q = _k.perifocal_position(s, mu_k, rp, beta, q, h)
         r_hat = r_vec / r
         if h > 0.0:
             theta_hat = np.cross(h_vec / h, r_hat)
         else:
             theta_hat = _perpendicular(r_hat)
         basis = _basis_from_direction(r_hat, theta_hat, x_p, x_q)
-        return cls._from_elements(m1, m2, G, k, mu_k, rp, beta, basis)
+        return cls._from_elements(m1, m2, G, k, mu_k, rp, beta, basis, h=h)
 
     # -- elements ---------------------------------------------------------------
 

@@ -12,7 +12,9 @@ periastron by three numbers, none of which cancels for any eccentricity:
 With the universal anomaly ``s`` (``ds = dt / r``) and the functions
 ``G_n(s) = s^n c_n(beta s^2)`` built from Stumpff's ``c_n`` (Danby,
 *Fundamentals of Celestial Mechanics*, 2nd ed., sec. 6.9), the orbit measured
-from periastron is, with ``h = rp vp``,
+from periastron is, with ``h = rp vp`` (an input: ``h^2 = rp (mu + q)``
+cancels for a repulsive near head-on orbit, ``mu + q = |mu| (e - 1)``, so the
+callers take h from ``b v_inf`` or ``|r x v|`` when they have them),
 
 .. math::
     t = r_p s + q G_3, \quad r = r_p + q G_2, \quad
