@@ -115,6 +115,27 @@ def test_3d_impact_angles_give_the_line_of_centres_at_contact(x2, v1, v2, sigma)
         assert float(alpha) == pytest.approx(angle_between(u, contact.normal), abs=1e-7)
 
 
+@given(dimension=st.sampled_from([2, 3]), offset=st.floats(0.05, 0.95), direction=vectors(3, 1.0),
+       v1=vectors(3, 5.0), sigma=st.floats(0.1, 3.0))
+def test_overlapping_approaching_pairs_collide_along_their_present_line_of_centres(dimension, offset, direction,
+                                                                                  v1, sigma):
+    direction = direction[:dimension]
+    assume(np.linalg.norm(direction) > 1e-3 and np.linalg.norm(v1[:dimension]) > 1e-3)
+    x2 = offset * sigma * direction / np.linalg.norm(direction)  # centres closer than sigma
+    v1 = v1[:dimension]
+    x1, v2 = np.zeros(dimension), np.zeros(dimension)
+    assume(np.dot(x2, v1) > 1e-6 * np.linalg.norm(x2) * np.linalg.norm(v1))  # approaching
+    line_of_centres = x2 / np.linalg.norm(x2)
+    if dimension == 2:
+        normal = ck.normal_from_impact_angles(v1, ck.impact_angle_2d(x1, v1, x2, v2, sigma))
+    else:
+        normal = ck.normal_from_impact_angles(v1, *ck.impact_angles_3d(x1, v1, x2, v2, sigma))
+    # arcsin near grazing magnifies round-off by tan(alpha) ~ 1 / cos(angle between u and the line of centres)
+    cosine = np.dot(line_of_centres, v1) / np.linalg.norm(v1)
+    np.testing.assert_allclose(normal, line_of_centres, atol=16 * np.finfo(float).eps / cosine)
+    np.testing.assert_allclose(ck.collide(1.0, x1, v1, 1.0, x2, v2, sigma).normal, line_of_centres, atol=1e-15)
+
+
 def test_planar_3d_collision_has_the_2d_impact_angle_magnitude():
     args = ([0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [5.0, -0.5, 0.0], [0.0, 0.0, 0.0], 1.0)
     alpha_3d, _ = ck.impact_angles_3d(*args)

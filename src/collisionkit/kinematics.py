@@ -152,10 +152,13 @@ def _cross_norm2(a, b):
 
 
 def impact_parameter(x1, v1, x2, v2):
-    r"""Distance of closest approach of the two centres in straight-line motion.
+    r"""Impact parameter: the distance of the relative velocity's line from the other centre.
 
     :math:`b = |r \times u| / |u|` with :math:`r = x_2 - x_1`,
     :math:`u = v_1 - v_2`; a pair at relative rest keeps :math:`b = |r|`.
+    For an approaching pair (:math:`r \cdot u > 0`) it is the distance of
+    closest approach in straight-line motion; a receding pair has passed its
+    closest approach, and b is that of the whole straight line.
 
     Examples
     --------
@@ -180,7 +183,11 @@ def impact_angle_2d(x1, v1, x2, v2, contact_distance):
     :math:`\gamma_v` that of :math:`v_1 - v_2`. alpha lies in
     [-pi/2, pi/2] (0 head-on, +-pi/2 grazing) and the line of centres at
     contact points along :math:`\gamma_v + \alpha`. Pairs that will not
-    collide (moving apart, or missing) get NaN.
+    collide (moving apart, or missing) get NaN. A pair that already
+    overlaps (:math:`d < r_1 + r_2`) and approaches collides now, along its
+    present line of centres (as :func:`collisionkit.collide` resolves it):
+    alpha is then the angle of :math:`x_2 - x_1` from :math:`\gamma_v`
+    (d in place of :math:`r_1 + r_2` above; the two agree at touching).
 
     Examples
     --------
@@ -200,7 +207,7 @@ def impact_angle_2d(x1, v1, x2, v2, contact_distance):
     with np.errstate(invalid="ignore", divide="ignore"):
         offset = (u[..., 0] * r[..., 1] - u[..., 1] * r[..., 0]) / speed
         approaching = np.einsum("...i,...i->...", r, u) > 0
-        ratio = offset / sigma
+        ratio = offset / np.minimum(sigma, np.hypot(r[..., 0], r[..., 1]))  # |r| < sigma: overlapping, contact now
         return np.where(approaching & (np.abs(ratio) <= 1), np.arcsin(np.clip(ratio, -1, 1)), np.nan)
 
 
@@ -227,6 +234,8 @@ def impact_angles_3d(x1, v1, x2, v2, contact_distance):
     the 3D form of Smid's impact angle; phi in (-pi, pi] is the azimuth of
     the line of centres about the relative velocity, measured in the basis of
     :func:`normal_from_impact_angles`. Pairs that will not collide get NaN.
+    A pair that already overlaps and approaches collides now, along its
+    present line of centres (as :func:`collisionkit.collide` resolves it).
 
     Examples
     --------
@@ -251,7 +260,8 @@ def impact_angles_3d(x1, v1, x2, v2, contact_distance):
         offset = r - along[..., None] * unit
         b = np.linalg.norm(offset, axis=-1)
         hits = (along > 0) & (b <= sigma) & (speed[..., 0] > 0)
-        alpha = np.arcsin(np.clip(b / sigma, 0.0, 1.0))
+        # an overlapping pair (|r| < sigma) collides now: its present line of centres, sin(alpha) = b / |r|
+        alpha = np.arcsin(np.clip(b / np.minimum(sigma, np.linalg.norm(r, axis=-1)), 0.0, 1.0))
         phi = np.arctan2(np.einsum("...i,...i->...", offset, e2), np.einsum("...i,...i->...", offset, e1))
     return np.where(hits, alpha, np.nan), np.where(hits, phi, np.nan)
 
