@@ -139,14 +139,15 @@ def test_extended_xyz_header_and_exact_values_in_3d(tmp_path):
     path = trajectory.write_extended_xyz(tmp_path / "mixture.xyz", system, comment="two species")
     count, header, rows = parse_extended_xyz(path)
     assert count == 108
-    assert header["Properties"] == "species:S:1:pos:R:3:vel:R:3:radius:R:1:mass:R:1"
+    assert header["Properties"] == "species:S:1:pos:R:3:vel:R:3:radius:R:1:mass:R:1:type:S:1"
     assert header["pbc"] == "T F T"
     assert np.array(header["Lattice"].split(), dtype=float).reshape(3, 3) == pytest.approx(np.diag(system.box), abs=0)
     assert int(header["Step"]) == system.collisions == 300
     assert float(header["Time"]) == system.elapsed > 0
     assert header["Comment"] == "two species"
-    assert [row[0] for row in rows] == ["A" if s == 0 else "B" for s in system.species]
-    values = np.array([row[1:] for row in rows], dtype=float)
+    assert {row[0] for row in rows} == {"X"}
+    assert [row[-1] for row in rows] == ["A" if s == 0 else "B" for s in system.species]
+    values = np.array([row[1:-1] for row in rows], dtype=float)
     assert np.array_equal(values[:, 0:3], system.positions())  # 17 digits: exact round trip
     assert np.array_equal(values[:, 3:6], system.velocities())
     assert np.array_equal(values[:, 6], system.radius) and np.array_equal(values[:, 7], system.mass)
@@ -158,12 +159,29 @@ def test_extended_xyz_of_discs_is_a_slab(tmp_path):
     lattice = np.array(header["Lattice"].split(), dtype=float).reshape(3, 3)
     assert lattice == pytest.approx(np.diag([system.box[0], system.box[1], 1.0]), abs=0)
     assert header["pbc"] == "T T F" and "Comment" not in header
-    values = np.array([row[1:] for row in rows], dtype=float)
+    values = np.array([row[1:-1] for row in rows], dtype=float)
     assert np.all(values[:, 2] == 0) and np.all(values[:, 5] == 0)
     assert np.array_equal(values[:, :2], system.positions())
     with pytest.raises(ValueError, match="comment"):
         trajectory.write_extended_xyz(tmp_path / "bad.xyz", system, comment='say "hi"')
     assert not (tmp_path / "bad.xyz").exists()
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+def test_ase_reads_the_extended_xyz_file(tmp_path, dim):
+    import ase.io as ase_io  # the test extra installs ASE
+    system = mixture_3d(periodic=[True, False, True]) if dim == 3 else discs_2d()
+    system.run(collisions=200)
+    atoms = ase_io.read(trajectory.write_extended_xyz(tmp_path / "run.xyz", system))
+    assert len(atoms) == system.count
+    np.testing.assert_array_equal(atoms.positions[:, :dim], system.positions())
+    np.testing.assert_array_equal(atoms.arrays["vel"][:, :dim], system.velocities())
+    np.testing.assert_array_equal(atoms.arrays["radius"], system.radius)
+    np.testing.assert_array_equal(atoms.arrays["mass"], system.mass)
+    assert list(atoms.arrays["type"]) == list(np.asarray(trajectory.type_names(system.species))[system.species])
+    assert list(atoms.pbc) == list(system.periodic) + ([False] if dim == 2 else [])
+    assert np.diag(atoms.cell)[:dim] == pytest.approx(system.box[:dim], abs=0)
+    assert atoms.info["Step"] == system.collisions
 
 
 def test_type_names_beyond_the_alphabet():

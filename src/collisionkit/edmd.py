@@ -69,6 +69,60 @@ class OverlapError(RuntimeError):
     """
 
 
+# ------------------------------------------------------------------ argument checks
+
+
+def _real_array(value, name):
+    """``value`` as a float64 array; TypeError naming ``name`` for non-real or boolean input."""
+    array = _arrays.as_float_array(value, name)
+    if np.asarray(value).dtype.kind == "b":
+        raise TypeError(f"{name} must hold numbers, not booleans; got {value!r}")
+    return array
+
+
+def _bounded(value, name, low, high=math.inf, *, closed=(True, False), scalar=True):
+    """Finite number(s) from ``low`` to ``high`` (ends included as ``closed`` says).
+
+    Returns a float, or a float64 array unless ``scalar``; raises TypeError
+    for a non-real or boolean value, ValueError naming ``name`` and the range.
+    """
+    array = _real_array(value, name)
+    if scalar and array.ndim:
+        raise ValueError(f"{name} must be a single number; got shape {array.shape}")
+    above = array >= low if closed[0] else array > low
+    below = array <= high if closed[1] else array < high
+    ok = np.isfinite(array) & above & below
+    if not np.all(ok):
+        if high == math.inf:
+            allowed = f"{'>=' if closed[0] else '>'} {low:g}"
+        else:
+            allowed = f"in {'[' if closed[0] else '('}{low:g}, {high:g}{']' if closed[1] else ')'}"
+        what = "a finite number" if scalar else "finite numbers"
+        raise ValueError(f"{name} must be {what} {allowed}; got {array[~ok].flat[0]}")
+    return float(array) if scalar else array
+
+
+def _count(value, name, minimum):
+    """``value`` as an int >= ``minimum``; booleans and non-integers raise TypeError naming ``name``."""
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, np.integer)):
+        raise TypeError(f"{name} must be an integer >= {minimum}; got {value!r}")
+    if value < minimum:
+        raise ValueError(f"{name} must be an integer >= {minimum}; got {value!r}")
+    return int(value)
+
+
+def _dimension(dim):
+    """The space dimension: the integer 2 or 3."""
+    if isinstance(dim, (bool, np.bool_)) or not isinstance(dim, (int, np.integer)) or dim not in (2, 3):
+        raise ValueError(f"dim must be 2 or 3; got {dim!r}")
+    return int(dim)
+
+
+def _packing(eta):
+    """Packing fraction(s) for an equation of state: finite, in [0, 1)."""
+    return _bounded(eta, "eta", 0.0, 1.0, scalar=False)
+
+
 # ------------------------------------------------------------------ equations of state
 
 

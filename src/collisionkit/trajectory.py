@@ -30,7 +30,10 @@ from ._io import atomic_write_text
 
 __all__ = ["GSDWriter", "read_gsd", "truncate_gsd", "type_names", "write_extended_xyz", "write_gsd_frame"]
 
-_XYZ_PROPERTIES = "species:S:1:pos:R:3:vel:R:3:radius:R:1:mass:R:1"
+# species X: ASE reads the species column as chemical symbols and X (its dummy atom) is the one for a
+# particle that is no element; the particle type ("A", "B", ... as in GSD files) has a column of its own
+_XYZ_PROPERTIES = "species:S:1:pos:R:3:vel:R:3:radius:R:1:mass:R:1:type:S:1"
+_XYZ_SPECIES = "X"
 
 
 def _gsd_hoomd():
@@ -355,13 +358,16 @@ def write_extended_xyz(path, system, comment=None):
     """Write the system's current state as one extended-XYZ frame (atomically).
 
     The header line holds ``Lattice`` (the box as 3 cell vectors),
-    ``Properties=species:S:1:pos:R:3:vel:R:3:radius:R:1:mass:R:1``, ``pbc``
-    (periodic axes "T", walls "F"), ``Time`` (simulated time) and ``Step``
-    (pair collisions); each particle line its type name ("A", "B", ...),
-    position in [0, L), velocity, radius and mass, written with 17
-    significant digits (exact round trip). 2D systems get z = 0, a third
-    cell vector one diameter long and pbc "F" along z. ASE reads the file
-    with ``ase.io.read(path)``.
+    ``Properties=species:S:1:pos:R:3:vel:R:3:radius:R:1:mass:R:1:type:S:1``,
+    ``pbc`` (periodic axes "T", walls "F"), ``Time`` (simulated time) and
+    ``Step`` (pair collisions); each particle line the species ``X`` (ASE's
+    dummy atom: a hard sphere is no element), position in [0, L), velocity,
+    radius, mass and the particle type ("A", "B", ..., as in GSD files),
+    numbers written with 17 significant digits (exact round trip). 2D
+    systems get z = 0, a third cell vector one diameter long and pbc "F"
+    along z. ASE reads the file with ``ase.io.read(path)``: positions, cell
+    and pbc, ``atoms.arrays["vel"]``, ``["radius"]``, ``["mass"]`` and
+    ``["type"]``, and Time and Step in ``atoms.info``.
 
     Parameters
     ----------
@@ -390,6 +396,8 @@ def write_extended_xyz(path, system, comment=None):
     names = np.asarray(type_names(system.species))[np.asarray(system.species)]
     positions, velocities = _pad(system.positions(), float), _pad(system.velocities(), float)
     columns = np.column_stack([positions, velocities, system.radius, system.mass])
-    body = "\n".join(f"{name} " + " ".join(f"{value:.17g}" for value in row) for name, row in zip(names, columns))
+    body = "\n".join(
+        f"{_XYZ_SPECIES} " + " ".join(f"{value:.17g}" for value in row) + f" {name}" for name, row in zip(names, columns)
+    )
     return atomic_write_text(path, f"{system.count}\n{header}\n{body}\n")
 
