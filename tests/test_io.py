@@ -14,6 +14,17 @@ def test_json_with_numpy_values_round_trips(tmp_path):
     assert json.loads(path.read_text()) == {"a": 1.5, "b": [0, 1, 2], "c": 7}
 
 
+def test_json_is_strict_non_finite_numbers_become_null(tmp_path):
+    data = {"period": np.inf, "d": [np.nan, 1.0], "v": np.array([-np.inf, 2.0]), "e": np.float64(np.nan), "ok": True}
+
+    def reject(constant):
+        raise ValueError(f"strict JSON has no {constant}")
+
+    text = _io.atomic_write_json(tmp_path / "s.json", data).read_text()
+    assert json.loads(text, parse_constant=reject) == {"period": None, "d": [None, 1.0], "v": [None, 2.0],
+                                                       "e": None, "ok": True}
+
+
 def test_failed_write_keeps_the_old_file_and_leaves_no_temporary(tmp_path, monkeypatch):
     path = tmp_path / "results.json"
     path.write_text("old")

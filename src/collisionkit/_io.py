@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import math
 import os
 import tempfile
 from pathlib import Path
@@ -45,20 +46,36 @@ def atomic_write_text(path, text: str) -> Path:
     return atomic_write_bytes(path, text.encode("utf-8"))
 
 
-def _to_json(value):
-    if isinstance(value, np.ndarray):
-        return value.tolist()
+def _strict_json(value):
+    """``value`` with numpy values as plain ones, paths as strings and NaN or +-inf as None."""
+    if isinstance(value, dict):
+        return {key: _strict_json(item) for key, item in value.items()}
+    if isinstance(value, (list, tuple, np.ndarray)):
+        return [_strict_json(item) for item in (value.tolist() if isinstance(value, np.ndarray) else value)]
     if isinstance(value, np.generic):
-        return value.item()
+        value = value.item()
+    if isinstance(value, float) and not math.isfinite(value):
+        return None
     if isinstance(value, Path):
         return str(value)
+    if value is None or isinstance(value, (str, int, float)):  # bool is an int
+        return value
     raise TypeError(f"cannot write {type(value).__name__} as JSON")
 
 
 def atomic_write_json(path, data) -> Path:
     """Write ``data`` as indented JSON atomically; numpy values become plain numbers.
 
-    Non-finite floats are written as the JSON extensions ``NaN``/``Infinity``
-    that Python's and most JSON readers accept.
+    Non-finite numbers (NaN, +-inf: the period of an unbound orbit, a
+    diffusion coefficient not yet measurable) are written as ``null``, as
+    JavaScript's ``JSON.stringify`` does: strict JSON has no NaN or
+    Infinity, and jq, browsers and many languages' parsers reject them.
+
+    Examples
+    --------
+    >>> import json, math, pathlib, tempfile
+    >>> path = atomic_write_json(pathlib.Path(tempfile.mkdtemp()) / "s.json", {"period": math.inf, "e": 1.5})
+    >>> json.loads(path.read_text())
+    {'period': None, 'e': 1.5}
     """
-    return atomic_write_text(path, json.dumps(data, indent=2, default=_to_json) + "\n")
+    return atomic_write_text(path, json.dumps(_strict_json(data), indent=2, allow_nan=False) + "\n")
