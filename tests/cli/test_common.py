@@ -42,3 +42,41 @@ def test_a_missing_extra_stops_the_command_before_any_work(arguments, module, ex
     assert result.exit_code == 2, result.output
     assert f"pip install 'collisionkit[{extra}]'" in result.output and module in result.output
     assert not summary.exists()  # nothing ran
+
+
+@pytest.mark.parametrize(
+    "arguments",
+    [
+        ["edmd", "--summary", "{folder}"],
+        ["edmd", "--checkpoint", "{folder}"],
+        ["edmd", "--xyz", "{folder}"],
+        ["edmd", "--summary", "{file}/below-a-file.json"],
+        ["edmd", "--out", "{file}"],
+        ["slab", "--summary", "{folder}"],
+        ["encounter", "--out", "{file}"],
+        ["demo", "--pairs", "1000", "--out", "{file}"],
+        ["animate", "--out", "{folder}"],
+    ],
+)
+def test_an_output_path_that_cannot_be_written_stops_the_command_before_any_work(arguments, tmp_path):
+    folder, file = tmp_path / "a-folder", tmp_path / "a-file"
+    folder.mkdir()
+    file.write_text("taken")
+    arguments = [argument.format(folder=folder, file=file) for argument in arguments]
+    result = runner.invoke(app, [*arguments, "--particles", "108"] if arguments[0] == "edmd" else arguments,
+                           env={"COLUMNS": "200"})
+    assert result.exit_code == 2, result.output
+    assert "folder" in result.output or "file" in result.output
+    assert file.read_text() == "taken" and not any(folder.iterdir())  # nothing written
+
+
+def test_config_keys_take_the_command_line_spelling_and_may_not_repeat(tmp_path):
+    from collisionkit.cli._common import load_options
+    from collisionkit.cli._edmd import EdmdOptions
+
+    config = tmp_path / "run.toml"
+    config.write_text("Packing-Fraction = 0.25\n")
+    assert load_options(EdmdOptions, config, {}).packing_fraction == 0.25
+    config.write_text("packing_fraction = 0.3\npacking-fraction = 0.4\n")
+    result = runner.invoke(app, ["edmd", "--config", str(config)], env={"COLUMNS": "200"})
+    assert result.exit_code == 2 and "twice" in result.output

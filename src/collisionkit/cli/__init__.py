@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import sys
 from pathlib import Path
-from typing import Annotated
+from typing import Annotated, ClassVar
 
 import typer
 from pydantic import Field
@@ -45,6 +45,8 @@ class DemoOptions(Options):
     seed: int = Field(default=2026, ge=0)
     plots: bool = True
     summary: Path | None = None
+
+    output_folders: ClassVar[tuple[str, ...]] = ("out",)
 
 
 @app.command()

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import json
 from pathlib import Path
-from typing import Annotated, Literal
+from typing import Annotated, ClassVar, Literal
 
 import typer
 from pydantic import Field
@@ -31,6 +31,8 @@ class AnimateOptions(Options):
     every: int = Field(default=1, ge=1)
     dpi: int = Field(default=80, ge=20, le=300)
     summary: Path | None = None
+
+    output_files: ClassVar[tuple[str, ...]] = ("summary", "out")
 
 
 def _check_output(options: AnimateOptions) -> str:

@@ -10,11 +10,12 @@
 from __future__ import annotations
 
 import importlib.util
+import os
 import tomllib
 from collections.abc import Iterable, Mapping
 from contextlib import contextmanager
 from pathlib import Path
-from typing import Any
+from typing import Any, ClassVar
 
 import typer
 from pydantic import BaseModel, ConfigDict, ValidationError
@@ -36,9 +37,15 @@ def _dashed(name: str) -> str:
 
 
 class Options(BaseModel):
-    """Base of every subcommand's options: strict, dashed keys allowed."""
+    """Base of every subcommand's options: strict, dashed keys allowed.
+
+    ``output_files`` and ``output_folders`` name the options that are paths
+    the command writes; :func:`load_options` checks them before any work.
+    """
 
     model_config = ConfigDict(extra="forbid", alias_generator=_dashed, populate_by_name=True, frozen=True)
+    output_files: ClassVar[tuple[str, ...]] = ("summary",)
+    output_folders: ClassVar[tuple[str, ...]] = ()
 
 
 def fail(message: str) -> typer.Exit:
@@ -109,13 +116,82 @@ def load_options(model: type[Options], config: Path | None, given: Mapping[str, 
     """
     values: dict[str, Any] = {}
     if config is not None:
-        values.update({key.replace("-", "_"): value for key, value in read_toml(config).items()})
+        spelled: dict[str, str] = {}
+        for key, value in read_toml(config).items():
+            name = _field_name(model, key)
+            if name in spelled:
+                raise fail(f"config file {config} sets {name!r} twice: as {spelled[name]!r} and as {key!r}")
+            spelled[name] = key
+            values[name] = value
     values.update({key: value for key, value in given.items() if value is not None})
     try:
-        return model.model_validate(values)
+        options = model.model_validate(values)
     except ValidationError as error:
         details = "; ".join(_describe(item) for item in error.errors())
         raise fail(f"invalid options: {details}") from None
+    for name in model.output_files:
+        check_output_file(getattr(options, name), f"--{_dashed(name)}")
+    for name in model.output_folders:
+        check_output_folder(getattr(options, name), f"--{_dashed(name)}")
+    return options
+
+
+def _field_name(model: type[Options], key: str) -> str:
+    """The option a TOML key names: dashes or underscores, and the command line's case (E-N for e_n)."""
+    name = key.replace("-", "_")
+    return name.lower() if name not in model.model_fields and name.lower() in model.model_fields else name
+
+
+def _writable_folder(folder: Path) -> Path | None:
+    """The nearest existing folder at or above ``folder`` (the writers create the rest), if it can be written."""
+    while not folder.exists() and folder != folder.parent:
+        folder = folder.parent
+    return folder if folder.is_dir() and os.access(folder, os.W_OK | os.X_OK) else None
+
+
+def check_output_file(path: Path | None, option: str) -> None:
+    """Stop with an input error (exit 2) before any work if ``path`` cannot be written as a file.
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> check_output_file(None, "--summary")  # not asked for: nothing to check
+    >>> try:
+    ...     check_output_file(Path(tempfile.mkdtemp()), "--summary")  # a folder
+    ... except Exception as stop:
+    ...     print(type(stop).__name__, stop.exit_code)
+    Exit 2
+    """
+    if path is None:
+        return
+    path = Path(path)
+    if path.is_dir():
+        raise fail(f"{option} {path} is a folder: give a file name")
+    if _writable_folder(path.parent) is None:
+        raise fail(f"{option} {path} cannot be written: its folder is missing and cannot be made, or is read-only")
+
+
+def check_output_folder(path: Path | None, option: str) -> None:
+    """Stop with an input error (exit 2) before any work if ``path`` cannot be used as an output folder.
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> file = Path(tempfile.mkdtemp()) / "taken"
+    >>> _ = file.write_text("x")
+    >>> try:
+    ...     check_output_folder(file, "--out")  # a file is in the way
+    ... except Exception as stop:
+    ...     print(type(stop).__name__, stop.exit_code)
+    Exit 2
+    """
+    if path is None:
+        return
+    path = Path(path)
+    if path.exists() and not path.is_dir():
+        raise fail(f"{option} {path} is a file, not a folder")
+    if _writable_folder(path) is None:
+        raise fail(f"{option} {path} cannot be written: it cannot be made, or is read-only")
 
 
 def write_summary(path: Path | None, summary: Mapping[str, Any]) -> None:

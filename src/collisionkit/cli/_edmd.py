@@ -16,7 +16,7 @@ import math
 import secrets
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING, Annotated, Literal
+from typing import TYPE_CHECKING, Annotated, ClassVar, Literal
 
 import numpy as np
 import typer
@@ -63,6 +63,9 @@ class EdmdOptions(Options):
     out: Path = Path("edmd-output")
     plots: bool = True
     checkpoint: Path | None = None
+
+    output_files: ClassVar[tuple[str, ...]] = ("summary", "trajectory", "xyz", "checkpoint")
+    output_folders: ClassVar[tuple[str, ...]] = ("out",)
 
 
 # ------------------------------------------------------------------ options

@@ -5,7 +5,7 @@ from __future__ import annotations
 import math
 import warnings
 from pathlib import Path
-from typing import Annotated, Literal
+from typing import Annotated, ClassVar, Literal
 
 import typer
 from pydantic import Field
@@ -29,6 +29,8 @@ class EncounterOptions(Options):
     out: Path = Path("encounter-output")
     plots: bool = True
     summary: Path | None = None
+
+    output_folders: ClassVar[tuple[str, ...]] = ("out",)
 
 
 def _unit_labels(system) -> dict[str, str]:
