@@ -127,6 +127,178 @@ def test_bad_input_is_rejected_with_names():
         system.run()
 
 
+def square_system(velocities=None):
+    positions, box = edmd.lattice("square", 4, 0.3)
+    if velocities is None:
+        velocities = edmd.maxwell_boltzmann(np.ones(16), 2, rng=1)
+    return edmd.HardSphereSystem(positions, velocities, 0.5, box)
+
+
+@pytest.mark.parametrize(
+    ("options", "error", "name"),
+    [
+        (dict(collisions=10, chunk=0), ValueError, "chunk"),  # used to loop forever
+        (dict(collisions=10, chunk=-5), ValueError, "chunk"),
+        (dict(collisions=10, chunk=True), TypeError, "chunk"),
+        (dict(collisions=10, chunk=2.5), TypeError, "chunk"),
+        (dict(collisions=True), TypeError, "collisions"),
+        (dict(time=True), TypeError, "time"),
+        (dict(time="1"), TypeError, "time"),
+        (dict(time=math.nan), ValueError, "time"),
+    ],
+)
+def test_run_rejects_bad_counts_and_times(options, error, name):
+    with pytest.raises(error, match=name):
+        square_system().run(**options)
+
+
+@pytest.mark.parametrize("function", [edmd.carnahan_starling, edmd.hansen_goos, edmd.henderson])
+@pytest.mark.parametrize(("eta", "error"), [(-0.1, ValueError), (1.0, ValueError), (1.5, ValueError),
+                                            (2.0, ValueError), (math.nan, ValueError), ([0.2, 1.0], ValueError),
+                                            (True, TypeError), ("0.3", TypeError)])
+def test_equations_of_state_need_a_packing_fraction_in_0_1(function, eta, error):
+    with pytest.raises(error, match="eta"):
+        function(eta)
+
+
+def test_equations_of_state_give_the_ideal_gas_at_zero_density():
+    for function in (edmd.carnahan_starling, edmd.hansen_goos, edmd.henderson):
+        assert function(0.0) == 1.0
+        np.testing.assert_allclose(function([0.0, 1e-12]), 1.0, rtol=1e-10)
+
+
+@pytest.mark.parametrize(
+    ("arguments", "error", "name"),
+    [
+        (dict(diameter=0), ValueError, "diameter"),
+        (dict(diameter=math.inf), ValueError, "diameter"),
+        (dict(mass=-1), ValueError, "mass"),
+        (dict(kT=math.nan), ValueError, "kT"),
+        (dict(kT=True), TypeError, "kT"),
+        (dict(compressibility=0.5), ValueError, "compressibility"),
+        (dict(dim=5), ValueError, "dim"),
+        (dict(dim=True), TypeError, "dim"),
+    ],
+)
+def test_enskog_collision_frequency_checks_its_arguments(arguments, error, name):
+    with pytest.raises(error, match=name):
+        edmd.enskog_collision_frequency(**(dict(compressibility=2.0, dim=3) | arguments))
+
+
+@pytest.mark.parametrize(
+    ("arguments", "error", "name"),
+    [
+        (dict(kT=0), ValueError, "kT"),
+        (dict(kT=-1), ValueError, "kT"),
+        (dict(kT=math.inf), ValueError, "kT"),
+        (dict(masses=np.array([1.0, -1.0, 1.0])), ValueError, "masses"),
+        (dict(masses=np.ones(1)), ValueError, "masses .*at least 2|masses .*N >= 2"),
+        (dict(masses=[True, True]), TypeError, "masses"),
+        (dict(dim=0), ValueError, "dim"),
+        (dict(dim=2.0), TypeError, "dim"),
+    ],
+)
+def test_maxwell_boltzmann_checks_its_arguments(arguments, error, name):
+    with pytest.raises(error, match=name):
+        edmd.maxwell_boltzmann(**(dict(masses=np.ones(3), dim=3) | arguments))
+
+
+@pytest.mark.parametrize(
+    ("arguments", "error", "name"),
+    [
+        (dict(kT=-1), ValueError, "kT"),  # used to blame the velocities
+        (dict(diameters=-1.0), ValueError, "diameters"),
+        (dict(growth_rate=True), TypeError, "growth_rate"),
+        (dict(packing_fraction="0.2"), TypeError, "packing_fraction"),
+        (dict(particles=True), TypeError, "particles"),
+        (dict(dim=2.0), TypeError, "dim"),
+    ],
+)
+def test_random_fluid_checks_its_arguments(arguments, error, name):
+    with pytest.raises(error, match=name):
+        edmd.random_fluid(**(dict(dim=2, particles=50, packing_fraction=0.2) | arguments))
+
+
+@pytest.mark.parametrize(
+    ("arguments", "error", "name"),
+    [
+        (dict(diameter=0.0), ValueError, "diameter"),
+        (dict(diameter=math.nan), ValueError, "diameter"),
+        (dict(diameter=-1), ValueError, "diameter"),
+        (dict(cells=True), TypeError, "cells"),
+        (dict(cells=0), ValueError, "cells"),
+        (dict(cells=2.0), TypeError, "cells"),
+        (dict(packing_fraction=math.nan), ValueError, "packing_fraction"),
+        (dict(packing_fraction="0.3"), TypeError, "packing_fraction"),
+    ],
+)
+def test_lattice_checks_its_arguments(arguments, error, name):
+    with pytest.raises(error, match=name):
+        edmd.lattice(**(dict(kind="sc", cells=2, packing_fraction=0.3) | arguments))
+
+
+@pytest.mark.parametrize(
+    ("radii", "box", "name"),
+    [([-0.5], [1.0, 1.0], "radii"), ([0.5], [1.0, 1.0, 1.0, 1.0], "box"), ([0.5], [0.0, 1.0], "box"),
+     ([0.5], 1.0, "box"), ([math.nan], [1.0, 1.0], "radii")],
+)
+def test_packing_fraction_checks_its_arguments(radii, box, name):
+    with pytest.raises(ValueError, match=name):
+        edmd.packing_fraction(radii, box)
+
+
+def test_rescale_temperature_and_check_reject_bad_values():
+    system = square_system()
+    for kT in (-1.0, 0.0, math.nan):
+        with pytest.raises(ValueError, match="kT"):
+            system.rescale_temperature(kT)
+    with pytest.raises(ValueError, match="at rest"):
+        square_system(np.zeros((16, 2))).rescale_temperature(1.0)
+    for tolerance in (-1.0, math.nan):
+        with pytest.raises(ValueError, match="tolerance"):
+            system.check(tolerance=tolerance)
+    assert system.temperature() == pytest.approx(1.0, rel=1e-12)  # untouched
+
+
+@pytest.mark.parametrize(
+    ("options", "error", "name"),
+    [
+        (dict(radii="a"), TypeError, "radii"),
+        (dict(masses=1 + 1j), TypeError, "masses"),
+        (dict(law_speed="1"), TypeError, "law_speed"),
+        (dict(law_exponent=True), TypeError, "law_exponent"),
+        (dict(neighbour_shell="1"), TypeError, "neighbour_shell"),
+        (dict(neighbour_shell=np.array([0.5, 0.5])), ValueError, "neighbour_shell"),
+        (dict(elastic_below="1"), TypeError, "elastic_below"),
+        (dict(wall_restitution="1"), TypeError, "wall_restitution"),
+        (dict(wall_restitution=1.5), ValueError, "wall_restitution"),
+        (dict(periodic=[True, True, False]), ValueError, "periodic"),
+        (dict(periodic="no"), TypeError, "periodic"),
+        (dict(periodic=[0, 2]), TypeError, "periodic"),
+        (dict(box="10"), TypeError, "box"),
+        (dict(species=1.7), ValueError, "species"),
+        (dict(species=True), TypeError, "species"),
+        (dict(restitution=np.nan), ValueError, "restitution must lie"),
+        (dict(restitution_law=["constant"]), ValueError, "restitution_law"),
+        (dict(gravity=[True, False]), TypeError, "gravity"),
+    ],
+)
+def test_system_arguments_are_named_when_rejected(options, error, name):
+    positions, box = edmd.lattice("square", 4, 0.3)
+    arguments = dict(positions=positions, velocities=np.zeros((16, 2)), radii=0.5, box=box) | options
+    with pytest.raises(error, match=name):
+        edmd.HardSphereSystem(**arguments)
+
+
+def test_sampler_needs_a_system():
+    with pytest.raises(TypeError, match="system must be a HardSphereSystem"):
+        edmd.Sampler("x", 100, 2)
+    with pytest.raises(TypeError, match="system"):
+        edmd.measure("x", 100, 2)
+    with pytest.raises(TypeError, match="blocks"):
+        edmd.Sampler(square_system(), 100, True)
+
+
 # ------------------------------------------------------------------ dynamics
 
 

@@ -97,14 +97,23 @@ def _bounded(value, name, low, high=math.inf, *, closed=(True, False), scalar=Tr
             allowed = f"{'>=' if closed[0] else '>'} {low:g}"
         else:
             allowed = f"in {'[' if closed[0] else '('}{low:g}, {high:g}{']' if closed[1] else ')'}"
-        what = "a finite number" if scalar else "finite numbers"
-        raise ValueError(f"{name} must be {what} {allowed}; got {array[~ok].flat[0]}")
+        what = "be a finite number" if scalar else "hold finite numbers"
+        raise ValueError(f"{name} must {what} {allowed}; got {array[~ok].flat[0]}")
     return float(array) if scalar else array
+
+
+def _positive(value, name, scalar=True):
+    """Finite number(s) > 0, as :func:`_bounded`."""
+    return _bounded(value, name, 0.0, closed=(False, False), scalar=scalar)
+
+
+def _is_integer(value):
+    return isinstance(value, (int, np.integer)) and not isinstance(value, bool)
 
 
 def _count(value, name, minimum):
     """``value`` as an int >= ``minimum``; booleans and non-integers raise TypeError naming ``name``."""
-    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, np.integer)):
+    if not _is_integer(value):
         raise TypeError(f"{name} must be an integer >= {minimum}; got {value!r}")
     if value < minimum:
         raise ValueError(f"{name} must be an integer >= {minimum}; got {value!r}")
@@ -113,7 +122,9 @@ def _count(value, name, minimum):
 
 def _dimension(dim):
     """The space dimension: the integer 2 or 3."""
-    if isinstance(dim, (bool, np.bool_)) or not isinstance(dim, (int, np.integer)) or dim not in (2, 3):
+    if not _is_integer(dim):
+        raise TypeError(f"dim must be the integer 2 or 3; got {dim!r}")
+    if dim not in (2, 3):
         raise ValueError(f"dim must be 2 or 3; got {dim!r}")
     return int(dim)
 
@@ -132,13 +143,23 @@ def carnahan_starling(eta):
     :math:`Z = (1 + \eta + \eta^2 - \eta^3)/(1 - \eta)^3`
     (J. Chem. Phys. 51, 635 (1969)).
 
+    Parameters
+    ----------
+    eta : float or array_like
+        Packing fraction(s), in [0, 1).
+
+    Returns
+    -------
+    float or ndarray
+        Z, shaped like ``eta``.
+
     Examples
     --------
     >>> from collisionkit.edmd import carnahan_starling
     >>> round(float(carnahan_starling(0.4)), 6)
     6.925926
     """
-    eta = np.asarray(eta, dtype=float)
+    eta = _packing(eta)
     return (1 + eta + eta**2 - eta**3) / (1 - eta) ** 3
 
 
@@ -152,15 +173,29 @@ def hansen_goos(eta):
     (J. Chem. Phys. 144, 164506 (2016)); more accurate than Carnahan-Starling
     near freezing.
 
+    Parameters
+    ----------
+    eta : float or array_like
+        Packing fraction(s), in [0, 1); Z = 1 at eta = 0.
+
+    Returns
+    -------
+    float or ndarray
+        Z, shaped like ``eta``.
+
     Examples
     --------
     >>> from collisionkit.edmd import hansen_goos
     >>> round(float(hansen_goos(0.4)), 4)
     6.945
+    >>> float(hansen_goos(0.0))
+    1.0
     """
-    eta = np.asarray(eta, dtype=float)
+    eta = _packing(eta)
     series = sum(b * eta**i for i, b in enumerate(_HANSEN_GOOS_B))
-    return 8.0 * np.log1p(-eta) / eta + series / (1 - eta) ** 3
+    # ln(1 - eta) / eta tends to -1 at eta = 0
+    log_ratio = np.divide(np.log1p(-eta), eta, out=np.full_like(eta, -1.0), where=eta != 0)
+    return 8.0 * log_ratio + series / (1 - eta) ** 3
 
 
 def henderson(eta):
@@ -168,13 +203,23 @@ def henderson(eta):
 
     Mol. Phys. 30, 971 (1975).
 
+    Parameters
+    ----------
+    eta : float or array_like
+        Packing fraction(s) of the discs, in [0, 1).
+
+    Returns
+    -------
+    float or ndarray
+        Z, shaped like ``eta``.
+
     Examples
     --------
     >>> from collisionkit.edmd import henderson
     >>> round(float(henderson(0.3)), 6)
     2.063776
     """
-    eta = np.asarray(eta, dtype=float)
+    eta = _packing(eta)
     return (1 + eta**2 / 8) / (1 - eta) ** 2
 
 
@@ -183,13 +228,31 @@ def enskog_collision_frequency(compressibility, dim, diameter=1.0, kT=1.0, mass=
 
     Each pair collision counts for both particles.
 
+    Parameters
+    ----------
+    compressibility : float or array_like
+        Compressibility factor Z = PV/(NkT), finite and >= 1 (the hard-core
+        pressure is never below the ideal gas's).
+    dim : {2, 3}
+    diameter, kT, mass : float or array_like, optional
+        Finite and > 0.
+
+    Returns
+    -------
+    float or ndarray
+        Collisions per particle per unit time.
+
     Examples
     --------
     >>> from collisionkit.edmd import enskog_collision_frequency
     >>> round(float(enskog_collision_frequency(2.0, 3)), 6)
     3.385138
     """
-    return (2.0 * dim / diameter) * (np.asarray(compressibility) - 1.0) * np.sqrt(kT / (np.pi * mass))
+    compressibility = _bounded(compressibility, "compressibility", 1.0, scalar=False)
+    dim = _dimension(dim)
+    diameter, kT, mass = (_positive(diameter, "diameter", scalar=False), _positive(kT, "kT", scalar=False),
+                          _positive(mass, "mass", scalar=False))
+    return (2.0 * dim / diameter) * (compressibility - 1.0) * np.sqrt(kT / (np.pi * mass))
 
 
 def _ball_volume(radius, dim):
@@ -199,14 +262,28 @@ def _ball_volume(radius, dim):
 def packing_fraction(radii, box):
     """Fraction of the box volume covered by the particles.
 
+    Parameters
+    ----------
+    radii : float or array_like
+        Radii of the discs or spheres, finite and > 0.
+    box : array_like, shape (2,) or (3,)
+        Box lengths, finite and > 0; the length gives the dimension.
+
+    Returns
+    -------
+    float
+
     Examples
     --------
     >>> from collisionkit.edmd import packing_fraction
     >>> round(packing_fraction([0.5], [1.0, 1.0]), 6)
     0.785398
     """
-    box = np.asarray(box, dtype=float)
-    return float(np.sum(_ball_volume(np.asarray(radii, dtype=float), box.size)) / np.prod(box))
+    radii = _positive(radii, "radii", scalar=False)
+    box = _positive(box, "box", scalar=False)
+    if box.shape not in ((2,), (3,)):
+        raise ValueError(f"box must have shape (2,) or (3,) (the dimension); got {box.shape}")
+    return float(np.sum(_ball_volume(radii, box.size)) / np.prod(box))
 
 
 # ------------------------------------------------------------------ initial states
@@ -217,6 +294,20 @@ def maxwell_boltzmann(masses, dim, kT=1.0, rng=None):
 
     kT is defined by the kinetic energy, ``2 K / (d N)``.
 
+    Parameters
+    ----------
+    masses : array_like, shape (N,)
+        Finite and > 0; N >= 2 (zero total momentum would leave a single
+        particle at rest).
+    dim : {2, 3}
+    kT : float
+        Finite and > 0.
+    rng : numpy.random.Generator or int, optional
+
+    Returns
+    -------
+    ndarray, shape (N, dim)
+
     Examples
     --------
     >>> import numpy as np
@@ -225,7 +316,14 @@ def maxwell_boltzmann(masses, dim, kT=1.0, rng=None):
     >>> bool(np.allclose(v.sum(axis=0), 0)), round(float((v**2).sum() / (3 * 100)), 12)
     (True, 2.0)
     """
-    masses = np.asarray(masses, dtype=float)
+    dim = _dimension(dim)
+    kT = _positive(kT, "kT")
+    masses = _positive(masses, "masses", scalar=False)
+    if masses.ndim != 1 or masses.size < 2:
+        raise ValueError(
+            f"masses must have shape (N,) with N >= 2 (zero total momentum leaves a single particle at rest, "
+            f"so no temperature); got shape {masses.shape}"
+        )
     generator = np.random.default_rng(rng)
     velocities = generator.normal(size=(masses.size, dim)) * np.sqrt(kT / masses)[:, None]
     velocities -= (masses[:, None] * velocities).sum(axis=0) / masses.sum()
@@ -255,8 +353,9 @@ def lattice(kind, cells, packing_fraction, diameter=1.0):
     cells : int
         Unit cells per axis (N = cells^d times the basis size).
     packing_fraction : float
-        Target eta; must leave the spheres apart on that lattice.
+        Target eta, > 0; must leave the spheres apart on that lattice.
     diameter : float
+        Finite and > 0.
 
     Returns
     -------
@@ -270,18 +369,17 @@ def lattice(kind, cells, packing_fraction, diameter=1.0):
     >>> positions.shape
     (108, 3)
     """
-    if kind not in _LATTICE_BASES:
+    if not isinstance(kind, str) or kind not in _LATTICE_BASES:
         raise ValueError(f"kind must be one of {sorted(_LATTICE_BASES)}; got {kind!r}")
-    if not (isinstance(cells, (int, np.integer)) and cells >= 1):
-        raise ValueError(f"cells must be an integer >= 1; got {cells!r}")
+    cells = _count(cells, "cells", 1)
+    packing_fraction = _positive(packing_fraction, "packing_fraction")
+    diameter = _positive(diameter, "diameter")
     dim, basis, aspect = _LATTICE_BASES[kind]
     grid = np.stack(np.meshgrid(*[np.arange(cells)] * dim, indexing="ij"), axis=-1).reshape(-1, dim)
     unit = (grid[:, None, :] + basis[None, :, :]).reshape(-1, dim) * aspect
     count = unit.shape[0]
     cell_volume = float(np.prod(aspect)) * cells**dim
     particle_volume = _ball_volume(diameter / 2.0, dim)
-    if not 0.0 < packing_fraction:
-        raise ValueError(f"packing_fraction must be > 0; got {packing_fraction}")
     scale = (count * particle_volume / (packing_fraction * cell_volume)) ** (1.0 / dim)
     positions = unit * scale
     nearest = _nearest_distance(kind) * scale
@@ -299,13 +397,28 @@ def _nearest_distance(kind):
 # ------------------------------------------------------------------ the system
 
 
-def _per_particle(value, count, name, dtype=float):
-    array = np.asarray(value, dtype=dtype)
+def _per_particle(value, count, name, integer=False):
+    """A scalar or shape (count,) input as a new float64 array (int64 if ``integer``)."""
+    array = _real_array(value, name)
     if array.ndim == 0:
-        return np.full(count, array, dtype=dtype)
-    if array.shape != (count,):
+        array = np.full(count, array)
+    elif array.shape != (count,):
         raise ValueError(f"{name} must be a scalar or have shape ({count},); got {array.shape}")
-    return array.copy()
+    if not integer:
+        return array.copy()
+    if not np.all(array % 1 == 0):
+        raise ValueError(f"{name} must hold integers; got {array[~(array % 1 == 0)][0]}")
+    return array.astype(np.int64)
+
+
+def _periodic_axes(periodic, dim):
+    """``periodic`` (a bool or one bool per axis) as a bool array of shape (dim,)."""
+    array = np.asarray(periodic)
+    if array.dtype != bool:
+        raise TypeError(f"periodic must be a bool or a sequence of {dim} bools; got {periodic!r}")
+    if array.shape not in ((), (dim,)):
+        raise ValueError(f"periodic must be a bool or one bool per axis ({dim}); got shape {array.shape}")
+    return np.broadcast_to(array, (dim,)).copy()
 
 
 def _next_power_of_two(n):
@@ -399,37 +512,29 @@ class HardSphereSystem:
         _growth=0.0,
         _scale=1.0,
     ):
-        positions = _arrays.as_float_array(positions, "positions")
+        positions = _real_array(positions, "positions")
         if positions.ndim != 2 or positions.shape[1] not in (2, 3):
             raise ValueError(f"positions must have shape (N, 2) or (N, 3); got {positions.shape}")
         count, dim = positions.shape
         if count < 2:
             raise ValueError(f"positions must hold at least 2 particles; got {count}")
-        velocities = _arrays.as_float_array(velocities, "velocities")
+        velocities = _real_array(velocities, "velocities")
         if velocities.shape != positions.shape:
             raise ValueError(f"velocities must have the shape of positions {positions.shape}; got {velocities.shape}")
         for array, name in ((positions, "positions"), (velocities, "velocities")):
             _arrays.require_finite(array, name)
         self.dim = dim
-        radius = _per_particle(radii, count, "radii")
-        self._mass = _per_particle(masses, count, "masses")
-        _arrays.require_finite(radius, "radii")
-        _arrays.require_in_range(radius, "radii", 0.0, np.inf, inclusive=(False, False))
-        _arrays.require_finite(self._mass, "masses")
-        _arrays.require_in_range(self._mass, "masses", 0.0, np.inf, inclusive=(False, False))
-        box = _per_particle(box, dim, "box") if np.ndim(box) else np.full(dim, float(box))
-        _arrays.require_finite(box, "box")
-        _arrays.require_in_range(box, "box", 0.0, np.inf, inclusive=(False, False))
-        periodic = np.broadcast_to(np.asarray(periodic, dtype=bool), (dim,)).copy()
-        self._species = _per_particle(0 if species is None else species, count, "species", dtype=np.int64)
+        radius = _positive(_per_particle(radii, count, "radii"), "radii", scalar=False)
+        self._mass = _positive(_per_particle(masses, count, "masses"), "masses", scalar=False)
+        box = _positive(_per_particle(box, dim, "box"), "box", scalar=False)
+        periodic = _periodic_axes(periodic, dim)
+        self._species = _per_particle(0 if species is None else species, count, "species", integer=True)
         self._set_restitution(restitution, restitution_law, law_speed, law_exponent, wall_restitution)
-        gravity = np.zeros(dim) if gravity is None else _arrays.as_float_array(gravity, "gravity")
+        gravity = np.zeros(dim) if gravity is None else _real_array(gravity, "gravity")
         if gravity.shape != (dim,):
             raise ValueError(f"gravity must have shape ({dim},); got {gravity.shape}")
         _arrays.require_finite(gravity, "gravity")
-        if not (neighbour_shell > 0 and math.isfinite(neighbour_shell)):
-            raise ValueError(f"neighbour_shell must be finite and > 0; got {neighbour_shell!r}")
-        self._shell_request = float(neighbour_shell)
+        self._shell_request = _positive(neighbour_shell, "neighbour_shell")
 
         self.geom = np.zeros((4, 3))
         self.geom[_k.G_BOX] = 1.0
@@ -454,9 +559,7 @@ class HardSphereSystem:
             inelastic = np.any(self.restitution < 1.0) or restitution_law != "constant"
             rms = math.sqrt(np.mean(np.sum(velocities**2, axis=1))) if inelastic else 0.0
             elastic_below = 1e-6 * rms
-        if not (elastic_below >= 0 and math.isfinite(elastic_below)):
-            raise ValueError(f"elastic_below must be finite and >= 0; got {elastic_below}")
-        self.params[_k.P_ELASTIC_BELOW] = float(elastic_below)
+        self.params[_k.P_ELASTIC_BELOW] = _bounded(elastic_below, "elastic_below", 0.0)
         self._new_events()
         self._refresh_lists()
         self._check_walls()
@@ -470,7 +573,8 @@ class HardSphereSystem:
         species_count = int(self._species.max()) + 1
         if np.any(self._species < 0):
             raise ValueError("species must be >= 0")
-        matrix = np.asarray(restitution, dtype=float)
+        matrix = _real_array(restitution, "restitution")
+        _arrays.require_in_range(matrix, "restitution", 0.0, 1.0)
         if matrix.ndim == 0:
             matrix = np.full((species_count, species_count), float(matrix))
         if matrix.shape[0] < species_count or matrix.shape != (matrix.shape[0], matrix.shape[0]):
@@ -479,21 +583,18 @@ class HardSphereSystem:
             )
         if not np.allclose(matrix, matrix.T):
             raise ValueError("restitution matrix must be symmetric")
-        _arrays.require_in_range(matrix, "restitution", 0.0, 1.0)
-        if law not in RESTITUTION_LAWS:
+        if not isinstance(law, str) or law not in RESTITUTION_LAWS:
             raise ValueError(f"restitution_law must be one of {sorted(RESTITUTION_LAWS)}; got {law!r}")
-        for value, name in ((law_speed, "law_speed"), (law_exponent, "law_exponent")):
-            if not (value > 0 and math.isfinite(value)):
-                raise ValueError(f"{name} must be finite and > 0; got {value}")
-        if not 0.0 <= wall_restitution <= 1.0:
-            raise ValueError(f"wall_restitution must lie in [0, 1]; got {wall_restitution}")
+        law_speed = _positive(law_speed, "law_speed")
+        law_exponent = _positive(law_exponent, "law_exponent")
+        wall_restitution = _bounded(wall_restitution, "wall_restitution", 0.0, 1.0, closed=(True, True))
         self.restitution = np.ascontiguousarray(matrix)
         self.restitution_law = law
         self.params = np.zeros(_k.P_SIZE)
         self.params[_k.P_LAW] = RESTITUTION_LAWS[law]
-        self.params[_k.P_LAW_SPEED] = float(law_speed)
-        self.params[_k.P_LAW_EXPONENT] = float(law_exponent)
-        self.params[_k.P_WALL_RESTITUTION] = float(wall_restitution)
+        self.params[_k.P_LAW_SPEED] = law_speed
+        self.params[_k.P_LAW_EXPONENT] = law_exponent
+        self.params[_k.P_WALL_RESTITUTION] = wall_restitution
 
     def _wrap_into_box(self):
         for k in range(self.dim):
@@ -849,7 +950,7 @@ class HardSphereSystem:
         >>> round(system.temperature(), 12)
         4.0
         """
-        velocities = _arrays.as_float_array(velocities, "velocities")
+        velocities = _real_array(velocities, "velocities")
         if velocities.shape != (self.count, self.dim):
             raise ValueError(f"velocities must have shape {(self.count, self.dim)}; got {velocities.shape}")
         _arrays.require_finite(velocities, "velocities")
@@ -859,6 +960,11 @@ class HardSphereSystem:
 
     def rescale_temperature(self, kT=1.0):
         """Scale all velocities to the temperature kT (kinetic definition); re-predicts events.
+
+        Parameters
+        ----------
+        kT : float
+            Finite and > 0. A system at rest cannot be rescaled.
 
         Examples
         --------
@@ -870,7 +976,11 @@ class HardSphereSystem:
         >>> round(system.temperature(), 12)
         0.25
         """
-        self.set_velocities(self.velocities() * math.sqrt(kT / self.temperature()))
+        kT = _positive(kT, "kT")
+        current = self.temperature()
+        if current == 0.0:
+            raise ValueError("cannot rescale the temperature of a system at rest (every velocity is zero)")
+        self.set_velocities(self.velocities() * math.sqrt(kT / current))
 
     def check(self, tolerance=1e-9):
         """Verify the invariant: no overlaps between particles or with walls.
@@ -878,6 +988,15 @@ class HardSphereSystem:
         Returns the smallest surface gap (negative only within round-off);
         raises :class:`OverlapError` if any gap is below ``-tolerance`` times
         the largest radius.
+
+        Parameters
+        ----------
+        tolerance : float
+            Allowed overlap relative to the largest radius, finite and >= 0.
+
+        Returns
+        -------
+        float
 
         Examples
         --------
@@ -889,6 +1008,7 @@ class HardSphereSystem:
         >>> system.check() > -1e-12
         True
         """
+        tolerance = _bounded(tolerance, "tolerance", 0.0)
         self.synchronise()
         gap = self._pair_gap()
         if not np.all(self.periodic):
@@ -915,13 +1035,14 @@ class HardSphereSystem:
         Parameters
         ----------
         collisions : int, optional
-            Pair collisions to process.
+            Pair collisions to process, >= 0.
         time : float, optional
-            Simulated time to advance (the run stops at whichever comes first).
+            Simulated time to advance, finite and >= 0 (the run stops at
+            whichever comes first).
         progress : callable, optional
             Called with the number of collisions done after each chunk.
         chunk : int, optional
-            Collisions per kernel call (default: max(N, 10^5)).
+            Collisions per kernel call, >= 1 (default: max(N, 10^5)).
 
         Returns
         -------
@@ -941,13 +1062,9 @@ class HardSphereSystem:
         """
         if collisions is None and time is None:
             raise ValueError("give collisions or time (or both)")
-        if collisions is not None and not (isinstance(collisions, (int, np.integer)) and collisions >= 0):
-            raise ValueError(f"collisions must be an integer >= 0; got {collisions!r}")
-        if time is not None and not (time >= 0 and math.isfinite(time)):
-            raise ValueError(f"time must be finite and >= 0; got {time!r}")
-        target = np.iinfo(np.int64).max if collisions is None else int(collisions)
-        chunk = max(self.count, 100_000) if chunk is None else int(chunk)
-        remaining = math.inf if time is None else float(time)
+        target = np.iinfo(np.int64).max if collisions is None else _count(collisions, "collisions", 0)
+        remaining = math.inf if time is None else _bounded(time, "time", 0.0)
+        chunk = max(self.count, 100_000) if chunk is None else _count(chunk, "chunk", 1)
         done = 0
         while done < target and remaining > 0:
             step = min(chunk, target - done)
@@ -1153,10 +1270,11 @@ def random_fluid(
         risk jamming before the target; the run fails clearly if so).
     rng : numpy.random.Generator or int, optional
     diameters, masses : float or array_like, shape (N,)
-        Final diameters and masses (mixtures allowed).
+        Final diameters and masses (mixtures allowed), finite and > 0.
     kT : float
+        Finite and > 0.
     growth_rate : float
-        Relative growth of the diameters per unit time.
+        Relative growth of the diameters per unit time, finite and > 0.
     progress : callable, optional
         Called with the fraction of the compression done.
     **system_options
@@ -1170,17 +1288,14 @@ def random_fluid(
     >>> round(float(system.temperature()), 12), system.check() > -1e-9
     (1.0, True)
     """
-    if dim not in (2, 3):
-        raise ValueError(f"dim must be 2 or 3; got {dim!r}")
-    if not (isinstance(particles, (int, np.integer)) and particles >= 2):
-        raise ValueError(f"particles must be an integer >= 2; got {particles!r}")
+    dim = _dimension(dim)
+    particles = _count(particles, "particles", 2)
     limit = 0.5 if dim == 3 else 0.7
-    if not 0.0 < packing_fraction <= limit:
-        raise ValueError(f"packing_fraction must lie in (0, {limit}] for dim={dim}; got {packing_fraction}")
-    if not (growth_rate > 0 and math.isfinite(growth_rate)):
-        raise ValueError(f"growth_rate must be finite and > 0; got {growth_rate}")
+    packing_fraction = _bounded(packing_fraction, f"packing_fraction (dim={dim})", 0.0, limit, closed=(False, True))
+    growth_rate = _positive(growth_rate, "growth_rate")
+    kT = _positive(kT, "kT")
     generator = np.random.default_rng(rng)
-    diameters = _per_particle(diameters, particles, "diameters")
+    diameters = _positive(_per_particle(diameters, particles, "diameters"), "diameters", scalar=False)
     masses = _per_particle(masses, particles, "masses")
     radii = diameters / 2.0
     side = (np.sum(_ball_volume(radii, dim)) / packing_fraction) ** (1.0 / dim)
@@ -1368,18 +1483,15 @@ class Sampler:
     """
 
     def __init__(self, system: HardSphereSystem, collisions: int, blocks: int = 10, rdf_bins: int = 500):
-        if not (isinstance(blocks, (int, np.integer)) and blocks >= 2):
-            raise ValueError(f"blocks must be an integer >= 2; got {blocks!r}")
-        if not (isinstance(collisions, (int, np.integer)) and collisions >= blocks):
-            raise ValueError(f"collisions must be an integer >= blocks ({blocks}); got {collisions!r}")
-        if not (isinstance(rdf_bins, (int, np.integer)) and rdf_bins >= 10):
-            raise ValueError(f"rdf_bins must be an integer >= 10; got {rdf_bins!r}")
+        if not isinstance(system, HardSphereSystem):
+            raise TypeError(f"system must be a HardSphereSystem; got {type(system).__name__}")
+        self.blocks = _count(blocks, "blocks", 2)
+        self.per_block = _count(collisions, "collisions", self.blocks) // self.blocks
+        rdf_bins = _count(rdf_bins, "rdf_bins", 10)
         self.system = system
-        self.blocks = int(blocks)
-        self.per_block = int(collisions) // self.blocks
         dim = system.dim
         self.r_max = float(min(system.box[:dim].min() / 2.0, 5.0 * 2.0 * np.max(system.radius)))
-        self.histogram = np.zeros(int(rdf_bins))
+        self.histogram = np.zeros(rdf_bins)
         self.start_positions = system.positions(unwrapped=True)
         self.start_time = system.elapsed
         self.start_lost = float(system.acc[_k.ACC_ENERGY_LOST])
@@ -1475,6 +1587,8 @@ class Sampler:
         >>> Sampler.from_state_dict(system, sampler.state_dict()).done
         1
         """
+        if not isinstance(system, HardSphereSystem):
+            raise TypeError(f"system must be a HardSphereSystem; got {type(system).__name__}")
         sampler = cls.__new__(cls)
         sampler.system = system
         blocks, per_block, r_max, start_time, start_lost, wall = state["sampler_scalars"]
