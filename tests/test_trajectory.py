@@ -91,7 +91,9 @@ def test_truncate_gsd_keeps_the_first_frames(tmp_path):
             system.run(collisions=50)
             writer.write(system, step)
     third = trajectory.read_gsd(path, 2)
+    path.chmod(0o644)
     assert trajectory.truncate_gsd(path, 3) == 3
+    assert path.stat().st_mode & 0o777 == 0o644  # not the temporary file's private 0600
     data = trajectory.read_gsd(path)
     assert data["frames"] == 3 and data["step"] == 2
     assert np.array_equal(data["positions"], third["positions"])

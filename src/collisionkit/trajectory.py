@@ -20,6 +20,7 @@ Both writers take any object with the attributes of
 from __future__ import annotations
 
 import os
+import stat
 import string
 import tempfile
 from pathlib import Path
@@ -326,6 +327,7 @@ def truncate_gsd(path, frames):
             kept = min(frames, len(source))
             for index in range(kept):
                 copy.append(source[index])
+        os.chmod(temporary, stat.S_IMODE(path.stat().st_mode))  # mkstemp's file is private (0600): keep the old mode
         os.replace(temporary, path)
     except BaseException:
         Path(temporary).unlink(missing_ok=True)
