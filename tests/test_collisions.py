@@ -232,6 +232,16 @@ def test_normal_length_does_not_matter(pair, exponent):
     np.testing.assert_allclose(a, b, atol=1e-12 * scale)
 
 
+@given(contacts(), st.sampled_from(["normal", "cm"]), st.integers(-600, 600))
+def test_any_representable_normal_length_gives_the_same_result_exactly(pair, model, exponent):
+    # the normal is scaled by a power of two first: exact, and |n|^2 never over- or underflows
+    # (a normal of 2^600 gave no collision at all, one of 2^-600 a "zero normal" error)
+    m1, v1, m2, v2, normal, e = pair
+    a = ck.resolve_contact(m1, v1, m2, v2, normal, e, restitution_model=model)
+    b = ck.resolve_contact(m1, v1, m2, v2, np.ldexp(normal, exponent), e, restitution_model=model)
+    np.testing.assert_array_equal(a, b)
+
+
 def test_broadcasting_over_leading_axes_matches_a_loop():
     rng = np.random.default_rng(3)
     v1 = rng.normal(size=(4, 5, 3))

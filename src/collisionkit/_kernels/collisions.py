@@ -55,6 +55,11 @@ def _mass_fractions(m1, m2):
     return m2 / total, m1 / total
 
 
+# squared normal lengths computed without over- or underflow; outside, the normal is rescaled first
+NORM2_SAFE_LOW = 1e-280
+NORM2_SAFE_HIGH = 1e280
+
+
 @kernel
 def resolve_contacts(m1, v1, m2, v2, normal, restitution, model, out1, out2):
     """Velocities after an instantaneous contact along ``normal``, in place.
@@ -71,6 +76,9 @@ def resolve_contacts(m1, v1, m2, v2, normal, restitution, model, out1, out2):
         v' = v_cm + R (v'_elastic - v_cm)
 
     Pairs with ``u_n <= 0`` (separating or sliding) are copied unchanged.
+    A normal whose squared length would over- or underflow (1e200, 1e-170)
+    is first scaled by a power of two to a largest component in [0.5, 1):
+    exact, so the result is the one the formula gives in exact range.
     """
     n = out1.shape[0]
     d = out1.shape[1]
@@ -105,8 +113,20 @@ def resolve_contacts(m1, v1, m2, v2, normal, restitution, model, out1, out2):
             approach += (a - b) * c
             out1[i, k] = a
             out2[i, k] = b
-        if not norm2 > 0.0:
-            return ZERO_NORMAL, i
+        to_unit_scale = 1.0
+        if not NORM2_SAFE_LOW < norm2 < NORM2_SAFE_HIGH:
+            largest = 0.0
+            for k in range(d):
+                largest = max(largest, abs(normal[i_n, k]))
+            if largest == 0.0:
+                return ZERO_NORMAL, i
+            to_unit_scale = math.ldexp(1.0, -math.frexp(largest)[1])  # a power of two: scaling is exact
+            norm2 = 0.0
+            approach = 0.0
+            for k in range(d):
+                c = normal[i_n, k] * to_unit_scale
+                norm2 += c * c
+                approach += (v1[i1, k] - v2[i2, k]) * c
         if approach <= 0.0:
             continue
         share1, share2 = _mass_fractions(mass1, mass2)
@@ -114,7 +134,7 @@ def resolve_contacts(m1, v1, m2, v2, normal, restitution, model, out1, out2):
             # (1 + e) (u . n_hat) n_hat == (1 + e) (u . n) n / |n|^2
             impulse = (1.0 + e) * approach / norm2
             for k in range(d):
-                c = normal[i_n, k]
+                c = normal[i_n, k] * to_unit_scale
                 out1[i, k] -= share1 * impulse * c
                 out2[i, k] += share2 * impulse * c
         else:
@@ -123,7 +143,7 @@ def resolve_contacts(m1, v1, m2, v2, normal, restitution, model, out1, out2):
             for k in range(d):
                 a = v1[i1, k]
                 b = v2[i2, k]
-                u_after = (a - b) - reflect * normal[i_n, k]
+                u_after = (a - b) - reflect * (normal[i_n, k] * to_unit_scale)
                 if share1 == 0.0:
                     centre = a
                 elif share2 == 0.0:
