@@ -57,3 +57,34 @@ def test_slab_summary_has_transmission_reflection_and_errors(tmp_path):
     assert data["transmission_error"] > 0 and data["reflection_error"] > 0
     assert runner.invoke(app, ["slab", "--albedo", "2"]).exit_code == 2
     assert runner.invoke(app, ["slab", "--incidence", "oblique"]).exit_code == 2
+
+
+def test_swarm_warns_when_the_collision_budget_stops_a_run_before_the_tolerance(tmp_path):
+    summary = tmp_path / "swarm.json"
+    result = runner.invoke(app, ["swarm", "--model", "maxwell", "--E-N", "0", "--particles", "500",
+                                 "--collision-budget", "1e5", "--summary", str(summary)])
+    assert result.exit_code == 0, result.output
+    (entry,) = json.loads(summary.read_text())["results"]
+    assert entry["converged"] is False
+    output = " ".join(result.output.split())
+    assert "warning: E/N = 0 Td stopped at the collision budget" in output
+    assert "larger --collision-budget" in output
+
+
+def test_swarm_and_slab_summaries_record_the_options(tmp_path):
+    summary = tmp_path / "swarm.json"
+    result = runner.invoke(app, ["swarm", "--model", "maxwell", "--E-N", "0", "--particles", "500", "--seed", "5",
+                                 "--tolerance", "0.1", "--collision-budget", "1e5", "--sharing", "uniform",
+                                 "--summary", str(summary)])
+    assert result.exit_code == 0, result.output
+    options = json.loads(summary.read_text())["options"]
+    assert options["model"] == "maxwell" and options["e_n"] == [0.0] and options["particles"] == 500
+    assert options["seed"] == 5 and options["tolerance"] == 0.1 and options["collision_budget"] == 1e5
+    assert options["sharing"] == "uniform" and options["summary"] == str(summary)
+    slab_summary = tmp_path / "slab.json"
+    result = runner.invoke(app, ["slab", "--thickness", "0.5", "--mass-ratio", "4", "--particles", "640",
+                                 "--seed", "6", "--summary", str(slab_summary)])
+    assert result.exit_code == 0, result.output
+    options = json.loads(slab_summary.read_text())["options"]
+    assert options == {"thickness": 0.5, "albedo": 1.0, "incidence": "normal", "model": "isotropic",
+                       "mass_ratio": 4.0, "particles": 640, "seed": 6, "summary": str(slab_summary)}

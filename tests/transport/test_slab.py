@@ -65,3 +65,26 @@ def test_results_do_not_depend_on_threads_and_input_is_checked():
                             (dict(thickness=1.0, mass_ratio=0.5), "mass_ratio")):
         with pytest.raises(ValueError, match=message):
             simulate_slab(**kwargs)
+
+
+@pytest.mark.parametrize(
+    "args, kwargs, error, message",
+    [
+        ((1.0,), dict(threads=-1), ValueError, "threads must be an integer >= 1; got -1"),
+        ((1.0,), dict(threads=0), ValueError, "threads must be an integer >= 1; got 0"),
+        (("1",), {}, TypeError, "thickness"),
+        ((np.nan,), {}, ValueError, "thickness"),
+        ((True,), {}, TypeError, "thickness .* not a bool"),
+        ((1.0, np.array([0.5, 0.5])), {}, ValueError, "albedo must be a single number"),
+        ((1.0, True), {}, TypeError, "albedo .* not a bool"),
+        ((1.0,), dict(mass_ratio=np.nan), ValueError, "mass_ratio"),
+        ((1.0,), dict(particles=True), TypeError, "particles must be an integer >= 64"),
+        ((1.0,), dict(particles=1e5), TypeError, "particles must be an integer >= 64"),
+        ((1.0,), dict(seed=-1), ValueError, "seed must be an integer >= 0"),
+        ((1.0,), dict(angle_bins=0), ValueError, r"angle_bins must be an integer in \[1, 10000\]"),
+        ((1.0,), dict(incidence=["normal"]), ValueError, "incidence"),
+    ],
+)
+def test_bad_arguments_are_refused_with_their_names(args, kwargs, error, message):
+    with pytest.raises(error, match=message):
+        simulate_slab(*args, **kwargs)

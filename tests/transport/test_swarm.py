@@ -189,11 +189,69 @@ def test_the_bound_check_is_off_by_default():
         (dict(reduced_field=1.0, particles=10), "particles"),
         (dict(reduced_field=1.0, sharing="half"), "sharing"),
         (dict(reduced_field=1.0, tolerances={"speed": 0.1}), "tolerances"),
+        (dict(reduced_field=1.0, tolerances={"mean_energy": 0.0}), r"tolerances\['mean_energy'\] must lie in \(0"),
+        (dict(reduced_field=1.0, gravity=(np.nan, 0.0, 0.0)), r"gravity .* must lie in \(-inf, inf\); got nan"),
+        (dict(reduced_field=1.0, gravity=(0.0, 0.0)), "gravity .* must be a 3-vector"),
+        (dict(reduced_field=1.0, collisions_per_sample=0.0), r"collisions_per_sample must lie in \(0"),
+        (dict(reduced_field=1.0, collisions_per_sample=np.inf), "collisions_per_sample"),
+        (dict(reduced_field=1.0, energy_bins=0), "energy_bins must be an integer >= 1; got 0"),
+        (dict(reduced_field=1.0, min_samples=0), "min_samples must be an integer >= 1"),
+        (dict(reduced_field=1.0, collision_budget=-1.0), r"collision_budget must lie in \(0"),
+        (dict(reduced_field=1.0, max_seconds=np.nan), "max_seconds"),
+        (dict(reduced_field=1.0, max_seconds=0.0), "max_seconds"),
+        (dict(reduced_field=1.0, threads=0), "threads must be an integer >= 1"),
+        (dict(reduced_field=1.0, seed=-1), "seed must be an integer >= 0"),
+        (dict(reduced_field=1.0, mass=np.nan), "mass"),
     ],
 )
 def test_bad_input_is_refused(kwargs, message):
     with pytest.raises(ValueError, match=message):
         simulate_swarm(reid_ramp(), **kwargs)
+
+
+@pytest.mark.parametrize(
+    "args, kwargs, message",
+    [
+        (("argon", 10.0), {}, "gas must be a Gas"),
+        ((reid_ramp(), True), {}, "reduced_field .* not a bool"),
+        ((reid_ramp(), 10.0), dict(particles=True), "particles .* must be an integer"),
+        ((reid_ramp(), 10.0), dict(energy_bins=2.5), "energy_bins must be an integer"),
+        ((reid_ramp(), 10.0), dict(tolerances=[0.1]), "tolerances must be a dict"),
+        ((reid_ramp(), 10.0), dict(progress="yes"), "progress must be a callable"),
+    ],
+)
+def test_wrong_types_are_refused(args, kwargs, message):
+    with pytest.raises(TypeError, match=message):
+        simulate_swarm(*args, **kwargs)
+
+
+@pytest.mark.parametrize(
+    "kwargs, error, message",
+    [
+        (dict(collisions=np.nan, points=5), ValueError, "collisions .* got nan"),  # used to hang
+        (dict(collisions=-5.0, points=5), ValueError, "collisions"),  # used to return negative times
+        (dict(points=0), ValueError, "points must be an integer >= 1; got 0"),
+        (dict(particles=0, points=5), ValueError, "particles must be an integer >= 1; got 0"),
+        (dict(particles=-1, points=5), ValueError, "particles must be an integer >= 1; got -1"),
+        (dict(particles=True, points=5), TypeError, "particles"),
+        (dict(points=5.0), TypeError, "points"),
+        (dict(seed=-1, points=5), ValueError, "seed"),
+        (dict(initial_energy=0.0, points=5), ValueError, "initial_energy"),
+        (dict(reduced_magnetic_field=np.inf, points=5), ValueError, "reduced_magnetic_field"),
+    ],
+)
+def test_trace_trajectories_refuses_bad_input(kwargs, error, message):
+    from collisionkit.transport.swarm import trace_trajectories
+
+    with pytest.raises(error, match=message):
+        trace_trajectories(maxwell_model(RATE, mass=LIGHT_GAS), 10.0, **kwargs)
+
+
+def test_trace_trajectories_refuses_a_gas_given_by_name():
+    from collisionkit.transport.swarm import trace_trajectories
+
+    with pytest.raises(TypeError, match="gas must be a Gas"):
+        trace_trajectories("argon", 10.0, points=5)
 
 
 # Reid's ramp: Dias et al., Comput. Phys. Commun. 282, 108554 (2023), Table 1 (LoKI-MC, MultiBolt,

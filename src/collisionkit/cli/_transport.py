@@ -3,10 +3,11 @@
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Annotated, Literal
+from typing import Annotated, ClassVar, Literal
 
 import typer
 from pydantic import Field, field_validator, model_validator
+from rich.markup import escape
 
 from ._common import Options, console, fail, load_options, print_table, progress_bar, require, write_summary
 
@@ -28,6 +29,8 @@ class SwarmOptions(Options):
     sharing: Literal["equal", "uniform"] = "equal"
     out: Path | None = None
     summary: Path | None = None
+
+    output_folders: ClassVar[tuple[str, ...]] = ("out",)
 
     @field_validator("e_n")
     @classmethod
@@ -135,6 +138,12 @@ def swarm(
     print_table("swarm transport (W along -z for electrons)",
                 ("E/N (Td)", "mean energy (eV)", "bulk W (m/s)", "N D_L (1/m/s)", "N D_T (1/m/s)", "collisions/s"),
                 [_swarm_row(r) for r in results])
+    unconverged = [f"{r.reduced_field:g}" for r in results if not r.converged]
+    if unconverged:
+        message = (f"E/N = {', '.join(unconverged)} Td stopped at the collision budget "
+                   f"({options.collision_budget:g}) before reaching the tolerance {options.tolerance:g}: "
+                   "their errors are larger than asked; rerun with a larger --collision-budget")
+        console.print(f"[bold yellow]warning:[/] {escape(message)}")
     files = _swarm_plots(results, options.out) if options.out is not None else []
     entries = []
     for r in results:
@@ -142,7 +151,7 @@ def swarm(
         entry["E_N"] = r.reduced_field
         entries.append(entry)
     write_summary(options.summary, {"gas": str(options.model or options.cross_sections), "results": entries,
-                                    "files": [str(p) for p in files]})
+                                    "files": [str(p) for p in files], "options": options.model_dump(mode="json")})
     for path in files:
         console.print(f"wrote {path}")
 
@@ -185,7 +194,7 @@ def slab(
             ("collisions per particle", f"{result.collisions_per_particle:.4f}", "")]
     print_table(f"slab d = {options.thickness:g} mfp, albedo {options.albedo:g}, {options.incidence} incidence",
                 ("quantity", "value", "error"), rows)
-    write_summary(options.summary, result.to_dict())
+    write_summary(options.summary, result.to_dict() | {"options": options.model_dump(mode="json")})
 
 
 def register(app: typer.Typer) -> None:

@@ -23,6 +23,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .._kernels import transport as _k
+from .swarm import _integer, _real
 
 __all__ = ["SlabResult", "simulate_slab", "INCIDENCES"]
 
@@ -93,7 +94,7 @@ def simulate_slab(thickness, albedo=1.0, *, incidence="normal", model="isotropic
     Parameters
     ----------
     thickness : float
-        Slab thickness d in mean free paths (>= 0).
+        Slab thickness d in mean free paths (finite, >= 0).
     albedo : float
         Single-scattering albedo in [0, 1] (probability to scatter, not be absorbed).
     incidence : {"normal", "isotropic"}
@@ -105,13 +106,22 @@ def simulate_slab(thickness, albedo=1.0, *, incidence="normal", model="isotropic
         isotropic in the centre-of-mass frame (energy after / before =
         (A^2 + 2 A cos chi + 1)/(A + 1)^2); inf keeps the energy.
     particles, seed : int
+        Histories (>= 64) and the random seed (>= 0).
     angle_bins, energy_bins : int
+        Bins of the exit cosine and energy distributions (1 to 10000).
     threads : int
-        Worker threads (default: all cores); the result does not depend on it.
+        Worker threads (>= 1; default: all cores); the result does not depend on it.
 
     Returns
     -------
     SlabResult
+
+    Raises
+    ------
+    TypeError
+        If a numeric argument is not a real number (bools are refused) or an integer where one is needed.
+    ValueError
+        If an argument is out of its range; the message names it and the range.
 
     Notes
     -----
@@ -126,21 +136,18 @@ def simulate_slab(thickness, albedo=1.0, *, incidence="normal", model="isotropic
     >>> abs(r.transmission - 0.5) < 4 * r.transmission_error
     True
     """
-    if not (math.isfinite(thickness) and thickness >= 0):
-        raise ValueError(f"thickness must be finite and >= 0 (mean free paths); got {thickness}")
-    if not 0.0 <= albedo <= 1.0:
-        raise ValueError(f"albedo must lie in [0, 1]; got {albedo}")
-    if incidence not in INCIDENCES:
+    thickness = _real(thickness, "thickness (mean free paths)", 0.0, inclusive=(True, False))
+    albedo = _real(albedo, "albedo", 0.0, 1.0, inclusive=(True, True))
+    if not (isinstance(incidence, str) and incidence in INCIDENCES):
         raise ValueError(f"incidence must be one of {INCIDENCES}; got {incidence!r}")
-    if model not in ("isotropic", "rod"):
+    if not (isinstance(model, str) and model in ("isotropic", "rod")):
         raise ValueError(f"model must be 'isotropic' or 'rod'; got {model!r}")
-    if not mass_ratio > 1.0:
-        raise ValueError(f"mass_ratio must be > 1 (inf for no energy loss); got {mass_ratio}")
-    if not (isinstance(particles, (int, np.integer)) and particles >= BATCHES):
-        raise ValueError(f"particles must be an integer >= {BATCHES}; got {particles}")
-    for name, value in (("angle_bins", angle_bins), ("energy_bins", energy_bins)):
-        if not (isinstance(value, (int, np.integer)) and 1 <= value <= 10_000):
-            raise ValueError(f"{name} must be an integer in [1, 10000]; got {value}")
+    mass_ratio = _real(mass_ratio, "mass_ratio (inf for no energy loss)", 1.0, inclusive=(False, True))
+    particles = _integer(particles, "particles", BATCHES)
+    seed = _integer(seed, "seed", 0)
+    angle_bins = _integer(angle_bins, "angle_bins", 1, 10_000)
+    energy_bins = _integer(energy_bins, "energy_bins", 1, 10_000)
+    threads = (os.cpu_count() or 1) if threads is None else _integer(threads, "threads", 1)
     sequences = np.random.SeedSequence(seed).spawn(BATCHES)
     per_batch = np.full(BATCHES, particles // BATCHES)
     per_batch[: particles % BATCHES] += 1
@@ -153,7 +160,6 @@ def simulate_slab(thickness, albedo=1.0, *, incidence="normal", model="isotropic
         _k.slab_batch(state, int(per_batch[b]), float(thickness), float(albedo), incidence == "isotropic",
                       model == "rod", float(mass_ratio), angle_bins, energy_bins, counts[b], angles[b], energies[b])
 
-    threads = threads or os.cpu_count() or 1
     with ThreadPoolExecutor(threads) as pool:
         list(pool.map(work, range(BATCHES)))
     total = counts.sum(axis=0)

@@ -28,6 +28,7 @@ from __future__ import annotations
 import math
 import os
 import time
+from collections.abc import Mapping
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
 
@@ -332,27 +333,72 @@ def _mean_and_error(values):
     return values.mean(axis=0), values.std(axis=0, ddof=1) / math.sqrt(values.shape[0])
 
 
-def _validated(reduced_field, reduced_magnetic_field, gas_temperature, particles, groups, mass, charge,
-               initial_energy, tolerances):
-    for name, value, low in (("reduced_field (Td)", reduced_field, 0.0),
-                             ("reduced_magnetic_field (Hx)", reduced_magnetic_field, -math.inf),
-                             ("gas_temperature (K)", gas_temperature, 0.0)):
-        array = _arrays.as_float_array(value, name)
-        _arrays.require_finite(array, name)
-        _arrays.require_in_range(array, name, low, math.inf)
-    if not (isinstance(groups, (int, np.integer)) and 4 <= groups <= 1024):
-        raise ValueError(f"groups must be an integer in [4, 1024]; got {groups}")
-    if not (isinstance(particles, (int, np.integer)) and groups * 8 <= particles):
-        raise ValueError(f"particles must be an integer >= 8 * groups ({8 * groups}); got {particles}")
-    if not (mass > 0 and math.isfinite(mass)):
-        raise ValueError(f"mass must be > 0 and finite (kg); got {mass}")
-    if not math.isfinite(charge):
-        raise ValueError(f"charge must be finite (C); got {charge}")
-    if not (initial_energy > 0 and math.isfinite(initial_energy)):
-        raise ValueError(f"initial_energy must be > 0 (eV); got {initial_energy}")
+def _real(value, name, low=-math.inf, high=math.inf, *, inclusive=(False, False), length=None):
+    """``value`` as a float (a vector if ``length`` is given) in the range from ``low`` to ``high``.
+
+    Bools and non-numbers raise TypeError; a wrong shape, NaN or a value out of range raise ValueError
+    naming ``name`` and the range. The ends are open by default, so infinities are refused.
+    """
+    array = _arrays.as_float_array(value, name)
+    if np.asarray(value).dtype == bool:
+        raise TypeError(f"{name} must be a real number, not a bool; got {value}")
+    shape = () if length is None else (length,)
+    if array.shape != shape:
+        what = "a single number" if length is None else f"a {length}-vector"
+        raise ValueError(f"{name} must be {what}; got shape {array.shape}")
+    _arrays.require_in_range(array, name, low, high, inclusive=inclusive)
+    return float(array) if length is None else array
+
+
+def _integer(value, name, low, high=None):
+    """``value`` as an int in [low, high] (no upper end if ``high`` is None); bools are refused."""
+    allowed = f">= {low}" if high is None else f"in [{low}, {high}]"
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
+        raise TypeError(f"{name} must be an integer {allowed}; got {value!r}")
+    if not (value >= low and (high is None or value <= high)):
+        raise ValueError(f"{name} must be an integer {allowed}; got {value}")
+    return int(value)
+
+
+def _validated(gas, reduced_field, reduced_magnetic_field, gas_temperature, seed, mass, charge, initial_energy):
+    """Check the arguments shared by :func:`simulate_swarm` and :func:`trace_trajectories`."""
+    if not isinstance(gas, Gas):
+        raise TypeError("gas must be a Gas (e.g. from collisionkit.transport.gases or read_lxcat); "
+                        f"got {type(gas).__name__}")
+    _real(reduced_field, "reduced_field (Td)", 0.0, inclusive=(True, False))
+    _real(reduced_magnetic_field, "reduced_magnetic_field (Hx)")
+    _real(gas_temperature, "gas_temperature (K)", 0.0, inclusive=(True, False))
+    _integer(seed, "seed", 0)
+    _real(mass, "mass (kg)", 0.0)
+    _real(charge, "charge (C)")
+    _real(initial_energy, "initial_energy (eV)", 0.0)
+
+
+def _validated_run(particles, groups, gravity, sharing, tolerances, collision_budget, max_seconds,
+                   collisions_per_sample, min_samples, energy_bins, threads, progress):
+    """Check the run settings of :func:`simulate_swarm`; return ``gravity`` as a float 3-vector."""
+    _integer(groups, "groups", 4, 1024)
+    _integer(particles, f"particles (8 per group, {groups} groups)", 8 * groups)
+    gravity = _real(gravity, "gravity (m/s^2)", length=3)
+    if not (isinstance(sharing, str) and sharing in SHARING):
+        raise ValueError(f"sharing must be one of {sorted(SHARING)}; got {sharing!r}")
+    if not isinstance(tolerances, Mapping):
+        raise TypeError(f"tolerances must be a dict of target relative errors; got {type(tolerances).__name__}")
     unknown = set(tolerances) - set(DEFAULT_TOLERANCES)
     if unknown:
         raise ValueError(f"tolerances keys must be among {sorted(DEFAULT_TOLERANCES)}; got {sorted(unknown)}")
+    for key, value in tolerances.items():
+        _real(value, f"tolerances[{key!r}]", 0.0)
+    _real(collision_budget, "collision_budget", 0.0)
+    _real(max_seconds, "max_seconds", 0.0, inclusive=(False, True))
+    _real(collisions_per_sample, "collisions_per_sample", 0.0)
+    _integer(min_samples, "min_samples", 1)
+    _integer(energy_bins, "energy_bins", 1)
+    if threads is not None:
+        _integer(threads, "threads", 1)
+    if progress is not None and not callable(progress):
+        raise TypeError(f"progress must be a callable or None; got {type(progress).__name__}")
+    return gravity
 
 
 def _field_record(reduced_field, reduced_magnetic_field, density, mass, charge, gravity):
@@ -398,31 +444,43 @@ def simulate_swarm(
     gas_temperature : float
         K (>= 0); 0 puts the targets at rest.
     particles, groups, seed : int
-        Initial particles, independent groups (errors), seed of the streams.
+        Initial particles (>= 8 groups), independent groups (errors; 4 to
+        1024), seed of the streams (>= 0).
     mass, charge : float
-        Projectile (kg, C); an electron by default.
+        Projectile (kg > 0, C); an electron by default.
     gravity : 3-vector
-        Extra uniform acceleration (m/s^2).
+        Extra uniform acceleration (m/s^2, finite).
     sharing : {"equal", "uniform"}
         Energy sharing between the two electrons after ionization.
     initial_energy : float
-        Mean energy (eV) of the initial Maxwellian.
+        Mean energy (eV, > 0) of the initial Maxwellian.
     tolerances : dict
-        Target relative errors (``mean_energy``, ``drift_velocity_bulk``,
-        ``diffusion_L_N``, ``diffusion_T_N``); the run stops when all are met,
-        or at ``collision_budget`` real collisions, or after ``max_seconds``.
+        Target relative errors (> 0) of ``mean_energy``, ``drift_velocity_bulk``,
+        ``diffusion_L_N``, ``diffusion_T_N``; the run stops when all are met,
+        or at ``collision_budget`` real collisions, or after ``max_seconds``
+        (both > 0; ``result.converged`` tells which).
     collisions_per_sample : float
-        Mean real collisions per particle between samples.
+        Mean real collisions per particle between samples (> 0).
     min_samples : int
-        Samples after the transient before convergence is tested.
+        Samples after the transient before convergence is tested (>= 1).
+    energy_bins : int
+        Bins of the energy distribution (>= 1).
     threads : int
-        Worker threads (default: all cores); results do not depend on it.
+        Worker threads (>= 1; default: all cores); results do not depend on it.
     progress : callable
         Called with the fraction of the collision budget used so far.
 
     Returns
     -------
     SwarmResult
+
+    Raises
+    ------
+    TypeError
+        If ``gas`` is not a :class:`Gas`, or an argument is not a number of the
+        right kind (bools are refused).
+    ValueError
+        If an argument is out of its range; the message names it and the range.
 
     Notes
     -----
@@ -442,11 +500,11 @@ def simulate_swarm(
     >>> bool(abs(abs(r.drift_velocity_flux[2]) / exact - 1) < 0.03)
     True
     """
-    tolerances = dict(DEFAULT_TOLERANCES if tolerances is None else tolerances)
-    _validated(reduced_field, reduced_magnetic_field, gas_temperature, particles, groups, mass, charge,
-               initial_energy, tolerances)
-    if sharing not in SHARING:
-        raise ValueError(f"sharing must be one of {sorted(SHARING)}; got {sharing!r}")
+    tolerances = DEFAULT_TOLERANCES if tolerances is None else tolerances
+    _validated(gas, reduced_field, reduced_magnetic_field, gas_temperature, seed, mass, charge, initial_energy)
+    gravity = _validated_run(particles, groups, gravity, sharing, tolerances, collision_budget, max_seconds,
+                             collisions_per_sample, min_samples, energy_bins, threads, progress)
+    tolerances = dict(tolerances)
     threads = threads or os.cpu_count() or 1
     density = REFERENCE_DENSITY
     tables = build_tables(gas, mass, gas_temperature)
@@ -632,7 +690,9 @@ def trace_trajectories(gas: Gas, reduced_field: float, *, particles: int = 5, co
     """Positions of a few particles sampled on a uniform time grid (for plots).
 
     Returns ``(times, positions)`` with positions of shape (points, particles, 3);
-    the run lasts about ``collisions`` real collisions per particle.
+    the run lasts about ``collisions`` real collisions per particle (finite, > 0).
+    ``particles`` and ``points`` are integers >= 1; the other arguments are
+    those of :func:`simulate_swarm` (an electron, no ionization children).
 
     Examples
     --------
@@ -642,7 +702,10 @@ def trace_trajectories(gas: Gas, reduced_field: float, *, particles: int = 5, co
     >>> r.shape
     (50, 2, 3)
     """
-    _validated(reduced_field, reduced_magnetic_field, 0.0, 8 * 4, 4, constants.m_e, -constants.e, initial_energy, {})
+    _validated(gas, reduced_field, reduced_magnetic_field, 0.0, seed, constants.m_e, -constants.e, initial_energy)
+    _integer(particles, "particles", 1)
+    _real(collisions, "collisions (per particle)", 0.0)
+    _integer(points, "points", 1)
     tables = build_tables(gas, constants.m_e, 0.0)
     field_record = _field_record(reduced_field, reduced_magnetic_field, REFERENCE_DENSITY, constants.m_e,
                                  -constants.e, (0.0, 0.0, 0.0))
