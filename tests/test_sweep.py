@@ -132,7 +132,11 @@ def test_ranges_expand_to_tidy_values(spec, expected):
         ({"command": "edmd", "seed": 1, "vary": {"x": {"start": 0, "stop": 1}}}, ValueError, "exactly one of num or step"),
         ({"command": "edmd", "seed": 1, "vary": {"x": {"start": 0, "stop": 1, "num": 2, "step": 1}}}, ValueError, "exactly one"),
         ({"command": "edmd", "seed": 1, "vary": {"x": {"start": 0, "stop": 1, "count": 2}}}, ValueError, "unknown range keys"),
-        ({"command": "edmd", "seed": 1, "vary": {"x": {"start": 0, "stop": 1, "num": 0}}}, ValueError, "num must be >= 1"),
+        ({"command": "edmd", "seed": 1, "vary": {"x": {"start": 0, "stop": 1, "num": 0}}}, ValueError, r"num must be in \[1, 100000\]"),
+        ({"command": "edmd", "seed": 1, "vary": {"x": {"start": 0, "stop": 1, "step": 1e-9}}}, ValueError,
+         "gives 1000000001 values"),  # listed them all before: minutes and gigabytes
+        ({"command": "edmd", "seed": 1, "vary": {"x": {"start": 0, "stop": 1, "num": 10**9}}}, ValueError,
+         r"num must be in \[1, 100000\]"),
         ({"command": "edmd", "seed": 1, "vary": {"x": {"start": 0, "stop": 1, "step": -1}}}, ValueError, "lead from start"),
         ({"command": "edmd", "seed": 1, "vary": {"x": {"start": 0, "stop": 1, "num": 3, "log": True}}}, ValueError, "log range"),
         ({"command": "edmd", "seed": 1, "vary": {"x": [1, 2], "y": [1]}, "zip": [["x", "y"]]}, ValueError, "same number"),

@@ -89,6 +89,7 @@ RESULT_FORMAT = 1
 STUDY_KEYS = ("command", "replicas", "seed", "fixed", "vary", "zip", "main")
 RANGE_KEYS = {"start", "stop", "num", "step", "log"}
 MAX_REPLICAS = 100_000
+MAX_RANGE_VALUES = 100_000  # values of one range: more is a typo (a step of 1e-9), and would take minutes to list
 SIGNIFICANT_DIGITS = 12
 MAIN_RESULTS = {
     "edmd": "compressibility_factor",
@@ -246,7 +247,7 @@ def _tidy(value: float) -> float:
 
 
 def _range_by_count(name: str, start: float, stop: float, num: Any, log: bool) -> tuple:
-    _check_integer(f"vary.{name}.num", num, 1, None)
+    _check_integer(f"vary.{name}.num", num, 1, MAX_RANGE_VALUES)
     if log:
         if start <= 0 or stop <= 0:
             raise ValueError(f"vary.{name}: a log range needs start > 0 and stop > 0; got {start}, {stop}")
@@ -261,6 +262,9 @@ def _range_by_step(name: str, start: float, stop: float, step: Any) -> tuple:
     if step == 0 or (stop - start) * step < 0:
         raise ValueError(f"vary.{name}.step must be non-zero and lead from start to stop; got {step}")
     count = math.floor((stop - start) / step * (1 + 1e-12) + 1e-9) + 1
+    if count > MAX_RANGE_VALUES:
+        raise ValueError(f"vary.{name}: step {step} gives {count} values from {start} to {stop}; "
+                         f"at most {MAX_RANGE_VALUES}")
     if all(isinstance(value, int) for value in (start, stop, step)):
         return tuple(start + k * step for k in range(count))
     return tuple(_tidy(start + k * step) for k in range(count))
