@@ -140,7 +140,11 @@ def test_unknown_or_bad_config_keys_exit_with_2(tmp_path):
     assert result.exit_code == 2 and "blocks" in result.output
     (tmp_path / "not_a_checkpoint.npz").write_bytes(b"junk")
     result = invoke("--resume", tmp_path / "not_a_checkpoint.npz")
-    assert result.exit_code == 2 and "not a readable checkpoint" in " ".join(result.output.split())
+    assert result.exit_code == 2 and "is not a checkpoint" in " ".join(result.output.split())
+    assert "pickle" not in result.output  # numpy's message for a file it cannot read as .npz
+    np.savez(tmp_path / "other.npz", x=np.zeros(2))  # an .npz, but not ours
+    result = invoke("--resume", tmp_path / "other.npz")
+    assert result.exit_code == 2 and "not a checkpoint of 'collisionkit edmd'" in " ".join(result.output.split())
 
 
 def test_trajectory_frames_at_chunk_ends_or_only_the_last(tmp_path):

@@ -14,6 +14,7 @@ import io
 import json
 import math
 import secrets
+import zipfile
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Annotated, ClassVar, Literal
@@ -206,6 +207,8 @@ def save_checkpoint(path: Path, run: _Run) -> Path:
 
 def load_checkpoint(path: Path) -> tuple[dict, dict]:
     """The saved options (a dict) and the arrays of a checkpoint written by :func:`save_checkpoint`."""
+    if Path(path).is_file() and not zipfile.is_zipfile(path):  # numpy would talk of pickles
+        raise fail(f"{path} is not a checkpoint: an .npz file written by collisionkit edmd --checkpoint")
     try:
         with np.load(path, allow_pickle=False) as data:
             state = {name: data[name] for name in data.files}
