@@ -283,6 +283,8 @@ def test_scalar_pair_returns_vectors_of_its_dimension():
         ({"v1": [1.0, 0, 0, 0]}, ValueError, "v1"),
         ({"v1": 1.0}, ValueError, "v1"),
         ({"m1": "heavy"}, TypeError, "m1"),
+        ({"m1": True}, TypeError, "m1 must hold numbers, not a bool"),
+        ({"normal": [True, False]}, TypeError, "normal must hold numbers, not a bool"),
         ({"v1": [1 + 1j, 0]}, TypeError, "v1"),
         ({"v1": [[1.0, 0.0], [1.0]]}, TypeError, "v1"),
     ],

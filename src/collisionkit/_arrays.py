@@ -27,7 +27,9 @@ def as_float_array(value, name: str) -> np.ndarray:
         raise TypeError(f"{name} must be a number or a rectangular array of numbers: {error}") from None
     if array.dtype.kind == "c":
         raise TypeError(f"{name} must be real, got a complex array")
-    if array.dtype.kind not in "biuf":
+    if array.dtype.kind == "b":  # True is not a mass of 1
+        raise TypeError(f"{name} must hold numbers, not a bool (True is not 1 here)")
+    if array.dtype.kind not in "iuf":
         raise TypeError(f"{name} must hold real numbers, got dtype {array.dtype}")
     return array.astype(np.float64, copy=False)
 

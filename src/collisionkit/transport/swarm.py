@@ -339,9 +339,7 @@ def _real(value, name, low=-math.inf, high=math.inf, *, inclusive=(False, False)
     Bools and non-numbers raise TypeError; a wrong shape, NaN or a value out of range raise ValueError
     naming ``name`` and the range. The ends are open by default, so infinities are refused.
     """
-    array = _arrays.as_float_array(value, name)
-    if np.asarray(value).dtype == bool:
-        raise TypeError(f"{name} must be a real number, not a bool; got {value}")
+    array = _arrays.as_float_array(value, name)  # refuses bools
     shape = () if length is None else (length,)
     if array.shape != shape:
         what = "a single number" if length is None else f"a {length}-vector"
