@@ -204,6 +204,23 @@ def test_sample_impact_bad_input():
         ck.sample_impact([0.0, 0.0], 1.0, size=3)
 
 
+@pytest.mark.parametrize(
+    ("call", "words"),
+    [
+        (lambda: ck.centre_of_mass_velocity(1.0, [np.nan, 0.0], 1.0, [0.0, 0.0]), "v1 must be finite"),
+        (lambda: ck.centre_of_mass_velocity(1.0, [1.0, 0.0], 1.0, [0.0, 0.0, 0.0]), "v1, v2 must broadcast"),
+        (lambda: ck.from_centre_of_mass_frame([np.inf], [1.0], [2.0]), "v_cm must be finite"),
+        (lambda: ck.kinetic_energy(1.0, [np.nan, 0.0]), "v must be finite"),
+        (lambda: ck.scattering_angle_cm([np.nan, 0.0], [0, 0], [0, 0], [1, 0]), "v1 must be finite"),
+        (lambda: ck.impact_parameter([0.0, 0.0], [1.0, 0.0], [3.0, 0.0, 0.0], [0.0, 0.0]), "x1, v1, x2, v2 must"),
+    ],
+)
+def test_velocities_are_checked_finite_and_of_one_dimension(call, words):
+    # these passed NaN through, or stopped on numpy's broadcast error without the arguments' names
+    with pytest.raises(ValueError, match=words):
+        call()
+
+
 def test_geometry_bad_input_names_arguments():
     with pytest.raises(ValueError, match="x1"):
         ck.impact_parameter([np.nan, 0.0], [1.0, 0.0], [0.0, 0.0], [0.0, 0.0])

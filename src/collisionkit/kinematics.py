@@ -42,6 +42,20 @@ def _masses(m, name):
     return array
 
 
+def _finite_vectors(**named):
+    """The named arguments as finite float vector arrays that broadcast together; errors name them."""
+    arrays = {}
+    for name, value in named.items():
+        arrays[name] = _arrays.as_vector_array(value, name)
+        _arrays.require_finite(arrays[name], name)
+    try:
+        np.broadcast_shapes(*(array.shape for array in arrays.values()))
+    except ValueError:
+        shapes = ", ".join(f"{name} {array.shape}" for name, array in arrays.items())
+        raise ValueError(f"{', '.join(arrays)} must broadcast together (one dimension); got shapes {shapes}") from None
+    return tuple(arrays.values())
+
+
 def reduced_mass(m1, m2):
     """Reduced mass ``m1 m2 / (m1 + m2)``; an infinite mass gives the other.
 
@@ -74,8 +88,7 @@ def centre_of_mass_velocity(m1, v1, m2, v2):
     m1, m2 = _masses(m1, "m1")[..., None], _masses(m2, "m2")[..., None]
     if np.any(np.isinf(m1) & np.isinf(m2)):
         raise ValueError("m1 and m2 cannot both be infinite")
-    v1 = _arrays.as_vector_array(v1, "v1")
-    v2 = _arrays.as_vector_array(v2, "v2")
+    v1, v2 = _finite_vectors(v1=v1, v2=v2)
     first_heavier = m1 >= m2
     heavy_v, light_v = np.where(first_heavier, v1, v2), np.where(first_heavier, v2, v1)
     light_share = np.where(first_heavier, m2, m1) / (m1 + m2)  # 0 when the other mass is infinite
@@ -109,8 +122,8 @@ def from_centre_of_mass_frame(v_cm, w1, w2):
     >>> from_centre_of_mass_frame([1.0], [1.0], [-1.0])
     (array([2.]), array([0.]))
     """
-    v_cm = _arrays.as_vector_array(v_cm, "v_cm")
-    return _arrays.as_vector_array(w1, "w1") + v_cm, _arrays.as_vector_array(w2, "w2") + v_cm
+    v_cm, w1, w2 = _finite_vectors(v_cm=v_cm, w1=w1, w2=w2)
+    return w1 + v_cm, w2 + v_cm
 
 
 def kinetic_energy(m, v):
@@ -125,19 +138,12 @@ def kinetic_energy(m, v):
     m = _arrays.as_float_array(m, "m")
     _arrays.require_finite(m, "m")
     _arrays.require_in_range(m, "m", 0.0, np.inf, inclusive=(True, False))
-    v = _arrays.as_vector_array(v, "v")
+    (v,) = _finite_vectors(v=v)
     return 0.5 * m * np.einsum("...i,...i->...", v, v)
 
 
 def _relative_state(x1, v1, x2, v2):
-    x1 = _arrays.as_vector_array(x1, "x1")
-    x2 = _arrays.as_vector_array(x2, "x2")
-    v1 = _arrays.as_vector_array(v1, "v1")
-    v2 = _arrays.as_vector_array(v2, "v2")
-    for array, name in ((x1, "x1"), (x2, "x2"), (v1, "v1"), (v2, "v2")):
-        _arrays.require_finite(array, name)
-    if len({x1.shape[-1], x2.shape[-1], v1.shape[-1], v2.shape[-1]}) != 1:
-        raise ValueError("x1, v1, x2, v2 must share one dimension (last axis)")
+    x1, v1, x2, v2 = _finite_vectors(x1=x1, v1=v1, x2=x2, v2=v2)
     return x2 - x1, v1 - v2
 
 
@@ -341,9 +347,8 @@ def scattering_angle_cm(v1, v2, v1_after, v2_after):
     >>> float(np.degrees(scattering_angle_cm([1.0, 0.0], [0.0, 0.0], [0.0, 0.0], [1.0, 0.0])))
     180.0
     """
-    before = _arrays.as_vector_array(v1, "v1") - _arrays.as_vector_array(v2, "v2")
-    after = _arrays.as_vector_array(v1_after, "v1_after") - _arrays.as_vector_array(v2_after, "v2_after")
-    return _angle_between(before, after)
+    v1, v2, v1_after, v2_after = _finite_vectors(v1=v1, v2=v2, v1_after=v1_after, v2_after=v2_after)
+    return _angle_between(v1 - v2, v1_after - v2_after)
 
 
 def impact_angle_from_scattering_angle(chi):
