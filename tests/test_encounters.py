@@ -345,6 +345,19 @@ def test_near_head_on_repulsion_keeps_the_impact_parameter(b):
     assert state.impact_parameter == pytest.approx(b * v / v_inf, rel=1e-15, abs=0)
 
 
+def test_tiny_speeds_and_unit_names(tmp_path):
+    # v_inf^2 rounding to 0 was a ZeroDivisionError; a unit system given by name an AttributeError
+    with pytest.raises(ValueError, match="v_inf must be > 1.49e-154"):
+        Hyperbolic(1.0, 1.0, periastron=1.0, v_inf=1e-200)
+    with pytest.raises(ValueError, match="v_inf"):
+        Hyperbolic.from_impact_parameter(1.0, 1.0, 1.0, 1e-160)
+    ic = encounters.starcrash_initial_conditions(1.0, 1.0, 1.0, 0.5, 10.0)
+    json_path, _ = ic.write(tmp_path, units="cgs")
+    assert json.loads(json_path.read_text())["units"]["name"] == encounters.unit_system("cgs").name
+    with pytest.raises(TypeError, match="units"):
+        ic.write(tmp_path, units=3)
+
+
 def test_gravity_and_coulomb_add():
     """V = (k - G m1 m2) / r: gravity cancelled by an equal repulsion leaves no force."""
     with pytest.raises(ValueError, match="vanishes"):

@@ -42,6 +42,7 @@ km/s).
 from __future__ import annotations
 
 import math
+import sys
 import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -181,6 +182,15 @@ def _scalar(value, name: str, low: float = 0.0, *, inclusive: bool = False) -> f
     _arrays.require_finite(array, name)
     _arrays.require_in_range(array, name, low, np.inf, inclusive=(inclusive, False))
     return float(array)
+
+
+def _speed(value, name: str) -> float:
+    """A speed whose square is a normal float (> ~1.5e-154), or a named error (v^2 would round to 0)."""
+    speed = _scalar(value, name)
+    if speed * speed < sys.float_info.min:
+        raise ValueError(f"{name} must be > {math.sqrt(sys.float_info.min):.3g} (its square must not round to 0); "
+                         f"got {speed!r}")
+    return speed
 
 
 def _real(value, name: str) -> float:
@@ -328,7 +338,7 @@ class TwoBodyOrbit:
         1.605551275464
         """
         m1, m2, G, k, mu_k = _interaction(m1, m2, G, k)
-        v = _scalar(v_inf, "v_inf")
+        v = _speed(v_inf, "v_inf")
         b = _scalar(impact_parameter, "impact_parameter", 0.0, inclusive=mu_k < 0)
         mu = m1 * m2 / (m1 + m2)
         rp = float(scattering.coulomb_closest_approach(b, -mu * mu_k, mu, v))
@@ -886,7 +896,7 @@ class Hyperbolic(TwoBodyOrbit):
     def __init__(self, m1, m2, periastron, v_inf, *, G=None, k=None):
         m1, m2, G, k, mu_k = _interaction(m1, m2, G, k)
         rp = _scalar(periastron, "periastron")
-        v = _scalar(v_inf, "v_inf")
+        v = _speed(v_inf, "v_inf")
         head_on = -2.0 * mu_k / v**2
         if rp < head_on:
             raise ValueError(
@@ -1202,11 +1212,20 @@ class InitialConditions:
             "velocities": self.velocities.tolist(),
         }
 
-    def write(self, folder, stem: str = "initial_conditions", units: UnitSystem | None = None):
+    def write(self, folder, stem: str = "initial_conditions", units: UnitSystem | str | None = None):
         """Write ``<stem>.json`` and ``<stem>.txt`` (atomically) to ``folder``.
 
         The text file has ``#`` comment lines, then one row per body:
         ``body mass x y z vx vy vz`` (readable with ``numpy.loadtxt``).
+
+        Parameters
+        ----------
+        folder : str or Path
+        stem : str
+            File name without the extension.
+        units : UnitSystem or str, optional
+            The units the numbers are in, recorded in the JSON file: a
+            :class:`UnitSystem` or its name (see :data:`UNIT_SYSTEMS`).
 
         Returns
         -------
@@ -1225,6 +1244,10 @@ class InitialConditions:
         """
         folder = Path(folder)
         data = self.to_dict()
+        if isinstance(units, str):
+            units = unit_system(units)
+        elif units is not None and not isinstance(units, UnitSystem):
+            raise TypeError(f"units must be a UnitSystem or one of its names; got {units!r}")
         if units is not None:
             data["units"] = {
                 "name": units.name,
