@@ -397,6 +397,20 @@ def test_point_particles_touch_only_head_on():
     assert math.isinf(ck.time_to_contact([0.0, 0.0], [1.0, 0.0], [4.0, 1e-9], [0.0, 0.0], 0.0))
 
 
+@given(ahead=st.floats(0.1, 20.0), offset=st.floats(-0.9, 0.9), speed=st.floats(0.1, 5.0), sigma=st.floats(0.1, 3.0),
+       length_exponent=st.integers(-900, 900), speed_exponent=st.integers(-900, 900))
+def test_time_to_contact_scales_exactly_with_lengths_and_speeds(ahead, offset, speed, sigma, length_exponent,
+                                                                  speed_exponent):
+    # t(2^a r, 2^b u, 2^a sigma) = 2^(a - b) t: lengths of 1e200 gave nan, of 1e-200 a miss (inf)
+    x2, v1 = np.array([sigma + ahead, offset * sigma]), np.array([speed, 0.0])  # on course to touch
+    t = ck.time_to_contact([0.0, 0.0], v1, x2, [0.0, 0.0], sigma)
+    assert math.isfinite(t) and t > 0
+    scaled = ck.time_to_contact([0.0, 0.0], np.ldexp(v1, speed_exponent), np.ldexp(x2, length_exponent), [0.0, 0.0],
+                                math.ldexp(sigma, length_exponent))
+    with np.errstate(over="ignore", under="ignore"):  # beyond the float range t is inf (or 0) on both sides
+        assert scaled == float(np.ldexp(t, length_exponent - speed_exponent))
+
+
 @pytest.mark.parametrize(
     ("kwargs", "words"),
     [

@@ -30,6 +30,7 @@ _KERNEL_ERRORS = {
     _k.BAD_X1: "x1 must be finite (no NaN or inf)",
     _k.BAD_X2: "x2 must be finite (no NaN or inf)",
     _k.BAD_CONTACT_DISTANCE: "contact_distance must be finite and >= 0",
+    _k.SEPARATION_OVERFLOW: "x2 - x1 and v2 - v1 must be finite: the bodies are more than 1.8e308 apart",
 }
 
 

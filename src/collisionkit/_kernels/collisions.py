@@ -17,7 +17,7 @@ import math
 
 import numpy as np
 
-from .._jit import kernel
+from .._jit import inline_kernel, kernel
 
 OK = 0
 BAD_M1 = 1
@@ -31,6 +31,7 @@ BAD_RESTITUTION = 8
 BAD_X1 = 9
 BAD_X2 = 10
 BAD_CONTACT_DISTANCE = 11
+SEPARATION_OVERFLOW = 12  # x2 - x1 or v2 - v1 beyond the largest float
 
 MODEL_NORMAL = 0
 MODEL_CM = 1
@@ -164,7 +165,9 @@ def contact_times(x1, v1, x2, v2, contact_distance, out):
     evaluated as ``|u|^2 sigma^2 - |r x u|^2`` (Lagrange's identity), and the
     smaller root as ``c / (-(r.u) + sqrt(D))``; neither subtracts two large
     nearly equal numbers. Pairs already in contact or overlapping get 0 while
-    approaching, inf otherwise.
+    approaching, inf otherwise. When a square or product would over- or
+    underflow (lengths or speeds beyond 1e+-70), lengths and speeds are
+    scaled by powers of two first (t scales by their ratio, exactly).
     """
     n = out.shape[0]
     d = x1.shape[1]
@@ -176,9 +179,6 @@ def contact_times(x1, v1, x2, v2, contact_distance, out):
         sigma = contact_distance[i * s_s]
         if not (sigma >= 0.0 and math.isfinite(sigma)):
             return BAD_CONTACT_DISTANCE, i
-        rr = 0.0
-        uu = 0.0
-        ru = 0.0
         for k in range(d):
             a = x1[i * s_x1, k]
             b = x2[i * s_x2, k]
@@ -194,24 +194,53 @@ def contact_times(x1, v1, x2, v2, contact_distance, out):
                 return BAD_V2, i
             r[k] = b - a
             u[k] = q - p
-            rr += r[k] * r[k]
-            uu += u[k] * u[k]
-            ru += r[k] * u[k]
-        gap = rr - sigma * sigma
-        if gap <= 0.0:
-            out[i] = 0.0 if ru < 0.0 else math.inf
-            continue
-        if ru >= 0.0 or uu == 0.0:
-            out[i] = math.inf
-            continue
-        cross2 = 0.0
+        length = sigma
+        speed = 0.0
         for k in range(d):
-            for l in range(k + 1, d):
-                w = r[k] * u[l] - r[l] * u[k]
-                cross2 += w * w
-        discriminant = uu * sigma * sigma - cross2
-        if discriminant < 0.0:
-            out[i] = math.inf
-        else:
-            out[i] = gap / (-ru + math.sqrt(discriminant))
+            length = max(length, abs(r[k]))
+            speed = max(speed, abs(u[k]))
+        if not (math.isfinite(length) and math.isfinite(speed)):
+            return SEPARATION_OVERFLOW, i
+        if (SAFE_LOW < length < SAFE_HIGH or length == 0.0) and (SAFE_LOW < speed < SAFE_HIGH or speed == 0.0):
+            out[i] = _first_contact(r, u, d, sigma)
+            continue
+        # lengths and speeds to a largest component in [0.5, 1) by powers of two: exact
+        length_exponent = math.frexp(length)[1] if length > 0.0 else 0
+        speed_exponent = math.frexp(speed)[1] if speed > 0.0 else 0
+        for k in range(d):
+            r[k] = math.ldexp(r[k], -length_exponent)
+            u[k] = math.ldexp(u[k], -speed_exponent)
+        tau = _first_contact(r, u, d, math.ldexp(sigma, -length_exponent))
+        out[i] = math.ldexp(tau, length_exponent - speed_exponent) if math.isfinite(tau) else tau
     return OK, -1
+
+
+# lengths and speeds whose squares and products stay normal floats; beyond them contact_times rescales first
+SAFE_LOW = 1e-70
+SAFE_HIGH = 1e70
+
+
+@inline_kernel
+def _first_contact(r, u, d, sigma):
+    """Earliest t >= 0 with |r + u t| = sigma (see :func:`contact_times`), for moderate magnitudes."""
+    rr = 0.0
+    uu = 0.0
+    ru = 0.0
+    for k in range(d):
+        rr += r[k] * r[k]
+        uu += u[k] * u[k]
+        ru += r[k] * u[k]
+    gap = rr - sigma * sigma
+    if gap <= 0.0:
+        return 0.0 if ru < 0.0 else math.inf
+    if ru >= 0.0 or uu == 0.0:
+        return math.inf
+    cross2 = 0.0
+    for k in range(d):
+        for l in range(k + 1, d):
+            w = r[k] * u[l] - r[l] * u[k]
+            cross2 += w * w
+    discriminant = uu * sigma * sigma - cross2
+    if discriminant < 0.0:
+        return math.inf
+    return gap / (-ru + math.sqrt(discriminant))
