@@ -80,3 +80,16 @@ def test_config_keys_take_the_command_line_spelling_and_may_not_repeat(tmp_path)
     config.write_text("packing_fraction = 0.3\npacking-fraction = 0.4\n")
     result = runner.invoke(app, ["edmd", "--config", str(config)], env={"COLUMNS": "200"})
     assert result.exit_code == 2 and "twice" in result.output
+
+
+@pytest.mark.parametrize(
+    "line, option",
+    [("seed = true", "seed"), ('packing-fraction = "0.3"', "packing-fraction"), ('plots = "yes"', "plots")],
+)
+def test_config_values_of_the_wrong_type_are_refused_not_coerced(tmp_path, line, option):
+    # pydantic's lax mode took seed = true as seed 1 and plots = "yes" as True
+    config = tmp_path / "run.toml"
+    config.write_text(line + "\n")
+    result = runner.invoke(app, ["edmd", "--config", str(config)], env={"COLUMNS": "200"})
+    assert result.exit_code == 2, result.output
+    assert option in result.output

@@ -15,10 +15,11 @@ import tomllib
 from collections.abc import Iterable, Mapping
 from contextlib import contextmanager
 from pathlib import Path
-from typing import Any, ClassVar
+import types
+from typing import Any, ClassVar, Union, get_args, get_origin
 
 import typer
-from pydantic import BaseModel, ConfigDict, ValidationError
+from pydantic import BaseModel, ConfigDict, ValidationError, model_validator
 from rich.console import Console
 from rich.markup import escape
 from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn, TimeRemainingColumn
@@ -46,6 +47,36 @@ class Options(BaseModel):
     model_config = ConfigDict(extra="forbid", alias_generator=_dashed, populate_by_name=True, frozen=True)
     output_files: ClassVar[tuple[str, ...]] = ("summary",)
     output_folders: ClassVar[tuple[str, ...]] = ()
+
+    @model_validator(mode="before")
+    @classmethod
+    def _no_loose_types(cls, values: Any) -> Any:
+        """Refuse what pydantic would coerce: a bool or a string for a number, a non-bool for a flag.
+
+        (``seed = true`` became seed 1, ``packing-fraction = "0.3"`` 0.3 and ``plots = "yes"`` True.)
+        """
+        if not isinstance(values, dict):
+            return values
+        for key, value in values.items():
+            field = cls.model_fields.get(key) or cls.model_fields.get(str(key).replace("-", "_"))
+            if field is None:
+                continue
+            kinds = _plain_types(field.annotation)
+            if kinds & {int, float} and not kinds & {str, bool} and isinstance(value, (bool, str)):
+                raise ValueError(f"{_dashed(str(key))} must be a number, not {value!r}")
+            if kinds == {bool} and not isinstance(value, bool):
+                raise ValueError(f"{_dashed(str(key))} must be true or false, not {value!r}")
+        return values
+
+
+def _plain_types(annotation: Any) -> set:
+    """The plain types an annotation admits: {int} for int, {float} for float | None, ..."""
+    if get_origin(annotation) in (Union, types.UnionType):
+        return set().union(*(_plain_types(argument) for argument in get_args(annotation)))
+    if get_origin(annotation) is not None:  # Annotated, list, Literal: look no further
+        base = get_args(annotation)[0] if get_args(annotation) else None
+        return {base} if get_origin(annotation) is not list and isinstance(base, type) else set()
+    return {annotation} if isinstance(annotation, type) else set()
 
 
 def fail(message: str) -> typer.Exit:
