@@ -393,3 +393,11 @@ def test_killed_worker_and_stopped_client_resume_to_the_serial_table(tmp_path, d
     cluster_rows = physics_columns(read_table(out / "results.csv"))
     assert cluster_rows == physics_columns(read_table(reference / "results.csv"))
     assert len(cluster_rows) == 6 and all(row["status"] == "ok" for row in cluster_rows)
+
+
+def test_point_names_need_non_negative_integers():
+    assert sweep.point_name(3, 1) == "p0003-r01"
+    with pytest.raises(ValueError, match="index must be >= 0"):
+        sweep.point_name(-1, 0)  # was 'p-001-r00'
+    with pytest.raises(TypeError, match="replica must be an integer"):
+        sweep.point_name(1, 0.5)

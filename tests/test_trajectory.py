@@ -186,6 +186,12 @@ def test_ase_reads_the_extended_xyz_file(tmp_path, dim):
     assert atoms.info["Step"] == system.collisions
 
 
+def test_type_names_need_integer_species():
+    with pytest.raises(TypeError, match="species must hold integers"):
+        trajectory.type_names([0.5, 1.7])  # was ['A', 'B']
+    assert trajectory.type_names(np.array([0.0, 2.0])) == ["A", "B", "C"]  # integral floats are indices
+
+
 def test_type_names_beyond_the_alphabet():
     assert trajectory.type_names([0, 27])[-3:] == ["Z", "T26", "T27"]
     with pytest.raises(ValueError, match="species"):

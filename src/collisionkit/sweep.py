@@ -476,6 +476,8 @@ def point_name(index: int, replica: int) -> str:
     >>> point_name(3, 1)
     'p0003-r01'
     """
+    _check_integer("index", index, 0, None)
+    _check_integer("replica", replica, 0, None)
     return f"p{index:04d}-r{replica:02d}"
 
 

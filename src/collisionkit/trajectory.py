@@ -67,6 +67,8 @@ def type_names(species):
     ['A', 'B', 'C']
     """
     species = np.asarray(species)
+    if species.dtype.kind not in "iu" and not (species.dtype.kind == "f" and np.all(species % 1 == 0)):
+        raise TypeError(f"species must hold integers (the species indices); got dtype {species.dtype}")
     if species.size == 0 or np.any(species < 0):
         raise ValueError("species must be a non-empty array of integers >= 0")
     letters = string.ascii_uppercase
