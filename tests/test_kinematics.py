@@ -213,6 +213,9 @@ def test_sample_impact_bad_input():
         (lambda: ck.kinetic_energy(1.0, [np.nan, 0.0]), "v must be finite"),
         (lambda: ck.scattering_angle_cm([np.nan, 0.0], [0, 0], [0, 0], [1, 0]), "v1 must be finite"),
         (lambda: ck.impact_parameter([0.0, 0.0], [1.0, 0.0], [3.0, 0.0, 0.0], [0.0, 0.0]), "x1, v1, x2, v2 must"),
+        (lambda: kinematics.resolve_impact_angles(1.0, [np.nan, 0.0], 1.0, [0.0, 0.0], 0.0), "v1 must be finite"),
+        (lambda: kinematics.resolve_impact_angles(1.0, [1.0, 0.0], 1.0, [0.0, 0.0, 0.0], 0.0), "v1, v2 must"),
+        (lambda: kinematics.resolve_impact_angles(1.0, [1.0, 0.0], 1.0, [1.0, 0.0], 0.0), "v1 and v2 must differ"),
     ],
 )
 def test_velocities_are_checked_finite_and_of_one_dimension(call, words):

@@ -325,8 +325,9 @@ def resolve_impact_angles(m1, v1, m2, v2, alpha, phi=None, restitution=1.0, rest
     >>> resolve_impact_angles(1.0, [1.0, 0.0], 1.0, [0.0, 0.0], alpha=0.0)
     (array([0., 0.]), array([1., 0.]))
     """
-    v1 = _arrays.as_vector_array(v1, "v1")
-    v2 = _arrays.as_vector_array(v2, "v2")
+    v1, v2 = _finite_vectors(v1=v1, v2=v2)  # named here: the angles are measured from v1 - v2
+    if np.any(np.all(v1 == v2, axis=-1)):
+        raise ValueError("v1 and v2 must differ: the impact angles are measured from the relative velocity v1 - v2")
     normal = normal_from_impact_angles(v1 - v2, alpha, phi)
     return resolve_contact(m1, v1, m2, v2, normal, restitution, restitution_model)
 

@@ -8,6 +8,7 @@ from scipy import constants
 
 from collisionkit.transport import (
     Gas, Process, Species, hard_sphere_gas, lucas_saelee, maxwell_model, model_gas, reid_ramp,
+    screened_coulomb_momentum_ratio,
 )
 
 
@@ -51,3 +52,13 @@ def test_mixture_fractions_are_normalised_and_checked():
     assert mix.fractions == (0.75, 0.25)
     with pytest.raises(ValueError, match="fractions"):
         Gas((Species("a", 1e-26, (Process("elastic", [0, 1], [1e-20, 1e-20]),)),), (0.5,))
+
+
+@pytest.mark.parametrize(
+    "energy, screening, words",
+    [(1.0, -1.0, "screening_energy"), (1.0, 0.0, "screening_energy"), (-1.0, 1.0, "energy"), (np.nan, 1.0, "energy")],
+)
+def test_screened_coulomb_ratio_rejects_bad_energies(energy, screening, words):
+    # (1, -1) returned nan
+    with pytest.raises(ValueError, match=words):
+        screened_coulomb_momentum_ratio(energy, screening)

@@ -242,6 +242,13 @@ def screened_coulomb_momentum_ratio(energy, screening_energy):
     (1 for isotropic scattering, eta -> infinity). Divide a momentum-transfer
     cross section by this ratio to get the elastic cross section to sample.
 
+    Parameters
+    ----------
+    energy : float or array_like
+        Collision energy (eV), finite and >= 0 (0: isotropic, ratio 1).
+    screening_energy : float or array_like
+        The screening energy (eV), finite and > 0.
+
     Examples
     --------
     >>> from collisionkit.transport import screened_coulomb_momentum_ratio
@@ -250,7 +257,12 @@ def screened_coulomb_momentum_ratio(energy, screening_energy):
     >>> 0 < float(screened_coulomb_momentum_ratio(10.0, 1.0)) < 0.5
     True
     """
-    energy = np.asarray(energy, dtype=float)
+    energy = _arrays.as_float_array(energy, "energy")
+    _arrays.require_finite(energy, "energy")
+    _arrays.require_in_range(energy, "energy", 0.0, np.inf, inclusive=(True, False))
+    screening_energy = _arrays.as_float_array(screening_energy, "screening_energy")
+    _arrays.require_finite(screening_energy, "screening_energy")
+    _arrays.require_in_range(screening_energy, "screening_energy", 0.0, np.inf, inclusive=(False, False))
     eta = screening_energy / (4.0 * np.maximum(energy, 1e-300))
     small = eta > 1e6
     safe = np.where(small, 1.0, eta)
