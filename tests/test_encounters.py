@@ -527,6 +527,17 @@ def test_time_at_separation_elliptic_and_arrays():
     assert times[-1] == pytest.approx(0.5 * orbit.period, rel=1e-14, abs=0)
 
 
+def test_time_since_periastron_refuses_states_off_the_orbit():
+    # both returned 0.0 before
+    orbit = Hyperbolic(1.0, 1.0, periastron=1.0, v_inf=1.0)
+    with pytest.raises(ValueError, match="not on this orbit"):
+        orbit.time_since_periastron([100.0, 0.0, 0.0], [0.0, 0.0, 5.0])
+    with pytest.raises(ValueError, match="separation"):
+        orbit.time_since_periastron([0.0, 0.0, 0.0], [0.0, 0.0, 0.0])
+    for t in (-1e6, -3.0, 0.0, 2.5, 1e8):  # the orbit's own states pass, far out too
+        assert orbit.time_since_periastron(*orbit.relative_state_at_time(t)) == pytest.approx(t, rel=1e-12, abs=1e-12)
+
+
 def test_time_since_periastron_at_periastron_is_accurate():
     orbit = Hyperbolic(1.0, 1.0, periastron=1.0, v_inf=1.0)
     for t in [-1e-9, 1e-12, 3e-7]:

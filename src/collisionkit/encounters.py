@@ -77,6 +77,8 @@ GM_SUN = 1.3271244e20
 R_SUN = 6.957e8
 #: The speed ratio v_t / v0 above which a star started in a grid corner can leave the grid.
 GRID_SPEED_RATIO_LIMIT = math.sqrt(1.0 / 3.0)
+# relative mismatch of energy or angular momentum up to which a state counts as lying on an orbit
+ON_ORBIT_TOLERANCE = 1e-9
 
 
 class GridExitWarning(UserWarning):
@@ -661,7 +663,10 @@ class TwoBodyOrbit:
 
         Uses :math:`G_1(s) = \mathbf r\cdot\mathbf v / q` (and, for ellipses,
         :math:`G_0 = 1 - \beta (r - r_p)/q` to pick the half-orbit), which is
-        accurate right at periastron where inverting r(t) is not.
+        accurate right at periastron where inverting r(t) is not. A state
+        whose energy or angular momentum differs from the orbit's by more
+        than ``ON_ORBIT_TOLERANCE`` (relative) is refused: it has no time on
+        this orbit.
 
         Examples
         --------
@@ -675,8 +680,23 @@ class TwoBodyOrbit:
         r_vec = _state_vector(separation, "separation")
         v_vec = _state_vector(relative_velocity, "relative_velocity")
         r = float(np.linalg.norm(r_vec))
+        self._require_on_orbit(r_vec, v_vec, r)
         s = _k.anomaly_of_state(max(r, self._rp), float(r_vec @ v_vec), self._rp, self._beta, self._q)
         return math.copysign(_k.time_of_anomaly(abs(s), self._rp, self._beta, self._q), s)
+
+    def _require_on_orbit(self, r_vec, v_vec, r) -> None:
+        """ValueError unless the state has this orbit's energy and angular momentum (to ON_ORBIT_TOLERANCE)."""
+        if r == 0.0:
+            raise ValueError("separation must be a non-zero vector")
+        v2 = float(v_vec @ v_vec)
+        energy_off = abs(0.5 * v2 - self._mu_k / r + 0.5 * self._beta) / (0.5 * v2 + abs(self._mu_k) / r)
+        h = float(np.linalg.norm(np.cross(r_vec, v_vec)))
+        momentum_off = abs(h - self._h) / max(r * math.sqrt(v2), self._h, 1e-300)
+        if energy_off > ON_ORBIT_TOLERANCE or momentum_off > ON_ORBIT_TOLERANCE or r < self._rp * (1 - ON_ORBIT_TOLERANCE):
+            raise ValueError(
+                f"the state is not on this orbit: energy off by {energy_off:.2g}, angular momentum by "
+                f"{momentum_off:.2g} (relative), separation {r:.6g} against periastron {self._rp:.6g}"
+            )
 
     # -- asymptotes and cross sections -------------------------------------------
 
