@@ -147,3 +147,17 @@ def test_binary_collision_with_target_at_rest_equals_vector1():
 def test_stationary_bad_input(args, words):
     with pytest.raises(ValueError, match=words):
         irfpy.binary_collision_stationary(*args)
+
+
+@pytest.mark.parametrize(
+    "arguments, error, words",
+    [
+        ((1.0, [np.nan, 0.0], [1.0, 0.0], 1.0, 1.0), ValueError, r"^pos1 must be finite"),
+        ((1.0, [0.0, 0.0], [1.0, 0.0], 1.0, "x"), TypeError, r"^collision_length must be a number"),
+        ((-1.0, [0.0, 0.0], [1.0, 0.0], 1.0, 1.0), ValueError, r"^mass1"),
+    ],
+)
+def test_errors_use_irfpys_argument_names(arguments, error, words):
+    # they named collide's arguments (x1, contact_distance, m1), which irfpy users never passed
+    with pytest.raises(error, match=words):
+        irfpy.binary_collision_stationary_vector1(*arguments)

@@ -21,12 +21,30 @@ which stays finite for a grazing hit (d = r1 + r2) and for an infinite m2.
 
 from __future__ import annotations
 
+import re
+from contextlib import contextmanager
+
 import numpy as np
 
 from .. import _arrays
 from ..collisions import collide
 
 __all__ = ["binary_collision", "binary_collision_stationary_vector1", "binary_collision_stationary"]
+
+# collide's argument names and irfpy's for the same inputs
+_IRFPY_NAMES = {"m1": "mass1", "m2": "mass2", "x1": "pos1", "x2": "pos2", "v1": "vel1", "v2": "vel2",
+                "contact_distance": "collision_length"}
+_CORE_NAME = re.compile(r"\b(" + "|".join(_IRFPY_NAMES) + r")\b")
+
+
+@contextmanager
+def _irfpy_names():
+    """Re-raise the core's input errors with irfpy's argument names (pos1 for x1, ...)."""
+    try:
+        yield
+    except (ValueError, TypeError) as error:
+        message = _CORE_NAME.sub(lambda match: _IRFPY_NAMES[match.group(1)], str(error))
+        raise type(error)(message) from None
 
 
 def binary_collision(mass1, pos1, vel1, mass2, pos2, vel2, collision_length):
@@ -47,7 +65,8 @@ def binary_collision(mass1, pos1, vel1, mass2, pos2, vel2, collision_length):
     >>> binary_collision(1.0, [0, 0, 0], [1, 0, 0], 1.0, [3, 0, 0], [0, 0, 0], 1.0)
     (array([0., 0., 0.]), array([1., 0., 0.]))
     """
-    contact = collide(mass1, pos1, vel1, mass2, pos2, vel2, collision_length)
+    with _irfpy_names():
+        contact = collide(mass1, pos1, vel1, mass2, pos2, vel2, collision_length)
     return contact.v1, contact.v2
 
 
@@ -66,7 +85,8 @@ def binary_collision_stationary_vector1(mass1, pos1, vel1, mass2, collision_leng
     """
     pos1 = _arrays.as_vector_array(pos1, "pos1")
     zero = np.zeros(pos1.shape[-1])
-    contact = collide(mass1, pos1, vel1, mass2, zero, zero, collision_length)
+    with _irfpy_names():
+        contact = collide(mass1, pos1, vel1, mass2, zero, zero, collision_length)
     return contact.v1, contact.v2
 
 
