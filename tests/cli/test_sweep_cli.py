@@ -80,6 +80,10 @@ def test_help_lists_the_command_and_its_options():
         ('command = "edmd"\nseed = 1\nreplicas = "two"\n[vary]\ndim = [2, 3]\n', "replicas must be an integer"),
         ('command = "edmd"\nseed = 1\n[vary]\nseed = [1, 2]\n', "set by the sweep"),
         ('command = "edmd"\nseed = 1\n[vary\n', "not valid TOML"),
+        # values each point's command would refuse: found before any point runs (they failed one by one)
+        ('command = "edmd"\nseed = 1\n[vary]\ndim = [2, 5]\n', "the point {'dim': 5} is refused by 'collisionkit edmd'"),
+        ('command = "edmd"\nseed = 1\n[fixed]\ndim = 2\n[vary]\npacking-fraction = [0.3, 0.8]\n', "packing_fraction"),
+        ('command = "swarm"\nseed = 1\n[vary]\nparticles = [10]\n', "particles"),
     ],
 )
 def test_bad_studies_exit_with_2_and_a_clear_message(tmp_path, text, message):

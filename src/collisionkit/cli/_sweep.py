@@ -15,7 +15,9 @@ from typing import Annotated, Any
 
 import typer
 
-from ._common import console, error_console, fail, print_table, progress_bar, write_summary
+from pydantic import ValidationError
+
+from ._common import _describe, _field_name, console, error_console, fail, print_table, progress_bar, write_summary
 
 INTERRUPTED_EXIT_CODE = 130
 FAILED_POINTS_EXIT_CODE = 1
@@ -33,7 +35,34 @@ def _load(path: Path, out: Path, resume: bool):
         core.check_folder(study, out, resume)
     except (ValueError, TypeError) as error:
         raise fail(f"invalid study {path}: {error}") from None
+    _check_points(study, path)
     return study
+
+
+def _option_model(command: str):
+    """The options model of a simulation command (None for others): its rules check every point."""
+    from ._edmd import EdmdOptions
+    from ._encounter import EncounterOptions
+    from ._transport import SlabOptions, SwarmOptions
+
+    return {"edmd": EdmdOptions, "encounter": EncounterOptions, "swarm": SwarmOptions, "slab": SlabOptions}.get(command)
+
+
+def _check_points(study, path: Path) -> None:
+    """Validate every point's options by the command's own rules before any point runs (exit 2)."""
+    from .. import sweep as core
+
+    model = _option_model(study.command)
+    if model is None:
+        return
+    for parameters in core.expand(study):
+        values = {_field_name(model, str(key)): value for key, value in {**study.fixed, **parameters}.items()}
+        try:
+            model.model_validate(values)
+        except ValidationError as error:
+            details = "; ".join(_describe(item) for item in error.errors())
+            raise fail(f"invalid study {path}: the point {dict(parameters)} is refused by "
+                       f"'collisionkit {study.command}': {details}") from None
 
 
 @contextlib.contextmanager
