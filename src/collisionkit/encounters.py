@@ -23,7 +23,8 @@ eqs. 34-39): for periastron distance :math:`r_p`, relative speed at infinity
     b = J_T/(\mu v_\infty),\quad
     v_t = v_\infty b / r_0,\quad v_r = \sqrt{v_0^2 - v_t^2}.
 
-Orbit: eccentricity :math:`e = 1 + r_p v_\infty^2/\mu_K = \sqrt{1 + b^2 v_\infty^4/\mu_K^2}`,
+Orbit: eccentricity :math:`e = |1 + r_p v_\infty^2/\mu_K| = \sqrt{1 + b^2 v_\infty^4/\mu_K^2}`
+(:math:`\mu_K < 0` for a repulsive force, where :math:`e = r_p v_\infty^2/|\mu_K| - 1`),
 semi-major axis :math:`a = -\mu_K/v_\infty^2`, deflection
 :math:`\chi = 2\arcsin(1/e) = 2\arctan(|\mu_K|/(b v_\infty^2))` (Rutherford's
 law, :mod:`collisionkit.scattering`).

@@ -88,3 +88,8 @@ def test_swarm_and_slab_summaries_record_the_options(tmp_path):
     options = json.loads(slab_summary.read_text())["options"]
     assert options == {"thickness": 0.5, "albedo": 1.0, "incidence": "normal", "model": "isotropic",
                        "mass_ratio": 4.0, "particles": 640, "seed": 6, "summary": str(slab_summary)}
+
+
+def test_slab_refuses_options_the_rod_model_ignores():
+    result = runner.invoke(app, ["slab", "--model", "rod", "--incidence", "isotropic"], env={"COLUMNS": "200"})
+    assert result.exit_code == 2 and "rod model is one-dimensional" in " ".join(result.output.split())

@@ -88,3 +88,10 @@ def test_results_do_not_depend_on_threads_and_input_is_checked():
 def test_bad_arguments_are_refused_with_their_names(args, kwargs, error, message):
     with pytest.raises(error, match=message):
         simulate_slab(*args, **kwargs)
+
+
+@pytest.mark.parametrize("options", [{"incidence": "isotropic"}, {"mass_ratio": 4.0}])
+def test_the_rod_model_refuses_what_it_cannot_model(options):
+    # the 1D rod kernel ignored both: T = 0.5014 with or without them, under an 'isotropic incidence' title
+    with pytest.raises(ValueError, match="rod model is one-dimensional"):
+        simulate_slab(2.0, model="rod", particles=1000, seed=1, threads=1, **options)

@@ -433,7 +433,7 @@ def _help(text: str, default: str | None = None) -> str:
 
 def edmd(
     dim: Annotated[int | None, typer.Option(help=_help("2 (discs) or 3 (spheres).", "3"))] = None,
-    particles: Annotated[int | None, typer.Option(help=_help("Number of particles (>= 2).", "500"))] = None,
+    particles: Annotated[int | None, typer.Option(help=_help("Number of particles (>= 2; a periodic box must be 3 diameters wide: about 16 or more at eta 0.3).", "500"))] = None,
     packing_fraction: Annotated[
         float | None, typer.Option(help=_help("Packing fraction eta: (0, 0.5] in 3D, (0, 0.7] in 2D.", "0.3"))
     ] = None,

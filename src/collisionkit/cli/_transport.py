@@ -166,12 +166,19 @@ class SlabOptions(Options):
     seed: int = Field(default=2026, ge=0)
     summary: Path | None = None
 
+    @model_validator(mode="after")
+    def _rod_is_one_dimensional(self):
+        if self.model == "rod" and (self.incidence != "normal" or self.mass_ratio != float("inf")):
+            raise ValueError("the rod model is one-dimensional and elastic: it takes incidence normal and "
+                             "mass-ratio inf")
+        return self
+
 
 def slab(
     thickness: Annotated[float | None, typer.Option(help="Slab thickness in mean free paths (>= 0).  \\[default: 1]")] = None,
     albedo: Annotated[float | None, typer.Option(help="Single-scattering albedo in [0, 1].  \\[default: 1]")] = None,
     incidence: Annotated[str | None, typer.Option(help="normal or isotropic.  \\[default: normal]")] = None,
-    model: Annotated[str | None, typer.Option(help="isotropic (3D) or rod (1D).  \\[default: isotropic]")] = None,
+    model: Annotated[str | None, typer.Option(help="isotropic (3D) or rod (1D: normal incidence, no mass ratio).  \\[default: isotropic]")] = None,
     mass_ratio: Annotated[float | None, typer.Option(help="Target/particle mass (> 1; inf: no energy loss).  \\[default: inf]")] = None,
     particles: Annotated[int | None, typer.Option(help="Histories (>= 64).  \\[default: 100000]")] = None,
     seed: Annotated[int | None, typer.Option(help="Random seed (>= 0).  \\[default: 2026]")] = None,

@@ -143,6 +143,9 @@ def simulate_slab(thickness, albedo=1.0, *, incidence="normal", model="isotropic
     if not (isinstance(model, str) and model in ("isotropic", "rod")):
         raise ValueError(f"model must be 'isotropic' or 'rod'; got {model!r}")
     mass_ratio = _real(mass_ratio, "mass_ratio (inf for no energy loss)", 1.0, inclusive=(False, True))
+    if model == "rod" and (incidence != "normal" or math.isfinite(mass_ratio)):
+        raise ValueError("the rod model is one-dimensional and elastic: it takes incidence='normal' and "
+                         f"mass_ratio=inf; got incidence={incidence!r}, mass_ratio={mass_ratio}")
     particles = _integer(particles, "particles", BATCHES)
     seed = _integer(seed, "seed", 0)
     angle_bins = _integer(angle_bins, "angle_bins", 1, 10_000)
