@@ -11,7 +11,7 @@ import pytest
 from scipy import constants, stats
 
 from collisionkit.transport import (
-    Gas, Process, Species, lucas_saelee, maxwell_model, read_lxcat, reid_ramp, simulate_swarm,
+    Gas, Process, Species, hard_sphere_gas, lucas_saelee, maxwell_model, read_lxcat, reid_ramp, simulate_swarm,
 )
 from collisionkit.transport.swarm import HUXLEY, REFERENCE_DENSITY, TOWNSEND
 
@@ -318,3 +318,20 @@ def test_reported_errors_match_the_scatter_of_independent_runs():
         errors = np.array([getattr(r, f"{name}_error") for r in runs])
         ratio = values.var(ddof=1) / np.mean(errors**2)
         assert low < ratio < high, (name, ratio)
+
+
+def test_the_energy_distribution_of_a_thermalised_swarm_is_maxwellian():
+    # E/N = 0 on a warm gas of light targets: the swarm thermalises at the gas temperature, so the EEDF is
+    # f(e) = 2 sqrt(e / pi) (kT)^(-3/2) exp(-e / kT). The kernel binned energies in joules against a bin width in
+    # eV, so every particle fell in the first bin (its normalisation still came out 1)
+    from scipy import special
+
+    kT = constants.k * 1000.0 / E
+    r = simulate_swarm(hard_sphere_gas(6e-20, mass=10 * ME), 0.0, gas_temperature=1000.0, particles=1000, seed=3,
+                       threads=2, initial_energy=1.5 * kT, tolerances={"mean_energy": 5e-3}, collision_budget=5e6)
+    step = r.eedf_energy[1] - r.eedf_energy[0]
+    upper_edges = r.eedf_energy + step / 2
+    empirical = np.cumsum(r.eedf * step)
+    maxwellian = special.gammainc(1.5, upper_edges / kT)  # the CDF of the energy with 3 degrees of freedom
+    assert np.abs(empirical - maxwellian)[:-1].max() < 0.02  # 0.003 measured; the bug gave ~1
+    assert (r.eedf * r.eedf_energy).sum() * step == pytest.approx(1.5 * kT, rel=0.02)

@@ -758,7 +758,10 @@ def group_moments(pos, vel, alive, group, n_groups, mass, moments):
 
 @kernel
 def energy_histogram(vel, alive, mass, edges_step, counts):
-    """Add the particles' kinetic energies to a uniform histogram (overflow in the last bin)."""
+    """Add the particles' kinetic energies (1/2 m v^2, J) to a uniform histogram of bin width ``edges_step`` (J).
+
+    Overflow goes to the last bin.
+    """
     last = counts.shape[0] - 1
     for i in range(vel.shape[0]):
         if alive[i]:

@@ -563,7 +563,8 @@ class _Run:
         self.nulls += int(group_tally[:, n_proc + _k.NULL_COLUMN_OFFSET].sum())
         self.bound_violations += int(group_tally[:, n_proc + _k.BOUND_COLUMN_OFFSET].sum())
         if self.histogram is not None:
-            _k.energy_histogram(swarm.vel, swarm.alive, self.stepper.mass, self.histogram_step, self.histogram)
+            # the kernel bins 1/2 m v^2 in joules: give it the bin width in joules (histogram_step is in eV)
+            _k.energy_histogram(swarm.vel, swarm.alive, self.stepper.mass, self.histogram_step * EV, self.histogram)
 
     def _control(self, swarm):
         return _control_population(swarm, self.groups, self.target, self.rng)
