@@ -509,6 +509,24 @@ def test_the_measured_rate_leaves_out_compiling_the_event_loop(monkeypatch):
     assert m.wall_seconds < 1.0
 
 
+def test_g_of_r_is_zero_inside_contact():
+    # snapshots were taken at the last collision, whose pair sits at contact: 400 discs gave g = 0.115 in the bin
+    # just inside contact, which hard discs cannot have (and an inflated contact value)
+    system = edmd.random_fluid(2, 400, 0.3, rng=1)
+    m = edmd.measure(system, collisions=40_000, blocks=20)
+    step = m.rdf_r[1] - m.rdf_r[0]
+    assert np.all(m.rdf[m.rdf_r + step / 2 <= 2 * np.max(system.radius)] == 0.0)
+
+
+def test_g_of_r_of_a_dilute_gas_tends_to_one():
+    # beyond two diameters a hard-disc gas has g = 1 + O(n^2); the N^2 normalisation gave (N - 1) / N = 0.95 here
+    system = edmd.random_fluid(2, 20, 0.02, rng=2)
+    m = edmd.measure(system, collisions=2000 * 20, blocks=2000)
+    far = m.rdf[m.rdf_r > 4 * np.max(system.radius)]
+    error = far.std() / math.sqrt(far.size)  # independent bins
+    assert abs(far.mean() - 1.0) < 4 * error, (far.mean(), error)
+
+
 # ------------------------------------------------------------------ physics validation
 
 

@@ -745,13 +745,16 @@ class HardSphereSystem:
         self.synchronise()
         return self._to_user_order(self._folded()[1])
 
-    def _folded(self):
+    def _folded(self, ahead=0.0):
         """Internal positions folded into [0, L) on periodic axes, and the matching image counters.
 
         The engine wraps a particle only when it rebuilds its neighbour list,
         so stored positions may lie up to half a shell outside the box.
+        ``ahead`` > 0 moves them that far along their free flights first
+        (exact only before the next event: see :meth:`_time_to_next_event`).
         """
-        pos = self.pos.copy()
+        gravity = self.geom[_k.G_GRAVITY, : self.dim]
+        pos = self.pos + self.vel * ahead + 0.5 * gravity * ahead**2
         image = self._image.copy()
         for k in np.flatnonzero(self.periodic):
             length = self.box[k]
@@ -1021,6 +1024,14 @@ class HardSphereSystem:
             # the lists would miss collisions: an engine bug, never a user error
             raise RuntimeError(f"a particle drifted {drift:.6g} from its list anchor (allowed {allowed:.6g})")
         return gap
+
+    def _time_to_next_event(self):
+        """Time from now (particles synchronised) to the next queued event; inf if none.
+
+        Until then every particle flies freely: no collision can come earlier
+        (the queue holds each particle's earliest, list events included).
+        """
+        return float(self.tree[1, 0]) - self.time
 
     def _pair_gap(self):
         return _k.min_gap(
@@ -1424,13 +1435,20 @@ class Measurement:
 
 
 def _pair_histogram(system, r_max, bins):
-    """Counts of pairs (each counted twice) per distance bin up to r_max, via scipy's k-d tree."""
+    """Counts of pairs (each counted twice) per distance bin up to r_max, via scipy's k-d tree.
+
+    The snapshot is taken half-way to the next event, not at the last one:
+    there the pair that just collided sits exactly at contact, one extra
+    contact pair a snapshot (12 % of the contact bin for 400 discs).
+    """
     from scipy.spatial import cKDTree
 
     dim = system.dim
     periodic = bool(np.all(system.periodic[:dim]))
     boxsize = system.box[:dim] if periodic else None
-    points = system._folded()[0]
+    system.synchronise()
+    gap = system._time_to_next_event()
+    points = system._folded(ahead=0.5 * gap if 0.0 < gap < math.inf else 0.0)[0]
     tree = cKDTree(points, boxsize=boxsize)
     edges = np.linspace(0.0, r_max, bins + 1)
     cumulative = tree.count_neighbors(tree, edges).astype(float)
@@ -1439,11 +1457,12 @@ def _pair_histogram(system, r_max, bins):
 
 def _contact_value(r, g, counts, diameter):
     """g at contact and its standard error: a weighted quadratic fit to the bins
-    within 0.1 diameter of contact, extrapolated to contact (Poisson errors per bin)."""
+    within 0.1 diameter of contact, extrapolated to contact (Poisson errors per bin,
+    of the pairs: ``counts`` counts each pair twice)."""
     near = (r > diameter) & (r < 1.1 * diameter) & (counts > 0)
     if near.sum() < 4:
         return math.nan, math.nan
-    sigma = g[near] / np.sqrt(counts[near])
+    sigma = g[near] / np.sqrt(0.5 * counts[near])
     x = r[near] - diameter
     coefficients, covariance = np.polyfit(x, g[near], 2, w=1.0 / sigma, cov="unscaled")
     return float(coefficients[-1]), float(math.sqrt(covariance[-1, -1]))
@@ -1622,7 +1641,8 @@ class Sampler:
         edges = np.linspace(0.0, self.r_max, self.histogram.size + 1)
         centres = 0.5 * (edges[1:] + edges[:-1])
         shells = _ball_volume(edges[1:], dim) - _ball_volume(edges[:-1], dim)
-        rdf = self.histogram / (self.done * count * (count / system.volume) * shells)
+        # ordered pairs: each of the N particles sees the other N - 1 at density (N - 1) / V
+        rdf = self.histogram / (self.done * count * ((count - 1) / system.volume) * shells)
         speeds = np.concatenate(self.speeds)
         omega = float(np.mean(record["frequency"]))
         mean_speed = float(np.mean(speeds))
