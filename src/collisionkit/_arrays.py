@@ -61,6 +61,14 @@ def require_in_range(array: np.ndarray, name: str, low: float, high: float, *, i
         raise ValueError(f"{name} must lie in {left}{low}, {high}{right}; got {bad}")
 
 
+def as_finite_in_range(value, name: str, low: float, high: float = np.inf, *, inclusive=(True, False)) -> np.ndarray:
+    """:func:`as_float_array`, then :func:`require_finite` and :func:`require_in_range`: the usual check of a number."""
+    array = as_float_array(value, name)
+    require_finite(array, name)
+    require_in_range(array, name, low, high, inclusive=inclusive)
+    return array
+
+
 def require_positive_masses(array: np.ndarray, name: str) -> None:
     """Masses are > 0; np.inf is allowed (a fixed body), NaN is not."""
     if not np.all(array > 0):

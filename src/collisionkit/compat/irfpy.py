@@ -123,15 +123,9 @@ def binary_collision_stationary(mass1, speed1, mass2, impact_parameter, collisio
     if not np.all(np.isfinite(m1) & (m1 > 0)):
         raise ValueError("mass1 must be finite and > 0")
     _arrays.require_positive_masses(m2, "mass2")
-    v1 = _arrays.as_float_array(speed1, "speed1")
-    _arrays.require_finite(v1, "speed1")
-    _arrays.require_in_range(v1, "speed1", 0.0, np.inf, inclusive=(False, False))
-    d = _arrays.as_float_array(impact_parameter, "impact_parameter")
-    _arrays.require_finite(d, "impact_parameter")
-    _arrays.require_in_range(d, "impact_parameter", 0.0, np.inf, inclusive=(True, False))
-    sigma = _arrays.as_float_array(collision_length, "collision_length")
-    _arrays.require_finite(sigma, "collision_length")
-    _arrays.require_in_range(sigma, "collision_length", 0.0, np.inf, inclusive=(False, False))
+    v1 = _arrays.as_finite_in_range(speed1, "speed1", 0.0, inclusive=(False, False))
+    d = _arrays.as_finite_in_range(impact_parameter, "impact_parameter", 0.0)
+    sigma = _arrays.as_finite_in_range(collision_length, "collision_length", 0.0, inclusive=(False, False))
 
     hit = d < sigma
     ratio = np.where(hit, d / sigma, 0.0)

@@ -257,12 +257,8 @@ def screened_coulomb_momentum_ratio(energy, screening_energy):
     >>> 0 < float(screened_coulomb_momentum_ratio(10.0, 1.0)) < 0.5
     True
     """
-    energy = _arrays.as_float_array(energy, "energy")
-    _arrays.require_finite(energy, "energy")
-    _arrays.require_in_range(energy, "energy", 0.0, np.inf, inclusive=(True, False))
-    screening_energy = _arrays.as_float_array(screening_energy, "screening_energy")
-    _arrays.require_finite(screening_energy, "screening_energy")
-    _arrays.require_in_range(screening_energy, "screening_energy", 0.0, np.inf, inclusive=(False, False))
+    energy = _arrays.as_finite_in_range(energy, "energy", 0.0)
+    screening_energy = _arrays.as_finite_in_range(screening_energy, "screening_energy", 0.0, inclusive=(False, False))
     eta = screening_energy / (4.0 * np.maximum(energy, 1e-300))
     small = eta > 1e6
     safe = np.where(small, 1.0, eta)
