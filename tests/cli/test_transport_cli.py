@@ -90,6 +90,18 @@ def test_swarm_and_slab_summaries_record_the_options(tmp_path):
                        "mass_ratio": 4.0, "particles": 640, "seed": 6, "summary": str(slab_summary)}
 
 
+def test_a_slab_summary_s_options_read_back_as_the_same_options(tmp_path):
+    from collisionkit.cli._transport import SlabOptions
+
+    summary = tmp_path / "slab.json"
+    result = runner.invoke(app, ["slab", "--thickness", "0.5", "--particles", "640", "--summary", str(summary)])
+    assert result.exit_code == 0, result.output
+    recorded = json.loads(summary.read_text())["options"]
+    assert recorded["mass_ratio"] is None  # strict JSON has no Infinity
+    assert SlabOptions.model_validate(recorded) == SlabOptions(thickness=0.5, particles=640, summary=summary)
+    assert SlabOptions.model_validate(recorded).mass_ratio == float("inf")
+
+
 def test_slab_refuses_options_the_rod_model_ignores():
     result = runner.invoke(app, ["slab", "--model", "rod", "--incidence", "isotropic"], env={"COLUMNS": "200"})
     assert result.exit_code == 2 and "rod model is one-dimensional" in " ".join(result.output.split())

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Annotated, ClassVar, Literal
+from typing import Annotated, Any, ClassVar, Literal
 
 import typer
 from pydantic import Field, field_validator, model_validator
@@ -165,6 +165,12 @@ class SlabOptions(Options):
     particles: int = Field(default=100_000, ge=64, le=1_000_000_000)
     seed: int = Field(default=2026, ge=0)
     summary: Path | None = None
+
+    @field_validator("mass_ratio", mode="before")
+    @classmethod
+    def _null_is_infinite(cls, value: Any) -> Any:
+        """``null``, as a JSON summary records an infinite mass ratio, reads back as ``inf``."""
+        return float("inf") if value is None else value
 
     @model_validator(mode="after")
     def _rod_is_one_dimensional(self):
