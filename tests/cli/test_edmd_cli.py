@@ -119,6 +119,7 @@ def test_toml_config_and_command_line_wins(tmp_path):
         (("--initial", "square", "--particles", 100), "2D lattice"),
         (("--initial", "bcc"), "initial"),
         (("--collisions", 5, "--blocks", 10), "collisions must be >= blocks"),
+        (("--particles", 2, "--blocks", 1000), "collisions (400 by default for 2 particles) must be >= blocks (1000)"),
         (("--frame-every", 100), "--frame-every needs --trajectory"),
         (("--particles", 10, "--packing-fraction", 0.45), "less than 3 diameters"),
         (("--resume", "missing.npz"), "checkpoint not found"),

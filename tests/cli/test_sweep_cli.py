@@ -84,6 +84,13 @@ def test_help_lists_the_command_and_its_options():
         ('command = "edmd"\nseed = 1\n[vary]\ndim = [2, 5]\n', "the point {'dim': 5} is refused by 'collisionkit edmd'"),
         ('command = "edmd"\nseed = 1\n[fixed]\ndim = 2\n[vary]\npacking-fraction = [0.3, 0.8]\n', "packing_fraction"),
         ('command = "swarm"\nseed = 1\n[vary]\nparticles = [10]\n', "particles"),
+        # rules between options, too: a 3D point above the 3D packing limit, fewer collisions than blocks
+        ('command = "edmd"\nseed = 1\n[fixed]\npacking-fraction = 0.6\n[vary]\ndim = [2, 3]\n',
+         "the point {'dim': 3} is refused by 'collisionkit edmd': packing_fraction must lie in (0, 0.5] for dim=3"),
+        ('command = "edmd"\nseed = 1\n[fixed]\nblocks = 10\n[vary]\ncollisions = [100, 5]\n',
+         "collisions must be >= blocks (10); got 5"),
+        ('command = "edmd"\nseed = 1\n[fixed]\ninitial = "fcc"\n[vary]\nparticles = [32, 100]\n',
+         "needs particles = 4 * cells^3"),
     ],
 )
 def test_bad_studies_exit_with_2_and_a_clear_message(tmp_path, text, message):

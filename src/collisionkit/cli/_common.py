@@ -127,10 +127,13 @@ def read_toml(path: Path) -> dict[str, Any]:
 
 
 def _describe(error: Mapping[str, Any]) -> str:
-    where = ".".join(str(part) for part in error["loc"]) or "options"
+    """One line for one pydantic error; a rule between options speaks for itself (no echo of every value)."""
+    where = ".".join(str(part) for part in error["loc"])
     if error["type"] == "extra_forbidden":
         return f"unknown option {where!r}"
-    return f"{where}: {error['msg']} (got {error.get('input')!r})"
+    if not where and error["type"] == "value_error":
+        return str(error["ctx"]["error"])
+    return f"{where or 'options'}: {error['msg']} (got {error.get('input')!r})"
 
 
 def load_options(model: type[Options], config: Path | None, given: Mapping[str, Any]):

@@ -21,7 +21,7 @@ from typing import TYPE_CHECKING, Annotated, ClassVar, Literal
 
 import numpy as np
 import typer
-from pydantic import Field, ValidationError
+from pydantic import Field, ValidationError, model_validator
 
 from .._io import atomic_write_bytes
 from ._common import (
@@ -68,6 +68,20 @@ class EdmdOptions(Options):
     output_files: ClassVar[tuple[str, ...]] = ("summary", "trajectory", "xyz", "checkpoint")
     output_folders: ClassVar[tuple[str, ...]] = ("out",)
 
+    @model_validator(mode="after")
+    def _consistent(self):
+        """The rules that tie options together; here, so a sweep checks every point before it starts."""
+        limit = MAX_PACKING[self.dim]
+        if self.packing_fraction > limit:
+            raise ValueError(f"packing_fraction must lie in (0, {limit}] for dim={self.dim}; got {self.packing_fraction}")
+        if self.initial != "random":
+            _lattice_cells(self)
+        if self.collisions is not None and self.collisions < self.blocks:
+            raise ValueError(f"collisions must be >= blocks ({self.blocks}); got {self.collisions}")
+        if self.frame_every is not None and self.trajectory is None:
+            raise ValueError("--frame-every needs --trajectory FILE.gsd to write the frames to")
+        return self
+
 
 # ------------------------------------------------------------------ options
 
@@ -76,24 +90,19 @@ def _lattice_cells(options: EdmdOptions) -> int:
     """Unit cells per axis of the chosen lattice; fails unless N = basis * cells^d."""
     kind, dim = options.initial, options.dim
     if LATTICE_DIM[kind] != dim:
-        raise fail(f"--initial {kind} is a {LATTICE_DIM[kind]}D lattice; it cannot start a run with --dim {dim}")
+        raise ValueError(f"--initial {kind} is a {LATTICE_DIM[kind]}D lattice; it cannot start a run with --dim {dim}")
     basis = LATTICE_BASIS[kind]
     cells = max(1, round((options.particles / basis) ** (1.0 / dim)))
     if basis * cells**dim != options.particles:
         examples = ", ".join(str(basis * n**dim) for n in range(3, 7))
-        raise fail(
+        raise ValueError(
             f"--initial {kind} needs particles = {basis} * cells^{dim} (e.g. {examples}); got {options.particles}"
         )
     return cells
 
 
 def _resolve(options: EdmdOptions) -> EdmdOptions:
-    """Fill in the defaults that depend on other options and check their consistency."""
-    limit = MAX_PACKING[options.dim]
-    if options.packing_fraction > limit:
-        raise fail(f"packing_fraction must lie in (0, {limit}] for dim={options.dim}; got {options.packing_fraction}")
-    if options.initial != "random":
-        _lattice_cells(options)
+    """Fill in the defaults that depend on other options (the model checked the rest)."""
     defaults = dict(
         equilibration=EQUILIBRATION_PER_PARTICLE * options.particles,
         collisions=COLLISIONS_PER_PARTICLE * options.particles,
@@ -101,9 +110,8 @@ def _resolve(options: EdmdOptions) -> EdmdOptions:
     )
     resolved = options.model_copy(update={key: value for key, value in defaults.items() if getattr(options, key) is None})
     if resolved.collisions < resolved.blocks:
-        raise fail(f"collisions must be >= blocks ({resolved.blocks}); got {resolved.collisions}")
-    if options.frame_every is not None and options.trajectory is None:
-        raise fail("--frame-every needs --trajectory FILE.gsd to write the frames to")
+        raise fail(f"collisions ({resolved.collisions} by default for {options.particles} particles) must be >= "
+                   f"blocks ({resolved.blocks}); set --collisions")
     return resolved
 
 
