@@ -1435,24 +1435,43 @@ class Measurement:
 
 
 def _pair_histogram(system, r_max, bins):
-    """Counts of pairs (each counted twice) per distance bin up to r_max, via scipy's k-d tree.
+    """Counts of pairs (each counted twice) per distance bin up to r_max, in one snapshot.
 
     The snapshot is taken half-way to the next event, not at the last one:
     there the pair that just collided sits exactly at contact, one extra
     contact pair a snapshot (12 % of the contact bin for 400 discs).
     """
-    from scipy.spatial import cKDTree
-
     dim = system.dim
-    periodic = bool(np.all(system.periodic[:dim]))
-    boxsize = system.box[:dim] if periodic else None
     system.synchronise()
     gap = system._time_to_next_event()
     points = system._folded(ahead=0.5 * gap if 0.0 < gap < math.inf else 0.0)[0]
-    tree = cKDTree(points, boxsize=boxsize)
-    edges = np.linspace(0.0, r_max, bins + 1)
-    cumulative = tree.count_neighbors(tree, edges).astype(float)
-    return np.diff(cumulative)
+    return _pair_distance_histogram(points[:, :dim], system.box[:dim], system.periodic[:dim], r_max, bins)
+
+
+def _pair_distance_histogram(points, box, periodic, r_max, bins):
+    """Ordered pairs (i != j) per distance bin of width r_max / bins, points in [0, L) per axis.
+
+    A cell-list kernel, O(N) for a fixed r_max (a k-d tree's
+    ``count_neighbors`` over 500 radii took 3.6 s a snapshot for 4000
+    spheres, most of an ``edmd`` run). Periodic axes use the minimum image
+    (r_max <= L / 2 there), walled ones the plain distance.
+    """
+    count, dim = np.shape(points)
+    padded = np.zeros((count, 3))  # 2D: z = 0 in one walled cell
+    padded[:, :dim] = points
+    cells_box = np.ones(3)
+    cells_box[:dim] = box
+    axes_periodic = np.zeros(3, dtype=np.bool_)
+    axes_periodic[:dim] = periodic
+    ncell = np.ones(3, dtype=np.int64)
+    ncell[:dim] = np.maximum(np.floor(cells_box[:dim] / r_max), 1)
+    coordinates = np.clip((padded / cells_box * ncell).astype(np.int64), 0, ncell - 1)
+    cell = coordinates[:, 0] + ncell[0] * (coordinates[:, 1] + ncell[1] * coordinates[:, 2])
+    in_cell_order = np.ascontiguousarray(padded[np.argsort(cell, kind="stable")])
+    cell_start = np.concatenate([[0], np.cumsum(np.bincount(cell, minlength=int(np.prod(ncell))))])
+    counts = np.zeros(bins)
+    _k.pair_distance_counts(in_cell_order, cell_start, ncell, cells_box, axes_periodic, float(r_max), counts)
+    return counts
 
 
 def _contact_value(r, g, counts, diameter):

@@ -1034,3 +1034,59 @@ def wall_gap(p, scale, geom, dim):
                 r = p[i, R] * scale
                 worst = min(worst, p[i, X + k] - r, geom[G_BOX, k] - r - p[i, X + k])
     return worst
+
+
+@inline_kernel
+def _nearest_image(x, length, wrap):
+    """x, or its image nearest to 0 when ``wrap`` (a periodic axis of fewer than 3 cells)."""
+    return x - length * round(x / length) if wrap else x
+
+
+@kernel
+def pair_distance_counts(points, cell_start, ncell, box, periodic, r_max, counts):
+    """Add the ordered pairs (a, c), a != c, at distance in [b w, (b + 1) w) to ``counts[b]``.
+
+    ``w = r_max / len(counts)``. The points (N, 3; z = 0 and one walled cell
+    in 2D) lie in [0, L) per axis, sorted by cell: cells no smaller than
+    ``r_max`` (x fastest, as :func:`cell_index`), ``cell_start`` (cells + 1
+    entries) the first point of each, so every pair closer than ``r_max`` is
+    in the same or a neighbouring cell. Across a periodic face the cell
+    offset fixes the image (``r_max <= L / 2``); only a periodic axis of one
+    or two cells needs the minimum image per pair.
+    """
+    bins = counts.shape[0]
+    inverse_width = bins / r_max
+    reach2 = r_max * r_max
+    wrap_x = periodic[0] and ncell[0] < 3
+    wrap_y = periodic[1] and ncell[1] < 3
+    wrap_z = periodic[2] and ncell[2] < 3
+    for cell in range(ncell[0] * ncell[1] * ncell[2]):
+        cx, cy, cz = cell_coordinates(cell, ncell)
+        zl, zh = _offsets(ncell[2], periodic[2])
+        yl, yh = _offsets(ncell[1], periodic[1])
+        xl, xh = _offsets(ncell[0], periodic[0])
+        for oz in range(zl, zh + 1):
+            nz, sz = _neighbour(cz, oz, ncell[2], periodic[2], box[2])
+            if nz < 0:
+                continue
+            for oy in range(yl, yh + 1):
+                ny, sy = _neighbour(cy, oy, ncell[1], periodic[1], box[1])
+                if ny < 0:
+                    continue
+                for ox in range(xl, xh + 1):
+                    nx, sx = _neighbour(cx, ox, ncell[0], periodic[0], box[0])
+                    if nx < 0:
+                        continue
+                    other = cell_index(nx, ny, nz, ncell)
+                    for a in range(cell_start[cell], cell_start[cell + 1]):
+                        # the neighbour cell's image shift, moved onto the point of this cell
+                        ax, ay, az = points[a, 0] - sx, points[a, 1] - sy, points[a, 2] - sz
+                        for c in range(cell_start[other], cell_start[other + 1]):
+                            x = _nearest_image(points[c, 0] - ax, box[0], wrap_x)
+                            y = _nearest_image(points[c, 1] - ay, box[1], wrap_y)
+                            z = _nearest_image(points[c, 2] - az, box[2], wrap_z)
+                            norm2 = x * x + y * y + z * z
+                            if norm2 < reach2 and c != a:
+                                b = int(math.sqrt(norm2) * inverse_width)
+                                if b < bins:
+                                    counts[b] += 1.0
