@@ -503,3 +503,58 @@ def test_newtons_cradle_passes_the_velocity_down_the_line():
         positions[i], positions[i + 1] = c.x1, c.x2
         velocities[i], velocities[i + 1] = c.v1, c.v2
     np.testing.assert_array_equal(velocities[:, 0], [0.0, 0.0, 0.0, 0.0, 1.0])
+
+
+# ------------------------------------------------------------------ edge cases found by a mutation audit
+
+
+@pytest.mark.parametrize("model", ["normal", "cm"])
+@pytest.mark.parametrize("e", [0.0, 0.5, 1.0])
+def test_separating_and_sliding_pairs_do_not_change_in_either_model(model, e):
+    # kills K20 (_kernels/collisions.py: `approach <= 0.0` -> `approach < 0.0`): a sliding pair
+    # (u_n = 0 exactly) in the cm model had its whole relative velocity scaled by R.
+    # Documented: "Only approaching pairs (u_n > 0) change; others are copies" -> exact equality.
+    v1 = np.array([[-1.0, 0.0], [0.0, 1.0], [0.0, 1.0]])
+    v2 = np.array([[1.0, 0.0], [0.0, 0.0], [0.0, -2.0]])
+    a1, a2 = ck.resolve_contact(1.0, v1, 3.0, v2, [1.0, 0.0], restitution=e, restitution_model=model)
+    np.testing.assert_array_equal(a1, v1)
+    np.testing.assert_array_equal(a2, v2)
+
+
+def test_collide_with_coincident_centres_is_a_miss_not_an_error():
+    # kills C06 (collisions.py: non-hit pairs given their (zero) separation as normal): the
+    # kernel then raised "normal must be a non-zero vector" for a pair that never touches.
+    # time_to_contact documents coincident centres as inf (no line of centres).
+    x2 = np.array([[0.0, 0.0], [3.0, 0.0]])
+    c = ck.collide(1.0, [0.0, 0.0], [0.0, 0.0], 1.0, x2, [[1.0, 0.0], [-1.0, 0.0]], 1.0)
+    np.testing.assert_array_equal(c.hit, [False, True])
+    np.testing.assert_array_equal(c.v1[0], [0.0, 0.0])
+    np.testing.assert_array_equal(c.v2[0], [1.0, 0.0])
+    np.testing.assert_array_equal(c.v1[1], [-1.0, 0.0])  # equal masses head-on: exchange
+
+
+def test_collide_normal_is_nan_where_there_is_no_hit():
+    # kills C09 (collisions.py: `np.nan` -> `0.0` for the normal of misses); Contact documents NaN.
+    x2 = np.array([[3.0, 0.0], [3.0, 5.0]])
+    c = ck.collide(1.0, [0.0, 0.0], [1.0, 0.0], 1.0, x2, [0.0, 0.0], 1.0)
+    np.testing.assert_array_equal(c.normal[0], [1.0, 0.0])
+    assert np.all(np.isnan(c.normal[1]))
+
+
+@pytest.mark.parametrize(
+    ("r", "u"),
+    [
+        ([-0.10242798290336577, 0.9947404225818652], [-0.9947404222210048, -0.10242798640790038]),
+        ([-0.6262504937980549, -0.7796219077332887], [0.7796219114732363, -0.626250489142178]),
+    ],
+)
+def test_touching_pair_approaching_at_a_shallow_angle_touches_now(r, u):
+    # kills K44 (_kernels/collisions.py `gap <= 0.0` -> `gap < 0.0`): for a pair exactly touching
+    # (|r|^2 == sigma^2 in floats) the mutant fell through to the discriminant
+    # |u|^2 sigma^2 - |r x u|^2 = (r.u)^2 ~ 1e-17, which rounds below 0 here: inf ("never") instead
+    # of the documented 0 for a touching, approaching pair. Preconditions checked in floats.
+    r, u = np.array(r), np.array(u)
+    assert r @ r == 1.0 and r @ u < 0  # touching sigma = 1, approaching
+    assert float(ck.time_to_contact([0.0, 0.0], [0.0, 0.0], r, u, 1.0)) == 0.0
+    c = ck.collide(1.0, [0.0, 0.0], [0.0, 0.0], 1.0, r, u, 1.0)
+    assert bool(c.hit) and float(c.time) == 0.0

@@ -845,3 +845,89 @@ def test_methods_reject_bad_input():
         bound.time_at_separation(3.5)  # beyond apoastron 3
     with pytest.raises(ValueError, match="apoastron"):
         bound.contact(2.0, 2.0)
+
+
+# ------------------------------------------------------------------ edge cases found by a mutation audit
+
+
+@pytest.mark.parametrize(
+    ("r", "v"),
+    [([1.0, 0.0, 0.0], [0.0, 3.0, 0.0]), ([1.0, 0.0, 0.0], [0.0, -3.0, 0.0]), ([0.0, 2.0, 0.0], [0.1, 0.0, 0.8])],
+)
+def test_angular_momentum_vector_of_an_orbit_from_a_state_is_mu_r_cross_v(r, v):
+    # kills E06 (encounters.py:249 W = P x Q -> Q x P): from_state builds the basis from the state,
+    # and W must point along r x v (the orbit's own angular momentum), not against it.
+    # Independent value: J = mu r x v with mu = m1 m2 / (m1 + m2) = 0.5; r x v is exact here.
+    orbit = TwoBodyOrbit.from_state(1.0, 1.0, r, v)
+    np.testing.assert_allclose(orbit.angular_momentum_vector, 0.5 * np.cross(r, v), rtol=1e-14, atol=1e-15)
+    # and the propagated state keeps that direction
+    x, u = orbit.relative_state_at_time(0.3)
+    np.testing.assert_allclose(np.cross(x, u), np.cross(r, v), rtol=1e-12, atol=1e-12)
+
+
+@pytest.mark.parametrize(("k", "sign"), [(0.3, -1.0), (None, 1.0)])
+def test_semi_latus_rectum_is_positive_for_attraction_and_repulsion(k, sign):
+    # kills E27 (encounters.py:472 h^2 / |mu_K| -> h^2 / mu_K): for a repulsive orbit p came out
+    # negative. Independent: the conic r = p / (1 + sign e cos theta) at periastron gives
+    # p = r_p (1 + e) (attraction) or r_p (e - 1) (repulsion), with the module's
+    # e = |1 + r_p v_inf^2 / mu_K| (rel 1e-13: a few roundings). Repulsion: mu_K = -k / mu = -0.6,
+    # e = 2 / 0.6 - 1, p = 2 (e - 1) = 8 / 3; gravity: mu_K = 2, e = 2, p = 6.
+    m1, m2, rp, v_inf = 1.0, 1.0, 2.0, 1.0
+    orbit = Hyperbolic(m1, m2, periastron=rp, v_inf=v_inf, k=k) if k else Hyperbolic(m1, m2, periastron=rp, v_inf=v_inf)
+    mu_k = (m1 + m2) if k is None else -k * (m1 + m2) / (m1 * m2)
+    e = abs(1.0 + rp * v_inf**2 / mu_k)
+    expected = rp * (e + sign)
+    assert orbit.semi_latus_rectum > 0
+    assert orbit.semi_latus_rectum == pytest.approx(expected, rel=1e-13)
+
+
+def test_states_a_few_1e_9_off_the_orbit_are_refused():
+    # kills E43 (encounters.py:82 ON_ORBIT_TOLERANCE 1e-9 -> 1e-8): the documented tolerance is
+    # 1e-9 relative in energy or angular momentum. A velocity scaled by 1 + 3e-9 changes the
+    # energy by between 3e-9 and 6e-9 of its scale (v^2 / (v^2 / 2 + mu / r) lies in (1, 2)):
+    # refused; the orbit's own state (agreeing to ~1e-15) and one 1e-11 off are accepted.
+    orbit = Hyperbolic(1.0, 1.0, periastron=1.0, v_inf=1.0)
+    r, v = orbit.relative_state_at_time(-3.0)
+    assert orbit.time_since_periastron(r, v * (1 + 1e-11)) == pytest.approx(-3.0, rel=1e-8)
+    with pytest.raises(ValueError, match="not on this orbit"):
+        orbit.time_since_periastron(r, v * (1 + 3e-9))
+
+
+def test_parabolic_orbit_has_no_asymptotes_or_cross_sections():
+    # kills E44 (encounters.py:705 `beta >= 0` -> `beta > 0`): a parabola (v_inf = 0) must get the
+    # named "needs a hyperbolic orbit" error, not a ZeroDivisionError from 1 / v_inf^2.
+    parabola = TwoBodyOrbit(1.0, 1.0, periastron=1.0, eccentricity=1.0)
+    assert parabola.kind == "parabolic"
+    for call in (parabola.asymptotes, lambda: parabola.differential_cross_section(1.0),
+                 lambda: parabola.focusing_cross_section(0.5, 0.5)):
+        with pytest.raises(ValueError, match="hyperbolic"):
+            call()
+
+
+def test_repulsive_periastron_below_the_head_on_distance_is_refused():
+    # kills E51 (encounters.py:921 head-on distance 2 |mu_K| / v^2 -> |mu_K| / v^2).
+    # Independent: head-on, all of E = mu v^2 / 2 becomes k / r at the turning point:
+    # r = 2 k / (mu v^2) = 2 * 1 / (0.5 * 1) = 4 for m1 = m2 = 1, k = 1, v = 1.
+    with pytest.raises(ValueError, match="head-on"):
+        Hyperbolic(1.0, 1.0, periastron=3.0, v_inf=1.0, k=1.0)
+    ok = Hyperbolic(1.0, 1.0, periastron=4.0, v_inf=1.0, k=1.0)
+    assert ok.eccentricity == pytest.approx(1.0, abs=1e-15)  # exactly head-on: radial, e = 1
+
+
+def test_focusing_cross_section_needs_a_positive_contact_distance():
+    # kills E55 (encounters.py:1119 R1 + R2 range (0, inf] -> [0, inf]): documented R1 + R2 > 0.
+    with pytest.raises(ValueError, match=r"radius1 \+ radius2"):
+        focusing_cross_section(1.0, 1.0, 0.0, 0.0, 1.0)
+
+
+@pytest.mark.parametrize(("r", "D"), [(2.0, 1.0), (10.0, 3.0), (1.25, 0.5)])
+def test_parabolic_time_at_separation_from_barkers_equation(r, D):
+    # kills EK29 (_kernels/encounters.py:228 parabolic anomaly `2 * half` -> `half`): no test timed a
+    # separation on an exact parabola. Independent route, Barker's equation: with p = 2 r_p,
+    # r = r_p (1 + D^2), D = tan(theta / 2), and t = sqrt(p^3 / mu_K) (D + D^3 / 3) / 2.
+    # m1 = m2 = 1, G = 1: mu_K = 2, r_p = 1, p = 2. rel 1e-14: a few roundings on each side.
+    parabola = TwoBodyOrbit(1.0, 1.0, periastron=1.0, eccentricity=1.0)
+    assert parabola.kind == "parabolic"
+    expected = 0.5 * math.sqrt(2.0**3 / 2.0) * (D + D**3 / 3.0)
+    assert parabola.time_at_separation(r, branch="outbound") == pytest.approx(expected, rel=1e-14)
+    assert parabola.time_at_separation(r) == pytest.approx(-expected, rel=1e-14)

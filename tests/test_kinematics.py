@@ -233,3 +233,110 @@ def test_geometry_bad_input_names_arguments():
         ck.impact_angles_3d([0.0] * 2, [1.0, 0], [3.0, 0], [0.0] * 2, 1.0)
     with pytest.raises(ValueError, match="alpha"):
         ck.normal_from_impact_angles([1.0, 0.0, 0.0], -0.1)
+
+
+# ------------------------------------------------------------------ edge cases found by a mutation audit
+
+
+@pytest.mark.parametrize(("m1", "m2"), [(2.0, 3.0), (1e-3, 1e3), (7.0, 7.0)])
+def test_reduced_mass_is_the_harmonic_combination(m1, m2):
+    # kills KN01 (kinematics.py: `m1 * m2 / (m1 + m2)` -> `m1 / (m1 + m2)`).
+    # independent definition 1/mu = 1/m1 + 1/m2; two roundings each side -> rel 4 eps.
+    assert float(ck.reduced_mass(m1, m2)) == pytest.approx(1.0 / (1.0 / m1 + 1.0 / m2), rel=4e-16)
+    assert float(ck.reduced_mass(2.0, 3.0)) == pytest.approx(1.2, rel=4e-16)
+
+
+def test_reduced_mass_with_an_infinite_mass_is_the_finite_one_on_either_side():
+    # kills KN02 (kinematics.py: where(isinf(m1), m2, ...) -> where(isinf(m1), m1, ...)):
+    # a fixed body (inf) leaves the other's mass as reduced mass, whichever argument it is.
+    assert float(ck.reduced_mass(np.inf, 3.0)) == 3.0
+    assert float(ck.reduced_mass(3.0, np.inf)) == 3.0
+
+
+def test_kinetic_energy_of_a_massless_body_is_zero():
+    # kills KN09 (kinematics.py: m range [0, inf) -> (0, inf)): m = 0 is documented-valid input.
+    assert float(ck.kinetic_energy(0.0, [3.0, 4.0])) == 0.0
+    assert float(ck.kinetic_energy(2.0, [3.0, 4.0])) == 25.0  # m |v|^2 / 2, exact in binary
+
+
+def test_impact_angles_need_a_positive_contact_distance():
+    # kills KN14 (kinematics.py:210 contact_distance range (0, inf) -> [0, inf)): with sigma = 0
+    # the 2D angle divided by zero and returned NaN silently instead of a named error.
+    with pytest.raises(ValueError, match="contact_distance"):
+        ck.impact_angle_2d([0.0, 0.0], [1.0, 0.0], [3.0, 0.0], [0.0, 0.0], 0.0)
+    with pytest.raises(ValueError, match="contact_distance"):
+        ck.impact_angles_3d([0.0] * 3, [1.0, 0.0, 0.0], [3.0, 0.0, 0.0], [0.0] * 3, 0.0)
+
+
+@pytest.mark.parametrize("dimension", [2, 3])
+def test_overlapping_pair_sliding_past_has_no_impact_angle(dimension):
+    # kills KN16 (kinematics.py:215 `r.u > 0` -> `>= 0`) and KN21 (:268 `along > 0` -> `>= 0`):
+    # an overlapping pair whose relative velocity is perpendicular to the line of centres
+    # does not approach, so collide finds no hit (time inf); the angle must then be NaN,
+    # not +-pi/2.
+    x1, v2 = np.zeros(dimension), np.zeros(dimension)
+    x2 = np.zeros(dimension)
+    x2[0] = 0.5  # |r| = 0.5 < sigma = 1: overlapping
+    v1 = np.zeros(dimension)
+    v1[1] = 1.0  # r . u = 0
+    assert not bool(ck.collide(1.0, x1, v1, 1.0, x2, v2, 1.0).hit)
+    if dimension == 2:
+        assert math.isnan(float(ck.impact_angle_2d(x1, v1, x2, v2, 1.0)))
+    else:
+        alpha, phi = ck.impact_angles_3d(x1, v1, x2, v2, 1.0)
+        assert math.isnan(float(alpha)) and math.isnan(float(phi))
+
+
+@pytest.mark.parametrize(("height", "expected"), [(1.0, math.pi / 2), (-1.0, -math.pi / 2)])
+def test_grazing_pair_has_impact_angle_plus_minus_pi_over_2(height, expected):
+    # kills KN18 (kinematics.py:217 `|ratio| <= 1` -> `< 1`): impact parameter exactly sigma is a
+    # graze that collide resolves (time_to_contact documents one touch at tangency), and
+    # Smid's alpha = asin(d sin(gamma_xy - gamma_v) / sigma) = asin(+-1) = +-pi/2 (exact in floats).
+    args = ([0.0, 0.0], [1.0, 0.0], [5.0, height], [0.0, 0.0], 1.0)
+    assert bool(ck.collide(1.0, *args[:2], 1.0, *args[2:]).hit)
+    assert float(ck.impact_angle_2d(*args)) == expected
+
+
+def test_grazing_3d_pair_has_polar_angle_pi_over_2_and_its_azimuth():
+    # kills KN22 (kinematics.py:268 `b <= sigma` -> `b < sigma`) and KN20 (:231 e2 = u x e1 ->
+    # e1 x u): u = +x, offset of the centre +z, b = sigma = 1. alpha = pi/2 (graze);
+    # basis from the least aligned axis: e1 = +y, right-handed e2 = u x e1 = +z, so the line of
+    # centres +z has phi = atan2(1, 0) = pi/2 exactly.
+    args = ([0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [5.0, 0.0, 1.0], [0.0, 0.0, 0.0], 1.0)
+    assert bool(ck.collide(1.0, *args[:2], 1.0, *args[2:]).hit)
+    alpha, phi = ck.impact_angles_3d(*args)
+    assert float(alpha) == math.pi / 2
+    assert float(phi) == math.pi / 2
+
+
+@pytest.mark.parametrize("u", [[0.0, 0.0, 1.0], [1.0, 0.0, 0.0], [0.3, -1.2, 2.0], [-5.0, 0.1, 0.2]])
+def test_impact_angle_basis_is_right_handed(u):
+    # kills KN20 (kinematics.py:231 np.cross(unit, e1) -> np.cross(e1, unit)): the docstring of
+    # normal_from_impact_angles fixes (e1, e2, u_hat) right-handed: e1 x e2 = u_hat.
+    # e1 and e2 are read off as the normals at alpha = pi/2, phi = 0 and pi/2 (cos(pi/2) = 6e-17
+    # leaks u_hat into each, so the tolerance is 1e-15).
+    unit = np.asarray(u) / np.linalg.norm(u)
+    e1 = ck.normal_from_impact_angles(u, math.pi / 2, 0.0)
+    e2 = ck.normal_from_impact_angles(u, math.pi / 2, math.pi / 2)
+    np.testing.assert_allclose(np.cross(e1, e2), unit, atol=1e-15)
+
+
+@pytest.mark.parametrize("alpha", [2.0, -1.6])
+def test_2d_impact_angle_beyond_grazing_is_refused(alpha):
+    # kills KN25 (kinematics.py:303 2D range check of alpha removed): |alpha| > pi/2 would put the
+    # line of centres against the approach (no collision); documented range [-pi/2, pi/2].
+    with pytest.raises(ValueError, match="alpha"):
+        ck.normal_from_impact_angles([1.0, 0.0], alpha)
+    with pytest.raises(ValueError, match="alpha"):
+        kinematics.resolve_impact_angles(1.0, [1.0, 0.0], 1.0, [0.0, 0.0], alpha)
+
+
+def test_masses_must_be_positive_not_zero():
+    # kills A06 (_arrays.py: require_positive_masses `> 0` -> `>= 0`): a zero mass has no centre of
+    # mass share and no reduced mass; the documented contract is m > 0 (inf allowed).
+    with pytest.raises(ValueError, match="m1 must be positive"):
+        ck.centre_of_mass_velocity(0.0, [1.0, 0.0], 1.0, [0.0, 0.0])
+    with pytest.raises(ValueError, match="m2 must be positive"):
+        ck.reduced_mass(1.0, 0.0)
+    with pytest.raises(ValueError, match="m2"):
+        kinematics.energy_transfer_fraction(1.0, 1.0, 0.0)

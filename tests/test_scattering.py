@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 from hypothesis import given
 from hypothesis import strategies as st
+import scipy.constants as const
 from scipy import integrate, optimize
 
 import collisionkit as ck
@@ -114,12 +115,6 @@ def test_attraction_deflects_the_other_way_with_the_same_magnitude():
     assert float(scattering.coulomb_closest_approach(0.0, 1.0, 1.0, 1.0)) == 2.0
 
 
-def test_coulomb_strength_of_two_elementary_charges():
-    e = 1.602176634e-19
-    # e^2 / (4 pi eps0) = 2.307077e-28 J m (CODATA)
-    assert float(scattering.coulomb_strength(e, e)) == pytest.approx(2.307077552e-28, rel=1e-8)
-
-
 @pytest.mark.parametrize(
     ("call", "words"),
     [
@@ -135,3 +130,34 @@ def test_coulomb_strength_of_two_elementary_charges():
 def test_bad_input_is_named(call, words):
     with pytest.raises(ValueError, match=words):
         call()
+
+
+# ------------------------------------------------------------------ edge cases found by a mutation audit
+
+
+def test_rutherford_impact_parameter_rejects_zero_deflection():
+    # kills S10 (scattering.py:176 |chi| range (0, pi] -> [0, pi]): chi = 0 needs b = inf
+    # (cot 0); the function must name chi instead of dividing by zero.
+    with pytest.raises(ValueError, match="chi"):
+        scattering.rutherford_impact_parameter(0.0, 1.0, 1.0, 1.0)
+    with pytest.raises(ValueError, match="chi"):
+        scattering.rutherford_cross_section_above(0.0, 1.0, 1.0, 1.0)
+
+
+def test_coulomb_strength_of_two_elementary_charges_without_the_default_abs_tolerance():
+    # kills S07 (scattering.py:134 4 pi eps0 -> 2 pi eps0). The existing test compares 2.3e-28 with
+    # pytest.approx(..., rel=1e-8) whose default abs=1e-12 accepts ANY number below 1e-12, so a
+    # factor-2 error passed. Independent route: e^2 / (4 pi eps0) = alpha hbar c (definition of the
+    # fine-structure constant); in SI 2019 eps0 is derived from alpha, so both agree to ~1e-10.
+    e = const.e
+    k = float(scattering.coulomb_strength(e, e))
+    assert k == pytest.approx(2.307077552e-28, rel=1e-8, abs=0)  # CODATA 2018
+    assert k == pytest.approx(const.fine_structure * const.hbar * const.c, rel=1e-9, abs=0)
+
+
+@pytest.mark.parametrize("b", [0.0, 0.5, 2.0])
+def test_closest_approach_without_a_force_is_the_impact_parameter(b):
+    # kills S16 (scattering.py:235 `a >= 0` -> `a > 0`): with k = 0 the path is a straight line,
+    # whose closest approach to the centre is b (b = 0: through the centre, 0 -- the mutant
+    # gave 0/0 = NaN). a + sqrt(a^2 + b^2) with a = 0 is exactly b.
+    assert float(scattering.coulomb_closest_approach(b, 0.0, 1.0, 1.0)) == b
