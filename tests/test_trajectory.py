@@ -50,6 +50,26 @@ def test_gsd_frames_follow_the_hoomd_schema_in_3d(tmp_path):
     assert np.array_equal(frame.particles.mass, np.float32(system.mass))
 
 
+@pytest.mark.parametrize("system", [mixture_3d, discs_2d, lambda: mixture_3d(periodic=[True, False, True])])
+def test_gsd_images_unwrap_the_trajectory(tmp_path, system):
+    # position + image * L is the unwrapped path (HOOMD convention; freud and OVITO unwrap with it):
+    # the images were all zero, so a GSD file's MSD stopped growing at the box size
+    system = system()
+    system.run(collisions=40 * system.count)
+    assert np.abs(system.image).max() >= 1  # long enough that particles crossed the box
+    path = tmp_path / "run.gsd"
+    trajectory.write_gsd_frame(path, system, 0)
+    with gsd_hoomd.open(str(path), "r") as frames:
+        frame = frames[0]
+    dim, L = system.dim, system.box[: system.dim]
+    assert frame.particles.image.dtype == np.int32 and frame.particles.image.shape == (system.count, 3)
+    assert np.all(frame.particles.image[:, dim:] == 0)
+    assert np.all(frame.particles.image[:, :dim][:, ~np.asarray(system.periodic[:dim])] == 0)  # walls: no images
+    unwrapped = frame.particles.position[:, :dim] + frame.particles.image[:, :dim] * L
+    # float32 positions in [-L/2, L/2): half an ulp of L/2
+    np.testing.assert_allclose(unwrapped, system.positions(unwrapped=True) - L / 2, rtol=0, atol=4e-7 * L.max())
+
+
 def test_gsd_frames_in_2d_have_zero_z_and_lz(tmp_path):
     system = discs_2d()
     path = tmp_path / "discs.gsd"
@@ -141,7 +161,7 @@ def test_extended_xyz_header_and_exact_values_in_3d(tmp_path):
     path = trajectory.write_extended_xyz(tmp_path / "mixture.xyz", system, comment="two species")
     count, header, rows = parse_extended_xyz(path)
     assert count == 108
-    assert header["Properties"] == "species:S:1:pos:R:3:vel:R:3:radius:R:1:mass:R:1:type:S:1"
+    assert header["Properties"] == "species:S:1:pos:R:3:vel:R:3:momenta:R:3:radius:R:1:masses:R:1:type:S:1"
     assert header["pbc"] == "T F T"
     assert np.array(header["Lattice"].split(), dtype=float).reshape(3, 3) == pytest.approx(np.diag(system.box), abs=0)
     assert int(header["Step"]) == system.collisions == 300
@@ -152,7 +172,8 @@ def test_extended_xyz_header_and_exact_values_in_3d(tmp_path):
     values = np.array([row[1:-1] for row in rows], dtype=float)
     assert np.array_equal(values[:, 0:3], system.positions())  # 17 digits: exact round trip
     assert np.array_equal(values[:, 3:6], system.velocities())
-    assert np.array_equal(values[:, 6], system.radius) and np.array_equal(values[:, 7], system.mass)
+    assert np.array_equal(values[:, 6:9], system.mass[:, None] * system.velocities())
+    assert np.array_equal(values[:, 9], system.radius) and np.array_equal(values[:, 10], system.mass)
 
 
 def test_extended_xyz_of_discs_is_a_slab(tmp_path):
@@ -179,7 +200,8 @@ def test_ase_reads_the_extended_xyz_file(tmp_path, dim):
     np.testing.assert_array_equal(atoms.positions[:, :dim], system.positions())
     np.testing.assert_array_equal(atoms.arrays["vel"][:, :dim], system.velocities())
     np.testing.assert_array_equal(atoms.arrays["radius"], system.radius)
-    np.testing.assert_array_equal(atoms.arrays["mass"], system.mass)
+    np.testing.assert_array_equal(atoms.get_masses(), system.mass)  # ASE's names: not its dummy-atom mass
+    np.testing.assert_allclose(atoms.get_velocities()[:, :dim], system.velocities(), rtol=4e-16, atol=0)
     assert list(atoms.arrays["type"]) == list(np.asarray(trajectory.type_names(system.species))[system.species])
     assert list(atoms.pbc) == list(system.periodic) + ([False] if dim == 2 else [])
     assert np.diag(atoms.cell)[:dim] == pytest.approx(system.box[:dim], abs=0)

@@ -4,7 +4,9 @@ GSD is the binary format that HOOMD-blue writes and OVITO, freud, MDAnalysis
 and VMD read; writing it needs the optional ``gsd`` package
 (``pip install 'collisionkit[io]'``). Frames follow the HOOMD conventions:
 the box is centred on the origin (positions are shifted by -L/2), 2D frames
-have ``dimensions = 2``, ``Lz = 0`` and z = 0, and floats are stored in single
+have ``dimensions = 2``, ``Lz = 0`` and z = 0, ``particles/image`` counts the
+periodic crossings (``position + image * L`` unwraps the path, as freud's MSD
+and OVITO's unwrap modifier expect), and floats are stored in single
 precision as the HOOMD schema specifies (a checkpoint, not a trajectory, is
 the exact state).
 
@@ -14,7 +16,8 @@ nothing beyond numpy and is written atomically.
 Both writers take any object with the attributes of
 :class:`collisionkit.edmd.HardSphereSystem`: ``dim``, ``count``, ``box``,
 ``radius``, ``mass``, ``species``, ``periodic``, ``positions()``,
-``velocities()`` (and, for XYZ, ``elapsed`` and ``collisions``).
+``velocities()`` (and ``image`` for GSD, ``elapsed`` and ``collisions`` for
+XYZ).
 """
 
 from __future__ import annotations
@@ -33,7 +36,7 @@ __all__ = ["GSDWriter", "read_gsd", "truncate_gsd", "type_names", "write_extende
 
 # species X: ASE reads the species column as chemical symbols and X (its dummy atom) is the one for a
 # particle that is no element; the particle type ("A", "B", ... as in GSD files) has a column of its own
-_XYZ_PROPERTIES = "species:S:1:pos:R:3:vel:R:3:radius:R:1:mass:R:1:type:S:1"
+_XYZ_PROPERTIES = "species:S:1:pos:R:3:vel:R:3:momenta:R:3:radius:R:1:masses:R:1:type:S:1"
 _XYZ_SPECIES = "X"
 
 
@@ -75,14 +78,23 @@ def type_names(species):
     return [letters[i] if i < len(letters) else f"T{i}" for i in range(int(species.max()) + 1)]
 
 
-def _centred_positions(system):
-    """Positions in the HOOMD box [-L/2, L/2), padded to 3 columns, single precision."""
+def _centred_positions_and_images(system):
+    """Positions in the HOOMD box [-L/2, L/2) (3 columns, single precision) and image counters.
+
+    ``position + image * L`` is the unwrapped trajectory (HOOMD's
+    convention, which freud and OVITO use to unwrap), shifted by -L/2 like
+    the positions.
+    """
     dim = system.dim
     box = np.asarray(system.box[:dim], dtype=float)
     centred = (system.positions() - box / 2.0).astype(np.float32)
     half = (box / 2.0).astype(np.float32)
-    centred = np.where(centred >= half, centred - box.astype(np.float32), centred)  # round-off at +L/2
-    return _pad(centred)
+    rounded_up = centred >= half  # round-off at +L/2: the particle's next image
+    centred = np.where(rounded_up, centred - box.astype(np.float32), centred)
+    image = np.asarray(system.image, dtype=np.int64) + rounded_up
+    if np.any(np.abs(image) > np.iinfo(np.int32).max):
+        raise OverflowError("an image counter does not fit GSD's int32 (a particle crossed the box 2^31 times)")
+    return _pad(centred), _pad(image, np.int32)
 
 
 def _pad(array, dtype=np.float32):
@@ -103,7 +115,7 @@ def _gsd_frame(system, step):
     frame.particles.N = system.count
     frame.particles.types = type_names(system.species)
     frame.particles.typeid = np.asarray(system.species, dtype=np.uint32)
-    frame.particles.position = _centred_positions(system)
+    frame.particles.position, frame.particles.image = _centred_positions_and_images(system)
     frame.particles.velocity = _pad(system.velocities())
     frame.particles.diameter = (2.0 * np.asarray(system.radius)).astype(np.float32)
     frame.particles.mass = np.asarray(system.mass, dtype=np.float32)
@@ -362,16 +374,19 @@ def write_extended_xyz(path, system, comment=None):
     """Write the system's current state as one extended-XYZ frame (atomically).
 
     The header line holds ``Lattice`` (the box as 3 cell vectors),
-    ``Properties=species:S:1:pos:R:3:vel:R:3:radius:R:1:mass:R:1:type:S:1``,
+    ``Properties=species:S:1:pos:R:3:vel:R:3:momenta:R:3:radius:R:1:masses:R:1:type:S:1``,
     ``pbc`` (periodic axes "T", walls "F"), ``Time`` (simulated time) and
     ``Step`` (pair collisions); each particle line the species ``X`` (ASE's
     dummy atom: a hard sphere is no element), position in [0, L), velocity,
-    radius, mass and the particle type ("A", "B", ..., as in GSD files),
-    numbers written with 17 significant digits (exact round trip). 2D
-    systems get z = 0, a third cell vector one diameter long and pbc "F"
-    along z. ASE reads the file with ``ase.io.read(path)``: positions, cell
-    and pbc, ``atoms.arrays["vel"]``, ``["radius"]``, ``["mass"]`` and
-    ``["type"]``, and Time and Step in ``atoms.info``.
+    momentum m v, radius, mass and the particle type ("A", "B", ..., as in
+    GSD files), numbers written with 17 significant digits (exact round
+    trip). 2D systems get z = 0, a third cell vector one diameter long and
+    pbc "F" along z. ``momenta`` and ``masses`` are ASE's own names, so
+    ``atoms = ase.io.read(path)`` gives ``atoms.get_masses()`` and
+    ``atoms.get_velocities()`` (to round-off; the exact velocities are
+    ``atoms.arrays["vel"]``), with positions, cell, pbc,
+    ``atoms.arrays["radius"]`` and ``["type"]``, and Time and Step in
+    ``atoms.info``.
 
     Parameters
     ----------
@@ -399,7 +414,8 @@ def write_extended_xyz(path, system, comment=None):
     header = _xyz_header(system, comment)
     names = np.asarray(type_names(system.species))[np.asarray(system.species)]
     positions, velocities = _pad(system.positions(), float), _pad(system.velocities(), float)
-    columns = np.column_stack([positions, velocities, system.radius, system.mass])
+    masses = np.asarray(system.mass, dtype=float)
+    columns = np.column_stack([positions, velocities, masses[:, None] * velocities, system.radius, masses])
     body = "\n".join(
         f"{_XYZ_SPECIES} " + " ".join(f"{value:.17g}" for value in row) + f" {name}" for name, row in zip(names, columns)
     )
