@@ -155,3 +155,22 @@ def test_a_file_that_is_not_gsd_or_json_is_an_input_error(tmp_path):
     bad_json.write_text('{"m1": 1.0}')
     result = runner.invoke(app, ["animate", "--initial-conditions", str(bad_json), "--out", str(tmp_path / "c.gif")])
     assert result.exit_code == 2 and "lacks m2" in said(result)
+
+
+def test_a_trajectory_of_one_frame_warns_on_stderr(tmp_path):
+    # edmd --trajectory without --frame-every writes only the last frame: the GIF was a still, with no word said
+    path = tmp_path / "one.gsd"
+    with GSDWriter(path) as writer:
+        writer.write(random_fluid(2, 24, 0.3, rng=4), step=0)
+    result = runner.invoke(app, ["animate", "--trajectory", str(path), "--out", str(tmp_path / "one.gif"), "--dpi", "30"],
+                           env={"COLUMNS": "400"})
+    assert result.exit_code == 0, result.output
+    warning = " ".join(result.stderr.split())
+    assert f"warning: {path} holds a single frame" in warning and "edmd --trajectory FILE.gsd --frame-every N" in warning
+    assert "(1 frame)" in result.stdout
+
+
+def test_a_trajectory_of_several_frames_does_not_warn(tmp_path, trajectory):
+    result = runner.invoke(app, ["animate", "--trajectory", str(trajectory), "--out", str(tmp_path / "a.gif"), "--dpi", "30"])
+    assert result.exit_code == 0, result.output
+    assert "warning" not in result.output

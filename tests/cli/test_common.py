@@ -45,28 +45,30 @@ def test_a_missing_extra_stops_the_command_before_any_work(arguments, module, ex
 
 
 @pytest.mark.parametrize(
-    "arguments",
+    ("arguments", "reason"),
     [
-        ["edmd", "--summary", "{folder}"],
-        ["edmd", "--checkpoint", "{folder}"],
-        ["edmd", "--xyz", "{folder}"],
-        ["edmd", "--summary", "{file}/below-a-file.json"],
-        ["edmd", "--out", "{file}"],
-        ["slab", "--summary", "{folder}"],
-        ["encounter", "--out", "{file}"],
-        ["demo", "--pairs", "1000", "--out", "{file}"],
-        ["animate", "--out", "{folder}"],
+        (["edmd", "--summary", "{folder}"], "is a folder: give a file name"),
+        (["edmd", "--checkpoint", "{folder}"], "is a folder: give a file name"),
+        (["edmd", "--xyz", "{folder}/../frames.xyz"], None),
+        (["edmd", "--summary", "{file}/below-a-file.json"], "a-file is a file, not a folder"),
+        (["edmd", "--out", "{file}"], "a-file is a file, not a folder"),
+        (["slab", "--summary", "{folder}"], "is a folder: give a file name"),
+        (["encounter", "--out", "{file}"], "a-file is a file, not a folder"),
+        (["demo", "--pairs", "1000", "--out", "{file}"], "a-file is a file, not a folder"),
+        (["animate", "--out", "{folder}"], None),
     ],
 )
-def test_an_output_path_that_cannot_be_written_stops_the_command_before_any_work(arguments, tmp_path):
-    folder, file = tmp_path / "a-folder", tmp_path / "a-file"
+def test_an_output_path_that_cannot_be_written_stops_the_command_before_any_work(arguments, reason, tmp_path):
+    folder, file = tmp_path / "a-place", tmp_path / "a-file"
     folder.mkdir()
+    (tmp_path / "frames.xyz").mkdir()  # a folder where --xyz would write its file
     file.write_text("taken")
     arguments = [argument.format(folder=folder, file=file) for argument in arguments]
     result = runner.invoke(app, [*arguments, "--particles", "108"] if arguments[0] == "edmd" else arguments,
                            env={"COLUMNS": "200"})
     assert result.exit_code == 2, result.output
-    assert "folder" in result.output or "file" in result.output
+    said = " ".join(result.output.split())
+    assert (reason or "is a folder") in said, said
     assert file.read_text() == "taken" and not any(folder.iterdir())  # nothing written
 
 
@@ -93,3 +95,33 @@ def test_config_values_of_the_wrong_type_are_refused_not_coerced(tmp_path, line,
     result = runner.invoke(app, ["edmd", "--config", str(config)], env={"COLUMNS": "200"})
     assert result.exit_code == 2, result.output
     assert option in result.output
+
+
+def test_an_unknown_config_key_comes_with_the_closest_names_and_the_valid_ones(tmp_path):
+    config = tmp_path / "run.toml"
+    config.write_text("particle = 100\n")
+    result = runner.invoke(app, ["edmd", "--config", str(config)], env={"COLUMNS": "400"})
+    assert result.exit_code == 2, result.output
+    said = " ".join(result.output.split())
+    assert "unknown option 'particle'; did you mean 'particles'?" in said
+    assert "packing-fraction" in said and "frame-every" in said  # the valid options, spelled as on the command line
+
+
+@pytest.mark.parametrize(
+    ("arguments", "config", "sentence"),
+    [
+        (["swarm", "--model", "reid", "--cross-sections", "{tmp}/x.txt"], None,
+         "error: invalid options: give exactly one of --model and --cross-sections"),
+        (["edmd"], 'plots = "no"\n', "error: invalid options: plots must be true or false, not 'no'"),
+        (["swarm", "--model", "reid", "--E-N=-1"], None,
+         "error: invalid options: e_n: E/N values must be finite and >= 0 Td (got [-1.0])"),
+    ],
+)
+def test_a_broken_rule_is_one_clean_sentence(tmp_path, arguments, config, sentence):
+    # no pydantic "Value error, " prefix and no dump of every option
+    if config is not None:
+        (tmp_path / "run.toml").write_text(config)
+        arguments = [*arguments, "--config", str(tmp_path / "run.toml")]
+    result = runner.invoke(app, [argument.format(tmp=tmp_path) for argument in arguments], env={"COLUMNS": "400"})
+    assert result.exit_code == 2, result.output
+    assert result.output.strip() == sentence

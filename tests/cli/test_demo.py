@@ -70,3 +70,16 @@ def test_bad_option_value_exits_with_2(tmp_path):
     result = runner.invoke(app, ["demo", "--config", str(tmp_path / "missing.toml")])
     assert result.exit_code == 2
     assert "not found" in result.output
+
+
+def test_help_shows_no_docstring_examples():
+    # the demo's --help printed its numpydoc Examples (a doctest); the docstring keeps them for the doc tests
+    import typer.main
+
+    for name in typer.main.get_command(app).commands:
+        result = runner.invoke(app, [name, "--help"], env={"COLUMNS": "200"})
+        assert result.exit_code == 0, name
+        assert ">>>" not in result.output and "Examples" not in result.output, name
+    from collisionkit.cli import demo
+
+    assert "Examples" in demo.__doc__

@@ -237,3 +237,25 @@ def test_resume_refuses_a_checkpoint_of_another_engine_format(tmp_path):
     result = invoke("--resume", checkpoint)
     assert result.exit_code == 2
     assert "engine format 1" in " ".join(result.output.split())
+
+
+@pytest.mark.parametrize(
+    ("option", "name", "words"),
+    [
+        ("--trajectory", "out.xyz", "--trajectory must end in .gsd"),
+        ("--trajectory", "out", "--trajectory must end in .gsd"),
+        ("--xyz", "out.gsd", "--xyz must end in .xyz or .extxyz"),
+        ("--xyz", "out.txt", "--xyz must end in .xyz or .extxyz"),
+    ],
+)
+def test_an_output_file_named_for_another_format_is_refused(tmp_path, option, name, words):
+    # GSD went into out.xyz and text into out.gsd, silently
+    result = invoke(*SMALL, option, tmp_path / name, "--summary", tmp_path / "s.json")
+    assert result.exit_code == 2, result.output
+    assert words in " ".join(result.output.split())
+    assert not any(tmp_path.iterdir())  # nothing ran
+
+
+def test_output_suffixes_are_matched_without_case():
+    options = _edmd.EdmdOptions.model_validate({"trajectory": "run.GSD", "xyz": "final.extxyz"})
+    assert options.trajectory.name == "run.GSD" and options.xyz.name == "final.extxyz"

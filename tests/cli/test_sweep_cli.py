@@ -171,3 +171,23 @@ def test_a_killed_client_resumes_to_the_serial_table(tmp_path, dask_client):
         result = invoke(study, "--out", out, "--scheduler", dask_client.scheduler.address, "--resume")
     assert result.exit_code == 0, result.output
     assert physics_columns(read_table(out / "results.csv")) == physics_columns(read_table(tmp_path / "serial" / "results.csv"))
+
+
+@pytest.mark.parametrize(
+    ("option", "where", "words"),
+    [
+        ("--out", "{file}", "--out {file} is a file, not a folder"),
+        ("--out", "{file}/below", "cannot be written: {file} is a file"),
+        ("--summary", "{file}/below.json", "cannot be written: {file} is a file"),
+    ],
+)
+def test_an_output_that_cannot_be_written_exits_with_2_before_any_point_runs(tmp_path, option, where, words):
+    # --out on a file gave a FileExistsError traceback (exit 1), below a file a NotADirectoryError
+    taken = tmp_path / "taken"
+    taken.write_text("x")
+    arguments = ["--out", tmp_path / "out"] if option == "--summary" else []
+    result = invoke(study_file(tmp_path, small_edmd_toml()), *arguments, option, where.format(file=taken))
+    assert result.exit_code == 2, result.output
+    assert words.format(file=taken) in " ".join(result.output.split())
+    assert "Traceback" not in result.output
+    assert taken.read_text() == "x" and not (tmp_path / "out").exists()

@@ -105,3 +105,29 @@ def test_a_slab_summary_s_options_read_back_as_the_same_options(tmp_path):
 def test_slab_refuses_options_the_rod_model_ignores():
     result = runner.invoke(app, ["slab", "--model", "rod", "--incidence", "isotropic"], env={"COLUMNS": "200"})
     assert result.exit_code == 2 and "rod model is one-dimensional" in " ".join(result.output.split())
+
+
+def test_swarm_refuses_species_and_fractions_with_a_model_gas():
+    # they choose gases of an LXCat file; with --model they were ignored in silence
+    quick = ["--E-N", "1", "--particles", "128", "--collision-budget", "1e4"]
+    for extra in (["--species", "Ar"], ["--fractions", "0.5"]):
+        result = runner.invoke(app, ["swarm", "--model", "reid", *extra, *quick], env={"COLUMNS": "200"})
+        assert result.exit_code == 2, result.output
+        assert "--species and --fractions pick gases from an LXCat file (--cross-sections)" in result.output
+
+
+def test_a_single_value_in_the_config_is_a_list_of_one(tmp_path):
+    from collisionkit.cli._common import load_options
+    from collisionkit.cli._transport import SwarmOptions
+
+    config = tmp_path / "swarm.toml"
+    config.write_text("E_N = 5\n")  # --E-N 5 works; the config said "Input should be a valid list"
+    assert load_options(SwarmOptions, config, {"model": "reid"}).e_n == [5.0]
+    config.write_text('species = "Ar"\nfractions = 1\n')
+    options = load_options(SwarmOptions, config, {"cross_sections": DATA / "lxcat_classic_reid.txt"})
+    assert options.species == ["Ar"] and options.fractions == [1.0]
+    for value in ('"5"', "true", '["5"]', "[5, true]"):  # a string or a bool is not a number, in a list or not
+        config.write_text(f"E_N = {value}\n")
+        result = runner.invoke(app, ["swarm", "--model", "reid", "--config", str(config)], env={"COLUMNS": "200"})
+        assert result.exit_code == 2, result.output
+        assert "e-n must be a number or a list of numbers" in result.output

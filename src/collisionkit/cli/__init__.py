@@ -58,7 +58,7 @@ def demo(
     summary: SummaryOption = None,
     config: ConfigOption = None,
 ):
-    """Run every capability at small size: a summary table, plots and summary.json.
+    """Run every capability at small size: a summary table, plots and summary.json.\f
 
     Examples
     --------

@@ -8,8 +8,9 @@ from typing import Annotated, ClassVar, Literal
 
 import typer
 from pydantic import Field
+from rich.markup import escape
 
-from ._common import Options, console, fail, load_options, progress_bar, require, require_gsd, write_summary
+from ._common import Options, console, error_console, fail, load_options, progress_bar, require, require_gsd, write_summary
 
 ColourName = Literal["speed", "species", "none"]
 ENCOUNTER_KEYS = ("m1", "m2", "rp", "vinf", "sep0")
@@ -71,17 +72,25 @@ def _source(options: AnimateOptions) -> str:
 
 
 def _trajectory_animation(options: AnimateOptions):
+    """The animation of a GSD trajectory, with a warning if the file holds a single frame."""
     from .. import plotting
+    from ..trajectory import read_gsd
 
     path = options.trajectory
     if not path.is_file():
         raise fail(f"trajectory file not found: {path}")
     try:
-        return plotting.animate_gsd(path, colour_by=options.colour, every=options.every, max_frames=options.frames)
+        animation = plotting.animate_gsd(path, colour_by=options.colour, every=options.every, max_frames=options.frames)
+        frames = read_gsd(path, frame=0)["frames"]
     except ImportError as error:
         raise fail(str(error)) from None
     except (OSError, RuntimeError, ValueError, KeyError) as error:
         raise fail(f"cannot read the GSD trajectory {path}: {error}") from None
+    if frames == 1:
+        message = (f"{path} holds a single frame, so the animation is a still picture; "
+                   "'collisionkit edmd --trajectory FILE.gsd --frame-every N' writes a frame every N pair collisions")
+        error_console.print(f"[bold yellow]warning:[/] {escape(message)}")
+    return animation
 
 
 def _encounter_parameters(options: AnimateOptions, source: str) -> dict:
@@ -195,7 +204,7 @@ def animate(
         "colour": options.colour,
     }
     write_summary(options.summary, result)
-    console.print(f"wrote {path} ({total} frames)")
+    console.print(f"wrote {path} ({total} frame{'' if total == 1 else 's'})")
 
 
 def register(app: typer.Typer) -> None:

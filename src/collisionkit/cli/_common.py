@@ -9,6 +9,7 @@
 
 from __future__ import annotations
 
+import difflib
 import importlib.util
 import os
 import tomllib
@@ -53,15 +54,23 @@ class Options(BaseModel):
     def _no_loose_types(cls, values: Any) -> Any:
         """Refuse what pydantic would coerce: a bool or a string for a number, a non-bool for a flag.
 
-        (``seed = true`` became seed 1, ``packing-fraction = "0.3"`` 0.3 and ``plots = "yes"`` True.)
+        (``seed = true`` became seed 1, ``packing-fraction = "0.3"`` 0.3, ``plots = "yes"`` True and
+        ``E-N = ["5"]`` [5.0].) A single value of a list option (``E-N = 5``, ``species = "Ar"``) is a list of one.
         """
         if not isinstance(values, dict):
             return values
+        values = dict(values)
         for key, value in values.items():
             field = cls.model_fields.get(key) or cls.model_fields.get(str(key).replace("-", "_"))
             if field is None:
                 continue
-            kinds = _plain_types(field.annotation)
+            kinds, item = _plain_types(field.annotation), _list_item(field.annotation)
+            single = (int, float) if item is float else item
+            if item is not None and isinstance(value, single) and not isinstance(value, bool):
+                value = values[key] = [value]
+            entries = value if isinstance(value, list) else [value]
+            if item in (int, float) and any(isinstance(entry, (bool, str)) for entry in entries):
+                raise ValueError(f"{_dashed(str(key))} must be a number or a list of numbers, not {value!r}")
             if kinds & {int, float} and not kinds & {str, bool} and isinstance(value, (bool, str)):
                 raise ValueError(f"{_dashed(str(key))} must be a number, not {value!r}")
             if kinds == {bool} and not isinstance(value, bool):
@@ -77,6 +86,15 @@ def _plain_types(annotation: Any) -> set:
         base = get_args(annotation)[0] if get_args(annotation) else None
         return {base} if get_origin(annotation) is not list and isinstance(base, type) else set()
     return {annotation} if isinstance(annotation, type) else set()
+
+
+def _list_item(annotation: Any) -> type | None:
+    """The item type of a list option: float for ``list[float] | None``; None for any other option."""
+    if get_origin(annotation) in (Union, types.UnionType):
+        items = {_list_item(argument) for argument in get_args(annotation)} - {None}
+        return items.pop() if len(items) == 1 else None
+    arguments = get_args(annotation)
+    return arguments[0] if get_origin(annotation) is list and arguments and isinstance(arguments[0], type) else None
 
 
 def fail(message: str) -> typer.Exit:
@@ -126,13 +144,30 @@ def read_toml(path: Path) -> dict[str, Any]:
         raise fail(f"config file {path} is not valid TOML: {error}") from None
 
 
-def _describe(error: Mapping[str, Any]) -> str:
-    """One line for one pydantic error; a rule between options speaks for itself (no echo of every value)."""
+def _describe(error: Mapping[str, Any], model: type[Options] | None = None) -> str:
+    """One line for one pydantic error; a rule between options speaks for itself (no echo of every value).
+
+    An unknown option of ``model`` comes with the closest valid names and the list of them all.
+
+    Examples
+    --------
+    >>> class Run(Options):
+    ...     particles: int = 500
+    ...     plots: bool = True
+    >>> _describe({"loc": ("particle",), "type": "extra_forbidden", "msg": "", "input": 100}, Run)
+    "unknown option 'particle'; did you mean 'particles'? (options: particles, plots)"
+    """
     where = ".".join(str(part) for part in error["loc"])
     if error["type"] == "extra_forbidden":
-        return f"unknown option {where!r}"
-    if not where and error["type"] == "value_error":
-        return str(error["ctx"]["error"])
+        if model is None:
+            return f"unknown option {where!r}"
+        names = sorted(_dashed(name) for name in model.model_fields)
+        close = difflib.get_close_matches(_dashed(where), names, n=3)
+        guess = f"; did you mean {' or '.join(repr(name) for name in close)}?" if close else ""
+        return f"unknown option {where!r}{guess} (options: {', '.join(names)})"
+    if error["type"] == "value_error":  # our own rules: their message without pydantic's "Value error, "
+        message = str(error["ctx"]["error"])
+        return f"{where}: {message} (got {error.get('input')!r})" if where else message
     return f"{where or 'options'}: {error['msg']} (got {error.get('input')!r})"
 
 
@@ -161,7 +196,7 @@ def load_options(model: type[Options], config: Path | None, given: Mapping[str, 
     try:
         options = model.model_validate(values)
     except ValidationError as error:
-        details = "; ".join(_describe(item) for item in error.errors())
+        details = "; ".join(_describe(item, model) for item in error.errors())
         raise fail(f"invalid options: {details}") from None
     for name in model.output_files:
         check_output_file(getattr(options, name), f"--{_dashed(name)}")
@@ -176,11 +211,13 @@ def _field_name(model: type[Options], key: str) -> str:
     return name.lower() if name not in model.model_fields and name.lower() in model.model_fields else name
 
 
-def _writable_folder(folder: Path) -> Path | None:
-    """The nearest existing folder at or above ``folder`` (the writers create the rest), if it can be written."""
+def _unwritable(folder: Path) -> str | None:
+    """Why files cannot be written in ``folder`` (the writers make its missing part), or None if they can."""
     while not folder.exists() and folder != folder.parent:
         folder = folder.parent
-    return folder if folder.is_dir() and os.access(folder, os.W_OK | os.X_OK) else None
+    if not folder.is_dir():
+        return f"{folder} is a file, not a folder"
+    return None if os.access(folder, os.W_OK | os.X_OK) else f"{folder} is read-only"
 
 
 def check_output_file(path: Path | None, option: str) -> None:
@@ -201,8 +238,9 @@ def check_output_file(path: Path | None, option: str) -> None:
     path = Path(path)
     if path.is_dir():
         raise fail(f"{option} {path} is a folder: give a file name")
-    if _writable_folder(path.parent) is None:
-        raise fail(f"{option} {path} cannot be written: its folder is missing and cannot be made, or is read-only")
+    reason = _unwritable(path.parent)
+    if reason is not None:
+        raise fail(f"{option} {path} cannot be written: {reason}")
 
 
 def check_output_folder(path: Path | None, option: str) -> None:
@@ -224,8 +262,9 @@ def check_output_folder(path: Path | None, option: str) -> None:
     path = Path(path)
     if path.exists() and not path.is_dir():
         raise fail(f"{option} {path} is a file, not a folder")
-    if _writable_folder(path) is None:
-        raise fail(f"{option} {path} cannot be written: it cannot be made, or is read-only")
+    reason = _unwritable(path)
+    if reason is not None:
+        raise fail(f"{option} {path} cannot be written: {reason}")
 
 
 def write_summary(path: Path | None, summary: Mapping[str, Any]) -> None:

@@ -43,6 +43,7 @@ EQUILIBRATION_PER_PARTICLE = 20
 COLLISIONS_PER_PARTICLE = 200
 MIN_CHUNK = 10_000
 CHECKPOINT_FORMAT = 1
+OUTPUT_SUFFIXES = {"trajectory": (".gsd",), "xyz": (".xyz", ".extxyz")}  # the formats --trajectory and --xyz write
 
 
 class EdmdOptions(Options):
@@ -80,6 +81,10 @@ class EdmdOptions(Options):
             raise ValueError(f"collisions must be >= blocks ({self.blocks}); got {self.collisions}")
         if self.frame_every is not None and self.trajectory is None:
             raise ValueError("--frame-every needs --trajectory FILE.gsd to write the frames to")
+        for name, suffixes in OUTPUT_SUFFIXES.items():
+            path = getattr(self, name)
+            if path is not None and path.suffix.lower() not in suffixes:
+                raise ValueError(f"--{name} must end in {' or '.join(suffixes)} (the format it writes); got {str(path)!r}")
         return self
 
 

@@ -17,7 +17,10 @@ import typer
 
 from pydantic import ValidationError
 
-from ._common import _describe, _field_name, console, error_console, fail, print_table, progress_bar, write_summary
+from ._common import (
+    _describe, _field_name, check_output_file, check_output_folder, console, error_console, fail, print_table,
+    progress_bar, write_summary,
+)
 
 INTERRUPTED_EXIT_CODE = 130
 FAILED_POINTS_EXIT_CODE = 1
@@ -60,7 +63,7 @@ def _check_points(study, path: Path) -> None:
         try:
             model.model_validate(values)
         except ValidationError as error:
-            details = "; ".join(_describe(item) for item in error.errors())
+            details = "; ".join(_describe(item, model) for item in error.errors())
             raise fail(f"invalid study {path}: the point {dict(parameters)} is refused by "
                        f"'collisionkit {study.command}': {details}") from None
 
@@ -169,6 +172,8 @@ def sweep(
     from .. import sweep as core
 
     out = out if out is not None else Path("sweep-output")
+    check_output_folder(out, "--out")
+    check_output_file(summary, "--summary")
     parsed = _load(study, out, resume)
     total = len(core.expand(parsed)) * parsed.replicas
     try:

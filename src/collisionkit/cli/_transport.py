@@ -43,6 +43,9 @@ class SwarmOptions(Options):
     def _one_gas(self):
         if (self.model is None) == (self.cross_sections is None):
             raise ValueError("give exactly one of --model and --cross-sections")
+        if self.model is not None and (self.species is not None or self.fractions is not None):
+            raise ValueError("--species and --fractions pick gases from an LXCat file (--cross-sections); "
+                             f"the model gas {self.model} takes neither")
         return self
 
 
