@@ -61,21 +61,21 @@ def test_slab_summary_has_transmission_reflection_and_errors(tmp_path):
 
 def test_swarm_warns_when_the_collision_budget_stops_a_run_before_the_tolerance(tmp_path):
     summary = tmp_path / "swarm.json"
-    result = runner.invoke(app, ["swarm", "--model", "maxwell", "--E-N", "0", "--particles", "500",
+    result = runner.invoke(app, ["swarm", "--model", "maxwell", "--E-N", "1", "--particles", "500",
                                  "--collision-budget", "1e5", "--summary", str(summary)])
     assert result.exit_code == 0, result.output
     (entry,) = json.loads(summary.read_text())["results"]
     assert entry["converged"] is False
     output = " ".join(result.output.split())
-    assert "warning: E/N = 0 Td stopped at the collision budget" in output
+    assert "warning: E/N = 1 Td stopped at the collision budget" in output
     assert "larger --collision-budget" in output
 
 
 def test_swarm_and_slab_summaries_record_the_options(tmp_path):
     summary = tmp_path / "swarm.json"
-    result = runner.invoke(app, ["swarm", "--model", "maxwell", "--E-N", "0", "--particles", "500", "--seed", "5",
-                                 "--tolerance", "0.1", "--collision-budget", "1e5", "--sharing", "uniform",
-                                 "--summary", str(summary)])
+    result = runner.invoke(app, ["swarm", "--model", "maxwell", "--E-N", "0", "--gas-temperature", "300",
+                                 "--particles", "500", "--seed", "5", "--tolerance", "0.1", "--collision-budget", "1e5",
+                                 "--sharing", "uniform", "--summary", str(summary)])
     assert result.exit_code == 0, result.output
     options = json.loads(summary.read_text())["options"]
     assert options["model"] == "maxwell" and options["e_n"] == [0.0] and options["particles"] == 500
@@ -131,3 +131,15 @@ def test_a_single_value_in_the_config_is_a_list_of_one(tmp_path):
         result = runner.invoke(app, ["swarm", "--model", "reid", "--config", str(config)], env={"COLUMNS": "200"})
         assert result.exit_code == 2, result.output
         assert "e-n must be a number or a list of numbers" in result.output
+
+
+def test_swarm_at_zero_field_needs_a_warm_gas_and_then_converges_without_a_drift_tolerance(tmp_path):
+    # E/N = 0 at 0 K has no steady state: a user's run took its whole 5e8-collision budget (25 min) for nothing
+    result = runner.invoke(app, ["swarm", "--model", "reid", "--E-N", "0"], env={"COLUMNS": "200"})
+    assert result.exit_code == 2 and "no steady state" in " ".join(result.output.split())
+    summary = tmp_path / "thermal.json"
+    result = runner.invoke(app, ["swarm", "--model", "maxwell", "--E-N", "0", "--gas-temperature", "3000",
+                                 "--particles", "500", "--tolerance", "0.02", "--summary", str(summary)])
+    assert result.exit_code == 0, result.output
+    (entry,) = json.loads(summary.read_text())["results"]
+    assert entry["converged"] is True  # the drift (zero by symmetry) had a relative tolerance it could never meet

@@ -13,6 +13,7 @@ from scipy import constants, stats
 from collisionkit.transport import (
     Gas, Process, Species, hard_sphere_gas, lucas_saelee, maxwell_model, read_lxcat, reid_ramp, simulate_swarm,
 )
+from collisionkit.transport import swarm as swarm_module
 from collisionkit.transport.swarm import HUXLEY, REFERENCE_DENSITY, TOWNSEND
 
 E = constants.e
@@ -338,3 +339,21 @@ def test_the_energy_distribution_of_a_thermalised_swarm_is_maxwellian():
     maxwellian = special.gammainc(1.5, upper_edges / kT)  # the CDF of the energy with 3 degrees of freedom
     assert np.abs(empirical - maxwellian)[:-1].max() < 0.02  # 0.003 measured; the bug gave ~1
     assert (r.eedf * r.eedf_energy).sum() * step == pytest.approx(1.5 * kT, rel=0.02)
+
+
+def test_an_undriven_swarm_needs_a_warm_gas_and_takes_no_drift_tolerance(monkeypatch):
+    # with no field and no gravity nothing heats the swarm: at 0 K it cools forever (a run used its whole budget)
+    with pytest.raises(ValueError, match="no steady state"):
+        simulate_swarm(maxwell_model(RATE, mass=LIGHT_GAS), 0.0, particles=500, threads=1)
+    with pytest.raises(ValueError, match="no steady state"):
+        simulate_swarm(maxwell_model(RATE, mass=LIGHT_GAS), 5.0, charge=0.0, particles=500, threads=1)
+    with pytest.raises(ValueError, match=r"tolerances\['drift_velocity_bulk'\] cannot be met"):
+        simulate_swarm(maxwell_model(RATE, mass=LIGHT_GAS), 0.0, gas_temperature=300.0, particles=500, threads=1,
+                       tolerances={"drift_velocity_bulk": 0.01})
+    # in a warm gas it thermalises: the default tolerances, less the drift's, are met; <e> = 3 kT / 2
+    # (defaults shortened to the mean energy and the drift here, so the run is quick)
+    monkeypatch.setattr(swarm_module, "DEFAULT_TOLERANCES", {"mean_energy": 3e-3, "drift_velocity_bulk": 2e-3})
+    r = simulate_swarm(maxwell_model(RATE, mass=LIGHT_GAS), 0.0, gas_temperature=3000.0, particles=2000, seed=4,
+                       threads=2, collision_budget=1e8)
+    assert r.converged and r.relative_error("mean_energy") < 3e-3
+    assert _within(r.mean_energy, r.mean_energy_error, 1.5 * constants.k * 3000.0 / E)

@@ -46,6 +46,9 @@ class SwarmOptions(Options):
         if self.model is not None and (self.species is not None or self.fractions is not None):
             raise ValueError("--species and --fractions pick gases from an LXCat file (--cross-sections); "
                              f"the model gas {self.model} takes neither")
+        if 0.0 in self.e_n and self.gas_temperature == 0.0:
+            raise ValueError("E/N = 0 in a gas at 0 K has no steady state (nothing heats the swarm; it cools "
+                             "without end): give --gas-temperature > 0 or E/N > 0")
         return self
 
 
@@ -105,7 +108,7 @@ def swarm(
     gas_temperature: Annotated[float | None, typer.Option(help="Gas temperature in K (>= 0).  \\[default: 0]")] = None,
     particles: Annotated[int | None, typer.Option(help="Simulated particles (128 to 1e7).  \\[default: 20000]")] = None,
     seed: Annotated[int | None, typer.Option(help="Random seed (>= 0).  \\[default: 2026]")] = None,
-    tolerance: Annotated[float | None, typer.Option(help="Target relative error of mean energy and drift.  \\[default: 0.002]")] = None,
+    tolerance: Annotated[float | None, typer.Option(help="Target relative error of mean energy and drift (of mean energy alone at E/N = 0).  \\[default: 0.002]")] = None,
     collision_budget: Annotated[float | None, typer.Option(help="Stop after this many real collisions per E/N.  \\[default: 5e8]")] = None,
     sharing: Annotated[str | None, typer.Option(help="Ionization energy sharing: equal or uniform.  \\[default: equal]")] = None,
     out: Annotated[Path | None, typer.Option(help="Folder for plots (none if not given).")] = None,
@@ -123,6 +126,7 @@ def swarm(
     from ..transport import simulate_swarm
 
     tolerances = {"mean_energy": options.tolerance, "drift_velocity_bulk": options.tolerance}
+    thermal = {"mean_energy": options.tolerance}  # E/N = 0: the drift is zero by symmetry (no relative error)
     results = []
     with progress_bar("swarm", total=len(options.e_n)) as advance:
         for value in options.e_n:
@@ -134,7 +138,8 @@ def swarm(
 
             result = simulate_swarm(gas, value, reduced_magnetic_field=options.b_n,
                                     gas_temperature=options.gas_temperature, particles=options.particles,
-                                    seed=options.seed, sharing=options.sharing, tolerances=tolerances,
+                                    seed=options.seed, sharing=options.sharing,
+                                    tolerances=tolerances if value > 0 else thermal,
                                     collision_budget=options.collision_budget, progress=report)
             advance(1.0 - done[0])
             results.append(result)

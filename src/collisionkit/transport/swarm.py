@@ -399,6 +399,29 @@ def _validated_run(particles, groups, gravity, sharing, tolerances, collision_bu
     return gravity
 
 
+def _reachable(tolerances, defaults, reduced_field, charge, gravity, gas_temperature):
+    """The tolerances a swarm can meet; an undriven one (no field on its charge, no gravity) is refused or thermal.
+
+    Nothing heats an undriven swarm: in a gas at 0 K it cools without end (no
+    steady state, so the run would use its whole budget); in a warm gas it
+    thermalises, and its drift is zero by symmetry, so a relative error of
+    the drift can never be reached: the default drift tolerance is dropped,
+    an explicit one refused.
+    """
+    driven = (reduced_field > 0.0 and charge != 0.0) or bool(np.any(np.asarray(gravity) != 0.0))
+    if driven:
+        return dict(tolerances)
+    if gas_temperature == 0.0:
+        raise ValueError("nothing heats this swarm (reduced_field = 0 or charge = 0, and no gravity) and the gas is "
+                         "at 0 K: it cools without end, with no steady state; give reduced_field > 0 or "
+                         "gas_temperature > 0")
+    drift = [name for name in tolerances if name.startswith("drift_velocity")]
+    if drift and not defaults:
+        raise ValueError(f"tolerances[{drift[0]!r}] cannot be met: the drift of a swarm without a field or gravity "
+                         "is zero by symmetry (no relative error); leave it out")
+    return {name: value for name, value in tolerances.items() if name not in drift}
+
+
 def _field_record(reduced_field, reduced_magnetic_field, density, mass, charge, gravity):
     electric = np.array([0.0, 0.0, reduced_field * TOWNSEND * density])
     magnetic = np.array([0.0, reduced_magnetic_field * HUXLEY * density, 0.0])
@@ -456,7 +479,10 @@ def simulate_swarm(
         Target relative errors (> 0) of ``mean_energy``, ``drift_velocity_bulk``,
         ``diffusion_L_N``, ``diffusion_T_N``; the run stops when all are met,
         or at ``collision_budget`` real collisions, or after ``max_seconds``
-        (both > 0; ``result.converged`` tells which).
+        (both > 0; ``result.converged`` tells which). A swarm with no field
+        on its charge and no gravity needs ``gas_temperature > 0`` (else it
+        cools forever); it thermalises with zero drift, so it takes no drift
+        tolerance (the default one is dropped).
     collisions_per_sample : float
         Mean real collisions per particle between samples (> 0).
     min_samples : int
@@ -502,7 +528,8 @@ def simulate_swarm(
     _validated(gas, reduced_field, reduced_magnetic_field, gas_temperature, seed, mass, charge, initial_energy)
     gravity = _validated_run(particles, groups, gravity, sharing, tolerances, collision_budget, max_seconds,
                              collisions_per_sample, min_samples, energy_bins, threads, progress)
-    tolerances = dict(tolerances)
+    tolerances = _reachable(tolerances, tolerances is DEFAULT_TOLERANCES, reduced_field, charge, gravity,
+                            gas_temperature)
     threads = threads or os.cpu_count() or 1
     density = REFERENCE_DENSITY
     tables = build_tables(gas, mass, gas_temperature)
