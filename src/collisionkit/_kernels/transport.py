@@ -760,7 +760,9 @@ def group_moments(pos, vel, alive, group, n_groups, mass, moments):
 def energy_histogram(vel, alive, mass, edges_step, counts):
     """Add the particles' kinetic energies (1/2 m v^2, J) to a uniform histogram of bin width ``edges_step`` (J).
 
-    Overflow goes to the last bin.
+    ``counts`` holds the bins and one slot more: energies beyond the last
+    bin are counted there (an overflow count, not a bin of width
+    ``edges_step``).
     """
     last = counts.shape[0] - 1
     for i in range(vel.shape[0]):

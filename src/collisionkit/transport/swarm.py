@@ -64,6 +64,10 @@ class SwarmResult:
 
     Every value has an ``*_error`` partner (standard error over the
     independent groups). N-scaled coefficients are per unit gas density.
+    ``eedf`` is the energy distribution (1/eV) at the bin centres
+    ``eedf_energy``, which span [0, 4 <e>) of the swarm when sampling began;
+    ``eedf_above`` is the fraction of it beyond the last bin (in no bin, so
+    the EEDF integrates to ``1 - eedf_above``).
     ``extras["bound_violations"]`` (only when the module switch
     ``CHECK_BOUND`` is on) counts the trial collisions at which the true
     collision rate exceeded the trial bound: 0 for an exact run.
@@ -102,6 +106,7 @@ class SwarmResult:
     attachment_frequency_N_error: float
     eedf_energy: np.ndarray
     eedf: np.ndarray
+    eedf_above: float
     collisions: int
     null_collisions: int
     seconds: float
@@ -643,7 +648,7 @@ class _Run:
         start = len(self.times)
         energies = self._current_energies()
         self.histogram_step = 4.0 * energies.mean() / energy_bins
-        self.histogram = np.zeros(energy_bins)
+        self.histogram = np.zeros(energy_bins + 1)  # the last slot counts energies beyond the last bin
         converged = False
         while True:
             for _ in range(STEPS_PER_CHUNK):
@@ -669,8 +674,9 @@ class _Run:
         est = _estimates(times, moments, tallies, self.tables.kinds, self.density)
         values = {name: _mean_and_error(value) for name, value in est.items()}
         rates, rate_errors = values.pop("rates")
-        centres = (np.arange(self.histogram.size) + 0.5) * self.histogram_step
-        density = self.histogram / max(self.histogram.sum(), 1.0) / self.histogram_step
+        total = max(self.histogram.sum(), 1.0)
+        centres = (np.arange(self.histogram.size - 1) + 0.5) * self.histogram_step
+        density = self.histogram[:-1] / total / self.histogram_step
         reduced_field, reduced_magnetic_field, gas_temperature, particles = setup
         return SwarmResult(
             reduced_field=float(reduced_field),
@@ -698,6 +704,7 @@ class _Run:
             attachment_frequency_N_error=float(values["attachment_frequency_N"][1]),
             eedf_energy=centres,
             eedf=density,
+            eedf_above=float(self.histogram[-1] / total),
             collisions=self.collisions,
             null_collisions=self.nulls,
             seconds=self.seconds,
