@@ -297,8 +297,24 @@ def test_bad_input_is_named(kwargs, error, words):
 
 
 def test_bad_value_reports_the_pair_index():
-    with pytest.raises(ValueError, match=r"pair index \(1, 0\)"):
+    with pytest.raises(ValueError, match=r"m1 must lie in \(0, inf\] .*; got -1.0 \(pair index \(1, 0\)\)"):
         ck.resolve_contact([[1.0], [-1.0]], np.ones((2, 1, 3)), 1.0, np.zeros(3), [1.0, 0, 0])
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "message"),
+    [  # the value given, and no empty "(pair index ())" for one pair (m1 = -1 was reported as "not NaN")
+        ({"m1": -1.0}, r"^m1 must lie in \(0, inf\] \(np.inf for a fixed body\); got -1.0$"),
+        ({"m2": 0.0}, r"^m2 must lie in \(0, inf\] \(np.inf for a fixed body\); got 0.0$"),
+        ({"normal": [0.0, 0.0]}, r"^normal must be a non-zero vector \(the line of centres\); got \[0.0, 0.0\]$"),
+        ({"restitution": 1.5}, r"^restitution must lie in \[0, 1\]; got 1.5$"),
+        ({"m1": np.inf, "m2": np.inf}, r"^m1 and m2 cannot both be infinite$"),
+    ],
+)
+def test_kernel_errors_name_the_argument_its_range_and_the_value(kwargs, message):
+    arguments = {"m1": 1.0, "v1": [1.0, 0.0], "m2": 1.0, "v2": [0.0, 0.0], "normal": [1.0, 0.0]} | kwargs
+    with pytest.raises(ValueError, match=message):
+        ck.resolve_contact(**arguments)
 
 
 # ---------------------------------------------------------------- time_to_contact

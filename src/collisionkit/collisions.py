@@ -18,28 +18,36 @@ from ._kernels import collisions as _k
 
 RESTITUTION_MODELS = {"normal": _k.MODEL_NORMAL, "cm": _k.MODEL_CM}
 
+# kernel status code -> (the argument at fault, or None, and what it must be)
 _KERNEL_ERRORS = {
-    _k.BAD_M1: "m1 must be positive (np.inf for a fixed body), not NaN",
-    _k.BAD_M2: "m2 must be positive (np.inf for a fixed body), not NaN",
-    _k.BOTH_MASSES_INFINITE: "m1 and m2 cannot both be infinite",
-    _k.BAD_V1: "v1 must be finite (no NaN or inf)",
-    _k.BAD_V2: "v2 must be finite (no NaN or inf)",
-    _k.BAD_NORMAL: "normal must be finite (no NaN or inf)",
-    _k.ZERO_NORMAL: "normal must be a non-zero vector (the line of centres)",
-    _k.BAD_RESTITUTION: "restitution must lie in [0, 1]",
-    _k.BAD_X1: "x1 must be finite (no NaN or inf)",
-    _k.BAD_X2: "x2 must be finite (no NaN or inf)",
-    _k.BAD_CONTACT_DISTANCE: "contact_distance must be finite and >= 0",
-    _k.SEPARATION_OVERFLOW: "x2 - x1 and v2 - v1 must be finite: the bodies are more than 1.8e308 apart",
+    _k.BAD_M1: ("m1", "must lie in (0, inf] (np.inf for a fixed body)"),
+    _k.BAD_M2: ("m2", "must lie in (0, inf] (np.inf for a fixed body)"),
+    _k.BOTH_MASSES_INFINITE: (None, "m1 and m2 cannot both be infinite"),
+    _k.BAD_V1: ("v1", "must be finite (no NaN or inf)"),
+    _k.BAD_V2: ("v2", "must be finite (no NaN or inf)"),
+    _k.BAD_NORMAL: ("normal", "must be finite (no NaN or inf)"),
+    _k.ZERO_NORMAL: ("normal", "must be a non-zero vector (the line of centres)"),
+    _k.BAD_RESTITUTION: ("restitution", "must lie in [0, 1]"),
+    _k.BAD_X1: ("x1", "must be finite (no NaN or inf)"),
+    _k.BAD_X2: ("x2", "must be finite (no NaN or inf)"),
+    _k.BAD_CONTACT_DISTANCE: ("contact_distance", "must be finite and >= 0"),
+    _k.SEPARATION_OVERFLOW: (None, "x2 - x1 and v2 - v1 must be finite: the bodies are more than 1.8e308 apart"),
 }
 
 
-def _raise_on_kernel_error(status, leading_shape) -> None:
+def _raise_on_kernel_error(status, pairs) -> None:
+    """A ValueError naming the argument, its rule, the value given and (for arrays) the pair's index."""
     code, index = status
     if code == _k.OK:
         return
-    where = np.unravel_index(index, leading_shape) if leading_shape else ()
-    raise ValueError(f"{_KERNEL_ERRORS[code]} (pair index {tuple(int(j) for j in where)})")
+    name, rule = _KERNEL_ERRORS[code]
+    message = rule
+    if name is not None:
+        given = pairs.scalars[name] if name in pairs.scalars else pairs.vectors[name]
+        message = f"{name} {rule}; got {given[index].tolist()!r}"
+    if pairs.leading_shape:
+        message += f" (pair index {tuple(int(j) for j in np.unravel_index(index, pairs.leading_shape))})"
+    raise ValueError(message)
 
 
 def _model_code(restitution_model: str) -> int:
@@ -104,7 +112,7 @@ def resolve_contact(m1, v1, m2, v2, normal, restitution=1.0, restitution_model="
     status = _k.resolve_contacts(
         s["m1"], v["v1"], s["m2"], v["v2"], v["normal"], s["restitution"], model, out1, out2
     )
-    _raise_on_kernel_error(status, pairs.leading_shape)
+    _raise_on_kernel_error(status, pairs)
     shape = pairs.leading_shape + (pairs.dimension,)
     return out1.reshape(shape), out2.reshape(shape)
 
@@ -147,7 +155,7 @@ def time_to_contact(x1, v1, x2, v2, contact_distance):
     out = np.empty(pairs.count)
     s, v = pairs.scalars, pairs.vectors
     status = _k.contact_times(v["x1"], v["v1"], v["x2"], v["v2"], s["contact_distance"], out)
-    _raise_on_kernel_error(status, pairs.leading_shape)
+    _raise_on_kernel_error(status, pairs)
     return out.reshape(pairs.leading_shape)
 
 
