@@ -13,10 +13,24 @@ from . import scattering
 from .compat.irfpy import binary_collision_stationary
 
 
+SIGMA_X, SIGMA_Y = r"$x\,/\,\sigma$", r"$y\,/\,\sigma$"  # EDMD lengths: the largest diameter sigma
+THERMAL_SPEED = r"$\sqrt{kT/m}$"  # EDMD speeds
+
+
 def _axes(ax):
     if ax is None:
         _, ax = plt.subplots(figsize=(6, 4), layout="constrained")
     return ax
+
+
+def _encounter_units(orbit, units):
+    """Length and speed scales of an encounter and their unit labels: r_p and v_p, or ``units``."""
+    if units is None:
+        return orbit.periastron, orbit.periastron_speed, "/ $r_p$", "/ $v_p$"
+    from .encounters import unit_system
+
+    system = unit_system(units) if isinstance(units, str) else units
+    return 1.0, 1.0, f"({system.length})", f"({system.velocity})"
 
 
 def plot_stationary_scan(mass_ratio=1.0, collision_length=1.0, points=201, ax=None):
@@ -85,8 +99,8 @@ def plot_energy_loss(approach_speed, loss, reduced_mass, restitution, ax=None):
     ax.plot(theory, loss, ".", ms=3, label="resolve_contact")
     top = float(np.max(theory)) if np.size(theory) else 1.0
     ax.plot([0, top], [0, top], "k--", lw=1, label=r"$\frac{1}{2}\mu(1-e^2)u_n^2$")
-    ax.set_xlabel("expected loss")
-    ax.set_ylabel("measured loss")
+    ax.set_xlabel(r"expected loss (units of $m\,v^2$)")
+    ax.set_ylabel(r"measured loss (units of $m\,v^2$)")
     ax.legend()
     return ax
 
@@ -121,7 +135,7 @@ def save(ax, path):
     return path
 
 
-def plot_encounter(orbit, max_separation=None, points=400, ax=None):
+def plot_encounter(orbit, max_separation=None, points=400, units=None, ax=None):
     """Trajectories of both bodies of a two-body encounter in the centre-of-mass frame.
 
     Drawn in the orbital plane (x towards periastron, y along the velocity
@@ -137,6 +151,14 @@ def plot_encounter(orbit, max_separation=None, points=400, ax=None):
         A bound orbit is drawn over one period.
     points : int
         Samples along the trajectories.
+    units : collisionkit.encounters.UnitSystem or str, optional
+        The unit system the orbit is in: lengths are drawn in its length
+        unit. Default: in units of the periastron distance r_p.
+    ax : matplotlib Axes, optional
+
+    Returns
+    -------
+    matplotlib.axes.Axes
 
     Examples
     --------
@@ -145,6 +167,10 @@ def plot_encounter(orbit, max_separation=None, points=400, ax=None):
     >>> ax = plotting.plot_encounter(Hyperbolic(1.0, 2.0, periastron=1.0, v_inf=1.0))
     >>> len(ax.lines)  # 2 trajectories, 2 periastra, 4 asymptotes, centre of mass
     9
+    >>> ax.get_xlabel()
+    'x towards periastron / $r_p$'
+    >>> plotting.plot_encounter(Hyperbolic(1.0, 2.0, periastron=1.0, v_inf=1.0), units="solar").get_xlabel()
+    'x towards periastron (AU)'
     """
     if hasattr(orbit, "orbit"):  # InitialConditions
         max_separation = orbit.sep0 if max_separation is None else max_separation
@@ -155,16 +181,18 @@ def plot_encounter(orbit, max_separation=None, points=400, ax=None):
         reach = 10.0 * orbit.periastron if max_separation is None else max_separation
         half = orbit.time_at_separation(max(reach, orbit.periastron), branch="outbound")
     times = np.linspace(-half, half, points)
-    positions, _ = orbit.state_at_time(times)
+    scale, _, unit, _ = _encounter_units(orbit, units)
+    positions = orbit.state_at_time(times)[0] / scale
     plane = orbit.basis[:2].T  # columns P, Q
     shares = (-orbit.m2 / orbit.total_mass, orbit.m1 / orbit.total_mass)
     ax = _axes(ax)
     for body, (share, colour) in enumerate(zip(shares, ("C0", "C1"))):
         xy = positions[:, body] @ plane
         ax.plot(xy[:, 0], xy[:, 1], color=colour, label=f"body {body + 1}")
-        ax.plot(share * orbit.periastron, 0.0, "o", color=colour, ms=5)
+        ax.plot(share * orbit.periastron / scale, 0.0, "o", color=colour, ms=5)
     if orbit.kind == "hyperbolic":
         incoming, outgoing, centre = (vector @ plane for vector in orbit.asymptotes())
+        centre = centre / scale
         reach = float(np.max(np.linalg.norm(positions[:, 1] - positions[:, 0], axis=-1)))
         length = np.array([0.0, reach + float(np.linalg.norm(centre))])
         for share, colour in zip(shares, ("C0", "C1")):
@@ -173,8 +201,8 @@ def plot_encounter(orbit, max_separation=None, points=400, ax=None):
                 ax.plot(line[:, 0], line[:, 1], "--", color=colour, lw=0.8)
     ax.plot(0.0, 0.0, "k+", ms=8)
     ax.set_aspect("equal", adjustable="datalim")
-    ax.set_xlabel("towards periastron")
-    ax.set_ylabel("along the periastron velocity")
+    ax.set_xlabel(f"x towards periastron {unit}")
+    ax.set_ylabel(f"y along the periastron velocity {unit}")
     ax.set_title(f"{orbit.kind} encounter, e = {orbit.eccentricity:.4g}")
     ax.legend()
     return ax
@@ -302,8 +330,8 @@ def plot_speed_distribution(speeds, kT, dim, mass=1.0, ax=None):
     v = np.linspace(0.0, max(float(speeds.max()), 4.0 * np.sqrt(kT / mass)), 300)
     law = "Maxwell" if dim == 3 else "Rayleigh (2D Maxwell)"
     ax.plot(v, maxwell_boltzmann_speed_density(v, kT, dim, mass), "k", lw=1.2, label=f"{law}, kT = {kT:.4g}")
-    ax.set_xlabel("speed $v$")
-    ax.set_ylabel("probability density")
+    ax.set_xlabel(f"speed $v$ / {THERMAL_SPEED}")
+    ax.set_ylabel(f"probability density (1 / {THERMAL_SPEED})")
     ax.legend()
     return ax
 
@@ -312,13 +340,14 @@ def plot_snapshot(positions, radii, box, ax=None):
     """A picture of a hard-sphere configuration drawn to scale.
 
     2D: every disc. 3D: the cut through the mid-plane z = L_z/2, each sphere
-    it crosses drawn as its circular cross-section (shaded by its distance
-    from the plane).
+    it crosses drawn as its circular cross-section, coloured by the distance
+    of its centre from the plane (with a colour bar). Lengths are labelled in
+    units of sigma, the largest diameter (the units of ``collisionkit edmd``).
 
     Parameters
     ----------
     positions : array_like, shape (N, 2) or (N, 3)
-        Centres in the box [0, L).
+        Centres in the box [0, L), in units of sigma.
     radii : float or array_like, shape (N,)
     box : array_like, shape (d,)
         Box lengths.
@@ -339,6 +368,8 @@ def plot_snapshot(positions, radii, box, ax=None):
     >>> cut = plotting.plot_snapshot([[1.0, 1.0, 2.1], [3.0, 3.0, 0.5]], 0.5, [4.0, 4.0, 4.0])
     >>> len(cut.collections[0].get_offsets())  # only the first sphere crosses z = 2
     1
+    >>> print(cut.figure.axes[-1].get_ylabel())  # the colour bar
+    $|z - L_z/2|\\,/\\,\\sigma$ (depth of the centre)
     """
     from matplotlib.collections import EllipseCollection
     from matplotlib.patches import Rectangle
@@ -353,23 +384,24 @@ def plot_snapshot(positions, radii, box, ax=None):
     if positions.shape[1] == 3:
         depth = positions[:, 2] - box[2] / 2.0
         cut = np.abs(depth) < radii
-        shade = np.abs(depth[cut]) / radii[cut]
+        top, shade = radii.max(), np.abs(depth[cut])
         radii, positions = np.sqrt(radii[cut] ** 2 - depth[cut] ** 2), positions[cut]
     ax = _axes(ax)
     discs = EllipseCollection(
         2 * radii, 2 * radii, np.zeros_like(radii), units="xy", offsets=positions[:, :2],
         offset_transform=ax.transData, cmap="viridis", facecolors="C0", edgecolors="k", linewidths=0.3,
     )  # fmt: skip
+    ax.add_collection(discs)
     if box.size == 3:
         discs.set_array(shade)
-        discs.set_clim(0.0, 1.0)
-    ax.add_collection(discs)
+        discs.set_clim(0.0, top)
+        ax.figure.colorbar(discs, ax=ax, label=r"$|z - L_z/2|\,/\,\sigma$ (depth of the centre)", shrink=0.8)
     ax.add_patch(Rectangle((0.0, 0.0), box[0], box[1], fill=False, color="0.3", lw=1))
     ax.set_xlim(-0.05 * box[0], 1.05 * box[0])
     ax.set_ylim(-0.05 * box[1], 1.05 * box[1])
     ax.set_aspect("equal")
-    ax.set_xlabel("x")
-    ax.set_ylabel("y")
+    ax.set_xlabel(SIGMA_X)
+    ax.set_ylabel(SIGMA_Y)
     kind = f"{len(radii)} discs" if box.size == 2 else f"cut at z = L/2: {len(radii)} spheres"
     ax.set_title(f"snapshot, {kind}")
     return ax
@@ -415,7 +447,7 @@ def _sweep_label(names, values):
     return ", ".join(f"{name} = {value}" for name, value in zip(names, values))
 
 
-def plot_sweep(table, x, y, series=(), title=None, ax=None):
+def plot_sweep(table, x, y, series=(), title=None, theory=None, ax=None):
     """A study's result ``y`` against the varied option ``x``: mean across replicas, standard error bars.
 
     Parameters
@@ -428,6 +460,10 @@ def plot_sweep(table, x, y, series=(), title=None, ax=None):
     series : sequence of str, optional
         Other varied options: one line per combination of their values.
     title : str, optional
+    theory : str, optional
+        Column of a theoretical value of ``y`` (e.g.
+        ``compressibility_factor_theory``), drawn as a dashed line labelled
+        "theory" beside the measured points.
     ax : matplotlib Axes, optional
 
     Returns
@@ -441,6 +477,10 @@ def plot_sweep(table, x, y, series=(), title=None, ax=None):
     >>> ax = plotting.plot_sweep(rows, "eta", "Z")
     >>> ax.get_xlabel(), ax.get_ylabel(), len(ax.containers)
     ('eta', 'Z (mean of replicas)', 1)
+    >>> rows = [row | {"Z_theory": {0.1: 1.52, 0.2: 2.43}[row["eta"]]} for row in rows]
+    >>> ax = plotting.plot_sweep(rows, "eta", "Z", theory="Z_theory")
+    >>> [text.get_text() for text in ax.get_legend().get_texts()]
+    ['theory', 'measured']
     """
     from .sweep import aggregate
 
@@ -451,17 +491,24 @@ def plot_sweep(table, x, y, series=(), title=None, ax=None):
     groups = {}
     for point in points:
         groups.setdefault(tuple(point[name] for name in series), []).append(point)
+    expected = {}
+    for point in aggregate(table, theory, [*series, x]) if theory else []:
+        expected.setdefault(tuple(point[name] for name in series), []).append(point)
     ax = _axes(ax)
     for values, group in groups.items():
         errors = np.nan_to_num(np.array([point["error"] for point in group], dtype=float))
-        label = _sweep_label(series, values) or None
-        ax.errorbar([point[x] for point in group], [point["mean"] for point in group], yerr=errors,
-                    fmt="o-", capsize=3, label=label)  # fmt: skip
+        label = _sweep_label(series, values) or ("measured" if expected else None)
+        bars = ax.errorbar([point[x] for point in group], [point["mean"] for point in group], yerr=errors,
+                           fmt="o-", capsize=3, label=label)  # fmt: skip
+        if values in expected:
+            line = [(point[x], point["mean"]) for point in expected[values]]
+            colour = bars.lines[0].get_color() if series else "k"
+            ax.plot(*zip(*line), "--", color=colour, lw=1, label=f"{label}, theory" if series else "theory")
     ax.set_xlabel(x)
     ax.set_ylabel(f"{y} (mean of replicas)")
     if title is not None:
         ax.set_title(title)
-    if series:
+    if series or expected:
         ax.legend(fontsize="small")
     return ax
 
@@ -528,7 +575,8 @@ def animate_frames(frames, colour_by="speed", interval=50, ax=None):
         colouring by speed), ``typeids`` (N,) and ``step``.
     colour_by : {"speed", "species", "none"}
         Colour each particle by its speed (viridis, one scale for the whole
-        animation, with a colour bar) or by its species (type id).
+        animation, with a colour bar) or by its species (type id, with a
+        legend). Lengths are labelled in sigma, speeds in sqrt(kT/m).
     interval : float
         Milliseconds between frames when shown on screen.
     ax : matplotlib Axes, optional
@@ -582,14 +630,21 @@ def animate_frames(frames, colour_by="speed", interval=50, ax=None):
         top = max((float(item[2].max()) for item in drawn if item[2].size), default=1.0)
         collection.set_clim(0.0, top if top > 0 else 1.0)
         collection.set_array(speeds)
-        ax.figure.colorbar(collection, ax=ax, label="speed", shrink=0.8)
+        ax.figure.colorbar(collection, ax=ax, label=f"speed / {THERMAL_SPEED}", shrink=0.8)
+    elif colour_by == "species":
+        from matplotlib.patches import Patch
+
+        species = np.unique(np.concatenate([item[3] for item in drawn]))
+        handles = [Patch(facecolor=palette[typeid % len(palette)], edgecolor="k", label=f"species {typeid}")
+                   for typeid in species]  # fmt: skip
+        ax.legend(handles=handles, loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize="small")
     ax.add_collection(collection)
     ax.add_patch(Rectangle((0.0, 0.0), box[0], box[1], fill=False, color="0.3", lw=1))
     ax.set_xlim(-0.05 * box[0], 1.05 * box[0])
     ax.set_ylim(-0.05 * box[1], 1.05 * box[1])
     ax.set_aspect("equal")
-    ax.set_xlabel("x")
-    ax.set_ylabel("y")
+    ax.set_xlabel(SIGMA_X)
+    ax.set_ylabel(SIGMA_Y)
 
     def update(index):
         centres, diameters, speeds, typeids = discs(index)
@@ -663,7 +718,7 @@ def animate_gsd(path, colour_by="speed", every=1, max_frames=None, interval=50, 
     return animate_frames(frames, colour_by=colour_by, interval=interval, ax=ax)
 
 
-def animate_encounter(orbit, frames=120, max_separation=None, colour_by="speed", interval=50, ax=None):
+def animate_encounter(orbit, frames=120, max_separation=None, colour_by="speed", interval=50, units=None, ax=None):
     """Animate a two-body encounter in the centre-of-mass frame, with trails.
 
     Drawn in the orbital plane as in :func:`plot_encounter`; the frames are
@@ -684,6 +739,9 @@ def animate_encounter(orbit, frames=120, max_separation=None, colour_by="speed",
         colour bar), or body 1 / body 2 in two colours.
     interval : float
         Milliseconds between frames on screen.
+    units : collisionkit.encounters.UnitSystem or str, optional
+        The unit system the orbit is in. Default: lengths in units of the
+        periastron distance r_p, speeds in units of the periastron speed v_p.
     ax : matplotlib Axes, optional
 
     Returns
@@ -719,9 +777,10 @@ def animate_encounter(orbit, frames=120, max_separation=None, colour_by="speed",
         start = -end
     times = np.linspace(start, end, frames)
     positions, velocities = orbit.state_at_time(times)
+    length, speed, length_unit, speed_unit = _encounter_units(orbit, units)
     plane = orbit.basis[:2].T
-    xy = positions @ plane  # (frames, 2 bodies, 2)
-    speeds = np.linalg.norm(velocities, axis=-1)
+    xy = positions @ plane / length  # (frames, 2 bodies, 2)
+    speeds = np.linalg.norm(velocities, axis=-1) / speed
     created = ax is None
     ax = _figure_axes(ax)
     trail_colours = ("C0", "C1") if colour_by == "species" else ("0.6", "0.6")
@@ -730,7 +789,7 @@ def animate_encounter(orbit, frames=120, max_separation=None, colour_by="speed",
     if colour_by == "speed":
         bodies = ax.scatter(xy[0, :, 0], xy[0, :, 1], c=speeds[0], cmap="viridis", vmin=0.0,
                             vmax=float(speeds.max()), **kwargs)  # fmt: skip
-        ax.figure.colorbar(bodies, ax=ax, label="speed (centre-of-mass frame)", shrink=0.8)
+        ax.figure.colorbar(bodies, ax=ax, label=f"speed, centre-of-mass frame {speed_unit}", shrink=0.8)
     else:
         colours = ["C0", "C1"] if colour_by == "species" else ["0.3", "0.3"]
         bodies = ax.scatter(xy[0, :, 0], xy[0, :, 1], c=colours, **kwargs)
@@ -739,8 +798,8 @@ def animate_encounter(orbit, frames=120, max_separation=None, colour_by="speed",
     ax.set_xlim(-span, span)
     ax.set_ylim(-span, span)
     ax.set_aspect("equal")
-    ax.set_xlabel("towards periastron")
-    ax.set_ylabel("along the periastron velocity")
+    ax.set_xlabel(f"x towards periastron {length_unit}")
+    ax.set_ylabel(f"y along the periastron velocity {length_unit}")
 
     def update(index):
         for body, trail in enumerate(trails):

@@ -1177,5 +1177,7 @@ def _plot_main(study: Study, path: Path, table: list[Mapping[str, Any]]) -> Path
     x = next(iter(study.vary))
     along_x = next((group for group in study.zip if x in group), (x,))  # zipped options move with x
     series = [name for name in study.vary if name not in along_x]
-    ax = plotting.plot_sweep(table, x, study.main, series=series, title=f"collisionkit {study.command}")
+    theory = f"{study.main}_theory"  # e.g. edmd's compressibility_factor_theory
+    theory = theory if any(theory in row for row in table) else None
+    ax = plotting.plot_sweep(table, x, study.main, series=series, title=f"collisionkit {study.command}", theory=theory)
     return plotting.save(ax, path)

@@ -162,7 +162,7 @@ def encounter(
         matplotlib.use("Agg")
         from .. import plotting
 
-        files.append(plotting.save(plotting.plot_encounter(ic), options.out / "encounter.png"))
+        files.append(plotting.save(plotting.plot_encounter(ic, units=system), options.out / "encounter.png"))
     result = {
         "units": system.name,
         "G": system.G,
