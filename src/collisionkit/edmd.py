@@ -820,6 +820,21 @@ class HardSphereSystem:
         self._refresh_lists()
 
     @property
+    def elastic_below(self) -> float:
+        """Normal approach speed below which contacts are elastic (the guard against inelastic collapse).
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from collisionkit.edmd import HardSphereSystem, lattice
+        >>> positions, box = lattice("square", 4, 0.3)
+        >>> velocities = np.tile([1.0, 0.0], (16, 1))
+        >>> HardSphereSystem(positions, velocities, 0.5, box, restitution=0.9).elastic_below  # 1e-6 rms speed
+        1e-06
+        """
+        return float(self.params[_k.P_ELASTIC_BELOW])
+
+    @property
     def scale(self) -> float:
         """Current radius scale factor (1 except during compression)."""
         return self.scale0 + self.growth * self.time

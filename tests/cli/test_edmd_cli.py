@@ -259,3 +259,22 @@ def test_an_output_file_named_for_another_format_is_refused(tmp_path, option, na
 def test_output_suffixes_are_matched_without_case():
     options = _edmd.EdmdOptions.model_validate({"trajectory": "run.GSD", "xyz": "final.extxyz"})
     assert options.trajectory.name == "run.GSD" and options.xyz.name == "final.extxyz"
+
+
+def test_an_inelastic_run_says_it_cooled_and_takes_the_elastic_floor(tmp_path):
+    # a user's e = 0.9 run ended at kT = 1.7e-12 with D = nan and no word on why: the gas cooled (Haff) down to
+    # the elastic floor, which the command did not let them set
+    summary = tmp_path / "granular.json"
+    result = runner.invoke(app, ["edmd", *map(str, SMALL), "--initial", "fcc", "--restitution", "0.9",
+                                 "--elastic-below", "0.01", "--out", str(tmp_path), "--summary", str(summary)],
+                           env={"COLUMNS": "200"})
+    assert result.exit_code == 0, result.output
+    said = " ".join(result.output.split())
+    data = json.loads(summary.read_text())
+    assert data["elastic_below"] == 0.01 and data["options"]["elastic_below"] == 0.01
+    assert f"kT from 1 to {data['temperature']:.3g}" in said and "Haff's law" in said
+    assert ("elastic floor" in said) == (data["temperature"] < 100 * 0.01**2)
+    elastic = runner.invoke(app, ["edmd", *map(str, SMALL), "--initial", "fcc", "--out", str(tmp_path)])
+    assert elastic.exit_code == 0 and "Haff" not in elastic.output
+    refused = runner.invoke(app, ["edmd", "--elastic-below", "-1", "--no-plots"], env={"COLUMNS": "200"})
+    assert refused.exit_code == 2 and "elastic_below" in " ".join(refused.output.split())

@@ -22,6 +22,7 @@ from typing import TYPE_CHECKING, Annotated, ClassVar, Literal
 import numpy as np
 import typer
 from pydantic import Field, ValidationError, model_validator
+from rich.markup import escape
 
 from .._io import atomic_write_bytes
 from ._common import (
@@ -34,7 +35,8 @@ if TYPE_CHECKING:  # the engine (numba) is imported only when a run starts
 InitialName = Literal["random", "fcc", "sc", "square", "hexagonal"]
 
 PHYSICS_OPTIONS = (
-    "dim", "particles", "packing_fraction", "restitution", "equilibration", "collisions", "blocks", "seed", "initial",
+    "dim", "particles", "packing_fraction", "restitution", "elastic_below", "equilibration", "collisions", "blocks",
+    "seed", "initial",
 )  # fmt: skip
 MAX_PACKING = {2: 0.7, 3: 0.5}
 LATTICE_DIM = {"fcc": 3, "sc": 3, "square": 2, "hexagonal": 2}
@@ -53,6 +55,7 @@ class EdmdOptions(Options):
     particles: int = Field(default=500, ge=2, le=100_000_000)
     packing_fraction: float = Field(default=0.3, gt=0, le=0.7, allow_inf_nan=False)
     restitution: float = Field(default=1.0, ge=0, le=1, allow_inf_nan=False)
+    elastic_below: float | None = Field(default=None, ge=0, allow_inf_nan=False)
     equilibration: int | None = Field(default=None, ge=0)
     collisions: int | None = Field(default=None, ge=2)
     blocks: int = Field(default=10, ge=2, le=100_000)
@@ -189,7 +192,8 @@ def _initial_system(options: EdmdOptions) -> HardSphereSystem:
     else:
         positions, box = edmd.lattice(options.initial, _lattice_cells(options), options.packing_fraction)
         velocities = edmd.maxwell_boltzmann(np.ones(options.particles), options.dim, kT=1.0, rng=options.seed)
-    return edmd.HardSphereSystem(positions, velocities, 0.5, box, restitution=options.restitution)
+    return edmd.HardSphereSystem(positions, velocities, 0.5, box, restitution=options.restitution,
+                                 elastic_below=options.elastic_below)
 
 
 def _new_run(options: EdmdOptions) -> _Run:
@@ -336,6 +340,7 @@ def _results(run: _Run, measurement) -> dict:
         "equilibration_collisions": run.equilibrated,
         "energy_lost_total": run.initial_energy - system.kinetic_energy(),
         "elastic": options.restitution == 1.0,
+        "elastic_below": system.elastic_below,
     }
     if options.restitution == 1.0:
         name, equation = _theory(options.dim)
@@ -406,6 +411,17 @@ def _plots(run: _Run, measurement, result: dict) -> list[Path]:
     return files
 
 
+def _cooling_note(system: HardSphereSystem) -> str:
+    """What an inelastic run's averages mean: the gas cooled (Haff's law), maybe down to the elastic floor."""
+    kT = system.temperature()
+    note = (f"restitution < 1: the gas cooled as it ran (homogeneous cooling, Haff's law), kT from 1 to {kT:.3g}; "
+            "Z, the collision frequency and D are averages over a cooling state, not equilibrium values")
+    if system.elastic_below > 0 and kT < 100.0 * system.elastic_below**2:
+        note += (f". It reached the elastic floor: contacts slower than --elastic-below {system.elastic_below:.3g} "
+                 "are elastic (against inelastic collapse), so fewer --collisions follow the cooling itself")
+    return note
+
+
 def _report(run: _Run) -> None:
     options = run.options
     measurement = run.sampler.result()
@@ -427,6 +443,8 @@ def _report(run: _Run) -> None:
         f"e = {options.restitution:g}, seed {options.seed}"
     )
     print_table(title, ("quantity", "measured", "theory"), _rows(result))
+    if options.restitution < 1.0:
+        console.print(f"[bold yellow]warning:[/] {escape(_cooling_note(run.system))}")
     write_summary(options.summary, result)
     for path in files:
         console.print(f"wrote {path}")
@@ -451,6 +469,10 @@ def edmd(
         float | None, typer.Option(help=_help("Packing fraction eta: (0, 0.5] in 3D, (0, 0.7] in 2D.", "0.3"))
     ] = None,
     restitution: Annotated[float | None, typer.Option(help=_help("Coefficient of restitution in [0, 1].", "1"))] = None,
+    elastic_below: Annotated[
+        float | None,
+        typer.Option(help=_help("Contacts with a normal approach speed below this are elastic (>= 0; guards inelastic runs against collapse).", "1e-6 (rms speeds) if restitution < 1")),
+    ] = None,
     equilibration: Annotated[
         int | None, typer.Option(help=_help("Pair collisions before measuring (>= 0).", "20 per particle"))
     ] = None,
@@ -494,7 +516,7 @@ def edmd(
     """
     given = dict(
         dim=dim, particles=particles, packing_fraction=packing_fraction, restitution=restitution,
-        equilibration=equilibration, collisions=collisions, blocks=blocks, seed=seed, initial=initial,
+        elastic_below=elastic_below, equilibration=equilibration, collisions=collisions, blocks=blocks, seed=seed, initial=initial,
         summary=summary, trajectory=trajectory, frame_every=frame_every, xyz=xyz, out=out, plots=plots,
         checkpoint=checkpoint,
     )  # fmt: skip
