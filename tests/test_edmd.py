@@ -660,3 +660,270 @@ def test_event_queue_gives_the_earliest_event_lowest_index_on_ties(count, update
         reference[int(i)] = time
         assert winner_time == reference.min()
         assert winner == np.flatnonzero(reference == reference.min())[0]
+
+
+# ------------------------------------------------------------------ found by a mutation audit
+
+
+def _taylor(function, order):
+    """Taylor coefficients c_0..c_order of function(eta) at 0, from a least-squares fit on [1e-3, 0.02]."""
+    eta = np.linspace(1e-3, 0.02, 60)
+    return np.polyfit(eta, np.asarray(function(eta), dtype=float), order + 2)[::-1][: order + 1]
+
+
+def test_equations_of_state_reproduce_the_exact_virial_coefficients():
+    """Z = 1 + B2 eta + B3 eta^2 + ...: hard spheres B2 = 4, B3 = 10 exactly, B4 = 18.3648 (Boltzmann);
+    Carnahan-Starling's are the integers n^2 + n - 2 (4, 10, 18). Hard discs: B2 = 2, B3 = 16/3 - 4 sqrt(3)/pi
+    = 3.1280 exactly; Henderson gives 25/8. Kills: carnahan_starling -eta^3 -> +eta^3 (B4 = 20),
+    hansen_goos (1 - eta)^3 -> (1 - eta)^2 (B2 = -5), henderson eta^2/8 -> eta^2/4 (B3 = 3.25)."""
+    cs = _taylor(edmd.carnahan_starling, 4)
+    np.testing.assert_allclose(cs[:4], [1.0, 4.0, 10.0, 18.0], rtol=1e-4)
+    hg = _taylor(edmd.hansen_goos, 4)
+    np.testing.assert_allclose(hg[:3], [1.0, 4.0, 10.0], rtol=1e-4)
+    assert hg[3] == pytest.approx(18.3648, rel=1e-3)
+    disc = _taylor(edmd.henderson, 3)
+    np.testing.assert_allclose(disc[:2], [1.0, 2.0], rtol=1e-5)
+    assert disc[2] == pytest.approx(16 / 3 - 4 * math.sqrt(3) / math.pi, rel=2e-3)
+    # and the two hard-sphere equations agree within 0.3 % up to eta = 0.45 (both fit simulation data to that)
+    eta = np.linspace(0.05, 0.45, 9)
+    np.testing.assert_allclose(edmd.carnahan_starling(eta), edmd.hansen_goos(eta), rtol=3e-3)
+
+
+@pytest.mark.parametrize(("dim", "diameter", "kT", "mass"), [(3, 1.0, 1.0, 1.0), (3, 2.0, 1.5, 3.0), (2, 0.5, 2.0, 0.7)])
+def test_enskog_collision_frequency_is_the_kinetic_theory_rate(dim, diameter, kT, mass):
+    """Independent derivation: omega = n <v_rel> S g, with <v_rel> = sqrt(2) <v> and the cross 'section'
+    S = pi sigma^2 (3D) or 2 sigma (2D); the same g(sigma) gives Z - 1 = (2 pi / 3) n sigma^3 g (3D) or
+    (pi / 2) n sigma^2 g (2D). Kills: 2 d / sigma -> d / sigma, sqrt(kT / (pi m)) -> sqrt(kT / (2 pi m))."""
+    n, g = 0.37, 1.23
+    mean_speed = math.sqrt(8 * kT / (math.pi * mass)) if dim == 3 else math.sqrt(math.pi * kT / (2 * mass))
+    if dim == 3:
+        z = 1 + 2 * math.pi / 3 * n * diameter**3 * g
+        expected = n * math.sqrt(2) * mean_speed * math.pi * diameter**2 * g
+    else:
+        z = 1 + math.pi / 2 * n * diameter**2 * g
+        expected = n * math.sqrt(2) * mean_speed * 2 * diameter * g
+    got = float(edmd.enskog_collision_frequency(z, dim, diameter=diameter, kT=kT, mass=mass))
+    assert got == pytest.approx(expected, rel=1e-12)
+
+
+@pytest.fixture(scope="module")
+def dense_discs_of_diameter_two():
+    """288 discs of diameter 2 (not 1, so that a virial missing its contact distance shows) at eta = 0.3."""
+    positions, box = edmd.lattice("hexagonal", 12, 0.3, diameter=2.0)
+    n = len(positions)
+    system = edmd.HardSphereSystem(positions, edmd.maxwell_boltzmann(np.ones(n), 2, rng=5), 1.0, box)
+    system.run(collisions=30 * n)
+    # 502 bins up to 5 diameters: contact (bin edge 100.4) falls inside a bin, not on an edge
+    return system, edmd.measure(system, collisions=200 * n, blocks=10, rdf_bins=502)
+
+
+def test_pressure_of_discs_of_diameter_two_follows_henderson(dense_discs_of_diameter_two):
+    """Z within 5 standard errors + 0.5 % of Henderson (0.3 % accurate at eta = 0.3, and O(1/N) for N = 288);
+    P = Z n kT by definition (elastic: kT = 1 exactly). Kills: virial += impulse (no contact distance),
+    the virial divided without d, the pressure without d or without its ideal part n kT."""
+    system, m = dense_discs_of_diameter_two
+    reference = float(edmd.henderson(0.3))
+    assert m.compressibility_factor_error < 0.01 * reference
+    assert abs(m.compressibility_factor - reference) < 5 * m.compressibility_factor_error + 0.005 * reference
+    n_kT = system.count * m.temperature / system.volume
+    assert m.pressure == pytest.approx(m.compressibility_factor * n_kT, rel=1e-9)
+    assert m.pressure_error == pytest.approx(m.compressibility_factor_error * n_kT, rel=1e-9)
+
+
+def test_collision_frequency_of_discs_matches_enskog_from_the_measured_pressure(dense_discs_of_diameter_two):
+    """omega = (4 / sigma) (Z - 1) sqrt(kT / (pi m)) holds exactly in equilibrium (both sides ~ g(sigma));
+    the two estimates share the run, so 5 combined standard errors bound the difference."""
+    system, m = dense_discs_of_diameter_two
+    expected = float(edmd.enskog_collision_frequency(m.compressibility_factor, 2, diameter=2.0, kT=m.temperature))
+    spread = math.hypot(m.collision_frequency_error,
+                        expected * m.compressibility_factor_error / (m.compressibility_factor - 1))
+    assert abs(m.collision_frequency - expected) < 5 * spread + 0.005 * expected
+
+
+def test_g_of_r_is_reported_at_the_bin_centres(dense_discs_of_diameter_two):
+    """A histogram bin [r_k, r_k + dr) estimates g at its centre: the first non-empty bin is the one holding
+    contact, so its reported r is within dr / 2 of sigma = 2 (here sigma = 100.4 dr). Kills: rdf_r = upper
+    bin edges (g plotted, and extrapolated to contact, half a bin too far out)."""
+    system, m = dense_discs_of_diameter_two
+    dr = m.rdf_r[1] - m.rdf_r[0]
+    assert m.rdf_r[0] == pytest.approx(dr / 2, rel=1e-9)
+    first = m.rdf_r[np.flatnonzero(m.rdf > 0)[0]]
+    assert abs(first - 2.0) < dr / 2
+
+
+@pytest.fixture(scope="module")
+def dilute_spheres():
+    """256 spheres (diameter 1, mass 1, kT 1) at eta = 0.05: Enskog's g(sigma) from Carnahan-Starling is exact
+    to 1e-4 there."""
+    positions, box = edmd.lattice("fcc", 4, 0.05)
+    n = len(positions)
+    system = edmd.HardSphereSystem(positions, edmd.maxwell_boltzmann(np.ones(n), 3, rng=6), 0.5, box)
+    system.run(collisions=30 * n)
+    m = edmd.measure(system, collisions=400 * n, blocks=20)
+    eta = 0.05
+    density = n / system.volume
+    contact = (1 - eta / 2) / (1 - eta) ** 3  # Carnahan-Starling g(sigma)
+    return system, m, density, contact
+
+
+def test_collision_frequency_mean_free_time_and_path_of_a_dilute_gas(dilute_spheres):
+    """omega = 4 n sigma^2 g(sigma) sqrt(pi kT / m) exactly in equilibrium; mean free time 1 / omega; mean free
+    path <v> / omega = 1 / (sqrt(2) pi n sigma^2 g) (Chapman & Cowling). Tolerance: 5 standard errors of omega
+    plus 1 % (finite N, g). Kills: omega = 2 C / (N t) -> C / (N t), 1/omega -> 2/omega, <v>/omega -> <v> omega."""
+    system, m, density, g = dilute_spheres
+    omega = 4 * density * g * math.sqrt(math.pi)
+    relative = 5 * m.collision_frequency_error / m.collision_frequency + 0.01
+    assert m.collision_frequency == pytest.approx(omega, rel=relative)
+    assert m.mean_free_time == pytest.approx(1 / omega, rel=relative)
+    assert m.mean_free_path == pytest.approx(1 / (math.sqrt(2) * math.pi * density * g), rel=relative)
+    assert m.mean_speed == pytest.approx(math.sqrt(8 / math.pi), rel=0.02)  # Maxwell: <v> = sqrt(8 kT / (pi m))
+
+
+def test_self_diffusion_of_a_dilute_gas_is_enskogs(dilute_spheres):
+    """D from the mean squared displacement, <r^2> = 2 d D t, against Enskog's D_E = 3 / (8 n sigma^2 g)
+    sqrt(kT / (pi m)): at eta = 0.05 the exact D is within a few % of D_E (Alder, Gass & Wainwright 1970;
+    higher Chapman-Enskog orders +1.8 %), and N = 256 lowers it by the finite-size term, ~5 %. The band
+    [0.8, 1.25] D_E holds that and the statistical error (~3 %); it kills 2 d -> d (2 D_E) and d -> 2 d."""
+    system, m, density, g = dilute_spheres
+    enskog = 3 / (8 * density * g) / math.sqrt(math.pi)
+    assert 0.8 * enskog < m.diffusion_coefficient < 1.25 * enskog
+
+
+def test_rescale_temperature_scales_every_velocity_by_the_square_root_of_the_ratio():
+    """kT = 2K / (d N) is quadratic in the velocities: reaching kT' multiplies each by sqrt(kT' / kT).
+    Kills: sqrt(kT / current) -> kT / current."""
+    positions, box = edmd.lattice("square", 6, 0.3)
+    system = edmd.HardSphereSystem(positions, edmd.maxwell_boltzmann(np.ones(36), 2, kT=1.7, rng=3), 0.5, box)
+    before = system.velocities()
+    system.rescale_temperature(0.25)
+    assert system.temperature() == pytest.approx(0.25, rel=1e-12)
+    np.testing.assert_allclose(system.velocities(), before * math.sqrt(0.25 / 1.7), rtol=1e-12)
+
+
+def test_energy_lost_counts_only_the_measurement():
+    """The measurement's energy_lost is the kinetic energy lost during it (exact bookkeeping: sum of
+    (1 - e^2) mu u_n^2 / 2), not since the system was made. Kills: energy_lost without - start_lost."""
+    positions, box = edmd.lattice("sc", 5, 0.2)
+    n = len(positions)
+    system = edmd.HardSphereSystem(positions, edmd.maxwell_boltzmann(np.ones(n), 3, rng=2), 0.5, box, restitution=0.9)
+    system.run(collisions=2 * n)
+    before = system.kinetic_energy()
+    assert system.acc[kernels.ACC_ENERGY_LOST] > 0.01 * before  # lost before the measurement starts
+    m = edmd.measure(system, collisions=2 * n, blocks=2)
+    assert m.energy_lost == pytest.approx(before - system.kinetic_energy(), rel=1e-9)
+
+
+@pytest.mark.parametrize(
+    ("options", "name"),
+    [
+        (dict(species=[0, 1] * 18, restitution=[[1.0, 0.5], [0.9, 1.0]]), "symmetric"),
+        (dict(species=[0, -1] * 18, restitution=[[1.0, 0.5], [0.5, 1.0]]), "species"),
+        (dict(gravity=[0.0, -1.0, 0.0]), "gravity"),
+    ],
+)
+def test_inconsistent_species_restitution_and_gravity_are_refused(options, name):
+    """Kills the dropped checks: an asymmetric restitution matrix (e_ij != e_ji makes the collision rule
+    depend on which particle is i), a negative species (indexes the matrix from the end), a 3-vector gravity
+    for discs."""
+    positions, box = edmd.lattice("square", 6, 0.3)
+    with pytest.raises(ValueError, match=name):
+        edmd.HardSphereSystem(positions, np.zeros((36, 2)), 0.5, box, **options)
+
+
+@pytest.mark.parametrize("x", [0.2, 4.8])
+def test_a_particle_overlapping_a_wall_is_refused(x):
+    """Centres inside [0, L] are not enough: a sphere of radius 0.5 at x = 0.2 (or L - 0.2) overlaps the wall.
+    Kills: the dropped wall-overlap check of the constructor; wall_gap without the radius at the upper wall."""
+    positions = np.array([[x, 2.0, 2.0], [2.5, 2.5, 2.5]])
+    with pytest.raises(ValueError, match="inside the walls"):
+        edmd.HardSphereSystem(positions, np.zeros((2, 3)), 0.5, 5.0, periodic=False)
+
+
+def test_slow_contacts_stay_inelastic_above_the_default_elastic_floor():
+    """The default floor is 1e-6 of the rms speed: a head-on approach at 0.05 (rms 1.4 from two fast
+    bystanders) keeps e = 0.5. Kills: elastic_below = 1e-6 rms -> 0.1 rms."""
+    positions = np.array([[4.0, 5.0, 5.0], [6.0, 5.0, 5.0], [1.0, 15.0, 15.0], [9.0, 15.0, 10.0]])
+    velocities = np.array([[0.025, 0, 0], [-0.025, 0, 0], [2.0, 0, 0], [-2.0, 0, 0]])
+    system = edmd.HardSphereSystem(positions, velocities, 0.5, 20.0, restitution=0.5)
+    assert system.run(collisions=1) == 1
+    v = system.velocities()
+    assert (v[1, 0] - v[0, 0]) / 0.05 == pytest.approx(0.5, rel=1e-12)
+
+
+def test_block_errors_are_standard_errors_of_the_mean():
+    """For n independent blocks of unit variance the squared standard error averages 1/n exactly
+    (E s^2 = 1); 4000 replicas of 10 blocks pin it to 1 % (sd of the average of s^2 / n). Kills: std / n."""
+    rng = np.random.default_rng(1)
+    squared = [edmd._block_error(rng.normal(size=10)) ** 2 for _ in range(4000)]
+    assert np.mean(squared) == pytest.approx(0.1, rel=0.05)
+
+
+def test_contact_value_error_matches_the_scatter_of_poisson_pair_counts():
+    """Synthetic histograms: pairs per bin Poisson with mean 2000 g(r), g = 2 - 3x + 5x^2 (x = r - sigma),
+    counted twice as the sampler does. Over 400 replicas the scatter of the extrapolated contact value
+    matches its reported error: var / mean(error^2) lies in [0.75, 1.3] (chi^2 with 399 dof: +-3.5 sd);
+    counting each pair once in the Poisson weights makes the errors sqrt(2) too small (ratio 2)."""
+    rng = np.random.default_rng(2)
+    sigma = 1.0
+    r = np.arange(1.0025, 1.2, 0.005)
+    x = r - sigma
+    g_true = 2 - 3 * x + 5 * x**2
+    values, errors = [], []
+    for _ in range(400):
+        counts = 2.0 * rng.poisson(2000 * g_true)
+        value, error = edmd._contact_value(r, counts / 4000.0, counts, sigma)
+        values.append(value)
+        errors.append(error)
+    values, errors = np.array(values), np.array(errors)
+    assert abs(values.mean() - 2.0) < 4 * values.std() / math.sqrt(values.size)
+    ratio = values.var(ddof=1) / np.mean(errors**2)
+    assert 0.75 < ratio < 1.3, ratio
+
+
+def test_the_anchor_drift_check_catches_a_particle_beyond_half_the_shell():
+    """check() guards the neighbour-list invariant |x - anchor| <= shell / 2; a particle 0.6 shell away must
+    raise. Kills: allowed = 0.5 shell -> 5 shell."""
+    system = edmd.HardSphereSystem(*_square_lattice_with_velocities())
+    system.check()
+    system.anchor[0, 0] -= 0.6 * system.params[kernels.P_SHELL]
+    with pytest.raises(RuntimeError, match="drifted"):
+        system.check()
+
+
+def _square_lattice_with_velocities():
+    positions, box = edmd.lattice("square", 6, 0.3)
+    return positions, edmd.maxwell_boltzmann(np.ones(36), 2, rng=4), 0.5, box
+
+
+def test_snapshot_ahead_of_time_follows_the_parabola_under_gravity():
+    """_folded(ahead=t) must equal the state after a free flight of t (no event before it): x + v t + g t^2/2.
+    Kills: the g t^2 / 2 term dropped from the g(r) snapshot."""
+    positions, box = edmd.lattice("sc", 4, 0.1)
+    n = len(positions)
+    system = edmd.HardSphereSystem(positions, edmd.maxwell_boltzmann(np.ones(n), 3, rng=8), 0.5, box,
+                                   periodic=False, gravity=[0.0, 0.0, -3.0])
+    system.run(collisions=200)
+    system.synchronise()
+    ahead = 0.5 * system._time_to_next_event()
+    predicted = system._folded(ahead=ahead)[0].copy()
+    system.run(time=ahead)
+    system.synchronise()
+    np.testing.assert_allclose(system.pos, predicted, rtol=0, atol=1e-12)
+
+
+@pytest.mark.parametrize(("e", "hits", "impulse", "final"), [(1.0, 6, 20.0, (1.0, 2.0)), (0.8, 5, 12.024, (0.64, 1.024))])
+def test_wall_bounces_count_impulse_and_restitution_exactly(e, hits, impulse, final):
+    """Two spheres (r = 0.5, m = 1) fly along x between walls at 0 and 10 on parallel lines (no pair contact),
+    from x = 5 at +1 and -2, for t = 20. Each bounce reverses v_x times e and gives the wall m (1 + e) |v|:
+    elastic, A hits at 4.5, 13.5 and B at 2.25, 6.75, 11.25, 15.75 (impulse 2 + 2 + 4 x 4 = 20); e = 0.8,
+    A at 4.5, 15.75 and B at 2.25, 7.875, 14.906 (1.8 (1 + 0.8) + 1.8 (2 + 1.6 + 1.28) = 12.024).
+    Kills: wall impulse m |v| (no 1 + e), v -> -v (wall restitution ignored), two counts per bounce."""
+    positions = np.array([[5.0, 2.0, 5.0], [5.0, 7.0, 5.0]])
+    velocities = np.array([[1.0, 0.0, 0.0], [-2.0, 0.0, 0.0]])
+    system = edmd.HardSphereSystem(positions, velocities, 0.5, 10.0, periodic=[False, True, True],
+                                   wall_restitution=e)
+    system.run(time=20.0)
+    assert system.collisions == 0
+    assert system.acc[kernels.ACC_WALL_COLLISIONS] == hits
+    assert system.acc[kernels.ACC_WALL_IMPULSE] == pytest.approx(impulse, rel=1e-12)
+    np.testing.assert_allclose(np.abs(system.velocities()[:, 0]), final, rtol=1e-12)

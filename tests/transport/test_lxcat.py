@@ -3,13 +3,16 @@
 The files in tests/data/ were written for these tests (not copied from a database).
 """
 
+import math
 from pathlib import Path
 
 import numpy as np
 import pytest
 from scipy import constants
 
-from collisionkit.transport import LXCatError, parse_lxcat, read_lxcat, simulate_swarm
+from collisionkit.transport import Gas, LXCatError, Process, Species, parse_lxcat, read_lxcat, simulate_swarm
+
+E_CHARGE, ME = constants.e, constants.m_e
 
 DATA = Path(__file__).parent.parent / "data"
 
@@ -72,3 +75,69 @@ def test_the_lxcat_reid_file_drives_a_swarm_like_the_builtin_model():
     from_file = simulate_swarm(read_lxcat(DATA / "lxcat_classic_reid.txt"), 12.0, **options)
     builtin = simulate_swarm(reid_ramp(), 12.0, **options)
     assert from_file.mean_energy == builtin.mean_energy  # the same tables, the same streams
+
+
+# ------------------------------------------------------------------ found by a mutation audit
+
+
+def test_screened_coulomb_reading_keeps_the_files_momentum_transfer_cross_section(tmp_path):
+    """An LXCat ELASTIC/EFFECTIVE table is a momentum-transfer cross section sigma_m. Read with screened
+    Coulomb scattering, the elastic cross section sampled by the engine must give back sigma_m =
+    sigma_el <1 - cos chi>, with <1 - cos chi> measured by sampling the engine's own angular law (40000
+    draws: 0.5 % at 1 sd). Kills: sigma_m / ratio -> sigma_m * ratio."""
+    from collisionkit._kernels import transport as K
+    from collisionkit.transport import read_lxcat
+
+    (tmp_path / "x.txt").write_text("ELASTIC\nX\n1.37e-4\n-----\n0 6e-20\n1 6e-20\n10 5e-20\n100 2e-20\n-----\n")
+    gas = read_lxcat(tmp_path / "x.txt", scattering="screened_coulomb", screening_energy=0.5)
+    process = gas.species[0].processes[0]
+    assert process.scattering == "screened_coulomb"
+    state = np.zeros(4, np.uint64)
+    K.seed_state(np.uint64(7), state)
+    for energy, sigma_m in ((1.0, 6e-20), (10.0, 5e-20), (100.0, 2e-20)):
+        sigma_el = np.interp(energy, process.energy, process.cross_section)
+        draws = np.array([1 - K.scattering_cosine(K.SCREENED_COULOMB, energy * E_CHARGE, 0.5 * E_CHARGE, state)
+                          for _ in range(40_000)])
+        transfer = sigma_el * draws.mean()
+        assert abs(transfer - sigma_m) < 5 * sigma_el * draws.std() / math.sqrt(draws.size)
+
+
+def test_attachment_and_ionization_frequencies_of_constant_rate_channels_are_their_rate_coefficients():
+    """A Maxwell-model gas (k_el = 1e-13) with constant-rate attachment (k_att = 2e-15 m^3/s) and
+    ionization (k_ion = 3e-15, threshold 0) channels: nu = N k whatever the energy distribution, so
+    attachment_frequency_N = k_att and ionization_frequency_N = k_ion in expectation (and equal the channels'
+    rate coefficients). Tolerance 5 standard errors (~0.5 %). Kills: the attachment frequency's
+    normalisation (x 1/1.5 passed the existing 0.05-2 band), the ionization frequency's (x 1/2)."""
+    k_att, k_ion = 2e-15, 3e-15
+    species = Species("m", 10 * ME, (Process("elastic", rate_coefficient=1e-13, label="elastic"),
+                                     Process("attachment", rate_coefficient=k_att, label="attachment"),
+                                     Process("ionization", rate_coefficient=k_ion, label="ionization")))
+    r = simulate_swarm(Gas((species,)), 5.0, particles=1600, seed=5, threads=2, tolerances={"mean_energy": 1e-2})
+    for name, k in (("attachment", k_att), ("ionization", k_ion)):
+        value, error = getattr(r, f"{name}_frequency_N"), getattr(r, f"{name}_frequency_N_error")
+        assert error < 0.05 * k
+        assert abs(value - k) < 5 * error
+        assert r.rate_coefficients[f"m:{name}"] == pytest.approx(value, rel=1e-12, abs=0)
+
+
+def test_group_errors_are_standard_errors_of_the_mean():
+    """_mean_and_error over independent groups: for n groups of unit variance the squared error averages
+    1/n exactly (E s^2 = 1); 4000 replicas of 16 groups pin it to 1 %. Kills: std without / sqrt(n)."""
+    from collisionkit.transport.swarm import _mean_and_error
+
+    rng = np.random.default_rng(5)
+    squared = [_mean_and_error(rng.normal(size=(16, 3)))[1] ** 2 for _ in range(4000)]
+    np.testing.assert_allclose(np.mean(squared, axis=0), 1 / 16, rtol=0.05)
+
+
+def test_effective_cross_section_below_the_inelastic_sum_is_clipped_at_zero(tmp_path):
+    """EFFECTIVE = elastic momentum transfer + inelastic: the elastic part sigma_eff - sum(inelastic) cannot be
+    negative (BOLSIG+ clips it at 0). Here at 20 eV the excitation (3e-20) exceeds the effective (2e-20).
+    Kills: the clip dropped (a negative table, refused by Process)."""
+    from collisionkit.transport import read_lxcat
+
+    text = ("EFFECTIVE\nX\n1e-4\n-----\n0 5e-20\n10 4e-20\n20 2e-20\n-----\n"
+            "EXCITATION\nX -> X*\n5.0\n-----\n5 0\n10 1e-20\n20 3e-20\n-----\n")
+    (tmp_path / "x.txt").write_text(text)
+    elastic = read_lxcat(tmp_path / "x.txt").species[0].processes[0]
+    np.testing.assert_allclose(elastic.cross_section, [5e-20, 3e-20, 0.0], atol=1e-35)

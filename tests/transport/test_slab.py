@@ -95,3 +95,56 @@ def test_the_rod_model_refuses_what_it_cannot_model(options):
     # the 1D rod kernel ignored both: T = 0.5014 with or without them, under an 'isotropic incidence' title
     with pytest.raises(ValueError, match="rod model is one-dimensional"):
         simulate_slab(2.0, model="rod", particles=1000, seed=1, threads=1, **options)
+
+
+# ------------------------------------------------------------------ found by a mutation audit
+
+
+def test_pure_absorber_collides_once_per_absorbed_particle():
+    """albedo 0, normal beam: a particle collides at most once, with probability 1 - exp(-d); so the mean
+    number of collisions per particle is 1 - exp(-d) (binomial error). Kills: collisions_per_particle halved,
+    the kernel counting a collision twice."""
+    d, n = 1.2, 100_000
+    r = simulate_slab(d, 0.0, particles=n, seed=6)
+    p = 1 - math.exp(-d)
+    assert abs(r.collisions_per_particle - p) < 4.5 * math.sqrt(p * (1 - p) / n)
+    assert r.collisions_per_particle == pytest.approx(r.absorption, rel=1e-12)
+
+
+def test_energy_spectra_are_split_by_exit_side_and_sum_to_the_probabilities():
+    """Infinitely heavy targets keep the energy: every transmitted particle is in the last energy bin of the
+    transmitted spectrum, every reflected one in the reflected spectrum; the spectra sum to T and R
+    (d = 0.5: T ~ 0.7, R ~ 0.2, far apart). Kills: transmitted spectrum read from the reflected row, the
+    kernel filing reflected energies under transmitted."""
+    r = simulate_slab(0.5, 0.9, particles=20_000, seed=7, energy_bins=5)
+    assert r.transmission - r.reflection > 0.3
+    assert r.transmitted_energies.sum() == pytest.approx(r.transmission, rel=1e-12)
+    assert r.reflected_energies.sum() == pytest.approx(r.reflection, rel=1e-12)
+    assert r.transmitted_energies[-1] == pytest.approx(r.transmission, rel=1e-12)
+
+
+def test_reflection_of_a_weakly_scattering_half_space_peaks_at_normal_exit():
+    """Single scattering (albedo 0.2, d = 20, normal beam) dominates reflection: a collision at depth x
+    (density e^-x), isotropic scattering, escape at cosine mu with probability e^(-x/mu) give a reflected
+    density (albedo / 2) mu / (1 + mu) in mu; per half of [0, 1]: 0.0945 and 0.2123 times albedo / 2
+    (ratio 2.25; multiple scattering, ~20 %, flattens it a little). About 1500 reflections give the ratio
+    to ~7 %. 10 bins: with 2 bins int(mu * bins) -> int(-mu * bins) would be invisible (index -1 is the
+    last bin). Kills: reflected angles binned at int(mu * bins) (negative: mirrored) or reversed."""
+    r = simulate_slab(20.0, 0.2, particles=100_000, seed=8, angle_bins=10)
+    single = 0.1 * (1 - math.log(2))  # (albedo / 2) * (1 - ln 2): single-scattering reflection
+    assert r.reflection == pytest.approx(single, rel=0.3)
+    low, high = r.reflected_angles[:5].sum(), r.reflected_angles[5:].sum()
+    assert 1.7 < high / low < 2.8  # a mirrored histogram gives 0.69
+
+
+def test_lab_scattering_cosine_off_a_target_of_mass_a_averages_two_thirds_over_a():
+    """Isotropic centre-of-mass scattering off a target of mass A (units of the projectile): the mean lab
+    deflection cosine is 2 / (3 A) (neutron slowing down, e.g. Lamarsh ch. 3); from mu = 1 the new
+    direction cosine is cos(theta_lab). Kills: cos_lab = (1 + A c) / |...| -> (A + c) / |...|."""
+    from collisionkit._kernels import transport as K
+
+    state = np.zeros(4, np.uint64)
+    K.seed_state(np.uint64(11), state)
+    for a in (1.5, 12.0):
+        mu = np.array([K._elastic_lab(1.0, 1.0, a, state)[0] for _ in range(100_000)])
+        assert abs(mu.mean() - 2 / (3 * a)) < 5 * mu.std() / math.sqrt(mu.size)

@@ -8,7 +8,7 @@ import time
 
 import numpy as np
 import pytest
-from scipy import constants, stats
+from scipy import constants, special, stats
 
 from collisionkit.transport import (
     Gas, Process, Species, hard_sphere_gas, lucas_saelee, maxwell_model, read_lxcat, reid_ramp, simulate_swarm,
@@ -365,3 +365,38 @@ def test_an_undriven_swarm_needs_a_warm_gas_and_takes_no_drift_tolerance(monkeyp
                        threads=2, collision_budget=1e8)
     assert r.converged and r.relative_error("mean_energy") < 3e-3
     assert _within(r.mean_energy, r.mean_energy_error, 1.5 * constants.k * 3000.0 / E)
+
+
+# ------------------------------------------------------------------ found by a mutation audit
+
+
+E_CHARGE, ME = constants.e, constants.m_e
+
+
+def test_coarse_energy_distribution_of_a_thermalised_swarm_matches_the_maxwellian_bin_by_bin():
+    """E/N = 0 on a warm gas of light targets: the swarm thermalises at T, energies follow the gamma(3/2, kT)
+    law. With 20 bins (0.3 kT wide) each reported density times the bin width must equal the Maxwellian's
+    probability of the bin [centre - w/2, centre + w/2) (the last one also holds the overflow) within 0.01
+    (statistics ~0.002). Kills: eedf_energy = upper bin edges (bin 0 then claims [0.15, 0.45] kT: 0.122
+    instead of 0.094)."""
+    kT = constants.k * 1000.0 / E_CHARGE
+    r = simulate_swarm(hard_sphere_gas(6e-20, mass=10 * ME), 0.0, gas_temperature=1000.0, particles=1000, seed=3,
+                       threads=2, initial_energy=1.5 * kT, tolerances={"mean_energy": 5e-3}, collision_budget=5e6,
+                       energy_bins=20)
+    width = r.eedf_energy[1] - r.eedf_energy[0]
+    low = np.maximum(r.eedf_energy - width / 2, 0.0) / kT  # the first edge is 0 (up to round-off)
+    high = np.append((r.eedf_energy[:-1] + width / 2) / kT, np.inf)
+    expected = special.gammainc(1.5, high) - special.gammainc(1.5, low)
+    np.testing.assert_allclose(r.eedf * width, expected, atol=0.01)
+
+
+def test_the_initial_swarm_has_the_requested_mean_energy():
+    """initial_energy is the mean energy of the initial Maxwellian: 3/2 m sigma^2 per particle (eV);
+    120000 particles give it to 0.4 % (relative sd sqrt(2/3 / N)). Kills: sigma^2 = 2 E / m (3 E)."""
+    from collisionkit.transport.swarm import _initial_swarm
+
+    mass = 10 * ME
+    swarm = _initial_swarm(120_000, 4, 1, mass, 2.5)
+    energy = 0.5 * mass * (swarm.vel**2).sum(axis=1) / E_CHARGE
+    assert energy.mean() == pytest.approx(2.5, rel=0.01)
+    assert np.all(swarm.pos == 0) and swarm.alive.all()
