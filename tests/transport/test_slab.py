@@ -148,3 +148,16 @@ def test_lab_scattering_cosine_off_a_target_of_mass_a_averages_two_thirds_over_a
     for a in (1.5, 12.0):
         mu = np.array([K._elastic_lab(1.0, 1.0, a, state)[0] for _ in range(100_000)])
         assert abs(mu.mean() - 2 / (3 * a)) < 5 * mu.std() / math.sqrt(mu.size)
+
+
+def test_equal_masses_never_turn_back_in_one_collision():
+    # mass_ratio = 1 (neutrons on hydrogen) was refused; in one collision the lab angle is at most 90 degrees
+    # (cos = sqrt((1 + c) / 2)), so a thin slab reflects only after two collisions, O(d^2), while A = 2 reflects
+    # after one, O(d)
+    thin = dict(thickness=0.05, particles=100_000, seed=8)
+    equal = simulate_slab(mass_ratio=1.0, **thin)
+    heavier = simulate_slab(mass_ratio=2.0, **thin)
+    assert np.isfinite([equal.transmission, equal.reflection]).all()
+    assert equal.transmission + equal.reflection + equal.absorption == pytest.approx(1.0, abs=1e-12)
+    assert equal.reflection < 2e-3  # two collisions: probability below d^2 / 2 = 1.25e-3
+    assert heavier.reflection > 5 * equal.reflection + 4 * heavier.reflection_error

@@ -834,7 +834,7 @@ def _elastic_lab(mu, energy, a, state):
     """Direction cosine and energy after isotropic CM scattering off a target of mass a (units of m)."""
     c = 2.0 * uniform(state) - 1.0
     factor = math.sqrt(a * a + 2.0 * a * c + 1.0)
-    cos_lab = (1.0 + a * c) / factor
+    cos_lab = (1.0 + a * c) / factor if factor > 0.0 else 1.0  # a = 1, c = -1: stopped dead (energy 0)
     new_energy = energy * (a * a + 2.0 * a * c + 1.0) / (a + 1.0) ** 2
     phi = 2.0 * math.pi * uniform(state)
     sin_lab = math.sqrt(max(0.0, 1.0 - cos_lab * cos_lab))

@@ -169,7 +169,7 @@ class SlabOptions(Options):
     albedo: float = Field(default=1.0, ge=0, le=1)
     incidence: Literal["normal", "isotropic"] = "normal"
     model: Literal["isotropic", "rod"] = "isotropic"
-    mass_ratio: float = Field(default=float("inf"), gt=1)
+    mass_ratio: float = Field(default=float("inf"), ge=1)
     particles: int = Field(default=100_000, ge=64, le=1_000_000_000)
     seed: int = Field(default=2026, ge=0)
     summary: Path | None = None
@@ -193,7 +193,7 @@ def slab(
     albedo: Annotated[float | None, typer.Option(help="Single-scattering albedo in [0, 1].  \\[default: 1]")] = None,
     incidence: Annotated[str | None, typer.Option(help="normal or isotropic.  \\[default: normal]")] = None,
     model: Annotated[str | None, typer.Option(help="isotropic (3D) or rod (1D: normal incidence, no mass ratio).  \\[default: isotropic]")] = None,
-    mass_ratio: Annotated[float | None, typer.Option(help="Target/particle mass (> 1; inf: no energy loss).  \\[default: inf]")] = None,
+    mass_ratio: Annotated[float | None, typer.Option(help="Target/particle mass (>= 1; inf: no energy loss).  \\[default: inf]")] = None,
     particles: Annotated[int | None, typer.Option(help="Histories (>= 64).  \\[default: 100000]")] = None,
     seed: Annotated[int | None, typer.Option(help="Random seed (>= 0).  \\[default: 2026]")] = None,
     summary: Annotated[Path | None, typer.Option("--summary", help="Write the results as JSON to this file.")] = None,

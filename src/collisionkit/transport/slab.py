@@ -102,7 +102,8 @@ def simulate_slab(thickness, albedo=1.0, *, incidence="normal", model="isotropic
     model : {"isotropic", "rod"}
         3D isotropic scattering, or the 1D rod model (forward/backward, 1/2 each).
     mass_ratio : float
-        Target mass / particle mass A (> 1 ... inf) for the 3D model; scattering is
+        Target mass / particle mass A (1 ... inf; 1: equal masses, as neutrons on
+        hydrogen, which never turn back in one collision) for the 3D model; scattering is
         isotropic in the centre-of-mass frame (energy after / before =
         (A^2 + 2 A cos chi + 1)/(A + 1)^2); inf keeps the energy.
     particles, seed : int
@@ -142,7 +143,7 @@ def simulate_slab(thickness, albedo=1.0, *, incidence="normal", model="isotropic
         raise ValueError(f"incidence must be one of {INCIDENCES}; got {incidence!r}")
     if not (isinstance(model, str) and model in ("isotropic", "rod")):
         raise ValueError(f"model must be 'isotropic' or 'rod'; got {model!r}")
-    mass_ratio = _real(mass_ratio, "mass_ratio (inf for no energy loss)", 1.0, inclusive=(False, True))
+    mass_ratio = _real(mass_ratio, "mass_ratio (inf for no energy loss)", 1.0, inclusive=(True, True))
     if model == "rod" and (incidence != "normal" or math.isfinite(mass_ratio)):
         raise ValueError("the rod model is one-dimensional and elastic: it takes incidence='normal' and "
                          f"mass_ratio=inf; got incidence={incidence!r}, mass_ratio={mass_ratio}")
