@@ -101,6 +101,16 @@ def test_compression_reaches_the_target_without_overlaps(dim, eta):
     assert system.check() > -1e-9
 
 
+@pytest.mark.parametrize("moved", [[0.2, 0.1], [-0.3, 0.0]])
+def test_overlapping_positions_are_a_value_error_naming_the_pair(moved):
+    # was a RuntimeError giving only "smallest surface gap -0.776": which of 36 discs?
+    positions, box = edmd.lattice("square", 6, 0.3)
+    positions = positions.copy()
+    positions[17] = (positions[3] + moved) % box  # the second case wraps across x = 0
+    with pytest.raises(ValueError, match=r"positions overlap: particles 3 and 17, surface gap -0\.\d+"):
+        edmd.HardSphereSystem(positions, np.zeros_like(positions), 0.5, box)
+
+
 def test_bad_input_is_rejected_with_names():
     positions, box = edmd.lattice("sc", 4, 0.3)
     v = np.zeros_like(positions)

@@ -54,8 +54,11 @@ DEFAULT_SHELL = 0.7
 LIST_SCALE_MARGIN = 0.05
 
 
-class OverlapError(RuntimeError):
+class OverlapError(ValueError, RuntimeError):
     """Two particles (or a particle and a wall) overlap beyond round-off.
+
+    A ``ValueError`` when the given positions overlap (bad input), and a
+    ``RuntimeError`` as well, for :meth:`HardSphereSystem.check` after a run.
 
     Examples
     --------
@@ -65,7 +68,7 @@ class OverlapError(RuntimeError):
     ...     HardSphereSystem([[1.0, 1.0], [1.5, 1.0]], np.zeros((2, 2)), 0.5, 10.0)
     ... except OverlapError as error:
     ...     print("refused:", error)
-    refused: positions overlap: smallest surface gap -0.5
+    refused: positions overlap: particles 0 and 1, surface gap -0.5
     """
 
 
@@ -565,7 +568,7 @@ class HardSphereSystem:
         self._check_walls()
         gap = self._pair_gap()
         if gap < -1e-9 * float(np.max(radius)):
-            raise OverlapError(f"positions overlap: smallest surface gap {gap:.3g}")
+            raise OverlapError(f"positions overlap: {self._closest_pair_description(gap)}")
 
     # -------------------------------------------------------------- set-up helpers
 
@@ -1047,6 +1050,26 @@ class HardSphereSystem:
         (the queue holds each particle's earliest, list events included).
         """
         return float(self.tree[1, 0]) - self.time
+
+    def _closest_pair_description(self, gap):
+        """'particles i and j, surface gap g' for the most overlapping pair (user indices), found by a k-d tree."""
+        from scipy.spatial import cKDTree
+
+        dim, scale = self.dim, self.scale
+        points, _ = self._folded()
+        box = self.box[:dim]
+        radii = self.p[:, _k.R] * scale
+        tree = cKDTree(points, boxsize=box if np.all(self.periodic[:dim]) else None)
+        pairs = tree.query_pairs(2.0 * float(radii.max()), output_type="ndarray")
+        if len(pairs) == 0:
+            return f"smallest surface gap {gap:.3g}"
+        separation = points[pairs[:, 1]] - points[pairs[:, 0]]
+        wrapped = np.asarray(self.periodic[:dim], dtype=bool)
+        separation[:, wrapped] -= box[wrapped] * np.round(separation[:, wrapped] / box[wrapped])
+        gaps = np.linalg.norm(separation, axis=1) - radii[pairs[:, 0]] - radii[pairs[:, 1]]
+        worst = int(np.argmin(gaps))
+        first, second = sorted(int(self.ids[k]) for k in pairs[worst])
+        return f"particles {first} and {second}, surface gap {gaps[worst]:.3g}"
 
     def _pair_gap(self):
         return _k.min_gap(
