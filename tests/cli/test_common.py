@@ -125,3 +125,12 @@ def test_a_broken_rule_is_one_clean_sentence(tmp_path, arguments, config, senten
     result = runner.invoke(app, [argument.format(tmp=tmp_path) for argument in arguments], env={"COLUMNS": "400"})
     assert result.exit_code == 2, result.output
     assert result.output.strip() == sentence
+
+
+def test_warnings_go_to_stderr_so_stdout_keeps_only_the_results(tmp_path):
+    # swarm, encounter and edmd printed their warnings on stdout (animate on stderr)
+    result = runner.invoke(app, ["swarm", "--model", "maxwell", "--E-N", "1", "--particles", "500",
+                                 "--collision-budget", "1e5"], env={"COLUMNS": "200"})
+    assert result.exit_code == 0, result.output
+    assert "warning:" in result.stderr and "warning:" not in result.stdout
+    assert "mean energy" in result.stdout

@@ -8,9 +8,8 @@ from typing import Annotated, ClassVar, Literal
 
 import typer
 from pydantic import Field
-from rich.markup import escape
 
-from ._common import Options, console, error_console, fail, load_options, progress_bar, require, require_gsd, write_summary
+from ._common import Options, console, fail, load_options, progress_bar, require, require_gsd, warn, write_summary
 
 ColourName = Literal["speed", "species", "none"]
 ENCOUNTER_KEYS = ("m1", "m2", "rp", "vinf", "sep0")
@@ -89,7 +88,7 @@ def _trajectory_animation(options: AnimateOptions):
     if frames == 1:
         message = (f"{path} holds a single frame, so the animation is a still picture; "
                    "'collisionkit edmd --trajectory FILE.gsd --frame-every N' writes a frame every N pair collisions")
-        error_console.print(f"[bold yellow]warning:[/] {escape(message)}")
+        warn(message)
     return animation
 
 

@@ -97,6 +97,16 @@ def _list_item(annotation: Any) -> type | None:
     return arguments[0] if get_origin(annotation) is list and arguments and isinstance(arguments[0], type) else None
 
 
+def warn(message: str) -> None:
+    """Print ``message`` as a warning on stderr (the table and files on stdout stay clean), markup escaped.
+
+    Examples
+    --------
+    >>> warn("E/N = 0 Td stopped at the collision budget [5e8]")
+    """
+    error_console.print(f"[bold yellow]warning:[/] {escape(message)}")
+
+
 def fail(message: str) -> typer.Exit:
     """Print ``message`` as an input error and return the exit to raise (code 2).
 

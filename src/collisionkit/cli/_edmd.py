@@ -22,11 +22,10 @@ from typing import TYPE_CHECKING, Annotated, ClassVar, Literal
 import numpy as np
 import typer
 from pydantic import Field, ValidationError, model_validator
-from rich.markup import escape
 
 from .._io import atomic_write_bytes
 from ._common import (
-    Options, console, fail, load_options, print_table, progress_bar, require_gsd, require_plotting, write_summary,
+    Options, console, fail, load_options, print_table, progress_bar, require_gsd, require_plotting, warn, write_summary,
 )
 
 if TYPE_CHECKING:  # the engine (numba) is imported only when a run starts
@@ -444,7 +443,7 @@ def _report(run: _Run) -> None:
     )
     print_table(title, ("quantity", "measured", "theory"), _rows(result))
     if options.restitution < 1.0:
-        console.print(f"[bold yellow]warning:[/] {escape(_cooling_note(run.system))}")
+        warn(_cooling_note(run.system))
     write_summary(options.summary, result)
     for path in files:
         console.print(f"wrote {path}")

@@ -10,7 +10,7 @@ from typing import Annotated, ClassVar, Literal
 import typer
 from pydantic import Field
 
-from ._common import Options, console, fail, load_options, print_table, require_plotting, write_summary
+from ._common import Options, console, fail, load_options, print_table, require_plotting, warn, write_summary
 
 UnitsName = Literal["nbody", "si", "cgs", "solar", "stellar"]
 LayoutName = Literal["diagonal", "x"]
@@ -154,7 +154,7 @@ def encounter(
     labels = _unit_labels(system)
     print_table(f"two-body encounter ({system.name} units, G = {system.G:.10g})", ("quantity", "value", "unit"), _rows(ic, contact, labels))
     for message in messages:
-        console.print(f"[bold yellow]warning:[/] {message}")
+        warn(message)
     files = list(ic.write(options.out, units=system))
     if options.plots:
         import matplotlib

@@ -7,9 +7,8 @@ from typing import Annotated, Any, ClassVar, Literal
 
 import typer
 from pydantic import Field, field_validator, model_validator
-from rich.markup import escape
 
-from ._common import Options, console, fail, load_options, print_table, progress_bar, require, write_summary
+from ._common import Options, console, fail, load_options, print_table, progress_bar, require, warn, write_summary
 
 ModelName = Literal["maxwell", "hard_sphere", "reid", "lucas_saelee"]
 
@@ -151,7 +150,7 @@ def swarm(
         message = (f"E/N = {', '.join(unconverged)} Td stopped at the collision budget "
                    f"({options.collision_budget:g}) before reaching the tolerance {options.tolerance:g}: "
                    "their errors are larger than asked; rerun with a larger --collision-budget")
-        console.print(f"[bold yellow]warning:[/] {escape(message)}")
+        warn(message)
     files = _swarm_plots(results, options.out) if options.out is not None else []
     entries = []
     for r in results:
