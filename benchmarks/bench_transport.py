@@ -11,7 +11,6 @@ venv). Writes benchmarks/results/transport.md and transport.json.
 
 from __future__ import annotations
 
-import json
 import os
 import platform
 import time

@@ -664,10 +664,10 @@ def test_event_queue_gives_the_earliest_event_lowest_index_on_ties(count, update
     kernels.tree_build(tree, queue, leaves)
     reference = queue[:count].copy()
     assert tree[1, 1] == 0
-    steps = np.array([(i % count, time) for i, time in updates], dtype=float).reshape(-1, 2)
+    steps = np.array([(i % count, when) for i, when in updates], dtype=float).reshape(-1, 2)
     winners = _apply_queue_updates(steps, queue, tree, leaves)
-    for (i, time), (winner_time, winner) in zip(steps, winners):
-        reference[int(i)] = time
+    for (i, when), (winner_time, winner) in zip(steps, winners):
+        reference[int(i)] = when
         assert winner_time == reference.min()
         assert winner == np.flatnonzero(reference == reference.min())[0]
 

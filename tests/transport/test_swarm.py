@@ -11,7 +11,7 @@ import pytest
 from scipy import constants, special, stats
 
 from collisionkit.transport import (
-    Gas, Process, Species, hard_sphere_gas, lucas_saelee, maxwell_model, read_lxcat, reid_ramp, simulate_swarm,
+    Gas, hard_sphere_gas, lucas_saelee, maxwell_model, read_lxcat, reid_ramp, simulate_swarm,
 )
 from collisionkit.transport import swarm as swarm_module
 from collisionkit.transport.swarm import HUXLEY, REFERENCE_DENSITY, TOWNSEND

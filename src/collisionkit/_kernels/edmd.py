@@ -52,8 +52,6 @@ from __future__ import annotations
 
 import math
 
-import numpy as np
-
 # no EDMD kernel allocates or returns an array: all of them borrow, without reference counting
 from .._jit import borrowing_inline_kernel as inline_kernel
 from .._jit import borrowing_kernel as kernel
