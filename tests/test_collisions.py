@@ -574,3 +574,24 @@ def test_touching_pair_approaching_at_a_shallow_angle_touches_now(r, u):
     assert float(ck.time_to_contact([0.0, 0.0], [0.0, 0.0], r, u, 1.0)) == 0.0
     c = ck.collide(1.0, [0.0, 0.0], [0.0, 0.0], 1.0, r, u, 1.0)
     assert bool(c.hit) and float(c.time) == 0.0
+
+
+def test_moving_infinite_second_mass_in_cm_model_keeps_its_velocity():
+    # kills K29 (_kernels/collisions.py `centre = b` -> `centre = a` when m2 is infinite): mirror of
+    # test_moving_infinite_mass_in_cm_model_keeps_its_velocity. The CM frame is body 2's frame, so
+    # v2' = v2 and v1' = v2 - R (v1 - v2) = -1 - 0.5 * 2 = -2 (all values dyadic: exact in floats).
+    a1, a2 = ck.resolve_contact(1.0, [1.0, 0.0], np.inf, [-1.0, 0.0], [1.0, 0.0], 0.5, "cm")
+    np.testing.assert_array_equal(a2, [-1.0, 0.0])
+    np.testing.assert_array_equal(a1, [-2.0, 0.0])
+
+
+@pytest.mark.parametrize(
+    ("x2", "v2"),
+    [([1e308, 0.0], [0.0, 0.0]), ([3.0, 0.0], [-1e308, 0.0])],
+)
+def test_separation_or_relative_velocity_beyond_the_largest_float_is_refused(x2, v2):
+    # kills K37 (_kernels/collisions.py: the finiteness check of |x2 - x1| and |v2 - v1| -> `if False:`):
+    # each input is finite, but x2 - x1 = 2e308 (or v2 - v1 = -2e308) overflows to inf, after which the
+    # mutant returned a meaningless time (NaN or inf) instead of the documented SEPARATION_OVERFLOW error.
+    with pytest.raises(ValueError, match="must be finite"):
+        ck.time_to_contact([-1e308, 0.0], [1e308, 0.0], x2, v2, 1.0)

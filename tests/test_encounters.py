@@ -931,3 +931,19 @@ def test_parabolic_time_at_separation_from_barkers_equation(r, D):
     expected = 0.5 * math.sqrt(2.0**3 / 2.0) * (D + D**3 / 3.0)
     assert parabola.time_at_separation(r, branch="outbound") == pytest.approx(expected, rel=1e-14)
     assert parabola.time_at_separation(r) == pytest.approx(-expected, rel=1e-14)
+
+
+def test_repulsive_orbit_from_periastron_and_eccentricity():
+    # kills E08 (encounters.py `abs(mu_k) * e` -> `mu_k * e` in TwoBodyOrbit.__init__): for a
+    # repulsive force the mutant made beta = |mu_K| (e - 1) / r_p > 0, a bound "orbit".
+    # Independent route: repulsive hyperbola r = p / (e cos f - 1), so r_p = p / (e - 1),
+    # p = h^2 / |mu_K|, and energy v_p^2 = v_inf^2 - 2 |mu_K| / r_p. With m1 = m2 = 1, k = 1:
+    # mu_K = -2; r_p = 1, e = 3 -> p = 2, h = v_p = 2, v_inf^2 = 8. Values are a few roundings
+    # from exact, hence rtol 1e-14.
+    orbit = TwoBodyOrbit(1.0, 1.0, periastron=1.0, eccentricity=3.0, k=1.0)
+    assert orbit.kind == "hyperbolic" and not orbit.attractive
+    assert orbit.eccentricity == pytest.approx(3.0, rel=1e-14)
+    assert orbit.semi_latus_rectum == pytest.approx(2.0, rel=1e-14)
+    assert orbit.periastron_speed == pytest.approx(2.0, rel=1e-14)
+    assert orbit.v_inf == pytest.approx(math.sqrt(8.0), rel=1e-14)
+    assert orbit.specific_energy == pytest.approx(4.0, rel=1e-14)  # v_inf^2 / 2
