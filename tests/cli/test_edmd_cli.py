@@ -227,6 +227,22 @@ def test_resume_refuses_other_physics_and_finishes_a_finished_run(tmp_path):
     assert physics(again) == physics(summary)
 
 
+def test_resume_of_a_checkpoint_from_before_elastic_below_existed(tmp_path):
+    # checkpoints written before --elastic-below have no such key in their options: a KeyError, not a message
+    checkpoint = tmp_path / "c.npz"
+    assert invoke(*SMALL, "--checkpoint", checkpoint).exit_code == 0
+    with np.load(checkpoint) as data:
+        state = {name: data[name] for name in data.files}
+    options = json.loads(str(state["run_options"]))
+    del options["elastic_below"]
+    state["run_options"] = np.asarray(json.dumps(options))
+    np.savez(checkpoint, **state)
+    result = invoke("--resume", checkpoint, "--elastic-below", 0.01)
+    assert result.exit_code == 2
+    assert "elastic_below = 0.01 differs from the checkpoint" in " ".join(result.output.split())
+    assert invoke("--resume", checkpoint).exit_code == 0
+
+
 def test_resume_refuses_a_checkpoint_of_another_engine_format(tmp_path):
     checkpoint = tmp_path / "c.npz"
     assert invoke(*SMALL, "--checkpoint", checkpoint).exit_code == 0

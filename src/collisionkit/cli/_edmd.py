@@ -134,9 +134,9 @@ def _resumed_options(options: EdmdOptions, saved: dict, resume: Path) -> EdmdOpt
     """The checkpoint's options, with the output options given now; physics options must agree."""
     given = options.model_fields_set
     for key in PHYSICS_OPTIONS:
-        if key in given and getattr(options, key) != saved[key]:
+        if key in given and getattr(options, key) != saved.get(key):
             raise fail(
-                f"{key} = {getattr(options, key)!r} differs from the checkpoint {resume} ({key} = {saved[key]!r}); "
+                f"{key} = {getattr(options, key)!r} differs from the checkpoint {resume} ({key} = {saved.get(key)!r}); "
                 "a resumed run keeps the physics options it started with"
             )
     merged = saved | {key: getattr(options, key) for key in given}
