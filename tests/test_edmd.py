@@ -519,6 +519,21 @@ def test_the_measured_rate_leaves_out_compiling_the_event_loop(monkeypatch):
     assert m.wall_seconds < 1.0
 
 
+def test_the_measured_rate_counts_the_sampling_of_each_block(monkeypatch):
+    # the issue's collisions_per_second is the wall clock of the measurement phase: g(r) and the
+    # other samples are part of it, so a slow sample must slow the reported rate
+    original = edmd._pair_histogram
+
+    def slow_histogram(*args, **kwargs):
+        time.sleep(0.5)
+        return original(*args, **kwargs)
+
+    monkeypatch.setattr(edmd, "_pair_histogram", slow_histogram)
+    m = edmd.measure(fcc_system(cells=3, eta=0.3), collisions=4_000, blocks=2)
+    assert m.wall_seconds >= 2 * 0.5
+    assert m.collisions_per_second <= 4_000 / (2 * 0.5)
+
+
 def brute_force_pair_histogram(points, box, periodic, r_max, bins):
     """Every ordered pair by numpy broadcasting: the independent route for the cell-list kernel."""
     separation = points[None, :, :] - points[:, None, :]

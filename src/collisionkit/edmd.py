@@ -1404,7 +1404,9 @@ class Measurement:
     ``diffusion_coefficient`` (from the mean squared displacement),
     ``energy_lost``, ``contact_value`` (g at contact); arrays ``speeds`` (a
     sample), ``rdf_r``, ``rdf`` (g(r)), ``msd_time``, ``msd``, ``block_*`` per
-    block.
+    block; ``wall_seconds`` is the wall clock of the measurement (events and
+    sampling, not compiling), so ``collisions_per_second`` is the rate a run
+    of this size delivers.
 
     Examples
     --------
@@ -1605,9 +1607,9 @@ class Sampler:
         kT_before = system.temperature()
         virial0, collisions0, time0 = system.acc[_k.ACC_VIRIAL], system.collisions, system.elapsed
         system.compile_event_loop()  # numba compiles at the first call: not a part of the timed run
+        # the measurement's wall clock: the events and the sampling of this block
         tick = _time.perf_counter()
         system.run(collisions=self.per_block, progress=progress)
-        self.wall_seconds += _time.perf_counter() - tick
         kT_after = system.temperature()
         kT = 0.5 * (kT_before + kT_after)
         duration = system.elapsed - time0
@@ -1622,6 +1624,7 @@ class Sampler:
         record["msd"].append(float(np.mean(np.sum(displacement**2, axis=1))))
         self.speeds.append(np.linalg.norm(system.velocities(), axis=1))
         self.histogram += _pair_histogram(system, self.r_max, self.histogram.size)
+        self.wall_seconds += _time.perf_counter() - tick
 
     def state_dict(self):
         """The sampler's accumulators as arrays (the system is saved separately).
