@@ -400,3 +400,40 @@ def test_the_initial_swarm_has_the_requested_mean_energy():
     energy = 0.5 * mass * (swarm.vel**2).sum(axis=1) / E_CHARGE
     assert energy.mean() == pytest.approx(2.5, rel=0.01)
     assert np.all(swarm.pos == 0) and swarm.alive.all()
+
+
+def test_the_bulk_diffusion_error_floor_is_what_walkers_give_however_long_they_walk():
+    """An independent check of diffusion_error_floor: N Gaussian walkers (D = 1/2 per step), the bulk estimator's
+    least-squares slope of their variance, over many realisations. Its relative scatter is sqrt(6/5) sqrt(2 / N)
+    for a window from the start of the spreading, at 100 steps and at 400 alike: the error does not fall with the
+    run's length, only with N. With 300 realisations the scatter is known to about 4 %."""
+    rng = np.random.default_rng(5)
+    walkers = 200
+    floor = swarm_module.diffusion_error_floor("diffusion_L_N", walkers)
+    scatter = []
+    for steps in (100, 400):
+        times = np.arange(steps, dtype=float)
+        estimates = [0.5 * swarm_module._slope(times, np.cumsum(rng.normal(size=(steps, walkers)), axis=0)
+                                               .var(axis=1, ddof=1)) for _ in range(300)]
+        scatter.append(np.std(estimates, ddof=1) / 0.5)
+    assert scatter[0] / floor == pytest.approx(math.sqrt(1.2), rel=0.15)
+    assert scatter[1] / floor == pytest.approx(math.sqrt(1.2), rel=0.15)
+    assert 0.8 < scatter[1] / scatter[0] < 1.25  # four times longer, not half the error
+    assert swarm_module.diffusion_error_floor("diffusion_T_N", walkers) == pytest.approx(math.sqrt(1 / walkers))
+
+
+def test_a_diffusion_tolerance_out_of_reach_of_the_swarm_size_warns_and_names_the_size_needed():
+    with pytest.warns(UserWarning, match=r"particles >= 2000000"):
+        simulate_swarm(reid_ramp(), 12.0, particles=2000, seed=1, threads=1, tolerances={"diffusion_L_N": 1e-3},
+                       collision_budget=2e5)
+
+
+def test_the_default_tolerances_reach_below_no_floor(recwarn):
+    # the default diffusion tolerance (2 %) is above the floor of the default 20000 particles (1 %)
+    simulate_swarm(reid_ramp(), 12.0, seed=1, threads=1, collision_budget=2e5)
+    assert not [w for w in recwarn if "particles >=" in str(w.message)]
+
+
+def test_the_error_floor_refuses_an_unknown_coefficient():
+    with pytest.raises(ValueError, match="diffusion_L_N"):
+        swarm_module.diffusion_error_floor("mean_energy", 100)

@@ -28,6 +28,7 @@ from __future__ import annotations
 import math
 import os
 import time
+import warnings
 from collections.abc import Mapping
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
@@ -40,7 +41,8 @@ from .._kernels import transport as _k
 from ._tables import KernelTables, build_tables
 from .gases import Gas
 
-__all__ = ["SwarmResult", "simulate_swarm", "DEFAULT_TOLERANCES", "TOWNSEND", "HUXLEY", "REFERENCE_DENSITY"]
+__all__ = ["SwarmResult", "simulate_swarm", "diffusion_error_floor", "DEFAULT_TOLERANCES", "TOWNSEND", "HUXLEY",
+           "REFERENCE_DENSITY"]
 
 TOWNSEND = 1e-21  # V m^2
 HUXLEY = 1e-27  # T m^3
@@ -427,6 +429,50 @@ def _reachable(tolerances, defaults, reduced_field, charge, gravity, gas_tempera
     return {name: value for name, value in tolerances.items() if name not in drift}
 
 
+# Components of the position spread behind each bulk diffusion coefficient (z; x and y)
+DIFFUSION_COMPONENTS = {"diffusion_L_N": 1, "diffusion_T_N": 2}
+# warn only well below the floor: its constant depends on the window (measured 0.9-1.2 sqrt(2 / N) for D_L)
+FLOOR_MARGIN = 0.7
+
+
+def diffusion_error_floor(name: str, particles: int) -> float:
+    r"""Relative error below which a bulk diffusion coefficient of ``particles`` does not go, however long the run.
+
+    The bulk coefficient is the growth rate of the swarm's spread,
+    ``D = (1/2) d Var(z)/dt``. The sample variance of N walkers that have
+    spread to ``Var = 2 D t`` scatters by ``Var sqrt(2 / N)``, in proportion
+    to ``t``, so the least-squares slope keeps a relative error of about
+    ``sqrt(2 / N)`` (``sqrt(1 / N)`` for the transverse coefficient, which
+    averages two axes) instead of falling as ``1 / sqrt(t)``: exactly
+    ``sqrt(6/5) sqrt(2 / N)`` for walkers fitted from the start of their
+    spreading, more for a window that starts later. The value returned is
+    ``sqrt(2 / N)`` (per axis), a lower bound. Reid's ramp at 1 Td: 3.7 % at
+    N = 2000 after 5e7 and 2e8 collisions alike.
+
+    Examples
+    --------
+    >>> from collisionkit.transport.swarm import diffusion_error_floor
+    >>> round(diffusion_error_floor("diffusion_L_N", 20000), 4)
+    0.01
+    """
+    if name not in DIFFUSION_COMPONENTS:
+        raise ValueError(f"name must be one of {sorted(DIFFUSION_COMPONENTS)}; got {name!r}")
+    return math.sqrt(2.0 / (DIFFUSION_COMPONENTS[name] * _integer(particles, "particles", 1)))
+
+
+def _warn_unreachable_diffusion(tolerances, particles):
+    """Warn when a diffusion tolerance lies well below the error floor that only more particles lower."""
+    for name, tolerance in tolerances.items():
+        if name in DIFFUSION_COMPONENTS:
+            floor = diffusion_error_floor(name, particles)
+            if tolerance < FLOOR_MARGIN * floor:
+                needed = math.ceil(2.0 / (DIFFUSION_COMPONENTS[name] * tolerance**2))
+                warnings.warn(f"tolerances[{name!r}] = {tolerance:g} lies below what {particles} particles can reach "
+                              f"(about {floor:.2g}: the error of a bulk diffusion coefficient stops falling with run "
+                              f"length at about sqrt(2 / particles per axis)); the run will likely use its whole "
+                              f"collision budget. Use particles >= {needed}.", stacklevel=3)
+
+
 def _field_record(reduced_field, reduced_magnetic_field, density, mass, charge, gravity):
     electric = np.array([0.0, 0.0, reduced_field * TOWNSEND * density])
     magnetic = np.array([0.0, reduced_magnetic_field * HUXLEY * density, 0.0])
@@ -484,7 +530,10 @@ def simulate_swarm(
         Target relative errors (> 0) of ``mean_energy``, ``drift_velocity_bulk``,
         ``diffusion_L_N``, ``diffusion_T_N``; the run stops when all are met,
         or at ``collision_budget`` real collisions, or after ``max_seconds``
-        (both > 0; ``result.converged`` tells which). A swarm with no field
+        (both > 0; ``result.converged`` tells which). The error of a bulk
+        diffusion coefficient stops falling with run length near
+        :func:`diffusion_error_floor` (about ``sqrt(2 / particles)``): a
+        diffusion tolerance well below it warns. A swarm with no field
         on its charge and no gravity needs ``gas_temperature > 0`` (else it
         cools forever); it thermalises with zero drift, so it takes no drift
         tolerance (the default one is dropped).
@@ -535,6 +584,7 @@ def simulate_swarm(
                              collisions_per_sample, min_samples, energy_bins, threads, progress)
     tolerances = _reachable(tolerances, tolerances is DEFAULT_TOLERANCES, reduced_field, charge, gravity,
                             gas_temperature)
+    _warn_unreachable_diffusion(tolerances, particles)
     threads = threads or os.cpu_count() or 1
     density = REFERENCE_DENSITY
     tables = build_tables(gas, mass, gas_temperature)
