@@ -952,3 +952,51 @@ def test_wall_bounces_count_impulse_and_restitution_exactly(e, hits, impulse, fi
     assert system.acc[kernels.ACC_WALL_COLLISIONS] == hits
     assert system.acc[kernels.ACC_WALL_IMPULSE] == pytest.approx(impulse, rel=1e-12)
     np.testing.assert_allclose(np.abs(system.velocities()[:, 0]), final, rtol=1e-12)
+
+
+def test_the_diffusion_error_matches_the_scatter_of_independent_runs():
+    """D comes from one time origin, so its error comes from groups of particles, not blocks; the groups'
+    standard error is honest if 16 independent runs (velocities from 16 seeds, equilibrated) scatter as it
+    says: (n - 1) s^2 / sigma^2 follows chi^2(n - 1), in its central 1 - 2e-4 band (a factor of two wrong in
+    the error fails it)."""
+    values, errors = [], []
+    for seed in range(16):
+        positions, box = edmd.lattice("fcc", 4, 0.2)
+        system = edmd.HardSphereSystem(positions, edmd.maxwell_boltzmann(np.ones(256), 3, rng=seed), 0.5, box)
+        system.run(collisions=20 * 256)
+        m = edmd.measure(system, collisions=150 * 256, blocks=10)
+        values.append(m.diffusion_coefficient)
+        errors.append(m.diffusion_coefficient_error)
+    dof = len(values) - 1
+    low, high = stats.chi2.ppf([1e-4, 1 - 1e-4], dof) / dof
+    ratio = np.var(values, ddof=1) / np.mean(np.square(errors))
+    assert low < ratio < high, ratio
+
+
+def test_mean_free_time_and_path_errors_follow_from_the_collision_frequency():
+    """tau = 1 / omega and l = <v> / omega: their errors are omega's relative error times the value."""
+    m = edmd.measure(fcc_system(cells=3, eta=0.3), collisions=20_000, blocks=5)
+    relative = m.collision_frequency_error / m.collision_frequency
+    assert m.mean_free_time_error == pytest.approx(relative * m.mean_free_time, rel=1e-12)
+    assert m.mean_free_path_error == pytest.approx(relative * m.mean_free_path, rel=1e-12)
+    assert m.summary()["diffusion_coefficient_error"] == m.diffusion_coefficient_error > 0
+
+
+def test_a_sampler_checkpoint_from_before_the_msd_groups_resumes_without_a_diffusion_error():
+    system = fcc_system(cells=3, eta=0.3)
+    sampler = edmd.Sampler(system, collisions=9_000, blocks=3)
+    sampler.run_block()
+    state = sampler.state_dict()
+    del state["sampler_msd_groups"]  # as written before the groups were recorded
+    resumed = edmd.Sampler.from_state_dict(system, state)
+    while not resumed.finished:
+        resumed.run_block()
+    m = resumed.result()
+    assert math.isfinite(m.diffusion_coefficient) and math.isnan(m.diffusion_coefficient_error)
+
+
+def test_fewer_particles_than_msd_groups_give_no_diffusion_error():
+    positions, box = edmd.lattice("square", 2, 0.3)  # 4 discs, 8 groups
+    system = edmd.HardSphereSystem(positions, edmd.maxwell_boltzmann(np.ones(4), 2, rng=1), 0.5, box)
+    m = edmd.measure(system, collisions=400, blocks=4)
+    assert math.isfinite(m.diffusion_coefficient) and math.isnan(m.diffusion_coefficient_error)

@@ -134,9 +134,9 @@ def measurement_rows(measurement):
         ("Z = PV/(NkT)", with_error(m.compressibility_factor, m.compressibility_factor_error)),
         ("pressure", with_error(m.pressure, m.pressure_error)),
         ("collision frequency", with_error(m.collision_frequency, m.collision_frequency_error)),
-        ("mean free path", m.mean_free_path),
+        ("mean free path", with_error(m.mean_free_path, m.mean_free_path_error)),
         ("g(contact)", with_error(m.contact_value, m.contact_value_error)),
-        ("diffusion coefficient", m.diffusion_coefficient),
+        ("diffusion coefficient", with_error(m.diffusion_coefficient, m.diffusion_coefficient_error)),
     ]
 
 

@@ -1387,6 +1387,41 @@ def _smallest_distance_bound(positions, side, diameters):
 # ------------------------------------------------------------------ measurement
 
 
+RECORDS = ("temperature", "compressibility", "pressure", "frequency", "time", "msd", "msd_groups")
+MSD_GROUPS = 8  # particles dealt into groups (by index) for the error of the diffusion coefficient
+MSD_FIT_FROM = 0.3  # the diffusive part of the MSD: fitted from this fraction of the run on
+
+
+def _group_means(values):
+    """Mean of per-particle ``values`` over each of the MSD_GROUPS groups (particle i in group i % MSD_GROUPS).
+
+    A group with no particle (fewer particles than groups) gets NaN.
+    """
+    groups = np.arange(values.size) % MSD_GROUPS
+    totals = np.bincount(groups, weights=values, minlength=MSD_GROUPS)
+    counts = np.bincount(groups, minlength=MSD_GROUPS)
+    return np.divide(totals, counts, out=np.full(MSD_GROUPS, math.nan), where=counts > 0)
+
+
+def _diffusion_from_msd(msd_time, msd, msd_groups, dim):
+    """D = slope / (2 d) of the MSD's later part (ballistic start left out), and its standard error.
+
+    Every block's MSD is measured from one time origin, so blocks do not give
+    independent values; independent groups of particles do: the error is the
+    standard error of the groups' slopes (Frenkel & Smit, Understanding
+    Molecular Simulation, sec. 4.4.1, for D from the MSD).
+    """
+    later = msd_time > MSD_FIT_FROM * msd_time[-1]
+    if later.sum() < 2:
+        return math.nan, math.nan
+    slope = float(np.polyfit(msd_time[later], msd[later], 1)[0])
+    groups = np.vstack([np.zeros(MSD_GROUPS), np.asarray(msd_groups, dtype=float)])[later]
+    if not np.all(np.isfinite(groups)):
+        return slope / (2.0 * dim), math.nan
+    group_slopes = np.polyfit(msd_time[later], groups, 1)[0]
+    return slope / (2.0 * dim), _block_error(group_slopes) / (2.0 * dim)
+
+
 def _block_error(values):
     values = np.asarray(values, dtype=float)
     if values.size < 2:
@@ -1401,7 +1436,9 @@ class Measurement:
     Attributes: ``compressibility_factor``, ``pressure``, ``temperature``
     (final kT), ``collision_frequency`` (per particle, each pair collision
     counting for both), ``mean_free_time``, ``mean_free_path``,
-    ``diffusion_coefficient`` (from the mean squared displacement),
+    ``diffusion_coefficient`` (from the mean squared displacement; its
+    error from the scatter of 8 groups of particles, ``MSD_GROUPS``, since
+    one time origin gives no block-to-block scatter),
     ``energy_lost``, ``contact_value`` (g at contact); arrays ``speeds`` (a
     sample), ``rdf_r``, ``rdf`` (g(r)), ``msd_time``, ``msd``, ``block_*`` per
     block; ``wall_seconds`` is the wall clock of the measurement (events and
@@ -1430,9 +1467,12 @@ class Measurement:
     collision_frequency: float
     collision_frequency_error: float
     mean_free_time: float
+    mean_free_time_error: float
     mean_free_path: float
+    mean_free_path_error: float
     mean_speed: float
     diffusion_coefficient: float
+    diffusion_coefficient_error: float
     energy_lost: float
     contact_value: float
     contact_value_error: float
@@ -1462,7 +1502,8 @@ class Measurement:
         keys = (
             "dim particles packing_fraction collisions time temperature compressibility_factor "
             "compressibility_factor_error pressure pressure_error collision_frequency collision_frequency_error "
-            "mean_free_time mean_free_path mean_speed diffusion_coefficient energy_lost contact_value contact_value_error"
+            "mean_free_time mean_free_time_error mean_free_path mean_free_path_error mean_speed diffusion_coefficient "
+            "diffusion_coefficient_error energy_lost contact_value contact_value_error"
         ).split()
         result = {key: getattr(self, key) for key in keys}
         result["collisions_per_second"] = self.collisions_per_second
@@ -1574,7 +1615,7 @@ class Sampler:
         self.start_time = system.elapsed
         self.start_lost = float(system.acc[_k.ACC_ENERGY_LOST])
         self.wall_seconds = 0.0
-        self.records = {name: [] for name in ("temperature", "compressibility", "pressure", "frequency", "time", "msd")}
+        self.records = {name: [] for name in RECORDS}
         self.speeds = []
 
     @property
@@ -1620,8 +1661,9 @@ class Sampler:
         record["pressure"].append((count * kT + virial / (dim * duration)) / system.volume)
         record["frequency"].append(2.0 * (system.collisions - collisions0) / (count * duration))
         record["time"].append(system.elapsed - self.start_time)
-        displacement = system.positions(unwrapped=True) - self.start_positions
-        record["msd"].append(float(np.mean(np.sum(displacement**2, axis=1))))
+        squared = np.sum((system.positions(unwrapped=True) - self.start_positions) ** 2, axis=1)
+        record["msd"].append(float(np.mean(squared)))
+        record["msd_groups"].append(_group_means(squared))
         self.speeds.append(np.linalg.norm(system.velocities(), axis=1))
         self.histogram += _pair_histogram(system, self.r_max, self.histogram.size)
         self.wall_seconds += _time.perf_counter() - tick
@@ -1675,7 +1717,9 @@ class Sampler:
         sampler.r_max, sampler.start_time, sampler.start_lost, sampler.wall_seconds = r_max, start_time, start_lost, wall
         sampler.histogram = np.array(state["sampler_histogram"])
         sampler.start_positions = np.array(state["sampler_start_positions"])
-        sampler.records = {name: list(state[f"sampler_{name}"]) for name in ("temperature", "compressibility", "pressure", "frequency", "time", "msd")}
+        sampler.records = {name: list(state[f"sampler_{name}"]) for name in RECORDS if f"sampler_{name}" in state}
+        # a checkpoint written before the groups were recorded: their blocks are unknown (no D error)
+        sampler.records.setdefault("msd_groups", [np.full(MSD_GROUPS, math.nan)] * len(sampler.records["msd"]))
         sampler.speeds = [row for row in np.array(state["sampler_speeds"])]
         return sampler
 
@@ -1708,8 +1752,8 @@ class Sampler:
         mean_speed = float(np.mean(speeds))
         msd_time = np.concatenate([[0.0], record["time"]])
         msd = np.concatenate([[0.0], record["msd"]])
-        later = msd_time > 0.3 * msd_time[-1]
-        slope = float(np.polyfit(msd_time[later], msd[later], 1)[0]) if later.sum() >= 2 else math.nan
+        diffusion, diffusion_error = _diffusion_from_msd(msd_time, msd, record["msd_groups"], dim)
+        omega_error = _block_error(record["frequency"])
         diameter = 2.0 * float(np.max(system.radius))
         contact, contact_error = _contact_value(centres, rdf, self.histogram, diameter)
         return Measurement(
@@ -1725,11 +1769,14 @@ class Sampler:
             pressure=float(np.mean(record["pressure"])),
             pressure_error=_block_error(record["pressure"]),
             collision_frequency=omega,
-            collision_frequency_error=_block_error(record["frequency"]),
+            collision_frequency_error=omega_error,
             mean_free_time=1.0 / omega,
+            mean_free_time_error=omega_error / omega**2,
             mean_free_path=mean_speed / omega,
+            mean_free_path_error=mean_speed * omega_error / omega**2,
             mean_speed=mean_speed,
-            diffusion_coefficient=slope / (2.0 * dim),
+            diffusion_coefficient=diffusion,
+            diffusion_coefficient_error=diffusion_error,
             energy_lost=float(system.acc[_k.ACC_ENERGY_LOST] - self.start_lost),
             contact_value=contact,
             contact_value_error=contact_error,
