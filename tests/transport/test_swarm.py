@@ -434,6 +434,10 @@ def test_the_default_tolerances_reach_below_no_floor(recwarn):
     assert not [w for w in recwarn if "particles >=" in str(w.message)]
 
 
-def test_the_error_floor_refuses_an_unknown_coefficient():
+def test_the_error_floor_refuses_an_unknown_coefficient_or_swarm_size():
     with pytest.raises(ValueError, match="diffusion_L_N"):
         swarm_module.diffusion_error_floor("mean_energy", 100)
+    with pytest.raises(ValueError, match="particles"):
+        swarm_module.diffusion_error_floor("diffusion_L_N", 0)
+    with pytest.raises(TypeError, match="particles"):
+        swarm_module.diffusion_error_floor("diffusion_L_N", 2.5)
