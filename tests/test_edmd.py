@@ -1,5 +1,6 @@
 """Tests of collisionkit.edmd: invariants, conservation and the hard-sphere equation of state."""
 
+import itertools
 import math
 import time
 
@@ -1000,3 +1001,81 @@ def test_fewer_particles_than_msd_groups_give_no_diffusion_error():
     system = edmd.HardSphereSystem(positions, edmd.maxwell_boltzmann(np.ones(4), 2, rng=1), 0.5, box)
     m = edmd.measure(system, collisions=400, blocks=4)
     assert math.isfinite(m.diffusion_coefficient) and math.isnan(m.diffusion_coefficient_error)
+
+
+def brute_force_collisions(x, v, radii, masses, box, count, walls=False):
+    """Event-driven hard spheres the slow, obvious way: the earliest event over every pair and every
+    neighbouring periodic image (root of |r + u t| = r_i + r_j) or, in a closed box, every particle and wall
+    (x +- r = 0 or L); all particles moved to it; the elastic rule along the line of centres, or the normal
+    velocity reversed at a wall. Returns [(time, velocities)] after each of the first ``count`` pair
+    collisions."""
+    x, v = x.astype(float).copy(), v.astype(float).copy()
+    dim = x.shape[1]
+    offsets = [(0.0,) * dim] if walls else list(itertools.product((-1.0, 0.0, 1.0), repeat=dim))
+    shifts = np.array(offsets) * box
+    first, second = np.triu_indices(len(x), 1)
+    contact = radii[first] + radii[second]
+    t, after = 0.0, []
+    while len(after) < count:
+        r = x[second][:, None, :] + shifts[None, :, :] - x[first][:, None, :]
+        u = (v[second] - v[first])[:, None, :]
+        b = np.sum(r * u, axis=-1)
+        c = np.sum(r * r, axis=-1) - contact[:, None] ** 2
+        discriminant = b * b - np.sum(u * u, axis=-1) * c
+        hits = (b < 0) & (discriminant >= 0)
+        tau = np.full(b.shape, np.inf)
+        tau[hits] = c[hits] / (-b[hits] + np.sqrt(discriminant[hits]))
+        pair = np.argmin(tau.min(axis=1))
+        step = tau[pair].min()
+        wall_step = np.full(x.shape, np.inf)
+        if walls:
+            going_up, going_down = v > 0, v < 0
+            wall_step[going_up] = ((box - radii[:, None] - x) / np.where(going_up, v, 1.0))[going_up]
+            wall_step[going_down] = ((radii[:, None] - x) / np.where(going_down, v, -1.0))[going_down]
+        if wall_step.min() < step:
+            step = wall_step.min()
+            particle, axis = np.unravel_index(np.argmin(wall_step), wall_step.shape)
+            x = x + v * step
+            v[particle, axis] = -v[particle, axis]
+            t += step
+            continue
+        x = x + v * step
+        if not walls:
+            x %= box
+        t += step
+        i, j = first[pair], second[pair]
+        normal = x[j] - x[i]
+        if not walls:
+            normal -= box * np.round(normal / box)  # the nearest image at contact (a flight may cross an edge)
+        normal /= np.linalg.norm(normal)
+        impulse = 2 * masses[i] * masses[j] / (masses[i] + masses[j]) * np.dot(v[i] - v[j], normal)
+        v[i] -= impulse / masses[i] * normal
+        v[j] += impulse / masses[j] * normal
+        after.append((t, v.copy()))
+    return after
+
+
+@pytest.mark.parametrize("dim, mixture, walls", [(3, False, False), (3, True, False), (2, False, False),
+                                                 (2, True, False), (3, True, True), (2, True, True)])
+def test_the_engine_finds_the_same_collisions_as_brute_force(dim, mixture, walls):
+    """No event missed, none invented, in the right order: the first 100 pair collisions of a dense system
+    (neighbour lists, rebuilds, stale events, periodic images or walls) against an all-pairs search; after each
+    pair collision the time and every velocity agree. Round-off grows by the Lyapunov instability: the largest
+    velocity difference goes from 1e-14 to 2e-10 over these 100 collisions (walled 3D mixture; 4e-7 at 150,
+    0.1 at 300), while a missed or wrong event changes velocities by order 1."""
+    rng = np.random.default_rng(dim + 10 * mixture + 100 * walls)
+    positions, box = edmd.lattice("fcc" if dim == 3 else "hexagonal", 2 if dim == 3 else 6, 0.35)
+    n = len(positions)
+    radii = np.where(rng.random(n) < 0.5, 0.5, 0.35) if mixture else np.full(n, 0.5)
+    masses = (radii / 0.5) ** dim
+    velocities = edmd.maxwell_boltzmann(masses, dim, rng=rng)
+    side = np.asarray(box, dtype=float)[:dim]
+    if walls:  # the lattice's sites, shrunk into a box one diameter larger, stay clear of each other and the walls
+        side = side + 1.0
+        positions = positions + 0.5
+    system = edmd.HardSphereSystem(positions, velocities, radii, side, masses, periodic=not walls)
+    expected = brute_force_collisions(positions, velocities, radii, masses, side, 100, walls=walls)
+    for time_expected, velocities_expected in expected:
+        assert system.run(collisions=1) == 1
+        assert system.elapsed == pytest.approx(time_expected, rel=1e-8)
+        np.testing.assert_allclose(system.velocities(), velocities_expected, rtol=0, atol=1e-7)
