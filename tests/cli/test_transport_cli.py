@@ -1,5 +1,6 @@
 """Command line: ``collisionkit swarm`` and ``collisionkit slab``."""
 
+import csv
 import json
 from pathlib import Path
 
@@ -25,6 +26,14 @@ def test_swarm_sweep_writes_one_entry_per_e_n(tmp_path):
         assert len(entry["drift_velocity_flux"]) == 3 and len(entry["drift_velocity_bulk"]) == 3
     assert entries[1]["mean_energy"] > entries[0]["mean_energy"]
     assert (tmp_path / "plots" / "transport_coefficients.png").stat().st_size > 1000
+    # the same numbers as a table, a row per E/N, for spreadsheets and pandas
+    with open(tmp_path / "plots" / "swarm.csv", newline="") as table:
+        rows = list(csv.DictReader(table))
+    assert [float(row["reduced_field"]) for row in rows] == [12.0, 24.0]
+    for row, entry in zip(rows, entries):
+        assert float(row["mean_energy"]) == entry["mean_energy"]
+        assert float(row["drift_velocity_bulk_z"]) == entry["drift_velocity_bulk"][2]
+        assert float(row["rate_coefficient[reid:excitation]"]) == entry["rate_coefficients"]["reid:excitation"]
 
 
 def test_swarm_reads_lxcat_and_a_toml_config(tmp_path):

@@ -441,3 +441,16 @@ def test_the_error_floor_refuses_an_unknown_coefficient_or_swarm_size():
         swarm_module.diffusion_error_floor("diffusion_L_N", 0)
     with pytest.raises(TypeError, match="particles"):
         swarm_module.diffusion_error_floor("diffusion_L_N", 2.5)
+
+
+def test_a_result_row_holds_every_scalar_once_and_splits_the_vectors():
+    r = simulate_swarm(reid_ramp(), 12.0, particles=640, groups=8, seed=2, threads=1, collision_budget=2e6,
+                       tolerances={"mean_energy": 0.05})
+    row = r.to_row()
+    assert [row[f"drift_velocity_bulk_{axis}"] for axis in "xyz"] == r.drift_velocity_bulk.tolist()
+    assert [row[f"drift_velocity_flux_error_{axis}"] for axis in "xyz"] == r.drift_velocity_flux_error.tolist()
+    assert row["rate_coefficient[reid:elastic]"] == r.rate_coefficients["reid:elastic"]
+    assert row["rate_coefficient_error[reid:excitation]"] == r.rate_coefficient_errors["reid:excitation"]
+    assert row["diffusion_L_N"] == r.diffusion_L_N and row["converged"] == r.converged
+    assert all(np.isscalar(value) for value in row.values())
+    assert "eedf" not in row and "extras" not in row

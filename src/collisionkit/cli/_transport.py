@@ -89,9 +89,11 @@ def _swarm_plots(results, out: Path) -> list[Path]:
 
     matplotlib.use("Agg")
     from .. import plotting
+    from ..sweep import write_csv
 
     out.mkdir(parents=True, exist_ok=True)
     files = [plotting.save(plotting.plot_energy_distribution(results), out / "eedf.png")]
+    files.append(write_csv(out / "swarm.csv", [result.to_row() for result in results]))
     if len(results) > 1:
         files.append(plotting.save(plotting.plot_transport_coefficients(results).flat[0], out / "transport_coefficients.png"))
     return files
@@ -110,7 +112,7 @@ def swarm(
     tolerance: Annotated[float | None, typer.Option(help="Target relative error of mean energy and drift (of mean energy alone at E/N = 0).  \\[default: 0.002]")] = None,
     collision_budget: Annotated[float | None, typer.Option(help="Stop after this many real collisions per E/N.  \\[default: 5e8]")] = None,
     sharing: Annotated[str | None, typer.Option(help="Ionization energy sharing: equal or uniform.  \\[default: equal]")] = None,
-    out: Annotated[Path | None, typer.Option(help="Folder for plots (none if not given).")] = None,
+    out: Annotated[Path | None, typer.Option(help="Folder for plots and swarm.csv, a row per E/N (none if not given).")] = None,
     summary: Annotated[Path | None, typer.Option("--summary", help="Write the results as JSON to this file.")] = None,
     config: Annotated[Path | None, typer.Option("--config", help="TOML file with these options (command line wins).")] = None,
 ):

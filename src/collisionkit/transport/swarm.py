@@ -160,6 +160,33 @@ class SwarmResult:
         out["collisions_per_second"] = self.collisions_per_second
         return out
 
+    def to_row(self) -> dict:
+        """The scalars as one flat row for a table (CSV, pandas): vectors split into ``_x``, ``_y``, ``_z``,
+        rate coefficients as ``rate_coefficient[label]``; the EEDF arrays and ``extras`` left out.
+
+        Examples
+        --------
+        >>> from collisionkit.transport import maxwell_model, simulate_swarm
+        >>> row = simulate_swarm(maxwell_model(), 10.0, particles=1000, groups=4, seed=1,
+        ...                      tolerances={"mean_energy": 0.05}).to_row()
+        >>> row["reduced_field"], "drift_velocity_bulk_z" in row, "rate_coefficient[maxwell:elastic]" in row
+        (10.0, True, True)
+        """
+        row = {}
+        for name in self.__dataclass_fields__:
+            value = getattr(self, name)
+            if name in ("eedf_energy", "eedf", "extras"):
+                continue
+            if isinstance(value, np.ndarray):
+                row |= {f"{name}_{axis}": float(component) for axis, component in zip("xyz", value)}
+            elif isinstance(value, dict):
+                prefix = "rate_coefficient" if name == "rate_coefficients" else "rate_coefficient_error"
+                row |= {f"{prefix}[{label}]": float(rate) for label, rate in value.items()}
+            else:
+                row[name] = value
+        row["collisions_per_second"] = self.collisions_per_second
+        return row
+
 
 # ------------------------------------------------------------------ the particle store
 
