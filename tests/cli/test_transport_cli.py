@@ -152,3 +152,57 @@ def test_swarm_at_zero_field_needs_a_warm_gas_and_then_converges_without_a_drift
     assert result.exit_code == 0, result.output
     (entry,) = json.loads(summary.read_text())["results"]
     assert entry["converged"] is True  # the drift (zero by symmetry) had a relative tolerance it could never meet
+
+
+SWEEP = ["swarm", "--model", "reid", "--E-N", "12,24", "--particles", "640", "--seed", "3", "--tolerance", "0.05",
+         "--collision-budget", "2e6"]
+WALL_CLOCK = ("seconds", "collisions_per_second")
+
+
+def _physics(entry):
+    return {key: value for key, value in entry.items() if key not in WALL_CLOCK}
+
+
+def test_a_swarm_sweep_killed_mid_way_resumes_from_its_checkpoint_as_if_never_stopped(tmp_path, monkeypatch):
+    straight = tmp_path / "straight.json"
+    assert runner.invoke(app, [*SWEEP, "--summary", str(straight)]).exit_code == 0
+
+    import collisionkit.transport as transport
+
+    real = transport.simulate_swarm
+
+    def killed_at_24_td(gas, reduced_field, **options):
+        if reduced_field == 24.0:
+            raise KeyboardInterrupt  # the machine goes down during the second point
+        return real(gas, reduced_field, **options)
+
+    checkpoint = tmp_path / "sweep.json"
+    monkeypatch.setattr(transport, "simulate_swarm", killed_at_24_td)
+    killed = runner.invoke(app, [*SWEEP, "--checkpoint", str(checkpoint)])
+    assert killed.exit_code != 0
+    assert [entry["reduced_field"] for entry in json.loads(checkpoint.read_text())["results"]] == [12.0]
+
+    def only_the_unfinished_point(gas, reduced_field, **options):
+        assert reduced_field == 24.0, "the finished 12 Td point was run again"
+        return real(gas, reduced_field, **options)
+
+    monkeypatch.setattr(transport, "simulate_swarm", only_the_unfinished_point)
+    resumed_summary = tmp_path / "resumed.json"
+    resumed = runner.invoke(app, ["swarm", "--resume", str(checkpoint), "--summary", str(resumed_summary)])
+    assert resumed.exit_code == 0, resumed.output
+    expected = [_physics(entry) for entry in json.loads(straight.read_text())["results"]]
+    assert [_physics(entry) for entry in json.loads(resumed_summary.read_text())["results"]] == expected
+    assert len(json.loads(checkpoint.read_text())["results"]) == 2  # checkpoints went on to the same file
+
+
+def test_a_resumed_swarm_sweep_keeps_its_physics_options(tmp_path):
+    checkpoint = tmp_path / "sweep.json"
+    assert runner.invoke(app, [*SWEEP[:4], "12", *SWEEP[5:], "--checkpoint", str(checkpoint)]).exit_code == 0
+    changed = runner.invoke(app, ["swarm", "--resume", str(checkpoint), "--particles", "1280"])
+    assert changed.exit_code == 2 and "particles" in changed.output and "differs" in changed.output
+    not_a_checkpoint = tmp_path / "other.json"
+    not_a_checkpoint.write_text('{"results": []}')
+    refused = runner.invoke(app, ["swarm", "--resume", str(not_a_checkpoint)])
+    assert refused.exit_code == 2 and "not a checkpoint" in refused.output
+    missing = runner.invoke(app, ["swarm", "--resume", str(tmp_path / "missing.json")])
+    assert missing.exit_code == 2 and "not found" in missing.output

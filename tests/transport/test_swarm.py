@@ -454,3 +454,28 @@ def test_a_result_row_holds_every_scalar_once_and_splits_the_vectors():
     assert row["diffusion_L_N"] == r.diffusion_L_N and row["converged"] == r.converged
     assert all(np.isscalar(value) for value in row.values())
     assert "eedf" not in row and "extras" not in row
+
+
+def test_a_result_comes_back_from_its_strict_json_with_nan_as_nan(tmp_path):
+    import dataclasses
+    import json
+
+    from collisionkit._io import atomic_write_json
+    from collisionkit.transport import SwarmResult
+
+    r = simulate_swarm(reid_ramp(), 12.0, particles=640, groups=8, seed=2, threads=1, collision_budget=2e6,
+                       tolerances={"mean_energy": 0.05})
+    r = dataclasses.replace(r, attachment_frequency_N_error=math.nan)  # strict JSON writes null for it
+    path = atomic_write_json(tmp_path / "r.json", r.to_dict())
+    back = SwarmResult.from_dict(json.loads(path.read_text()))
+    for name in SwarmResult.__dataclass_fields__:
+        value, original = getattr(back, name), getattr(r, name)
+        if isinstance(original, np.ndarray):
+            np.testing.assert_array_equal(value, original, err_msg=name)  # NaN equals NaN here
+        elif name != "attachment_frequency_N_error":
+            assert value == original, name
+    assert math.isnan(back.attachment_frequency_N_error)
+    with pytest.raises(ValueError, match="mean_energy"):
+        SwarmResult.from_dict({"reduced_field": 1.0})
+    with pytest.raises(TypeError, match="mapping"):
+        SwarmResult.from_dict([1, 2])

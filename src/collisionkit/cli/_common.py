@@ -193,6 +193,11 @@ def load_options(model: type[Options], config: Path | None, given: Mapping[str, 
     given : mapping
         Command-line values; ``None`` means "not given on the command line".
     """
+    return validate_options(model, option_values(model, config, given))
+
+
+def option_values(model: type[Options], config: Path | None, given: Mapping[str, Any]) -> dict[str, Any]:
+    """The options a TOML file and the command line set, by field name, not yet validated (the command line wins)."""
     values: dict[str, Any] = {}
     if config is not None:
         spelled: dict[str, str] = {}
@@ -203,8 +208,13 @@ def load_options(model: type[Options], config: Path | None, given: Mapping[str, 
             spelled[name] = key
             values[name] = value
     values.update({key: value for key, value in given.items() if value is not None})
+    return values
+
+
+def validate_options(model: type[Options], values: Mapping[str, Any]):
+    """Validate option values (exit 2 naming each bad one) and check that the outputs can be written."""
     try:
-        options = model.model_validate(values)
+        options = model.model_validate(dict(values))
     except ValidationError as error:
         details = "; ".join(_describe(item, model) for item in error.errors())
         raise fail(f"invalid options: {details}") from None

@@ -8,7 +8,10 @@ from typing import Annotated, Any, ClassVar, Literal
 import typer
 from pydantic import Field, field_validator, model_validator
 
-from ._common import Options, console, fail, load_options, print_table, progress_bar, require, warn, write_summary
+from ._common import (
+    Options, console, fail, load_options, option_values, print_table, progress_bar, require, validate_options, warn,
+    write_summary,
+)
 
 ModelName = Literal["maxwell", "hard_sphere", "reid", "lucas_saelee"]
 
@@ -28,7 +31,9 @@ class SwarmOptions(Options):
     sharing: Literal["equal", "uniform"] = "equal"
     out: Path | None = None
     summary: Path | None = None
+    checkpoint: Path | None = None
 
+    output_files: ClassVar[tuple[str, ...]] = ("summary", "checkpoint")
     output_folders: ClassVar[tuple[str, ...]] = ("out",)
 
     @field_validator("e_n")
@@ -76,6 +81,51 @@ def _gas(options: SwarmOptions):
         raise fail(str(error)) from None
 
 
+SWARM_CHECKPOINT_FORMAT = "collisionkit swarm checkpoint 1"
+SWARM_OUTPUTS = ("out", "summary", "checkpoint")  # what a resumed sweep may change; the rest is its physics
+
+
+def save_swarm_checkpoint(path: Path, options: SwarmOptions, results) -> Path:
+    """Write the finished E/N points and the options (JSON, atomically): a crash loses at most the running point."""
+    from .._io import atomic_write_json
+
+    return atomic_write_json(path, {"format": SWARM_CHECKPOINT_FORMAT, "options": options.model_dump(mode="json"),
+                                    "results": [result.to_dict() for result in results]})
+
+
+def load_swarm_checkpoint(path: Path) -> tuple[dict, list]:
+    """The saved options (a dict) and finished results of a checkpoint written by :func:`save_swarm_checkpoint`."""
+    import json
+
+    from ..transport import SwarmResult
+
+    try:
+        data = json.loads(Path(path).read_text())
+    except FileNotFoundError:
+        raise fail(f"checkpoint not found: {path}") from None
+    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as error:
+        raise fail(f"{path} is not a readable swarm checkpoint (JSON): {error}") from None
+    if not isinstance(data, dict) or data.get("format") != SWARM_CHECKPOINT_FORMAT:
+        raise fail(f"{path} is not a checkpoint of 'collisionkit swarm' ({SWARM_CHECKPOINT_FORMAT})")
+    try:
+        return data["options"], [SwarmResult.from_dict(entry) for entry in data["results"]]
+    except (KeyError, TypeError, ValueError) as error:
+        raise fail(f"{path} is a damaged swarm checkpoint: {error}") from None
+
+
+def _resumed_swarm_options(given: dict, saved: dict, resume: Path) -> SwarmOptions:
+    """The checkpoint's options with the output options given now (command line or config); a physics option
+    given must agree with the checkpoint's."""
+    saved_options = validate_options(SwarmOptions, saved)
+    now = validate_options(SwarmOptions, saved | given)
+    for key in sorted(set(given) - set(SWARM_OUTPUTS)):
+        if getattr(now, key) != getattr(saved_options, key):
+            raise fail(f"{key} = {getattr(now, key)!r} differs from the checkpoint {resume} "
+                       f"({key} = {getattr(saved_options, key)!r}); a resumed sweep keeps the options it started with")
+    outputs = {key: value for key, value in given.items() if key in SWARM_OUTPUTS}
+    return validate_options(SwarmOptions, saved | outputs | {"checkpoint": given.get("checkpoint", resume)})
+
+
 def _swarm_row(result):
     return (f"{result.reduced_field:g}", f"{result.mean_energy:.5g} ± {result.mean_energy_error:.2g}",
             f"{-result.drift_velocity_bulk[2]:.5g} ± {result.drift_velocity_bulk_error[2]:.2g}",
@@ -114,13 +164,23 @@ def swarm(
     sharing: Annotated[str | None, typer.Option(help="Ionization energy sharing: equal or uniform.  \\[default: equal]")] = None,
     out: Annotated[Path | None, typer.Option(help="Folder for plots and swarm.csv, a row per E/N (none if not given).")] = None,
     summary: Annotated[Path | None, typer.Option("--summary", help="Write the results as JSON to this file.")] = None,
+    checkpoint: Annotated[Path | None, typer.Option(help="Write the finished E/N points to this JSON file after each one (atomically).")] = None,
+    resume: Annotated[Path | None, typer.Option(help="Continue the sweep saved in this checkpoint, with its options; skips its finished points.")] = None,
     config: Annotated[Path | None, typer.Option("--config", help="TOML file with these options (command line wins).")] = None,
 ):
     """Electron swarm transport coefficients (mean energy, drift, diffusion, rates) against E/N."""
     given = dict(model=model, cross_sections=cross_sections, species=species, fractions=fractions, e_n=_e_n_values(e_n),
                  b_n=b_n, gas_temperature=gas_temperature, particles=particles, seed=seed, tolerance=tolerance,
-                 collision_budget=collision_budget, sharing=sharing, out=out, summary=summary)
-    options = load_options(SwarmOptions, config, given)
+                 collision_budget=collision_budget, sharing=sharing, out=out, summary=summary, checkpoint=checkpoint)
+    results = []
+    if resume is None:
+        options = load_options(SwarmOptions, config, given)
+    else:
+        saved, results = load_swarm_checkpoint(resume)
+        options = _resumed_swarm_options(option_values(SwarmOptions, config, given), saved, resume)
+        if [r.reduced_field for r in results] != options.e_n[: len(results)]:
+            raise fail(f"{resume} holds results for E/N = {[r.reduced_field for r in results]}, not the first "
+                       f"points of its sweep {options.e_n}")
     if options.out is not None:
         require("matplotlib", "plot", "plots (--out)")
     gas = _gas(options)
@@ -128,9 +188,9 @@ def swarm(
 
     tolerances = {"mean_energy": options.tolerance, "drift_velocity_bulk": options.tolerance}
     thermal = {"mean_energy": options.tolerance}  # E/N = 0: the drift is zero by symmetry (no relative error)
-    results = []
     with progress_bar("swarm", total=len(options.e_n)) as advance:
-        for value in options.e_n:
+        advance(len(results))
+        for value in options.e_n[len(results):]:
             done = [0.0]
 
             def report(fraction, done=done):
@@ -144,6 +204,8 @@ def swarm(
                                     collision_budget=options.collision_budget, progress=report)
             advance(1.0 - done[0])
             results.append(result)
+            if options.checkpoint is not None:
+                save_swarm_checkpoint(options.checkpoint, options, results)
     print_table("swarm transport (W along -z for electrons)",
                 ("E/N (Td)", "mean energy (eV)", "bulk W (m/s)", "N D_L (1/m/s)", "N D_T (1/m/s)", "collisions/s"),
                 [_swarm_row(r) for r in results])

@@ -160,6 +160,32 @@ class SwarmResult:
         out["collisions_per_second"] = self.collisions_per_second
         return out
 
+    @classmethod
+    def from_dict(cls, data: Mapping) -> SwarmResult:
+        """The result back from :meth:`to_dict` output (after a JSON round trip too: the ``null`` that
+        strict JSON writers put for NaN and infinities reads back as NaN).
+
+        Examples
+        --------
+        >>> import json
+        >>> from collisionkit.transport import maxwell_model, simulate_swarm
+        >>> result = simulate_swarm(maxwell_model(), 10.0, particles=1000, groups=4, seed=1,
+        ...                         tolerances={"mean_energy": 0.05})
+        >>> SwarmResult.from_dict(json.loads(json.dumps(result.to_dict()))).mean_energy == result.mean_energy
+        True
+        """
+        if not isinstance(data, Mapping):
+            raise TypeError(f"data must be a mapping (SwarmResult.to_dict output); got {type(data).__name__}")
+        missing = [name for name in cls.__dataclass_fields__ if name not in data and name != "extras"]
+        if missing:
+            raise ValueError(f"data is not a SwarmResult.to_dict output: missing {', '.join(missing)}")
+        values = {}
+        for name, spec in cls.__dataclass_fields__.items():
+            if name not in data:
+                continue
+            values[name] = _from_json(data[name], spec.type)
+        return cls(**values)
+
     def to_row(self) -> dict:
         """The scalars as one flat row for a table (CSV, pandas): vectors split into ``_x``, ``_y``, ``_z``,
         rate coefficients as ``rate_coefficient[label]``; the EEDF arrays and ``extras`` left out.
@@ -186,6 +212,17 @@ class SwarmResult:
                 row[name] = value
         row["collisions_per_second"] = self.collisions_per_second
         return row
+
+
+def _from_json(value, kind: str):
+    """A to_dict value of a field of type ``kind`` ("float", "np.ndarray", "dict" ...), None read as NaN."""
+    if kind == "np.ndarray":
+        return np.array([math.nan if item is None else item for item in value], dtype=float)
+    if kind == "float":
+        return math.nan if value is None else float(value)
+    if kind == "dict" and isinstance(value, Mapping):
+        return {key: math.nan if item is None else item for key, item in value.items()}
+    return value
 
 
 # ------------------------------------------------------------------ the particle store
