@@ -206,3 +206,5 @@ def test_a_resumed_swarm_sweep_keeps_its_physics_options(tmp_path):
     assert refused.exit_code == 2 and "not a checkpoint" in refused.output
     missing = runner.invoke(app, ["swarm", "--resume", str(tmp_path / "missing.json")])
     assert missing.exit_code == 2 and "not found" in missing.output
+    same = runner.invoke(app, [*SWEEP, "--checkpoint", str(checkpoint), "--summary", str(checkpoint)])
+    assert same.exit_code == 2 and "same file" in same.output

@@ -50,6 +50,10 @@ class SwarmOptions(Options):
         if self.model is not None and (self.species is not None or self.fractions is not None):
             raise ValueError("--species and --fractions pick gases from an LXCat file (--cross-sections); "
                              f"the model gas {self.model} takes neither")
+        if self.summary is not None and self.checkpoint is not None and \
+                self.summary.resolve() == self.checkpoint.resolve():
+            raise ValueError("--summary and --checkpoint name the same file; the summary would overwrite the "
+                             "checkpoint")
         if 0.0 in self.e_n and self.gas_temperature == 0.0:
             raise ValueError("E/N = 0 in a gas at 0 K has no steady state (nothing heats the swarm; it cools "
                              "without end): give --gas-temperature > 0 or E/N > 0")
