@@ -956,10 +956,10 @@ def test_wall_bounces_count_impulse_and_restitution_exactly(e, hits, impulse, fi
 
 
 def test_the_diffusion_error_matches_the_scatter_of_independent_runs():
-    """D comes from one time origin, so its error comes from groups of particles, not blocks; the groups'
+    """D's time origins overlap, so its error comes from groups of particles, not blocks; the groups'
     standard error is honest if 16 independent runs (velocities from 16 seeds, equilibrated) scatter as it
     says: (n - 1) s^2 / sigma^2 follows chi^2(n - 1), in its central 1 - 2e-4 band (a factor of two wrong in
-    the error fails it)."""
+    the error fails it). Measured: variance ratio 1.64 here (1.36 at 600 collisions per particle)."""
     values, errors = [], []
     for seed in range(16):
         positions, box = edmd.lattice("fcc", 4, 0.2)
@@ -1101,3 +1101,54 @@ def test_the_engine_finds_the_same_collisions_as_brute_force(dim, mixture, walls
         assert system.run(collisions=1) == 1
         assert system.elapsed == pytest.approx(time_expected, rel=1e-8)
         np.testing.assert_allclose(system.velocities(), velocities_expected, rtol=0, atol=1e-7)
+
+
+def test_the_diffusion_coefficient_averages_over_every_block_end_as_a_time_origin():
+    """An independent numpy computation from the block-end positions: MSD at lag k blocks averaged over all
+    origins b - k (k up to blocks // 2), slope of the longer lags (k >= 0.3 K) against the mean time lag."""
+    system = fcc_system(cells=3, eta=0.3, seed=4)
+    sampler = edmd.Sampler(system, collisions=12 * 3_000, blocks=12)
+    positions, times = [system.positions(unwrapped=True)], [system.elapsed]
+    while not sampler.finished:
+        sampler.run_block()
+        positions.append(system.positions(unwrapped=True))
+        times.append(system.elapsed)
+    positions, times = np.array(positions), np.array(times)
+    lags = np.arange(1, 12 // 2 + 1)
+    msd = [np.mean(np.sum((positions[k:] - positions[:-k]) ** 2, axis=-1)) for k in lags]
+    lag_times = [np.mean(times[k:] - times[:-k]) for k in lags]
+    first = math.ceil(0.3 * len(lags)) - 1
+    expected = np.polyfit(lag_times[first:], msd[first:], 1)[0] / 6
+    assert sampler.result().diffusion_coefficient == pytest.approx(expected, rel=1e-12)
+
+
+def test_a_sampler_resumed_from_its_state_gives_the_same_diffusion_coefficient():
+    def finished(sampler):
+        while not sampler.finished:
+            sampler.run_block()
+        return sampler.result()
+
+    straight = finished(edmd.Sampler(fcc_system(cells=3, eta=0.3, seed=5), collisions=8 * 2_000, blocks=8))
+    system = fcc_system(cells=3, eta=0.3, seed=5)
+    sampler = edmd.Sampler(system, collisions=8 * 2_000, blocks=8)
+    for _ in range(5):
+        sampler.run_block()
+    state, system_state = sampler.state_dict(), system.state_dict()
+    restored = edmd.HardSphereSystem.from_state_dict(system_state)
+    resumed = finished(edmd.Sampler.from_state_dict(restored, state))
+    assert resumed.diffusion_coefficient == straight.diffusion_coefficient
+    assert resumed.diffusion_coefficient_error == straight.diffusion_coefficient_error
+
+
+def test_a_sampler_checkpoint_from_before_the_time_origins_falls_back_to_one_origin():
+    system = fcc_system(cells=3, eta=0.3)
+    sampler = edmd.Sampler(system, collisions=8 * 2_000, blocks=8)
+    sampler.run_block()
+    state = {key: value for key, value in sampler.state_dict().items() if not key.startswith("sampler_lag_")}
+    resumed = edmd.Sampler.from_state_dict(system, state)
+    while not resumed.finished:
+        resumed.run_block()
+    m = resumed.result()
+    later = m.msd_time > 0.3 * m.msd_time[-1]
+    assert m.diffusion_coefficient == pytest.approx(np.polyfit(m.msd_time[later], m.msd[later], 1)[0] / 6, rel=1e-12)
+    assert m.diffusion_coefficient_error > 0

@@ -1389,7 +1389,8 @@ def _smallest_distance_bound(positions, side, diameters):
 
 RECORDS = ("temperature", "compressibility", "pressure", "frequency", "time", "msd", "msd_groups")
 MSD_GROUPS = 8  # particles dealt into groups (by index) for the error of the diffusion coefficient
-MSD_FIT_FROM = 0.3  # the diffusive part of the MSD: fitted from this fraction of the run on
+MSD_FIT_FROM = 0.3  # the diffusive part of the MSD: fitted from this fraction of the run (or longest lag) on
+MSD_MAX_LAGS = 8  # time origins kept for the multiple-origin MSD (memory: this many copies of the positions)
 
 
 def _group_means(values):
@@ -1401,6 +1402,70 @@ def _group_means(values):
     totals = np.bincount(groups, weights=values, minlength=MSD_GROUPS)
     counts = np.bincount(groups, minlength=MSD_GROUPS)
     return np.divide(totals, counts, out=np.full(MSD_GROUPS, math.nan), where=counts > 0)
+
+
+class _LagMSD:
+    """Mean squared displacement over block lags from every block end as a time origin.
+
+    Keeps the last ``lags`` block-end positions; at each block end it adds,
+    for each lag k, ``|r(t_b) - r(t_{b-k})|^2`` averaged over all particles
+    and over each group of :data:`MSD_GROUPS`, and the time lag. Averaging
+    over origins (Allen & Tildesley, Computer Simulation of Liquids, 2nd ed.,
+    sec. 8.7; Frenkel & Smit, sec. 4.4.1) makes the error of D fall with the
+    length of the run, which one origin does not.
+    """
+
+    def __init__(self, lags, positions, time):
+        self.lags = lags
+        self.positions, self.times = [positions], [time]
+        self.all = np.zeros(lags)
+        self.groups = np.zeros((lags, MSD_GROUPS))
+        self.time_lags = np.zeros(lags)
+        self.counts = np.zeros(lags)
+
+    def add(self, positions, time):
+        for k in range(1, len(self.positions) + 1):
+            squared = np.sum((positions - self.positions[-k]) ** 2, axis=1)
+            self.all[k - 1] += np.mean(squared)
+            self.groups[k - 1] += _group_means(squared)
+            self.time_lags[k - 1] += time - self.times[-k]
+            self.counts[k - 1] += 1
+        self.positions = (self.positions + [positions])[-self.lags:]
+        self.times = (self.times + [time])[-self.lags:]
+
+    def diffusion(self, dim):
+        """(D, error) from the slope over the longer lags, or None with fewer than 2 lags measured."""
+        measured = int(np.count_nonzero(self.counts))
+        if measured < 2:
+            return None
+        first = max(0, min(math.ceil(MSD_FIT_FROM * measured) - 1, measured - 2))
+        counts = self.counts[first:measured]
+        times = self.time_lags[first:measured] / counts
+        slope = float(np.polyfit(times, self.all[first:measured] / counts, 1)[0])
+        groups = self.groups[first:measured] / counts[:, None]
+        if not np.all(np.isfinite(groups)):
+            return slope / (2.0 * dim), math.nan
+        return slope / (2.0 * dim), _block_error(np.polyfit(times, groups, 1)[0]) / (2.0 * dim)
+
+    def state_dict(self):
+        return {"sampler_lag_positions": np.array(self.positions), "sampler_lag_times": np.array(self.times),
+                "sampler_lag_all": self.all, "sampler_lag_groups": self.groups,
+                "sampler_lag_time_lags": self.time_lags, "sampler_lag_counts": self.counts}
+
+    @classmethod
+    def from_state_dict(cls, state):
+        """The accumulators of a checkpoint, or None for one written before they existed."""
+        if "sampler_lag_positions" not in state:
+            return None
+        lag = cls.__new__(cls)
+        lag.lags = len(state["sampler_lag_counts"])
+        lag.positions = list(np.array(state["sampler_lag_positions"]))
+        lag.times = [float(t) for t in state["sampler_lag_times"]]
+        lag.all = np.array(state["sampler_lag_all"])
+        lag.groups = np.array(state["sampler_lag_groups"])
+        lag.time_lags = np.array(state["sampler_lag_time_lags"])
+        lag.counts = np.array(state["sampler_lag_counts"])
+        return lag
 
 
 def _diffusion_from_msd(msd_time, msd, msd_groups, dim):
@@ -1436,9 +1501,10 @@ class Measurement:
     Attributes: ``compressibility_factor``, ``pressure``, ``temperature``
     (final kT), ``collision_frequency`` (per particle, each pair collision
     counting for both), ``mean_free_time``, ``mean_free_path``,
-    ``diffusion_coefficient`` (from the mean squared displacement; its
-    error from the scatter of 8 groups of particles, ``MSD_GROUPS``, since
-    one time origin gives no block-to-block scatter),
+    ``diffusion_coefficient`` (from the mean squared displacement with
+    every block end as a time origin, lags up to ``blocks // 2`` blocks, at
+    most 8; its error from the scatter of 8 groups of particles,
+    ``MSD_GROUPS``, since overlapping origins give no independent blocks),
     ``energy_lost``, ``contact_value`` (g at contact); arrays ``speeds`` (a
     sample), ``rdf_r``, ``rdf`` (g(r)), ``msd_time``, ``msd``, ``block_*`` per
     block; ``wall_seconds`` is the wall clock of the measurement (events and
@@ -1577,7 +1643,10 @@ class Sampler:
     the contact distance; Allen & Tildesley, Computer Simulation of Liquids,
     2nd ed., sec. 3.7); the collision frequency per particle
     :math:`\omega = 2 C / (N t)`; speeds; pair distances for g(r); and the
-    mean squared displacement. Errors are standard errors of the block means.
+    mean squared displacement, from the start and from the earlier block ends
+    as time origins (it keeps up to 8 copies of the positions for them, 24 MB
+    per copy at 10^6 spheres). Errors are standard errors of the block means
+    (of groups of particles for the diffusion coefficient).
 
     Parameters
     ----------
@@ -1613,6 +1682,7 @@ class Sampler:
         self.histogram = np.zeros(rdf_bins)
         self.start_positions = system.positions(unwrapped=True)
         self.start_time = system.elapsed
+        self.lag_msd = _LagMSD(min(MSD_MAX_LAGS, max(1, self.blocks // 2)), self.start_positions, self.start_time)
         self.start_lost = float(system.acc[_k.ACC_ENERGY_LOST])
         self.wall_seconds = 0.0
         self.records = {name: [] for name in RECORDS}
@@ -1661,9 +1731,12 @@ class Sampler:
         record["pressure"].append((count * kT + virial / (dim * duration)) / system.volume)
         record["frequency"].append(2.0 * (system.collisions - collisions0) / (count * duration))
         record["time"].append(system.elapsed - self.start_time)
-        squared = np.sum((system.positions(unwrapped=True) - self.start_positions) ** 2, axis=1)
+        unwrapped = system.positions(unwrapped=True)
+        squared = np.sum((unwrapped - self.start_positions) ** 2, axis=1)
         record["msd"].append(float(np.mean(squared)))
         record["msd_groups"].append(_group_means(squared))
+        if self.lag_msd is not None:
+            self.lag_msd.add(unwrapped, system.elapsed)
         self.speeds.append(np.linalg.norm(system.velocities(), axis=1))
         self.histogram += _pair_histogram(system, self.r_max, self.histogram.size)
         self.wall_seconds += _time.perf_counter() - tick
@@ -1691,6 +1764,8 @@ class Sampler:
                 [self.blocks, self.per_block, self.r_max, self.start_time, self.start_lost, self.wall_seconds]
             ),
         }
+        if self.lag_msd is not None:
+            state |= self.lag_msd.state_dict()
         return state
 
     @classmethod
@@ -1721,6 +1796,7 @@ class Sampler:
         # a checkpoint written before the groups were recorded: their blocks are unknown (no D error)
         sampler.records.setdefault("msd_groups", [np.full(MSD_GROUPS, math.nan)] * len(sampler.records["msd"]))
         sampler.speeds = [row for row in np.array(state["sampler_speeds"])]
+        sampler.lag_msd = _LagMSD.from_state_dict(state)
         return sampler
 
     def result(self) -> Measurement:
@@ -1752,7 +1828,8 @@ class Sampler:
         mean_speed = float(np.mean(speeds))
         msd_time = np.concatenate([[0.0], record["time"]])
         msd = np.concatenate([[0.0], record["msd"]])
-        diffusion, diffusion_error = _diffusion_from_msd(msd_time, msd, record["msd_groups"], dim)
+        from_lags = self.lag_msd.diffusion(dim) if self.lag_msd is not None else None
+        diffusion, diffusion_error = from_lags or _diffusion_from_msd(msd_time, msd, record["msd_groups"], dim)
         omega_error = _block_error(record["frequency"])
         diameter = 2.0 * float(np.max(system.radius))
         contact, contact_error = _contact_value(centres, rdf, self.histogram, diameter)
