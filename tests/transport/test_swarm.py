@@ -479,3 +479,17 @@ def test_a_result_comes_back_from_its_strict_json_with_nan_as_nan(tmp_path):
         SwarmResult.from_dict({"reduced_field": 1.0})
     with pytest.raises(TypeError, match="mapping"):
         SwarmResult.from_dict([1, 2])
+
+
+def test_two_processes_with_the_same_label_keep_a_rate_coefficient_each():
+    """An LXCat file may give two processes the same reaction text; a dict keyed by label kept only the last."""
+    from collisionkit.transport import Process, Species
+
+    gas = Gas((Species("x", 1e-26, (
+        Process("elastic", [0, 100], [6e-20, 6e-20]),
+        Process("excitation", [0.2, 100], [0.0, 1e-19], threshold=0.2, label="x*"),
+        Process("excitation", [0.5, 100], [0.0, 5e-20], threshold=0.5, label="x*"))),))
+    r = simulate_swarm(gas, 50.0, particles=640, groups=8, seed=2, threads=1, collision_budget=2e6,
+                       tolerances={"mean_energy": 0.05})
+    assert list(r.rate_coefficients) == ["x:elastic", "x:x*", "x:x* #2"]
+    assert r.rate_coefficients["x:x*"] > r.rate_coefficients["x:x* #2"] > 0  # lower threshold, larger cross section

@@ -104,6 +104,23 @@ def _species_bound(total_sigma, const_total, nodes_joule, mass):
     return bound * (1.0 + 1e-12), step
 
 
+def _unique(labels) -> tuple[str, ...]:
+    """The labels with repeats numbered (``"Ar:excitation"``, ``"Ar:excitation #2"``), so that results keyed by
+    label keep every process: an LXCat file may give two processes the same reaction text.
+
+    Examples
+    --------
+    >>> _unique(["Ar:elastic", "Ar:excitation", "Ar:excitation"])
+    ('Ar:elastic', 'Ar:excitation', 'Ar:excitation #2')
+    """
+    seen: dict[str, int] = {}
+    unique = []
+    for label in labels:
+        seen[label] = seen.get(label, 0) + 1
+        unique.append(label if seen[label] == 1 else f"{label} #{seen[label]}")
+    return tuple(unique)
+
+
 def build_tables(gas: Gas, mass: float, gas_temperature: float) -> KernelTables:
     """Kernel arrays for a projectile of ``mass`` (kg) in ``gas`` at ``gas_temperature`` (K)."""
     processes = gas.processes
@@ -128,7 +145,7 @@ def build_tables(gas: Gas, mass: float, gas_temperature: float) -> KernelTables:
         gas_rows.append((member.mass, thermal, GAS_SPEED_SIGMAS * thermal))
     accelerator, accelerator_step = _accelerator(nodes_joule)
     return KernelTables(
-        labels=tuple(f"{gas.species[s].name}:{p.label}" for s, p in processes),
+        labels=_unique(f"{gas.species[s].name}:{p.label}" for s, p in processes),
         kinds=tuple(p.kind for _, p in processes),
         gas=np.array(gas_rows, dtype=float),
         kind=np.array([KIND_CODES[p.kind] for _, p in processes], dtype=np.int64),
