@@ -208,3 +208,20 @@ def test_a_resumed_swarm_sweep_keeps_its_physics_options(tmp_path):
     assert missing.exit_code == 2 and "not found" in missing.output
     same = runner.invoke(app, [*SWEEP, "--checkpoint", str(checkpoint), "--summary", str(checkpoint)])
     assert same.exit_code == 2 and "same file" in same.output
+
+
+def test_a_resumed_lxcat_sweep_finds_its_file_from_anywhere_and_refuses_a_changed_one(tmp_path, monkeypatch):
+    gas_file = tmp_path / "gas.txt"
+    gas_file.write_bytes((DATA / "lxcat_classic_reid.txt").read_bytes())
+    monkeypatch.chdir(tmp_path)
+    options = ["--cross-sections", "gas.txt", "--particles", "640", "--seed", "3", "--tolerance", "0.05",
+               "--collision-budget", "2e6"]
+    assert runner.invoke(app, ["swarm", *options, "--E-N", "12", "--checkpoint", "ck.json"]).exit_code == 0
+    elsewhere = tmp_path / "elsewhere"
+    elsewhere.mkdir()
+    monkeypatch.chdir(elsewhere)
+    same = runner.invoke(app, ["swarm", "--resume", str(tmp_path / "ck.json"), "--cross-sections", str(gas_file)])
+    assert same.exit_code == 0, same.output  # a relative path given then, the same file by another name now
+    gas_file.write_text(gas_file.read_text().replace("6.000000e-20", "5.000000e-20"))
+    changed = runner.invoke(app, ["swarm", "--resume", str(tmp_path / "ck.json")])
+    assert changed.exit_code == 2 and "has changed" in changed.output

@@ -89,11 +89,24 @@ SWARM_CHECKPOINT_FORMAT = "collisionkit swarm checkpoint 1"
 SWARM_OUTPUTS = ("out", "summary", "checkpoint")  # what a resumed sweep may change; the rest is its physics
 
 
+def _file_digest(path: Path | None) -> str | None:
+    """SHA-256 of a file's bytes (None for no file): a resumed sweep must read the same cross sections."""
+    import hashlib
+
+    return None if path is None else hashlib.sha256(Path(path).read_bytes()).hexdigest()
+
+
+def _flag(key: str) -> str:
+    return {"e_n": "--E-N", "b_n": "--B-N"}.get(key, "--" + key.replace("_", "-"))
+
+
 def save_swarm_checkpoint(path: Path, options: SwarmOptions, results) -> Path:
-    """Write the finished E/N points and the options (JSON, atomically): a crash loses at most the running point."""
+    """Write the finished E/N points, the options and the cross-section file's digest (JSON, atomically): a crash
+    loses at most the running point."""
     from .._io import atomic_write_json
 
     return atomic_write_json(path, {"format": SWARM_CHECKPOINT_FORMAT, "options": options.model_dump(mode="json"),
+                                    "cross_sections_sha256": _file_digest(options.cross_sections),
                                     "results": [result.to_dict() for result in results]})
 
 
@@ -112,7 +125,8 @@ def load_swarm_checkpoint(path: Path) -> tuple[dict, list]:
     if not isinstance(data, dict) or data.get("format") != SWARM_CHECKPOINT_FORMAT:
         raise fail(f"{path} is not a checkpoint of 'collisionkit swarm' ({SWARM_CHECKPOINT_FORMAT})")
     try:
-        return data["options"], [SwarmResult.from_dict(entry) for entry in data["results"]]
+        saved = dict(data["options"]) | {"cross_sections_sha256": data.get("cross_sections_sha256")}
+        return saved, [SwarmResult.from_dict(entry) for entry in data["results"]]
     except (KeyError, TypeError, ValueError) as error:
         raise fail(f"{path} is a damaged swarm checkpoint: {error}") from None
 
@@ -120,14 +134,32 @@ def load_swarm_checkpoint(path: Path) -> tuple[dict, list]:
 def _resumed_swarm_options(given: dict, saved: dict, resume: Path) -> SwarmOptions:
     """The checkpoint's options with the output options given now (command line or config); a physics option
     given must agree with the checkpoint's."""
+    saved = dict(saved)
+    digest = saved.pop("cross_sections_sha256", None)
     saved_options = validate_options(SwarmOptions, saved)
     now = validate_options(SwarmOptions, saved | given)
     for key in sorted(set(given) - set(SWARM_OUTPUTS)):
-        if getattr(now, key) != getattr(saved_options, key):
-            raise fail(f"{key} = {getattr(now, key)!r} differs from the checkpoint {resume} "
-                       f"({key} = {getattr(saved_options, key)!r}); a resumed sweep keeps the options it started with")
+        value, before = getattr(now, key), getattr(saved_options, key)
+        if isinstance(value, Path) and isinstance(before, Path):
+            value, before = value.resolve(), before.resolve()
+        if value != before:
+            raise fail(f"{_flag(key)} {_shown(value)} differs from the checkpoint {resume} ({_shown(before)}); "
+                       "a resumed sweep keeps the physics options it started with (only --summary, --out and "
+                       "--checkpoint may change)")
     outputs = {key: value for key, value in given.items() if key in SWARM_OUTPUTS}
-    return validate_options(SwarmOptions, saved | outputs | {"checkpoint": given.get("checkpoint", resume)})
+    options = validate_options(SwarmOptions, saved | outputs | {"checkpoint": given.get("checkpoint", resume)})
+    if options.cross_sections is not None and options.cross_sections.is_file() and digest is not None \
+            and _file_digest(options.cross_sections) != digest:
+        raise fail(f"{options.cross_sections} has changed since {resume} was written (its SHA-256 differs): a "
+                   "resumed sweep must use the same cross sections")
+    return options
+
+
+def _shown(value) -> str:
+    """An option value as a user would type it."""
+    if isinstance(value, list):
+        return ",".join(f"{item:g}" if isinstance(item, float) else str(item) for item in value)
+    return f"{value:g}" if isinstance(value, float) else str(value)
 
 
 def _swarm_row(result):
@@ -169,7 +201,7 @@ def swarm(
     out: Annotated[Path | None, typer.Option(help="Folder for plots and swarm.csv, a row per E/N (none if not given).")] = None,
     summary: Annotated[Path | None, typer.Option("--summary", help="Write the results as JSON to this file.")] = None,
     checkpoint: Annotated[Path | None, typer.Option(help="Write the finished E/N points to this JSON file after each one (atomically).")] = None,
-    resume: Annotated[Path | None, typer.Option(help="Continue the sweep saved in this checkpoint, with its options; skips its finished points.")] = None,
+    resume: Annotated[Path | None, typer.Option(help="Continue the sweep saved in this checkpoint, with its options (only --summary, --out, --checkpoint may change); skips its finished points; checkpoints go on to it unless --checkpoint is given.")] = None,
     config: Annotated[Path | None, typer.Option("--config", help="TOML file with these options (command line wins).")] = None,
 ):
     """Electron swarm transport coefficients (mean energy, drift, diffusion, rates) against E/N."""
@@ -179,6 +211,8 @@ def swarm(
     results = []
     if resume is None:
         options = load_options(SwarmOptions, config, given)
+        if options.cross_sections is not None:  # a checkpoint resumed from another folder finds it
+            options = options.model_copy(update={"cross_sections": options.cross_sections.resolve()})
     else:
         saved, results = load_swarm_checkpoint(resume)
         options = _resumed_swarm_options(option_values(SwarmOptions, config, given), saved, resume)
