@@ -493,3 +493,11 @@ def test_two_processes_with_the_same_label_keep_a_rate_coefficient_each():
                        tolerances={"mean_energy": 0.05})
     assert list(r.rate_coefficients) == ["x:elastic", "x:x*", "x:x* #2"]
     assert r.rate_coefficients["x:x*"] > r.rate_coefficients["x:x* #2"] > 0  # lower threshold, larger cross section
+
+
+def test_default_diffusion_tolerances_out_of_reach_of_a_small_swarm_warn_once_and_say_they_are_the_defaults():
+    with pytest.warns(UserWarning) as caught:
+        simulate_swarm(reid_ramp(), 12.0, particles=640, seed=1, threads=1, collision_budget=2e5)
+    messages = [str(w.message) for w in caught if "out of reach" in str(w.message)]
+    assert len(messages) == 1
+    assert "the default tolerances" in messages[0] and "diffusion_L_N" in messages[0] and "diffusion_T_N" in messages[0]

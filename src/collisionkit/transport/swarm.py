@@ -524,17 +524,22 @@ def diffusion_error_floor(name: str, particles: int) -> float:
     return math.sqrt(2.0 / (DIFFUSION_COMPONENTS[name] * _integer(particles, "particles", 1)))
 
 
-def _warn_unreachable_diffusion(tolerances, particles):
-    """Warn when a diffusion tolerance lies well below the error floor that only more particles lower."""
+def _warn_unreachable_diffusion(tolerances, particles, defaults):
+    """One warning naming the diffusion tolerances that lie well below the error floor only more particles lower."""
+    out_of_reach = []
+    needed = 0
     for name, tolerance in tolerances.items():
         if name in DIFFUSION_COMPONENTS:
             floor = diffusion_error_floor(name, particles)
             if tolerance < FLOOR_MARGIN * floor:
-                needed = math.ceil(2.0 / (DIFFUSION_COMPONENTS[name] * tolerance**2))
-                warnings.warn(f"tolerances[{name!r}] = {tolerance:g} lies below what {particles} particles can reach "
-                              f"(about {floor:.2g}: the error of a bulk diffusion coefficient stops falling with run "
-                              f"length at about sqrt(2 / particles per axis)); the run will likely use its whole "
-                              f"collision budget. Use particles >= {needed}.", stacklevel=3)
+                out_of_reach.append(f"{name} {tolerance:g} (floor about {floor:.2g})")
+                needed = max(needed, math.ceil(2.0 / (DIFFUSION_COMPONENTS[name] * tolerance**2)))
+    if out_of_reach:
+        which = "the default tolerances" if defaults else "tolerances"
+        warnings.warn(f"{which} for {', '.join(out_of_reach)} are out of reach of {particles} particles: the error "
+                      "of a bulk diffusion coefficient stops falling with run length at about sqrt(2 / particles) "
+                      "(sqrt(1 / particles) transverse), so the run will likely use its whole collision budget; "
+                      f"use particles >= {needed} or a looser diffusion tolerance", stacklevel=3)
 
 
 def _field_record(reduced_field, reduced_magnetic_field, density, mass, charge, gravity):
@@ -642,13 +647,14 @@ def simulate_swarm(
     >>> bool(abs(abs(r.drift_velocity_flux[2]) / exact - 1) < 0.03)
     True
     """
-    tolerances = DEFAULT_TOLERANCES if tolerances is None else tolerances
+    defaults = tolerances is None
+    tolerances = DEFAULT_TOLERANCES if defaults else tolerances
     _validated(gas, reduced_field, reduced_magnetic_field, gas_temperature, seed, mass, charge, initial_energy)
     gravity = _validated_run(particles, groups, gravity, sharing, tolerances, collision_budget, max_seconds,
                              collisions_per_sample, min_samples, energy_bins, threads, progress)
     tolerances = _reachable(tolerances, tolerances is DEFAULT_TOLERANCES, reduced_field, charge, gravity,
                             gas_temperature)
-    _warn_unreachable_diffusion(tolerances, particles)
+    _warn_unreachable_diffusion(tolerances, particles, defaults)
     threads = threads or os.cpu_count() or 1
     density = REFERENCE_DENSITY
     tables = build_tables(gas, mass, gas_temperature)
