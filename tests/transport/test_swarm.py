@@ -501,3 +501,13 @@ def test_default_diffusion_tolerances_out_of_reach_of_a_small_swarm_warn_once_an
     messages = [str(w.message) for w in caught if "out of reach" in str(w.message)]
     assert len(messages) == 1
     assert "the default tolerances" in messages[0] and "diffusion_L_N" in messages[0] and "diffusion_T_N" in messages[0]
+
+
+def test_the_collision_budget_is_kept_to_within_two_samples():
+    """The budget was checked only after chunks of 25 samples and after the first 100 measured ones: a budget of
+    2e6 ran 2.9e7 collisions. Now it is checked after every sample; a result needs two (20 collisions per
+    particle each, 4e5 here)."""
+    r = simulate_swarm(reid_ramp(), 12.0, particles=20_000, seed=1, threads=2, collision_budget=2e6,
+                       tolerances={"mean_energy": 1e-6})
+    assert not r.converged
+    assert 2e6 <= r.collisions < 2e6 + 3 * 4e5

@@ -51,6 +51,7 @@ EV = constants.e
 SHARING = {"equal": _k.SHARE_EQUAL, "uniform": _k.SHARE_UNIFORM}
 DEFAULT_TOLERANCES = {"mean_energy": 2e-3, "drift_velocity_bulk": 2e-3, "diffusion_L_N": 2e-2, "diffusion_T_N": 2e-2}
 STEPS_PER_CHUNK = 25
+MIN_RESULT_SAMPLES = 2  # samples a result needs at the least (slopes)
 GROWTH_LIMIT = 1.5  # population growth per sample that halves the interval during the transient
 MAX_SLOTS = 16  # child slots per particle and step before a step is split
 MOMENT_COLUMNS = 14
@@ -757,11 +758,20 @@ class _Run:
         return change < max(3.0 * math.hypot(last_err, first_err), 1e-3 * abs(last))
 
     def until_converged(self, tolerances, budget, max_seconds, min_samples, energy_bins, progress, setup):
-        while not self._steady():
+        """Run the transient, then measure until the tolerances are met or the budget is spent.
+
+        The budget (collisions or seconds) is checked after every sample, so it
+        is overshot by at most one sample, or by the two samples a result needs
+        at the least when the transient used it up.
+        """
+        def spent():
+            return self.collisions >= budget or self.seconds >= max_seconds
+
+        while not self._steady() and not spent():
             for _ in range(STEPS_PER_CHUNK):
                 self.step()
-            if self.collisions >= budget or self.seconds >= max_seconds:
-                break
+                if spent():
+                    break
             if progress:
                 progress(min(1.0, self.collisions / budget))
         self.steady_found = True
@@ -769,15 +779,17 @@ class _Run:
         energies = self._current_energies()
         self.histogram_step = 4.0 * energies.mean() / energy_bins
         self.histogram = np.zeros(energy_bins + 1)  # the last slot counts energies beyond the last bin
-        converged = False
         while True:
             for _ in range(STEPS_PER_CHUNK):
                 self.step()
+                if spent() and len(self.times) - start >= MIN_RESULT_SAMPLES:
+                    break
             samples = len(self.times) - start
-            if samples >= min_samples:
+            if samples >= min_samples or spent():
                 result = self._result(start, setup, False)
-                converged = all(result.relative_error(name) < tol for name, tol in tolerances.items())
-                if converged or self.collisions >= budget or self.seconds >= max_seconds:
+                converged = samples >= min_samples and all(
+                    result.relative_error(name) < tol for name, tol in tolerances.items())
+                if converged or spent():
                     result.converged = converged
                     return result
             if progress:
