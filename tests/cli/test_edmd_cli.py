@@ -294,3 +294,17 @@ def test_an_inelastic_run_says_it_cooled_and_takes_the_elastic_floor(tmp_path):
     assert elastic.exit_code == 0 and "Haff" not in elastic.output
     refused = runner.invoke(app, ["edmd", "--elastic-below", "-1", "--no-plots"], env={"COLUMNS": "200"})
     assert refused.exit_code == 2 and "elastic_below" in " ".join(refused.output.split())
+
+
+def test_an_interrupted_run_says_where_its_checkpoint_is(tmp_path, monkeypatch):
+    def interrupted(*args, **kwargs):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(_edmd, "_execute", interrupted)
+    checkpoint = tmp_path / "run.npz"
+    options = ["edmd", "--dim", "2", "--particles", "64", "--collisions", "2000", "--no-plots"]
+    saved = runner.invoke(app, [*options, "--checkpoint", str(checkpoint)])
+    assert saved.exit_code == 130 and checkpoint.exists()
+    assert f"--resume {checkpoint}" in saved.output.replace("\n", "")
+    unsaved = runner.invoke(app, options)
+    assert unsaved.exit_code == 130 and "nothing is saved" in unsaved.output.replace("\n", "")

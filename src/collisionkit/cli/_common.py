@@ -32,6 +32,7 @@ console = Console()
 error_console = Console(stderr=True)
 
 BAD_INPUT_EXIT_CODE = 2
+INTERRUPTED_EXIT_CODE = 130  # as a shell reports a command stopped by Ctrl-C (128 + SIGINT)
 
 
 def _dashed(name: str) -> str:

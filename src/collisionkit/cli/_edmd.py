@@ -25,7 +25,8 @@ from pydantic import Field, ValidationError, model_validator
 
 from .._io import atomic_write_bytes
 from ._common import (
-    Options, console, fail, load_options, print_table, progress_bar, require_gsd, require_plotting, warn, write_summary,
+    INTERRUPTED_EXIT_CODE, Options, console, fail, load_options, print_table, progress_bar, require_gsd,
+    require_plotting, warn, write_summary,
 )
 
 if TYPE_CHECKING:  # the engine (numba) is imported only when a run starts
@@ -539,6 +540,11 @@ def edmd(
             advance(run.equilibrated + run.measured)
             _execute(run, outputs, advance)
         outputs.frame(final=True)
+    except KeyboardInterrupt:
+        where = (f"the last checkpoint is in {options.checkpoint}; continue with --resume {options.checkpoint}"
+                 if options.checkpoint is not None else "no --checkpoint was given, so nothing is saved")
+        warn(f"interrupted: {where}")
+        raise typer.Exit(INTERRUPTED_EXIT_CODE) from None
     finally:
         outputs.close()
     _report(run)

@@ -18,11 +18,10 @@ import typer
 from pydantic import ValidationError
 
 from ._common import (
-    _describe, _field_name, check_output_file, check_output_folder, console, error_console, fail, print_table,
-    progress_bar, write_summary,
+    INTERRUPTED_EXIT_CODE, _describe, _field_name, check_output_file, check_output_folder, console, error_console, fail,
+    print_table, progress_bar, write_summary,
 )
 
-INTERRUPTED_EXIT_CODE = 130
 FAILED_POINTS_EXIT_CODE = 1
 SHOWN_FAILURES = 10
 CONNECT_TIMEOUT = "15s"

@@ -9,8 +9,8 @@ import typer
 from pydantic import Field, field_validator, model_validator
 
 from ._common import (
-    Options, console, fail, load_options, option_values, print_table, progress_bar, require, validate_options, warn,
-    write_summary,
+    INTERRUPTED_EXIT_CODE, Options, console, fail, load_options, option_values, print_table, progress_bar, require,
+    validate_options, warn, write_summary,
 )
 
 ModelName = Literal["maxwell", "hard_sphere", "reid", "lucas_saelee"]
@@ -162,6 +162,30 @@ def _shown(value) -> str:
     return f"{value:g}" if isinstance(value, float) else str(value)
 
 
+def _run_points(options: SwarmOptions, gas, results: list, tolerances: dict, thermal: dict) -> None:
+    """Run the E/N points not yet in ``results``, appending each and saving the checkpoint after it."""
+    from ..transport import simulate_swarm
+
+    with progress_bar("swarm", total=len(options.e_n)) as advance:
+        advance(len(results))
+        for value in options.e_n[len(results):]:
+            done = [0.0]
+
+            def report(fraction, done=done):
+                advance(fraction - done[0])
+                done[0] = fraction
+
+            result = simulate_swarm(gas, value, reduced_magnetic_field=options.b_n,
+                                    gas_temperature=options.gas_temperature, particles=options.particles,
+                                    seed=options.seed, sharing=options.sharing,
+                                    tolerances=tolerances if value > 0 else thermal,
+                                    collision_budget=options.collision_budget, progress=report)
+            advance(1.0 - done[0])
+            results.append(result)
+            if options.checkpoint is not None:
+                save_swarm_checkpoint(options.checkpoint, options, results)
+
+
 def _swarm_row(result):
     return (f"{result.reduced_field:g}", f"{result.mean_energy:.5g} ± {result.mean_energy_error:.2g}",
             f"{-result.drift_velocity_bulk[2]:.5g} ± {result.drift_velocity_bulk_error[2]:.2g}",
@@ -222,28 +246,16 @@ def swarm(
     if options.out is not None:
         require("matplotlib", "plot", "plots (--out)")
     gas = _gas(options)
-    from ..transport import simulate_swarm
-
     tolerances = {"mean_energy": options.tolerance, "drift_velocity_bulk": options.tolerance}
     thermal = {"mean_energy": options.tolerance}  # E/N = 0: the drift is zero by symmetry (no relative error)
-    with progress_bar("swarm", total=len(options.e_n)) as advance:
-        advance(len(results))
-        for value in options.e_n[len(results):]:
-            done = [0.0]
-
-            def report(fraction, done=done):
-                advance(fraction - done[0])
-                done[0] = fraction
-
-            result = simulate_swarm(gas, value, reduced_magnetic_field=options.b_n,
-                                    gas_temperature=options.gas_temperature, particles=options.particles,
-                                    seed=options.seed, sharing=options.sharing,
-                                    tolerances=tolerances if value > 0 else thermal,
-                                    collision_budget=options.collision_budget, progress=report)
-            advance(1.0 - done[0])
-            results.append(result)
-            if options.checkpoint is not None:
-                save_swarm_checkpoint(options.checkpoint, options, results)
+    try:
+        _run_points(options, gas, results, tolerances, thermal)
+    except KeyboardInterrupt:
+        where = (f"{len(results)} of {len(options.e_n)} E/N points are saved in {options.checkpoint}; continue with "
+                 f"--resume {options.checkpoint}" if options.checkpoint is not None else
+                 "no --checkpoint was given, so nothing is saved")
+        warn(f"interrupted: {where}")
+        raise typer.Exit(INTERRUPTED_EXIT_CODE) from None
     print_table("swarm transport (W along -z for electrons)",
                 ("E/N (Td)", "mean energy (eV)", "bulk W (m/s)", "N D_L (1/m/s)", "N D_T (1/m/s)", "collisions/s"),
                 [_swarm_row(r) for r in results])
