@@ -1412,7 +1412,8 @@ class _LagMSD:
     and over each group of :data:`MSD_GROUPS`, and the time lag. Averaging
     over origins (Allen & Tildesley, Computer Simulation of Liquids, 2nd ed.,
     sec. 8.7; Frenkel & Smit, sec. 4.4.1) makes the error of D fall with the
-    length of the run, which one origin does not.
+    number of origins (blocks); from one origin it does not fall with the
+    length of the run.
     """
 
     def __init__(self, lags, positions, time):
