@@ -308,3 +308,13 @@ def test_an_interrupted_run_says_where_its_checkpoint_is(tmp_path, monkeypatch):
     assert f"--resume {checkpoint}" in saved.output.replace("\n", "")
     unsaved = runner.invoke(app, options)
     assert unsaved.exit_code == 130 and "nothing is saved" in unsaved.output.replace("\n", "")
+
+
+def test_a_new_run_does_not_overwrite_an_existing_checkpoint(tmp_path):
+    checkpoint = tmp_path / "c.npz"
+    assert invoke(*SMALL, "--checkpoint", checkpoint).exit_code == 0
+    saved = checkpoint.read_bytes()
+    again = invoke(*SMALL, "--checkpoint", checkpoint)  # --resume forgotten
+    assert again.exit_code == 2 and f"--resume {checkpoint}" in again.output.replace("\n", "")
+    assert checkpoint.read_bytes() == saved
+    assert invoke("--resume", checkpoint).exit_code == 0  # resuming writes on to it, as before

@@ -226,3 +226,12 @@ def test_a_resumed_lxcat_sweep_finds_its_file_from_anywhere_and_refuses_a_change
     gas_file.write_text(gas_file.read_text().replace("6.000000e-20", "5.000000e-20"))
     changed = runner.invoke(app, ["swarm", "--resume", str(tmp_path / "ck.json")])
     assert changed.exit_code == 2 and "has changed" in changed.output
+
+
+def test_a_new_sweep_does_not_overwrite_an_existing_checkpoint(tmp_path):
+    checkpoint = tmp_path / "sweep.json"
+    assert runner.invoke(app, [*SWEEP[:4], "12", *SWEEP[5:], "--checkpoint", str(checkpoint)]).exit_code == 0
+    saved = checkpoint.read_bytes()
+    again = runner.invoke(app, [*SWEEP, "--checkpoint", str(checkpoint)])  # --resume forgotten
+    assert again.exit_code == 2 and f"--resume {checkpoint}" in again.output.replace("\n", "")
+    assert checkpoint.read_bytes() == saved

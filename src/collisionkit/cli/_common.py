@@ -288,6 +288,26 @@ def check_output_folder(path: Path | None, option: str) -> None:
         raise fail(f"{option} {path} cannot be written: {reason}")
 
 
+def refuse_to_overwrite_checkpoint(path: Path | None) -> None:
+    """Stop (exit 2) before a new run would overwrite an existing checkpoint: the work in it would be lost.
+
+    Examples
+    --------
+    >>> refuse_to_overwrite_checkpoint(None)  # no checkpoint asked for
+    >>> import tempfile
+    >>> existing = Path(tempfile.mkdtemp()) / "run.npz"
+    >>> _ = existing.write_bytes(b"saved work")
+    >>> try:
+    ...     refuse_to_overwrite_checkpoint(existing)
+    ... except Exception as stop:
+    ...     print(type(stop).__name__, stop.exit_code)
+    Exit 2
+    """
+    if path is not None and Path(path).exists():
+        raise fail(f"{path} exists: continue the run it holds with --resume {path}, or remove it (or name another "
+                   "--checkpoint) to start a new run")
+
+
 def write_summary(path: Path | None, summary: Mapping[str, Any]) -> None:
     """Write the run's summary as JSON (atomically) if a path was given."""
     if path is not None:

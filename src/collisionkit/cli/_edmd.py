@@ -25,8 +25,8 @@ from pydantic import Field, ValidationError, model_validator
 
 from .._io import atomic_write_bytes
 from ._common import (
-    INTERRUPTED_EXIT_CODE, Options, console, fail, load_options, print_table, progress_bar, require_gsd,
-    require_plotting, warn, write_summary,
+    INTERRUPTED_EXIT_CODE, Options, console, fail, load_options, print_table, progress_bar,
+    refuse_to_overwrite_checkpoint, require_gsd, require_plotting, warn, write_summary,
 )
 
 if TYPE_CHECKING:  # the engine (numba) is imported only when a run starts
@@ -529,6 +529,7 @@ def edmd(
         appending = _same_file(options.trajectory, saved.get("trajectory"))
     else:
         options = _resolve(options)
+        refuse_to_overwrite_checkpoint(options.checkpoint)
         _require_outputs(options)
         run = _new_run(options)
         appending = False

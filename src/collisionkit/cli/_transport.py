@@ -9,8 +9,8 @@ import typer
 from pydantic import Field, field_validator, model_validator
 
 from ._common import (
-    INTERRUPTED_EXIT_CODE, Options, console, fail, load_options, option_values, print_table, progress_bar, require,
-    validate_options, warn, write_summary,
+    INTERRUPTED_EXIT_CODE, Options, console, fail, load_options, option_values, print_table, progress_bar,
+    refuse_to_overwrite_checkpoint, require, validate_options, warn, write_summary,
 )
 
 ModelName = Literal["maxwell", "hard_sphere", "reid", "lucas_saelee"]
@@ -235,6 +235,7 @@ def swarm(
     results = []
     if resume is None:
         options = load_options(SwarmOptions, config, given)
+        refuse_to_overwrite_checkpoint(options.checkpoint)
         if options.cross_sections is not None:  # a checkpoint resumed from another folder finds it
             options = options.model_copy(update={"cross_sections": options.cross_sections.resolve()})
     else:
