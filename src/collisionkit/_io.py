@@ -1,11 +1,15 @@
-"""Atomic file writing: a reader (or a crash) never sees half a file."""
+"""Atomic file writing (a reader, or a crash, never sees half a file) and the one checkpoint format."""
 
 from __future__ import annotations
 
+import hashlib
+import io
 import json
 import math
 import os
 import tempfile
+import zipfile
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -79,3 +83,110 @@ def atomic_write_json(path, data) -> Path:
     {'period': None, 'e': 1.5}
     """
     return atomic_write_text(path, json.dumps(_strict_json(data), indent=2, allow_nan=False) + "\n")
+
+
+# ------------------------------------------------------------------ checkpoints
+
+CHECKPOINT_FORMAT = "collisionkit checkpoint"
+CHECKPOINT_VERSION = 1
+_HEADER = "checkpoint_header"
+
+
+class CheckpointError(ValueError):
+    """A file that is not a readable checkpoint of the expected kind and version."""
+
+
+def write_checkpoint(path, kind: str, parameters, state=None, arrays=None) -> Path:
+    """Write a checkpoint atomically: one ``.npz`` file, the same layout for every kind of run.
+
+    The file holds a JSON header (``format``, ``version``, ``kind``, the
+    ``parameters`` that started the run and a JSON-ready ``state``) and
+    any numpy ``arrays`` (the bulk state, stored exactly).
+
+    Parameters
+    ----------
+    path : path
+        The ``.npz`` file to write (replaced atomically).
+    kind : str
+        What wrote it (``"edmd"``, ``"swarm"``, ``"sweep"``): a run resumes
+        only from its own kind.
+    parameters : mapping
+        The run's parameters, JSON-ready (NaN and inf become ``null``).
+    state : mapping, optional
+        Progress counters and small results, JSON-ready.
+    arrays : mapping of str to array, optional
+        Bulk state; names must not be ``checkpoint_header``.
+
+    Returns
+    -------
+    Path
+
+    Examples
+    --------
+    >>> import pathlib, tempfile
+    >>> import numpy as np
+    >>> path = pathlib.Path(tempfile.mkdtemp()) / "run.npz"
+    >>> _ = write_checkpoint(path, "demo", {"n": 3}, {"done": 1}, {"x": np.arange(3.0)})
+    >>> checkpoint = read_checkpoint(path, "demo")
+    >>> checkpoint.parameters, checkpoint.state, checkpoint.arrays["x"].tolist()
+    ({'n': 3}, {'done': 1}, [0.0, 1.0, 2.0])
+    """
+    arrays = dict(arrays or {})
+    if _HEADER in arrays:
+        raise ValueError(f"arrays must not use the name {_HEADER!r}")
+    header = {"format": CHECKPOINT_FORMAT, "version": CHECKPOINT_VERSION, "kind": kind,
+              "parameters": _strict_json(dict(parameters)), "state": _strict_json(dict(state or {}))}
+    buffer = io.BytesIO()
+    np.savez(buffer, **{_HEADER: np.asarray(json.dumps(header, allow_nan=False))}, **arrays)
+    return atomic_write_bytes(path, buffer.getvalue())
+
+
+@dataclass(frozen=True)
+class Checkpoint:
+    """What :func:`read_checkpoint` found: the run's kind, parameters, state and arrays."""
+
+    path: Path
+    kind: str
+    parameters: dict
+    state: dict
+    arrays: dict
+
+
+def read_checkpoint(path, kind: str) -> Checkpoint:
+    """Read a checkpoint written by :func:`write_checkpoint` for a run of ``kind``.
+
+    Raises
+    ------
+    CheckpointError
+        If the file is missing, a folder, not a checkpoint, of another kind
+        or of another version (the message names the file and what it is).
+    """
+    path = Path(path)
+    if not path.exists():
+        raise CheckpointError(f"checkpoint not found: {path}")
+    if path.is_dir():
+        raise CheckpointError(f"checkpoint {path} is a folder; give the checkpoint file")
+    if not zipfile.is_zipfile(path):  # numpy would talk of pickles
+        raise CheckpointError(f"{path} is not a checkpoint: a .npz file written by collisionkit {kind} --checkpoint")
+    try:
+        with np.load(path, allow_pickle=False) as data:
+            arrays = {name: data[name] for name in data.files}
+        header = json.loads(str(arrays.pop(_HEADER)))
+    except KeyError:
+        raise CheckpointError(f"{path} is not a checkpoint of collisionkit {kind} "
+                              f"(no {CHECKPOINT_FORMAT!r} header)") from None
+    except (OSError, ValueError, zipfile.BadZipFile) as error:
+        raise CheckpointError(f"{path} is not a readable checkpoint: {error}") from None
+    if not isinstance(header, dict) or header.get("format") != CHECKPOINT_FORMAT:
+        raise CheckpointError(f"{path} is not a collisionkit checkpoint")
+    if header.get("kind") != kind:
+        raise CheckpointError(f"{path} is a checkpoint of collisionkit {header.get('kind')}, not of {kind}")
+    if header.get("version") != CHECKPOINT_VERSION:
+        raise CheckpointError(f"{path} is a checkpoint of version {header.get('version')}; this collisionkit reads "
+                              f"version {CHECKPOINT_VERSION}")
+    return Checkpoint(path, kind, dict(header.get("parameters") or {}), dict(header.get("state") or {}), arrays)
+
+
+def file_digest(path) -> str | None:
+    """SHA-256 of a file's bytes (None for no path): a resumed run checks that its inputs did not change."""
+    return None if path is None else hashlib.sha256(Path(path).read_bytes()).hexdigest()

@@ -36,28 +36,24 @@ class SwarmOptions(Options):
     output_files: ClassVar[tuple[str, ...]] = ("summary", "checkpoint")
     output_folders: ClassVar[tuple[str, ...]] = ("out",)
 
-    @field_validator("e_n")
-    @classmethod
-    def _non_negative(cls, values):
-        if any(not (v >= 0 and v < float("inf")) for v in values):
-            raise ValueError("E/N values must be finite and >= 0 Td")
-        return values
-
     @model_validator(mode="after")
-    def _one_gas(self):
-        if (self.model is None) == (self.cross_sections is None):
-            raise ValueError("give exactly one of --model and --cross-sections")
-        if self.model is not None and (self.species is not None or self.fractions is not None):
-            raise ValueError("--species and --fractions pick gases from an LXCat file (--cross-sections); "
-                             f"the model gas {self.model} takes neither")
+    def _physics(self):
+        """The library's rules (one gas, E/N >= 0, a warm gas at E/N = 0 ...), so a sweep checks every point."""
+        self.parameters()
         if self.summary is not None and self.checkpoint is not None and \
                 self.summary.resolve() == self.checkpoint.resolve():
             raise ValueError("--summary and --checkpoint name the same file; the summary would overwrite the "
                              "checkpoint")
-        if 0.0 in self.e_n and self.gas_temperature == 0.0:
-            raise ValueError("E/N = 0 in a gas at 0 K has no steady state (nothing heats the swarm; it cools "
-                             "without end): give --gas-temperature > 0 or E/N > 0")
         return self
+
+    def parameters(self):
+        """The scan's physics as :class:`collisionkit.transport.scan.SwarmParameters`."""
+        from ..transport.scan import SwarmParameters
+
+        return SwarmParameters(reduced_field=self.e_n, model=self.model, cross_sections=self.cross_sections,
+                               species=self.species, fractions=self.fractions, reduced_magnetic_field=self.b_n,
+                               gas_temperature=self.gas_temperature, particles=self.particles, seed=self.seed,
+                               tolerance=self.tolerance, collision_budget=self.collision_budget, sharing=self.sharing)
 
 
 def _e_n_values(raw: list[str] | None) -> list[float] | None:
@@ -74,116 +70,41 @@ def _e_n_values(raw: list[str] | None) -> list[float] | None:
     return values
 
 
-def _gas(options: SwarmOptions):
-    from ..transport import model_gas, read_lxcat
+SWARM_OUTPUTS = ("out", "summary", "checkpoint")  # what a resumed scan may change; the rest is its physics
 
-    if options.model is not None:
-        return model_gas(options.model)
+
+def _new_scan(options: SwarmOptions):
+    from ..transport.scan import SwarmScan
+
+    refuse_to_overwrite_checkpoint(options.checkpoint)
     try:
-        return read_lxcat(options.cross_sections, species=options.species, fractions=options.fractions)
+        return SwarmScan(options.parameters(), checkpoint=options.checkpoint)
     except ValueError as error:
         raise fail(str(error)) from None
 
 
-SWARM_CHECKPOINT_FORMAT = "collisionkit swarm checkpoint 1"
-SWARM_OUTPUTS = ("out", "summary", "checkpoint")  # what a resumed sweep may change; the rest is its physics
+def _resumed_scan(resume: Path, given: dict):
+    """The scan saved in ``resume``; physics options given now must agree with it, outputs may change."""
+    from ..transport.scan import SwarmScan
 
-
-def _file_digest(path: Path | None) -> str | None:
-    """SHA-256 of a file's bytes (None for no file): a resumed sweep must read the same cross sections."""
-    import hashlib
-
-    return None if path is None else hashlib.sha256(Path(path).read_bytes()).hexdigest()
-
-
-def _flag(key: str) -> str:
-    return {"e_n": "--E-N", "b_n": "--B-N"}.get(key, "--" + key.replace("_", "-"))
-
-
-def save_swarm_checkpoint(path: Path, options: SwarmOptions, results) -> Path:
-    """Write the finished E/N points, the options and the cross-section file's digest (JSON, atomically): a crash
-    loses at most the running point."""
-    from .._io import atomic_write_json
-
-    return atomic_write_json(path, {"format": SWARM_CHECKPOINT_FORMAT, "options": options.model_dump(mode="json"),
-                                    "cross_sections_sha256": _file_digest(options.cross_sections),
-                                    "results": [result.to_dict() for result in results]})
-
-
-def load_swarm_checkpoint(path: Path) -> tuple[dict, list]:
-    """The saved options (a dict) and finished results of a checkpoint written by :func:`save_swarm_checkpoint`."""
-    import json
-
-    from ..transport import SwarmResult
-
+    physics = {_library_name(key): value for key, value in given.items() if key not in SWARM_OUTPUTS}
     try:
-        data = json.loads(Path(path).read_text())
-    except FileNotFoundError:
-        raise fail(f"checkpoint not found: {path}") from None
-    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as error:
-        raise fail(f"{path} is not a readable swarm checkpoint (JSON): {error}") from None
-    if not isinstance(data, dict) or data.get("format") != SWARM_CHECKPOINT_FORMAT:
-        raise fail(f"{path} is not a checkpoint of 'collisionkit swarm' ({SWARM_CHECKPOINT_FORMAT})")
-    try:
-        saved = dict(data["options"]) | {"cross_sections_sha256": data.get("cross_sections_sha256")}
-        return saved, [SwarmResult.from_dict(entry) for entry in data["results"]]
-    except (KeyError, TypeError, ValueError) as error:
-        raise fail(f"{path} is a damaged swarm checkpoint: {error}") from None
+        scan = SwarmScan.resume(resume, checkpoint=given.get("checkpoint", resume), **physics)
+    except ValueError as error:
+        raise fail(str(error)) from None
+    outputs = {key: value for key, value in given.items() if key in SWARM_OUTPUTS} | {"checkpoint": scan.checkpoint}
+    options = validate_options(SwarmOptions, _options_of(scan.parameters) | outputs)
+    return scan, options
 
 
-def _resumed_swarm_options(given: dict, saved: dict, resume: Path) -> SwarmOptions:
-    """The checkpoint's options with the output options given now (command line or config); a physics option
-    given must agree with the checkpoint's."""
-    saved = dict(saved)
-    digest = saved.pop("cross_sections_sha256", None)
-    saved_options = validate_options(SwarmOptions, saved)
-    now = validate_options(SwarmOptions, saved | given)
-    for key in sorted(set(given) - set(SWARM_OUTPUTS)):
-        value, before = getattr(now, key), getattr(saved_options, key)
-        if isinstance(value, Path) and isinstance(before, Path):
-            value, before = value.resolve(), before.resolve()
-        if value != before:
-            raise fail(f"{_flag(key)} {_shown(value)} differs from the checkpoint {resume} ({_shown(before)}); "
-                       "a resumed sweep keeps the physics options it started with (only --summary, --out and "
-                       "--checkpoint may change)")
-    outputs = {key: value for key, value in given.items() if key in SWARM_OUTPUTS}
-    options = validate_options(SwarmOptions, saved | outputs | {"checkpoint": given.get("checkpoint", resume)})
-    if options.cross_sections is not None and options.cross_sections.is_file() and digest is not None \
-            and _file_digest(options.cross_sections) != digest:
-        raise fail(f"{options.cross_sections} has changed since {resume} was written (its SHA-256 differs): a "
-                   "resumed sweep must use the same cross sections")
-    return options
+def _library_name(key: str) -> str:
+    return {"e_n": "reduced_field", "b_n": "reduced_magnetic_field"}.get(key, key)
 
 
-def _shown(value) -> str:
-    """An option value as a user would type it."""
-    if isinstance(value, list):
-        return ",".join(f"{item:g}" if isinstance(item, float) else str(item) for item in value)
-    return f"{value:g}" if isinstance(value, float) else str(value)
-
-
-def _run_points(options: SwarmOptions, gas, results: list, tolerances: dict, thermal: dict) -> None:
-    """Run the E/N points not yet in ``results``, appending each and saving the checkpoint after it."""
-    from ..transport import simulate_swarm
-
-    with progress_bar("swarm", total=len(options.e_n)) as advance:
-        advance(len(results))
-        for value in options.e_n[len(results):]:
-            done = [0.0]
-
-            def report(fraction, done=done):
-                advance(fraction - done[0])
-                done[0] = fraction
-
-            result = simulate_swarm(gas, value, reduced_magnetic_field=options.b_n,
-                                    gas_temperature=options.gas_temperature, particles=options.particles,
-                                    seed=options.seed, sharing=options.sharing,
-                                    tolerances=tolerances if value > 0 else thermal,
-                                    collision_budget=options.collision_budget, progress=report)
-            advance(1.0 - done[0])
-            results.append(result)
-            if options.checkpoint is not None:
-                save_swarm_checkpoint(options.checkpoint, options, results)
+def _options_of(parameters) -> dict:
+    """The command's options for library parameters (E/N as e_n ...)."""
+    names = {"reduced_field": "e_n", "reduced_magnetic_field": "b_n"}
+    return {names.get(key, key): value for key, value in parameters.to_dict().items()}
 
 
 def _swarm_row(result):
@@ -232,25 +153,24 @@ def swarm(
     given = dict(model=model, cross_sections=cross_sections, species=species, fractions=fractions, e_n=_e_n_values(e_n),
                  b_n=b_n, gas_temperature=gas_temperature, particles=particles, seed=seed, tolerance=tolerance,
                  collision_budget=collision_budget, sharing=sharing, out=out, summary=summary, checkpoint=checkpoint)
-    results = []
     if resume is None:
         options = load_options(SwarmOptions, config, given)
-        refuse_to_overwrite_checkpoint(options.checkpoint)
-        if options.cross_sections is not None:  # a checkpoint resumed from another folder finds it
-            options = options.model_copy(update={"cross_sections": options.cross_sections.resolve()})
+        scan = _new_scan(options)
     else:
-        saved, results = load_swarm_checkpoint(resume)
-        options = _resumed_swarm_options(option_values(SwarmOptions, config, given), saved, resume)
-        if [r.reduced_field for r in results] != options.e_n[: len(results)]:
-            raise fail(f"{resume} holds results for E/N = {[r.reduced_field for r in results]}, not the first "
-                       f"points of its sweep {options.e_n}")
+        scan, options = _resumed_scan(resume, option_values(SwarmOptions, config, given))
     if options.out is not None:
         require("matplotlib", "plot", "plots (--out)")
-    gas = _gas(options)
-    tolerances = {"mean_energy": options.tolerance, "drift_velocity_bulk": options.tolerance}
-    thermal = {"mean_energy": options.tolerance}  # E/N = 0: the drift is zero by symmetry (no relative error)
+    results = scan.results
     try:
-        _run_points(options, gas, results, tolerances, thermal)
+        with progress_bar("swarm", total=len(options.e_n)) as advance:
+            shown = [0.0]
+
+            def report(fraction):
+                advance(fraction * len(options.e_n) - shown[0])
+                shown[0] = fraction * len(options.e_n)
+
+            report(len(results) / len(options.e_n))
+            scan.run(progress=report)
     except KeyboardInterrupt:
         where = (f"{len(results)} of {len(options.e_n)} E/N points are saved in {options.checkpoint}; continue with "
                  f"--resume {options.checkpoint}" if options.checkpoint is not None else
@@ -267,13 +187,7 @@ def swarm(
                    "their errors are larger than asked; rerun with a larger --collision-budget")
         warn(message)
     files = _swarm_plots(results, options.out) if options.out is not None else []
-    entries = []
-    for r in results:
-        entry = r.to_dict()
-        entry["E_N"] = r.reduced_field
-        entries.append(entry)
-    write_summary(options.summary, {"gas": str(options.model or options.cross_sections), "results": entries,
-                                    "files": [str(p) for p in files], "options": options.model_dump(mode="json")})
+    write_summary(options.summary, scan.summary(files))
     for path in files:
         console.print(f"wrote {path}")
 
@@ -295,11 +209,16 @@ class SlabOptions(Options):
         return float("inf") if value is None else value
 
     @model_validator(mode="after")
-    def _rod_is_one_dimensional(self):
-        if self.model == "rod" and (self.incidence != "normal" or self.mass_ratio != float("inf")):
-            raise ValueError("the rod model is one-dimensional and elastic: it takes incidence normal and "
-                             "mass-ratio inf")
+    def _physics(self):
+        """The library's rules (the rod model is 1D and elastic ...), so a sweep checks every point."""
+        self.parameters()
         return self
+
+    def parameters(self):
+        """The run as :class:`collisionkit.transport.SlabParameters`."""
+        from ..transport import SlabParameters
+
+        return SlabParameters(**{name: getattr(self, name) for name in SlabParameters.names()})
 
 
 def slab(
@@ -317,11 +236,10 @@ def slab(
     given = dict(thickness=thickness, albedo=albedo, incidence=incidence, model=model, mass_ratio=mass_ratio,
                  particles=particles, seed=seed, summary=summary)
     options = load_options(SlabOptions, config, given)
-    from ..transport import simulate_slab
+    from ..transport import run_slab, slab_summary
 
     with progress_bar("slab", total=1) as advance:
-        result = simulate_slab(options.thickness, options.albedo, incidence=options.incidence, model=options.model,
-                               mass_ratio=options.mass_ratio, particles=options.particles, seed=options.seed)
+        result = run_slab(options.parameters())
         advance()
     rows = [("transmission (x > d)", f"{result.transmission:.6f}", f"{result.transmission_error:.2g}"),
             ("reflection (x < 0)", f"{result.reflection:.6f}", f"{result.reflection_error:.2g}"),
@@ -329,7 +247,7 @@ def slab(
             ("collisions per particle", f"{result.collisions_per_particle:.4f}", "")]
     print_table(f"slab d = {options.thickness:g} mfp, albedo {options.albedo:g}, {options.incidence} incidence",
                 ("quantity", "value", "error"), rows)
-    write_summary(options.summary, result.to_dict() | {"options": options.model_dump(mode="json")})
+    write_summary(options.summary, slab_summary(options.parameters(), result))
 
 
 def register(app: typer.Typer) -> None:

@@ -8,6 +8,8 @@ collisions), real gases (LXCat files) and transport coefficients.
 
 * :func:`simulate_swarm` - drift, diffusion, rates and mean energy of a
   swarm in E (and B) fields; :class:`SwarmResult`;
+* :class:`SwarmScan` - the ``swarm`` command's E/N scan (:class:`SwarmParameters`),
+  with checkpoint and resume;
 * :func:`simulate_slab` - transmission and reflection of a beam by a slab;
 * gases: :class:`Gas`, :class:`Species`, :class:`Process`, model gases
   (:func:`maxwell_model`, :func:`hard_sphere_gas`, :func:`reid_ramp`,
@@ -27,7 +29,9 @@ from .gases import (
     screened_coulomb_momentum_ratio,
 )
 from .lxcat import LXCatError, parse_lxcat, read_lxcat
+from .scan import SwarmParameters, SwarmScan, swarm_summary
 from .slab import SlabResult, simulate_slab
+from .slab_parameters import SlabParameters, run_slab, slab_summary
 from .swarm import DEFAULT_TOLERANCES, HUXLEY, TOWNSEND, SwarmResult, simulate_swarm
 
 __all__ = [
@@ -39,7 +43,10 @@ __all__ = [
     "LXCatError",
     "Process",
     "Species",
+    "SlabParameters",
     "SlabResult",
+    "SwarmParameters",
+    "SwarmScan",
     "SwarmResult",
     "hard_sphere_gas",
     "lucas_saelee",
@@ -48,7 +55,10 @@ __all__ = [
     "parse_lxcat",
     "read_lxcat",
     "reid_ramp",
+    "run_slab",
     "screened_coulomb_momentum_ratio",
     "simulate_slab",
     "simulate_swarm",
+    "slab_summary",
+    "swarm_summary",
 ]

@@ -1,0 +1,292 @@
+"""A swarm scan over E/N: the ``swarm`` command as a library object, with checkpoint and resume.
+
+:class:`SwarmParameters` holds the physics of a scan (the gas, the E/N
+values, B/N, the gas temperature, the swarm size, the seed and the
+accuracy). :class:`SwarmScan` runs the E/N points in order with
+:func:`~collisionkit.transport.simulate_swarm`, writes a checkpoint after
+each finished point when asked (a crash loses at most the running point)
+and resumes from it::
+
+    scan = SwarmScan(SwarmParameters(model="reid", reduced_field=[12, 24]), checkpoint="scan.npz")
+    scan.run()                               # interrupted? then:
+    scan = SwarmScan.resume("scan.npz")
+    scan.run()
+    scan.summary()["results"][1]["mean_energy"]
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from collections.abc import Callable, Sequence
+from pathlib import Path
+from typing import Any, ClassVar
+
+from .._io import CheckpointError, file_digest, read_checkpoint, write_checkpoint
+from .._params import Parameters, check_choice, check_unchanged, check_integer, check_real, check_seed
+from .gases import MODEL_GASES, Gas, model_gas
+from .lxcat import read_lxcat
+from .swarm import SwarmResult, simulate_swarm
+
+__all__ = ["SwarmParameters", "SwarmScan", "swarm_summary"]
+
+CHECKPOINT_KIND = "swarm"
+SHARING_MODES = ("equal", "uniform")
+
+
+@dataclasses.dataclass(frozen=True)
+class SwarmParameters(Parameters):
+    """The physics of a swarm scan, checked when made.
+
+    Parameters
+    ----------
+    reduced_field : float or sequence of float
+        E/N values in Td (finite, >= 0), run in order (``--E-N``).
+    model : str, optional
+        A model gas (:data:`~collisionkit.transport.MODEL_GASES`); exactly
+        one of ``model`` and ``cross_sections``.
+    cross_sections : path, optional
+        An LXCat file (stored resolved, so a resumed scan finds it from
+        any folder).
+    species, fractions : sequence, optional
+        Targets of the LXCat file to use and their number fractions.
+    reduced_magnetic_field : float
+        B/N in Hx along y (``--B-N``).
+    gas_temperature : float
+        In K (>= 0); E/N = 0 needs a warm gas.
+    particles : int
+        Simulated electrons, 128 to 1e7.
+    seed : int
+        Random seed (>= 0).
+    tolerance : float
+        Target relative error of the mean energy and the drift velocity
+        (of the mean energy alone at E/N = 0), in (0, 0.5].
+    collision_budget : float
+        Real collisions per E/N point at most, >= 1e4.
+    sharing : {"equal", "uniform"}
+        Ionization energy sharing.
+
+    Examples
+    --------
+    >>> SwarmParameters(model="reid", reduced_field=[12, 24]).reduced_field
+    (12.0, 24.0)
+    >>> SwarmParameters(model="reid", reduced_field=-1)
+    Traceback (most recent call last):
+    ...
+    ValueError: reduced_field (E/N) must lie in >= 0; got -1
+    """
+
+    reduced_field: Any = (12.0,)
+    model: str | None = None
+    cross_sections: Any = None
+    species: Any = None
+    fractions: Any = None
+    reduced_magnetic_field: float = 0.0
+    gas_temperature: float = 0.0
+    particles: int = 20_000
+    seed: int = 2026
+    tolerance: float = 2e-3
+    collision_budget: float = 5e8
+    sharing: str = "equal"
+
+    FLAGS: ClassVar = {"reduced_field": "E-N", "reduced_magnetic_field": "B-N"}
+
+    def __post_init__(self):
+        fields = _reduced_fields(self.reduced_field)
+        set_ = object.__setattr__
+        set_(self, "reduced_field", fields)
+        if (self.model is None) == (self.cross_sections is None):
+            raise ValueError("give exactly one of model and cross_sections (--model, --cross-sections)")
+        if self.model is not None:
+            check_choice("model", self.model, sorted(MODEL_GASES))
+            if self.species is not None or self.fractions is not None:
+                raise ValueError("species and fractions pick gases from an LXCat file (cross_sections); "
+                                 f"the model gas {self.model} takes neither")
+        else:
+            set_(self, "cross_sections", Path(self.cross_sections).resolve())
+        set_(self, "species", None if self.species is None else _strings("species", self.species))
+        set_(self, "fractions", None if self.fractions is None else _reals("fractions", self.fractions))
+        set_(self, "reduced_magnetic_field", check_real("reduced_magnetic_field (B/N)", self.reduced_magnetic_field))
+        set_(self, "gas_temperature", check_real("gas_temperature", self.gas_temperature, 0.0))
+        set_(self, "particles", check_integer("particles", self.particles, 128, 10_000_000))
+        set_(self, "seed", check_seed("seed", self.seed))
+        set_(self, "tolerance", check_real("tolerance", self.tolerance, 0.0, 0.5, low_open=True))
+        set_(self, "collision_budget", check_real("collision_budget", self.collision_budget, 1e4))
+        check_choice("sharing", self.sharing, SHARING_MODES)
+        if 0.0 in fields and self.gas_temperature == 0.0:
+            raise ValueError("E/N = 0 in a gas at 0 K has no steady state (nothing heats the swarm; it cools "
+                             "without end): give gas_temperature > 0 (--gas-temperature) or E/N > 0")
+
+    def gas(self) -> Gas:
+        """The target gas: the model gas, or the LXCat file's species (ValueError if unreadable)."""
+        if self.model is not None:
+            return model_gas(self.model)
+        if self.cross_sections.is_dir():
+            raise ValueError(f"cross_sections {self.cross_sections} is a folder; give an LXCat file")
+        return read_lxcat(self.cross_sections, species=self.species, fractions=self.fractions)
+
+    def gas_name(self) -> str:
+        """The model's name or the LXCat file's path."""
+        return str(self.model or self.cross_sections)
+
+
+def _reduced_fields(value) -> tuple[float, ...]:
+    values = value if isinstance(value, Sequence) and not isinstance(value, str) else [value]
+    if not values:
+        raise ValueError("reduced_field (E/N) needs at least one value in Td")
+    return tuple(check_real("reduced_field (E/N)", item, 0.0) for item in values)
+
+
+def _strings(name: str, values) -> tuple[str, ...]:
+    values = [values] if isinstance(values, str) else list(values)
+    if not values or not all(isinstance(item, str) and item for item in values):
+        raise TypeError(f"{name} must be a list of names; got {values!r}")
+    return tuple(values)
+
+
+def _reals(name: str, values) -> tuple[float, ...]:
+    values = [values] if not isinstance(values, Sequence) else list(values)
+    return tuple(check_real(name, item, 0.0) for item in values)
+
+
+class SwarmScan:
+    """Swarm runs at each E/N in turn, checkpointed after each finished point.
+
+    Parameters
+    ----------
+    parameters : SwarmParameters
+    checkpoint : path, optional
+        Written (``.npz``, atomically) after every finished E/N point.
+    gas : Gas, optional
+        A gas built in Python (default: ``parameters.gas()``).
+
+    Examples
+    --------
+    >>> import pathlib, tempfile
+    >>> folder = pathlib.Path(tempfile.mkdtemp())
+    >>> parameters = SwarmParameters(model="maxwell", reduced_field=[10.0], particles=640, tolerance=0.05)
+    >>> scan = SwarmScan(parameters, checkpoint=folder / "scan.npz")
+    >>> results = scan.run()
+    >>> resumed = SwarmScan.resume(folder / "scan.npz")
+    >>> resumed.finished, resumed.results[0].mean_energy == results[0].mean_energy
+    (True, True)
+    """
+
+    def __init__(self, parameters: SwarmParameters, checkpoint=None, gas: Gas | None = None,
+                 results: Sequence[SwarmResult] = ()):
+        if not isinstance(parameters, SwarmParameters):
+            raise TypeError(f"parameters must be SwarmParameters; got {type(parameters).__name__}")
+        self.parameters = parameters
+        self.checkpoint = None if checkpoint is None else Path(checkpoint)
+        self.gas = parameters.gas() if gas is None else gas
+        self.results: list[SwarmResult] = list(results)
+
+    @property
+    def finished(self) -> bool:
+        """True once every E/N point has a result."""
+        return len(self.results) == len(self.parameters.reduced_field)
+
+    def tolerances(self, reduced_field: float) -> dict[str, float]:
+        """The accuracy asked of one point: mean energy and drift; the mean energy alone at E/N = 0."""
+        tolerance = self.parameters.tolerance
+        if reduced_field == 0.0:  # the drift is zero by symmetry: no relative error to reach
+            return {"mean_energy": tolerance}
+        return {"mean_energy": tolerance, "drift_velocity_bulk": tolerance}
+
+    def run(self, progress: Callable[[float], Any] | None = None) -> list[SwarmResult]:
+        """Run the E/N points not done yet; return every result.
+
+        Parameters
+        ----------
+        progress : callable, optional
+            Called as ``progress(fraction)``, the fraction of the scan's
+            points done, in [0, 1].
+        """
+        p, total = self.parameters, len(self.parameters.reduced_field)
+        for value in p.reduced_field[len(self.results):]:
+            done = len(self.results)
+
+            def report(fraction, done=done):
+                if progress is not None:
+                    progress((done + fraction) / total)
+
+            self.results.append(simulate_swarm(
+                self.gas, value, reduced_magnetic_field=p.reduced_magnetic_field, gas_temperature=p.gas_temperature,
+                particles=p.particles, seed=p.seed, sharing=p.sharing, tolerances=self.tolerances(value),
+                collision_budget=p.collision_budget, progress=report))
+            self.save()
+        if progress is not None:
+            progress(1.0)
+        return self.results
+
+    def save(self, path=None) -> Path | None:
+        """Write the checkpoint (to ``path``, default the scan's checkpoint); None if there is none."""
+        path = self.checkpoint if path is None else Path(path)
+        if path is None:
+            return None
+        state = {"cross_sections_sha256": file_digest(self.parameters.cross_sections),
+                 "results": [result.to_dict() for result in self.results]}
+        return write_checkpoint(path, CHECKPOINT_KIND, self.parameters.to_dict(), state)
+
+    @classmethod
+    def resume(cls, path, checkpoint=None, gas: Gas | None = None, **given) -> SwarmScan:
+        """The scan saved in ``path``, ready to run its unfinished points.
+
+        Parameters
+        ----------
+        path : path
+            A checkpoint written by :meth:`save`.
+        checkpoint : path, optional
+            Where to write checkpoints from now on (default: ``path``).
+        gas : Gas, optional
+            The gas, if the scan was made with one built in Python.
+        **given
+            Parameters given again (Python names or flags): each must equal
+            the saved one (a resumed scan keeps its physics).
+
+        Raises
+        ------
+        ValueError
+            If the file is not a swarm checkpoint (:class:`~collisionkit._io.CheckpointError`),
+            a parameter given differs, or the LXCat file changed since.
+        """
+        saved = read_checkpoint(path, CHECKPOINT_KIND)
+        try:
+            parameters = SwarmParameters.from_mapping(saved.parameters)
+            results = [SwarmResult.from_dict(entry) for entry in saved.state["results"]]
+        except (KeyError, TypeError, ValueError) as error:
+            raise CheckpointError(f"{path} is a damaged swarm checkpoint: {error}") from None
+        check_unchanged(parameters, given, path)
+        digest = saved.state.get("cross_sections_sha256")
+        if parameters.cross_sections is not None and digest is not None and parameters.cross_sections.is_file() \
+                and file_digest(parameters.cross_sections) != digest:
+            raise ValueError(f"{parameters.cross_sections} has changed since {path} was written (its SHA-256 "
+                             "differs): a resumed scan must use the same cross sections")
+        if [r.reduced_field for r in results] != list(parameters.reduced_field[: len(results)]):
+            raise CheckpointError(f"{path} holds results for E/N = {[r.reduced_field for r in results]}, not the "
+                                  f"first points of its scan {list(parameters.reduced_field)}")
+        return cls(parameters, checkpoint=path if checkpoint is None else checkpoint, gas=gas, results=results)
+
+    def summary(self, files: Sequence = ()) -> dict[str, Any]:
+        """The scan's results: :func:`swarm_summary` of its parameters and results."""
+        return swarm_summary(self.parameters, self.results, files)
+
+
+def swarm_summary(parameters: SwarmParameters, results: Sequence[SwarmResult], files: Sequence = ()) -> dict[str, Any]:
+    """The swarm command's JSON summary: one shape for Python and the shell.
+
+    ``results`` holds one flat object per E/N point (every value with its
+    ``*_error`` partner, ``E_N`` the point's E/N in Td); a scan of a single
+    E/N also has that point's values at the top level, so a sweep point
+    reads ``mean_energy`` directly. ``parameters`` reruns the scan.
+    """
+    entries = [result.to_dict() | {"E_N": result.reduced_field} for result in results]
+    summary: dict[str, Any] = dict(entries[0]) if len(entries) == 1 else {}
+    summary |= {"gas": parameters.gas_name(), "results": entries, "converged": all(r.converged for r in results),
+                "files": [str(path) for path in files], "parameters": parameters.to_dict()}
+    return summary
+
+
+def unconverged_fields(results: Sequence[SwarmResult]) -> list[float]:
+    """The E/N values whose run stopped at the collision budget before the tolerance."""
+    return [result.reduced_field for result in results if not result.converged]
+
