@@ -1,7 +1,8 @@
-"""Atomic file writing (a reader, or a crash, never sees half a file) and the one checkpoint format."""
+"""Atomic file writing (a reader, or a crash, never sees half a file): JSON, CSV, and the one checkpoint format."""
 
 from __future__ import annotations
 
+import csv
 import hashlib
 import io
 import json
@@ -9,8 +10,10 @@ import math
 import os
 import tempfile
 import zipfile
+from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -190,3 +193,27 @@ def read_checkpoint(path, kind: str) -> Checkpoint:
 def file_digest(path) -> str | None:
     """SHA-256 of a file's bytes (None for no path): a resumed run checks that its inputs did not change."""
     return None if path is None else hashlib.sha256(Path(path).read_bytes()).hexdigest()
+
+
+def _columns(table: list[Mapping[str, Any]]) -> list[str]:
+    columns: dict[str, None] = {}
+    for row in table:
+        columns |= dict.fromkeys(row)
+    return list(columns)
+
+
+def write_csv(path, table: list[Mapping[str, Any]]) -> Path:
+    """Write the table as CSV atomically (floats as their shortest exact text; missing cells empty).
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> path = write_csv(pathlib.Path(tempfile.mkdtemp()) / "t.csv", [{"a": 0.1, "b": 1}, {"a": 0.2}])
+    >>> path.read_text().splitlines()
+    ['a,b', '0.1,1', '0.2,']
+    """
+    buffer = io.StringIO()
+    writer = csv.DictWriter(buffer, fieldnames=_columns(table), restval="", lineterminator="\n")
+    writer.writeheader()
+    writer.writerows(table)
+    return atomic_write_text(path, buffer.getvalue())

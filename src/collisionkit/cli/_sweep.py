@@ -15,11 +15,9 @@ from typing import Annotated, Any
 
 import typer
 
-from pydantic import ValidationError
-
 from ._common import (
-    INTERRUPTED_EXIT_CODE, _describe, _field_name, check_output_file, check_output_folder, console, error_console, fail,
-    print_table, progress_bar, write_summary,
+    INTERRUPTED_EXIT_CODE, check_output_file, check_output_folder, console, error_console, fail, print_table,
+    progress_bar, write_summary,
 )
 
 FAILED_POINTS_EXIT_CODE = 1
@@ -27,44 +25,31 @@ SHOWN_FAILURES = 10
 CONNECT_TIMEOUT = "15s"
 
 
-def _load(path: Path, out: Path, resume: bool):
-    """The validated study; any problem with it or with the folder is an input error (exit 2)."""
+def _load(path: Path, out: Path):
+    """The validated study, every point checked by its command's rules; any problem is an input error (exit 2)."""
     from .. import sweep as core
 
     try:
         study = core.load_study(path)
         core.check_command(study)
-        core.check_folder(study, out, resume)
+        core.check_folder(study, out)
     except (ValueError, TypeError) as error:
         raise fail(f"invalid study {path}: {error}") from None
-    _check_points(study, path)
     return study
 
 
-def _option_model(command: str):
-    """The options model of a simulation command (None for others): its rules check every point."""
-    from ._edmd import EdmdOptions
-    from ._encounter import EncounterOptions
-    from ._transport import SlabOptions, SwarmOptions
-
-    return {"edmd": EdmdOptions, "encounter": EncounterOptions, "swarm": SwarmOptions, "slab": SlabOptions}.get(command)
-
-
-def _check_points(study, path: Path) -> None:
-    """Validate every point's options by the command's own rules before any point runs (exit 2)."""
+def _resumed(checkpoint: Path):
+    """The study saved in a sweep checkpoint and its folder (exit 2 if the file is not one)."""
     from .. import sweep as core
+    from .._io import read_checkpoint
 
-    model = _option_model(study.command)
-    if model is None:
-        return
-    for parameters in core.expand(study):
-        values = {_field_name(model, str(key)): value for key, value in {**study.fixed, **parameters}.items()}
-        try:
-            model.model_validate(values)
-        except ValidationError as error:
-            details = "; ".join(_describe(item, model) for item in error.errors())
-            raise fail(f"invalid study {path}: the point {dict(parameters)} is refused by "
-                       f"'collisionkit {study.command}': {details}") from None
+    try:
+        saved = read_checkpoint(checkpoint, "sweep")
+        study = core.study_from_dict(saved.parameters)
+        core.check_command(study)
+    except (ValueError, TypeError) as error:
+        raise fail(f"cannot resume from {checkpoint}: {error}") from None
+    return study, checkpoint.parent
 
 
 @contextlib.contextmanager
@@ -143,9 +128,10 @@ def _report(results, summary: Path | None) -> dict[str, Any]:
 
 def sweep(
     study: Annotated[
-        Path,
-        typer.Argument(metavar="STUDY.toml", help="TOML file of the study: command, seed, replicas, \\[fixed], \\[vary]."),
-    ],
+        Path | None,
+        typer.Argument(metavar="[STUDY.toml]",
+                       help="TOML file of the study: command, seed, replicas, \\[fixed], \\[vary] (not with --resume)."),
+    ] = None,
     out: Annotated[
         Path | None, typer.Option(help="Folder for the points, results.csv and the plot.  \\[default: sweep-output]")
     ] = None,
@@ -159,31 +145,44 @@ def sweep(
         )
     ] = None,
     resume: Annotated[
-        bool, typer.Option("--resume", help="Continue the study in --out: skip finished points, rerun the rest.")
-    ] = False,
+        Path | None, typer.Option(help="Continue the study saved in this checkpoint (OUT/checkpoint.npz), in its "
+                                       "folder: skip finished points, rerun the rest.")
+    ] = None,
     summary: Annotated[Path | None, typer.Option("--summary", help="Write the results as JSON to this file.")] = None,
 ):
     """Run a parameter sweep with replicas of a collisionkit command, on a local or remote Dask cluster.
 
     Exit code 1 if some points failed (each is recorded with its error in
-    results.csv); rerun them with --resume.
+    results.csv); rerun them with --resume OUT/checkpoint.npz.
     """
     from .. import sweep as core
 
-    out = out if out is not None else Path("sweep-output")
-    check_output_folder(out, "--out")
+    if resume is not None:
+        if study is not None or out is not None:
+            raise fail("--resume continues the study saved in its checkpoint, in the checkpoint's folder: give "
+                       "neither STUDY.toml nor --out with it")
+        parsed, out = _resumed(resume)
+    else:
+        if study is None:
+            raise fail("give a STUDY.toml file (or --resume OUT/checkpoint.npz to continue a study)")
+        out = out if out is not None else Path("sweep-output")
+        check_output_folder(out, "--out")
     check_output_file(summary, "--summary")
-    parsed = _load(study, out, resume)
+    if resume is None:
+        parsed = _load(study, out)
     total = len(core.expand(parsed)) * parsed.replicas
     try:
         with _executor(workers, scheduler) as client, progress_bar("points", total=total) as advance:
-            results = core.run_study(parsed, out, executor=client, resume=resume, progress=lambda record: advance())
+            results = core.run_study(parsed, out, executor=client, resume=resume is not None,
+                                     on_point=lambda record: advance())
     except KeyboardInterrupt:
-        error_console.print(f"[bold yellow]interrupted:[/] finished points are saved; continue with --resume --out {out}")
+        checkpoint = out / "checkpoint.npz"
+        error_console.print(f"[bold yellow]interrupted:[/] finished points are saved; continue with --resume {checkpoint}")
         raise typer.Exit(INTERRUPTED_EXIT_CODE) from None
     combined = _report(results, summary)
     if combined["failed"]:
-        error_console.print(f"{combined['failed']} of {combined['runs']} runs failed; rerun them with --resume")
+        error_console.print(f"{combined['failed']} of {combined['runs']} runs failed; rerun them with "
+                            f"--resume {out / 'checkpoint.npz'}")
         raise typer.Exit(FAILED_POINTS_EXIT_CODE)
 
 

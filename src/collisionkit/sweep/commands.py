@@ -1,0 +1,165 @@
+"""The commands a study can sweep, as library calls: parameters in, a flat summary out.
+
+Each command names its parameters class (a :class:`collisionkit._params.Parameters`:
+the same checks as the command line), the library call that runs one
+point in a folder, and the main result plotted against the varied
+option. Nothing here imports the command line.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+__all__ = ["MAIN_RESULTS", "SweepCommand", "sweep_command", "sweep_commands"]
+
+MAIN_RESULTS = {
+    "edmd": "compressibility_factor",
+    "swarm": "mean_energy",
+    "slab": "transmission",
+    "encounter": "orbit.deflection_angle",
+}
+
+
+@dataclass(frozen=True)
+class SweepCommand:
+    """One sweepable command.
+
+    Attributes
+    ----------
+    name : str
+        The command's name (``edmd``, ``swarm``, ``slab``, ``encounter``).
+    load_parameters : callable
+        Returns the command's parameters class (imported when needed).
+    run : callable
+        ``run(parameters, folder, outputs) -> dict``: runs one point, may
+        write files in ``folder``, returns the command's JSON summary.
+    outputs : mapping of str to type
+        Options that are not physics (dashed names): ``Path`` ones name a
+        file written in the point's folder.
+    """
+
+    name: str
+    load_parameters: Callable[[], type]
+    run: Callable[[Any, Path, Mapping[str, Any]], dict]
+    outputs: Mapping[str, type] = field(default_factory=dict)
+
+    @property
+    def parameters(self) -> type:
+        """The command's parameters class."""
+        return self.load_parameters()
+
+    @property
+    def main(self) -> str:
+        """The summary key plotted against the varied option."""
+        return MAIN_RESULTS[self.name]
+
+    def options(self) -> dict[str, str]:
+        """Every option a study may set, by command-line spelling: {flag: Python name}."""
+        parameters = self.parameters
+        spelled = {parameters.flag(name): name for name in parameters.names()}
+        return spelled | {name: name.replace("-", "_") for name in self.outputs}
+
+    def canonical(self, key: str) -> str | None:
+        """The command-line spelling of an option given as a flag or a Python name, or None."""
+        name = self.parameters.name_of(key)
+        if name is not None:
+            return self.parameters.flag(name)
+        dashed = str(key).replace("_", "-")
+        return dashed if dashed in self.outputs else None
+
+
+# ------------------------------------------------------------------ the commands' point runs
+
+
+def _edmd_parameters():
+    from ..edmd import EdmdParameters
+
+    return EdmdParameters
+
+
+def _run_edmd(parameters, folder: Path, outputs: Mapping[str, Any]) -> dict:
+    from ..edmd import EdmdRun
+
+    trajectory = outputs.get("trajectory")
+    run = EdmdRun(parameters, trajectory=None if trajectory is None else folder / trajectory,
+                  frame_every=outputs.get("frame-every"))
+    run.run()
+    files = [] if trajectory is None else [run.trajectory]
+    if outputs.get("xyz") is not None:
+        files.append(run.write_xyz(folder / outputs["xyz"]))
+    return run.summary(files)
+
+
+def _swarm_parameters():
+    from ..transport import SwarmParameters
+
+    return SwarmParameters
+
+
+def _run_swarm(parameters, folder: Path, outputs: Mapping[str, Any]) -> dict:
+    from ..transport import SwarmScan
+
+    scan = SwarmScan(parameters)
+    scan.run()
+    return scan.summary()
+
+
+def _slab_parameters():
+    from ..transport import SlabParameters
+
+    return SlabParameters
+
+
+def _run_slab(parameters, folder: Path, outputs: Mapping[str, Any]) -> dict:
+    from ..transport import run_slab, slab_summary
+
+    return slab_summary(parameters, run_slab(parameters))
+
+
+def _encounter_parameters():
+    from ..encounters import EncounterParameters
+
+    return EncounterParameters
+
+
+def _run_encounter(parameters, folder: Path, outputs: Mapping[str, Any]) -> dict:
+    from ..encounters import encounter_summary
+
+    summary, initial_conditions = encounter_summary(parameters)
+    path = initial_conditions.write_json(folder / "initial_conditions.json")
+    return summary | {"files": [str(path)]}
+
+
+_COMMANDS = {
+    "edmd": SweepCommand("edmd", _edmd_parameters, _run_edmd, {"trajectory": Path, "frame-every": int, "xyz": Path}),
+    "swarm": SweepCommand("swarm", _swarm_parameters, _run_swarm),
+    "slab": SweepCommand("slab", _slab_parameters, _run_slab),
+    "encounter": SweepCommand("encounter", _encounter_parameters, _run_encounter),
+}
+
+
+def sweep_commands() -> tuple[str, ...]:
+    """The names of the commands a study can sweep.
+
+    Examples
+    --------
+    >>> sweep_commands()
+    ('edmd', 'encounter', 'slab', 'swarm')
+    """
+    return tuple(sorted(_COMMANDS))
+
+
+def sweep_command(name: str) -> SweepCommand:
+    """The sweepable command ``name``; ValueError naming the others if there is none.
+
+    Examples
+    --------
+    >>> sweep_command("swarm").canonical("reduced_field")
+    'E-N'
+    """
+    if name not in _COMMANDS:
+        raise ValueError(f"unknown command {name!r}; a study sweeps one of: {', '.join(sweep_commands())}")
+    return _COMMANDS[name]

@@ -1,0 +1,383 @@
+"""Running a study's points: in this process, on any executor or on a Dask cluster, with checkpoint and resume.
+
+Every point's ``result.json`` is written atomically as soon as it
+finishes; the study's checkpoint (``OUT/checkpoint.npz``, the format every
+collisionkit run uses) holds the study and the finished points, so
+:func:`resume_study` (``collisionkit sweep --resume OUT/checkpoint.npz``)
+skips them and reruns the others (the failed ones too).
+"""
+
+from __future__ import annotations
+
+import concurrent.futures
+import contextlib
+import json
+import math
+import os
+import time
+import traceback
+from collections.abc import Callable, Iterable, Iterator, Mapping
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from .._io import CheckpointError, atomic_write_json, atomic_write_text, read_checkpoint, write_checkpoint
+from .commands import sweep_command
+from .study import Study, _check_integer, load_study, study_from_dict
+from .table import results_table, write_outputs
+from .tasks import PointTask, point_tasks, split_options
+
+__all__ = ["StudyResults", "check_folder", "local_client", "resume_study", "run_point", "run_study"]
+
+RESULT_FORMAT = 2
+CHECKPOINT_FILE = "checkpoint.npz"
+CHECKPOINT_KIND = "sweep"
+
+
+# ------------------------------------------------------------------ running one point
+
+
+def run_point(task: PointTask) -> dict[str, Any]:
+    """Run one point's replica in this process (a library call) and write its ``result.json`` atomically.
+
+    Never raises for a failing run: an exception gives a record with
+    ``status = "failed"`` and the error; its traceback goes to
+    ``output.log`` in the point's folder.
+
+    Returns
+    -------
+    dict
+        The record written to ``result.json``: ``status``, ``error``,
+        ``elapsed`` (wall, s), ``cpu_time`` (of the process, s),
+        ``summary`` (the command's summary, also in ``summary.json``) and
+        the task's fields.
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> study = Study("encounter", seed=0, vary={"vinf": [0.5]})
+    >>> task = point_tasks(study, tempfile.mkdtemp())[0]
+    >>> record = run_point(task)
+    >>> record["status"], round(record["summary"]["orbit"]["eccentricity"], 6)
+    ('ok', 1.125)
+    >>> task.result_path.exists()
+    True
+    """
+    task.directory.mkdir(parents=True, exist_ok=True)
+    started, cpu_started = time.perf_counter(), time.process_time()
+    summary, error = None, None
+    try:
+        command = sweep_command(task.command)
+        parameters, outputs = split_options(command, task.options)
+        summary = command.run(parameters, task.directory, outputs)
+        atomic_write_json(task.directory / "summary.json", summary)
+        summary = json.loads((task.directory / "summary.json").read_text())  # as a reader sees it (NaN as null)
+    except Exception as exception:  # the run's failure is the point's result
+        error = f"{type(exception).__name__}: {exception}"
+        atomic_write_text(task.directory / "output.log", traceback.format_exc())
+    elapsed, cpu_time = time.perf_counter() - started, time.process_time() - cpu_started
+    record = _record(task, "ok" if error is None else "failed", error, elapsed, summary)
+    record["cpu_time"] = cpu_time
+    atomic_write_json(task.result_path, record)
+    return record
+
+
+def _read_json(path: Path) -> dict | None:
+    try:
+        data = json.loads(path.read_text())
+    except (OSError, ValueError):
+        return None
+    return data if isinstance(data, dict) else None
+
+
+def _record(task: PointTask, status, error, elapsed, summary) -> dict[str, Any]:
+    return {
+        "format": RESULT_FORMAT,
+        "command": task.command,
+        "point": task.index,
+        "replica": task.replica,
+        "name": task.name,
+        "parameters": dict(task.parameters),
+        "options": dict(task.options),
+        "seed": task.seed,
+        "spawn_key": list(task.spawn_key),
+        "status": status,
+        "error": error,
+        "elapsed": elapsed,
+        "summary": summary,
+    }
+
+
+def _is_complete(task: PointTask) -> dict | None:
+    """The point's saved record if it finished successfully with this task's parameters and seed."""
+    record = _read_json(task.result_path)
+    if record is None or record.get("status") != "ok" or record.get("format") != RESULT_FORMAT:
+        return None
+    same = record.get("seed") == task.seed and record.get("parameters") == json.loads(json.dumps(dict(task.parameters)))
+    return record if same and isinstance(record.get("summary"), dict) else None
+
+
+# ------------------------------------------------------------------ executors
+
+
+def _is_dask_client(executor) -> bool:
+    return type(executor).__module__.split(".")[0] == "distributed"
+
+
+@contextlib.contextmanager
+def local_client(workers: int | None = None):
+    """An embedded ``dask.distributed`` cluster of worker processes (one thread each) and its client.
+
+    Parameters
+    ----------
+    workers : int, optional
+        Worker processes (>= 1); default: the machine's cores.
+
+    Yields
+    ------
+    distributed.Client
+        Closed, with the cluster, on leaving the ``with`` block.
+
+    Examples
+    --------
+    >>> with local_client(workers=1) as client:
+    ...     print(client.submit(sum, [1, 2, 3]).result())
+    6
+    """
+    if workers is not None:
+        _check_integer("workers", workers, 1, None)
+    try:
+        from distributed import Client, LocalCluster
+    except ImportError:  # pragma: no cover - depends on the installation
+        raise ImportError("the embedded cluster needs dask.distributed: pip install 'collisionkit[cluster]'") from None
+    count = workers or os.cpu_count() or 1
+    with LocalCluster(n_workers=count, threads_per_worker=1, processes=True, dashboard_address=":0") as cluster:
+        with Client(cluster) as client:
+            yield client
+
+
+def _submit(executor, tasks: list[PointTask]) -> tuple[dict, Iterator]:
+    """Submit every task; return {future: task} and an iterator over the futures as they finish."""
+    if _is_dask_client(executor):
+        from distributed import as_completed
+
+        futures = {executor.submit(run_point, task, pure=False): task for task in tasks}
+        return futures, iter(as_completed(list(futures)))
+    futures = {executor.submit(run_point, task): task for task in tasks}
+    return futures, concurrent.futures.as_completed(list(futures))
+
+
+def _cancel(executor, futures: Iterable) -> None:
+    futures = list(futures)
+    if _is_dask_client(executor):
+        executor.cancel(futures)
+        return
+    for future in futures:
+        future.cancel()
+
+
+def _collect(future, task: PointTask) -> dict[str, Any]:
+    """The finished point's record; a future that failed (worker lost, ...) gives a failed record."""
+    try:
+        record = future.result()
+    except Exception as exception:
+        record = _record(task, "failed", f"{type(exception).__name__}: {exception}", math.nan, None)
+    if not task.result_path.exists() or record["status"] != "ok":
+        atomic_write_json(task.result_path, record)  # a worker on another file system, or a lost point
+    return record
+
+
+# ------------------------------------------------------------------ the study
+
+
+@dataclass
+class StudyResults:
+    """What :func:`run_study` produced.
+
+    Attributes
+    ----------
+    study : Study
+    records : list of dict
+        One record per point and replica, in point then replica order.
+    table : list of dict
+        The rows of ``results.csv``.
+    files : list of Path
+        The study-level files written (table, plot, study description).
+    skipped : int
+        Points found complete and not rerun (``resume=True``).
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> from concurrent.futures import ThreadPoolExecutor
+    >>> study = {"command": "encounter", "seed": 2, "vary": {"vinf": [0.5, 2.0]}}
+    >>> with ThreadPoolExecutor(1) as pool:
+    ...     results = run_study(study, tempfile.mkdtemp(), executor=pool)
+    >>> len(results.records), results.failed, results.skipped
+    (2, [], 0)
+    """
+
+    study: Study
+    records: list[dict[str, Any]]
+    table: list[dict[str, Any]]
+    files: list[Path]
+    skipped: int = 0
+
+    @property
+    def failed(self) -> list[dict[str, Any]]:
+        """The records of the failed points."""
+        return [record for record in self.records if record["status"] != "ok"]
+
+
+def _as_study(study) -> Study:
+    if isinstance(study, Study):
+        return study
+    if isinstance(study, Mapping):
+        return study_from_dict(study)
+    if isinstance(study, (str, os.PathLike)):
+        return load_study(study)
+    raise TypeError(f"study must be a Study, a mapping or a TOML path; got {type(study).__name__}")
+
+
+def check_folder(study: Study, out, resume: bool = False) -> None:
+    """Check that ``out`` can take the study: empty of studies, or (to resume) holding the same study.
+
+    Raises
+    ------
+    ValueError
+        If ``out`` is a file, holds a study and ``resume`` is false, or holds another study.
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> check_folder(Study("encounter", seed=0, vary={"vinf": [1.0]}), tempfile.mkdtemp())
+    """
+    out = Path(out)
+    if out.exists() and not out.is_dir():
+        raise ValueError(f"out {out} is a file, not a folder")
+    path = out / CHECKPOINT_FILE
+    if not path.exists():
+        return
+    if not resume:
+        raise ValueError(f"out {out} already holds a study; resume it (resume_study({str(path)!r}), "
+                         f"--resume {path}) or use another folder")
+    saved = read_checkpoint(path, CHECKPOINT_KIND)
+    if saved.state.get("fingerprint") != study.fingerprint():
+        raise ValueError(f"out {out} holds a different study ({path}); resume it with the same study or use another folder")
+
+
+def _save_checkpoint(study: Study, out: Path, records: Mapping[str, dict]) -> Path:
+    finished = sorted(name for name, record in records.items() if record["status"] == "ok")
+    state = {"fingerprint": study.fingerprint(), "finished": finished}
+    return write_checkpoint(out / CHECKPOINT_FILE, CHECKPOINT_KIND, study.to_dict(), state)
+
+
+def run_study(study, out, executor=None, workers: int | None = None, resume: bool = False,
+              progress: Callable[[float], Any] | None = None,
+              on_point: Callable[[dict], Any] | None = None) -> StudyResults:  # fmt: skip
+    """Run every point and replica of a study and write the table and the plot.
+
+    Every point is checked by the command's own rules before any runs.
+
+    Parameters
+    ----------
+    study : Study, mapping or path
+        The study (a TOML path is read with :func:`load_study`).
+    out : path
+        The study's folder.
+    executor : concurrent.futures.Executor or distributed.Client, optional
+        Where the points run; default: an embedded ``LocalCluster`` of
+        ``workers`` processes (:func:`local_client`).
+    workers : int, optional
+        Worker processes of the embedded cluster (>= 1; default: the cores);
+        only without ``executor``.
+    resume : bool
+        Continue the study in ``out`` (as :func:`resume_study`): skip the
+        points whose ``result.json`` is complete, rerun the others. Without
+        it, ``out`` must not hold a study.
+    progress : callable, optional
+        Called as ``progress(fraction)`` with the fraction of runs done.
+    on_point : callable, optional
+        Called with each point's record as it finishes (skipped ones first).
+
+    Returns
+    -------
+    StudyResults
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> from concurrent.futures import ThreadPoolExecutor
+    >>> study = {"command": "encounter", "seed": 1, "replicas": 2, "vary": {"vinf": [0.5, 1.0]}}
+    >>> with ThreadPoolExecutor(1) as pool:
+    ...     results = run_study(study, tempfile.mkdtemp(), executor=pool)
+    >>> len(results.table), results.failed
+    (4, [])
+    >>> sorted({row["vinf"] for row in results.table})
+    [0.5, 1.0]
+    """
+    study = _as_study(study)
+    if executor is not None and workers is not None:
+        raise ValueError("workers sets the size of the embedded cluster; it cannot be used with executor")
+    out = Path(out)
+    tasks = point_tasks(study, out)
+    check_folder(study, out, resume)
+    done = {task.name: record for task in tasks if resume and (record := _is_complete(task)) is not None}
+    files = [_save_checkpoint(study, out, done)]
+    report = _Reporter(len(tasks), progress, on_point)
+    for record in done.values():
+        report(record)
+    pending = [task for task in tasks if task.name not in done]
+    if pending:
+        with contextlib.ExitStack() as stack:
+            if executor is None:
+                executor = stack.enter_context(local_client(workers))
+            _execute(executor, pending, done, lambda record: (report(record), _save_checkpoint(study, out, done)))
+    records = [done[task.name] for task in tasks]
+    table = results_table(study, records)
+    files += write_outputs(study, out, table)
+    return StudyResults(study, records, table, files, skipped=len(tasks) - len(pending))
+
+
+def resume_study(checkpoint, executor=None, workers: int | None = None,
+                 progress: Callable[[float], Any] | None = None,
+                 on_point: Callable[[dict], Any] | None = None) -> StudyResults:  # fmt: skip
+    """Continue the study saved in ``checkpoint`` (``OUT/checkpoint.npz``), in its folder.
+
+    Raises
+    ------
+    ValueError
+        If the file is not a sweep checkpoint (:class:`~collisionkit._io.CheckpointError`).
+    """
+    saved = read_checkpoint(checkpoint, CHECKPOINT_KIND)
+    try:
+        study = study_from_dict(saved.parameters)
+    except (TypeError, ValueError) as error:
+        raise CheckpointError(f"{checkpoint} holds a study that is not valid now: {error}") from None
+    return run_study(study, Path(checkpoint).parent, executor=executor, workers=workers, resume=True,
+                     progress=progress, on_point=on_point)
+
+
+class _Reporter:
+    """Calls ``progress(fraction)`` and ``on_point(record)`` as runs finish."""
+
+    def __init__(self, total: int, progress, on_point):
+        self.total, self.done, self.progress, self.on_point = total, 0, progress, on_point
+
+    def __call__(self, record: dict) -> None:
+        self.done += 1
+        if self.on_point is not None:
+            self.on_point(record)
+        if self.progress is not None:
+            self.progress(self.done / self.total)
+
+
+def _execute(executor, tasks: list[PointTask], records: dict[str, dict], finished) -> None:
+    futures, completed = _submit(executor, tasks)
+    try:
+        for future in completed:
+            task = futures[future]
+            records[task.name] = _collect(future, task)
+            finished(records[task.name])
+    finally:
+        _cancel(executor, [future for future, task in futures.items() if task.name not in records])

@@ -1,0 +1,212 @@
+"""A study's results: the table (CSV, Parquet), the means across replicas and the main plot."""
+
+from __future__ import annotations
+
+import io
+import json
+import math
+from collections.abc import Iterable, Iterator, Mapping
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from .._io import atomic_write_bytes, write_csv
+from .study import Study
+
+__all__ = ["aggregate", "results_table", "write_csv", "write_outputs", "write_parquet"]
+
+TABLE_COLUMNS = ("point", "replica", "seed", "spawn_key", "status", "error", "elapsed")
+NOT_RESULTS = ("parameters", "files", "options")  # summary keys that are not results (the row has the options)
+MAX_VECTOR = 16  # numeric lists up to this size (vectors, 3x3 tensors) become columns; longer ones (spectra) do not
+
+
+def _flatten(summary: Mapping[str, Any], prefix: str = "") -> Iterator[tuple[str, Any]]:
+    """The numbers of a summary as (column, value): nested keys joined by dots, vector items as ``name[i]``.
+
+    A list of result objects (swarm's ``results``) gives ``results[i].key``
+    columns, except a single entry whose values are already at the top
+    level; numeric lists longer than :data:`MAX_VECTOR` (spectra) are left
+    out, as are strings and booleans.
+    """
+    for key, value in summary.items():
+        name = f"{prefix}{key}"
+        if isinstance(value, Mapping):
+            yield from _flatten(value, name + ".")
+        elif isinstance(value, (list, tuple)):
+            yield from _flatten_list(name, value, summary)
+        elif _is_number(value):
+            yield name, value
+
+
+def _flatten_list(name: str, values: list, parent: Mapping[str, Any]) -> Iterator[tuple[str, Any]]:
+    if values and all(isinstance(item, Mapping) for item in values):
+        if len(values) == 1 and all(parent.get(key) == item for key, item in values[0].items()):
+            return  # repeats the top level
+        for index, item in enumerate(values):
+            yield from _flatten(item, f"{name}[{index}].")
+        return
+    numbers = np.asarray(values, dtype=object)
+    if numbers.size > MAX_VECTOR or not all(_is_number(item) or item is None for item in numbers.ravel()):
+        return
+    for index in np.ndindex(numbers.shape):
+        yield name + "".join(f"[{i}]" for i in index), numbers[index]
+
+
+def _is_number(value: Any) -> bool:
+    return isinstance(value, (int, float)) and not isinstance(value, bool)
+
+
+def results_table(study: Study, records: Iterable[Mapping[str, Any]]) -> list[dict[str, Any]]:
+    """One row per point and replica: varied options, sweep columns and the summary's numbers.
+
+    Nested summary keys are joined with dots (``orbit.deflection_angle``);
+    booleans, strings and lists are left out. Failed points have empty
+    summary columns.
+
+    Examples
+    --------
+    >>> study = Study("encounter", seed=0, vary={"vinf": [0.5]})
+    >>> record = {"point": 0, "replica": 0, "seed": 7, "spawn_key": [0, 0], "status": "ok", "error": None,
+    ...           "elapsed": 0.1, "parameters": {"vinf": 0.5}, "summary": {"orbit": {"e": 1.1, "kind": "hyp"}}}
+    >>> results_table(study, [record])[0]
+    {'vinf': 0.5, 'point': 0, 'replica': 0, 'seed': 7, 'spawn_key': '[0, 0]', 'status': 'ok', 'error': '', 'elapsed': 0.1, 'orbit.e': 1.1}
+    """
+    rows = []
+    for record in records:
+        row = {name: record["parameters"][name] for name in study.vary}
+        row |= {column: record[column] for column in TABLE_COLUMNS}
+        row["spawn_key"] = json.dumps(list(record["spawn_key"]))
+        row["error"] = record["error"] or ""
+        reserved = set(row)
+        results = {key: value for key, value in (record["summary"] or {}).items() if key not in NOT_RESULTS}
+        row |= {key: value for key, value in _flatten(results) if key not in reserved}
+        rows.append(row)
+    return rows
+
+
+def _columns(table: list[Mapping[str, Any]]) -> list[str]:
+    columns: dict[str, None] = {}
+    for row in table:
+        columns |= dict.fromkeys(row)
+    return list(columns)
+
+
+def _arrow_column(values: list[Any]):
+    import pyarrow as pa
+
+    present = [value for value in values if value is not None and value != ""]
+    if present and all(isinstance(value, int) and not isinstance(value, bool) for value in present):
+        return pa.array([value if value in present else None for value in values], pa.int64())
+    if present and all(isinstance(value, (int, float)) and not isinstance(value, bool) for value in present):
+        return pa.array([None if value is None or value == "" else float(value) for value in values], pa.float64())
+    return pa.array([None if value is None else str(value) for value in values], pa.string())
+
+
+def write_parquet(path, table: list[Mapping[str, Any]]) -> Path | None:
+    """Write the table as Parquet atomically if ``pyarrow`` is installed; return None otherwise.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> path = write_parquet(pathlib.Path(tempfile.mkdtemp()) / "t.parquet", [{"a": 0.1, "b": "x"}])
+    >>> path is None or path.suffix == ".parquet"
+    True
+    """
+    try:
+        import pyarrow as pa
+        import pyarrow.parquet as pq
+    except ImportError:
+        return None
+    columns = _columns(table)
+    arrays = [_arrow_column([row.get(column) for row in table]) for column in columns]
+    buffer = io.BytesIO()
+    pq.write_table(pa.Table.from_arrays(arrays, names=columns), buffer)
+    return atomic_write_bytes(path, buffer.getvalue())
+
+
+def aggregate(table: Iterable[Mapping[str, Any]], key: str, by: Iterable[str]) -> list[dict[str, Any]]:
+    """Mean and standard error across replicas of ``key``, per combination of the ``by`` columns.
+
+    Only successful rows with a finite value count. The standard error is
+    ``std(ddof=1) / sqrt(n)``; with one replica it is the row's
+    ``<key>_error`` if the summary has one, else NaN.
+
+    Returns
+    -------
+    list of dict
+        The ``by`` values, ``n``, ``mean`` and ``error``, in first-appearance order.
+
+    Examples
+    --------
+    >>> rows = [{"x": 1, "y": 2.0, "status": "ok"}, {"x": 1, "y": 4.0, "status": "ok"},
+    ...         {"x": 2, "y": 5.0, "status": "failed"}]
+    >>> aggregate(rows, "y", ["x"])
+    [{'x': 1, 'n': 2, 'mean': 3.0, 'error': 1.0}]
+    """
+    by = list(by)
+    groups: dict[tuple, list[Mapping[str, Any]]] = {}
+    for row in table:
+        value = row.get(key)
+        if row.get("status") == "ok" and isinstance(value, (int, float)) and math.isfinite(value):
+            groups.setdefault(tuple(row[name] for name in by), []).append(row)
+    return [dict(zip(by, values)) | _mean_and_error(rows, key) for values, rows in groups.items()]
+
+
+def _mean_and_error(rows: list[Mapping[str, Any]], key: str) -> dict[str, Any]:
+    values = np.array([row[key] for row in rows], dtype=float)
+    if len(values) > 1:
+        error = float(values.std(ddof=1) / math.sqrt(len(values)))
+    else:
+        own = rows[0].get(f"{key}_error")
+        error = float(own) if isinstance(own, (int, float)) else math.nan
+    return {"n": len(values), "mean": float(values.mean()), "error": error}
+
+
+def write_outputs(study: Study, out, table: list[Mapping[str, Any]]) -> list[Path]:
+    """Write ``results.csv``, ``results.parquet`` (with pyarrow) and ``main_result.png`` (with matplotlib).
+
+    The plot needs the study's main key in at least one successful row.
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> study = Study("encounter", seed=0, vary={"vinf": [1.0, 2.0]}, main="deflection")
+    >>> table = [{"vinf": 1.0, "replica": 0, "status": "ok", "deflection": 1.2},
+    ...          {"vinf": 2.0, "replica": 0, "status": "ok", "deflection": 0.6}]
+    >>> sorted(path.name for path in write_outputs(study, tempfile.mkdtemp(), table))
+    ['main_result.png', 'results.csv', 'results.parquet']
+    """
+    out = Path(out)
+    files = [write_csv(out / "results.csv", table)]
+    parquet = write_parquet(out / "results.parquet", table)
+    if parquet is not None:
+        files.append(parquet)
+    plot = _plot_main(study, out / "main_result.png", table)
+    if plot is not None:
+        files.append(plot)
+    return files
+
+
+def _plot_main(study: Study, path: Path, table: list[Mapping[str, Any]]) -> Path | None:
+    if study.main is None or not aggregate(table, study.main, []):
+        return None
+    try:
+        import matplotlib
+    except ImportError:  # pragma: no cover - depends on the installation
+        return None
+    matplotlib.use("Agg")
+    from .. import plotting
+
+    x = next(iter(study.vary))
+    along_x = next((group for group in study.zip if x in group), (x,))  # zipped options move with x
+    series = [name for name in study.vary if name not in along_x]
+    points = aggregate(table, study.main, [*series, x])
+    theory = {tuple(point[name] for name in [*series, x]): point["mean"]
+              for point in aggregate(table, f"{study.main}_theory", [*series, x])}  # e.g. edmd's Z_theory
+    for point in points:
+        expected = theory.get(tuple(point[name] for name in [*series, x]))
+        if expected is not None:
+            point["theory"] = expected
+    ax = plotting.plot_sweep(points, x, study.main, series=series, title=f"collisionkit {study.command}")
+    return plotting.save(ax, path)
