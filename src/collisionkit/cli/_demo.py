@@ -7,19 +7,9 @@ row per check and writes the plots and ``summary.json`` to the folder.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
-from pathlib import Path
-from typing import Any
+from ._demo_section import SectionResult
 
-
-@dataclass
-class SectionResult:
-    """What one capability's demo shows: table rows, summary values and files."""
-
-    name: str
-    rows: list[tuple[str, str, str]]
-    summary: dict[str, Any]
-    files: list[Path] = field(default_factory=list)
+__all__ = ["SectionResult", "sections"]
 
 
 def sections():

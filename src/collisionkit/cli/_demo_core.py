@@ -10,7 +10,7 @@ import numpy as np
 import collisionkit as ck
 from collisionkit import scattering
 
-from ._demo import SectionResult
+from ._demo_section import SectionResult
 
 
 def _random_pairs(count: int, rng: np.random.Generator):

@@ -8,7 +8,7 @@ import numpy as np
 
 from collisionkit import edmd
 
-from ._demo import SectionResult
+from ._demo_section import SectionResult
 
 SPHERES, SPHERE_ETA = 500, 0.3
 DISC_CELLS, DISC_ETA = 12, 0.3  # hexagonal lattice: 2 * 12^2 = 288 discs

@@ -11,7 +11,7 @@ from scipy.integrate import solve_ivp
 
 from collisionkit import encounters
 
-from ._demo import SectionResult
+from ._demo_section import SectionResult
 
 
 def _relative_ode(_, y, mu):

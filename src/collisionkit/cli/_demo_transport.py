@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from ._demo import SectionResult
+from ._demo_section import SectionResult
 
 
 def run(pairs: int, seed: int, out: Path, plotting) -> SectionResult:

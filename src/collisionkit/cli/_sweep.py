@@ -9,6 +9,7 @@ points run on an embedded local cluster of ``--workers`` processes;
 from __future__ import annotations
 
 import contextlib
+import importlib.util
 import math
 from pathlib import Path
 from typing import Annotated, Any
@@ -61,20 +62,17 @@ def _executor(workers: int | None, scheduler: str | None):
         raise fail("--workers sets the size of the embedded cluster; it cannot be used with --scheduler")
     if workers is not None and workers < 1:
         raise fail(f"--workers must be >= 1; got {workers}")
-    try:
-        from distributed import Client
-    except ImportError:
-        raise fail("sweep runs on dask.distributed: pip install 'collisionkit[cluster]'") from None
+    if importlib.util.find_spec("distributed") is None:
+        raise fail("sweep runs on dask.distributed: pip install 'collisionkit[cluster]'")
     if scheduler is None:
         with core.local_client(workers) as client:
             yield client
         return
     try:
-        client = Client(scheduler, timeout=CONNECT_TIMEOUT)
-    except (OSError, TimeoutError, ValueError) as error:
-        raise fail(f"cannot connect to the Dask scheduler at {scheduler}: {error}") from None
-    with client:
-        yield client
+        with core.remote_client(scheduler, timeout=CONNECT_TIMEOUT) as client:
+            yield client
+    except ConnectionError as error:
+        raise fail(str(error)) from None
 
 
 def _format(value: float, error: float) -> str:

@@ -41,7 +41,7 @@ Points run on any :class:`concurrent.futures.Executor` or on a
 """
 
 from .commands import MAIN_RESULTS, SweepCommand, sweep_command, sweep_commands
-from .execute import StudyResults, check_folder, local_client, resume_study, run_point, run_study
+from .execute import StudyResults, check_folder, local_client, remote_client, resume_study, run_point, run_study
 from .study import Study, expand, load_study, study_from_dict
 from .table import aggregate, results_table, write_csv, write_outputs, write_parquet
 from .tasks import PointTask, check_command, point_name, point_seed, point_tasks
@@ -61,6 +61,7 @@ __all__ = [
     "point_name",
     "point_seed",
     "point_tasks",
+    "remote_client",
     "results_table",
     "resume_study",
     "run_point",

@@ -27,7 +27,7 @@ from .study import Study, _check_integer, load_study, study_from_dict
 from .table import results_table, write_outputs
 from .tasks import PointTask, point_tasks, split_options
 
-__all__ = ["StudyResults", "check_folder", "local_client", "resume_study", "run_point", "run_study"]
+__all__ = ["StudyResults", "check_folder", "local_client", "remote_client", "resume_study", "run_point", "run_study"]
 
 RESULT_FORMAT = 2
 CHECKPOINT_FILE = "checkpoint.npz"
@@ -154,6 +154,32 @@ def local_client(workers: int | None = None):
     with LocalCluster(n_workers=count, threads_per_worker=1, processes=True, dashboard_address=":0") as cluster:
         with Client(cluster) as client:
             yield client
+
+
+@contextlib.contextmanager
+def remote_client(address: str, timeout: str = "15s"):
+    """A client of the running Dask scheduler at ``address`` (e.g. ``tcp://host:8786``).
+
+    Its workers need collisionkit installed and must see the study's folder
+    at the same path.
+
+    Raises
+    ------
+    ImportError
+        Without dask.distributed (``pip install 'collisionkit[cluster]'``).
+    ConnectionError
+        If the scheduler cannot be reached within ``timeout``.
+    """
+    try:
+        from distributed import Client
+    except ImportError:  # pragma: no cover - depends on the installation
+        raise ImportError("sweeps on a cluster need dask.distributed: pip install 'collisionkit[cluster]'") from None
+    try:
+        client = Client(address, timeout=timeout)
+    except (OSError, TimeoutError, ValueError) as error:
+        raise ConnectionError(f"cannot connect to the Dask scheduler at {address}: {error}") from None
+    with client:
+        yield client
 
 
 def _submit(executor, tasks: list[PointTask]) -> tuple[dict, Iterator]:
