@@ -176,14 +176,15 @@ def read_checkpoint(path, kind: str) -> Checkpoint:
             arrays = {name: data[name] for name in data.files}
         header = json.loads(str(arrays.pop(_HEADER)))
     except KeyError:
-        raise CheckpointError(f"{path} is not a checkpoint of collisionkit {kind} "
+        raise CheckpointError(f"{path} is not a checkpoint of 'collisionkit {kind}' "
                               f"(no {CHECKPOINT_FORMAT!r} header)") from None
     except (OSError, ValueError, zipfile.BadZipFile) as error:
         raise CheckpointError(f"{path} is not a readable checkpoint: {error}") from None
     if not isinstance(header, dict) or header.get("format") != CHECKPOINT_FORMAT:
         raise CheckpointError(f"{path} is not a collisionkit checkpoint")
     if header.get("kind") != kind:
-        raise CheckpointError(f"{path} is a checkpoint of collisionkit {header.get('kind')}, not of {kind}")
+        raise CheckpointError(f"{path} is not a checkpoint of 'collisionkit {kind}': it was written by "
+                              f"'collisionkit {header.get('kind')}'")
     if header.get("version") != CHECKPOINT_VERSION:
         raise CheckpointError(f"{path} is a checkpoint of version {header.get('version')}; this collisionkit reads "
                               f"version {CHECKPOINT_VERSION}")

@@ -15,7 +15,7 @@ from typer.testing import CliRunner
 
 from collisionkit import edmd
 from collisionkit.cli import app
-from tests.test_sweep import SMALL_EDMD, dask_client, deadline, physics_columns, read_table, serial_run  # noqa: F401
+from tests.sweep.helpers import SMALL_EDMD, dask_client, deadline, physics_columns, read_table, serial_run  # noqa: F401
 
 runner = CliRunner()
 

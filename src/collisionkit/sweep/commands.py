@@ -15,6 +15,7 @@ from typing import Any
 
 __all__ = ["MAIN_RESULTS", "SweepCommand", "sweep_command", "sweep_commands"]
 
+NOT_SWEPT = ("sweep", "demo", "animate")  # commands of the command line that are not simulations
 MAIN_RESULTS = {
     "edmd": "compressibility_factor",
     "swarm": "mean_energy",
@@ -160,6 +161,8 @@ def sweep_command(name: str) -> SweepCommand:
     >>> sweep_command("swarm").canonical("reduced_field")
     'E-N'
     """
+    if name in NOT_SWEPT:
+        raise ValueError(f"command {name!r} cannot be swept; sweep a simulation command: {', '.join(sweep_commands())}")
     if name not in _COMMANDS:
-        raise ValueError(f"unknown command {name!r}; a study sweeps one of: {', '.join(sweep_commands())}")
+        raise ValueError(f"unknown command {name!r}; available: {', '.join(sweep_commands())}")
     return _COMMANDS[name]

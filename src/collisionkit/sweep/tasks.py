@@ -13,6 +13,7 @@ from .commands import SweepCommand, sweep_command
 from .study import Study, _check_integer, expand
 
 RESULT_FILE = "result.json"
+SET_BY_THE_SWEEP = ("summary", "out", "config", "resume", "checkpoint", "plots")  # each point's files: the sweep's
 
 
 def point_seed(root: int, point: int, replica: int) -> int:
@@ -123,7 +124,7 @@ def check_command(study: Study) -> SweepCommand:
     allowed = command.options()
     takes_seed = "seed" in command.parameters.names()
     for name in [*study.fixed, *study.vary]:
-        if name == "seed" and takes_seed:
+        if name in SET_BY_THE_SWEEP or (name == "seed" and takes_seed):
             raise ValueError(f"option {name!r} is set by the sweep for every point; remove it from the study")
         if name not in allowed:
             shown = sorted(key for key in allowed if not (key == "seed" and takes_seed))
@@ -132,7 +133,7 @@ def check_command(study: Study) -> SweepCommand:
         try:
             split_options(command, _options(study, point, 0, takes_seed))
         except (ValueError, TypeError) as error:
-            raise type(error)(f"the point {dict(point)} is refused by {study.command!r}: {error}") from None
+            raise type(error)(f"the point {dict(point)} is refused by 'collisionkit {study.command}': {error}") from None
     return command
 
 
