@@ -218,3 +218,45 @@ def test_type_names_beyond_the_alphabet():
     assert trajectory.type_names([0, 27])[-3:] == ["Z", "T26", "T27"]
     with pytest.raises(ValueError, match="species"):
         trajectory.type_names([-1, 0])
+
+
+def test_read_gsd_frames_thins_and_caps_the_frames_read_gsd_reads(tmp_path):
+    system = discs_2d()
+    path = tmp_path / "run.gsd"
+    with trajectory.GSDWriter(path) as writer:
+        for step in range(5):
+            writer.write(system, 10 * step)
+            system.run(collisions=20)
+    assert [frame["step"] for frame in trajectory.read_gsd_frames(path)] == [0, 10, 20, 30, 40]
+    thinned = trajectory.read_gsd_frames(path, every=2)
+    assert [frame["step"] for frame in thinned] == [0, 20, 40]
+    assert all(frame["frames"] == 5 for frame in thinned)  # the file's frame count, not the frames read
+    one_by_one = trajectory.read_gsd(path, 2)
+    assert thinned[1].keys() == one_by_one.keys()
+    assert all(np.array_equal(thinned[1][key], one_by_one[key]) for key in one_by_one)
+    assert [frame["step"] for frame in trajectory.read_gsd_frames(path, every=2, max_frames=2)] == [0, 20]
+    assert [frame["step"] for frame in trajectory.read_gsd_frames(path, every=np.int64(3), max_frames=9)] == [0, 30]
+
+
+@pytest.mark.parametrize(
+    ("options", "words"),
+    [
+        ({"every": 0}, "every must be an integer >= 1"),
+        ({"every": 1.5}, "every must be an integer >= 1"),
+        ({"max_frames": 0}, "max_frames must be an integer >= 1 or None"),
+        ({"max_frames": 2.0}, "max_frames must be an integer >= 1 or None"),
+    ],
+)
+def test_read_gsd_frames_rejects_bad_thinning(tmp_path, options, words):
+    path = tmp_path / "one.gsd"
+    trajectory.write_gsd_frame(path, discs_2d(), 0)
+    with pytest.raises(ValueError, match=words):
+        trajectory.read_gsd_frames(path, **options)
+
+
+def test_read_gsd_frames_of_an_empty_file_is_an_error(tmp_path):
+    path = tmp_path / "empty.gsd"
+    trajectory.write_gsd_frame(path, discs_2d(), 0)
+    trajectory.truncate_gsd(path, 0)
+    with pytest.raises(ValueError, match="holds no frames"):
+        trajectory.read_gsd_frames(path)

@@ -32,7 +32,15 @@ import numpy as np
 
 from ._io import atomic_write_text
 
-__all__ = ["GSDWriter", "read_gsd", "truncate_gsd", "type_names", "write_extended_xyz", "write_gsd_frame"]
+__all__ = [
+    "GSDWriter",
+    "read_gsd",
+    "read_gsd_frames",
+    "truncate_gsd",
+    "type_names",
+    "write_extended_xyz",
+    "write_gsd_frame",
+]
 
 # species X: ASE reads the species column as chemical symbols and X (its dummy atom) is the one for a
 # particle that is no element; the particle type ("A", "B", ... as in GSD files) has a column of its own
@@ -275,12 +283,65 @@ def read_gsd(path, frame=-1):
     (2, (40, 2), 7, ['A'])
     """
     with _gsd_hoomd().open(str(path), "r") as trajectory:
-        count = len(trajectory)
-        if count == 0:
-            raise ValueError(f"{path} holds no frames")
+        count = _frame_count(trajectory, path)
         if not -count <= frame < count:
             raise ValueError(f"frame must lie in [{-count}, {count}) for {path}; got {frame}")
-        snapshot = trajectory[frame]
+        return _frame_data(trajectory[frame], count)
+
+
+def read_gsd_frames(path, every=1, max_frames=None):
+    """Frames of a GSD file in collisionkit's conventions, thinned and capped (e.g. to animate them).
+
+    Parameters
+    ----------
+    path : str or Path
+    every : int
+        Read every ``every``-th frame, starting with the first (>= 1).
+    max_frames : int, optional
+        Read at most this many frames (the first ones of the thinned sequence).
+
+    Returns
+    -------
+    list of dict
+        One per frame read, as :func:`read_gsd` returns it (``frames`` is the
+        number of frames in the file).
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> from collisionkit.edmd import random_fluid
+    >>> from collisionkit.trajectory import GSDWriter, read_gsd_frames
+    >>> folder = tempfile.TemporaryDirectory()
+    >>> path = pathlib.Path(folder.name) / "run.gsd"
+    >>> system = random_fluid(2, 30, 0.3, rng=1)
+    >>> with GSDWriter(path) as writer:
+    ...     for step in range(3):
+    ...         _ = system.run(collisions=20)
+    ...         writer.write(system, step=20 * step)
+    >>> frames = read_gsd_frames(path, every=2)
+    >>> [frame["step"] for frame in frames], frames[0]["frames"]
+    ([0, 40], 3)
+    >>> [frame["step"] for frame in read_gsd_frames(path, max_frames=2)]
+    [0, 20]
+    """
+    if not (isinstance(every, (int, np.integer)) and every >= 1):
+        raise ValueError(f"every must be an integer >= 1; got {every!r}")
+    if max_frames is not None and not (isinstance(max_frames, (int, np.integer)) and max_frames >= 1):
+        raise ValueError(f"max_frames must be an integer >= 1 or None; got {max_frames!r}")
+    with _gsd_hoomd().open(str(path), "r") as trajectory:
+        count = _frame_count(trajectory, path)
+        return [_frame_data(trajectory[index], count) for index in range(0, count, every)[:max_frames]]
+
+
+def _frame_count(trajectory, path):
+    count = len(trajectory)
+    if count == 0:
+        raise ValueError(f"{path} holds no frames")
+    return count
+
+
+def _frame_data(snapshot, count):
+    """A GSD snapshot as the dict of :func:`read_gsd` (``count``: frames in its file)."""
     dim = int(snapshot.configuration.dimensions)
     box = np.asarray(snapshot.configuration.box[:dim], dtype=float)
     positions = np.asarray(snapshot.particles.position[:, :dim], dtype=float) + box / 2.0

@@ -72,20 +72,19 @@ def _source(options: AnimateOptions) -> str:
 
 def _trajectory_animation(options: AnimateOptions):
     """The animation of a GSD trajectory, with a warning if the file holds a single frame."""
-    from .. import plotting
-    from ..trajectory import read_gsd
+    from .. import plotting, trajectory
 
     path = options.trajectory
     if not path.is_file():
         raise fail(f"trajectory file not found: {path}")
     try:
-        animation = plotting.animate_gsd(path, colour_by=options.colour, every=options.every, max_frames=options.frames)
-        frames = read_gsd(path, frame=0)["frames"]
+        frames = trajectory.read_gsd_frames(path, every=options.every, max_frames=options.frames)
+        animation = plotting.animate_frames(frames, colour_by=options.colour)
     except ImportError as error:
         raise fail(str(error)) from None
     except (OSError, RuntimeError, ValueError, KeyError) as error:
         raise fail(f"cannot read the GSD trajectory {path}: {error}") from None
-    if frames == 1:
+    if frames[0]["frames"] == 1:
         message = (f"{path} holds a single frame, so the animation is a still picture; "
                    "'collisionkit edmd --trajectory FILE.gsd --frame-every N' writes a frame every N pair collisions")
         warn(message)

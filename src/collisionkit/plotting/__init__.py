@@ -1,0 +1,102 @@
+"""Matplotlib helpers; each returns the Axes it drew on.
+
+Not imported by ``collisionkit`` itself (the core needs no matplotlib):
+``from collisionkit import plotting``. Every figure takes results, never
+files or studies, and every name is importable from here; the modules
+follow the domains:
+
+* :mod:`~collisionkit.plotting.collisions` - irfpy's stationary-target scan,
+  deflection laws, inelastic energy loss;
+* :mod:`~collisionkit.plotting.encounters` - two-body encounters;
+* :mod:`~collisionkit.plotting.edmd` - equation of state, speed
+  distribution, snapshots, radial distribution;
+* :mod:`~collisionkit.plotting.transport` - energy distributions, transport
+  coefficients, swarm trajectories;
+* :mod:`~collisionkit.plotting.sweep` - a parameter study's result;
+* :mod:`~collisionkit.plotting.animation` - animations saved as GIF or MP4;
+* :func:`save` writes any of these figures to an image file.
+"""
+
+from __future__ import annotations
+
+import matplotlib.pyplot as plt
+
+from ._common import SIGMA_X, SIGMA_Y, THERMAL_SPEED
+from .animation import (
+    ANIMATION_FORMATS,
+    COLOUR_MODES,
+    animate_encounter,
+    animate_frames,
+    ffmpeg_available,
+    save_animation,
+)
+from .collisions import plot_deflection_laws, plot_energy_loss, plot_stationary_scan
+from .edmd import (
+    maxwell_boltzmann_speed_density,
+    plot_equation_of_state,
+    plot_radial_distribution,
+    plot_snapshot,
+    plot_speed_distribution,
+)
+from .encounters import plot_encounter
+from .sweep import plot_sweep
+from .transport import REID_PUBLISHED, plot_energy_distribution, plot_trajectories, plot_transport_coefficients
+
+__all__ = [
+    "ANIMATION_FORMATS",
+    "COLOUR_MODES",
+    "REID_PUBLISHED",
+    "SIGMA_X",
+    "SIGMA_Y",
+    "THERMAL_SPEED",
+    "animate_encounter",
+    "animate_frames",
+    "ffmpeg_available",
+    "maxwell_boltzmann_speed_density",
+    "plot_deflection_laws",
+    "plot_encounter",
+    "plot_energy_distribution",
+    "plot_energy_loss",
+    "plot_equation_of_state",
+    "plot_radial_distribution",
+    "plot_snapshot",
+    "plot_speed_distribution",
+    "plot_stationary_scan",
+    "plot_sweep",
+    "plot_trajectories",
+    "plot_transport_coefficients",
+    "save",
+    "save_animation",
+]
+
+
+def save(ax, path):
+    """Save the figure holding ``ax`` to ``path`` and close it.
+
+    Parameters
+    ----------
+    ax : matplotlib Axes
+        Any axes of the figure to save.
+    path : str or Path
+        The image file; its suffix (``.png``, ``.pdf``, ``.svg``, ...) sets the format.
+
+    Returns
+    -------
+    str or Path
+        ``path``.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> from collisionkit import plotting
+    >>> folder = tempfile.TemporaryDirectory()
+    >>> path = plotting.save(plotting.plot_deflection_laws(), pathlib.Path(folder.name) / "laws.png")
+    >>> path.read_bytes()[1:4]
+    b'PNG'
+    """
+    figure = ax.figure
+    figure.savefig(path, dpi=120)
+    plt.close(figure)
+    return path
+
+

@@ -1,0 +1,241 @@
+"""Figures of event-driven hard-sphere dynamics (:mod:`collisionkit.edmd`).
+
+Equation of state, speed distribution, snapshots and the radial distribution function.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ._common import SIGMA_X, SIGMA_Y, THERMAL_SPEED, _axes
+
+
+def _eos_points(measurements_or_points):
+    """(eta, Z, Z error) rows from Measurement objects or (eta, Z[, error]) tuples."""
+    rows = []
+    for item in measurements_or_points:
+        if hasattr(item, "compressibility_factor"):
+            rows.append((item.packing_fraction, item.compressibility_factor, item.compressibility_factor_error))
+        else:
+            values = tuple(float(value) for value in item)
+            if len(values) not in (2, 3):
+                raise ValueError(f"each point must be (eta, Z) or (eta, Z, error); got {item!r}")
+            rows.append(values if len(values) == 3 else (*values, 0.0))
+    if not rows:
+        raise ValueError("measurements_or_points must hold at least one measurement or point")
+    return np.array(rows, dtype=float)
+
+
+def plot_equation_of_state(measurements_or_points, dim, ax=None):
+    """Measured compressibility factors Z = PV/(NkT) with error bars on the theory curve.
+
+    Parameters
+    ----------
+    measurements_or_points : sequence
+        :class:`collisionkit.edmd.Measurement` objects, or tuples
+        ``(eta, Z)`` or ``(eta, Z, error)``.
+    dim : {2, 3}
+        3: hard spheres against Hansen-Goos (2016) and Carnahan-Starling;
+        2: hard discs against Henderson (1975).
+    ax : matplotlib Axes, optional
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+
+    Examples
+    --------
+    >>> from collisionkit import plotting
+    >>> ax = plotting.plot_equation_of_state([(0.2, 2.41, 0.01), (0.4, 6.95, 0.03)], dim=3)
+    >>> [text.get_text() for text in ax.get_legend().get_texts()]
+    ['Hansen-Goos (2016)', 'Carnahan-Starling', 'EDMD']
+    """
+    from ..edmd import carnahan_starling, hansen_goos, henderson
+
+    if dim not in (2, 3):
+        raise ValueError(f"dim must be 2 or 3; got {dim!r}")
+    points = _eos_points(measurements_or_points)
+    top = max(0.5 if dim == 3 else 0.7, 1.05 * float(points[:, 0].max()))
+    eta = np.linspace(1e-3, min(top, 0.74), 300)
+    curves = [("Hansen-Goos (2016)", hansen_goos), ("Carnahan-Starling", carnahan_starling)]
+    ax = _axes(ax)
+    for (label, equation), style in zip(curves if dim == 3 else [("Henderson (1975)", henderson)], ("-", "--")):
+        ax.plot(eta, equation(eta), style, color="k" if style == "-" else "0.5", lw=1, label=label)
+    ax.errorbar(points[:, 0], points[:, 1], yerr=points[:, 2], fmt="o", color="C3", capsize=3, label="EDMD")
+    ax.set_xlabel(r"packing fraction $\eta$")
+    ax.set_ylabel(r"$Z = PV/(NkT)$")
+    ax.set_title("hard spheres" if dim == 3 else "hard discs")
+    ax.legend()
+    return ax
+
+
+def maxwell_boltzmann_speed_density(speed, kT, dim, mass=1.0):
+    r"""Maxwell-Boltzmann density of speeds: Maxwell in 3D, Rayleigh in 2D.
+
+    3D: :math:`4\pi v^2 (m/2\pi kT)^{3/2} e^{-mv^2/2kT}`;
+    2D: :math:`(mv/kT)\, e^{-mv^2/2kT}`.
+
+    Examples
+    --------
+    >>> from scipy.integrate import quad
+    >>> from collisionkit.plotting import maxwell_boltzmann_speed_density
+    >>> round(quad(maxwell_boltzmann_speed_density, 0, 50, args=(2.0, 3))[0], 10)
+    1.0
+    """
+    if dim not in (2, 3):
+        raise ValueError(f"dim must be 2 or 3; got {dim!r}")
+    if not (kT > 0 and mass > 0):
+        raise ValueError(f"kT and mass must be > 0; got kT={kT}, mass={mass}")
+    speed = np.asarray(speed, dtype=float)
+    boltzmann = np.exp(-mass * speed**2 / (2.0 * kT))
+    if dim == 2:
+        return mass * speed / kT * boltzmann
+    return 4.0 * np.pi * speed**2 * (mass / (2.0 * np.pi * kT)) ** 1.5 * boltzmann
+
+
+def plot_speed_distribution(speeds, kT, dim, mass=1.0, ax=None):
+    """Histogram of speeds against the Maxwell-Boltzmann speed density at ``kT``.
+
+    Parameters
+    ----------
+    speeds : array_like
+        Sampled speeds (e.g. ``Measurement.speeds``).
+    kT : float
+        Temperature of the reference curve (> 0).
+    dim : {2, 3}
+        Maxwell distribution in 3D, Rayleigh in 2D.
+    mass : float
+    ax : matplotlib Axes, optional
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from collisionkit import plotting
+    >>> speeds = np.linalg.norm(np.random.default_rng(1).normal(size=(5000, 2)), axis=1)
+    >>> ax = plotting.plot_speed_distribution(speeds, kT=1.0, dim=2)
+    >>> len(ax.patches) > 10, len(ax.lines)
+    (True, 1)
+    """
+    speeds = np.asarray(speeds, dtype=float).ravel()
+    if speeds.size == 0:
+        raise ValueError("speeds must hold at least one speed")
+    maxwell_boltzmann_speed_density(0.0, kT, dim, mass)  # checks kT, dim and mass
+    ax = _axes(ax)
+    ax.hist(speeds, bins=min(60, max(10, int(np.sqrt(speeds.size)))), density=True, color="C0", alpha=0.6, label="EDMD")
+    v = np.linspace(0.0, max(float(speeds.max()), 4.0 * np.sqrt(kT / mass)), 300)
+    law = "Maxwell" if dim == 3 else "Rayleigh (2D Maxwell)"
+    ax.plot(v, maxwell_boltzmann_speed_density(v, kT, dim, mass), "k", lw=1.2, label=f"{law}, kT = {kT:.4g}")
+    ax.set_xlabel(f"speed $v$ / {THERMAL_SPEED}")
+    ax.set_ylabel(f"probability density (1 / {THERMAL_SPEED})")
+    ax.legend()
+    return ax
+
+
+def plot_snapshot(positions, radii, box, ax=None):
+    """A picture of a hard-sphere configuration drawn to scale.
+
+    2D: every disc. 3D: the cut through the mid-plane z = L_z/2, each sphere
+    it crosses drawn as its circular cross-section, coloured by the distance
+    of its centre from the plane (with a colour bar). Lengths are labelled in
+    units of sigma, the largest diameter (the units of ``collisionkit edmd``).
+
+    Parameters
+    ----------
+    positions : array_like, shape (N, 2) or (N, 3)
+        Centres in the box [0, L), in units of sigma.
+    radii : float or array_like, shape (N,)
+    box : array_like, shape (d,)
+        Box lengths.
+    ax : matplotlib Axes, optional
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+
+    Examples
+    --------
+    >>> from collisionkit import plotting
+    >>> from collisionkit.edmd import lattice
+    >>> positions, box = lattice("hexagonal", 6, 0.5)
+    >>> ax = plotting.plot_snapshot(positions, 0.5, box)
+    >>> len(ax.collections[0].get_offsets())
+    72
+    >>> cut = plotting.plot_snapshot([[1.0, 1.0, 2.1], [3.0, 3.0, 0.5]], 0.5, [4.0, 4.0, 4.0])
+    >>> len(cut.collections[0].get_offsets())  # only the first sphere crosses z = 2
+    1
+    >>> print(cut.figure.axes[-1].get_ylabel())  # the colour bar
+    $|z - L_z/2|\\,/\\,\\sigma$ (depth of the centre)
+    """
+    from matplotlib.collections import EllipseCollection
+    from matplotlib.patches import Rectangle
+
+    positions = np.asarray(positions, dtype=float)
+    if positions.ndim != 2 or positions.shape[1] not in (2, 3):
+        raise ValueError(f"positions must have shape (N, 2) or (N, 3); got {positions.shape}")
+    box = np.asarray(box, dtype=float)
+    if box.shape != (positions.shape[1],):
+        raise ValueError(f"box must have shape ({positions.shape[1]},); got {box.shape}")
+    radii = np.broadcast_to(np.asarray(radii, dtype=float), (positions.shape[0],))
+    if positions.shape[1] == 3:
+        depth = positions[:, 2] - box[2] / 2.0
+        cut = np.abs(depth) < radii
+        top, shade = radii.max(), np.abs(depth[cut])
+        radii, positions = np.sqrt(radii[cut] ** 2 - depth[cut] ** 2), positions[cut]
+    ax = _axes(ax)
+    discs = EllipseCollection(
+        2 * radii, 2 * radii, np.zeros_like(radii), units="xy", offsets=positions[:, :2],
+        offset_transform=ax.transData, cmap="viridis", facecolors="C0", edgecolors="k", linewidths=0.3,
+    )  # fmt: skip
+    ax.add_collection(discs)
+    if box.size == 3:
+        discs.set_array(shade)
+        discs.set_clim(0.0, top)
+        ax.figure.colorbar(discs, ax=ax, label=r"$|z - L_z/2|\,/\,\sigma$ (depth of the centre)", shrink=0.8)
+    ax.add_patch(Rectangle((0.0, 0.0), box[0], box[1], fill=False, color="0.3", lw=1))
+    ax.set_xlim(-0.05 * box[0], 1.05 * box[0])
+    ax.set_ylim(-0.05 * box[1], 1.05 * box[1])
+    ax.set_aspect("equal")
+    ax.set_xlabel(SIGMA_X)
+    ax.set_ylabel(SIGMA_Y)
+    kind = f"{len(radii)} discs" if box.size == 2 else f"cut at z = L/2: {len(radii)} spheres"
+    ax.set_title(f"snapshot, {kind}")
+    return ax
+
+
+def plot_radial_distribution(r, g, ax=None):
+    """The radial distribution function g(r), with the ideal-gas value 1 for reference.
+
+    Parameters
+    ----------
+    r, g : array_like
+        Bin centres and g(r) (e.g. ``Measurement.rdf_r`` and ``Measurement.rdf``).
+    ax : matplotlib Axes, optional
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from collisionkit import plotting
+    >>> r = np.linspace(0.0, 3.0, 31)
+    >>> ax = plotting.plot_radial_distribution(r, np.where(r < 1, 0.0, 1.0))
+    >>> len(ax.lines)
+    2
+    """
+    r, g = np.asarray(r, dtype=float), np.asarray(g, dtype=float)
+    if r.shape != g.shape:
+        raise ValueError(f"r and g must have the same shape; got {r.shape} and {g.shape}")
+    ax = _axes(ax)
+    ax.plot(r, g, color="C0")
+    ax.axhline(1.0, color="0.6", lw=0.8, ls="--")
+    ax.set_xlabel(r"distance $r/\sigma$")
+    ax.set_ylabel("$g(r)$")
+    return ax
+
+

@@ -1,0 +1,98 @@
+"""Figures of Monte Carlo transport (:mod:`collisionkit.transport`): energy distributions, coefficients, paths."""
+
+from __future__ import annotations
+
+import matplotlib.pyplot as plt
+import numpy as np
+
+from ._common import _axes
+
+
+# Reid's ramp, LoKI-MC (Dias et al., Comput. Phys. Commun. 282, 108554 (2023), Table 1):
+# E/N (Td), mean energy (eV), bulk W (m/s), N D_T, N D_L (1/m/s)
+REID_PUBLISHED = (
+    (1.0, 0.1014, 1.264e4, 0.9637e24, 0.7542e24),
+    (12.0, 0.2691, 6.838e4, 1.137e24, 0.5679e24),
+    (24.0, 0.4081, 8.881e4, 1.138e24, 0.4595e24),
+)
+
+
+def plot_energy_distribution(results, ax=None):
+    """Energy distribution functions f(eps) (per eV, area 1) of swarm results.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from types import SimpleNamespace
+    >>> from collisionkit import plotting
+    >>> r = SimpleNamespace(eedf_energy=np.linspace(0.05, 1, 20), eedf=np.ones(20), reduced_field=12.0)
+    >>> ax = plotting.plot_energy_distribution([r])
+    >>> ax.get_xlabel()
+    'energy (eV)'
+    """
+    ax = _axes(ax)
+    for r in results:
+        ax.plot(r.eedf_energy, r.eedf, label=f"E/N = {r.reduced_field:g} Td")
+    ax.set_xlabel("energy (eV)")
+    ax.set_ylabel("f(energy) (1/eV)")
+    ax.legend()
+    return ax
+
+
+def plot_transport_coefficients(results, reference=REID_PUBLISHED, axes=None):
+    """Mean energy, |bulk W|, N D_L and N D_T against E/N with error bars (and published Reid points).
+
+    Pass ``reference=()`` for gases other than Reid's ramp. Returns the 2 x 2 array of Axes.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from types import SimpleNamespace
+    >>> from collisionkit import plotting
+    >>> r = SimpleNamespace(reduced_field=12.0, mean_energy=0.27, mean_energy_error=1e-4,
+    ...     drift_velocity_bulk=np.array([0, 0, -6.8e4]), drift_velocity_bulk_error=np.array([0, 0, 10.0]),
+    ...     diffusion_L_N=5.7e23, diffusion_L_N_error=1e22, diffusion_T_N=1.1e24, diffusion_T_N_error=1e22)
+    >>> axes = plotting.plot_transport_coefficients([r])
+    >>> axes.shape
+    (2, 2)
+    """
+    if axes is None:
+        _, axes = plt.subplots(2, 2, figsize=(9, 6), layout="constrained")
+    e_n = [r.reduced_field for r in results]
+    series = (
+        ("mean energy (eV)", [r.mean_energy for r in results], [r.mean_energy_error for r in results], 1),
+        ("|bulk W| (m/s)", [abs(r.drift_velocity_bulk[2]) for r in results],
+         [r.drift_velocity_bulk_error[2] for r in results], 2),
+        ("N D_L (1/m/s)", [r.diffusion_L_N for r in results], [r.diffusion_L_N_error for r in results], 4),
+        ("N D_T (1/m/s)", [r.diffusion_T_N for r in results], [r.diffusion_T_N_error for r in results], 3),
+    )
+    for ax, (label, values, errors, column) in zip(axes.flat, series):
+        ax.errorbar(e_n, values, yerr=errors, fmt="o-", label="collisionkit")
+        if reference:
+            ax.plot([row[0] for row in reference], [row[column] for row in reference], "s", mfc="none",
+                    label="LoKI-MC (Reid)")
+        ax.set_xlabel("E/N (Td)")
+        ax.set_ylabel(label)
+        ax.legend()
+    return axes
+
+
+def plot_trajectories(positions, ax=None):
+    """Sample trajectories (x, z) of swarm particles, ``positions`` of shape (points, particles, 3) in m.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from collisionkit import plotting
+    >>> ax = plotting.plot_trajectories(np.cumsum(np.ones((10, 2, 3)), axis=0))
+    >>> len(ax.lines)
+    2
+    """
+    ax = _axes(ax)
+    positions = np.asarray(positions)
+    for k in range(positions.shape[1]):
+        ax.plot(positions[:, k, 0] * 1e6, positions[:, k, 2] * 1e6, lw=0.8)
+    ax.set_xlabel("x (µm)")
+    ax.set_ylabel("z (µm)")
+    ax.set_aspect("equal", adjustable="datalim")
+    return ax
