@@ -695,7 +695,7 @@ def animate_gsd(path, colour_by="speed", every=1, max_frames=None, interval=50, 
     >>> from collisionkit.trajectory import GSDWriter
     >>> folder = tempfile.TemporaryDirectory()
     >>> path = pathlib.Path(folder.name) / "run.gsd"
-    >>> system = random_fluid(2, 30, 0.3, rng=1)
+    >>> system = random_fluid(2, 30, 0.3, seed=1)
     >>> with GSDWriter(path) as writer:
     ...     for step in range(3):
     ...         _ = system.run(collisions=20)
