@@ -44,7 +44,7 @@ def one_size(particles: int, eta: float, shell: float | None = None) -> dict:
     count = len(positions)
     start = time.perf_counter()
     options = {} if shell is None else {"neighbour_shell": shell}
-    system = edmd.HardSphereSystem(positions, edmd.maxwell_boltzmann(np.ones(count), 3, rng=1), 0.5, box, **options)
+    system = edmd.HardSphereSystem(positions, edmd.maxwell_boltzmann(np.ones(count), 3, seed=1), 0.5, box, **options)
     setup = time.perf_counter() - start
     system.run(collisions=5 * count)
     before = system.acc.copy()
@@ -86,7 +86,7 @@ def start_up_seconds() -> float:
     """Wall time of a fresh process that builds 500 spheres and runs 1000 collisions (cache warm)."""
     code = (
         "import numpy as np; from collisionkit import edmd; p, b = edmd.lattice('fcc', 5, 0.3); "
-        "s = edmd.HardSphereSystem(p, edmd.maxwell_boltzmann(np.ones(len(p)), 3, rng=1), 0.5, b); s.run(collisions=1000)"
+        "s = edmd.HardSphereSystem(p, edmd.maxwell_boltzmann(np.ones(len(p)), 3, seed=1), 0.5, b); s.run(collisions=1000)"
     )
     subprocess.run([sys.executable, "-c", code], check=True)  # fills the cache if needed
     start = time.perf_counter()

@@ -27,7 +27,7 @@ from collisionkit import edmd
 
 e, eta, dim = 0.9, 0.1, 3
 positions, box = edmd.lattice("fcc", 4, eta)  # N = 256
-velocities = edmd.maxwell_boltzmann(np.ones(len(positions)), dim, kT=1.0, rng=3)
+velocities = edmd.maxwell_boltzmann(np.ones(len(positions)), dim, kT=1.0, seed=3)
 elastic = edmd.HardSphereSystem(positions, velocities, 0.5, box)
 elastic.run(collisions=20 * elastic.count)  # melt the lattice first
 system = edmd.HardSphereSystem(elastic.positions(), elastic.velocities(), 0.5, box, restitution=e)

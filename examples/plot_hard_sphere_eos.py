@@ -21,7 +21,7 @@ from collisionkit import edmd, plotting
 
 points = []
 for eta in (0.1, 0.3, 0.5):
-    system = edmd.random_fluid(2, 200, eta, rng=7)
+    system = edmd.random_fluid(2, 200, eta, seed=7)
     system.run(collisions=10 * system.count)  # equilibrate
     m = edmd.measure(system, collisions=60 * system.count, blocks=5)
     points.append(m)

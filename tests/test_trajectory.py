@@ -16,13 +16,13 @@ def mixture_3d(periodic=True):
     species = np.arange(len(positions)) % 2
     radii = np.where(species == 0, 0.5, 0.35)
     masses = np.where(species == 0, 1.0, 0.4)
-    velocities = edmd.maxwell_boltzmann(masses, 3, rng=4)
+    velocities = edmd.maxwell_boltzmann(masses, 3, seed=4)
     return edmd.HardSphereSystem(positions, velocities, radii, box, masses, periodic=periodic, species=species)
 
 
 def discs_2d():
     positions, box = edmd.lattice("hexagonal", 6, 0.4)
-    velocities = edmd.maxwell_boltzmann(np.ones(len(positions)), 2, rng=2)
+    velocities = edmd.maxwell_boltzmann(np.ones(len(positions)), 2, seed=2)
     return edmd.HardSphereSystem(positions, velocities, 0.5, box)
 
 

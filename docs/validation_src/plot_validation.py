@@ -32,7 +32,7 @@ print(" d  eta    N    Z (EDMD)          theory    deviation/error")
 for ax, dim, etas, theory in ((axes[0], 3, (0.2, 0.4), edmd.hansen_goos), (axes[1], 2, (0.3, 0.5), edmd.henderson)):
     points = []
     for eta in etas:
-        system = edmd.random_fluid(dim, 500, eta, rng=11)
+        system = edmd.random_fluid(dim, 500, eta, seed=11)
         system.run(collisions=10 * system.count)
         m = edmd.measure(system, collisions=100 * system.count, blocks=8)
         points.append(m)

@@ -84,24 +84,24 @@ def contact_rows(contact):
     return rows
 
 
-def hard_sphere_system_rows(system):
-    """Rows for :class:`collisionkit.edmd.HardSphereSystem`.
+def hard_sphere_system_rows(system, packing_fraction):
+    """Rows for :class:`collisionkit.edmd.HardSphereSystem`, given its packing fraction.
 
     Examples
     --------
     >>> from collisionkit.edmd import random_fluid
-    >>> dict(hard_sphere_system_rows(random_fluid(2, 20, 0.2, rng=1)))["particles"]
-    '20 discs'
+    >>> system = random_fluid(2, 20, 0.2, seed=1)
+    >>> rows = dict(hard_sphere_system_rows(system, system.packing_fraction))
+    >>> rows["particles"], round(rows["packing fraction"], 12)
+    ('20 discs', 0.2)
     """
-    from .edmd import packing_fraction
-
     dim = system.dim
     walls = "".join("p" if flag else "w" for flag in np.asarray(system.periodic)[:dim])
     return [
         ("particles", f"{system.count} {'spheres' if dim == 3 else 'discs'}"),
         ("box", np.asarray(system.box[:dim], dtype=float)),
         ("axes (p periodic, w walls)", walls),
-        ("packing fraction", packing_fraction(system.radius * system.scale, system.box[:dim])),
+        ("packing fraction", packing_fraction),
         ("species", int(np.max(system.species)) + 1),
         ("kT", float(system.temperature())),
         ("pair collisions", int(system.collisions)),
@@ -115,7 +115,7 @@ def measurement_rows(measurement):
     Examples
     --------
     >>> from collisionkit.edmd import measure, random_fluid
-    >>> rows = dict(measurement_rows(measure(random_fluid(2, 60, 0.2, rng=1), collisions=2000, blocks=2)))
+    >>> rows = dict(measurement_rows(measure(random_fluid(2, 60, 0.2, seed=1), collisions=2000, blocks=2)))
     >>> rows["particles"], rows["dimension"]
     (60, 2)
     """

@@ -150,7 +150,7 @@ class GSDWriter:
     >>> folder = tempfile.TemporaryDirectory()
     >>> from collisionkit.edmd import random_fluid
     >>> from collisionkit.trajectory import GSDWriter, read_gsd
-    >>> system = random_fluid(2, 50, 0.3, rng=1)
+    >>> system = random_fluid(2, 50, 0.3, seed=1)
     >>> path = pathlib.Path(folder.name) / "run.gsd"
     >>> with GSDWriter(path) as writer:
     ...     writer.write(system, step=0)
@@ -175,7 +175,7 @@ class GSDWriter:
         --------
         >>> import pathlib, tempfile
         >>> from collisionkit.edmd import random_fluid
-        >>> system = random_fluid(2, 50, 0.3, rng=1)
+        >>> system = random_fluid(2, 50, 0.3, seed=1)
         >>> writer = GSDWriter(pathlib.Path(tempfile.mkdtemp()) / "run.gsd")
         >>> writer.write(system, step=0)
         >>> writer.frames
@@ -198,10 +198,10 @@ class GSDWriter:
         >>> import pathlib, tempfile
         >>> from collisionkit.edmd import random_fluid
         >>> writer = GSDWriter(pathlib.Path(tempfile.mkdtemp()) / "run.gsd")
-        >>> writer.write(random_fluid(2, 50, 0.3, rng=1), step=0)
+        >>> writer.write(random_fluid(2, 50, 0.3, seed=1), step=0)
         >>> writer.close()
         >>> writer.close()
-        >>> writer.write(random_fluid(2, 50, 0.3, rng=1), step=1)
+        >>> writer.write(random_fluid(2, 50, 0.3, seed=1), step=1)
         Traceback (most recent call last):
         ...
         ValueError: the GSD writer of ... is closed
@@ -277,7 +277,7 @@ def read_gsd(path, frame=-1):
     >>> from collisionkit.edmd import random_fluid
     >>> from collisionkit.trajectory import read_gsd, write_gsd_frame
     >>> path = pathlib.Path(folder.name) / "fluid.gsd"
-    >>> write_gsd_frame(path, random_fluid(2, 40, 0.2, rng=3), step=7)
+    >>> write_gsd_frame(path, random_fluid(2, 40, 0.2, seed=3), step=7)
     >>> data = read_gsd(path)
     >>> data["dim"], data["positions"].shape, data["step"], data["types"]
     (2, (40, 2), 7, ['A'])
@@ -313,7 +313,7 @@ def read_gsd_frames(path, every=1, max_frames=None):
     >>> from collisionkit.trajectory import GSDWriter, read_gsd_frames
     >>> folder = tempfile.TemporaryDirectory()
     >>> path = pathlib.Path(folder.name) / "run.gsd"
-    >>> system = random_fluid(2, 30, 0.3, rng=1)
+    >>> system = random_fluid(2, 30, 0.3, seed=1)
     >>> with GSDWriter(path) as writer:
     ...     for step in range(3):
     ...         _ = system.run(collisions=20)
@@ -383,7 +383,7 @@ def truncate_gsd(path, frames):
     >>> folder = tempfile.TemporaryDirectory()
     >>> from collisionkit.edmd import random_fluid
     >>> from collisionkit.trajectory import GSDWriter, read_gsd, truncate_gsd
-    >>> system = random_fluid(3, 64, 0.2, rng=2)
+    >>> system = random_fluid(3, 64, 0.2, seed=2)
     >>> path = pathlib.Path(folder.name) / "run.gsd"
     >>> with GSDWriter(path) as writer:
     ...     for step in range(3):
@@ -467,7 +467,7 @@ def write_extended_xyz(path, system, comment=None):
     >>> folder = tempfile.TemporaryDirectory()
     >>> from collisionkit.edmd import random_fluid
     >>> from collisionkit.trajectory import write_extended_xyz
-    >>> path = write_extended_xyz(pathlib.Path(folder.name) / "fluid.xyz", random_fluid(3, 30, 0.1, rng=1))
+    >>> path = write_extended_xyz(pathlib.Path(folder.name) / "fluid.xyz", random_fluid(3, 30, 0.1, seed=1))
     >>> lines = path.read_text().splitlines()
     >>> lines[0], len(lines), 'pbc="T T T"' in lines[1]
     ('30', 32, True)

@@ -17,7 +17,7 @@ runner = CliRunner()
 def trajectory(tmp_path_factory):
     """A tiny 2D EDMD trajectory: 3 frames of 24 discs, two species."""
     path = tmp_path_factory.mktemp("gsd") / "run.gsd"
-    system = random_fluid(2, 24, 0.3, rng=4, species=[0, 1] * 12)
+    system = random_fluid(2, 24, 0.3, seed=4, species=[0, 1] * 12)
     with GSDWriter(path) as writer:
         for step in range(3):
             writer.write(system, step=10 * step)
@@ -161,7 +161,7 @@ def test_a_trajectory_of_one_frame_warns_on_stderr(tmp_path):
     # edmd --trajectory without --frame-every writes only the last frame: the GIF was a still, with no word said
     path = tmp_path / "one.gsd"
     with GSDWriter(path) as writer:
-        writer.write(random_fluid(2, 24, 0.3, rng=4), step=0)
+        writer.write(random_fluid(2, 24, 0.3, seed=4), step=0)
     result = runner.invoke(app, ["animate", "--trajectory", str(path), "--out", str(tmp_path / "one.gif"), "--dpi", "30"],
                            env={"COLUMNS": "400"})
     assert result.exit_code == 0, result.output

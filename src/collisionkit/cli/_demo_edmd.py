@@ -16,7 +16,7 @@ DISC_CELLS, DISC_ETA = 12, 0.3  # hexagonal lattice: 2 * 12^2 = 288 discs
 
 def _spheres(seed: int):
     """500 spheres grown to eta = 0.3 by Lubachevsky-Stillinger compression, then measured."""
-    system = edmd.random_fluid(3, SPHERES, SPHERE_ETA, rng=seed)
+    system = edmd.random_fluid(3, SPHERES, SPHERE_ETA, seed=seed)
     system.run(collisions=10 * SPHERES)
     return system, edmd.measure(system, collisions=100 * SPHERES, blocks=10)
 
@@ -24,7 +24,7 @@ def _spheres(seed: int):
 def _discs(seed: int):
     """288 discs melted from a hexagonal lattice at eta = 0.3, then measured."""
     positions, box = edmd.lattice("hexagonal", DISC_CELLS, DISC_ETA)
-    velocities = edmd.maxwell_boltzmann(np.ones(len(positions)), 2, rng=seed)
+    velocities = edmd.maxwell_boltzmann(np.ones(len(positions)), 2, seed=seed)
     system = edmd.HardSphereSystem(positions, velocities, 0.5, box)
     system.run(collisions=20 * len(positions))
     return system, edmd.measure(system, collisions=100 * len(positions), blocks=10)

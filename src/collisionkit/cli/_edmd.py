@@ -24,6 +24,7 @@ import typer
 from pydantic import Field, ValidationError, model_validator
 
 from .._io import atomic_write_bytes
+from ..edmd.theory import MAX_PACKING_FRACTION as MAX_PACKING
 from ._common import (
     INTERRUPTED_EXIT_CODE, Options, console, fail, load_options, print_table, progress_bar,
     refuse_to_overwrite_checkpoint, require_gsd, require_plotting, warn, write_summary,
@@ -38,7 +39,6 @@ PHYSICS_OPTIONS = (
     "dim", "particles", "packing_fraction", "restitution", "elastic_below", "equilibration", "collisions", "blocks",
     "seed", "initial",
 )  # fmt: skip
-MAX_PACKING = {2: 0.7, 3: 0.5}
 LATTICE_DIM = {"fcc": 3, "sc": 3, "square": 2, "hexagonal": 2}
 LATTICE_BASIS = {"fcc": 4, "sc": 1, "square": 1, "hexagonal": 2}
 EQUILIBRATION_PER_PARTICLE = 20
@@ -168,15 +168,15 @@ class _Run:
         return 0 if self.sampler is None else self.sampler.done * self.sampler.per_block
 
 
-def _percent_reporter(advance):
-    """A progress callback taking fractions done, advancing a bar of 100 steps."""
+def _share_reporter(advance, steps):
+    """A progress callback taking fractions done, advancing a bar by that share of ``steps``."""
     reported = 0
 
     def report(fraction):
         nonlocal reported
-        percent = int(100 * fraction)
-        advance(percent - reported)
-        reported = percent
+        share = round(steps * fraction)
+        advance(share - reported)
+        reported = share
 
     return report
 
@@ -186,12 +186,12 @@ def _initial_system(options: EdmdOptions) -> HardSphereSystem:
 
     if options.initial == "random":
         with progress_bar("compressing", total=100) as advance:
-            report = _percent_reporter(advance)
-            fluid = edmd.random_fluid(options.dim, options.particles, options.packing_fraction, rng=options.seed, progress=report)
+            report = _share_reporter(advance, 100)
+            fluid = edmd.random_fluid(options.dim, options.particles, options.packing_fraction, seed=options.seed, progress=report)
         positions, velocities, box = fluid.positions(), fluid.velocities(), fluid.box[: options.dim]
     else:
         positions, box = edmd.lattice(options.initial, _lattice_cells(options), options.packing_fraction)
-        velocities = edmd.maxwell_boltzmann(np.ones(options.particles), options.dim, kT=1.0, rng=options.seed)
+        velocities = edmd.maxwell_boltzmann(np.ones(options.particles), options.dim, kT=1.0, seed=options.seed)
     return edmd.HardSphereSystem(positions, velocities, 0.5, box, restitution=options.restitution,
                                  elastic_below=options.elastic_below)
 
@@ -298,7 +298,7 @@ def _execute(run: _Run, outputs: _Outputs, advance) -> None:
     chunk = max(options.particles, MIN_CHUNK)
     while run.equilibrated < options.equilibration:
         step = min(chunk, options.equilibration - run.equilibrated)
-        done = system.run(collisions=step, progress=advance)
+        done = system.run(collisions=step, progress=_share_reporter(advance, step))
         if done == 0:
             raise RuntimeError("the system stopped colliding during equilibration")
         run.equilibrated += done
@@ -306,7 +306,7 @@ def _execute(run: _Run, outputs: _Outputs, advance) -> None:
     if run.sampler is None:
         run.sampler = Sampler(system, options.collisions, options.blocks)
     while not run.sampler.finished:
-        run.sampler.run_block(advance)
+        run.sampler.run_block(_share_reporter(advance, run.sampler.per_block))
         outputs.chunk_done()
 
 

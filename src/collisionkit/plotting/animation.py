@@ -102,7 +102,7 @@ def animate_frames(frames, colour_by="speed", interval=50, ax=None):
     >>> from collisionkit.edmd import random_fluid
     >>> from collisionkit.trajectory import GSDWriter, read_gsd_frames
     >>> path = pathlib.Path(folder.name) / "run.gsd"
-    >>> system = random_fluid(2, 30, 0.3, rng=1)
+    >>> system = random_fluid(2, 30, 0.3, seed=1)
     >>> with GSDWriter(path) as writer:
     ...     for step in range(3):
     ...         _ = system.run(collisions=20)

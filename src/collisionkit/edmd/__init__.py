@@ -1,0 +1,66 @@
+"""Event-driven molecular dynamics of hard spheres (3D) and hard discs (2D).
+
+Particles fly ballistically (parabolas under uniform gravity) between exact
+pair collisions, processed one event at a time in time order; collision
+times come from the contact quadratic and the collision rule acts along the
+line of centres (the pair-collision notes). Boxes may be periodic or closed by
+hard walls on each axis; radii and masses may differ (mixtures); collisions
+may be inelastic with a coefficient of normal restitution per species pair,
+optionally velocity dependent.
+
+The numeric work runs in :mod:`collisionkit._kernels.edmd` (neighbour lists
+with a shell, rebuilt from cell lists; an array-backed tournament tree over
+blocks of event times; lazily updated particles).
+
+Modules: :mod:`~collisionkit.edmd.theory` (equations of state, Enskog's
+collision rate, packing fractions and their limits),
+:mod:`~collisionkit.edmd.initial` (velocities, lattices, compressed random
+fluids), :mod:`~collisionkit.edmd.system` (the system and its event loop),
+:mod:`~collisionkit.edmd.measurement` (block-averaged observables). Every
+public name is importable from here.
+
+Units: any consistent set; the CLI uses diameter 1 (largest species), mass 1
+and initial kT = 1.
+"""
+
+from ._msd import MSD_FIT_FROM, MSD_GROUPS, MSD_MAX_LAGS
+from ._neighbour_lists import LIST_SCALE_MARGIN
+from .initial import LATTICE_BASIS, LATTICE_DIM, lattice, lattice_cells, maxwell_boltzmann, random_fluid
+from .measurement import RECORDS, Measurement, Sampler, measure
+from .system import DEFAULT_SHELL, RESTITUTION_LAWS, SORT_INTERVAL, HardSphereSystem, OverlapError
+from .theory import (
+    MAX_PACKING_FRACTION,
+    carnahan_starling,
+    enskog_collision_frequency,
+    hansen_goos,
+    henderson,
+    packing_fraction,
+)
+
+__all__ = [
+    "DEFAULT_SHELL",
+    "LATTICE_BASIS",
+    "LATTICE_DIM",
+    "LIST_SCALE_MARGIN",
+    "MAX_PACKING_FRACTION",
+    "MSD_FIT_FROM",
+    "MSD_GROUPS",
+    "MSD_MAX_LAGS",
+    "RECORDS",
+    "RESTITUTION_LAWS",
+    "SORT_INTERVAL",
+    "HardSphereSystem",
+    "Measurement",
+    "OverlapError",
+    "Sampler",
+    "carnahan_starling",
+    "enskog_collision_frequency",
+    "hansen_goos",
+    "henderson",
+    "lattice",
+    "lattice_cells",
+    "maxwell_boltzmann",
+    "measure",
+    "packing_fraction",
+    "random_fluid",
+]

@@ -1,0 +1,215 @@
+"""The particles of a :class:`~collisionkit.edmd.HardSphereSystem` as users see them.
+
+The engine keeps each particle at its own time, in memory (cell) order,
+with positions that may lie up to half a shell outside a periodic box; the
+views here bring them to the current time, fold them into the box and put
+them back in the user's particle order. Kinetic energy, temperature and
+momentum follow from them.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .. import _arrays
+from .._kernels import edmd as _k
+from . import _checks
+
+
+class ParticleState:
+    """Positions, velocities and their sums for :class:`~collisionkit.edmd.HardSphereSystem` (a mixin).
+
+    It reads the system's records ``p``, the masses, species and image
+    counters (memory order), ``ids`` (memory slot -> particle), the box and
+    :meth:`~collisionkit.edmd.HardSphereSystem.synchronise`.
+    """
+
+    @property
+    def count(self) -> int:
+        """Number of particles N."""
+        return self.p.shape[0]
+
+    @property
+    def pos(self):
+        """Positions at each particle's own time (a view; prefer :meth:`positions`)."""
+        return self.p[:, _k.X : _k.X + self.dim]
+
+    @property
+    def vel(self):
+        """Velocities at each particle's own time (a view; prefer :meth:`velocities`)."""
+        return self.p[:, _k.V : _k.V + self.dim]
+
+    @property
+    def radius(self):
+        """Radii at scale 1, in particle order."""
+        return self._to_user_order(self.p[:, _k.R])
+
+    @property
+    def mass(self):
+        """Masses, in particle order."""
+        return self._to_user_order(self._mass)
+
+    @property
+    def species(self):
+        """Species indices, in particle order."""
+        return self._to_user_order(self._species)
+
+    @property
+    def image(self):
+        """Periodic image counters (boundary crossings per axis) at the current time, in particle order."""
+        self.synchronise()
+        return self._to_user_order(self._folded()[1])
+
+    def _folded(self, ahead=0.0):
+        """Internal positions folded into [0, L) on periodic axes, and the matching image counters.
+
+        The engine wraps a particle only when it rebuilds its neighbour list,
+        so stored positions may lie up to half a shell outside the box.
+        ``ahead`` > 0 moves them that far along their free flights first
+        (exact only before the next event: see :meth:`_time_to_next_event`).
+        """
+        gravity = self.geom[_k.G_GRAVITY, : self.dim]
+        pos = self.pos + self.vel * ahead + 0.5 * gravity * ahead**2
+        image = self._image.copy()
+        for k in np.flatnonzero(self.periodic):
+            length = self.box[k]
+            shift = np.floor(pos[:, k] / length)
+            pos[:, k] -= shift * length
+            image[:, k] += shift.astype(np.int64)
+            rounded_up = pos[:, k] >= length  # -tiny + L rounds to L
+            pos[rounded_up, k] -= length
+            image[rounded_up, k] += 1
+        return pos, image
+
+    def _to_user_order(self, internal):
+        result = np.empty_like(internal)
+        result[self.ids] = internal
+        return result
+
+    def positions(self, unwrapped=False):
+        """Positions at the current time (a copy); ``unwrapped`` adds the periodic images.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from collisionkit.edmd import HardSphereSystem, lattice, maxwell_boltzmann
+        >>> positions, box = lattice("square", 10, 0.3)
+        >>> system = HardSphereSystem(positions, maxwell_boltzmann(np.ones(100), 2, seed=1), 0.5, box)
+        >>> _ = system.run(collisions=2000)
+        >>> inside = system.positions()
+        >>> bool((inside >= 0).all() and (inside < box).all())
+        True
+        >>> system.positions(unwrapped=True).shape
+        (100, 2)
+        """
+        self.synchronise()
+        internal = self.pos + self._image * self.box[: self.dim] if unwrapped else self._folded()[0]
+        return self._to_user_order(internal)
+
+    def velocities(self):
+        """Velocities at the current time (a copy).
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from collisionkit.edmd import HardSphereSystem, lattice, maxwell_boltzmann
+        >>> positions, box = lattice("square", 10, 0.3)
+        >>> system = HardSphereSystem(positions, maxwell_boltzmann(np.ones(100), 2, seed=1), 0.5, box)
+        >>> bool(np.allclose(system.velocities().sum(axis=0), 0.0))
+        True
+        """
+        self.synchronise()
+        return self._to_user_order(self.vel)
+
+    def kinetic_energy(self) -> float:
+        """Total kinetic energy sum(m v^2) / 2.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from collisionkit.edmd import HardSphereSystem, lattice, maxwell_boltzmann
+        >>> positions, box = lattice("square", 10, 0.3)
+        >>> system = HardSphereSystem(positions, maxwell_boltzmann(np.ones(100), 2, seed=1), 0.5, box)
+        >>> round(system.kinetic_energy(), 12)  # kT = 1 in 2D: K = N kT
+        100.0
+        """
+        self.synchronise()
+        return float(0.5 * np.sum(self._mass[:, None] * self.vel**2))
+
+    def temperature(self) -> float:
+        """kT = 2 K / (d N).
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from collisionkit.edmd import HardSphereSystem, lattice, maxwell_boltzmann
+        >>> positions, box = lattice("square", 10, 0.3)
+        >>> system = HardSphereSystem(positions, maxwell_boltzmann(np.ones(100), 2, seed=1), 0.5, box)
+        >>> _ = system.run(collisions=1000)
+        >>> round(system.temperature(), 12)  # elastic: unchanged
+        1.0
+        """
+        return 2.0 * self.kinetic_energy() / (self.dim * self.count)
+
+    def momentum(self):
+        """Total momentum sum(m v).
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from collisionkit.edmd import HardSphereSystem, lattice, maxwell_boltzmann
+        >>> positions, box = lattice("square", 10, 0.3)
+        >>> system = HardSphereSystem(positions, maxwell_boltzmann(np.ones(100), 2, seed=1), 0.5, box)
+        >>> bool(np.allclose(system.momentum(), 0.0))
+        True
+        """
+        self.synchronise()
+        return (self._mass[:, None] * self.vel).sum(axis=0)
+
+    def set_velocities(self, velocities):
+        """Replace all velocities (at the current time) and re-predict every event.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from collisionkit.edmd import HardSphereSystem, lattice, maxwell_boltzmann
+        >>> positions, box = lattice("square", 10, 0.3)
+        >>> system = HardSphereSystem(positions, maxwell_boltzmann(np.ones(100), 2, seed=1), 0.5, box)
+        >>> system.set_velocities(2.0 * system.velocities())
+        >>> round(system.temperature(), 12)
+        4.0
+        """
+        velocities = _checks.real_array(velocities, "velocities")
+        if velocities.shape != (self.count, self.dim):
+            raise ValueError(f"velocities must have shape {(self.count, self.dim)}; got {velocities.shape}")
+        _arrays.require_finite(velocities, "velocities")
+        self.synchronise()
+        self.p[:, _k.V : _k.V + self.dim] = velocities[self.ids]
+        self._predict_all()
+
+    def rescale_temperature(self, kT=1.0):
+        """Scale all velocities to the temperature kT (kinetic definition); re-predicts events.
+
+        Parameters
+        ----------
+        kT : float
+            Finite and > 0. A system at rest cannot be rescaled.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from collisionkit.edmd import HardSphereSystem, lattice, maxwell_boltzmann
+        >>> positions, box = lattice("square", 10, 0.3)
+        >>> system = HardSphereSystem(positions, maxwell_boltzmann(np.ones(100), 2, seed=1), 0.5, box)
+        >>> system.rescale_temperature(0.25)
+        >>> round(system.temperature(), 12)
+        0.25
+        """
+        kT = _checks.positive(kT, "kT")
+        current = self.temperature()
+        if current == 0.0:
+            raise ValueError("cannot rescale the temperature of a system at rest (every velocity is zero)")
+        self.set_velocities(self.velocities() * math.sqrt(kT / current))
+

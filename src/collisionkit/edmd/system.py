@@ -1,0 +1,360 @@
+"""The hard-sphere (3D) or hard-disc (2D) system an EDMD run advances, event by event.
+
+Particles fly ballistically (parabolas under uniform gravity) between exact
+pair collisions, processed one event at a time in time order; collision
+times come from the contact quadratic and the collision rule acts along the
+line of centres. The numeric work runs in :mod:`collisionkit._kernels.edmd`;
+the system keeps the kernels' arrays, with its responsibilities split over
+helper modules: construction (``_system_setup``), named views of the
+kernels' parameters and totals (``_system_parameters``), the particles as
+users see them (``_particle_state``), neighbour lists and cells
+(``_neighbour_lists``) and checkpoints (``_system_state``).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .._kernels import edmd as _k
+from .._repr import hard_sphere_system_rows, html_table
+from . import _checks, _system_setup
+from ._neighbour_lists import NeighbourLists
+from ._particle_state import ParticleState
+from ._system_parameters import SystemParameters
+from ._system_setup import RESTITUTION_LAWS
+from ._system_state import Checkpoints
+
+__all__ = ["DEFAULT_SHELL", "RESTITUTION_LAWS", "SORT_INTERVAL", "HardSphereSystem", "OverlapError"]
+
+# re-sort particles in memory by cell after this many collisions per particle
+SORT_INTERVAL = 20
+# neighbour-list shell (skin) in units of the largest diameter; benchmarks/bench_edmd.py --shells tunes it
+DEFAULT_SHELL = 0.7
+
+
+class OverlapError(ValueError, RuntimeError):
+    """Two particles (or a particle and a wall) overlap beyond round-off.
+
+    A ``ValueError`` when the given positions overlap (bad input), and a
+    ``RuntimeError`` as well, for :meth:`HardSphereSystem.check` after a run.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from collisionkit.edmd import HardSphereSystem, OverlapError
+    >>> try:
+    ...     HardSphereSystem([[1.0, 1.0], [1.5, 1.0]], np.zeros((2, 2)), 0.5, 10.0)
+    ... except OverlapError as error:
+    ...     print("refused:", error)
+    refused: positions overlap: particles 0 and 1, surface gap -0.5
+    """
+
+
+class HardSphereSystem(SystemParameters, ParticleState, NeighbourLists, Checkpoints):
+    """N hard spheres (3D) or discs (2D) in a box, advanced event by event.
+
+    Parameters
+    ----------
+    positions : array_like, shape (N, d)
+        Centres, d = 2 or 3, inside the box [0, L) (for a walled axis the
+        whole particle must be inside). No two particles may overlap.
+    velocities : array_like, shape (N, d)
+    radii : float or array_like, shape (N,)
+        > 0.
+    box : float or array_like, shape (d,)
+        Box lengths L; each periodic axis must hold at least 3 cells of the
+        largest contact distance (L >= 3 * max diameter).
+    masses : float or array_like, shape (N,), optional
+        > 0, default 1.
+    periodic : bool or sequence of bool, optional
+        Per axis: periodic (True, default) or hard walls at 0 and L.
+    species : array_like of int, shape (N,), optional
+        Species index per particle (0 .. S-1) for the restitution matrix.
+    restitution : float or array_like, shape (S, S), optional
+        Coefficient of normal restitution per species pair, in [0, 1].
+    restitution_law : {"constant", "bridges"}
+        "bridges": e = min(e_pair, (u_n / law_speed)^(-law_exponent)), the
+        law measured for ice at planetary-ring temperatures (Bridges, Hatzes
+        & Lin, Nature 309, 333 (1984), exponent 0.234).
+    law_speed, law_exponent : float
+        Parameters of the Bridges law.
+    elastic_below : float, optional
+        Contacts with normal approach speed below this are elastic: protects
+        inelastic runs against inelastic collapse (infinitely many
+        collisions in finite time), in the spirit of the TC model of Luding &
+        McNamara (Granular Matter 1, 113 (1998)). Default: 0 for elastic
+        systems, 1e-6 times the initial rms speed otherwise.
+    wall_restitution : float
+        Restitution of particle-wall contacts, in [0, 1].
+    gravity : array_like, shape (d,), optional
+        Uniform acceleration; flights become exact parabolas.
+    neighbour_shell : float, optional
+        Skin of the neighbour lists in units of the largest diameter, > 0
+        (default 0.7, the fastest at eta = 0.45 in benchmarks/bench_edmd.py).
+        A wider shell means longer lists but fewer rebuilds. Only speed
+        depends on it; in small periodic boxes it is narrowed so that twice
+        the list radius stays below the box.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from collisionkit.edmd import HardSphereSystem, lattice, maxwell_boltzmann
+    >>> positions, box = lattice("fcc", 3, 0.3)
+    >>> system = HardSphereSystem(positions, maxwell_boltzmann(np.ones(108), 3, seed=1), 0.5, box)
+    >>> system.run(collisions=2000)
+    2000
+    >>> system.check() > -1e-9
+    True
+    """
+
+    def __init__(
+        self,
+        positions,
+        velocities,
+        radii,
+        box,
+        masses=1.0,
+        periodic=True,
+        species=None,
+        restitution=1.0,
+        restitution_law="constant",
+        law_speed=1.0,
+        law_exponent=0.234,
+        elastic_below=None,
+        wall_restitution=1.0,
+        gravity=None,
+        neighbour_shell=DEFAULT_SHELL,
+        *,
+        _growth=0.0,
+        _scale=1.0,
+    ):
+        positions, velocities = _system_setup.particle_arrays(positions, velocities)
+        count, dim = positions.shape
+        self.dim = dim
+        radius = _checks.positive(_checks.per_particle(radii, count, "radii"), "radii", scalar=False)
+        self._mass = _checks.positive(_checks.per_particle(masses, count, "masses"), "masses", scalar=False)
+        box = _checks.positive(_checks.per_particle(box, dim, "box"), "box", scalar=False)
+        periodic = _system_setup.periodic_axes(periodic, dim)
+        self._species = _checks.per_particle(0 if species is None else species, count, "species", integer=True)
+        self.restitution, self.params = _system_setup.restitution_parameters(
+            self._species, restitution, restitution_law, law_speed, law_exponent, wall_restitution
+        )
+        self.restitution_law = restitution_law
+        gravity = _system_setup.gravity_vector(gravity, dim)
+        self._shell_request = _checks.positive(neighbour_shell, "neighbour_shell")
+
+        self.geom = _system_setup.geometry(box, periodic, gravity)
+        self.params[_k.P_SCALE0] = float(_scale)
+        self.params[_k.P_GROWTH] = float(_growth)
+        self.time = 0.0
+        self.elapsed = 0.0
+        self.p = _system_setup.particle_records(positions, velocities, radius)
+        _system_setup.wrap_into_box(self.p, box, periodic)
+        self._image = np.zeros((count, dim), dtype=np.int64)
+        # particles live in memory in cell order (re-sorted as they move); ids maps slot -> particle
+        self.ids = np.arange(count)
+        self.last_sort = 0
+        self.acc = np.zeros(_k.ACC_SIZE)
+        if elastic_below is None:
+            elastic_below = _system_setup.default_elastic_below(self.restitution, restitution_law, velocities)
+        self.params[_k.P_ELASTIC_BELOW] = _checks.bounded(elastic_below, "elastic_below", 0.0)
+        _system_setup.allocate_engine_arrays(self)
+        self._refresh_lists()
+        _system_setup.check_walls(self)
+        gap = self._pair_gap()
+        if gap < -1e-9 * float(np.max(radius)):
+            raise OverlapError(f"positions overlap: {_system_setup.closest_pair_description(self, gap)}")
+
+    # -------------------------------------------------------------- the clock and the invariant
+
+    def synchronise(self):
+        """Move every particle to the current time and restart the clock at 0.
+
+        Keeping event times small keeps their round-off small; the total
+        simulated time is kept in ``elapsed``.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from collisionkit.edmd import HardSphereSystem, lattice, maxwell_boltzmann
+        >>> positions, box = lattice("square", 10, 0.3)
+        >>> system = HardSphereSystem(positions, maxwell_boltzmann(np.ones(100), 2, seed=1), 0.5, box)
+        >>> _ = system.run(collisions=500)
+        >>> system.synchronise()
+        >>> system.time, system.elapsed > 0
+        (0.0, True)
+        """
+        _k.synchronise(self.p, self.time, self.geom, self.dim)
+        shift = self.time
+        if shift != 0.0:
+            self.p[:, _k.T] -= shift
+            self.queue -= shift
+            self.tree[:, 0] -= shift
+            self.params[_k.P_SCALE0] += self.growth * shift
+            self.elapsed += shift
+            self.time = 0.0
+
+    def check(self, tolerance=1e-9):
+        """Verify the invariant: no overlaps between particles or with walls.
+
+        Returns the smallest surface gap (negative only within round-off);
+        raises :class:`OverlapError` if any gap is below ``-tolerance`` times
+        the largest radius.
+
+        Parameters
+        ----------
+        tolerance : float
+            Allowed overlap relative to the largest radius, finite and >= 0.
+
+        Returns
+        -------
+        float
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from collisionkit.edmd import HardSphereSystem, lattice, maxwell_boltzmann
+        >>> positions, box = lattice("square", 10, 0.3)
+        >>> system = HardSphereSystem(positions, maxwell_boltzmann(np.ones(100), 2, seed=1), 0.5, box)
+        >>> _ = system.run(collisions=5000)
+        >>> system.check() > -1e-12
+        True
+        """
+        tolerance = _checks.bounded(tolerance, "tolerance", 0.0)
+        self.synchronise()
+        gap = self._pair_gap()
+        if not np.all(self.periodic):
+            gap = min(gap, _k.wall_gap(self.p, self.scale, self.geom, self.dim))
+        if gap < -tolerance * float(np.max(self.radius)):
+            raise OverlapError(f"overlap of {-gap:.3g} found at time {self.elapsed + self.time:.6g}")
+        self._check_anchor_drift(tolerance)
+        return gap
+
+    def _time_to_next_event(self):
+        """Time from now (particles synchronised) to the next queued event; inf if none.
+
+        Until then every particle flies freely: no collision can come earlier
+        (the queue holds each particle's earliest, list events included).
+        """
+        return float(self.tree[1, 0]) - self.time
+
+    def _pair_gap(self):
+        return _k.min_gap(
+            self.p, self.scale, self.cell_of, self.cell_members, self.cell_count, self.ncell, self.geom, self.dim
+        )
+
+    def _predict_all(self):
+        _k.predict_all(
+            self.p, self.book, self.neighbours, self.neighbour_count, self.geom, self.dim, self.params, self.queue,
+            self.tree, self.leaves, self.acc,
+        )
+
+    def _stop_growing(self, scale):
+        """End a compression: radii fixed at ``scale`` from now on (lists rebuilt)."""
+        self.synchronise()
+        self.params[_k.P_GROWTH] = 0.0
+        self.params[_k.P_SCALE0] = scale
+        self._refresh_lists()
+
+    # -------------------------------------------------------------- running
+
+    def run(self, collisions=None, time=None, progress=None, chunk=None):
+        """Advance by a number of pair collisions and/or a stretch of time.
+
+        Parameters
+        ----------
+        collisions : int, optional
+            Pair collisions to process, >= 0.
+        time : float, optional
+            Simulated time to advance, finite and >= 0 (the run stops at
+            whichever comes first).
+        progress : callable, optional
+            Called as ``progress(fraction)`` after each chunk, with the
+            fraction of the requested collisions (or time, whichever is the
+            larger share) done so far, in [0, 1].
+        chunk : int, optional
+            Collisions per kernel call, >= 1 (default: max(N, 10^5)).
+
+        Returns
+        -------
+        int
+            Pair collisions processed.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from collisionkit.edmd import HardSphereSystem, lattice, maxwell_boltzmann
+        >>> positions, box = lattice("square", 10, 0.3)
+        >>> system = HardSphereSystem(positions, maxwell_boltzmann(np.ones(100), 2, seed=1), 0.5, box)
+        >>> system.run(collisions=1000)
+        1000
+        >>> system.run(time=0.5) > 0, round(system.elapsed, 12) > 0
+        (True, True)
+        """
+        if collisions is None and time is None:
+            raise ValueError("give collisions or time (or both)")
+        target = np.iinfo(np.int64).max if collisions is None else _checks.integer_at_least(collisions, "collisions", 0)
+        duration = math.inf if time is None else _checks.bounded(time, "time", 0.0)
+        chunk = max(self.count, 100_000) if chunk is None else _checks.integer_at_least(chunk, "chunk", 1)
+        done, remaining = 0, duration
+        while done < target and remaining > 0:
+            step = min(chunk, target - done)
+            if self.collisions - self.last_sort >= SORT_INTERVAL * self.count:
+                self._sort_by_cell()
+            before, start = self.collisions, self.time
+            # while growing, the lists hold only up to the radius scale they were built for
+            lists_expire = self._lists_expire_in()
+            span = max(min(remaining, lists_expire), 0.0)
+            self.time = self._run_events(step, start + span)
+            lists_expired = lists_expire < remaining and self.time == start + span
+            advanced = self.collisions - before
+            done += advanced
+            remaining -= self.time - start
+            if progress is not None:
+                shares = ([done / collisions] if collisions else []) + ([1.0 - remaining / duration] if time else [])
+                progress(min(max(shares), 1.0))
+            self.synchronise()
+            if self._grow_overflowed_storage():
+                continue
+            if lists_expired:
+                self._refresh_lists()
+            elif advanced < step:  # stopped by the time limit, or nothing left to happen
+                break
+        return done
+
+    def compile_event_loop(self):
+        """Compile the event loop now (numba compiles at the first call), so that a timed run times only events.
+
+        A run of no collisions: the state does not change. Takes seconds on
+        a cold numba cache, a fraction of one when the cache is warm.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from collisionkit.edmd import HardSphereSystem, lattice, maxwell_boltzmann
+        >>> positions, box = lattice("square", 10, 0.3)
+        >>> system = HardSphereSystem(positions, maxwell_boltzmann(np.ones(100), 2, seed=1), 0.5, box)
+        >>> system.compile_event_loop()
+        >>> system.collisions, system.elapsed
+        (0, 0.0)
+        """
+        self._run_events(0, self.time)
+
+    def _run_events(self, collisions, t_stop):
+        return _k.run_events(
+            self.time, collisions, t_stop, self.p, self.book, self._image, self.cell_of, self.neighbours,
+            self.neighbour_count, self.cell_members, self.cell_count, self.cell_points, self.ncell, self.geom, self.dim,
+            self.restitution, self.params, self.queue, self.tree, self.leaves, self.acc,
+        )
+
+    def __repr__(self):
+        kind = "spheres" if self.dim == 3 else "discs"
+        return (
+            f"HardSphereSystem({self.count} {kind}, eta={self.packing_fraction:.4f}, "
+            f"collisions={self.collisions}, time={self.elapsed + self.time:.6g})"
+        )
+
+    def _repr_html_(self):
+        return html_table("HardSphereSystem", hard_sphere_system_rows(self, self.packing_fraction))

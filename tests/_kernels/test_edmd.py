@@ -1,0 +1,84 @@
+"""Tests of the EDMD kernels themselves: contact and boundary times, the event queue's tournament tree."""
+
+import math
+
+import numba
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from scipy import optimize
+
+from collisionkit._kernels import edmd as kernels
+
+
+@pytest.mark.parametrize("growth", [0.0, 0.05, 0.5])
+def test_pair_contact_time_matches_root_finding(growth):
+    rng = np.random.default_rng(5)
+    contact, scale = 1.0, 0.7
+    times = np.linspace(0, 20, 40001)
+    hits = misses = 0
+    for _ in range(200):
+        r = rng.normal(size=3) * 2
+        if np.linalg.norm(r) <= contact * scale:
+            continue
+        u = -r * rng.uniform(0, 1) + rng.normal(size=3) * 0.5  # mostly approaching
+        tau = kernels.pair_contact_time(*r, *u, contact, scale, growth, np.inf)
+
+        def gap(t):
+            return np.linalg.norm(r + np.multiply.outer(t, u), axis=-1) - contact * (scale + growth * t)
+
+        crossing = np.flatnonzero(gap(times) <= 0)
+        if crossing.size == 0:
+            assert tau == math.inf or tau > times[-2]
+            misses += 1
+            continue
+        first = crossing[0]
+        expected = optimize.brentq(lambda t: float(gap(np.array(t))), times[first - 1], times[first], xtol=1e-14)
+        assert tau == pytest.approx(expected, rel=1e-9, abs=1e-12)
+        hits += 1
+    assert hits > 30 and misses > 5
+
+
+def test_boundary_root_cases():
+    # a point 1 below a boundary moving up at 2: reaches it at 0.5
+    assert kernels.first_root_from_below(0.0, 2.0, -1.0) == 0.5
+    # thrown up against gravity it turns back before the boundary
+    assert kernels.first_root_from_below(-1.0, 1.0, -1.0) == math.inf
+    # accelerating towards it from rest: 0.5 t^2 = 2
+    assert kernels.first_root_from_below(0.5, 0.0, -2.0) == pytest.approx(2.0, rel=1e-15)
+    # round-off past the boundary but moving out: now
+    assert kernels.first_root_from_below(0.0, 1.0, 1e-17) == 0.0
+
+
+@numba.njit
+def _apply_queue_updates(updates, queue, tree, leaves):
+    """Apply (particle, time) updates through the kernel; return the tree's winner after each."""
+    winners = np.empty((len(updates), 2))
+    for k in range(len(updates)):
+        kernels.queue_update(int(updates[k, 0]), updates[k, 1], queue, tree, leaves)
+        winners[k, 0] = tree[1, 0]
+        winners[k, 1] = tree[1, 1]
+    return winners
+
+
+@settings(max_examples=60, deadline=None)
+@given(
+    count=st.integers(1, 40),
+    updates=st.lists(st.tuples(st.integers(0, 39), st.sampled_from([0.0, 0.5, 1.0, 2.0, math.inf])), max_size=60),
+)
+def test_event_queue_gives_the_earliest_event_lowest_index_on_ties(count, updates):
+    blocks = -(-count // kernels.QUEUE_BLOCK)
+    leaves = 1 << max(blocks - 1, 1).bit_length()
+    queue = np.full(blocks * kernels.QUEUE_BLOCK, math.inf)
+    queue[:count] = np.linspace(3.0, 4.0, count)
+    tree = np.zeros((2 * leaves, 2))
+    kernels.tree_build(tree, queue, leaves)
+    reference = queue[:count].copy()
+    assert tree[1, 1] == 0
+    steps = np.array([(i % count, when) for i, when in updates], dtype=float).reshape(-1, 2)
+    winners = _apply_queue_updates(steps, queue, tree, leaves)
+    for (i, when), (winner_time, winner) in zip(steps, winners):
+        reference[int(i)] = when
+        assert winner_time == reference.min()
+        assert winner == np.flatnonzero(reference == reference.min())[0]

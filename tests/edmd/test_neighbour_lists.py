@@ -1,0 +1,100 @@
+"""Tests of the neighbour lists and cells (collisionkit.edmd._neighbour_lists): complete, grown, narrowed, checked."""
+
+import numpy as np
+import pytest
+
+from collisionkit import edmd
+from tests.edmd.systems import fcc_system
+
+
+def test_neighbour_lists_are_symmetric_and_complete():
+    """Every pair whose anchors are within the list radius is listed, both ways, and no pair beyond it.
+
+    The cells hold float32 anchors, so a pair within their round-off of the
+    radius may be listed too (harmless: the list is a superset).
+    """
+    rng = np.random.default_rng(3)
+    positions, box = edmd.lattice("fcc", 4, 0.35)
+    radii = np.where(rng.random(len(positions)) < 0.5, 0.5, 0.35)
+    system = edmd.HardSphereSystem(positions, edmd.maxwell_boltzmann(np.ones(len(radii)), 3, seed=rng), radii, box)
+    system.run(collisions=20 * system.count)  # lists rebuilt one particle at a time
+    shell, scale = system.neighbour_shell_width, system.neighbour_list_scale
+    length = system.box[:3]
+    slack = system.neighbour_list_slack
+    slot_radii = system.radius[system.ids]  # in memory order, as the lists and anchors
+    listed = {(i, int(j)) for i in range(system.count) for j in system.neighbours[i, : system.neighbour_count[i]]}
+    within, allowed = set(), set()
+    for i in range(system.count):
+        separation = system.anchor - system.anchor[i]
+        separation -= length * np.round(separation / length)
+        distance = np.sqrt(np.sum(separation**2, axis=1))
+        reach = (slot_radii + slot_radii[i]) * scale + shell
+        within |= {(i, int(j)) for j in np.flatnonzero(distance <= reach) if j != i}
+        allowed |= {(i, int(j)) for j in np.flatnonzero(distance <= reach + 2 * slack) if j != i}
+    assert within <= listed <= allowed
+    assert len(within) > 8 * system.count
+    assert all((j, i) in listed for i, j in listed)
+
+
+def test_lists_grow_when_they_overflow_mid_run():
+    """Rows cut to the longest list of the lattice: the melting fluid outgrows them at once."""
+    system = fcc_system(cells=4, eta=0.45)
+    width = int(system.neighbour_count.max())
+    system.neighbours = np.ascontiguousarray(system.neighbours[:, :width])
+    energy = system.kinetic_energy()
+    system.run(collisions=40 * system.count)
+    assert system.neighbours.shape[1] > width
+    assert system.check() > -1e-9
+    assert system.kinetic_energy() == pytest.approx(energy, rel=1e-12)
+
+
+def test_cells_grow_for_a_mixture_of_small_and_large_spheres():
+    rng = np.random.default_rng(8)
+    diameters = np.where(rng.random(400) < 0.8, 0.2, 1.0)
+    system = edmd.random_fluid(3, 400, 0.3, seed=rng, diameters=diameters, masses=diameters**3)
+    assert system.cell_members.shape[1] > 12  # more small spheres per cell than the default slots
+    energy = system.kinetic_energy()
+    system.run(collisions=20 * system.count)
+    assert system.check() > -1e-9
+    assert system.kinetic_energy() == pytest.approx(energy, rel=1e-11)
+
+
+def test_smallest_periodic_box_narrows_the_shell():
+    """A box of 3 diameters leaves room for a shell below half a diameter; runs stay exact."""
+    positions = np.array([[0.5, 0.5, 0.5], [2.0, 1.5, 1.0], [1.0, 2.2, 2.4]])
+    velocities = edmd.maxwell_boltzmann(np.ones(3), 3, seed=2)
+    system = edmd.HardSphereSystem(positions, velocities, 0.5, 3.0)
+    assert 0 < system.neighbour_shell_width < 0.5
+    energy = system.kinetic_energy()
+    system.run(collisions=5000)
+    assert system.check() > -1e-9
+    assert system.kinetic_energy() == pytest.approx(energy, rel=1e-12)
+
+
+def test_neighbour_shell_is_validated():
+    positions, box = edmd.lattice("sc", 4, 0.3)
+    with pytest.raises(ValueError, match="neighbour_shell"):
+        edmd.HardSphereSystem(positions, np.zeros_like(positions), 0.5, box, neighbour_shell=0.0)
+
+
+def test_the_anchor_drift_check_catches_a_particle_beyond_half_the_shell():
+    """check() guards the neighbour-list invariant |x - anchor| <= shell / 2; a particle 0.6 shell away must
+    raise. Kills: allowed = 0.5 shell -> 5 shell."""
+    system = edmd.HardSphereSystem(*_square_lattice_with_velocities())
+    system.check()
+    system.anchor[0, 0] -= 0.6 * system.neighbour_shell_width
+    with pytest.raises(RuntimeError, match="drifted"):
+        system.check()
+
+
+def _square_lattice_with_velocities():
+    positions, box = edmd.lattice("square", 6, 0.3)
+    return positions, edmd.maxwell_boltzmann(np.ones(36), 2, seed=4), 0.5, box
+
+
+def test_the_shell_is_the_requested_fraction_of_the_largest_diameter():
+    system = fcc_system(cells=3, eta=0.3)  # a box of 5.7 diameters: wide enough not to narrow the shell
+    assert system.neighbour_list_scale == 1.0
+    assert system.neighbour_shell_width == pytest.approx(edmd.DEFAULT_SHELL, rel=1e-12)
+    wider = fcc_system(cells=3, eta=0.3, neighbour_shell=0.9)
+    assert wider.neighbour_shell_width == pytest.approx(0.9, rel=1e-12)

@@ -1,0 +1,99 @@
+"""Tests of collisionkit.edmd.theory: equations of state, Enskog's collision rate, packing fractions."""
+
+import math
+
+import numpy as np
+import pytest
+
+from collisionkit import edmd
+from collisionkit.edmd import theory
+
+
+@pytest.mark.parametrize("function", [edmd.carnahan_starling, edmd.hansen_goos, edmd.henderson])
+@pytest.mark.parametrize(("eta", "error"), [(-0.1, ValueError), (1.0, ValueError), (1.5, ValueError),
+                                            (2.0, ValueError), (math.nan, ValueError), ([0.2, 1.0], ValueError),
+                                            (True, TypeError), ("0.3", TypeError)])
+def test_equations_of_state_need_a_packing_fraction_in_0_1(function, eta, error):
+    with pytest.raises(error, match="eta"):
+        function(eta)
+
+
+def test_equations_of_state_give_the_ideal_gas_at_zero_density():
+    for function in (edmd.carnahan_starling, edmd.hansen_goos, edmd.henderson):
+        assert function(0.0) == 1.0
+        np.testing.assert_allclose(function([0.0, 1e-12]), 1.0, rtol=1e-10)
+
+
+@pytest.mark.parametrize(
+    ("arguments", "error", "name"),
+    [
+        (dict(diameter=0), ValueError, "diameter"),
+        (dict(diameter=math.inf), ValueError, "diameter"),
+        (dict(mass=-1), ValueError, "mass"),
+        (dict(kT=math.nan), ValueError, "kT"),
+        (dict(kT=True), TypeError, "kT"),
+        (dict(compressibility=0.5), ValueError, "compressibility"),
+        (dict(dim=5), ValueError, "dim"),
+        (dict(dim=True), TypeError, "dim"),
+    ],
+)
+def test_enskog_collision_frequency_checks_its_arguments(arguments, error, name):
+    with pytest.raises(error, match=name):
+        edmd.enskog_collision_frequency(**(dict(compressibility=2.0, dim=3) | arguments))
+
+
+@pytest.mark.parametrize(
+    ("radii", "box", "name"),
+    [([-0.5], [1.0, 1.0], "radii"), ([0.5], [1.0, 1.0, 1.0, 1.0], "box"), ([0.5], [0.0, 1.0], "box"),
+     ([0.5], 1.0, "box"), ([math.nan], [1.0, 1.0], "radii")],
+)
+def test_packing_fraction_checks_its_arguments(radii, box, name):
+    with pytest.raises(ValueError, match=name):
+        edmd.packing_fraction(radii, box)
+
+
+def _taylor(function, order):
+    """Taylor coefficients c_0..c_order of function(eta) at 0, from a least-squares fit on [1e-3, 0.02]."""
+    eta = np.linspace(1e-3, 0.02, 60)
+    return np.polyfit(eta, np.asarray(function(eta), dtype=float), order + 2)[::-1][: order + 1]
+
+
+def test_equations_of_state_reproduce_the_exact_virial_coefficients():
+    """Z = 1 + B2 eta + B3 eta^2 + ...: hard spheres B2 = 4, B3 = 10 exactly, B4 = 18.3648 (Boltzmann);
+    Carnahan-Starling's are the integers n^2 + n - 2 (4, 10, 18). Hard discs: B2 = 2, B3 = 16/3 - 4 sqrt(3)/pi
+    = 3.1280 exactly; Henderson gives 25/8. Kills: carnahan_starling -eta^3 -> +eta^3 (B4 = 20),
+    hansen_goos (1 - eta)^3 -> (1 - eta)^2 (B2 = -5), henderson eta^2/8 -> eta^2/4 (B3 = 3.25)."""
+    cs = _taylor(edmd.carnahan_starling, 4)
+    np.testing.assert_allclose(cs[:4], [1.0, 4.0, 10.0, 18.0], rtol=1e-4)
+    hg = _taylor(edmd.hansen_goos, 4)
+    np.testing.assert_allclose(hg[:3], [1.0, 4.0, 10.0], rtol=1e-4)
+    assert hg[3] == pytest.approx(18.3648, rel=1e-3)
+    disc = _taylor(edmd.henderson, 3)
+    np.testing.assert_allclose(disc[:2], [1.0, 2.0], rtol=1e-5)
+    assert disc[2] == pytest.approx(16 / 3 - 4 * math.sqrt(3) / math.pi, rel=2e-3)
+    # and the two hard-sphere equations agree within 0.3 % up to eta = 0.45 (both fit simulation data to that)
+    eta = np.linspace(0.05, 0.45, 9)
+    np.testing.assert_allclose(edmd.carnahan_starling(eta), edmd.hansen_goos(eta), rtol=3e-3)
+
+
+@pytest.mark.parametrize(("dim", "diameter", "kT", "mass"), [(3, 1.0, 1.0, 1.0), (3, 2.0, 1.5, 3.0), (2, 0.5, 2.0, 0.7)])
+def test_enskog_collision_frequency_is_the_kinetic_theory_rate(dim, diameter, kT, mass):
+    """Independent derivation: omega = n <v_rel> S g, with <v_rel> = sqrt(2) <v> and the cross 'section'
+    S = pi sigma^2 (3D) or 2 sigma (2D); the same g(sigma) gives Z - 1 = (2 pi / 3) n sigma^3 g (3D) or
+    (pi / 2) n sigma^2 g (2D). Kills: 2 d / sigma -> d / sigma, sqrt(kT / (pi m)) -> sqrt(kT / (2 pi m))."""
+    n, g = 0.37, 1.23
+    mean_speed = math.sqrt(8 * kT / (math.pi * mass)) if dim == 3 else math.sqrt(math.pi * kT / (2 * mass))
+    if dim == 3:
+        z = 1 + 2 * math.pi / 3 * n * diameter**3 * g
+        expected = n * math.sqrt(2) * mean_speed * math.pi * diameter**2 * g
+    else:
+        z = 1 + math.pi / 2 * n * diameter**2 * g
+        expected = n * math.sqrt(2) * mean_speed * 2 * diameter * g
+    got = float(edmd.enskog_collision_frequency(z, dim, diameter=diameter, kT=kT, mass=mass))
+    assert got == pytest.approx(expected, rel=1e-12)
+
+
+def test_the_packing_fraction_limits_are_defined_once():
+    """MAX_PACKING_FRACTION is the one definition of the densest supported packing, per dimension."""
+    assert edmd.MAX_PACKING_FRACTION is theory.MAX_PACKING_FRACTION
+    assert edmd.MAX_PACKING_FRACTION == {2: 0.7, 3: 0.5}
