@@ -11,14 +11,16 @@ import pytest
 from typer.testing import CliRunner
 
 from collisionkit import edmd
+from collisionkit._io import read_checkpoint
 from collisionkit.cli import _edmd, app
+from collisionkit.edmd import EdmdRun
 from collisionkit.trajectory import read_gsd
 
 runner = CliRunner()
 
 # 108 spheres: equilibration in 3 chunks (10000, 10000, 5000), then 4 blocks of 2000
 SMALL = ("--particles", 108, "--equilibration", 25_000, "--collisions", 8_000, "--blocks", 4, "--seed", 5, "--no-plots")
-WALL_CLOCK_KEYS = {"collisions_per_second", "options", "files"}
+WALL_CLOCK_KEYS = {"collisions_per_second", "files"}
 
 
 def invoke(*arguments):
@@ -61,7 +63,8 @@ def test_summary_holds_the_required_keys_and_plausible_physics(tmp_path):
     assert data["collision_frequency"] == pytest.approx(data["collision_frequency_from_pressure"], rel=0.02)
     for key in ("mean_free_time", "mean_free_path", "diffusion_coefficient", "pressure", "contact_value"):
         assert data[key] > 0, key
-    assert data["options"]["collisions"] == 40_000 and data["files"] == []
+    assert data["parameters"]["collisions"] == 40_000 and data["files"] == []
+    assert edmd.EdmdParameters.from_mapping(data["parameters"]).seed == 1  # the parameters rerun it
     assert "compressibility factor" in result.output and "Hansen-Goos" in result.output
 
 
@@ -169,16 +172,16 @@ class Killed(Exception):
 
 def kill_at_checkpoint(monkeypatch, number):
     """Make the ``number``-th checkpoint write die before it starts (the previous one survives)."""
-    real = _edmd.save_checkpoint
+    real = EdmdRun.save
     calls = []
 
-    def dying(path, run):
+    def dying(run, path=None):
         calls.append(path)
         if len(calls) == number:
             raise Killed(f"killed while writing checkpoint {number}")
-        return real(path, run)
+        return real(run, path)
 
-    monkeypatch.setattr(_edmd, "save_checkpoint", dying)
+    monkeypatch.setattr(EdmdRun, "save", dying)
 
 
 @pytest.mark.parametrize("killed_at", [3, 7], ids=["during-equilibration", "during-measurement"])
@@ -194,9 +197,9 @@ def test_resume_continues_bit_for_bit(tmp_path, monkeypatch, killed_at):
     assert isinstance(interrupted.exception, Killed)
     assert not (part / "s.json").exists()
     monkeypatch.undo()
-    with np.load(part / "c.npz") as saved:
-        equilibrated, frames, _ = saved["run_counters"]
-        assert frames == killed_at - 1 and (equilibrated < 25_000) == (killed_at <= 4)
+    saved = read_checkpoint(part / "c.npz", "edmd").state
+    equilibrated, frames = saved["equilibrated"], saved["frames"]
+    assert frames == killed_at - 1 and (equilibrated < 25_000) == (killed_at <= 4)
     assert read_gsd(part / "t.gsd")["frames"] == killed_at  # one frame more than the checkpoint knows
 
     resumed = invoke("--resume", part / "c.npz", "--seed", 5)  # the saved options, a physics option repeated
@@ -208,11 +211,14 @@ def test_resume_continues_bit_for_bit(tmp_path, monkeypatch, killed_at):
             assert x.configuration.step == y.configuration.step
             assert np.array_equal(x.particles.position, y.particles.position)
             assert np.array_equal(x.particles.velocity, y.particles.velocity)
-    with np.load(whole / "c.npz") as a, np.load(part / "c.npz") as b:
-        assert set(a.files) == set(b.files)
-        for name in set(a.files) - {"run_options", "sampler_scalars"}:
-            assert np.array_equal(a[name], b[name]), name
-        assert np.array_equal(a["sampler_scalars"][:-1], b["sampler_scalars"][:-1])  # all but the wall clock
+    a, b = read_checkpoint(whole / "c.npz", "edmd"), read_checkpoint(part / "c.npz", "edmd")
+    assert a.parameters == b.parameters and set(a.arrays) == set(b.arrays)
+    paths = ("trajectory", "outputs")  # the two runs wrote to their own folders
+    assert {key: value for key, value in a.state.items() if key not in paths} == \
+        {key: value for key, value in b.state.items() if key not in paths}
+    for name in set(a.arrays) - {"sampler_scalars"}:
+        assert np.array_equal(a.arrays[name], b.arrays[name]), name
+    assert np.array_equal(a.arrays["sampler_scalars"][:-1], b.arrays["sampler_scalars"][:-1])  # all but the wall clock
 
 
 def test_resume_refuses_other_physics_and_finishes_a_finished_run(tmp_path):
@@ -228,15 +234,15 @@ def test_resume_refuses_other_physics_and_finishes_a_finished_run(tmp_path):
 
 
 def test_resume_of_a_checkpoint_from_before_elastic_below_existed(tmp_path):
-    # checkpoints written before --elastic-below have no such key in their options: a KeyError, not a message
+    # checkpoints written before --elastic-below have no such key in their parameters: a KeyError, not a message
+    from collisionkit._io import write_checkpoint
+
     checkpoint = tmp_path / "c.npz"
     assert invoke(*SMALL, "--checkpoint", checkpoint).exit_code == 0
-    with np.load(checkpoint) as data:
-        state = {name: data[name] for name in data.files}
-    options = json.loads(str(state["run_options"]))
-    del options["elastic_below"]
-    state["run_options"] = np.asarray(json.dumps(options))
-    np.savez(checkpoint, **state)
+    saved = read_checkpoint(checkpoint, "edmd")
+    parameters = dict(saved.parameters)
+    del parameters["elastic_below"]
+    write_checkpoint(checkpoint, "edmd", parameters, saved.state, saved.arrays)
     result = invoke("--resume", checkpoint, "--elastic-below", 0.01)
     assert result.exit_code == 2
     assert "elastic_below = 0.01 differs from the checkpoint" in " ".join(result.output.split())
@@ -246,10 +252,10 @@ def test_resume_of_a_checkpoint_from_before_elastic_below_existed(tmp_path):
 def test_resume_refuses_a_checkpoint_of_another_engine_format(tmp_path):
     checkpoint = tmp_path / "c.npz"
     assert invoke(*SMALL, "--checkpoint", checkpoint).exit_code == 0
-    with np.load(checkpoint) as data:
-        state = {name: data[name] for name in data.files}
-    state["format"] = np.asarray(1)
-    np.savez(checkpoint, **state)
+    from collisionkit._io import write_checkpoint
+
+    saved = read_checkpoint(checkpoint, "edmd")
+    write_checkpoint(checkpoint, "edmd", saved.parameters, saved.state, saved.arrays | {"format": np.asarray(1)})
     result = invoke("--resume", checkpoint)
     assert result.exit_code == 2
     assert "engine format 1" in " ".join(result.output.split())
@@ -287,7 +293,7 @@ def test_an_inelastic_run_says_it_cooled_and_takes_the_elastic_floor(tmp_path):
     assert result.exit_code == 0, result.output
     said = " ".join(result.output.split())
     data = json.loads(summary.read_text())
-    assert data["elastic_below"] == 0.01 and data["options"]["elastic_below"] == 0.01
+    assert data["elastic_below"] == 0.01 and data["parameters"]["elastic_below"] == 0.01
     assert f"kT from 1 to {data['temperature']:.3g}" in said and "Haff's law" in said
     assert ("elastic floor" in said) == (data["temperature"] < 100 * 0.01**2)
     elastic = runner.invoke(app, ["edmd", *map(str, SMALL), "--initial", "fcc", "--out", str(tmp_path)])
@@ -300,9 +306,9 @@ def test_an_interrupted_run_says_where_its_checkpoint_is(tmp_path, monkeypatch):
     def interrupted(*args, **kwargs):
         raise KeyboardInterrupt
 
-    monkeypatch.setattr(_edmd, "_execute", interrupted)
+    monkeypatch.setattr(edmd.HardSphereSystem, "run", interrupted)  # Ctrl-C in the first chunk
     checkpoint = tmp_path / "run.npz"
-    options = ["edmd", "--dim", "2", "--particles", "64", "--collisions", "2000", "--no-plots"]
+    options = ["edmd", "--dim", "2", "--particles", "64", "--initial", "square", "--collisions", "2000", "--no-plots"]
     saved = runner.invoke(app, [*options, "--checkpoint", str(checkpoint)])
     assert saved.exit_code == 130 and checkpoint.exists()
     assert f"--resume {checkpoint}" in saved.output.replace("\n", "")

@@ -54,7 +54,7 @@ def test_ranges_expand_to_tidy_values(spec, expected):
         ({"command": "edmd", "seed": 1, "vary": {}}, ValueError, "at least one option"),
         ({"command": "edmd", "seed": 1, "vary": {"dim": []}}, ValueError, "vary.dim is an empty list"),
         ({"command": "edmd", "seed": 1, "vary": {"dim": 3}}, TypeError, "vary.dim must be a list or a range"),
-        ({"command": "edmd", "seed": 1, "vary": {"dim": [[2]]}}, TypeError, "vary.dim must be a number"),
+        ({"command": "edmd", "seed": 1, "vary": {"dim": [{"a": 2}]}}, TypeError, "vary.dim must be a number"),
         ({"command": "edmd", "seed": 1, "vary": {"dim": [2]}, "replicas": 0}, ValueError, r"replicas must be in \[1, 100000\]"),
         ({"command": "edmd", "seed": 1, "vary": {"dim": [2]}, "replicas": 1.5}, TypeError, "replicas must be an integer"),
         ({"command": "edmd", "seed": 1, "vary": {"dim": [2]}, "replicas": True}, TypeError, "replicas must be an integer"),

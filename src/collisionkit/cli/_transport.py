@@ -78,7 +78,8 @@ def _new_scan(options: SwarmOptions):
 
     refuse_to_overwrite_checkpoint(options.checkpoint)
     try:
-        return SwarmScan(options.parameters(), checkpoint=options.checkpoint)
+        outputs = {key: str(value.resolve()) for key in ("summary", "out") if (value := getattr(options, key)) is not None}
+        return SwarmScan(options.parameters(), checkpoint=options.checkpoint, outputs=outputs)
     except ValueError as error:
         raise fail(str(error)) from None
 
@@ -92,7 +93,8 @@ def _resumed_scan(resume: Path, given: dict):
         scan = SwarmScan.resume(resume, checkpoint=given.get("checkpoint", resume), **physics)
     except ValueError as error:
         raise fail(str(error)) from None
-    outputs = {key: value for key, value in given.items() if key in SWARM_OUTPUTS} | {"checkpoint": scan.checkpoint}
+    outputs = scan.outputs | {key: value for key, value in given.items() if key in SWARM_OUTPUTS}
+    outputs["checkpoint"] = scan.checkpoint
     options = validate_options(SwarmOptions, _options_of(scan.parameters) | outputs)
     return scan, options
 

@@ -16,7 +16,9 @@ Modules: :mod:`~collisionkit.edmd.theory` (equations of state, Enskog's
 collision rate, packing fractions and their limits),
 :mod:`~collisionkit.edmd.initial` (velocities, lattices, compressed random
 fluids), :mod:`~collisionkit.edmd.system` (the system and its event loop),
-:mod:`~collisionkit.edmd.measurement` (block-averaged observables). Every
+:mod:`~collisionkit.edmd.measurement` (block-averaged observables),
+:mod:`~collisionkit.edmd.run` (:class:`EdmdRun`: the ``edmd`` command's run,
+with checkpoint and bit-for-bit resume). Every
 public name is importable from here.
 
 Units: any consistent set; the CLI uses diameter 1 (largest species), mass 1
@@ -27,6 +29,7 @@ from ._msd import MSD_FIT_FROM, MSD_GROUPS, MSD_MAX_LAGS
 from ._neighbour_lists import LIST_SCALE_MARGIN
 from .initial import LATTICE_BASIS, LATTICE_DIM, lattice, lattice_cells, maxwell_boltzmann, random_fluid
 from .measurement import RECORDS, Measurement, Sampler, measure
+from .run import EdmdParameters, EdmdRun
 from .system import DEFAULT_SHELL, RESTITUTION_LAWS, SORT_INTERVAL, HardSphereSystem, OverlapError
 from .theory import (
     MAX_PACKING_FRACTION,
@@ -38,6 +41,8 @@ from .theory import (
 )
 
 __all__ = [
+    "EdmdParameters",
+    "EdmdRun",
     "DEFAULT_SHELL",
     "LATTICE_BASIS",
     "LATTICE_DIM",

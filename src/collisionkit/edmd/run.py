@@ -1,0 +1,425 @@
+"""An EDMD run as a library object: set up, equilibrate, measure, checkpoint, resume, compare with theory.
+
+The run is a fixed, deterministic sequence of chunks: equilibration in
+chunks of ``max(N, 10^4)`` pair collisions, then ``blocks`` measurement
+blocks of ``collisions // blocks``. With a checkpoint, the full state is
+written atomically after set-up and after every chunk and block, so a run
+resumed from it continues bit for bit as if it had never stopped.
+Trajectory frames are written at chunk and block ends (they never change
+the dynamics)::
+
+    run = EdmdRun(EdmdParameters(particles=500, packing_fraction=0.3, seed=1), checkpoint="run.npz")
+    run.run()                          # killed? then:
+    run = EdmdRun.resume("run.npz")
+    run.run()
+    run.summary()["compressibility_factor"]
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import secrets
+from collections.abc import Callable, Sequence
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from .._io import CheckpointError, read_checkpoint, write_checkpoint
+from .._params import Parameters, check_choice, check_integer, check_real, check_seed, check_unchanged
+from .initial import LATTICE_DIM, lattice, lattice_cells, maxwell_boltzmann, random_fluid
+from .measurement import Measurement, Sampler
+from .system import HardSphereSystem
+from .theory import MAX_PACKING_FRACTION, carnahan_starling, enskog_collision_frequency, hansen_goos, henderson
+
+__all__ = ["EdmdParameters", "EdmdRun"]
+
+INITIAL_STATES = ("random", *LATTICE_DIM)
+EQUILIBRATION_PER_PARTICLE = 20
+COLLISIONS_PER_PARTICLE = 200
+MIN_CHUNK = 10_000
+CHECKPOINT_KIND = "edmd"
+
+
+@dataclasses.dataclass(frozen=True)
+class EdmdParameters(Parameters):
+    """The physics of an EDMD run, checked when made (units: diameter 1, mass 1, initial kT = 1).
+
+    Parameters
+    ----------
+    dim : {2, 3}
+        Discs or spheres.
+    particles : int
+        2 to 1e8.
+    packing_fraction : float
+        In (0, 0.5] in 3D, (0, 0.7] in 2D (:data:`MAX_PACKING_FRACTION`).
+    restitution : float
+        Coefficient of restitution in [0, 1].
+    elastic_below : float, optional
+        Contacts with a normal approach speed below this are elastic (>= 0).
+    equilibration : int, optional
+        Pair collisions before measuring (>= 0; default 20 per particle).
+    collisions : int, optional
+        Pair collisions measured (>= blocks; default 200 per particle).
+    blocks : int
+        Measurement blocks for the error bars, 2 to 100000.
+    seed : int, optional
+        Random seed (>= 0; default: drawn and reported).
+    initial : str
+        ``random`` (a compressed fluid) or a lattice: ``fcc``, ``sc`` (3D),
+        ``square``, ``hexagonal`` (2D), which needs N = basis * cells^d.
+
+    Examples
+    --------
+    >>> EdmdParameters(particles=108, initial="fcc").resolved(seed=1).collisions
+    21600
+    >>> EdmdParameters(packing_fraction=0.55)
+    Traceback (most recent call last):
+    ...
+    ValueError: packing_fraction must lie in (0, 0.5] for dim=3; got 0.55
+    """
+
+    dim: int = 3
+    particles: int = 500
+    packing_fraction: float = 0.3
+    restitution: float = 1.0
+    elastic_below: float | None = None
+    equilibration: int | None = None
+    collisions: int | None = None
+    blocks: int = 10
+    seed: int | None = None
+    initial: str = "random"
+
+    def __post_init__(self):
+        set_ = object.__setattr__
+        check_choice("dim", self.dim, (2, 3))
+        set_(self, "particles", check_integer("particles", self.particles, 2, 100_000_000))
+        limit = MAX_PACKING_FRACTION[self.dim]
+        eta = check_real("packing_fraction", self.packing_fraction, 0.0, low_open=True)
+        if eta > limit:
+            raise ValueError(f"packing_fraction must lie in (0, {limit}] for dim={self.dim}; got {eta:g}")
+        set_(self, "packing_fraction", eta)
+        set_(self, "restitution", check_real("restitution", self.restitution, 0.0, 1.0))
+        if self.elastic_below is not None:
+            set_(self, "elastic_below", check_real("elastic_below", self.elastic_below, 0.0))
+        set_(self, "blocks", check_integer("blocks", self.blocks, 2, 100_000))
+        if self.equilibration is not None:
+            set_(self, "equilibration", check_integer("equilibration", self.equilibration, 0))
+        if self.collisions is not None:
+            set_(self, "collisions", check_integer("collisions", self.collisions, 2))
+            if self.collisions < self.blocks:
+                raise ValueError(f"collisions must be >= blocks ({self.blocks}); got {self.collisions}")
+        if self.seed is not None:
+            set_(self, "seed", check_seed("seed", self.seed))
+        check_choice("initial", self.initial, INITIAL_STATES)
+        if self.initial != "random":
+            lattice_cells(self.initial, self.dim, self.particles)
+
+    def resolved(self, seed=None) -> EdmdParameters:
+        """A copy with the defaults that depend on other parameters filled in (and a seed drawn if none).
+
+        Raises
+        ------
+        ValueError
+            If the default number of collisions is below ``blocks``.
+        """
+        collisions = self.collisions if self.collisions is not None else COLLISIONS_PER_PARTICLE * self.particles
+        if collisions < self.blocks:
+            raise ValueError(f"collisions ({collisions} by default for {self.particles} particles) must be >= "
+                             f"blocks ({self.blocks}); set collisions")
+        equilibration = self.equilibration
+        if equilibration is None:
+            equilibration = EQUILIBRATION_PER_PARTICLE * self.particles
+        if seed is None:
+            seed = self.seed if self.seed is not None else secrets.randbits(32)
+        return self.replace(collisions=collisions, equilibration=equilibration, seed=seed)
+
+    @property
+    def total_collisions(self) -> int:
+        """Pair collisions of the whole (resolved) run: equilibration and whole blocks."""
+        return self.equilibration + (self.collisions // self.blocks) * self.blocks
+
+
+def initial_system(parameters: EdmdParameters, progress: Callable[[float], Any] | None = None) -> HardSphereSystem:
+    """The starting state: a compressed random fluid or a lattice with Maxwell-Boltzmann velocities."""
+    p = parameters
+    if p.initial == "random":
+        fluid = random_fluid(p.dim, p.particles, p.packing_fraction, seed=p.seed, progress=progress)
+        positions, velocities, box = fluid.positions(), fluid.velocities(), fluid.box[: p.dim]
+    else:
+        positions, box = lattice(p.initial, lattice_cells(p.initial, p.dim, p.particles), p.packing_fraction)
+        velocities = maxwell_boltzmann(np.ones(p.particles), p.dim, kT=1.0, seed=p.seed)
+    return HardSphereSystem(positions, velocities, 0.5, box, restitution=p.restitution, elastic_below=p.elastic_below)
+
+
+class EdmdRun:
+    """An EDMD run: equilibration chunks then measurement blocks, with checkpoints and trajectory frames.
+
+    Parameters
+    ----------
+    parameters : EdmdParameters
+        Resolved on creation (defaults per particle, a seed drawn if none).
+    checkpoint : path, optional
+        ``.npz`` written after set-up and every chunk and block.
+    trajectory : path, optional
+        GSD file for frames (needs ``gsd``); the last frame is always written.
+    frame_every : int, optional
+        A frame at the first chunk or block end after every this many pair collisions.
+    progress : callable, optional
+        ``progress(fraction)`` while compressing the random initial state.
+    outputs : mapping, optional
+        What the caller writes at the end (JSON-ready, e.g. the command line's
+        ``summary`` and ``out``): kept in the checkpoint and given back on resume.
+
+    Examples
+    --------
+    >>> run = EdmdRun(EdmdParameters(particles=108, initial="fcc", collisions=4000, equilibration=2000, blocks=2, seed=1))
+    >>> summary = run.run().summary()
+    >>> summary["collisions"], abs(summary["compressibility_factor_relative_deviation"]) < 0.1  # eta = 0.3
+    (4000, True)
+    """
+
+    def __init__(self, parameters: EdmdParameters, checkpoint=None, trajectory=None, frame_every: int | None = None,
+                 progress=None, outputs=None, *, _state=None):
+        if not isinstance(parameters, EdmdParameters):
+            raise TypeError(f"parameters must be EdmdParameters; got {type(parameters).__name__}")
+        if frame_every is not None:
+            frame_every = check_integer("frame_every", frame_every, 1)
+            if trajectory is None:
+                raise ValueError("frame_every needs a trajectory file to write the frames to")
+        self.parameters = parameters.resolved() if _state is None else parameters
+        self.checkpoint = None if checkpoint is None else Path(checkpoint)
+        self.trajectory = None if trajectory is None else Path(trajectory)
+        self.frame_every = frame_every
+        self.outputs = dict(outputs or {})
+        self._writer = None
+        if _state is None:
+            self.system = initial_system(self.parameters, progress)
+            self.sampler: Sampler | None = None
+            self.equilibrated, self.frames, self.last_frame = 0, 0, -1
+            self.initial_energy = self.system.kinetic_energy()
+        else:
+            self._restore(_state)
+
+    # ---------------------------------------------------------------- checkpoints
+
+    def save(self, path=None) -> Path | None:
+        """Write the run's full state (``.npz``, atomically) to ``path`` or the run's checkpoint."""
+        path = self.checkpoint if path is None else Path(path)
+        if path is None:
+            return None
+        arrays = dict(self.system.state_dict())
+        if self.sampler is not None:
+            arrays |= self.sampler.state_dict()
+        state = {"equilibrated": self.equilibrated, "frames": self.frames, "last_frame": self.last_frame,
+                 "initial_energy": self.initial_energy, "trajectory": None if self.trajectory is None else
+                 str(self.trajectory.resolve()), "frame_every": self.frame_every, "outputs": self.outputs}
+        return write_checkpoint(path, CHECKPOINT_KIND, self.parameters.to_dict(), state, arrays)
+
+    @classmethod
+    def resume(cls, path, checkpoint=None, trajectory=None, frame_every=None, **given) -> EdmdRun:
+        """The run saved in ``path``, ready to go on from where it stopped.
+
+        Parameters
+        ----------
+        path : path
+            A checkpoint written by :meth:`save`.
+        checkpoint : path, optional
+            Where to write checkpoints from now on (default: ``path``).
+        trajectory, frame_every : optional
+            Frames from now on (default: the saved ones; the same file is
+            continued, cut back to the frames the checkpoint knows).
+        **given
+            Parameters given again (Python names or flags): each must equal
+            the saved one (a resumed run keeps its physics).
+
+        Raises
+        ------
+        ValueError
+            If the file is not an EDMD checkpoint (:class:`~collisionkit._io.CheckpointError`)
+            or a parameter given differs.
+        """
+        saved = read_checkpoint(path, CHECKPOINT_KIND)
+        try:
+            parameters = EdmdParameters.from_mapping(saved.parameters)
+        except (TypeError, ValueError) as error:
+            raise CheckpointError(f"{path} holds parameters that are not valid now: {error}") from None
+        check_unchanged(parameters, given, path)
+        saved_trajectory = saved.state.get("trajectory")
+        trajectory = saved_trajectory if trajectory is None else trajectory
+        frame_every = saved.state.get("frame_every") if frame_every is None else frame_every
+        state = {"saved": saved, "append": trajectory is not None and saved_trajectory is not None and
+                 Path(trajectory).resolve() == Path(saved_trajectory)}
+        return cls(parameters, checkpoint=path if checkpoint is None else checkpoint, trajectory=trajectory,
+                   frame_every=frame_every, outputs=saved.state.get("outputs"), _state=state)
+
+    def _restore(self, state) -> None:
+        saved = state["saved"]
+        try:
+            self.system = HardSphereSystem.from_state_dict(saved.arrays)
+        except ValueError as error:  # written by another engine version
+            raise CheckpointError(f"cannot resume from {saved.path}: {error}") from None
+        arrays = saved.arrays
+        self.sampler = Sampler.from_state_dict(self.system, arrays) if "sampler_scalars" in arrays else None
+        self.equilibrated = int(saved.state["equilibrated"])
+        self.frames = int(saved.state["frames"]) if state["append"] else 0
+        self.last_frame = int(saved.state["last_frame"])
+        self.initial_energy = float(saved.state["initial_energy"])
+        self._append = state["append"]
+
+    # ---------------------------------------------------------------- running
+
+    @property
+    def measured(self) -> int:
+        """Pair collisions measured so far."""
+        return 0 if self.sampler is None else self.sampler.done * self.sampler.per_block
+
+    @property
+    def finished(self) -> bool:
+        """True once every measurement block is done."""
+        return self.sampler is not None and self.sampler.finished
+
+    def run(self, progress: Callable[[float], Any] | None = None) -> EdmdRun:
+        """Do the equilibration chunks and measurement blocks still to do; write the last frame.
+
+        Parameters
+        ----------
+        progress : callable, optional
+            ``progress(fraction)``: the fraction of the run's pair collisions done, in [0, 1].
+        """
+        p = self.parameters
+        total = p.total_collisions
+
+        def report(done: int):
+            return None if progress is None else (lambda fraction: progress(min(1.0, (done + fraction * step) / total)))
+
+        self._open_trajectory()
+        try:
+            if self.equilibrated == 0 and self.sampler is None:
+                self._chunk_done()  # the initial state: a frame (with frame_every) and a checkpoint
+            chunk = max(p.particles, MIN_CHUNK)
+            while self.equilibrated < p.equilibration:
+                step = min(chunk, p.equilibration - self.equilibrated)
+                done = self.system.run(collisions=step, progress=report(self.equilibrated))
+                if done == 0:
+                    raise RuntimeError("the system stopped colliding during equilibration")
+                self.equilibrated += done
+                self._chunk_done()
+            if self.sampler is None:
+                self.sampler = Sampler(self.system, p.collisions, p.blocks)
+            while not self.sampler.finished:
+                step = self.sampler.per_block
+                self.sampler.run_block(report(self.equilibrated + self.measured))
+                self._chunk_done()
+            self._frame(final=True)
+        finally:
+            self._close_trajectory()
+        if progress is not None:
+            progress(1.0)
+        return self
+
+    def _open_trajectory(self) -> None:
+        if self.trajectory is None:
+            return
+        from ..trajectory import GSDWriter, truncate_gsd
+
+        append = getattr(self, "_append", False) and self.trajectory.exists()
+        self.frames = truncate_gsd(self.trajectory, self.frames) if append else 0
+        self._writer = GSDWriter(self.trajectory, mode="a" if append else "w")
+        self._append = True
+
+    def _close_trajectory(self) -> None:
+        if self._writer is not None:
+            self._writer.close()
+            self._writer = None
+
+    def _frame(self, final: bool = False) -> None:
+        step = self.system.collisions
+        if self._writer is None or step == self.last_frame:
+            return
+        every = self.frame_every
+        due = every is not None and (self.last_frame < 0 or step // every > self.last_frame // every)
+        if due or final:
+            self._writer.write(self.system, step)
+            self.frames += 1
+            self.last_frame = step
+
+    def _chunk_done(self) -> None:
+        self._frame()
+        self.save()
+
+    # ---------------------------------------------------------------- results
+
+    def measurement(self) -> Measurement:
+        """The measurement of the finished blocks."""
+        if self.sampler is None or self.sampler.done == 0:
+            raise RuntimeError("no measurement block has finished yet: call run() first")
+        return self.sampler.result()
+
+    def write_xyz(self, path) -> Path:
+        """Write the current state as extended XYZ (ASE, OVITO)."""
+        from ..trajectory import write_extended_xyz
+
+        return write_extended_xyz(path, self.system, comment=f"collisionkit edmd seed {self.parameters.seed}")
+
+    def summary(self, files: Sequence = ()) -> dict[str, Any]:
+        """The run's results: the measurement (each value with ``*_error``), the theory and the parameters."""
+        return edmd_summary(self, self.measurement(), files)
+
+    def cooling_note(self) -> str | None:
+        """What an inelastic run's averages mean (it cooled, maybe to the elastic floor); None if elastic."""
+        if self.parameters.restitution == 1.0:
+            return None
+        system = self.system
+        kT = system.temperature()
+        note = (f"restitution < 1: the gas cooled as it ran (homogeneous cooling, Haff's law), kT from 1 to {kT:.3g}; "
+                "Z, the collision frequency and D are averages over a cooling state, not equilibrium values")
+        if system.elastic_below > 0 and kT < 100.0 * system.elastic_below**2:
+            note += (f". It reached the elastic floor: contacts slower than --elastic-below {system.elastic_below:.3g} "
+                     "are elastic (against inelastic collapse), so fewer --collisions follow the cooling itself")
+        return note
+
+
+def equation_of_state(dim: int) -> tuple[str, Callable]:
+    """The reference equation of state of hard spheres (Hansen-Goos 2016) or discs (Henderson 1975)."""
+    return ("Hansen-Goos (2016)", hansen_goos) if dim == 3 else ("Henderson (1975)", henderson)
+
+
+def _in_sigmas(difference: float, error: float) -> float:
+    return difference / error if error > 0 else math.nan
+
+
+def edmd_summary(run: EdmdRun, measurement: Measurement, files: Sequence = ()) -> dict[str, Any]:
+    """The edmd command's JSON summary: the measurement, the comparison with theory, the parameters."""
+    p, system = run.parameters, run.system
+    result = measurement.summary()
+    result |= {
+        "initial": p.initial,
+        "restitution": p.restitution,
+        "seed": p.seed,
+        "blocks": p.blocks,
+        "equilibration_collisions": run.equilibrated,
+        "energy_lost_total": run.initial_energy - system.kinetic_energy(),
+        "elastic": p.restitution == 1.0,
+        "elastic_below": system.elastic_below,
+    }
+    if p.restitution == 1.0:
+        name, equation = equation_of_state(p.dim)
+        eta, Z = measurement.packing_fraction, measurement.compressibility_factor
+        theory = float(equation(eta))
+        result |= {
+            "theory": name,
+            "compressibility_factor_theory": theory,
+            "compressibility_factor_relative_deviation": Z / theory - 1.0,
+            "compressibility_factor_deviation_sigmas": _in_sigmas(Z - theory, measurement.compressibility_factor_error),
+            "collision_frequency_from_pressure": float(enskog_collision_frequency(Z, p.dim, kT=measurement.temperature)),
+            "collision_frequency_theory": float(enskog_collision_frequency(theory, p.dim, kT=1.0)),
+        }
+        if p.dim == 3:
+            result["compressibility_factor_carnahan_starling"] = float(carnahan_starling(eta))
+    if run.trajectory is not None:
+        result["trajectory_frames"] = run.frames
+    result["files"] = [str(path) for path in files]
+    result["parameters"] = p.to_dict()
+    return result
