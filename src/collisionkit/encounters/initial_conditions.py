@@ -46,7 +46,7 @@ class GridExitWarning(UserWarning):
     >>> from collisionkit.encounters import GridExitWarning, starcrash_initial_conditions
     >>> with warnings.catch_warnings(record=True) as caught:
     ...     warnings.simplefilter("always")
-    ...     ic = starcrash_initial_conditions(1.0, 1.0, rp=1.0, vinf=0.5, sep0=1.2)
+    ...     ic = starcrash_initial_conditions(1.0, 1.0, rp=1.0, v_inf=0.5, sep0=1.2)
     >>> caught[0].category is GridExitWarning, round(ic.speed_ratio, 3)
     (True, 0.908)
     """
@@ -83,7 +83,7 @@ class InitialConditions:
     --------
     >>> import numpy as np
     >>> from collisionkit.encounters import starcrash_initial_conditions
-    >>> ic = starcrash_initial_conditions(1.0, 2.0, rp=1.0, vinf=0.5, sep0=10.0)
+    >>> ic = starcrash_initial_conditions(1.0, 2.0, rp=1.0, v_inf=0.5, sep0=10.0)
     >>> x, v = ic.orbit.state_at_time(-ic.time_to_periastron)
     >>> bool(np.allclose(x, ic.positions) and np.allclose(v, ic.velocities))
     True
@@ -233,7 +233,7 @@ class InitialConditions:
         return html_table("InitialConditions", initial_conditions_rows(self))
 
 
-def starcrash_initial_conditions(m1, m2, rp, vinf, sep0, G=1.0, *, layout: str = "diagonal") -> InitialConditions:
+def starcrash_initial_conditions(m1, m2, rp, v_inf, sep0, G=1.0, *, layout: str = "diagonal") -> InitialConditions:
     r"""Two stars on a hyperbolic orbit started at separation r0, set up as in StarCrash.
 
     StarCrash user manual (J. Faber 2003), "Hyperbolic Collisions", eqs. 34-39:
@@ -258,7 +258,7 @@ def starcrash_initial_conditions(m1, m2, rp, vinf, sep0, G=1.0, *, layout: str =
         Stellar masses, > 0.
     rp : float
         Periastron distance, > 0.
-    vinf : float
+    v_inf : float
         Relative speed at infinity, > 0 (the parameter VPEAK).
     sep0 : float
         Initial separation r0 >= rp (SEP0).
@@ -274,7 +274,7 @@ def starcrash_initial_conditions(m1, m2, rp, vinf, sep0, G=1.0, *, layout: str =
     Examples
     --------
     >>> from collisionkit.encounters import starcrash_initial_conditions
-    >>> ic = starcrash_initial_conditions(1.0, 1.0, rp=1.0, vinf=0.5, sep0=10.0)
+    >>> ic = starcrash_initial_conditions(1.0, 1.0, rp=1.0, v_inf=0.5, sep0=10.0)
     >>> round(ic.impact_parameter, 12), round(ic.v0, 12)  # sqrt(1 + 4 / 0.25), sqrt(0.25 + 0.4)
     (4.123105625618, 0.80622577483)
     >>> ic.positions.sum(axis=0), float(ic.velocities[1, 0] - ic.velocities[1, 1])
@@ -283,7 +283,7 @@ def starcrash_initial_conditions(m1, m2, rp, vinf, sep0, G=1.0, *, layout: str =
     if layout not in _LAYOUTS:
         raise ValueError(f"layout must be 'diagonal' or 'x'; got {layout!r}")
     G = scalar_above(G, "G")
-    orbit = Hyperbolic(m1, m2, periastron=rp, v_inf=vinf, G=G)
+    orbit = Hyperbolic(m1, m2, periastron=rp, v_inf=v_inf, G=G)
     m1, m2, rp, v_inf = orbit.m1, orbit.m2, orbit.periastron, orbit.v_inf
     r0 = scalar_above(sep0, "sep0")
     if r0 < rp:
