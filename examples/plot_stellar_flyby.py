@@ -23,7 +23,7 @@ import numpy as np
 
 from collisionkit import encounters, plotting
 
-ic = encounters.starcrash_initial_conditions(m1=1.0, m2=0.5, rp=1.0, vinf=0.5, sep0=10.0)
+ic = encounters.starcrash_initial_conditions(m1=1.0, m2=0.5, rp=1.0, v_inf=0.5, sep0=10.0)
 print(f"v0 = {ic.v0:.6f}, vp = {ic.vp:.6f}, b = {ic.impact_parameter:.6f}, vt = {ic.vt:.6f}, vr = {ic.vr:.6f}")
 orbit = ic.orbit
 chi = 2 * math.atan(ic.G * ic.total_mass / (ic.impact_parameter * ic.v_inf**2))

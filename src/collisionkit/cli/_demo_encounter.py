@@ -47,9 +47,9 @@ def _throughput(orbit, count: int, rng: np.random.Generator) -> float:
 def run(pairs: int, seed: int, out: Path, plotting) -> SectionResult:
     """A StarCrash set-up, deflection against the closed form, DOP853 check, Kepler throughput."""
     rng = np.random.default_rng(seed)
-    ic = encounters.starcrash_initial_conditions(1.0, 1.0, rp=1.0, vinf=0.5, sep0=10.0)
+    ic = encounters.starcrash_initial_conditions(1.0, 1.0, rp=1.0, v_inf=0.5, sep0=10.0)
     stellar = encounters.unit_system("stellar")
-    sun_pair = encounters.starcrash_initial_conditions(1.0, 1.0, rp=1.0, vinf=100.0, sep0=20.0, G=stellar.G)
+    sun_pair = encounters.starcrash_initial_conditions(1.0, 1.0, rp=1.0, v_inf=100.0, sep0=20.0, G=stellar.G)
     orbit = ic.orbit
     closed_form = 2.0 * math.asin(1.0 / orbit.eccentricity)
     deflection_error = abs(orbit.deflection_angle - closed_form)

@@ -214,7 +214,7 @@ def animate_encounter(orbit, frames=120, max_separation=None, colour_by="speed",
     --------
     >>> from collisionkit import plotting
     >>> from collisionkit.encounters import starcrash_initial_conditions
-    >>> ic = starcrash_initial_conditions(1.0, 0.5, rp=1.0, vinf=0.5, sep0=10.0)
+    >>> ic = starcrash_initial_conditions(1.0, 0.5, rp=1.0, v_inf=0.5, sep0=10.0)
     >>> animation = plotting.animate_encounter(ic, frames=3, colour_by="species")
     >>> animation._fig.axes[0].get_title()
     't = -11.16'
