@@ -170,7 +170,7 @@ def read_checkpoint(path, kind: str) -> Checkpoint:
     if path.is_dir():
         raise CheckpointError(f"checkpoint {path} is a folder; give the checkpoint file")
     if not zipfile.is_zipfile(path):  # numpy would talk of pickles
-        raise CheckpointError(f"{path} is not a checkpoint: a .npz file written by collisionkit {kind} --checkpoint")
+        raise CheckpointError(f"{path} is not a checkpoint (the .npz file a collisionkit {kind} run writes)")
     try:
         with np.load(path, allow_pickle=False) as data:
             arrays = {name: data[name] for name in data.files}

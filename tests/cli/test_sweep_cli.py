@@ -125,7 +125,7 @@ def test_scheduler_runs_the_study_records_failures_and_resumes(tmp_path, dask_cl
         again = invoke(study, "--out", out, "--scheduler", address)
     assert again.exit_code == 2 and "already holds a study" in again.output
     with deadline(120):
-        resumed = invoke(study, "--out", out, "--scheduler", address, "--resume", "--summary", summary)
+        resumed = invoke("--resume", out / "checkpoint.npz", "--scheduler", address, "--summary", summary)
     assert resumed.exit_code == 1
     assert json.loads(summary.read_text())["skipped"] == 4  # only the failed runs ran again
 
@@ -168,7 +168,7 @@ def test_a_killed_client_resumes_to_the_serial_table(tmp_path, dask_client):
     assert client.returncode == -signal.SIGKILL  # killed mid-study, not finished
     assert not (out / "results.csv").exists()
     with deadline(180):
-        result = invoke(study, "--out", out, "--scheduler", dask_client.scheduler.address, "--resume")
+        result = invoke("--resume", out / "checkpoint.npz", "--scheduler", dask_client.scheduler.address)
     assert result.exit_code == 0, result.output
     assert physics_columns(read_table(out / "results.csv")) == physics_columns(read_table(tmp_path / "serial" / "results.csv"))
 
@@ -191,3 +191,40 @@ def test_an_output_that_cannot_be_written_exits_with_2_before_any_point_runs(tmp
     assert words.format(file=taken) in " ".join(result.output.split())
     assert "Traceback" not in result.output
     assert taken.read_text() == "x" and not (tmp_path / "out").exists()
+
+
+SWARM_STUDY = """\
+command = "swarm"
+seed = 3
+replicas = 2
+[fixed]
+model = "reid"
+particles = 640
+tolerance = 0.05
+collision-budget = 2e6
+[vary]
+E-N = [12.0, 24.0]
+"""
+
+
+def test_a_swarm_study_collects_mean_energy_and_drift_with_errors_and_draws_its_plot(tmp_path):
+    # the study of the swarm command collected nothing: its summary nested the results in a list
+    out = tmp_path / "out"
+    with deadline(300):
+        result = invoke(study_file(tmp_path, SWARM_STUDY), "--out", out, "--workers", 1)
+    assert result.exit_code == 0, result.output
+    rows = read_table(out / "results.csv")
+    assert [(row["E-N"], row["replica"]) for row in rows] == [("12.0", "0"), ("12.0", "1"), ("24.0", "0"), ("24.0", "1")]
+    for row in rows:
+        for column in ("mean_energy", "mean_energy_error", "drift_velocity_bulk[2]", "drift_velocity_bulk_error[2]",
+                       "diffusion_L_N", "diffusion_L_N_error"):
+            assert float(row[column]) == float(row[column]), column  # a number, not empty or NaN
+        assert float(row["drift_velocity_bulk[2]"]) < 0  # electrons drift against E (+z)
+        assert 0 < float(row["mean_energy_error"]) < 0.05 * float(row["mean_energy"])
+    assert float(rows[2]["mean_energy"]) > float(rows[0]["mean_energy"])  # hotter at the higher field
+    assert (out / "main_result.png").stat().st_size > 1000
+    assert "mean_energy" in " ".join(result.output.split())
+    again = invoke("--resume", out / "checkpoint.npz", "--workers", 1)
+    assert again.exit_code == 0 and "4 runs" in " ".join(again.output.split())
+    refused = invoke(study_file(tmp_path, SWARM_STUDY), "--resume", out / "checkpoint.npz")
+    assert refused.exit_code == 2 and "neither STUDY.toml nor --out" in " ".join(refused.output.split())

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import math
-import warnings
 from pathlib import Path
 from typing import Annotated, ClassVar, Literal
 
@@ -17,6 +16,8 @@ LayoutName = Literal["diagonal", "x"]
 
 
 class EncounterOptions(Options):
+    """Options of ``collisionkit encounter``; the physics is :class:`collisionkit.encounters.EncounterParameters`."""
+
     m1: float = Field(default=1.0, gt=0, allow_inf_nan=False)
     m2: float = Field(default=1.0, gt=0, allow_inf_nan=False)
     rp: float = Field(default=1.0, gt=0, allow_inf_nan=False)
@@ -32,59 +33,12 @@ class EncounterOptions(Options):
 
     output_folders: ClassVar[tuple[str, ...]] = ("out",)
 
+    def parameters(self):
+        """The set-up as :class:`collisionkit.encounters.EncounterParameters` (``--vinf`` is ``v_inf``)."""
+        from ..encounters import EncounterParameters
 
-def _unit_labels(system) -> dict[str, str]:
-    v = system.velocity
-    return {
-        "mass": system.mass,
-        "length": system.length,
-        "time": system.time,
-        "velocity": v,
-        "energy": f"{system.mass} ({v})^2",
-        "angular_momentum": f"{system.mass} {system.length} ({v})",
-        "area": f"{system.length}^2",
-    }
-
-
-def _setup(options: EncounterOptions, G: float):
-    """The initial conditions, and the grid warning's text if there is one."""
-    from ..encounters import GridExitWarning, starcrash_initial_conditions
-
-    if options.sep0 < options.rp:
-        raise fail(f"sep0 must be >= rp (the stars start outside periastron); got sep0={options.sep0}, rp={options.rp}")
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always", GridExitWarning)
-        try:
-            ic = starcrash_initial_conditions(
-                options.m1, options.m2, options.rp, options.vinf, options.sep0, G=G, layout=options.layout
-            )
-        except ValueError as error:
-            raise fail(str(error)) from None
-    messages = [str(item.message) for item in caught if issubclass(item.category, GridExitWarning)]
-    return ic, messages
-
-
-def _contact(options: EncounterOptions, ic):
-    """Contact summary for the given radii (None if no radii were given)."""
-    if options.radius1 is None and options.radius2 is None:
-        return None
-    r1 = options.radius1 or 0.0
-    r2 = options.radius2 or 0.0
-    if r1 + r2 == 0.0:
-        raise fail("radius1 + radius2 must be > 0 for contact detection")
-    contact = ic.orbit.contact(r1, r2)
-    result = {
-        "radius1": r1,
-        "radius2": r2,
-        "touches": contact.touches,
-        "time_from_start": contact.time + ic.time_to_periastron if contact.touches else None,
-        "time_from_periastron": contact.time if contact.touches else None,
-        "relative_speed": contact.relative_speed if contact.touches else None,
-        "normal_speed": contact.normal_speed if contact.touches else None,
-        "focusing_cross_section": ic.orbit.focusing_cross_section(r1, r2),
-        "overlap_at_start": ic.sep0 < r1 + r2,
-    }
-    return result
+        values = {name: getattr(self, name) for name in EncounterParameters.names() if name != "v_inf"}
+        return EncounterParameters(v_inf=self.vinf, **values)
 
 
 def _rows(ic, contact, labels):
@@ -144,16 +98,17 @@ def encounter(
     options = load_options(EncounterOptions, config, given)
     if options.plots:
         require_plotting()
-    from ..encounters import unit_system
+    from ..encounters import encounter_summary
 
-    system = unit_system(options.units)
-    ic, messages = _setup(options, system.G)
-    contact = _contact(options, ic)
-    if contact is not None and contact["overlap_at_start"]:
-        messages.append(f"the bodies overlap at sep0 = {ic.sep0:g} < radius1 + radius2; contact precedes the start")
-    labels = _unit_labels(system)
-    print_table(f"two-body encounter ({system.name} units, G = {system.G:.10g})", ("quantity", "value", "unit"), _rows(ic, contact, labels))
-    for message in messages:
+    parameters = options.parameters()
+    try:
+        result, ic = encounter_summary(parameters)
+    except ValueError as error:
+        raise fail(str(error)) from None
+    system = parameters.unit_system()
+    print_table(f"two-body encounter ({system.name} units, G = {system.G:.10g})", ("quantity", "value", "unit"),
+                _rows(ic, result["contact"], result["unit_labels"]))
+    for message in result["warnings"]:
         warn(message)
     files = list(ic.write(options.out, units=system))
     if options.plots:
@@ -163,16 +118,7 @@ def encounter(
         from .. import plotting
 
         files.append(plotting.save(plotting.plot_encounter(ic, units=system), options.out / "encounter.png"))
-    result = {
-        "units": system.name,
-        "G": system.G,
-        "unit_labels": labels,
-        "initial_conditions": ic.to_dict(),
-        "orbit": ic.orbit.derived_quantities(),
-        "contact": contact,
-        "warnings": messages,
-        "files": [str(path) for path in files],
-    }
+    result["files"] = [str(path) for path in files]
     write_summary(options.summary, result)
     for path in files:
         console.print(f"wrote {path}")

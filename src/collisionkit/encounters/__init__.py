@@ -66,9 +66,12 @@ from .initial_conditions import (
 )
 from .orbit import Hyperbolic, TwoBodyOrbit
 from .relative_orbit import ON_ORBIT_TOLERANCE
+from .run import EncounterParameters, encounter_summary
 from .units import GM_SUN, R_SUN, UNIT_SYSTEMS, UnitSystem, unit_system
 
 __all__ = [
+    "EncounterParameters",
+    "encounter_summary",
     "GridExitWarning",
     "UnitSystem",
     "UNIT_SYSTEMS",

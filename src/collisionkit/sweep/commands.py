@@ -130,8 +130,8 @@ def _run_encounter(parameters, folder: Path, outputs: Mapping[str, Any]) -> dict
     from ..encounters import encounter_summary
 
     summary, initial_conditions = encounter_summary(parameters)
-    path = initial_conditions.write_json(folder / "initial_conditions.json")
-    return summary | {"files": [str(path)]}
+    files = initial_conditions.write(folder, units=parameters.unit_system())  # initial_conditions.json and .txt
+    return summary | {"files": [str(path) for path in files]}
 
 
 _COMMANDS = {
