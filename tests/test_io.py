@@ -52,3 +52,39 @@ def test_written_files_get_ordinary_permissions(tmp_path):
     finally:
         os.umask(mask)
     assert path.stat().st_mode & 0o777 == 0o644
+
+
+# ------------------------------------------------------------------ the one checkpoint format
+
+
+def test_a_checkpoint_round_trips_parameters_state_and_arrays_exactly(tmp_path):
+    import math
+
+    from collisionkit._io import CHECKPOINT_VERSION, read_checkpoint, write_checkpoint
+
+    arrays = {"x": np.random.default_rng(1).normal(size=(5, 3)), "n": np.arange(4, dtype=np.int64)}
+    path = write_checkpoint(tmp_path / "run.npz", "demo", {"eta": 0.3, "inf": math.inf}, {"done": 2}, arrays)
+    saved = read_checkpoint(path, "demo")
+    assert saved.kind == "demo" and saved.parameters == {"eta": 0.3, "inf": None} and saved.state == {"done": 2}
+    assert all(np.array_equal(saved.arrays[name], value) for name, value in arrays.items())
+    assert CHECKPOINT_VERSION == 1
+
+
+def test_a_checkpoint_of_another_kind_version_or_file_is_refused_by_name(tmp_path):
+    import json
+    import zipfile
+
+    from collisionkit._io import CheckpointError, read_checkpoint, write_checkpoint
+
+    path = write_checkpoint(tmp_path / "run.npz", "swarm", {}, {})
+    with pytest.raises(CheckpointError, match="not a checkpoint of 'collisionkit edmd'"):
+        read_checkpoint(path, "edmd")
+    with zipfile.ZipFile(path) as archive:  # a later version: refused, not misread
+        header = json.loads(str(np.load(archive.open("checkpoint_header.npy"))))
+    np.savez(tmp_path / "later.npz", checkpoint_header=np.asarray(json.dumps(header | {"version": 99})))
+    with pytest.raises(CheckpointError, match="version 99"):
+        read_checkpoint(tmp_path / "later.npz", "swarm")
+    with pytest.raises(CheckpointError, match="is a folder"):
+        read_checkpoint(tmp_path, "swarm")
+    with pytest.raises(ValueError, match="must not use the name"):
+        write_checkpoint(tmp_path / "x.npz", "swarm", {}, {}, {"checkpoint_header": np.zeros(1)})

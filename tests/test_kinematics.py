@@ -176,7 +176,7 @@ def test_energy_transfer_limits():
 
 def test_sampled_3d_impacts_are_uniform_over_the_collision_disc():
     # b^2 / sigma^2 is uniform on [0, 1] for a uniform disc
-    normal, b = ck.sample_impact([0.0, 0.0, 2.0], 1.5, size=20_000, rng=7)
+    normal, b = ck.sample_impact([0.0, 0.0, 2.0], 1.5, size=20_000, seed=7)
     np.testing.assert_allclose(np.linalg.norm(normal, axis=1), 1.0)
     assert stats.kstest((b / 1.5) ** 2, "uniform").pvalue > 1e-3
     # the azimuth is uniform too: each quadrant of the disc gets a quarter (4 sigma binomial)
@@ -191,7 +191,7 @@ def test_sampled_3d_impacts_are_uniform_over_the_collision_disc():
 
 
 def test_sampled_2d_impacts_have_uniform_impact_parameter():
-    normal, b = ck.sample_impact([1.0, 1.0], 2.0, size=20_000, rng=11)
+    normal, b = ck.sample_impact([1.0, 1.0], 2.0, size=20_000, seed=11)
     assert stats.kstest(b / 2.0, "uniform").pvalue > 1e-3
     signed = np.sign(normal[:, 1] - normal[:, 0])  # which side of the relative velocity
     assert abs(signed.mean()) < 4 / math.sqrt(20_000)

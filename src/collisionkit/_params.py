@@ -141,7 +141,7 @@ def check_real(name: str, value: Any, low: float = -math.inf, high: float = math
     >>> check_real("restitution", 1.5, 0, 1)
     Traceback (most recent call last):
     ...
-    ValueError: restitution must lie in [0, 1]; got 1.5
+    ValueError: restitution must be in [0, 1]; got 1.5
     """
     if isinstance(value, bool) or not isinstance(value, numbers.Real):
         raise TypeError(f"{name} must be a number; got {value!r}")
@@ -151,16 +151,16 @@ def check_real(name: str, value: Any, low: float = -math.inf, high: float = math
     below = value < low or (low_open and value == low)
     above = value > high or (high_open and value == high)
     if below or above:
-        raise ValueError(f"{name} must lie in {_interval(low, high, low_open, high_open)}; got {value:g}")
+        raise ValueError(f"{name} must be {_interval(low, high, low_open, high_open)}; got {value:g}")
     return value
 
 
 def _interval(low: float, high: float, low_open: bool, high_open: bool) -> str:
     if math.isinf(high):
-        return f"{'>' if low_open else '>='} {low:g}" if math.isfinite(low) else "any real value"
+        return f"{'>' if low_open else '>='} {low:g}" if math.isfinite(low) else "a real number"
     if math.isinf(low):
         return f"{'<' if high_open else '<='} {high:g}"
-    return f"{'(' if low_open else '['}{low:g}, {high:g}{')' if high_open else ']'}"
+    return f"in {'(' if low_open else '['}{low:g}, {high:g}{')' if high_open else ']'}"
 
 
 def check_integer(name: str, value: Any, low: int, high: int | None = None) -> int:

@@ -440,7 +440,7 @@ def energy_transfer_fraction(chi, m1, m2):
     return 4.0 * ratio / (1.0 + ratio) ** 2 * np.sin(0.5 * chi) ** 2
 
 
-def sample_impact(relative_velocity, contact_distance, size=None, rng=None):
+def sample_impact(relative_velocity, contact_distance, size=None, seed=None):
     """Random impacts for an unknown geometry, uniform over the collision disc.
 
     A straight-line approach hits the target's disc of radius sigma = r1 + r2
@@ -458,8 +458,8 @@ def sample_impact(relative_velocity, contact_distance, size=None, rng=None):
     size : int or tuple, optional
         Leading shape of the sample; default: the leading shape of
         ``relative_velocity``.
-    rng : numpy.random.Generator or int, optional
-        Random generator or seed.
+    seed : int, numpy.random.Generator or None, optional
+        Seed or generator of the random numbers.
 
     Returns
     -------
@@ -471,7 +471,7 @@ def sample_impact(relative_velocity, contact_distance, size=None, rng=None):
     Examples
     --------
     >>> from collisionkit.kinematics import sample_impact
-    >>> normal, b = sample_impact([1.0, 0.0, 0.0], 1.0, size=1000, rng=1)
+    >>> normal, b = sample_impact([1.0, 0.0, 0.0], 1.0, size=1000, seed=1)
     >>> normal.shape, bool((b <= 1).all())
     ((1000, 3), True)
     """
@@ -479,7 +479,7 @@ def sample_impact(relative_velocity, contact_distance, size=None, rng=None):
     sigma = _arrays.as_float_array(contact_distance, "contact_distance")
     _arrays.require_finite(sigma, "contact_distance")
     _arrays.require_in_range(sigma, "contact_distance", 0.0, np.inf, inclusive=(False, False))
-    generator = np.random.default_rng(rng)
+    generator = np.random.default_rng(seed)
     shape = u.shape[:-1] if size is None else tuple(np.atleast_1d(size))
     u = np.broadcast_to(u, shape + u.shape[-1:])
     d = u.shape[-1]

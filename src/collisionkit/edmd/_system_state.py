@@ -8,13 +8,12 @@ saved one would have; it carries the engine's layout number
 
 from __future__ import annotations
 
-import io
-from pathlib import Path
-
 import numpy as np
 
-from .._io import atomic_write_bytes
+from .._io import read_checkpoint, write_checkpoint
 from ._system_setup import aligned_zeros
+
+CHECKPOINT_KIND = "hard-sphere-system"
 
 
 class Checkpoints:
@@ -79,7 +78,7 @@ class Checkpoints:
         return system
 
     def save(self, path):
-        """Write a checkpoint (.npz) atomically: a kill mid-write keeps the old one.
+        """Write a checkpoint (.npz, the one collisionkit checkpoint format) atomically: a kill mid-write keeps the old one.
 
         Examples
         --------
@@ -93,9 +92,7 @@ class Checkpoints:
         >>> HardSphereSystem.load(path).collisions == system.collisions
         True
         """
-        buffer = io.BytesIO()
-        np.savez(buffer, **self.state_dict())
-        return atomic_write_bytes(path, buffer.getvalue())
+        return write_checkpoint(path, CHECKPOINT_KIND, {}, {}, self.state_dict())
 
     @classmethod
     def load(cls, path):
@@ -117,5 +114,4 @@ class Checkpoints:
         >>> bool((restored.velocities() == system.velocities()).all())
         True
         """
-        with np.load(Path(path), allow_pickle=False) as data:
-            return cls.from_state_dict({name: data[name] for name in data.files})
+        return cls.from_state_dict(read_checkpoint(path, CHECKPOINT_KIND).arrays)

@@ -72,7 +72,7 @@ class SwarmParameters(Parameters):
     >>> SwarmParameters(model="reid", reduced_field=-1)
     Traceback (most recent call last):
     ...
-    ValueError: reduced_field (E/N) must lie in >= 0; got -1
+    ValueError: reduced_field (E/N) must be >= 0; got -1
     """
 
     reduced_field: Any = (12.0,)

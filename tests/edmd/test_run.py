@@ -1,0 +1,93 @@
+"""collisionkit.edmd.run: EdmdParameters checks, and EdmdRun resumes bit for bit from Python."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from collisionkit._io import CheckpointError, read_checkpoint
+from collisionkit.edmd import EdmdParameters, EdmdRun, HardSphereSystem
+
+SMALL = dict(particles=108, initial="fcc", equilibration=12_000, collisions=4_000, blocks=4, seed=3)
+
+
+@pytest.mark.parametrize(
+    ("values", "error", "words"),
+    [
+        ({"dim": 4}, ValueError, "dim must be one of 2, 3"),
+        ({"packing_fraction": 0.55}, ValueError, "packing_fraction must lie in (0, 0.5] for dim=3"),
+        ({"dim": 2, "packing_fraction": 0.71}, ValueError, "(0, 0.7] for dim=2"),
+        ({"restitution": -0.1}, ValueError, "restitution must be in [0, 1]"),
+        ({"particles": 1}, ValueError, "particles must be in [2, 100000000]"),
+        ({"particles": 2.5}, TypeError, "particles must be an integer"),
+        ({"collisions": 5, "blocks": 10}, ValueError, "collisions must be >= blocks (10)"),
+        ({"initial": "bcc"}, ValueError, "initial must be one of"),
+        ({"initial": "fcc", "particles": 100}, ValueError, "needs particles = 4 * cells^3"),
+        ({"seed": -1}, ValueError, "seed must be >= 0"),
+    ],
+)
+def test_bad_parameters_name_the_parameter_and_the_allowed_range(values, error, words):
+    with pytest.raises(error) as caught:
+        EdmdParameters(**values)
+    assert words in str(caught.value)
+
+
+def test_flags_and_python_names_read_the_same_and_defaults_resolve_per_particle():
+    by_flag = EdmdParameters.from_mapping({"packing-fraction": 0.2, "particles": 256})
+    assert by_flag == EdmdParameters(packing_fraction=0.2, particles=256)
+    resolved = by_flag.resolved(seed=7)
+    assert (resolved.equilibration, resolved.collisions, resolved.seed) == (20 * 256, 200 * 256, 7)
+    assert resolved.total_collisions == 20 * 256 + 200 * 256
+    assert EdmdParameters.from_mapping(resolved.to_dict()) == resolved  # the summary's block reruns it
+    with pytest.raises(ValueError, match="unknown parameter 'packing'"):
+        EdmdParameters.from_mapping({"packing": 0.2})
+    with pytest.raises(ValueError, match=r"collisions \(400 by default for 2 particles\) must be >= blocks \(1000\)"):
+        EdmdParameters(particles=2, blocks=1000).resolved()
+
+
+def test_a_run_killed_mid_way_resumes_bit_for_bit_from_its_checkpoint(tmp_path, monkeypatch):
+    straight = EdmdRun(EdmdParameters(**SMALL)).run()
+    fractions = []
+    checkpoint = tmp_path / "run.npz"
+    run = EdmdRun(EdmdParameters(**SMALL), checkpoint=checkpoint)
+    real, calls = HardSphereSystem.run, []
+
+    def killed_in_the_second_block(system, *args, **kwargs):
+        calls.append(1)
+        if len(calls) == 4:  # two equilibration chunks, one block, then the kill
+            raise KeyboardInterrupt
+        return real(system, *args, **kwargs)
+
+    monkeypatch.setattr(HardSphereSystem, "run", killed_in_the_second_block)
+    with pytest.raises(KeyboardInterrupt):
+        run.run(progress=fractions.append)
+    monkeypatch.undo()
+    assert read_checkpoint(checkpoint, "edmd").state["equilibrated"] == 12_000
+    assert fractions == sorted(fractions) and 0 < fractions[-1] < 1  # progress(fraction), never back
+    resumed = EdmdRun.resume(checkpoint, seed=3)  # a physics parameter given again must agree
+    assert resumed.measured == 1_000 and not resumed.finished
+    resumed.run()
+    assert np.array_equal(resumed.system.positions(), straight.system.positions())
+    assert np.array_equal(resumed.system.velocities(), straight.system.velocities())
+    a, b = resumed.summary(), straight.summary()
+    assert a["compressibility_factor"] == b["compressibility_factor"] and a["parameters"] == b["parameters"]
+    with pytest.raises(ValueError, match="packing_fraction = 0.2 differs from the checkpoint"):
+        EdmdRun.resume(checkpoint, packing_fraction=0.2)
+
+
+def test_a_checkpoint_of_another_kind_or_no_checkpoint_is_refused(tmp_path):
+    from collisionkit.transport import SwarmParameters, SwarmScan
+
+    other = tmp_path / "scan.npz"
+    SwarmScan(SwarmParameters(model="maxwell", reduced_field=[5.0], particles=128, tolerance=0.5,
+                              collision_budget=1e4), checkpoint=other).save()
+    with pytest.raises(CheckpointError, match="not a checkpoint of 'collisionkit edmd'"):
+        EdmdRun.resume(other)
+    junk = tmp_path / "junk.npz"
+    junk.write_bytes(b"junk")
+    with pytest.raises(CheckpointError, match="is not a checkpoint"):
+        EdmdRun.resume(junk)
+    with pytest.raises(CheckpointError, match="checkpoint not found"):
+        EdmdRun.resume(tmp_path / "missing.npz")
+    with pytest.raises(RuntimeError, match="call run"):
+        EdmdRun(EdmdParameters(**SMALL)).measurement()
