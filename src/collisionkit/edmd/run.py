@@ -123,6 +123,12 @@ class EdmdParameters(Parameters):
         ------
         ValueError
             If the default number of collisions is below ``blocks``.
+
+        Examples
+        --------
+        >>> resolved = EdmdParameters(particles=100).resolved(seed=5)
+        >>> resolved.equilibration, resolved.collisions, resolved.seed
+        (2000, 20000, 5)
         """
         collisions = self.collisions if self.collisions is not None else COLLISIONS_PER_PARTICLE * self.particles
         if collisions < self.blocks:
@@ -137,11 +143,17 @@ class EdmdParameters(Parameters):
 
     @property
     def total_collisions(self) -> int:
-        """Pair collisions of the whole (resolved) run: equilibration and whole blocks."""
+        """Pair collisions of the whole (resolved) run: equilibration and whole blocks.
+
+        Examples
+        --------
+        >>> EdmdParameters(equilibration=100, collisions=1005, blocks=10).total_collisions
+        1100
+        """
         return self.equilibration + (self.collisions // self.blocks) * self.blocks
 
 
-def initial_system(parameters: EdmdParameters, progress: Callable[[float], Any] | None = None) -> HardSphereSystem:
+def _initial_system(parameters: EdmdParameters, progress: Callable[[float], Any] | None = None) -> HardSphereSystem:
     """The starting state: a compressed random fluid or a lattice with Maxwell-Boltzmann velocities."""
     p = parameters
     if p.initial == "random":
@@ -195,7 +207,7 @@ class EdmdRun:
         self.outputs = dict(outputs or {})
         self._writer = None
         if _state is None:
-            self.system = initial_system(self.parameters, progress)
+            self.system = _initial_system(self.parameters, progress)
             self.sampler: Sampler | None = None
             self.equilibrated, self.frames, self.last_frame = 0, 0, -1
             self.initial_energy = self.system.kinetic_energy()
@@ -205,7 +217,13 @@ class EdmdRun:
     # ---------------------------------------------------------------- checkpoints
 
     def save(self, path=None) -> Path | None:
-        """Write the run's full state (``.npz``, atomically) to ``path`` or the run's checkpoint."""
+        """Write the run's full state (``.npz``, atomically) to ``path`` or the run's checkpoint.
+
+        Examples
+        --------
+        >>> EdmdRun(EdmdParameters(dim=2, particles=64, initial="square", seed=1)).save() is None  # no checkpoint
+        True
+        """
         path = self.checkpoint if path is None else Path(path)
         if path is None:
             return None
@@ -239,6 +257,16 @@ class EdmdRun:
         ValueError
             If the file is not an EDMD checkpoint (:class:`~collisionkit._io.CheckpointError`)
             or a parameter given differs.
+
+        Examples
+        --------
+    >>> import pathlib, tempfile
+    >>> path = pathlib.Path(tempfile.mkdtemp()) / "run.npz"
+    >>> parameters = EdmdParameters(dim=2, particles=64, initial="square", equilibration=0, collisions=400, blocks=2, seed=1)
+    >>> _ = EdmdRun(parameters, checkpoint=path).save()   # as after set-up
+        >>> resumed = EdmdRun.resume(path, dim=2)             # a parameter given again must agree
+        >>> resumed.run().measured
+        400
         """
         saved = read_checkpoint(path, CHECKPOINT_KIND)
         try:
@@ -287,6 +315,13 @@ class EdmdRun:
         ----------
         progress : callable, optional
             ``progress(fraction)``: the fraction of the run's pair collisions done, in [0, 1].
+
+        Examples
+        --------
+        >>> fractions = []
+        >>> run = EdmdRun(EdmdParameters(dim=2, particles=64, initial="square", collisions=400, blocks=2, seed=1))
+        >>> run.run(progress=fractions.append).finished, fractions[-1]
+        (True, 1.0)
         """
         p = self.parameters
         total = p.total_collisions
@@ -352,23 +387,52 @@ class EdmdRun:
     # ---------------------------------------------------------------- results
 
     def measurement(self) -> Measurement:
-        """The measurement of the finished blocks."""
+        """The measurement of the finished blocks.
+
+        Examples
+        --------
+        >>> run = EdmdRun(EdmdParameters(dim=2, particles=64, initial="square", collisions=400, blocks=2, seed=1))
+        >>> run.run().measurement().collisions
+        400
+        """
         if self.sampler is None or self.sampler.done == 0:
             raise RuntimeError("no measurement block has finished yet: call run() first")
         return self.sampler.result()
 
     def write_xyz(self, path) -> Path:
-        """Write the current state as extended XYZ (ASE, OVITO)."""
+        """Write the current state as extended XYZ (ASE, OVITO).
+
+        Examples
+        --------
+        >>> import pathlib, tempfile
+        >>> run = EdmdRun(EdmdParameters(dim=2, particles=64, initial="square", seed=1))
+        >>> run.write_xyz(pathlib.Path(tempfile.mkdtemp()) / "state.xyz").read_text().splitlines()[0]
+        '64'
+        """
         from ..trajectory import write_extended_xyz
 
         return write_extended_xyz(path, self.system, comment=f"collisionkit edmd seed {self.parameters.seed}")
 
     def summary(self, files: Sequence = ()) -> dict[str, Any]:
-        """The run's results: the measurement (each value with ``*_error``), the theory and the parameters."""
-        return edmd_summary(self, self.measurement(), files)
+        """The run's results: the measurement (each value with ``*_error``), the theory and the parameters.
+
+        Examples
+        --------
+        >>> run = EdmdRun(EdmdParameters(dim=2, particles=64, initial="square", collisions=400, blocks=2, seed=1))
+        >>> summary = run.run().summary()
+        >>> summary["theory"], summary["parameters"]["seed"], "compressibility_factor_error" in summary
+        ('Henderson (1975)', 1, True)
+        """
+        return _edmd_summary(self, self.measurement(), files)
 
     def cooling_note(self) -> str | None:
-        """What an inelastic run's averages mean (it cooled, maybe to the elastic floor); None if elastic."""
+        """What an inelastic run's averages mean (it cooled, maybe to the elastic floor); None if elastic.
+
+        Examples
+        --------
+        >>> EdmdRun(EdmdParameters(dim=2, particles=64, initial="square", seed=1)).cooling_note() is None
+        True
+        """
         if self.parameters.restitution == 1.0:
             return None
         system = self.system
@@ -382,7 +446,14 @@ class EdmdRun:
 
 
 def equation_of_state(dim: int) -> tuple[str, Callable]:
-    """The reference equation of state of hard spheres (Hansen-Goos 2016) or discs (Henderson 1975)."""
+    """The reference equation of state of hard spheres (Hansen-Goos 2016) or discs (Henderson 1975).
+
+    Examples
+    --------
+    >>> name, Z = equation_of_state(3)
+    >>> name, round(float(Z(0.3)), 3)
+    ('Hansen-Goos (2016)', 3.984)
+    """
     return ("Hansen-Goos (2016)", hansen_goos) if dim == 3 else ("Henderson (1975)", henderson)
 
 
@@ -390,7 +461,7 @@ def _in_sigmas(difference: float, error: float) -> float:
     return difference / error if error > 0 else math.nan
 
 
-def edmd_summary(run: EdmdRun, measurement: Measurement, files: Sequence = ()) -> dict[str, Any]:
+def _edmd_summary(run: EdmdRun, measurement: Measurement, files: Sequence = ()) -> dict[str, Any]:
     """The edmd command's JSON summary: the measurement, the comparison with theory, the parameters."""
     p, system = run.parameters, run.system
     result = measurement.summary()

@@ -64,7 +64,13 @@ class EncounterParameters(Parameters):
                 object.__setattr__(self, name, check_real(name, getattr(self, name), 0.0))
 
     def unit_system(self) -> UnitSystem:
-        """The unit system the masses, lengths and speeds are in."""
+        """The unit system the masses, lengths and speeds are in.
+
+        Examples
+        --------
+        >>> EncounterParameters(units="cgs").unit_system().name
+        'cgs'
+        """
         return unit_system(self.units)
 
     def initial_conditions(self) -> tuple[InitialConditions, list[str]]:
@@ -74,6 +80,16 @@ class EncounterParameters(Parameters):
         ------
         ValueError
             If ``sep0 < rp`` or the set-up is impossible.
+
+        Examples
+        --------
+        >>> ic, warnings = EncounterParameters(v_inf=0.5, sep0=10.0).initial_conditions()
+        >>> round(ic.sep0, 12), warnings
+        (10.0, [])
+        >>> EncounterParameters(rp=2.0, sep0=1.0).initial_conditions()
+        Traceback (most recent call last):
+        ...
+        ValueError: sep0 must be >= rp (the stars start outside periastron); got sep0=1.0, rp=2.0
         """
         if self.sep0 < self.rp:
             raise ValueError(f"sep0 must be >= rp (the stars start outside periastron); got sep0={self.sep0}, "
@@ -86,7 +102,13 @@ class EncounterParameters(Parameters):
 
 
 def unit_labels(system: UnitSystem) -> dict[str, str]:
-    """The units of each derived quantity, as text."""
+    """The units of each derived quantity, as text.
+
+    Examples
+    --------
+    >>> unit_labels(unit_system("si"))["energy"]
+    'kg (m/s)^2'
+    """
     v = system.velocity
     return {
         "mass": system.mass,

@@ -40,6 +40,12 @@ class SweepCommand:
     outputs : mapping of str to type
         Options that are not physics (dashed names): ``Path`` ones name a
         file written in the point's folder.
+
+    Examples
+    --------
+    >>> command = sweep_command("edmd")
+    >>> command.parameters.__name__, command.main, sorted(command.outputs)
+    ('EdmdParameters', 'compressibility_factor', ['frame-every', 'trajectory', 'xyz'])
     """
 
     name: str
@@ -58,13 +64,26 @@ class SweepCommand:
         return MAIN_RESULTS[self.name]
 
     def options(self) -> dict[str, str]:
-        """Every option a study may set, by command-line spelling: {flag: Python name}."""
+        """Every option a study may set, by command-line spelling: {flag: Python name}.
+
+        Examples
+        --------
+        >>> sweep_command("swarm").options()["E-N"]
+        'reduced_field'
+        """
         parameters = self.parameters
         spelled = {parameters.flag(name): name for name in parameters.names()}
         return spelled | {name: name.replace("-", "_") for name in self.outputs}
 
     def canonical(self, key: str) -> str | None:
-        """The command-line spelling of an option given as a flag or a Python name, or None."""
+        """The command-line spelling of an option given as a flag or a Python name, or None.
+
+        Examples
+        --------
+        >>> command = sweep_command("edmd")
+        >>> command.canonical("packing_fraction"), command.canonical("frame_every"), command.canonical("speed")
+        ('packing-fraction', 'frame-every', None)
+        """
         name = self.parameters.name_of(key)
         if name is not None:
             return self.parameters.flag(name)

@@ -25,7 +25,7 @@ from .._io import CheckpointError, atomic_write_json, atomic_write_text, read_ch
 from .commands import sweep_command
 from .study import Study, _check_integer, load_study, study_from_dict
 from .table import results_table, write_outputs
-from .tasks import PointTask, point_tasks, split_options
+from .tasks import PointTask, _split_options, point_tasks
 
 __all__ = ["StudyResults", "check_folder", "local_client", "remote_client", "resume_study", "run_point", "run_study"]
 
@@ -68,7 +68,7 @@ def run_point(task: PointTask) -> dict[str, Any]:
     summary, error = None, None
     try:
         command = sweep_command(task.command)
-        parameters, outputs = split_options(command, task.options)
+        parameters, outputs = _split_options(command, task.options)
         summary = command.run(parameters, task.directory, outputs)
         atomic_write_json(task.directory / "summary.json", summary)
         summary = json.loads((task.directory / "summary.json").read_text())  # as a reader sees it (NaN as null)
@@ -169,6 +169,12 @@ def remote_client(address: str, timeout: str = "15s"):
         Without dask.distributed (``pip install 'collisionkit[cluster]'``).
     ConnectionError
         If the scheduler cannot be reached within ``timeout``.
+
+    Examples
+    --------
+    >>> with local_client(workers=1) as client, remote_client(client.scheduler.address) as remote:
+    ...     print(remote.submit(sum, [1, 2]).result())
+    3
     """
     try:
         from distributed import Client
@@ -374,6 +380,18 @@ def resume_study(checkpoint, executor=None, workers: int | None = None,
     ------
     ValueError
         If the file is not a sweep checkpoint (:class:`~collisionkit._io.CheckpointError`).
+
+    Examples
+    --------
+    >>> import pathlib, tempfile
+    >>> from concurrent.futures import ThreadPoolExecutor
+    >>> out = pathlib.Path(tempfile.mkdtemp())
+    >>> study = {"command": "encounter", "seed": 1, "vary": {"vinf": [0.5, 1.0]}}
+    >>> with ThreadPoolExecutor(1) as pool:
+    ...     first = run_study(study, out, executor=pool)
+    ...     again = resume_study(out / "checkpoint.npz", executor=pool)
+    >>> again.skipped, len(again.table)
+    (2, 2)
     """
     saved = read_checkpoint(checkpoint, CHECKPOINT_KIND)
     try:

@@ -81,7 +81,7 @@ class PointTask:
         return self.directory / RESULT_FILE
 
 
-def split_options(command: SweepCommand, options: Mapping[str, Any]):
+def _split_options(command: SweepCommand, options: Mapping[str, Any]):
     """The options as (the command's checked parameters, its other options by dashed name).
 
     Raises
@@ -131,7 +131,7 @@ def check_command(study: Study) -> SweepCommand:
             raise ValueError(f"command {study.command!r} has no option {name!r}; its options: {', '.join(shown)}")
     for point in expand(study):
         try:
-            split_options(command, _options(study, point, 0, takes_seed))
+            _split_options(command, _options(study, point, 0, takes_seed))
         except (ValueError, TypeError) as error:
             raise type(error)(f"the point {dict(point)} is refused by 'collisionkit {study.command}': {error}") from None
     return command

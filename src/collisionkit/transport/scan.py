@@ -117,7 +117,13 @@ class SwarmParameters(Parameters):
                              "without end): give gas_temperature > 0 (--gas-temperature) or E/N > 0")
 
     def gas(self) -> Gas:
-        """The target gas: the model gas, or the LXCat file's species (ValueError if unreadable)."""
+        """The target gas: the model gas, or the LXCat file's species (ValueError if unreadable).
+
+        Examples
+        --------
+        >>> SwarmParameters(model="reid").gas().species[0].name
+        'reid'
+        """
         if self.model is not None:
             return model_gas(self.model)
         if self.cross_sections.is_dir():
@@ -125,7 +131,13 @@ class SwarmParameters(Parameters):
         return read_lxcat(self.cross_sections, species=self.species, fractions=self.fractions)
 
     def gas_name(self) -> str:
-        """The model's name or the LXCat file's path."""
+        """The model's name or the LXCat file's path.
+
+        Examples
+        --------
+        >>> SwarmParameters(model="maxwell").gas_name()
+        'maxwell'
+        """
         return str(self.model or self.cross_sections)
 
 
@@ -190,7 +202,14 @@ class SwarmScan:
         return len(self.results) == len(self.parameters.reduced_field)
 
     def tolerances(self, reduced_field: float) -> dict[str, float]:
-        """The accuracy asked of one point: mean energy and drift; the mean energy alone at E/N = 0."""
+        """The accuracy asked of one point: mean energy and drift; the mean energy alone at E/N = 0.
+
+        Examples
+        --------
+        >>> scan = SwarmScan(SwarmParameters(model="maxwell", reduced_field=[5.0, 10.0], particles=640, tolerance=0.05))
+        >>> scan.tolerances(5.0), scan.tolerances(0.0)
+        ({'mean_energy': 0.05, 'drift_velocity_bulk': 0.05}, {'mean_energy': 0.05})
+        """
         tolerance = self.parameters.tolerance
         if reduced_field == 0.0:  # the drift is zero by symmetry: no relative error to reach
             return {"mean_energy": tolerance}
@@ -204,6 +223,12 @@ class SwarmScan:
         progress : callable, optional
             Called as ``progress(fraction)``, the fraction of the scan's
             points done, in [0, 1].
+
+        Examples
+        --------
+        >>> scan = SwarmScan(SwarmParameters(model="maxwell", reduced_field=[5.0, 10.0], particles=640, tolerance=0.05))
+        >>> [round(result.reduced_field) for result in scan.run()], scan.finished
+        ([5, 10], True)
         """
         p, total = self.parameters, len(self.parameters.reduced_field)
         for value in p.reduced_field[len(self.results):]:
@@ -223,7 +248,15 @@ class SwarmScan:
         return self.results
 
     def save(self, path=None) -> Path | None:
-        """Write the checkpoint (to ``path``, default the scan's checkpoint); None if there is none."""
+        """Write the checkpoint (to ``path``, default the scan's checkpoint); None if there is none.
+
+        Examples
+        --------
+        >>> import pathlib, tempfile
+        >>> scan = SwarmScan(SwarmParameters(model="maxwell", reduced_field=[5.0, 10.0], particles=640, tolerance=0.05))
+        >>> scan.save(pathlib.Path(tempfile.mkdtemp()) / "scan.npz").suffix, scan.save()
+        ('.npz', None)
+        """
         path = self.checkpoint if path is None else Path(path)
         if path is None:
             return None
@@ -252,6 +285,15 @@ class SwarmScan:
         ValueError
             If the file is not a swarm checkpoint (:class:`~collisionkit._io.CheckpointError`),
             a parameter given differs, or the LXCat file changed since.
+
+        Examples
+        --------
+        >>> import pathlib, tempfile
+        >>> path = pathlib.Path(tempfile.mkdtemp()) / "scan.npz"
+        >>> scan = SwarmScan(SwarmParameters(model="maxwell", reduced_field=[5.0, 10.0], particles=640, tolerance=0.05))
+        >>> _ = scan.save(path)                          # as before the first point
+        >>> SwarmScan.resume(path, particles=640).finished   # a parameter given again must agree
+        False
         """
         saved = read_checkpoint(path, CHECKPOINT_KIND)
         try:
@@ -272,7 +314,15 @@ class SwarmScan:
                    outputs=saved.state.get("outputs"))
 
     def summary(self, files: Sequence = ()) -> dict[str, Any]:
-        """The scan's results: :func:`swarm_summary` of its parameters and results."""
+        """The scan's results: :func:`swarm_summary` of its parameters and results.
+
+        Examples
+        --------
+        >>> scan = SwarmScan(SwarmParameters(model="maxwell", reduced_field=[5.0, 10.0], particles=640, tolerance=0.05))
+        >>> _ = scan.run()
+        >>> [entry["E_N"] for entry in scan.summary()["results"]]
+        [5.0, 10.0]
+        """
         return swarm_summary(self.parameters, self.results, files)
 
 
@@ -283,6 +333,15 @@ def swarm_summary(parameters: SwarmParameters, results: Sequence[SwarmResult], f
     ``*_error`` partner, ``E_N`` the point's E/N in Td); a scan of a single
     E/N also has that point's values at the top level, so a sweep point
     reads ``mean_energy`` directly. ``parameters`` reruns the scan.
+
+    Examples
+    --------
+    >>> from collisionkit.transport import simulate_swarm
+    >>> parameters = SwarmParameters(model="maxwell", reduced_field=10.0)
+    >>> result = simulate_swarm(parameters.gas(), 10.0, particles=640, seed=1, tolerances={"mean_energy": 0.05})
+    >>> summary = swarm_summary(parameters, [result])
+    >>> summary["mean_energy"] == summary["results"][0]["mean_energy"], summary["parameters"]["model"]
+    (True, 'maxwell')
     """
     entries = [result.to_dict() | {"E_N": result.reduced_field} for result in results]
     summary: dict[str, Any] = dict(entries[0]) if len(entries) == 1 else {}
@@ -290,8 +349,4 @@ def swarm_summary(parameters: SwarmParameters, results: Sequence[SwarmResult], f
                 "files": [str(path) for path in files], "parameters": parameters.to_dict()}
     return summary
 
-
-def unconverged_fields(results: Sequence[SwarmResult]) -> list[float]:
-    """The E/N values whose run stopped at the collision budget before the tolerance."""
-    return [result.reduced_field for result in results if not result.converged]
 

@@ -53,12 +53,27 @@ class SlabParameters(Parameters):
 
 
 def run_slab(parameters: SlabParameters) -> SlabResult:
-    """Run the slab the parameters describe."""
+    """Run the slab the parameters describe.
+
+    Examples
+    --------
+    >>> result = run_slab(SlabParameters(thickness=1.0, particles=2000, seed=1))
+    >>> abs(result.transmission + result.reflection - 1.0) < 1e-12   # albedo 1: nothing absorbed
+    True
+    """
     p = parameters
     return simulate_slab(p.thickness, p.albedo, incidence=p.incidence, model=p.model, mass_ratio=p.mass_ratio,
                          particles=p.particles, seed=p.seed)
 
 
 def slab_summary(parameters: SlabParameters, result: SlabResult) -> dict[str, Any]:
-    """The slab command's JSON summary: the flat results (each with ``*_error``) and the parameters."""
+    """The slab command's JSON summary: the flat results (each with ``*_error``) and the parameters.
+
+    Examples
+    --------
+    >>> parameters = SlabParameters(thickness=1.0, particles=2000, seed=1)
+    >>> summary = slab_summary(parameters, run_slab(parameters))
+    >>> "transmission_error" in summary, summary["parameters"]["thickness"]
+    (True, 1.0)
+    """
     return result.to_dict() | {"parameters": parameters.to_dict()}
