@@ -120,16 +120,6 @@ def test_attachment_and_ionization_frequencies_of_constant_rate_channels_are_the
         assert r.rate_coefficients[f"m:{name}"] == pytest.approx(value, rel=1e-12, abs=0)
 
 
-def test_group_errors_are_standard_errors_of_the_mean():
-    """_mean_and_error over independent groups: for n groups of unit variance the squared error averages
-    1/n exactly (E s^2 = 1); 4000 replicas of 16 groups pin it to 1 %. Kills: std without / sqrt(n)."""
-    from collisionkit.transport.swarm import _mean_and_error
-
-    rng = np.random.default_rng(5)
-    squared = [_mean_and_error(rng.normal(size=(16, 3)))[1] ** 2 for _ in range(4000)]
-    np.testing.assert_allclose(np.mean(squared, axis=0), 1 / 16, rtol=0.05)
-
-
 def test_effective_cross_section_below_the_inelastic_sum_is_clipped_at_zero(tmp_path):
     """EFFECTIVE = elastic momentum transfer + inelastic: the elastic part sigma_eff - sum(inelastic) cannot be
     negative (BOLSIG+ clips it at 0). Here at 20 eV the excitation (3e-20) exceeds the effective (2e-20).

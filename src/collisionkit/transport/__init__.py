@@ -7,7 +7,8 @@ free path is drawn. Extended with energy-dependent cross sections (null
 collisions), real gases (LXCat files) and transport coefficients.
 
 * :func:`simulate_swarm` - drift, diffusion, rates and mean energy of a
-  swarm in E (and B) fields; :class:`SwarmResult`;
+  swarm in E (and B) fields; :class:`SwarmResult`; :func:`trace_trajectories`
+  for plots; :func:`diffusion_error_floor`;
 * :func:`simulate_slab` - transmission and reflection of a beam by a slab;
 * gases: :class:`Gas`, :class:`Species`, :class:`Process`, model gases
   (:func:`maxwell_model`, :func:`hard_sphere_gas`, :func:`reid_ramp`,
@@ -28,7 +29,15 @@ from .gases import (
 )
 from .lxcat import LXCatError, parse_lxcat, read_lxcat
 from .slab import SlabResult, simulate_slab
-from .swarm import DEFAULT_TOLERANCES, HUXLEY, TOWNSEND, SwarmResult, simulate_swarm
+from .swarm import (
+    DEFAULT_TOLERANCES,
+    HUXLEY,
+    TOWNSEND,
+    SwarmResult,
+    diffusion_error_floor,
+    simulate_swarm,
+    trace_trajectories,
+)
 
 __all__ = [
     "DEFAULT_TOLERANCES",
@@ -41,6 +50,7 @@ __all__ = [
     "Species",
     "SlabResult",
     "SwarmResult",
+    "diffusion_error_floor",
     "hard_sphere_gas",
     "lucas_saelee",
     "maxwell_model",
@@ -51,4 +61,5 @@ __all__ = [
     "screened_coulomb_momentum_ratio",
     "simulate_slab",
     "simulate_swarm",
+    "trace_trajectories",
 ]
