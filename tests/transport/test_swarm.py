@@ -411,7 +411,7 @@ def test_the_bulk_diffusion_error_floor_is_what_walkers_give_however_long_they_w
     for steps in (100, 400):
         times = np.arange(steps, dtype=float)
         estimates = [0.5 * _estimators.slope(times, np.cumsum(rng.normal(size=(steps, walkers)), axis=0)
-                                              .var(axis=1, ddof=1)) for _ in range(300)]
+                                             .var(axis=1, ddof=1)) for _ in range(300)]
         scatter.append(np.std(estimates, ddof=1) / 0.5)
     assert scatter[0] / floor == pytest.approx(math.sqrt(1.2), rel=0.15)
     assert scatter[1] / floor == pytest.approx(math.sqrt(1.2), rel=0.15)
@@ -516,3 +516,45 @@ def test_group_errors_are_standard_errors_of_the_mean():
     rng = np.random.default_rng(5)
     squared = [_estimators.mean_and_error(rng.normal(size=(16, 3)))[1] ** 2 for _ in range(4000)]
     np.testing.assert_allclose(np.mean(squared, axis=0), 1 / 16, rtol=0.05)
+
+
+def test_rate_coefficients_in_a_mixture_carry_the_number_fractions():
+    """Rate coefficients are per unit total density: k_j = x_s (sigma_j <g> + k_const). Three species of
+    equal mass 10 m_e: a Maxwell-model species (x = 0.3, k = 1e-13: k_A = 3e-14 exactly in expectation) and
+    two identical hard-sphere species (x = 0.5, 0.2: k_B / k_C = 2.5 whatever the speed distribution, and
+    k_B = 0.5 sigma <v> with <v> from the EEDF, binning error ~1 %). Kills: constant rates or cross sections
+    not multiplied by the species' fraction."""
+    rate, sigma = 1e-13, 6e-20
+    gas = Gas.mixture({maxwell_model(rate, mass=10 * ME, name="A"): 0.3,
+                       hard_sphere_gas(sigma, mass=10 * ME, name="B"): 0.5,
+                       hard_sphere_gas(sigma, mass=10 * ME, name="C"): 0.2})
+    r = simulate_swarm(gas, 5.0, particles=1000, seed=4, threads=2, tolerances={"mean_energy": 1e-2})
+    k, err = r.rate_coefficients, r.rate_coefficient_errors
+    assert abs(k["A:elastic"] - 0.3 * rate) < 5 * err["A:elastic"]
+    ratio = k["B:elastic"] / k["C:elastic"]
+    spread = ratio * math.hypot(err["B:elastic"] / k["B:elastic"], err["C:elastic"] / k["C:elastic"])
+    assert abs(ratio - 2.5) < 5 * spread
+    width = r.eedf_energy[1] - r.eedf_energy[0]
+    binned_speed = np.sum(r.eedf * np.sqrt(2 * r.eedf_energy * E_CHARGE / ME)) * width
+    # the tail beyond the last edge (eedf_above, ~5 %) moves at least the edge speed, and at most 1.5 times it
+    edge_speed = math.sqrt(2 * (r.eedf_energy[-1] + width / 2) * E_CHARGE / ME)
+    low, high = (0.5 * sigma * (binned_speed + r.eedf_above * c * edge_speed) for c in (1.0, 1.5))
+    assert 0.97 * low < k["B:elastic"] < 1.03 * high  # ~1e-15: no absolute slack
+
+
+@pytest.mark.slow
+def test_flux_diffusion_coefficients_of_reids_ramp_match_the_published_values():
+    """Reid's ramp at 24 Td is conservative, so flux and bulk diffusion coincide; published N D_L = 0.4595e24
+    (LoKI-MC) / 0.4601e24 (MultiBolt), N D_T = 1.138e24 / 1.137e24 (Dias et al., CPC 282, 108554 (2023),
+    Table 1). D_T / D_L = 2.5 here, so a longitudinal estimator fed a transverse component is off by 150 %.
+    4e7 collisions (~20 s) give the flux estimators to ~10 % (1 sd); tolerance 4 sd + 3 %.
+    Kills: D_L flux from the y component, D_T flux without 1/2, <r_k v_k> summed with v_z only (kernel),
+    and the bulk D_L without 1/2, D_T with 1/2 instead of 1/4."""
+    r = simulate_swarm(reid_ramp(), 24.0, particles=8000, seed=7, threads=2, tolerances={"mean_energy": 1e-9},
+                       collision_budget=4e7)
+    published = {"diffusion_L_N": (0.4595e24, 0.4601e24), "diffusion_T_N": (1.138e24, 1.137e24)}
+    for name, references in published.items():
+        for estimator in (name, f"{name}_flux"):
+            value, error = getattr(r, estimator), getattr(r, f"{estimator}_error")
+            assert error < 0.15 * references[0], estimator
+            assert min(abs(value - ref) for ref in references) < 4 * error + 0.03 * references[0], (estimator, value)

@@ -140,9 +140,9 @@ class Stepper:
             born = (np.arange(slots)[None, :] < child_count[:, None]) & child_alive
             owner = np.nonzero(born)[0]
             swarm = Swarm(np.concatenate([swarm.pos, child_pos[born]]), np.concatenate([swarm.vel, child_vel[born]]),
-                           np.concatenate([swarm.states, child_state[born]]),
-                           np.concatenate([swarm.alive, np.ones(owner.size, bool)]),
-                           np.concatenate([swarm.group, swarm.group[owner]]))
+                          np.concatenate([swarm.states, child_state[born]]),
+                          np.concatenate([swarm.alive, np.ones(owner.size, bool)]),
+                          np.concatenate([swarm.group, swarm.group[owner]]))
         return swarm, group_tally
 
 
