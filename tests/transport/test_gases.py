@@ -62,3 +62,9 @@ def test_screened_coulomb_ratio_rejects_bad_energies(energy, screening, words):
     # (1, -1) returned nan
     with pytest.raises(ValueError, match=words):
         screened_coulomb_momentum_ratio(energy, screening)
+
+
+@pytest.mark.parametrize("bad", [-1.0, math.nan])
+def test_tables_refuse_bad_cross_sections(bad):
+    with pytest.raises(ValueError, match="cross_section"):
+        Process("elastic", [0, 1], [1e-20, bad])

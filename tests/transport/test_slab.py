@@ -137,19 +137,6 @@ def test_reflection_of_a_weakly_scattering_half_space_peaks_at_normal_exit():
     assert 1.7 < high / low < 2.8  # a mirrored histogram gives 0.69
 
 
-def test_lab_scattering_cosine_off_a_target_of_mass_a_averages_two_thirds_over_a():
-    """Isotropic centre-of-mass scattering off a target of mass A (units of the projectile): the mean lab
-    deflection cosine is 2 / (3 A) (neutron slowing down, e.g. Lamarsh ch. 3); from mu = 1 the new
-    direction cosine is cos(theta_lab). Kills: cos_lab = (1 + A c) / |...| -> (A + c) / |...|."""
-    from collisionkit._kernels import transport as K
-
-    state = np.zeros(4, np.uint64)
-    K.seed_state(np.uint64(11), state)
-    for a in (1.5, 12.0):
-        mu = np.array([K._elastic_lab(1.0, 1.0, a, state)[0] for _ in range(100_000)])
-        assert abs(mu.mean() - 2 / (3 * a)) < 5 * mu.std() / math.sqrt(mu.size)
-
-
 def test_equal_masses_never_turn_back_in_one_collision():
     # mass_ratio = 1 (neutrons on hydrogen) was refused; in one collision the lab angle is at most 90 degrees
     # (cos = sqrt((1 + c) / 2)), so a thin slab reflects only after two collisions, O(d^2), while A = 2 reflects

@@ -13,6 +13,7 @@ from scipy import constants, special, stats
 from collisionkit.transport import (
     Gas, hard_sphere_gas, lucas_saelee, maxwell_model, read_lxcat, reid_ramp, simulate_swarm,
 )
+from collisionkit.transport import _estimators, _swarm_run
 from collisionkit.transport import swarm as swarm_module
 from collisionkit.transport.swarm import HUXLEY, REFERENCE_DENSITY, TOWNSEND
 
@@ -98,9 +99,7 @@ def test_results_do_not_depend_on_the_number_of_threads():
 
 def test_the_rate_leaves_out_the_probe_step_which_compiles_on_a_cold_cache(monkeypatch):
     # stand in for numba's first compilation (seconds on a cold cache) with a pause in the first step only
-    from collisionkit.transport import swarm as swarm_module
-
-    original = swarm_module._Stepper.step
+    original = _swarm_run.Stepper.step
     steps = []
 
     def slow_first_step(self, *args):
@@ -111,7 +110,7 @@ def test_the_rate_leaves_out_the_probe_step_which_compiles_on_a_cold_cache(monke
 
     options = dict(particles=320, seed=3, tolerances={"mean_energy": 0.05}, threads=1)
     plain = simulate_swarm(maxwell_model(), 10.0, **options)
-    monkeypatch.setattr(swarm_module._Stepper, "step", slow_first_step)
+    monkeypatch.setattr(_swarm_run.Stepper, "step", slow_first_step)
     paused = simulate_swarm(maxwell_model(), 10.0, **options)
     assert len(steps) > 1 and paused.collisions == plain.collisions
     assert paused.seconds < plain.seconds + 1.0  # the 2 s in the probe step are not in the timed steps
@@ -393,10 +392,8 @@ def test_coarse_energy_distribution_of_a_thermalised_swarm_matches_the_maxwellia
 def test_the_initial_swarm_has_the_requested_mean_energy():
     """initial_energy is the mean energy of the initial Maxwellian: 3/2 m sigma^2 per particle (eV);
     120000 particles give it to 0.4 % (relative sd sqrt(2/3 / N)). Kills: sigma^2 = 2 E / m (3 E)."""
-    from collisionkit.transport.swarm import _initial_swarm
-
     mass = 10 * ME
-    swarm = _initial_swarm(120_000, 4, 1, mass, 2.5)
+    swarm = _swarm_run.initial_swarm(120_000, 4, 1, mass, 2.5)
     energy = 0.5 * mass * (swarm.vel**2).sum(axis=1) / E_CHARGE
     assert energy.mean() == pytest.approx(2.5, rel=0.01)
     assert np.all(swarm.pos == 0) and swarm.alive.all()
@@ -413,8 +410,8 @@ def test_the_bulk_diffusion_error_floor_is_what_walkers_give_however_long_they_w
     scatter = []
     for steps in (100, 400):
         times = np.arange(steps, dtype=float)
-        estimates = [0.5 * swarm_module._slope(times, np.cumsum(rng.normal(size=(steps, walkers)), axis=0)
-                                               .var(axis=1, ddof=1)) for _ in range(300)]
+        estimates = [0.5 * _estimators.slope(times, np.cumsum(rng.normal(size=(steps, walkers)), axis=0)
+                                             .var(axis=1, ddof=1)) for _ in range(300)]
         scatter.append(np.std(estimates, ddof=1) / 0.5)
     assert scatter[0] / floor == pytest.approx(math.sqrt(1.2), rel=0.15)
     assert scatter[1] / floor == pytest.approx(math.sqrt(1.2), rel=0.15)
@@ -511,3 +508,53 @@ def test_the_collision_budget_is_kept_to_within_two_samples():
                        tolerances={"mean_energy": 1e-6})
     assert not r.converged
     assert 2e6 <= r.collisions < 2e6 + 3 * 4e5
+
+
+def test_group_errors_are_standard_errors_of_the_mean():
+    """mean_and_error over independent groups: for n groups of unit variance the squared error averages
+    1/n exactly (E s^2 = 1); 4000 replicas of 16 groups pin it to 1 %. Kills: std without / sqrt(n)."""
+    rng = np.random.default_rng(5)
+    squared = [_estimators.mean_and_error(rng.normal(size=(16, 3)))[1] ** 2 for _ in range(4000)]
+    np.testing.assert_allclose(np.mean(squared, axis=0), 1 / 16, rtol=0.05)
+
+
+def test_rate_coefficients_in_a_mixture_carry_the_number_fractions():
+    """Rate coefficients are per unit total density: k_j = x_s (sigma_j <g> + k_const). Three species of
+    equal mass 10 m_e: a Maxwell-model species (x = 0.3, k = 1e-13: k_A = 3e-14 exactly in expectation) and
+    two identical hard-sphere species (x = 0.5, 0.2: k_B / k_C = 2.5 whatever the speed distribution, and
+    k_B = 0.5 sigma <v> with <v> from the EEDF, binning error ~1 %). Kills: constant rates or cross sections
+    not multiplied by the species' fraction."""
+    rate, sigma = 1e-13, 6e-20
+    gas = Gas.mixture({maxwell_model(rate, mass=10 * ME, name="A"): 0.3,
+                       hard_sphere_gas(sigma, mass=10 * ME, name="B"): 0.5,
+                       hard_sphere_gas(sigma, mass=10 * ME, name="C"): 0.2})
+    r = simulate_swarm(gas, 5.0, particles=1000, seed=4, threads=2, tolerances={"mean_energy": 1e-2})
+    k, err = r.rate_coefficients, r.rate_coefficient_errors
+    assert abs(k["A:elastic"] - 0.3 * rate) < 5 * err["A:elastic"]
+    ratio = k["B:elastic"] / k["C:elastic"]
+    spread = ratio * math.hypot(err["B:elastic"] / k["B:elastic"], err["C:elastic"] / k["C:elastic"])
+    assert abs(ratio - 2.5) < 5 * spread
+    width = r.eedf_energy[1] - r.eedf_energy[0]
+    binned_speed = np.sum(r.eedf * np.sqrt(2 * r.eedf_energy * E_CHARGE / ME)) * width
+    # the tail beyond the last edge (eedf_above, ~5 %) moves at least the edge speed, and at most 1.5 times it
+    edge_speed = math.sqrt(2 * (r.eedf_energy[-1] + width / 2) * E_CHARGE / ME)
+    low, high = (0.5 * sigma * (binned_speed + r.eedf_above * c * edge_speed) for c in (1.0, 1.5))
+    assert 0.97 * low < k["B:elastic"] < 1.03 * high  # ~1e-15: no absolute slack
+
+
+@pytest.mark.slow
+def test_flux_diffusion_coefficients_of_reids_ramp_match_the_published_values():
+    """Reid's ramp at 24 Td is conservative, so flux and bulk diffusion coincide; published N D_L = 0.4595e24
+    (LoKI-MC) / 0.4601e24 (MultiBolt), N D_T = 1.138e24 / 1.137e24 (Dias et al., CPC 282, 108554 (2023),
+    Table 1). D_T / D_L = 2.5 here, so a longitudinal estimator fed a transverse component is off by 150 %.
+    4e7 collisions (~20 s) give the flux estimators to ~10 % (1 sd); tolerance 4 sd + 3 %.
+    Kills: D_L flux from the y component, D_T flux without 1/2, <r_k v_k> summed with v_z only (kernel),
+    and the bulk D_L without 1/2, D_T with 1/2 instead of 1/4."""
+    r = simulate_swarm(reid_ramp(), 24.0, particles=8000, seed=7, threads=2, tolerances={"mean_energy": 1e-9},
+                       collision_budget=4e7)
+    published = {"diffusion_L_N": (0.4595e24, 0.4601e24), "diffusion_T_N": (1.138e24, 1.137e24)}
+    for name, references in published.items():
+        for estimator in (name, f"{name}_flux"):
+            value, error = getattr(r, estimator), getattr(r, f"{estimator}_error")
+            assert error < 0.15 * references[0], estimator
+            assert min(abs(value - ref) for ref in references) < 4 * error + 0.03 * references[0], (estimator, value)

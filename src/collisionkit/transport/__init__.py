@@ -7,7 +7,8 @@ free path is drawn. Extended with energy-dependent cross sections (null
 collisions), real gases (LXCat files) and transport coefficients.
 
 * :func:`simulate_swarm` - drift, diffusion, rates and mean energy of a
-  swarm in E (and B) fields; :class:`SwarmResult`;
+  swarm in E (and B) fields; :class:`SwarmResult`; :func:`trace_trajectories`
+  for plots; :func:`diffusion_error_floor`;
 * :class:`SwarmScan` - the ``swarm`` command's E/N scan (:class:`SwarmParameters`),
   with checkpoint and resume;
 * :func:`simulate_slab` - transmission and reflection of a beam by a slab;
@@ -32,7 +33,15 @@ from .lxcat import LXCatError, parse_lxcat, read_lxcat
 from .scan import SwarmParameters, SwarmScan, swarm_summary
 from .slab import SlabResult, simulate_slab
 from .slab_parameters import SlabParameters, run_slab, slab_summary
-from .swarm import DEFAULT_TOLERANCES, HUXLEY, TOWNSEND, SwarmResult, simulate_swarm
+from .swarm import (
+    DEFAULT_TOLERANCES,
+    HUXLEY,
+    TOWNSEND,
+    SwarmResult,
+    diffusion_error_floor,
+    simulate_swarm,
+    trace_trajectories,
+)
 
 __all__ = [
     "DEFAULT_TOLERANCES",
@@ -48,6 +57,7 @@ __all__ = [
     "SwarmParameters",
     "SwarmScan",
     "SwarmResult",
+    "diffusion_error_floor",
     "hard_sphere_gas",
     "lucas_saelee",
     "maxwell_model",
@@ -61,4 +71,5 @@ __all__ = [
     "simulate_swarm",
     "slab_summary",
     "swarm_summary",
+    "trace_trajectories",
 ]

@@ -26,6 +26,7 @@ GAS_SPEED_SIGMAS = 8.0  # P(|V| > 8 sigma) ~ 1e-14 for a 3D Maxwellian
 KIND_CODES = {"elastic": _k.ELASTIC, "excitation": _k.EXCITATION, "ionization": _k.IONIZATION,
               "attachment": _k.ATTACHMENT}
 ANGULAR_CODES = {"isotropic": _k.ISOTROPIC, "screened_coulomb": _k.SCREENED_COULOMB}
+SHARING_CODES = {"equal": _k.SHARE_EQUAL, "uniform": _k.SHARE_UNIFORM}  # energy sharing after ionization
 
 
 @dataclass(frozen=True)

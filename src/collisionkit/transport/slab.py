@@ -23,7 +23,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .._kernels import transport as _k
-from .swarm import _integer, _real
+from ._validation import integer_in_range, real_in_range
 
 __all__ = ["SlabResult", "simulate_slab", "INCIDENCES"]
 
@@ -137,21 +137,21 @@ def simulate_slab(thickness, albedo=1.0, *, incidence="normal", model="isotropic
     >>> abs(r.transmission - 0.5) < 4 * r.transmission_error
     True
     """
-    thickness = _real(thickness, "thickness (mean free paths)", 0.0, inclusive=(True, False))
-    albedo = _real(albedo, "albedo", 0.0, 1.0, inclusive=(True, True))
+    thickness = real_in_range(thickness, "thickness (mean free paths)", 0.0, inclusive=(True, False))
+    albedo = real_in_range(albedo, "albedo", 0.0, 1.0, inclusive=(True, True))
     if not (isinstance(incidence, str) and incidence in INCIDENCES):
         raise ValueError(f"incidence must be one of {INCIDENCES}; got {incidence!r}")
     if not (isinstance(model, str) and model in ("isotropic", "rod")):
         raise ValueError(f"model must be 'isotropic' or 'rod'; got {model!r}")
-    mass_ratio = _real(mass_ratio, "mass_ratio (inf for no energy loss)", 1.0, inclusive=(True, True))
+    mass_ratio = real_in_range(mass_ratio, "mass_ratio (inf for no energy loss)", 1.0, inclusive=(True, True))
     if model == "rod" and (incidence != "normal" or math.isfinite(mass_ratio)):
         raise ValueError("the rod model is one-dimensional and elastic: it takes incidence='normal' and "
                          f"mass_ratio=inf; got incidence={incidence!r}, mass_ratio={mass_ratio}")
-    particles = _integer(particles, "particles", BATCHES)
-    seed = _integer(seed, "seed", 0)
-    angle_bins = _integer(angle_bins, "angle_bins", 1, 10_000)
-    energy_bins = _integer(energy_bins, "energy_bins", 1, 10_000)
-    threads = (os.cpu_count() or 1) if threads is None else _integer(threads, "threads", 1)
+    particles = integer_in_range(particles, "particles", BATCHES)
+    seed = integer_in_range(seed, "seed", 0)
+    angle_bins = integer_in_range(angle_bins, "angle_bins", 1, 10_000)
+    energy_bins = integer_in_range(energy_bins, "energy_bins", 1, 10_000)
+    threads = (os.cpu_count() or 1) if threads is None else integer_in_range(threads, "threads", 1)
     sequences = np.random.SeedSequence(seed).spawn(BATCHES)
     per_batch = np.full(BATCHES, particles // BATCHES)
     per_batch[: particles % BATCHES] += 1

@@ -1,0 +1,81 @@
+"""Memory layout of the EDMD engine's arrays: record columns, geometry rows, parameter and accumulator slots.
+
+The public module :mod:`collisionkit.edmd` fills these arrays and reads them
+back through the names below; the kernels index them the same way.
+"""
+
+from __future__ import annotations
+
+from ..._jit import borrowing_kernel as kernel
+
+# columns of the particle records p (float64, N x 8)
+X = 0  # position x, y, z (z = 0 in 2D)
+V = 3  # velocity
+T = 6  # the particle's own time
+R = 7  # radius at scale 1
+
+# columns of the bookkeeping records b (float64, N x 8: one 64-byte cache line a particle, so an
+# event reads and writes one line besides p; integers are stored as floats, exact below 2^53)
+TARGET = 0  # the particle's next event: a collision with partner TARGET (>= 0), else LIST_TARGET or wall_target(face)
+PREDICTED_AT = 1  # number of the event at which that event was predicted
+CHANGED_AT = 2  # number of the event that last changed the velocity
+ANCHOR = 3  # anchor x, y, z: the position where the neighbour list was last built
+MASS = 6
+SPECIES = 7
+
+LIST_TARGET = -1  # next event: the particle moved shell / 2 from its anchor, rebuild its list
+
+# particles per block of the event queue: their event times fill one 64-byte cache line
+QUEUE_BLOCK = 8
+
+# rows of the geometry array (float64, 4 x 3)
+G_BOX = 0
+G_CELL = 1
+G_GRAVITY = 2
+G_PERIODIC = 3  # 1.0 periodic, 0.0 walls
+
+# entries of the parameter array (float64)
+P_SCALE0 = 0  # radius scale at time 0
+P_GROWTH = 1  # d scale / dt (compression)
+P_LAW = 2
+P_LAW_SPEED = 3
+P_LAW_EXPONENT = 4
+P_ELASTIC_BELOW = 5
+P_WALL_RESTITUTION = 6
+P_SHELL = 7  # neighbour-list shell (skin) width
+P_LIST_SCALE = 8  # largest radius scale the lists are valid for
+P_SIZE = 9
+
+# accumulator slots (acc array)
+ACC_VIRIAL = 0  # sum over pair collisions of impulse * contact distance
+ACC_PAIR_COLLISIONS = 1
+ACC_WALL_COLLISIONS = 2
+ACC_LIST_REBUILDS = 3
+ACC_STALE_EVENTS = 4
+ACC_ENERGY_LOST = 5
+ACC_WALL_IMPULSE = 6  # sum of |momentum| transferred to walls
+ACC_LIST_OVERFLOW = 7  # > 0: a neighbour list outgrew its row; the run stopped to grow the rows
+ACC_EVENTS = 8  # events processed (pair, stale, list, wall): numbers them for stale detection
+ACC_CELL_OVERFLOW = 9  # > 0: a cell outgrew its slots; the run stopped to grow them
+ACC_SIZE = 10
+
+# float32 anchor-and-radius slots of a cell in one 64-byte cache line
+CELL_SLOTS_PER_LINE = 4
+
+# relative round-off bound of the float32 anchors in the cell lists (8 float32 ulps), times the box size
+ANCHOR_ROUNDING = 2.0**-21
+
+# lowest levels of a block's path up the event tree to prefetch (the upper ones stay cached)
+TREE_LEVELS_PREFETCHED = 6
+
+
+# restitution laws
+LAW_CONSTANT = 0
+LAW_BRIDGES = 1  # e = min(1, (u_n / u_c)^-exponent), Bridges, Hatzes & Lin, Nature 309, 333 (1984)
+
+
+@kernel
+def wall_target(face):
+    """TARGET code of a collision with wall ``face`` (2 * axis + 1 upper, 2 * axis lower); its own inverse."""
+    return -2 - face
+

@@ -1,0 +1,148 @@
+"""The event loop: take the earliest event, resolve it, predict again; and the first prediction of all."""
+
+from __future__ import annotations
+
+import math
+
+# no EDMD kernel allocates or returns an array: all of them borrow, without reference counting
+from ..._jit import borrowing_inline_kernel as inline_kernel
+from ..._jit import borrowing_kernel as kernel
+from .._memory import prefetch
+from .contacts import bounce_off_wall, collide_pair
+from .layout import (
+    ACC_EVENTS, ACC_LIST_REBUILDS, ACC_STALE_EVENTS, CHANGED_AT, LIST_TARGET, P_GROWTH, P_SCALE0, PREDICTED_AT,
+    QUEUE_BLOCK, TARGET, TREE_LEVELS_PREFETCHED, wall_target,
+)
+from .motion import advance
+from .neighbour_lists import rebuild_list
+from .prediction import predict
+from .queue import queue_update, tree_build
+
+
+@inline_kernel
+def _prefetch_particle(i, p, b, queue, neighbours, neighbour_count, tree, leaves):
+    """Start loading everything an event of particle i reads, so the misses overlap."""
+    prefetch(p, i)
+    prefetch(b, i)
+    prefetch(neighbours, i)
+    prefetch(neighbour_count, i)
+    prefetch(queue, i)
+    node = leaves + i // QUEUE_BLOCK
+    for _ in range(TREE_LEVELS_PREFETCHED):
+        prefetch(tree, node)
+        node >>= 1
+
+
+@inline_kernel
+def _likely_next(i, tree, leaves):
+    """The particle of the second-earliest event, a guess good enough for prefetching.
+
+    The runner-up of the tournament is the best of the siblings along the
+    winner i's path; the block and the lowest levels (cold in cache) are
+    skipped, so the guess misses if the runner-up lies among i's nearest
+    32 particles. Returns -1 if there is no guess.
+    """
+    node = (leaves + i // QUEUE_BLOCK) >> 2 if leaves >= 8 else leaves + i // QUEUE_BLOCK
+    best_time = math.inf
+    best = -1.0
+    while node > 1:
+        sibling_time = tree[node ^ 1, 0]
+        sibling_id = tree[node ^ 1, 1]
+        best = sibling_id if sibling_time < best_time else best
+        best_time = min(sibling_time, best_time)
+        node >>= 1
+    return int(best)
+
+
+@inline_kernel
+def _prefetch_neighbours(i, p, neighbours, neighbour_count):
+    """Start loading the records of the particles in i's list."""
+    for m in range(neighbour_count[i]):
+        prefetch(p, neighbours[i, m])
+
+
+@inline_kernel
+def _repredict(p, i, b, neighbours, neighbour_count, geom, dim, params, queue, tree, leaves, event):
+    """Predict i's next event (i at its own time) and queue it."""
+    queue_update(i, predict(p, i, b, neighbours, neighbour_count, geom, dim, params, event), queue, tree, leaves)
+
+
+@kernel
+def run_events(t, max_pair_collisions, t_stop, p, b, image, cell_of, neighbours, neighbour_count, cell_members,
+               cell_count, cell_points, ncell, geom, dim, restitution, params, queue, tree, leaves, acc):
+    """Process events until ``max_pair_collisions`` collisions or time ``t_stop``.
+
+    Returns the current time: the last event's time, or ``t_stop`` if that
+    came first (particles are not moved to it: call ``synchronise``). Stops
+    early, with ``acc[ACC_LIST_OVERFLOW]`` or ``acc[ACC_CELL_OVERFLOW]`` set
+    to the size needed, if a neighbour list or a cell outgrows its row (grow
+    the rows and rebuild every list).
+    """
+    done = 0
+    scale0 = params[P_SCALE0]
+    growth = params[P_GROWTH]
+    event = int(acc[ACC_EVENTS])
+    while done < max_pair_collisions:
+        event_time = tree[1, 0]
+        i = int(tree[1, 1])
+        if event_time > t_stop:
+            t = t_stop
+            break
+        if event_time == math.inf:
+            break
+        t = event_time
+        event += 1
+        # memory latency dominates: start every load whose address is known, then compute;
+        # also for the particle of the next event, most likely the runner-up now
+        _prefetch_particle(i, p, b, queue, neighbours, neighbour_count, tree, leaves)
+        upcoming = _likely_next(i, tree, leaves)
+        if upcoming >= 0:
+            _prefetch_particle(upcoming, p, b, queue, neighbours, neighbour_count, tree, leaves)
+        target = int(b[i, TARGET])
+        if target >= 0:
+            _prefetch_particle(target, p, b, queue, neighbours, neighbour_count, tree, leaves)
+        _prefetch_neighbours(i, p, neighbours, neighbour_count)
+        advance(p, i, t, geom, dim)
+        partner = -1  # the second particle to re-predict, if any
+        if target >= 0:
+            j = target
+            _prefetch_neighbours(j, p, neighbours, neighbour_count)
+            if b[j, CHANGED_AT] > b[i, PREDICTED_AT]:
+                acc[ACC_STALE_EVENTS] += 1.0
+            else:
+                advance(p, j, t, geom, dim)
+                collide_pair(p, i, j, b, geom, dim, scale0 + growth * t, growth, restitution, params, acc)
+                b[i, CHANGED_AT] = event
+                b[j, CHANGED_AT] = event
+                done += 1
+                partner = j
+        elif target == LIST_TARGET:
+            acc[ACC_LIST_REBUILDS] += 1.0
+            if not rebuild_list(p, i, b, cell_of, neighbours, neighbour_count, cell_members, cell_count, cell_points,
+                                ncell, geom, dim, params, image, acc):
+                break
+        else:
+            bounce_off_wall(p, i, wall_target(target), b, params, acc)
+            b[i, CHANGED_AT] = event
+        if upcoming >= 0:  # its rows have arrived by now: fetch what they point to
+            _prefetch_neighbours(upcoming, p, neighbours, neighbour_count)
+            upcoming_target = int(b[upcoming, TARGET])
+            if upcoming_target >= 0:
+                _prefetch_particle(upcoming_target, p, b, queue, neighbours, neighbour_count, tree, leaves)
+        # one call site, so the inlined prediction is compiled once
+        for q in range(1 if partner < 0 else 2):
+            _repredict(p, i if q == 0 else partner, b, neighbours, neighbour_count, geom, dim, params, queue, tree,
+                       leaves, event)
+    acc[ACC_EVENTS] = event
+    return t
+
+
+@kernel
+def predict_all(p, b, neighbours, neighbour_count, geom, dim, params, queue, tree, leaves, acc):
+    """Predict every particle's next event (all at their own times) and rebuild the tree."""
+    event = int(acc[ACC_EVENTS])
+    for i in range(p.shape[0]):
+        queue[i] = predict(p, i, b, neighbours, neighbour_count, geom, dim, params, event)
+    for padding in range(p.shape[0], queue.shape[0]):
+        queue[padding] = math.inf
+    tree_build(tree, queue, leaves)

@@ -1,0 +1,178 @@
+"""Neighbour lists: building every list, and rebuilding one particle's at its list event."""
+
+from __future__ import annotations
+
+# no EDMD kernel allocates or returns an array: all of them borrow, without reference counting
+from ..._jit import borrowing_inline_kernel as inline_kernel
+from ..._jit import borrowing_kernel as kernel
+from .._memory import prefetch, prefetch_at
+from .cells import (
+    cell_coordinates, cell_index, cell_insert, cell_of_position, cell_offsets, cell_remove, neighbour_coordinate,
+)
+from .layout import (
+    ACC_CELL_OVERFLOW, ACC_LIST_OVERFLOW, ANCHOR, ANCHOR_ROUNDING, CELL_SLOTS_PER_LINE, G_BOX, G_PERIODIC, P_LIST_SCALE,
+    P_SHELL, R, X,
+)
+from .motion import half_box, minimum_image, wrap_into_box
+
+
+@inline_kernel
+def gather_neighbours(p, i, b, cell_of, neighbours, neighbour_count, cell_members, cell_count, cell_points, ncell,
+                      geom, dim, params):
+    """Fill i's list from the anchors in the cells around i's anchor.
+
+    Returns the length the list would need (more than the row length:
+    nothing beyond the row is written, the caller must grow it).
+    """
+    width = neighbours.shape[1]
+    count = 0
+    cx, cy, cz = cell_coordinates(cell_of[i], ncell)
+    zl, zh = cell_offsets(ncell[2], geom[G_PERIODIC, 2] != 0.0) if dim == 3 else (0, 0)
+    yl, yh = cell_offsets(ncell[1], geom[G_PERIODIC, 1] != 0.0)
+    xl, xh = cell_offsets(ncell[0], geom[G_PERIODIC, 0] != 0.0)
+    lx, ly, lz = geom[G_BOX, 0], geom[G_BOX, 1], geom[G_BOX, 2]
+    hx, hy, hz = half_box(geom, 0), half_box(geom, 1), half_box(geom, 2)
+    ax, ay, az = b[i, ANCHOR], b[i, ANCHOR + 1], b[i, ANCHOR + 2]
+    # anchors are stored in float32 in the cells: widen the test by their round-off
+    slack = ANCHOR_ROUNDING * (max(lx, ly, lz) + 1.0)
+    reach_i = p[i, R] * params[P_LIST_SCALE] + params[P_SHELL] + slack
+    list_scale = params[P_LIST_SCALE]
+    for oz in range(zl, zh + 1):
+        nz, _ = neighbour_coordinate(cz, oz, ncell[2], geom[G_PERIODIC, 2] != 0.0, 0.0)
+        if nz < 0:
+            continue
+        for oy in range(yl, yh + 1):
+            ny, _ = neighbour_coordinate(cy, oy, ncell[1], geom[G_PERIODIC, 1] != 0.0, 0.0)
+            if ny < 0:
+                continue
+            for ox in range(xl, xh + 1):
+                nx, _ = neighbour_coordinate(cx, ox, ncell[0], geom[G_PERIODIC, 0] != 0.0, 0.0)
+                if nx < 0:
+                    continue
+                cell = cell_index(nx, ny, nz, ncell)
+                for slot in range(cell_count[cell]):
+                    dx = minimum_image(cell_points[cell, slot, 0] - ax, lx, hx)
+                    dy = minimum_image(cell_points[cell, slot, 1] - ay, ly, hy)
+                    dz = minimum_image(cell_points[cell, slot, 2] - az, lz, hz)
+                    reach = reach_i + cell_points[cell, slot, 3] * list_scale
+                    if dx * dx + dy * dy + dz * dz <= reach * reach:
+                        j = cell_members[cell, slot]
+                        if j == i:
+                            continue
+                        if count < width:
+                            neighbours[i, count] = j
+                        count += 1
+    neighbour_count[i] = min(count, width)
+    return count
+
+
+@inline_kernel
+def _join_neighbours(i, neighbours, neighbour_count):
+    """Append i to the list of each particle in i's list; returns the longest length needed."""
+    width = neighbours.shape[1]
+    for m in range(neighbour_count[i]):
+        prefetch(neighbours, neighbours[i, m])
+        prefetch(neighbour_count, neighbours[i, m])
+    needed = 0
+    for m in range(neighbour_count[i]):
+        j = neighbours[i, m]
+        other = neighbour_count[j]
+        if other < width:
+            neighbours[j, other] = i
+            neighbour_count[j] = other + 1
+        needed = max(needed, other + 1)
+    return needed
+
+
+@inline_kernel
+def _prefetch_cells(cell, cell_members, cell_count, cell_points, ncell, geom, dim):
+    """Start loading the cells around ``cell`` (their counts and first slots)."""
+    cx, cy, cz = cell_coordinates(cell, ncell)
+    zl, zh = cell_offsets(ncell[2], geom[G_PERIODIC, 2] != 0.0) if dim == 3 else (0, 0)
+    yl, yh = cell_offsets(ncell[1], geom[G_PERIODIC, 1] != 0.0)
+    for oz in range(zl, zh + 1):
+        nz, _ = neighbour_coordinate(cz, oz, ncell[2], geom[G_PERIODIC, 2] != 0.0, 0.0)
+        if nz < 0:
+            continue
+        for oy in range(yl, yh + 1):
+            ny, _ = neighbour_coordinate(cy, oy, ncell[1], geom[G_PERIODIC, 1] != 0.0, 0.0)
+            if ny < 0:
+                continue
+            for ox in range(-1, 2):
+                nx = (cx + ox) % ncell[0]  # a wrong guess at a walled edge costs nothing
+                neighbour_cell = cell_index(nx, ny, nz, ncell)
+                prefetch(cell_points, neighbour_cell)
+                prefetch_at(cell_points, neighbour_cell, CELL_SLOTS_PER_LINE)  # a fifth sphere is common
+                prefetch(cell_count, neighbour_cell)
+
+
+@inline_kernel
+def _drop_from_list(j, i, neighbours, neighbour_count):
+    """Remove i from j's list (order not kept)."""
+    last = neighbour_count[j] - 1
+    for m in range(last + 1):
+        if neighbours[j, m] == i:
+            neighbours[j, m] = neighbours[j, last]
+            neighbour_count[j] = last
+            return
+
+
+@inline_kernel
+def rebuild_list(p, i, b, cell_of, neighbours, neighbour_count, cell_members, cell_count, cell_points, ncell, geom,
+                 dim, params, image, acc):
+    """Re-anchor particle i at its position (at its own time) and rebuild its list.
+
+    Returns False, with ``acc[ACC_LIST_OVERFLOW]`` or ``acc[ACC_CELL_OVERFLOW]``
+    set to the size needed, if a list or a cell outgrew its row; the lists
+    are then incomplete and must all be rebuilt.
+    """
+    wrap_into_box(p, i, geom, dim, image)
+    cell = cell_of_position(p, i, ncell, geom, dim)
+    _prefetch_cells(cell, cell_members, cell_count, cell_points, ncell, geom, dim)
+    for m in range(neighbour_count[i]):
+        prefetch(neighbours, neighbours[i, m])
+        prefetch(neighbour_count, neighbours[i, m])
+    for m in range(neighbour_count[i]):
+        _drop_from_list(neighbours[i, m], i, neighbours, neighbour_count)
+    for k in range(3):
+        b[i, ANCHOR + k] = p[i, X + k]
+    cell_remove(i, cell_of, cell_members, cell_count, cell_points)
+    if not cell_insert(i, cell, b, p[i, R], cell_of, cell_members, cell_count, cell_points):
+        acc[ACC_CELL_OVERFLOW] = cell_count[cell] + 1
+        return False
+    needed = gather_neighbours(p, i, b, cell_of, neighbours, neighbour_count, cell_members, cell_count, cell_points,
+                               ncell, geom, dim, params)
+    needed = max(needed, _join_neighbours(i, neighbours, neighbour_count))
+    if needed > neighbours.shape[1]:
+        acc[ACC_LIST_OVERFLOW] = needed
+        return False
+    return True
+
+
+@kernel
+def build_all_lists(p, b, cell_of, neighbours, neighbour_count, cell_members, cell_count, cell_points, ncell, geom,
+                    dim, params, image):
+    """Anchor every particle at its position (all synchronised) and build every list.
+
+    Returns the longest list and the fullest cell needed; if either exceeds
+    its row length the structures are incomplete and the caller must grow
+    them and call again.
+    """
+    cell_count[:] = 0
+    most = 0
+    for i in range(p.shape[0]):
+        wrap_into_box(p, i, geom, dim, image)
+        for k in range(3):
+            b[i, ANCHOR + k] = p[i, X + k]
+        cell = cell_of_position(p, i, ncell, geom, dim)
+        if not cell_insert(i, cell, b, p[i, R], cell_of, cell_members, cell_count, cell_points):
+            cell_count[cell] += 1  # count what would not fit, to report the size needed
+        most = max(most, cell_count[cell])
+    if most > cell_members.shape[1]:
+        return 0, most
+    needed = 0
+    for i in range(p.shape[0]):
+        count = gather_neighbours(p, i, b, cell_of, neighbours, neighbour_count, cell_members, cell_count,
+                                  cell_points, ncell, geom, dim, params)
+        needed = max(needed, count)
+    return needed, most

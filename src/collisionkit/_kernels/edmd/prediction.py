@@ -1,0 +1,283 @@
+"""Event prediction: contact times of pairs, list expiry and wall hits, a particle's next event.
+
+Every prediction starts from the particle at its own time (``p[i, T]``);
+times returned are from that time, except :func:`predict`'s, which is
+absolute.
+"""
+
+from __future__ import annotations
+
+import math
+
+# no EDMD kernel allocates or returns an array: all of them borrow, without reference counting
+from ..._jit import borrowing_inline_kernel as inline_kernel
+from ..._jit import borrowing_kernel as kernel
+from .layout import (
+    ANCHOR, G_BOX, G_GRAVITY, G_PERIODIC, LIST_TARGET, P_GROWTH, P_SCALE0, P_SHELL, PREDICTED_AT, R, T, TARGET, V, X,
+    wall_target,
+)
+from .motion import half_box, minimum_image
+
+
+@kernel
+def first_root_from_below(a, b, c):
+    """Smallest tau >= 0 where a tau^2 + b tau + c reaches 0, given c <= 0 now.
+
+    Used for leaving a cell or reaching a wall: the function is a (negative)
+    distance to the boundary. Returns inf if it never gets there.
+    """
+    if c >= 0.0:
+        # at or (by round-off) just past the boundary
+        if b > 0.0 or (b == 0.0 and a > 0.0):
+            return 0.0
+        if a <= 0.0:
+            return math.inf
+        discriminant = b * b - 4.0 * a * c
+        if discriminant <= 0.0:
+            return 0.0
+        return (-b + math.sqrt(discriminant)) / (2.0 * a)
+    if a == 0.0:
+        return -c / b if b > 0.0 else math.inf
+    discriminant = b * b - 4.0 * a * c
+    if a > 0.0:
+        # c < 0 < a: exactly one positive root, (-b + root) / 2a
+        root = math.sqrt(discriminant)
+        return (-2.0 * c) / (b + root) if b >= 0.0 else (-b + root) / (2.0 * a)
+    # a < 0: a hump, reached only when moving towards the boundary
+    if b <= 0.0 or discriminant < 0.0:
+        return math.inf
+    return (-2.0 * c) / (b + math.sqrt(discriminant))
+
+
+@kernel
+def pair_contact_time(rx, ry, rz, ux, uy, uz, contact, scale, growth, beat):
+    """Time until |r + u tau| = contact * (scale + growth * tau), first touch only.
+
+    r is the separation (partner minus particle), u the relative velocity
+    (partner minus particle). Returns 0 for an overlapping approaching pair
+    (round-off), inf if they never touch or cannot touch before ``beat``.
+    """
+    rr = rx * rx + ry * ry + rz * rz
+    ru = rx * ux + ry * uy + rz * uz
+    sigma = contact * scale
+    rate = contact * growth
+    c = rr - sigma * sigma
+    b = ru - sigma * rate
+    if c <= 0.0:
+        return 0.0 if b < 0.0 else math.inf
+    if rate == 0.0:
+        # fixed sizes: only approaching pairs meet, and never before c / (-2 b)
+        if b >= 0.0 or c >= -2.0 * b * beat:
+            return math.inf
+    uu = ux * ux + uy * uy + uz * uz
+    a = uu - rate * rate
+    cx = ry * uz - rz * uy
+    cy = rz * ux - rx * uz
+    cz = rx * uy - ry * ux
+    wx = scale * ux - growth * rx
+    wy = scale * uy - growth * ry
+    wz = scale * uz - growth * rz
+    # b^2 - a c == contact^2 |scale u - growth r|^2 - |r x u|^2 (Lagrange's identity)
+    discriminant = contact * contact * (wx * wx + wy * wy + wz * wz) - (cx * cx + cy * cy + cz * cz)
+    if b < 0.0:
+        if discriminant < 0.0:
+            return math.inf
+        return c / (-b + math.sqrt(discriminant))
+    if a < 0.0:
+        return (b + math.sqrt(max(discriminant, 0.0))) / (-a)
+    return math.inf
+
+
+@inline_kernel
+def _first_contact_ballistic(p, i, neighbours, neighbour_count, geom, scale, horizon):
+    """Earliest contact of i (at its own time) with its list before ``horizon``: fixed radii, straight flights.
+
+    Returns (time from i's time, partner), or (inf, -1) if no contact comes
+    before ``horizon``. The root of |r + u tau| = sigma is
+    tau = c / (-b + sqrt(D)) with b = r.u, c = |r|^2 - sigma^2 and
+    D = sigma^2 |u|^2 - |r x u|^2 (= b^2 - |u|^2 c by Lagrange's identity,
+    without its cancellation), taken when the pair approaches (b < 0) and
+    D >= 0; an overlap by round-off (c <= 0) while approaching collides at
+    once. Since sqrt(D) <= -b when c >= 0, tau >= c / (-2 b): one cheap
+    test, c < -2 b best, rejects the receding pairs and those that cannot
+    beat the best so far before the square root and the division. It rarely
+    passes, so its branch is well predicted; a branch on b < 0 alone would
+    be a coin toss, and a mispredicted branch costs more than the
+    arithmetic it saves.
+    """
+    t = p[i, T]
+    xi, yi, zi = p[i, X], p[i, X + 1], p[i, X + 2]
+    vxi, vyi, vzi = p[i, V], p[i, V + 1], p[i, V + 2]
+    ri = p[i, R]
+    lx, ly, lz = geom[G_BOX, 0], geom[G_BOX, 1], geom[G_BOX, 2]
+    hx, hy, hz = half_box(geom, 0), half_box(geom, 1), half_box(geom, 2)
+    best = horizon
+    partner = -1
+    for m in range(neighbour_count[i]):
+        j = neighbours[i, m]
+        dt = t - p[j, T]
+        rx = minimum_image(p[j, X] + p[j, V] * dt - xi, lx, hx)
+        ry = minimum_image(p[j, X + 1] + p[j, V + 1] * dt - yi, ly, hy)
+        rz = minimum_image(p[j, X + 2] + p[j, V + 2] * dt - zi, lz, hz)
+        ux = p[j, V] - vxi
+        uy = p[j, V + 1] - vyi
+        uz = p[j, V + 2] - vzi
+        sigma = (ri + p[j, R]) * scale
+        b = rx * ux + ry * uy + rz * uz
+        c = rx * rx + ry * ry + rz * rz - sigma * sigma
+        # b < 0 and c + 2 b best < 0 in one comparison, so one (rarely taken, well predicted) branch
+        if max(b, c + 2.0 * b * best) < 0.0:
+            cx = ry * uz - rz * uy
+            cy = rz * ux - rx * uz
+            cz = rx * uy - ry * ux
+            discriminant = sigma * sigma * (ux * ux + uy * uy + uz * uz) - (cx * cx + cy * cy + cz * cz)
+            if discriminant >= 0.0 or c <= 0.0:
+                tau = max(c, 0.0) / (math.sqrt(max(discriminant, 0.0)) - b)
+                if tau < best:
+                    best = tau
+                    partner = j
+    if partner < 0:
+        return math.inf, -1
+    return best, partner
+
+
+@inline_kernel
+def predict_pairs(p, i, neighbours, neighbour_count, geom, scale0, growth, horizon):
+    """Earliest collision of particle i (at its own time) with its list within ``horizon``.
+
+    Returns (time from i's time, partner), or (inf, -1) if none comes
+    before ``horizon``, i's boundary event: a later collision would be
+    re-predicted at that event anyway.
+    """
+    t = p[i, T]
+    scale = scale0 + growth * t
+    xi = p[i, X]
+    yi = p[i, X + 1]
+    zi = p[i, X + 2]
+    vxi = p[i, V]
+    vyi = p[i, V + 1]
+    vzi = p[i, V + 2]
+    ri = p[i, R]
+    lx, ly, lz = geom[G_BOX, 0], geom[G_BOX, 1], geom[G_BOX, 2]
+    hx, hy, hz = half_box(geom, 0), half_box(geom, 1), half_box(geom, 2)
+    gx = 0.5 * geom[G_GRAVITY, 0]
+    gy = 0.5 * geom[G_GRAVITY, 1]
+    gz = 0.5 * geom[G_GRAVITY, 2]
+    falling = gx != 0.0 or gy != 0.0 or gz != 0.0
+    if growth == 0.0 and not falling:
+        return _first_contact_ballistic(p, i, neighbours, neighbour_count, geom, scale, horizon)
+    best = horizon
+    partner = -1
+    for m in range(neighbour_count[i]):
+        j = neighbours[i, m]
+        dt = t - p[j, T]
+        rx = minimum_image(p[j, X] + p[j, V] * dt - xi, lx, hx)
+        ry = minimum_image(p[j, X + 1] + p[j, V + 1] * dt - yi, ly, hy)
+        rz = minimum_image(p[j, X + 2] + p[j, V + 2] * dt - zi, lz, hz)
+        ux = p[j, V] - vxi
+        uy = p[j, V + 1] - vyi
+        uz = p[j, V + 2] - vzi
+        if falling:
+            # the relative velocity is unchanged by gravity (both fall alike)
+            rx += gx * dt * dt
+            ry += gy * dt * dt
+            rz += gz * dt * dt
+            ux += 2.0 * gx * dt
+            uy += 2.0 * gy * dt
+            uz += 2.0 * gz * dt
+        contact = ri + p[j, R]
+        if growth == 0.0:
+            # cheap filter first: approaching, and able to touch before ``best``
+            ru = rx * ux + ry * uy + rz * uz
+            sigma = contact * scale
+            c = rx * rx + ry * ry + rz * rz - sigma * sigma
+            if ru < 0.0 and c < -2.0 * ru * best:
+                # most approaching pairs pass by: discriminant < 0 (a miss by less
+                # than round-off of sigma changes nothing: it would not touch)
+                uu = ux * ux + uy * uy + uz * uz
+                if ru * ru >= uu * c or c <= 0.0:
+                    tau = pair_contact_time(rx, ry, rz, ux, uy, uz, contact, scale, 0.0, best)
+                    if tau < best:
+                        best = tau
+                        partner = j
+        else:
+            tau = pair_contact_time(rx, ry, rz, ux, uy, uz, contact, scale, growth, best)
+            if tau < best:
+                best = tau
+                partner = j
+    if partner < 0:
+        return math.inf, -1
+    return best, partner
+
+
+@inline_kernel
+def list_expiry(p, i, b, geom, dim, reach):
+    """Time (from i's own time) until particle i is ``reach`` away from its anchor.
+
+    Without gravity the distance is measured in full (a quadratic); under
+    gravity each axis is held within reach / sqrt(d), which keeps the
+    distance within reach and leaves one quadratic per axis and direction.
+    """
+    falling = geom[G_GRAVITY, 0] != 0.0 or geom[G_GRAVITY, 1] != 0.0 or geom[G_GRAVITY, 2] != 0.0
+    if not falling:
+        quadratic = 0.0
+        linear = 0.0
+        constant = -reach * reach
+        for k in range(dim):
+            d = p[i, X + k] - b[i, ANCHOR + k]
+            v = p[i, V + k]
+            quadratic += v * v
+            linear += 2.0 * d * v
+            constant += d * d
+        return first_root_from_below(quadratic, linear, constant)
+    side = reach / math.sqrt(dim)
+    best = math.inf
+    for k in range(dim):
+        d = p[i, X + k] - b[i, ANCHOR + k]
+        v = p[i, V + k]
+        g = 0.5 * geom[G_GRAVITY, k]
+        best = min(best, first_root_from_below(g, v, d - side), first_root_from_below(-g, -v, -d - side))
+    return best
+
+
+@inline_kernel
+def predict_boundary(p, i, b, geom, dim, params):
+    """When particle i (at its own time) must next rebuild its list or hits a wall.
+
+    Returns (time from i's time, target: LIST_TARGET or the wall's target).
+    """
+    growth = params[P_GROWTH]
+    scale = params[P_SCALE0] + growth * p[i, T]
+    best = list_expiry(p, i, b, geom, dim, 0.5 * params[P_SHELL])
+    target = LIST_TARGET
+    r = p[i, R]
+    for k in range(dim):
+        if geom[G_PERIODIC, k] != 0.0:
+            continue
+        x = p[i, X + k]
+        v = p[i, V + k]
+        g = 0.5 * geom[G_GRAVITY, k]
+        tau = first_root_from_below(g, v + r * growth, x + r * scale - geom[G_BOX, k])
+        if tau < best:
+            best, target = tau, wall_target(2 * k + 1)
+        tau = first_root_from_below(-g, -v + r * growth, r * scale - x)
+        if tau < best:
+            best, target = tau, wall_target(2 * k)
+    return best, target
+
+
+@inline_kernel
+def predict(p, i, b, neighbours, neighbour_count, geom, dim, params, event):
+    """Predict particle i's next event (i at its own time): its boundary event, then the collisions before it.
+
+    Records the event's target in ``b`` and returns its absolute time.
+    """
+    boundary, target = predict_boundary(p, i, b, geom, dim, params)
+    pair, partner = predict_pairs(p, i, neighbours, neighbour_count, geom, params[P_SCALE0], params[P_GROWTH],
+                                  boundary)
+    b[i, PREDICTED_AT] = event
+    if partner >= 0:
+        b[i, TARGET] = partner
+        return p[i, T] + pair
+    b[i, TARGET] = target
+    return p[i, T] + boundary

@@ -1,0 +1,240 @@
+"""The swarm step: every particle (and its ionization children) from one time to the next.
+
+The null-collision method with an exact, speed-dependent trial frequency,
+piecewise constant in time (see :mod:`collisionkit._kernels.transport`).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ..._jit import kernel
+from .collisions import ionized, two_body
+from .cross_sections import node_index, trial_frequencies
+from .flight import flight_envelope, flown_position, flown_velocity, window_growth_speed, window_top_speed
+from .layout import ATTACHMENT, BOUND_COLUMN_OFFSET, ELASTIC, EXCITATION, NULL_COLUMN_OFFSET, TIME_COLUMN_OFFSET
+from .rng import next_u64, normal_pair, seed_state, uniform
+
+# a flight window lasts WINDOW_COLLISIONS / (trial frequency of the previous window): longer windows mean
+# fewer window updates but a looser bound (more null trials); 1.3 is the fastest on Reid's ramp at 1-12 Td
+WINDOW_COLLISIONS = 1.3
+# ... and at most the time in which |a| t reaches WINDOW_GROWTH times the speed (or 16 speed bins): in a strong
+# field, a long window would reach speeds where the bound is far above the rate along most of the window
+WINDOW_GROWTH = 0.5
+
+
+@kernel
+def advance_swarm(lo, hi, pos, vel, states, alive, t_start, t_end, field, mass, density, gas, kind, species_of,
+                  threshold, const_rate, angular, screening, sharing, nodes, sigma, accelerator, accelerator_step,
+                  bound, bound_step, sigma_max, const_max, tallies, child_pos, child_vel, child_state, child_alive,
+                  child_count, check=False, window=WINDOW_COLLISIONS, growth=WINDOW_GROWTH):
+    """Advance particles lo..hi-1 (and their descendants) from t_start to t_end.
+
+    ``tallies[i]`` receives the collisions per process, the null collisions,
+    the particle time of particle i and its children and (with ``check``)
+    the trials at which the true collision rate exceeded the trial bound
+    (never, if the method is exact); children are stored in ``child_*[i]``
+    (``child_count[i]`` of them, more than the slots means overflow and the
+    step must be repeated with more slots).
+
+    A flight runs from one real collision to the next. Trial collisions
+    along it form a Poisson process whose rate is piecewise constant over
+    windows of the flight (each ``window`` / its previous rate long): in a
+    window, the table bound at the largest speed the particle can reach in
+    it (:mod:`.flight`). An exponential optical depth is drawn
+    per trial and used up window after window (the integrated hazard of a
+    piecewise-constant rate: exact). A null trial leaves the flight as it
+    is: particles move only at real collisions and at ``t_end``.
+
+    The particle loop is written out in this one function: a numba call
+    that is not inlined costs two atomic reference-count operations per
+    array argument.
+    """
+    n_species = gas.shape[0]
+    n_proc = kind.shape[0]
+    null_column = n_proc + NULL_COLUMN_OFFSET
+    time_column = n_proc + TIME_COLUMN_OFFSET
+    bound_column = n_proc + BOUND_COLUMN_OFFSET
+    accel_mag = math.sqrt(field[0] ** 2 + field[1] ** 2 + field[2] ** 2)
+    ax, ay, az = field[0], field[1], field[2]
+    exact = field[12] == 0.0
+    bx, by, bz, ux, uy, uz = field[3], field[4], field[5], field[9], field[10], field[11]
+    a_par_field = field[6] * bx + field[7] * by + field[8] * bz
+    inverse_step = (1.0 / bound_step) * (1.0 + 1e-12)
+    inverse_cell = (1.0 / accelerator_step) * (1.0 - 1e-12)
+    fallback = 0.01 * bound.shape[1] * bound_step / accel_mag if accel_mag > 0.0 else math.inf
+    speed_floor = 16.0 * bound_step
+    last_node = nodes.shape[0] - 1
+    slots = child_pos.shape[1]
+    child_time = np.empty(slots)
+    rng = np.empty(4, np.uint64)
+    nu_s = np.empty(n_species)
+    for i in range(lo, hi):
+        if not alive[i]:
+            continue
+        n_children = 0
+        member = -1  # -1: the particle itself, then its children
+        while True:
+            if member < 0:
+                x, y, z = pos[i, 0], pos[i, 1], pos[i, 2]
+                vx, vy, vz = vel[i, 0], vel[i, 1], vel[i, 2]
+                for k in range(4):
+                    rng[k] = states[i, k]
+                t = t_start
+            else:
+                x, y, z = child_pos[i, member, 0], child_pos[i, member, 1], child_pos[i, member, 2]
+                vx, vy, vz = child_vel[i, member, 0], child_vel[i, member, 1], child_vel[i, member, 2]
+                for k in range(4):
+                    rng[k] = child_state[i, member, k]
+                t = child_time[member]
+            t_begin = t
+            survives = True
+            speed0 = math.sqrt(vx * vx + vy * vy + vz * vz)
+            nu_window = trial_frequencies(speed0, density, gas, bound, inverse_step, sigma_max, const_max, nu_s)
+            while True:  # one flight, from the last real collision
+                speed0 = math.sqrt(vx * vx + vy * vy + vz * vz)
+                vb, radius, a_par = 0.0, 0.0, 0.0
+                if not exact:
+                    vb, radius, a_par = flight_envelope(vx, vy, vz, bx, by, bz, ux, uy, uz, a_par_field)
+                horizon = t_end - t
+                elapsed = 0.0  # flight time so far
+                window_end = 0.0
+                s_low = speed0 if exact else window_top_speed(vx, vy, vz, ax, ay, az, 0.0, exact, vb, radius, a_par)
+                tau = -math.log(uniform(rng))
+                landed = False  # reached t_end without a real collision
+                while True:  # windows and trials of this flight
+                    if elapsed >= window_end:  # open the next window
+                        if accel_mag > 0.0:
+                            h = window / nu_window if nu_window > 0.0 else fallback
+                            h = min(h, growth * max(s_low, speed_floor) / accel_mag)
+                            s_high = window_top_speed(vx, vy, vz, ax, ay, az, window_end + h, exact, vb, radius,
+                                                      a_par)
+                            s_window = min(max(s_low, s_high),
+                                           window_growth_speed(speed0, accel_mag, window_end + h, exact, radius))
+                            nu_window = trial_frequencies(s_window, density, gas, bound, inverse_step, sigma_max,
+                                                          const_max, nu_s)
+                            s_low = s_high
+                            window_end += h
+                        else:
+                            nu_window = trial_frequencies(speed0, density, gas, bound, inverse_step, sigma_max,
+                                                          const_max, nu_s)
+                            window_end = math.inf
+                    stop = min(window_end, horizon)
+                    room = nu_window * (stop - elapsed)
+                    if tau >= room:
+                        if stop >= horizon:
+                            landed = True
+                            break
+                        tau -= room
+                        elapsed = window_end
+                        continue
+                    elapsed = min(stop, elapsed + tau / nu_window)
+                    # a trial: the velocity it would have, the target species by its share of the trial frequency
+                    if exact:
+                        tvx, tvy, tvz = vx + ax * elapsed, vy + ay * elapsed, vz + az * elapsed
+                    else:
+                        tvx, tvy, tvz = flown_velocity(vx, vy, vz, elapsed, field)
+                    r = uniform(rng) * nu_window
+                    s = 0
+                    while s < n_species - 1 and r >= nu_s[s]:
+                        r -= nu_s[s]
+                        s += 1
+                    gas_vx = gas_vy = gas_vz = 0.0
+                    if gas[s, 1] > 0.0:
+                        gas_vx, gas_vy = normal_pair(rng)
+                        gas_vz, _ = normal_pair(rng)
+                        gas_vx *= gas[s, 1]
+                        gas_vy *= gas[s, 1]
+                        gas_vz *= gas[s, 1]
+                    gx, gy, gz = tvx - gas_vx, tvy - gas_vy, tvz - gas_vz
+                    g_speed = math.sqrt(gx * gx + gy * gy + gz * gz)
+                    energy = 0.5 * mass * g_speed * g_speed
+                    # linear interpolation in node interval `node` (one division for all processes)
+                    node = node_index(energy, nodes, accelerator, inverse_cell)
+                    if node < 0:
+                        node, w = 0, 0.0
+                    elif node >= last_node:
+                        node, w = last_node - 1, 1.0
+                    else:
+                        w = (energy - nodes[node]) / (nodes[node + 1] - nodes[node])
+                    chosen = -1
+                    cumulative = 0.0
+                    for j in range(n_proc):
+                        if species_of[j] != s:
+                            continue
+                        rate = const_rate[j]
+                        if energy >= threshold[j]:
+                            rate += (sigma[node, j] + w * (sigma[node + 1, j] - sigma[node, j])) * g_speed
+                        cumulative += density * rate
+                        if chosen < 0 and r < cumulative:
+                            chosen = j
+                            if not check:
+                                break
+                    if check and cumulative > nu_s[s]:
+                        tallies[i, bound_column] += 1.0
+                    if chosen >= 0:
+                        break
+                    tallies[i, null_column] += 1.0
+                    tau = -math.log(uniform(rng))
+                if landed:
+                    elapsed = horizon
+                if exact:
+                    half = 0.5 * elapsed * elapsed
+                    x, y, z = x + vx * elapsed + ax * half, y + vy * elapsed + ay * half, z + vz * elapsed + az * half
+                else:
+                    x, y, z = flown_position(x, y, z, vx, vy, vz, elapsed, field)
+                if landed:
+                    if exact:
+                        vx, vy, vz = vx + ax * elapsed, vy + ay * elapsed, vz + az * elapsed
+                    else:
+                        vx, vy, vz = flown_velocity(vx, vy, vz, elapsed, field)
+                    t = t_end
+                    break
+                # a real collision, where the particle now is
+                vx, vy, vz = tvx, tvy, tvz
+                t += elapsed
+                tallies[i, chosen] += 1.0
+                process = kind[chosen]
+                if process == ELASTIC or process == EXCITATION:
+                    loss = threshold[chosen] if process == EXCITATION else 0.0
+                    vx, vy, vz = two_body(vx, vy, vz, gas_vx, gas_vy, gas_vz, gx, gy, gz, g_speed, energy, mass,
+                                          gas[s, 0], loss, angular[chosen], screening[chosen], rng)
+                elif process == ATTACHMENT:
+                    survives = False
+                    break
+                else:
+                    v1x, v1y, v1z, v2x, v2y, v2z = ionized(gas_vx, gas_vy, gas_vz, gx, gy, gz, g_speed, energy,
+                                                           mass, threshold[chosen], sharing, angular[chosen],
+                                                           screening[chosen], rng)
+                    vx, vy, vz = v1x, v1y, v1z
+                    if n_children >= slots:
+                        n_children += 1  # overflow: the caller repeats the step with more slots
+                        break
+                    child_pos[i, n_children, 0] = x
+                    child_pos[i, n_children, 1] = y
+                    child_pos[i, n_children, 2] = z
+                    child_vel[i, n_children, 0] = v2x
+                    child_vel[i, n_children, 1] = v2y
+                    child_vel[i, n_children, 2] = v2z
+                    child_time[n_children] = t
+                    seed_state(next_u64(rng), child_state[i, n_children])
+                    n_children += 1
+            tallies[i, time_column] += t - t_begin
+            if member < 0:
+                pos[i, 0], pos[i, 1], pos[i, 2] = x, y, z
+                vel[i, 0], vel[i, 1], vel[i, 2] = vx, vy, vz
+                for k in range(4):
+                    states[i, k] = rng[k]
+                alive[i] = survives
+            else:
+                child_pos[i, member, 0], child_pos[i, member, 1], child_pos[i, member, 2] = x, y, z
+                child_vel[i, member, 0], child_vel[i, member, 1], child_vel[i, member, 2] = vx, vy, vz
+                for k in range(4):
+                    child_state[i, member, k] = rng[k]
+                child_alive[i, member] = survives
+            member += 1
+            if member >= n_children or n_children > slots:
+                break
+        child_count[i] = n_children

@@ -1,0 +1,23 @@
+"""Codes and column layout shared by the transport kernels and :mod:`collisionkit.transport`."""
+
+from __future__ import annotations
+
+# process kinds
+ELASTIC = 0
+EXCITATION = 1
+IONIZATION = 2
+ATTACHMENT = 3
+
+# angular models
+ISOTROPIC = 0
+SCREENED_COULOMB = 1
+
+# energy sharing in ionization
+SHARE_EQUAL = 0
+SHARE_UNIFORM = 1
+
+# columns of the per-particle tallies: one per process, then these
+NULL_COLUMN_OFFSET = 0  # tallies[i, P]: null collisions
+TIME_COLUMN_OFFSET = 1  # tallies[i, P + 1]: particle time alive in the step
+BOUND_COLUMN_OFFSET = 2  # tallies[i, P + 2]: trials where the true rate exceeded the bound (checked runs)
+EXTRA_COLUMNS = 3

@@ -1,0 +1,50 @@
+"""Per-group sums of the swarm's particles: moments, tallies and the energy histogram."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..._jit import kernel
+
+
+@kernel
+def group_moments(pos, vel, alive, group, n_groups, mass, moments):
+    """Add per-group sums of 1, r, r^2, v, energy, r_k v_k (14 columns) to ``moments``."""
+    for i in range(pos.shape[0]):
+        if not alive[i]:
+            continue
+        row = moments[group[i]]
+        row[0] += 1.0
+        v2 = 0.0
+        for k in range(3):
+            row[1 + k] += pos[i, k]
+            row[4 + k] += pos[i, k] * pos[i, k]
+            row[7 + k] += vel[i, k]
+            row[11 + k] += pos[i, k] * vel[i, k]
+            v2 += vel[i, k] * vel[i, k]
+        row[10] += 0.5 * mass * v2
+
+
+@kernel
+def energy_histogram(vel, alive, mass, edges_step, counts):
+    """Add the particles' kinetic energies (1/2 m v^2, J) to a uniform histogram of bin width ``edges_step`` (J).
+
+    ``counts`` holds the bins and one slot more: energies beyond the last
+    bin are counted there (an overflow count, not a bin of width
+    ``edges_step``).
+    """
+    last = counts.shape[0] - 1
+    for i in range(vel.shape[0]):
+        if alive[i]:
+            e = 0.5 * mass * (vel[i, 0] ** 2 + vel[i, 1] ** 2 + vel[i, 2] ** 2)
+            counts[min(last, int(e / edges_step))] += 1.0
+
+
+@kernel
+def group_sums(values, group, n_groups):
+    """Per-group column sums of a 2D array."""
+    out = np.zeros((n_groups, values.shape[1]))
+    for i in range(values.shape[0]):
+        for k in range(values.shape[1]):
+            out[group[i], k] += values[i, k]
+    return out

@@ -1,0 +1,348 @@
+"""The machinery of a swarm run: the particle store, the parallel stepper, population control and the run loop.
+
+:func:`collisionkit.transport.swarm.simulate_swarm` checks its arguments and
+hands over to :class:`SwarmRun`, which steps the swarm with a
+:class:`Stepper` (the kernel :func:`collisionkit._kernels.transport.advance_swarm`
+in threads), keeps ionizing or attaching swarms at their size, finds the end
+of the transient and measures until the tolerances are met.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from concurrent.futures import ThreadPoolExecutor
+from dataclasses import dataclass
+
+import numpy as np
+from scipy import constants
+
+from .._kernels import transport as _k
+from ._estimators import estimates, mean_and_error
+from ._tables import KernelTables
+from .swarm_result import SwarmResult
+
+EV = constants.e
+STEPS_PER_CHUNK = 25
+MIN_RESULT_SAMPLES = 2  # samples a result needs at the least (slopes)
+GROWTH_LIMIT = 1.5  # population growth per sample that halves the interval during the transient
+MAX_SLOTS = 16  # child slots per particle and step before a step is split
+MOMENT_COLUMNS = 14
+
+
+@dataclass
+class Swarm:
+    """The particles of a swarm: positions, velocities, random streams, alive flags and groups (one row each)."""
+
+    pos: np.ndarray
+    vel: np.ndarray
+    states: np.ndarray
+    alive: np.ndarray
+    group: np.ndarray
+
+    def copy(self):
+        """A deep copy (the stepper keeps one to repeat a step)."""
+        return Swarm(self.pos.copy(), self.vel.copy(), self.states.copy(), self.alive.copy(), self.group.copy())
+
+    @property
+    def size(self):
+        """Number of particles, alive or not."""
+        return self.pos.shape[0]
+
+    def take(self, index):
+        """The particles at ``index`` (an index array), as a new swarm."""
+        return Swarm(self.pos[index], self.vel[index], self.states[index], self.alive[index], self.group[index])
+
+
+def initial_swarm(particles, groups, seed, mass, initial_energy):
+    """``particles`` at the origin dealt into ``groups`` with their own streams, Maxwellian velocities of mean
+    energy ``initial_energy`` (eV)."""
+    sequences = np.random.SeedSequence(seed).spawn(groups)
+    per_group = np.full(groups, particles // groups)
+    per_group[: particles % groups] += 1
+    parts = []
+    for g, (sequence, count) in enumerate(zip(sequences, per_group)):
+        stream_seq, velocity_seq = sequence.spawn(2)
+        states = stream_seq.generate_state(4 * count, np.uint64).reshape(count, 4)
+        sigma = math.sqrt(2.0 * initial_energy * EV / (3.0 * mass))
+        vel = np.random.default_rng(velocity_seq).normal(0.0, sigma, (count, 3))
+        parts.append((np.zeros((count, 3)), vel, states, np.ones(count, bool), np.full(count, g, np.int64)))
+    return Swarm(*(np.ascontiguousarray(np.concatenate(column)) for column in zip(*parts)))
+
+
+class Stepper:
+    """Advances the swarm by one sampling interval, in parallel threads."""
+
+    def __init__(self, tables: KernelTables, field_record, mass, density, sharing, threads, check=False):
+        self.tables = tables
+        self.field = field_record
+        self.mass = mass
+        self.density = density
+        self.sharing = sharing
+        self.threads = threads
+        self.slots = 4 if np.any(tables.kind == _k.IONIZATION) else 0
+        self.check = bool(check)  # count trials whose true rate exceeds the bound
+        self.pool = ThreadPoolExecutor(threads) if threads > 1 else None
+
+    def close(self):
+        """Stop the worker threads."""
+        if self.pool is not None:
+            self.pool.shutdown()
+
+    def _run(self, swarm, t0, t1, buffers):
+        tallies, child_pos, child_vel, child_state, child_alive, child_count = buffers
+        n = swarm.size
+        chunks = max(1, min(n, 8 * self.threads))
+        bounds = np.linspace(0, n, chunks + 1).astype(np.int64)
+
+        def work(c):
+            # window and growth are passed although they have defaults: numba's specialization for
+            # omitted arguments ran about 15 % slower
+            _k.advance_swarm(int(bounds[c]), int(bounds[c + 1]), swarm.pos, swarm.vel, swarm.states, swarm.alive,
+                             t0, t1, self.field, self.mass, self.density, *self.tables.arrays(), self.sharing,
+                             *self.tables.lookup(), tallies, child_pos, child_vel, child_state, child_alive,
+                             child_count, self.check, _k.WINDOW_COLLISIONS, _k.WINDOW_GROWTH)
+
+        if self.pool is None:
+            for c in range(chunks):
+                work(c)
+        else:
+            list(self.pool.map(work, range(chunks)))
+
+    def step(self, swarm: Swarm, t0, t1, groups, control=None):
+        """Advance from t0 to t1; return (swarm with children appended, per-group tallies).
+
+        More children than slots: the step is repeated with twice the slots,
+        up to MAX_SLOTS, then split into two half steps.
+        """
+        while True:
+            n, slots = swarm.size, self.slots
+            buffers = (np.zeros((n, self.tables.kind.size + _k.EXTRA_COLUMNS)), np.zeros((n, slots, 3)),
+                       np.zeros((n, slots, 3)), np.zeros((n, slots, 4), np.uint64), np.zeros((n, slots), bool),
+                       np.zeros(n, np.int64))
+            backup = swarm.copy() if slots else None
+            self._run(swarm, t0, t1, buffers)
+            tallies, child_pos, child_vel, child_state, child_alive, child_count = buffers
+            if np.all(child_count <= slots):
+                break
+            swarm = backup
+            if self.slots < MAX_SLOTS:
+                self.slots *= 2
+                continue
+            middle = 0.5 * (t0 + t1)
+            swarm, first = self.step(swarm, t0, middle, groups, control)
+            if control is not None:
+                swarm = control(swarm)
+            swarm, second = self.step(swarm, middle, t1, groups, control)
+            return swarm, first + second
+        group_tally = _k.group_sums(tallies, swarm.group, groups)
+        if slots and child_count.any():
+            born = (np.arange(slots)[None, :] < child_count[:, None]) & child_alive
+            owner = np.nonzero(born)[0]
+            swarm = Swarm(np.concatenate([swarm.pos, child_pos[born]]), np.concatenate([swarm.vel, child_vel[born]]),
+                          np.concatenate([swarm.states, child_state[born]]),
+                          np.concatenate([swarm.alive, np.ones(owner.size, bool)]),
+                          np.concatenate([swarm.group, swarm.group[owner]]))
+        return swarm, group_tally
+
+
+def control_population(swarm: Swarm, groups, target, rng):
+    """Drop the dead; keep each group between target/2 and 2 target by random thinning or cloning."""
+    if swarm.alive.all():
+        alive_swarm = swarm
+    else:
+        alive_swarm = swarm.take(np.nonzero(swarm.alive)[0])
+    counts = np.bincount(alive_swarm.group, minlength=groups)
+    if np.all((counts >= target / 2) & (counts <= 2 * target)) or counts.min() == 0:
+        return alive_swarm
+    keep = []
+    for g in range(groups):
+        members = np.nonzero(alive_swarm.group == g)[0]
+        if members.size > 2 * target or members.size < target / 2:
+            members = np.sort(rng.choice(members, size=target, replace=members.size < target))
+        keep.append(members)
+    index = np.concatenate(keep)
+    result = alive_swarm.take(index)
+    repeated = np.zeros(index.size, bool)
+    repeated[1:] = index[1:] == index[:-1]
+    for row in np.nonzero(repeated)[0]:  # clones get fresh streams
+        result.states[row] = np.random.SeedSequence(int(rng.integers(2**63))).generate_state(4, np.uint64)
+    return result
+
+
+class SwarmRun:
+    """State of one swarm run: the particles, the clock and the per-step sums."""
+
+    def __init__(self, stepper, swarm, groups, target, rng, tables, density):
+        self.stepper, self.swarm, self.groups, self.target, self.rng = stepper, swarm, groups, target, rng
+        self.tables, self.density = tables, density
+        self.t = 0.0
+        self.dt = 0.0
+        self.times, self.moments, self.tallies = [], [], []
+        self.collisions = 0
+        self.nulls = 0
+        self.bound_violations = 0
+        self.seconds = 0.0
+        self.conservative = not np.any((tables.kind == _k.IONIZATION) | (tables.kind == _k.ATTACHMENT))
+        self.histogram = None
+        self.histogram_step = 0.0
+        self.steady_found = False
+
+    def step(self):
+        """Advance one sampling interval, control the population and record the group moments and tallies."""
+        start = time.perf_counter()
+        control = None if self.conservative else self._control
+        before = max(1, int(self.swarm.alive.sum()))
+        swarm, group_tally = self.stepper.step(self.swarm, self.t, self.t + self.dt, self.groups, control)
+        self.t += self.dt
+        self.seconds += time.perf_counter() - start
+        if not self.steady_found and int(swarm.alive.sum()) > GROWTH_LIMIT * before:
+            self.dt *= 0.5  # keep the population change per sample moderate (transient only)
+        if not self.conservative:
+            swarm = control_population(swarm, self.groups, self.target, self.rng)
+        if swarm.size == 0 or not swarm.alive.any():
+            raise RuntimeError("every particle was attached: no swarm left (lower attachment or raise E/N)")
+        self.swarm = swarm
+        moments = np.zeros((self.groups, MOMENT_COLUMNS))
+        _k.group_moments(swarm.pos, swarm.vel, swarm.alive, swarm.group, self.groups, self.stepper.mass, moments)
+        self.times.append(self.t)
+        self.moments.append(moments)
+        self.tallies.append(group_tally)
+        n_proc = self.tables.kind.size
+        real = int(group_tally[:, :n_proc].sum())
+        self.collisions += real
+        self.nulls += int(group_tally[:, n_proc + _k.NULL_COLUMN_OFFSET].sum())
+        self.bound_violations += int(group_tally[:, n_proc + _k.BOUND_COLUMN_OFFSET].sum())
+        if self.histogram is not None:
+            # the kernel bins 1/2 m v^2 in joules: give it the bin width in joules (histogram_step is in eV)
+            _k.energy_histogram(swarm.vel, swarm.alive, self.stepper.mass, self.histogram_step * EV, self.histogram)
+
+    def _control(self, swarm):
+        return control_population(swarm, self.groups, self.target, self.rng)
+
+    def calibrate(self, collisions_per_sample):
+        """Pick the sampling interval from the measured collision frequency; the probe step is then forgotten."""
+        speed = np.sqrt((self.swarm.vel**2).sum(axis=1)).mean()
+        bound = self.tables.bound
+        k = min(int(speed / self.tables.bound_step), bound.shape[1] - 1)
+        self.dt = collisions_per_sample / max(self.density * bound[:, k].sum(), 1e-300)
+        self.step()
+        tally = self.tallies[-1]
+        n_proc = self.tables.kind.size
+        particle_time = max(tally[:, n_proc + _k.TIME_COLUMN_OFFSET].sum(), 1e-300)
+        frequency = tally[:, :n_proc].sum() / particle_time
+        ionizing = tally[:, :n_proc][:, self.tables.kind == _k.IONIZATION].sum() / particle_time
+        if frequency > 0:
+            self.dt = collisions_per_sample / frequency
+        if ionizing > 0:
+            self.dt = min(self.dt, 0.1 / ionizing)
+        self.times, self.moments, self.tallies = [], [], []
+        # the probe is the first step, which compiles the kernel on a cold numba cache (seconds): counting it
+        # would make collisions_per_second measure the compiler
+        self.seconds = 0.0
+        self.collisions = self.nulls = 0
+
+    def _chunk_energy(self, chunk):
+        m = np.array(self.moments[-STEPS_PER_CHUNK * chunk:][:STEPS_PER_CHUNK] if chunk == 1 else
+                     self.moments[-STEPS_PER_CHUNK * chunk:-STEPS_PER_CHUNK * (chunk - 1)])
+        per_group = (m[..., 10] / m[..., 0]).mean(axis=0) / EV
+        return mean_and_error(per_group)
+
+    def _steady(self):
+        if len(self.moments) < 3 * STEPS_PER_CHUNK:
+            return False
+        (last, last_err), (first, first_err) = self._chunk_energy(1), self._chunk_energy(3)
+        change = abs(last - first)
+        return change < max(3.0 * math.hypot(last_err, first_err), 1e-3 * abs(last))
+
+    def until_converged(self, tolerances, budget, max_seconds, min_samples, energy_bins, progress, setup):
+        """Run the transient, then measure until the tolerances are met or the budget is spent.
+
+        The budget (collisions or seconds) is checked after every sample, so it
+        is overshot by at most one sample, or by the two samples a result needs
+        at the least when the transient used it up.
+        """
+        def spent():
+            return self.collisions >= budget or self.seconds >= max_seconds
+
+        while not self._steady() and not spent():
+            for _ in range(STEPS_PER_CHUNK):
+                self.step()
+                if spent():
+                    break
+            if progress:
+                progress(min(1.0, self.collisions / budget))
+        self.steady_found = True
+        start = len(self.times)
+        energies = self._current_energies()
+        self.histogram_step = 4.0 * energies.mean() / energy_bins
+        self.histogram = np.zeros(energy_bins + 1)  # the last slot counts energies beyond the last bin
+        while True:
+            for _ in range(STEPS_PER_CHUNK):
+                self.step()
+                if spent() and len(self.times) - start >= MIN_RESULT_SAMPLES:
+                    break
+            samples = len(self.times) - start
+            if samples >= min_samples or spent():
+                result = self._result(start, setup, False)
+                converged = samples >= min_samples and all(
+                    result.relative_error(name) < tol for name, tol in tolerances.items())
+                if converged or spent():
+                    result.converged = converged
+                    return result
+            if progress:
+                progress(min(1.0, self.collisions / budget))
+
+    def _current_energies(self):
+        alive = self.swarm.alive
+        return 0.5 * self.stepper.mass * (self.swarm.vel[alive] ** 2).sum(axis=1) / EV
+
+    def _result(self, start, setup, converged):
+        times = np.array(self.times[start:])
+        moments = np.array(self.moments[start:])
+        first = start + 1 if len(self.tallies) > start + 1 else start  # the first sample's tallies are of the interval before the window
+        tallies = np.array(self.tallies[first:])
+        est = estimates(times, moments, tallies, self.tables.kinds, self.density)
+        values = {name: mean_and_error(value) for name, value in est.items()}
+        rates, rate_errors = values.pop("rates")
+        total = max(self.histogram.sum(), 1.0)
+        centres = (np.arange(self.histogram.size - 1) + 0.5) * self.histogram_step
+        density = self.histogram[:-1] / total / self.histogram_step
+        reduced_field, reduced_magnetic_field, gas_temperature, particles = setup
+        return SwarmResult(
+            reduced_field=float(reduced_field),
+            reduced_magnetic_field=float(reduced_magnetic_field),
+            gas_temperature=float(gas_temperature),
+            mean_energy=float(values["mean_energy"][0]),
+            mean_energy_error=float(values["mean_energy"][1]),
+            drift_velocity_flux=values["drift_velocity_flux"][0],
+            drift_velocity_flux_error=values["drift_velocity_flux"][1],
+            drift_velocity_bulk=values["drift_velocity_bulk"][0],
+            drift_velocity_bulk_error=values["drift_velocity_bulk"][1],
+            diffusion_L_N_flux=float(values["diffusion_L_N_flux"][0]),
+            diffusion_L_N_flux_error=float(values["diffusion_L_N_flux"][1]),
+            diffusion_T_N_flux=float(values["diffusion_T_N_flux"][0]),
+            diffusion_T_N_flux_error=float(values["diffusion_T_N_flux"][1]),
+            diffusion_L_N=float(values["diffusion_L_N"][0]),
+            diffusion_L_N_error=float(values["diffusion_L_N"][1]),
+            diffusion_T_N=float(values["diffusion_T_N"][0]),
+            diffusion_T_N_error=float(values["diffusion_T_N"][1]),
+            rate_coefficients=dict(zip(self.tables.labels, rates.tolist())),
+            rate_coefficient_errors=dict(zip(self.tables.labels, rate_errors.tolist())),
+            ionization_frequency_N=float(values["ionization_frequency_N"][0]),
+            ionization_frequency_N_error=float(values["ionization_frequency_N"][1]),
+            attachment_frequency_N=float(values["attachment_frequency_N"][0]),
+            attachment_frequency_N_error=float(values["attachment_frequency_N"][1]),
+            eedf_energy=centres,
+            eedf=density,
+            eedf_above=float(self.histogram[-1] / total),
+            collisions=self.collisions,
+            null_collisions=self.nulls,
+            seconds=self.seconds,
+            simulated_time=self.t,
+            steady_from=float(times[0]),
+            particles=int(particles),
+            groups=self.groups,
+            converged=converged,
+            extras={"bound_violations": self.bound_violations} if self.stepper.check else {},
+        )

@@ -1,0 +1,104 @@
+"""Argument checks of the transport functions: numbers in range, and the settings of a swarm run."""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+
+import numpy as np
+
+from .. import _arrays
+from ._tables import SHARING_CODES
+from .gases import Gas
+
+
+def real_in_range(value, name, low=-math.inf, high=math.inf, *, inclusive=(False, False), length=None):
+    """``value`` as a float (a vector if ``length`` is given) in the range from ``low`` to ``high``.
+
+    Bools and non-numbers raise TypeError; a wrong shape, NaN or a value out of range raise ValueError
+    naming ``name`` and the range. The ends are open by default, so infinities are refused.
+    """
+    array = _arrays.as_float_array(value, name)  # refuses bools
+    shape = () if length is None else (length,)
+    if array.shape != shape:
+        what = "a single number" if length is None else f"a {length}-vector"
+        raise ValueError(f"{name} must be {what}; got shape {array.shape}")
+    _arrays.require_in_range(array, name, low, high, inclusive=inclusive)
+    return float(array) if length is None else array
+
+
+def integer_in_range(value, name, low, high=None):
+    """``value`` as an int in [low, high] (no upper end if ``high`` is None); bools are refused."""
+    allowed = f">= {low}" if high is None else f"in [{low}, {high}]"
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
+        raise TypeError(f"{name} must be an integer {allowed}; got {value!r}")
+    if not (value >= low and (high is None or value <= high)):
+        raise ValueError(f"{name} must be an integer {allowed}; got {value}")
+    return int(value)
+
+
+def validate_swarm_setup(gas, reduced_field, reduced_magnetic_field, gas_temperature, seed, mass, charge,
+                         initial_energy):
+    """Check the arguments shared by :func:`~collisionkit.transport.swarm.simulate_swarm` and
+    :func:`~collisionkit.transport.swarm.trace_trajectories`."""
+    if not isinstance(gas, Gas):
+        raise TypeError("gas must be a Gas (e.g. from collisionkit.transport.gases or read_lxcat); "
+                        f"got {type(gas).__name__}")
+    real_in_range(reduced_field, "reduced_field (Td)", 0.0, inclusive=(True, False))
+    real_in_range(reduced_magnetic_field, "reduced_magnetic_field (Hx)")
+    real_in_range(gas_temperature, "gas_temperature (K)", 0.0, inclusive=(True, False))
+    integer_in_range(seed, "seed", 0)
+    real_in_range(mass, "mass (kg)", 0.0)
+    real_in_range(charge, "charge (C)")
+    real_in_range(initial_energy, "initial_energy (eV)", 0.0)
+
+
+def validated_run_settings(particles, groups, gravity, sharing, tolerances, collision_budget, max_seconds,
+                           collisions_per_sample, min_samples, energy_bins, threads, progress, *, known_tolerances):
+    """Check the run settings of :func:`~collisionkit.transport.swarm.simulate_swarm`; return ``gravity`` as a
+    float 3-vector. ``tolerances`` may name only the keys of ``known_tolerances``."""
+    integer_in_range(groups, "groups", 4, 1024)
+    integer_in_range(particles, f"particles (8 per group, {groups} groups)", 8 * groups)
+    gravity = real_in_range(gravity, "gravity (m/s^2)", length=3)
+    if not (isinstance(sharing, str) and sharing in SHARING_CODES):
+        raise ValueError(f"sharing must be one of {sorted(SHARING_CODES)}; got {sharing!r}")
+    if not isinstance(tolerances, Mapping):
+        raise TypeError(f"tolerances must be a dict of target relative errors; got {type(tolerances).__name__}")
+    unknown = set(tolerances) - set(known_tolerances)
+    if unknown:
+        raise ValueError(f"tolerances keys must be among {sorted(known_tolerances)}; got {sorted(unknown)}")
+    for key, value in tolerances.items():
+        real_in_range(value, f"tolerances[{key!r}]", 0.0)
+    real_in_range(collision_budget, "collision_budget", 0.0)
+    real_in_range(max_seconds, "max_seconds", 0.0, inclusive=(False, True))
+    real_in_range(collisions_per_sample, "collisions_per_sample", 0.0)
+    integer_in_range(min_samples, "min_samples", 1)
+    integer_in_range(energy_bins, "energy_bins", 1)
+    if threads is not None:
+        integer_in_range(threads, "threads", 1)
+    if progress is not None and not callable(progress):
+        raise TypeError(f"progress must be a callable or None; got {type(progress).__name__}")
+    return gravity
+
+
+def reachable_tolerances(tolerances, defaults, reduced_field, charge, gravity, gas_temperature):
+    """The tolerances a swarm can meet; an undriven one (no field on its charge, no gravity) is refused or thermal.
+
+    Nothing heats an undriven swarm: in a gas at 0 K it cools without end (no
+    steady state, so the run would use its whole budget); in a warm gas it
+    thermalises, and its drift is zero by symmetry, so a relative error of
+    the drift can never be reached: the default drift tolerance is dropped,
+    an explicit one refused.
+    """
+    driven = (reduced_field > 0.0 and charge != 0.0) or bool(np.any(np.asarray(gravity) != 0.0))
+    if driven:
+        return dict(tolerances)
+    if gas_temperature == 0.0:
+        raise ValueError("nothing heats this swarm (reduced_field = 0 or charge = 0, and no gravity) and the gas is "
+                         "at 0 K: it cools without end, with no steady state; give reduced_field > 0 or "
+                         "gas_temperature > 0")
+    drift = [name for name in tolerances if name.startswith("drift_velocity")]
+    if drift and not defaults:
+        raise ValueError(f"tolerances[{drift[0]!r}] cannot be met: the drift of a swarm without a field or gravity "
+                         "is zero by symmetry (no relative error); leave it out")
+    return {name: value for name, value in tolerances.items() if name not in drift}
