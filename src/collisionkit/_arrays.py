@@ -137,3 +137,22 @@ def flatten_pairs(scalars: Mapping[str, object], vectors: Mapping[str, object]) 
         name: _flatten(array, array.shape[:-1], leading, (dimension,)) for name, array in vector_arrays.items()
     }
     return FlatPairs(leading, dimension, flat_scalars, flat_vectors)
+
+
+def seed_value(seed):
+    """An integer seed for runs that spawn their own streams: ``seed`` itself, or one drawn from a Generator.
+
+    Runs that deal their work into groups (swarms, slabs, sweeps) seed a
+    :class:`numpy.random.SeedSequence` with an integer; a Generator given as
+    ``seed`` supplies that integer, so ``seed`` takes an int or a Generator
+    everywhere.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> seed_value(7), seed_value(np.random.default_rng(1)) == seed_value(np.random.default_rng(1))
+    (7, True)
+    """
+    if isinstance(seed, np.random.Generator):
+        return int(seed.integers(0, 2**63 - 1))
+    return seed

@@ -14,11 +14,24 @@ which took 11 % of the EDMD event loop (perf, N = 864).
 
 Set the environment variable ``NUMBA_CACHE_DIR`` to choose where compiled
 kernels are cached (``.ci/run`` does).
+
+A cached kernel is reused only while *every* kernel source is unchanged:
+numba stamps a cache with the kernel's own file alone, so a kernel that
+calls (or inlines) a helper of another module of ``_kernels`` would keep its
+old machine code after the helper changed. :func:`kernel_sources_stamp`
+hashes them all, and the cache locators registered here use it.
 """
 
 from __future__ import annotations
 
+import functools
+import hashlib
+from pathlib import Path
+
 import numba
+from numba.core import caching
+
+KERNEL_SOURCES = (Path(__file__).parent / "_kernels", Path(__file__))
 
 JIT_OPTIONS = {
     "cache": True,
@@ -60,3 +73,61 @@ def borrowing_kernel(function):
 def borrowing_inline_kernel(function):
     """Like :func:`inline_kernel`, without reference counting (see :func:`borrowing_kernel`)."""
     return numba.njit(inline="always", **BORROWING_OPTIONS)(function)
+
+
+# ------------------------------------------------------------------ the on-disk cache's stamp
+
+
+@functools.lru_cache(maxsize=1)
+def kernel_sources_stamp() -> str:
+    """SHA-256 of every kernel source (``_kernels/**/*.py`` and this file), by relative path and content.
+
+    Examples
+    --------
+    >>> len(kernel_sources_stamp()), kernel_sources_stamp() == kernel_sources_stamp()
+    (64, True)
+    """
+    digest = hashlib.sha256()
+    folder, this_file = KERNEL_SOURCES
+    for path in [*sorted(folder.rglob("*.py")), this_file]:
+        digest.update(str(path.relative_to(folder.parent)).encode())
+        digest.update(path.read_bytes())
+    return digest.hexdigest()
+
+
+def _is_kernel_source(py_file: str) -> bool:
+    try:
+        return Path(py_file).resolve().is_relative_to(KERNEL_SOURCES[0].resolve())
+    except (OSError, ValueError):
+        return False
+
+
+class _KernelSourcesStamp:
+    """A numba cache locator's stamp for collisionkit's kernels: all kernel sources, not one file."""
+
+    def get_source_stamp(self):
+        return kernel_sources_stamp()
+
+    @classmethod
+    def from_function(cls, py_func, py_file):
+        if not _is_kernel_source(py_file):
+            return None  # not ours: numba's own locators take it
+        return super().from_function(py_func, py_file)
+
+
+class _KernelCacheInUserDirectory(_KernelSourcesStamp, caching.UserProvidedCacheLocator):
+    """Kernels cached in ``NUMBA_CACHE_DIR``, stamped by all kernel sources."""
+
+
+class _KernelCacheInTree(_KernelSourcesStamp, caching.InTreeCacheLocator):
+    """Kernels cached in ``__pycache__`` beside their source, stamped by all kernel sources."""
+
+
+def _register_cache_locators() -> None:
+    locators = caching.CacheImpl._locator_classes  # numba's (documented for extension) list of locators
+    for locator in (_KernelCacheInTree, _KernelCacheInUserDirectory):
+        if locator not in locators:
+            locators.insert(0, locator)
+
+
+_register_cache_locators()

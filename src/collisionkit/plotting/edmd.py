@@ -50,12 +50,12 @@ def plot_equation_of_state(measurements_or_points, dim, ax=None):
     >>> [text.get_text() for text in ax.get_legend().get_texts()]
     ['Hansen-Goos (2016)', 'Carnahan-Starling', 'EDMD']
     """
-    from ..edmd import carnahan_starling, hansen_goos, henderson
+    from ..edmd import MAX_PACKING_FRACTION, carnahan_starling, hansen_goos, henderson
 
     if dim not in (2, 3):
         raise ValueError(f"dim must be 2 or 3; got {dim!r}")
     points = _eos_points(measurements_or_points)
-    top = max(0.5 if dim == 3 else 0.7, 1.05 * float(points[:, 0].max()))
+    top = max(MAX_PACKING_FRACTION[dim], 1.05 * float(points[:, 0].max()))
     eta = np.linspace(1e-3, min(top, 0.74), 300)
     curves = [("Hansen-Goos (2016)", hansen_goos), ("Carnahan-Starling", carnahan_starling)]
     ax = _axes(ax)

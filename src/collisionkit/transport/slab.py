@@ -22,6 +22,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .._arrays import seed_value
 from .._kernels import transport as _k
 from ._validation import integer_in_range, real_in_range
 
@@ -106,8 +107,10 @@ def simulate_slab(thickness, albedo=1.0, *, incidence="normal", model="isotropic
         hydrogen, which never turn back in one collision) for the 3D model; scattering is
         isotropic in the centre-of-mass frame (energy after / before =
         (A^2 + 2 A cos chi + 1)/(A + 1)^2); inf keeps the energy.
-    particles, seed : int
-        Histories (>= 64) and the random seed (>= 0).
+    particles : int
+        Histories (>= 64).
+    seed : int or numpy.random.Generator
+        Random seed (>= 0), or a Generator that draws one.
     angle_bins, energy_bins : int
         Bins of the exit cosine and energy distributions (1 to 10000).
     threads : int
@@ -148,7 +151,7 @@ def simulate_slab(thickness, albedo=1.0, *, incidence="normal", model="isotropic
         raise ValueError("the rod model is one-dimensional and elastic: it takes incidence='normal' and "
                          f"mass_ratio=inf; got incidence={incidence!r}, mass_ratio={mass_ratio}")
     particles = integer_in_range(particles, "particles", BATCHES)
-    seed = integer_in_range(seed, "seed", 0)
+    seed = integer_in_range(seed_value(seed), "seed", 0)
     angle_bins = integer_in_range(angle_bins, "angle_bins", 1, 10_000)
     energy_bins = integer_in_range(energy_bins, "energy_bins", 1, 10_000)
     threads = (os.cpu_count() or 1) if threads is None else integer_in_range(threads, "threads", 1)

@@ -35,6 +35,7 @@ import warnings
 import numpy as np
 from scipy import constants
 
+from .._arrays import seed_value
 from .._kernels import transport as _k
 from ._swarm_run import STEPS_PER_CHUNK, Stepper, SwarmRun, initial_swarm
 from ._tables import SHARING_CODES, build_tables
@@ -148,9 +149,10 @@ def simulate_swarm(
         B/N in Hx; B points along +y.
     gas_temperature : float
         K (>= 0); 0 puts the targets at rest.
-    particles, groups, seed : int
-        Initial particles (>= 8 groups), independent groups (errors; 4 to
-        1024), seed of the streams (>= 0).
+    particles, groups : int
+        Initial particles (>= 8 groups) and independent groups (errors; 4 to 1024).
+    seed : int or numpy.random.Generator
+        Seed of the streams (>= 0), or a Generator that draws one.
     mass, charge : float
         Projectile (kg > 0, C); an electron by default.
     gravity : 3-vector
@@ -213,6 +215,7 @@ def simulate_swarm(
     """
     defaults = tolerances is None
     tolerances = DEFAULT_TOLERANCES if defaults else tolerances
+    seed = seed_value(seed)
     validate_swarm_setup(gas, reduced_field, reduced_magnetic_field, gas_temperature, seed, mass, charge,
                          initial_energy)
     gravity = validated_run_settings(particles, groups, gravity, sharing, tolerances, collision_budget, max_seconds,
@@ -256,6 +259,7 @@ def trace_trajectories(gas: Gas, reduced_field: float, *, particles: int = 5, co
     >>> r.shape
     (50, 2, 3)
     """
+    seed = seed_value(seed)
     validate_swarm_setup(gas, reduced_field, reduced_magnetic_field, 0.0, seed, constants.m_e, -constants.e,
                          initial_energy)
     integer_in_range(particles, "particles", 1)
