@@ -48,7 +48,15 @@ html_static_path = []
 
 autodoc_member_order = "bysource"
 autodoc_typehints = "none"  # the numpydoc docstrings carry the types
-autodoc_default_options = {"members": True, "show-inheritance": True, "ignore-module-all": True}
+autodoc_default_options = {
+    "members": True,
+    "show-inheritance": True,
+    "ignore-module-all": True,
+    # methods from private base classes (HardSphereSystem's, the run parameters') are documented on the class;
+    # those of Python's own bases are not
+    "inherited-members": "object,BaseException,Exception,ValueError,RuntimeError,UserWarning,Warning,dict,tuple,"
+                         "BaseModel,TwoBodyOrbit,RelativeOrbit,ContactMixin",  # public bases: their own pages
+}
 napoleon_google_docstring = False
 napoleon_numpy_docstring = True
 napoleon_use_ivar = True

@@ -248,7 +248,7 @@ class EdmdRun:
         trajectory, frame_every : optional
             Frames from now on (default: the saved ones; the same file is
             continued, cut back to the frames the checkpoint knows).
-        **given
+        \*\*given
             Parameters given again (Python names or flags): each must equal
             the saved one (a resumed run keeps its physics).
 
@@ -260,10 +260,11 @@ class EdmdRun:
 
         Examples
         --------
-    >>> import pathlib, tempfile
-    >>> path = pathlib.Path(tempfile.mkdtemp()) / "run.npz"
-    >>> parameters = EdmdParameters(dim=2, particles=64, initial="square", equilibration=0, collisions=400, blocks=2, seed=1)
-    >>> _ = EdmdRun(parameters, checkpoint=path).save()   # as after set-up
+        >>> import pathlib, tempfile
+        >>> path = pathlib.Path(tempfile.mkdtemp()) / "run.npz"
+        >>> parameters = EdmdParameters(dim=2, particles=64, initial="square", equilibration=0, collisions=400,
+        ...                             blocks=2, seed=1)
+        >>> _ = EdmdRun(parameters, checkpoint=path).save()   # as after set-up
         >>> resumed = EdmdRun.resume(path, dim=2)             # a parameter given again must agree
         >>> resumed.run().measured
         400
