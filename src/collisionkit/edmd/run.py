@@ -248,7 +248,7 @@ class EdmdRun:
         trajectory, frame_every : optional
             Frames from now on (default: the saved ones; the same file is
             continued, cut back to the frames the checkpoint knows).
-        \*\*given
+        \\*\\*given
             Parameters given again (Python names or flags): each must equal
             the saved one (a resumed run keeps its physics).
 

@@ -276,7 +276,7 @@ class SwarmScan:
             Where to write checkpoints from now on (default: ``path``).
         gas : Gas, optional
             The gas, if the scan was made with one built in Python.
-        \*\*given
+        \\*\\*given
             Parameters given again (Python names or flags): each must equal
             the saved one (a resumed scan keeps its physics).
 
