@@ -177,3 +177,34 @@ def test_point_names_need_non_negative_integers():
         sweep.point_name(-1, 0)  # was 'p-001-r00'
     with pytest.raises(TypeError, match="replica must be an integer"):
         sweep.point_name(1, 0.5)
+
+
+def test_a_point_whose_worker_died_resumes_from_its_own_checkpoint(tmp_path, monkeypatch):
+    # a study point that checkpoints could never recover after a killed worker: the rerun refused its file
+    from collisionkit.edmd import HardSphereSystem
+
+    study = {**SMALL_EDMD, "replicas": 1, "fixed": {**SMALL_EDMD["fixed"], "initial": "fcc"},
+             "vary": {"packing-fraction": [0.2]}}
+    reference = serial_run(study, tmp_path / "reference")
+    real, calls = HardSphereSystem.run, []
+
+    class WorkerDied(Exception):
+        pass
+
+    def dies_in_the_second_block(system, *args, **kwargs):
+        calls.append(1)
+        if len(calls) == 3:  # one equilibration chunk, one block, then the worker dies
+            raise WorkerDied
+        return real(system, *args, **kwargs)
+
+    monkeypatch.setattr(HardSphereSystem, "run", dies_in_the_second_block)
+    died = serial_run(study, tmp_path / "study")
+    assert died.failed and (tmp_path / "study" / "points" / "p0000-r00" / "checkpoint.npz").exists()
+    calls.clear()
+    monkeypatch.setattr(HardSphereSystem, "run", lambda system, *a, **k: (calls.append(1), real(system, *a, **k))[1])
+    with ThreadPoolExecutor(1) as pool:
+        resumed = sweep.resume_study(tmp_path / "study" / "checkpoint.npz", executor=pool)
+    assert not resumed.failed and len(calls) == 2  # the two blocks left, not the whole run again
+    assert physics_columns(read_table(tmp_path / "study" / "results.csv")) == \
+        physics_columns(read_table(tmp_path / "reference" / "results.csv"))
+    assert reference.table[0]["compressibility_factor"] == resumed.table[0]["compressibility_factor"]

@@ -75,6 +75,12 @@ def test_ranges_expand_to_tidy_values(spec, expected):
         ({"command": "edmd", "seed": 1, "vary": {"x": [1, 2], "y": [1]}, "zip": [["x", "y"]]}, ValueError, "same number"),
         ({"command": "edmd", "seed": 1, "vary": {"x": [1, 2]}, "zip": [["x", "z"]]}, ValueError, "'z', which is not in vary"),
         ({"command": "edmd", "seed": 1, "vary": {"x": [1]}, "fixed": {"y": float("nan")}}, ValueError, "must be finite"),
+        # 1e10 runs were accepted and grew 2.5 GB a minute before the first point ran
+        ({"command": "edmd", "seed": 1, "vary": {"x": {"start": 0, "stop": 1, "num": 100_000},
+                                                 "y": {"start": 0, "stop": 1, "num": 100_000}}}, ValueError,
+         "= 10000000000 runs; at most 1000000"),
+        ({"command": "edmd", "seed": 1, "replicas": 11, "vary": {"x": {"start": 0, "stop": 1, "num": 100_000}}},
+         ValueError, "100000 points x 11 replicas"),
     ],
 )
 def test_bad_studies_are_rejected_with_a_clear_message(data, error, message):

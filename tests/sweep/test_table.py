@@ -4,6 +4,9 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
+import pytest
+
 from collisionkit import sweep
 from collisionkit.sweep.table import MAX_VECTOR
 
@@ -38,7 +41,49 @@ def test_a_list_of_results_becomes_columns_unless_it_repeats_the_top_level():
 def test_means_across_replicas_and_a_single_replica_s_own_error():
     table = sweep.results_table(STUDY, [_record({"y": 1.0, "y_error": 0.5}, 0), _record({"y": 3.0, "y_error": 0.5}, 1)])
     (both,) = sweep.aggregate(table, "y", ["E-N"])
-    assert both["n"] == 2 and both["mean"] == 2.0 and both["error"] == 1.0  # std(ddof=1) / sqrt(2)
+    # weighted mean 2 +- 0.5/sqrt(2), chi2 = 8 on 1 dof: the error scales by sqrt(8) to 1.0, and they disagree
+    assert both["n"] == 2 and both["mean"] == 2.0 and both["error"] == pytest.approx(1.0, rel=1e-12)
+    assert both["chi2_per_dof"] == pytest.approx(8.0, rel=1e-12) and both["disagree"]
     (one,) = sweep.aggregate(table[:1], "y", ["E-N"])
     assert one["error"] == 0.5
     assert math.isnan(sweep.aggregate(sweep.results_table(STUDY, [_record({"y": 1.0})]), "y", [])[0]["error"])
+    no_errors = sweep.results_table(STUDY, [_record({"y": 1.0}, 0), _record({"y": 3.0}, 1)])
+    assert sweep.aggregate(no_errors, "y", [])[0]["error"] == pytest.approx(1.0, rel=1e-12)  # std(ddof=1)/sqrt(2)
+
+
+def test_the_issue_s_two_replicas_keep_their_own_errors_not_their_chance_agreement():
+    # 2.41624 +- 0.0012 was quoted where each replica's error was ~0.007: 5.7 sigma from theory instead of 1.3
+    table = sweep.results_table(STUDY, [_record({"Z": 2.4150, "Z_error": 0.0070}, 0),
+                                        _record({"Z": 2.4174, "Z_error": 0.0072}, 1)])
+    (point,) = sweep.aggregate(table, "Z", [])
+    assert point["error"] == pytest.approx((1 / 0.0070**2 + 1 / 0.0072**2) ** -0.5, rel=1e-12)
+    assert point["scatter_error"] == pytest.approx(0.0012, rel=1e-9) and not point["disagree"]
+
+
+def test_replica_errors_match_their_scatter_in_repeated_draws():
+    # the combined error is honest: over many simulated points, (mean - truth) / error has unit spread
+    rng = np.random.default_rng(5)
+    pulls = []
+    for _ in range(4000):
+        sigma = rng.uniform(0.5, 2.0, size=3)
+        values = 10.0 + sigma * rng.standard_normal(3)
+        combined = sweep.combine_replicas(values, sigma)
+        pulls.append((combined["mean"] - 10.0) / combined["error"])
+    spread = float(np.std(pulls))
+    assert 0.85 < spread < 1.0  # <= 1: the scale factor only enlarges; 4000 draws: +-0.02 statistical
+
+
+def test_points_csv_has_a_row_per_point_with_every_result_and_its_error(tmp_path):
+    study = sweep.Study("swarm", seed=0, fixed={"model": "reid"}, vary={"E-N": [10.0, 20.0]})
+    records = [_record({"mean_energy": e, "mean_energy_error": 0.01, "drift": [0.0, 0.0, -v]}, r)
+               | {"point": p, "parameters": {"E-N": f}}
+               for p, (f, e, v) in enumerate([(10.0, 1.0, 5.0), (20.0, 2.0, 9.0)]) for r, e in ((0, e), (1, e + 0.02))]
+    table = sweep.results_table(study, records)
+    points = sweep.points_table(study, table)
+    assert [point["E-N"] for point in points] == [10.0, 20.0] and [p["replicas_ok"] for p in points] == [2, 2]
+    assert points[0]["mean_energy"] == pytest.approx(1.01, rel=1e-12)
+    assert points[0]["mean_energy_error"] == pytest.approx(0.01 / math.sqrt(2) * math.sqrt(2.0), rel=1e-9)
+    assert points[1]["drift[2]"] == -9.0 and points[1]["drift[2]_error"] == 0.0
+    files = sweep.write_outputs(study.__class__("swarm", seed=0, fixed={"model": "reid"}, vary={"E-N": [10.0, 20.0]},
+                                                main="mean_energy"), tmp_path, table)
+    assert (tmp_path / "points.csv") in files and (tmp_path / "points.csv").read_text().count("\n") == 3

@@ -43,7 +43,8 @@ Points run on any :class:`concurrent.futures.Executor` or on a
 from .commands import MAIN_RESULTS, SweepCommand, sweep_command, sweep_commands
 from .execute import StudyResults, check_folder, local_client, remote_client, resume_study, run_point, run_study
 from .study import Study, expand, load_study, study_from_dict
-from .table import aggregate, results_table, write_csv, write_outputs, write_parquet
+from .statistics import combine_replicas
+from .table import aggregate, points_table, results_table, write_csv, write_outputs, write_parquet
 from .tasks import PointTask, check_command, point_name, point_seed, point_tasks
 
 __all__ = [
@@ -55,12 +56,14 @@ __all__ = [
     "aggregate",
     "check_command",
     "check_folder",
+    "combine_replicas",
     "expand",
     "load_study",
     "local_client",
     "point_name",
     "point_seed",
     "point_tasks",
+    "points_table",
     "remote_client",
     "results_table",
     "resume_study",

@@ -16,6 +16,7 @@ from typing import Any
 __all__ = ["MAIN_RESULTS", "SweepCommand", "sweep_command", "sweep_commands"]
 
 NOT_SWEPT = ("sweep", "demo", "animate")  # commands of the command line that are not simulations
+POINT_CHECKPOINT = "checkpoint.npz"  # in each point's folder: a point whose worker died resumes from it
 MAIN_RESULTS = {
     "edmd": "compressibility_factor",
     "swarm": "mean_energy",
@@ -104,13 +105,29 @@ def _run_edmd(parameters, folder: Path, outputs: Mapping[str, Any]) -> dict:
     from ..edmd import EdmdRun
 
     trajectory = outputs.get("trajectory")
-    run = EdmdRun(parameters, trajectory=None if trajectory is None else folder / trajectory,
-                  frame_every=outputs.get("frame-every"))
+    trajectory = None if trajectory is None else folder / trajectory
+    checkpoint = folder / POINT_CHECKPOINT
+    run = _resumed(EdmdRun, checkpoint, parameters.resolved(), trajectory=trajectory)
+    if run is None:
+        run = EdmdRun(parameters, checkpoint=checkpoint, trajectory=trajectory, frame_every=outputs.get("frame-every"))
     run.run()
     files = [] if trajectory is None else [run.trajectory]
     if outputs.get("xyz") is not None:
         files.append(run.write_xyz(folder / outputs["xyz"]))
     return run.summary(files)
+
+
+def _resumed(run_class, checkpoint: Path, parameters, **options):
+    """The run saved in the point's own checkpoint (a worker killed mid-point), if it is this point's; else None."""
+    from .._io import CheckpointError
+
+    if not checkpoint.exists():
+        return None
+    try:
+        run = run_class.resume(checkpoint, **options)
+    except (CheckpointError, ValueError):
+        return None  # damaged, or of an older study in this folder: the point starts again
+    return run if run.parameters == parameters else None
 
 
 def _swarm_parameters():
@@ -122,7 +139,8 @@ def _swarm_parameters():
 def _run_swarm(parameters, folder: Path, outputs: Mapping[str, Any]) -> dict:
     from ..transport import SwarmScan
 
-    scan = SwarmScan(parameters)
+    checkpoint = folder / POINT_CHECKPOINT
+    scan = _resumed(SwarmScan, checkpoint, parameters) or SwarmScan(parameters, checkpoint=checkpoint)
     scan.run()
     return scan.summary()
 

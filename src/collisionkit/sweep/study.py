@@ -18,6 +18,7 @@ from .commands import MAIN_RESULTS, sweep_command
 STUDY_KEYS = ("command", "replicas", "seed", "fixed", "vary", "zip", "main")
 RANGE_KEYS = {"start", "stop", "num", "step", "log"}
 MAX_REPLICAS = 100_000
+MAX_RUNS = 1_000_000  # points x replicas of one study: each run has its folder and files
 MAX_RANGE_VALUES = 100_000  # values of one range: more is a typo (a step of 1e-9), and would take minutes to list
 SIGNIFICANT_DIGITS = 12
 
@@ -86,6 +87,7 @@ class Study:
         if both:
             raise ValueError(f"options {both} are both fixed and varied; keep each in one table")
         groups = _check_zip(self.command, self.zip, vary)
+        _check_size(vary, groups, self.replicas)
         main = self.main if self.main is not None else MAIN_RESULTS.get(self.command)
         if main is not None:
             _check_name("main", main)
@@ -259,6 +261,16 @@ def _check_zip(command: str, groups: Any, vary: Mapping[str, tuple]) -> tuple[tu
             raise ValueError(f"the options of a zip group need the same number of values; got {lengths}")
         result.append(names)
     return tuple(result)
+
+
+def _check_size(vary: Mapping[str, tuple], groups: tuple[tuple[str, ...], ...], replicas: int) -> None:
+    """Refuse a study of more runs than :data:`MAX_RUNS` (a typo, e.g. a step of 1e-6, grew 2.5 GB a minute)."""
+    grouped = {name for group in groups for name in group}
+    points = math.prod(len(values) for name, values in vary.items() if name not in grouped)
+    points *= math.prod(len(vary[group[0]]) for group in groups)
+    if points * replicas > MAX_RUNS:
+        raise ValueError(f"the study has {points} points x {replicas} replicas = {points * replicas} runs; at most "
+                         f"{MAX_RUNS} (fewer values, fewer replicas, or several studies)")
 
 
 def study_from_dict(data: Mapping[str, Any]) -> Study:

@@ -12,9 +12,10 @@ from typing import Any
 import numpy as np
 
 from .._io import atomic_write_bytes, write_csv
+from .statistics import combine_rows
 from .study import Study
 
-__all__ = ["aggregate", "results_table", "write_csv", "write_outputs", "write_parquet"]
+__all__ = ["aggregate", "points_table", "results_table", "write_csv", "write_outputs", "write_parquet"]
 
 TABLE_COLUMNS = ("point", "replica", "seed", "spawn_key", "status", "error", "elapsed")
 NOT_RESULTS = ("parameters", "files", "options")  # summary keys that are not results (the row has the options)
@@ -126,45 +127,72 @@ def write_parquet(path, table: list[Mapping[str, Any]]) -> Path | None:
 
 
 def aggregate(table: Iterable[Mapping[str, Any]], key: str, by: Iterable[str]) -> list[dict[str, Any]]:
-    """Mean and standard error across replicas of ``key``, per combination of the ``by`` columns.
+    """The value and error of ``key`` per combination of the ``by`` columns, combining the replicas.
 
-    Only successful rows with a finite value count. The standard error is
-    ``std(ddof=1) / sqrt(n)``; with one replica it is the row's
-    ``<key>_error`` if the summary has one, else NaN.
+    Only successful rows with a finite value count. The replicas are
+    combined by :func:`~collisionkit.sweep.statistics.combine_replicas`: the
+    weighted mean with their own errors (``<key>_error``) and their scatter,
+    or the plain mean and ``std(ddof=1) / sqrt(n)`` without own errors.
 
     Returns
     -------
     list of dict
-        The ``by`` values, ``n``, ``mean`` and ``error``, in first-appearance order.
+        The ``by`` values, ``n``, ``mean``, ``error``, ``scatter_error``,
+        ``chi2_per_dof`` and ``disagree``, in first-appearance order.
 
     Examples
     --------
     >>> rows = [{"x": 1, "y": 2.0, "status": "ok"}, {"x": 1, "y": 4.0, "status": "ok"},
     ...         {"x": 2, "y": 5.0, "status": "failed"}]
-    >>> aggregate(rows, "y", ["x"])
-    [{'x': 1, 'n': 2, 'mean': 3.0, 'error': 1.0}]
+    >>> [(point["x"], point["n"], point["mean"], point["error"]) for point in aggregate(rows, "y", ["x"])]
+    [(1, 2, 3.0, 1.0)]
     """
     by = list(by)
     groups: dict[tuple, list[Mapping[str, Any]]] = {}
     for row in table:
         value = row.get(key)
-        if row.get("status") == "ok" and isinstance(value, (int, float)) and math.isfinite(value):
+        if row.get("status") == "ok" and _is_number(value) and math.isfinite(value):
             groups.setdefault(tuple(row[name] for name in by), []).append(row)
-    return [dict(zip(by, values)) | _mean_and_error(rows, key) for values, rows in groups.items()]
+    return [dict(zip(by, values)) | combine_rows(rows, key) for values, rows in groups.items()]
 
 
-def _mean_and_error(rows: list[Mapping[str, Any]], key: str) -> dict[str, Any]:
-    values = np.array([row[key] for row in rows], dtype=float)
-    if len(values) > 1:
-        error = float(values.std(ddof=1) / math.sqrt(len(values)))
-    else:
-        own = rows[0].get(f"{key}_error")
-        error = float(own) if isinstance(own, (int, float)) else math.nan
-    return {"n": len(values), "mean": float(values.mean()), "error": error}
+def points_table(study: Study, table: list[Mapping[str, Any]]) -> list[dict[str, Any]]:
+    """One row per study point: its varied options, the replicas that succeeded, and every result with its error.
+
+    Each numeric result column ``q`` of the replica table (not the sweep's
+    own columns, not an ``*_error`` column) becomes ``q`` and ``q_error``
+    (:func:`aggregate`); ``disagreeing`` lists the results whose replicas
+    disagree beyond their errors.
+
+    Examples
+    --------
+    >>> study = Study("slab", seed=0, vary={"albedo": [0.5]})
+    >>> rows = [{"albedo": 0.5, "status": "ok", "transmission": t, "transmission_error": 0.01} for t in (0.40, 0.42)]
+    >>> point = points_table(study, rows)[0]
+    >>> point["replicas_ok"], round(point["transmission"], 3), round(point["transmission_error"], 4)
+    (2, 0.41, 0.01)
+    """
+    names = list(study.vary)
+    own = set(TABLE_COLUMNS) | set(names) | {"spawn_key", "cpu_time"}
+    quantities = [column for column in _columns(table) if column not in own and not column.endswith("_error")
+                  and any(_is_number(row.get(column)) for row in table)]
+    points: dict[tuple, dict[str, Any]] = {}
+    for row in table:
+        key = tuple(row[name] for name in names)
+        point = points.setdefault(key, dict(zip(names, key)) | {"replicas_ok": 0, "disagreeing": ""})
+        point["replicas_ok"] += row.get("status") == "ok"
+    for quantity in quantities:
+        for combined in aggregate(table, quantity, names):
+            point = points[tuple(combined[name] for name in names)]
+            point[quantity], point[f"{quantity}_error"] = combined["mean"], combined["error"]
+            if combined["disagree"]:
+                point["disagreeing"] = ";".join(filter(None, [point["disagreeing"], quantity]))
+    return list(points.values())
 
 
 def write_outputs(study: Study, out, table: list[Mapping[str, Any]]) -> list[Path]:
-    """Write ``results.csv``, ``results.parquet`` (with pyarrow) and ``main_result.png`` (with matplotlib).
+    """Write ``results.csv`` (a row per replica), ``points.csv`` (a row per point, :func:`points_table`),
+    ``results.parquet`` (with pyarrow) and ``main_result.png`` (with matplotlib).
 
     The plot needs the study's main key in at least one successful row.
 
@@ -175,10 +203,10 @@ def write_outputs(study: Study, out, table: list[Mapping[str, Any]]) -> list[Pat
     >>> table = [{"vinf": 1.0, "replica": 0, "status": "ok", "deflection": 1.2},
     ...          {"vinf": 2.0, "replica": 0, "status": "ok", "deflection": 0.6}]
     >>> sorted(path.name for path in write_outputs(study, tempfile.mkdtemp(), table))
-    ['main_result.png', 'results.csv', 'results.parquet']
+    ['main_result.png', 'points.csv', 'results.csv', 'results.parquet']
     """
     out = Path(out)
-    files = [write_csv(out / "results.csv", table)]
+    files = [write_csv(out / "results.csv", table), write_csv(out / "points.csv", points_table(study, table))]
     parquet = write_parquet(out / "results.parquet", table)
     if parquet is not None:
         files.append(parquet)
