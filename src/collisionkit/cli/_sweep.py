@@ -95,6 +95,8 @@ def _point_rows(results) -> list[tuple]:
         ok = sum(1 for row in results.table if row["status"] == "ok" and all(row[n] == v for n, v in parameters.items()))
         mean = means.get(key)
         shown = _format(mean["mean"], mean["error"]) if mean else "-"
+        if mean and mean["disagree"]:
+            shown += " (replicas disagree)"
         rows.append((*key, f"{ok}/{study.replicas}", shown))
     return rows
 
@@ -103,7 +105,7 @@ def _report(results, summary: Path | None) -> dict[str, Any]:
     study = results.study
     print_table(
         f"sweep of collisionkit {study.command}: {len(results.records)} runs",
-        (*study.vary, "ok", f"{study.main or '-'} (mean ± s.e.)"),
+        (*study.vary, "ok", f"{study.main or '-'} (replicas combined ± error)"),
         _point_rows(results),
     )
     failures = [{"name": record["name"], "error": record["error"]} for record in results.failed]

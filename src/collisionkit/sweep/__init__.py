@@ -33,7 +33,7 @@ soon as it finishes; the study's checkpoint ``OUT/checkpoint.npz`` lets
 end the study folder gets ``results.csv`` (one row per point and replica;
 nested results as ``a.b``, vectors as ``v[i]``), ``results.parquet`` when
 ``pyarrow`` is installed, and ``main_result.png`` (the main result against
-the first varied option, error bars across replicas) when matplotlib is.
+the first varied option, the replicas combined) when matplotlib is.
 
 Points run on any :class:`concurrent.futures.Executor` or on a
 ``dask.distributed.Client``; by default on an embedded ``LocalCluster``
