@@ -134,3 +134,20 @@ def test_warnings_go_to_stderr_so_stdout_keeps_only_the_results(tmp_path):
     assert result.exit_code == 0, result.output
     assert "warning:" in result.stderr and "warning:" not in result.stdout
     assert "mean energy" in result.stdout
+
+
+def test_messages_are_one_line_at_any_terminal_width(tmp_path):
+    # rich wrapped messages at the terminal's width: a test looking for a sentence passed only with COLUMNS=200
+    import os
+    import subprocess
+    import sys
+
+    missing = tmp_path / ("a-long-folder-name-" * 4) / "missing.npz"
+    for columns in ("40", "80", "200"):
+        result = subprocess.run([sys.executable, "-c", "from collisionkit._command import main; main()", "edmd",
+                                 "--resume", str(missing)],
+                                capture_output=True, text=True, timeout=120,
+                                env=os.environ | {"COLUMNS": columns, "LANG": "C", "LC_ALL": "C"})
+        assert result.returncode == 2, result.stderr
+        lines = [line for line in result.stderr.splitlines() if line.strip()]
+        assert len(lines) == 1 and str(missing) in lines[0], (columns, result.stderr)

@@ -28,8 +28,8 @@ from rich.table import Table
 
 from .._io import atomic_write_json
 
-console = Console()
-error_console = Console(stderr=True)
+console = Console(soft_wrap=True)  # messages and paths never wrap: a script (or a test) reads them whole
+error_console = Console(stderr=True, soft_wrap=True)
 
 BAD_INPUT_EXIT_CODE = 2
 INTERRUPTED_EXIT_CODE = 130  # as a shell reports a command stopped by Ctrl-C (128 + SIGINT)
