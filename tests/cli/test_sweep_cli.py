@@ -125,7 +125,8 @@ def test_scheduler_runs_the_study_records_failures_and_resumes(tmp_path, dask_cl
         again = invoke(study, "--out", out, "--scheduler", address)
     assert again.exit_code == 2 and "already holds a study" in again.output
     with deadline(120):
-        resumed = invoke("--resume", out / "checkpoint.npz", "--scheduler", address, "--summary", summary)
+        # the summary of the first try exists: replacing it takes --overwrite
+        resumed = invoke("--resume", out / "checkpoint.npz", "--scheduler", address, "--summary", summary, "--overwrite")
     assert resumed.exit_code == 1
     assert json.loads(summary.read_text())["skipped"] == 4  # only the failed runs ran again
 

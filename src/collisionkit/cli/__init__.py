@@ -9,21 +9,33 @@ from typing import Annotated, ClassVar
 import typer
 from pydantic import Field
 
-from ._common import Options, console, load_options, print_table, progress_bar, require_plotting, write_summary
+from .._io import atomic_write_json
+
+from ._app import CommandLine, show_version
+from ._common import (
+    Deliveries, Options, OverwriteOption, console, load_options, note, print_table, progress_bar, require_plotting,
+)
+from ._warmup import warm_up
 
 app = typer.Typer(
     name="collisionkit",
-    help="Exact binary-collision physics: two-body collisions and more.",
+    help="Exact binary-collision physics: two-body collisions and more. Exit codes: 0 done, 1 the run failed "
+         "(results that could not be written are saved elsewhere, and the message says where), 2 bad input "
+         "(nothing was run), 130 interrupted.",
     no_args_is_help=True,
     add_completion=False,
     pretty_exceptions_enable=False,
+    cls=CommandLine,
 )
 
 ConfigOption = Annotated[Path | None, typer.Option("--config", help="TOML file with these options (command line wins).")]
 
 
 @app.callback()
-def _root() -> None:
+def _root(
+    version: Annotated[bool, typer.Option("--version", callback=show_version, is_eager=True,
+                                          help="Print the version of collisionkit and exit.")] = False,
+) -> None:
     """collisionkit: exact binary-collision physics."""
 
 
@@ -57,6 +69,7 @@ def demo(
     plots: Annotated[bool | None, typer.Option("--plots/--no-plots", help="Write plots.  \\[default: plots]")] = None,
     summary: SummaryOption = None,
     config: ConfigOption = None,
+    overwrite: OverwriteOption = None,
 ):
     """Run every capability at small size: a summary table, plots and summary.json.\f
 
@@ -69,9 +82,11 @@ def demo(
     >>> result.exit_code
     0
     """
-    options = load_options(DemoOptions, config, dict(out=out, pairs=pairs, seed=seed, plots=plots, summary=summary))
+    options = load_options(DemoOptions, config, dict(out=out, pairs=pairs, seed=seed, plots=plots, summary=summary,
+                                                     overwrite=overwrite))
     from . import _demo
 
+    deliveries = Deliveries("demo")
     plotting = None
     if options.plots:
         require_plotting()
@@ -79,7 +94,11 @@ def demo(
 
         matplotlib.use("Agg")
         from .. import plotting
-    options.out.mkdir(parents=True, exist_ok=True)
+
+        plotting = _demo.DeliveredPlots(plotting, deliveries)
+    note(f"seed {options.seed} (--seed {options.seed} repeats this run)")
+    warm_up(["core", "encounter", "edmd", "swarm", "slab"], always=["edmd"])  # the speeds time no compiling
+    deliveries.write(f"the folder {options.out}", lambda: options.out.mkdir(parents=True, exist_ok=True))
     results = []
     section_list = _demo.sections()
     with progress_bar("demo", total=len(section_list)) as advance:
@@ -88,12 +107,13 @@ def demo(
             advance()
     rows = [(result.name, *row) for result in results for row in result.rows]
     print_table("collisionkit demo", ("capability", "check", "value", "expected"), rows)
-    combined = {"sections": {result.name: result.summary for result in results}}
-    combined["files"] = [str(path) for result in results for path in result.files]
-    write_summary(options.out / "summary.json", combined)
-    write_summary(options.summary, combined)
+    combined = {"sections": {result.name: result.summary for result in results}, "seed": options.seed}
+    combined["files"] = [str(path) for result in results for path in result.files if path in deliveries.files]
+    deliveries.write(f"the summary {options.out / 'summary.json'}",
+                     lambda: atomic_write_json(options.out / "summary.json", combined))
     for path in combined["files"]:
         console.print(f"wrote {path}")
+    deliveries.finish(options.summary, combined)
 
 
 def main(argv: list[str] | None = None) -> None:

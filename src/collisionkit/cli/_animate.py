@@ -9,7 +9,11 @@ from typing import Annotated, ClassVar, Literal
 import typer
 from pydantic import Field
 
-from ._common import Options, console, fail, load_options, progress_bar, require, require_gsd, warn, write_summary
+from ._common import (
+    Deliveries, Options, OverwriteOption, check_input_file, console, fail, load_options, progress_bar, require,
+    require_gsd, run_failed, warn,
+)
+from ._files import rescue_path
 
 ColourName = Literal["speed", "species", "none"]
 ENCOUNTER_KEYS = ("m1", "m2", "rp", "vinf", "sep0")
@@ -17,6 +21,14 @@ ENCOUNTER_DEFAULTS = {"m1": 1.0, "m2": 1.0, "rp": 1.0, "vinf": 0.5, "sep0": 10.0
 
 
 class AnimateOptions(Options):
+    """Options of ``collisionkit animate``: one input (a trajectory, initial conditions or encounter values).
+
+    Examples
+    --------
+    >>> AnimateOptions(m1=2.0, out="flyby.mp4").out.suffix
+    '.mp4'
+    """
+
     trajectory: Path | None = None
     initial_conditions: Path | None = None
     m1: float | None = Field(default=None, gt=0, allow_inf_nan=False)
@@ -75,8 +87,6 @@ def _trajectory_animation(options: AnimateOptions):
     from .. import plotting, trajectory
 
     path = options.trajectory
-    if not path.is_file():
-        raise fail(f"trajectory file not found: {path}")
     try:
         frames = trajectory.read_gsd_frames(path, every=options.every, max_frames=options.frames)
         animation = plotting.animate_frames(frames, colour_by=options.colour)
@@ -166,21 +176,22 @@ def animate(
     dpi: Annotated[int | None, typer.Option(help="Resolution of the frames (20 to 300).  \\[default: 80]")] = None,
     summary: Annotated[Path | None, typer.Option("--summary", help="Write the results as JSON to this file.")] = None,
     config: Annotated[Path | None, typer.Option("--config", help="TOML file with these options (command line wins).")] = None,
+    overwrite: OverwriteOption = None,
 ):
     """Turn an EDMD trajectory (GSD) or a two-body encounter into a GIF or MP4 animation."""
     given = dict(
         trajectory=trajectory, initial_conditions=initial_conditions, m1=m1, m2=m2, rp=rp, vinf=vinf, sep0=sep0,
-        out=out, colour=colour, fps=fps, frames=frames, every=every, dpi=dpi, summary=summary,
+        out=out, colour=colour, fps=fps, frames=frames, every=every, dpi=dpi, summary=summary, overwrite=overwrite,
     )  # fmt: skip
     options = load_options(AnimateOptions, config, given)
     require("matplotlib", "plot", "an animation")
     if options.trajectory is not None:
         require_gsd()
+    check_input_file(options.trajectory, "--trajectory")  # after the extras: a missing package is said first
+    check_input_file(options.initial_conditions, "--initial-conditions")
     import matplotlib
 
     matplotlib.use("Agg")
-    from .. import plotting
-
     file_format = _check_output(options)
     source = _source(options)
     if source == "trajectory":
@@ -188,10 +199,7 @@ def animate(
     else:
         animation = _encounter_animation(options, source)
     total = int(animation._save_count) if getattr(animation, "_save_count", None) else options.frames
-    with progress_bar(f"animate ({file_format})", total=total) as advance:
-        path = plotting.save_animation(
-            animation, options.out, fps=options.fps, dpi=options.dpi, progress=lambda index, count: advance()
-        )
+    path = _save(animation, options, file_format, total)
     result = {
         "source": source,
         "input": str(options.trajectory or options.initial_conditions or ""),
@@ -201,8 +209,34 @@ def animate(
         "fps": options.fps,
         "colour": options.colour,
     }
-    write_summary(options.summary, result)
     console.print(f"wrote {path} ({total} frame{'' if total == 1 else 's'})")
+    deliveries = Deliveries("animate")
+    if path != options.out:
+        deliveries.failures.append(f"the animation {options.out}")
+    deliveries.finish(options.summary, result)
+
+
+def _save(animation, options: AnimateOptions, file_format: str, total: int) -> Path:
+    """Save the animation to ``--out``; if that fails, to a new file of the current (or temporary) folder.
+
+    The summary's ``out`` then names where it went, and the command ends with 1.
+    """
+    from .. import plotting
+
+    def save(path: Path) -> Path:
+        with progress_bar(f"animate ({file_format})", total=total) as advance:
+            return plotting.save_animation(animation, path, fps=options.fps, dpi=options.dpi,
+                                           progress=lambda index, count: advance())
+
+    try:
+        return save(options.out)
+    except OSError as failure:
+        rescued = rescue_path("animate", options.out.suffix)
+        if rescued is None:
+            raise run_failed(f"cannot write {options.out} ({failure.strerror or failure}), nor a file in the "
+                             "current or the temporary folder") from None
+        warn(f"cannot write {options.out} ({failure.strerror or failure}): saving the animation in {rescued}")
+        return save(rescued)
 
 
 def register(app: typer.Typer) -> None:

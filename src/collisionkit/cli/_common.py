@@ -3,6 +3,9 @@
 * options on the command line or in a TOML file (``--config``), with the
   same names (``packing-fraction`` or ``packing_fraction``); the command line
   wins; unknown keys and bad values are reported clearly and exit with 2;
+* every path checked before any work (:mod:`._files`): inputs exist and are
+  files, outputs can be written, no two name the same file, and no existing
+  file is replaced without ``--overwrite``;
 * ``--summary FILE.json`` writes the run's results atomically;
 * a rich progress bar on stderr for anything longer than a second.
 """
@@ -11,28 +14,38 @@ from __future__ import annotations
 
 import difflib
 import importlib.util
-import os
 import tomllib
-from collections.abc import Iterable, Mapping
+from collections.abc import Collection, Iterable, Mapping
 from contextlib import contextmanager
 from pathlib import Path
 import types
-from typing import Any, ClassVar, Union, get_args, get_origin
+from typing import Annotated, Any, ClassVar, Union, get_args, get_origin
 
 import typer
 from pydantic import BaseModel, ConfigDict, ValidationError, model_validator
-from rich.console import Console
-from rich.markup import escape
 from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn, TimeRemainingColumn
 from rich.table import Table
 
-from .._io import atomic_write_json
+from ._files import (
+    Deliveries, check_input_file, check_output_file, check_output_folder, refuse_clashes, refuse_folder,
+    refuse_to_replace,
+)
+from ._messages import (
+    BAD_INPUT_EXIT_CODE, INTERRUPTED_EXIT_CODE, RUN_FAILED_EXIT_CODE, console, error, error_console, fail, note,
+    run_failed, warn,
+)
 
-console = Console(soft_wrap=True)  # messages and paths never wrap: a script (or a test) reads them whole
-error_console = Console(stderr=True, soft_wrap=True)
+__all__ = [
+    "BAD_INPUT_EXIT_CODE", "INTERRUPTED_EXIT_CODE", "RUN_FAILED_EXIT_CODE", "Deliveries", "Options",
+    "check_input_file", "check_paths",
+    "check_output_file", "check_output_folder", "console", "error", "error_console", "fail", "load_options", "note",
+    "option_values", "OverwriteOption", "print_table", "refuse_folder", "progress_bar", "read_toml", "refuse_clashes", "refuse_to_replace", "require",
+    "require_gsd", "require_plotting", "run_failed", "validate_options", "warn", "write_summary",
+]
 
-BAD_INPUT_EXIT_CODE = 2
-INTERRUPTED_EXIT_CODE = 130  # as a shell reports a command stopped by Ctrl-C (128 + SIGINT)
+
+OverwriteOption = Annotated[bool | None, typer.Option(
+    "--overwrite", help="Let the outputs replace existing files; without it the command stops before any work.")]
 
 
 def _dashed(name: str) -> str:
@@ -43,12 +56,24 @@ class Options(BaseModel):
     """Base of every subcommand's options: strict, dashed keys allowed.
 
     ``output_files`` and ``output_folders`` name the options that are paths
-    the command writes; :func:`load_options` checks them before any work.
+    the command writes, ``input_files`` those it reads; :func:`load_options`
+    checks them before any work. ``overwrite`` lets the outputs replace
+    existing files.
+
+    Examples
+    --------
+    >>> class Run(Options):
+    ...     particles: int = 500
+    >>> Run.model_validate({"particles": 100}).overwrite
+    False
     """
 
     model_config = ConfigDict(extra="forbid", alias_generator=_dashed, populate_by_name=True, frozen=True)
     output_files: ClassVar[tuple[str, ...]] = ("summary",)
     output_folders: ClassVar[tuple[str, ...]] = ()
+    input_files: ClassVar[tuple[str, ...]] = ()
+
+    overwrite: bool = False
 
     @model_validator(mode="before")
     @classmethod
@@ -98,26 +123,6 @@ def _list_item(annotation: Any) -> type | None:
     return arguments[0] if get_origin(annotation) is list and arguments and isinstance(arguments[0], type) else None
 
 
-def warn(message: str) -> None:
-    """Print ``message`` as a warning on stderr (the table and files on stdout stay clean), markup escaped.
-
-    Examples
-    --------
-    >>> warn("E/N = 0 Td stopped at the collision budget [5e8]")
-    """
-    error_console.print(f"[bold yellow]warning:[/] {escape(message)}")
-
-
-def fail(message: str) -> typer.Exit:
-    """Print ``message`` as an input error and return the exit to raise (code 2).
-
-    The message is printed as it is: brackets in it (``collisionkit[plot]``,
-    a list the user gave) are not rich markup.
-    """
-    error_console.print(f"[bold red]error:[/] {escape(message)}")
-    return typer.Exit(BAD_INPUT_EXIT_CODE)
-
-
 def require(module: str, extra: str, purpose: str) -> None:
     """Stop with an input error (exit 2) before any work if ``module``, of the optional ``extra``, is missing.
 
@@ -144,15 +149,31 @@ def require_gsd() -> None:
     require("gsd", "io", "a GSD trajectory")
 
 
-def read_toml(path: Path) -> dict[str, Any]:
-    """Read a TOML options file; a missing or malformed file is an input error."""
+def read_toml(path: Path, option: str = "--config") -> dict[str, Any]:
+    """Read a TOML options file; a missing, unreadable or malformed file is an input error (exit 2).
+
+    Examples
+    --------
+    >>> import pathlib, tempfile
+    >>> path = pathlib.Path(tempfile.mkdtemp()) / "run.toml"
+    >>> _ = path.write_text("particles = 108\\n")
+    >>> read_toml(path)
+    {'particles': 108}
+    """
+    path = Path(path)
+    if path.is_dir():
+        raise fail(f"{option} {path} is a folder, not a file")
     try:
         with open(path, "rb") as stream:
             return tomllib.load(stream)
     except FileNotFoundError:
         raise fail(f"config file not found: {path}") from None
-    except tomllib.TOMLDecodeError as error:
-        raise fail(f"config file {path} is not valid TOML: {error}") from None
+    except UnicodeDecodeError as failure:
+        raise fail(f"config file {path} is not UTF-8 text ({failure.reason} at byte {failure.start})") from None
+    except tomllib.TOMLDecodeError as failure:
+        raise fail(f"config file {path} is not valid TOML: {failure}") from None
+    except OSError as failure:
+        raise fail(f"config file {path} cannot be read: {failure.strerror or failure}") from None
 
 
 def _describe(error: Mapping[str, Any], model: type[Options] | None = None) -> str:
@@ -166,7 +187,7 @@ def _describe(error: Mapping[str, Any], model: type[Options] | None = None) -> s
     ...     particles: int = 500
     ...     plots: bool = True
     >>> _describe({"loc": ("particle",), "type": "extra_forbidden", "msg": "", "input": 100}, Run)
-    "unknown option 'particle'; did you mean 'particles'? (options: particles, plots)"
+    "unknown option 'particle'; did you mean 'particles'? (options: overwrite, particles, plots)"
     """
     where = ".".join(str(part) for part in error["loc"])
     if error["type"] == "extra_forbidden":
@@ -212,18 +233,50 @@ def option_values(model: type[Options], config: Path | None, given: Mapping[str,
     return values
 
 
-def validate_options(model: type[Options], values: Mapping[str, Any]):
-    """Validate option values (exit 2 naming each bad one) and check that the outputs can be written."""
+def validate_options(model: type[Options], values: Mapping[str, Any], keep: Collection[Path] = ()):
+    """Validate option values (exit 2 naming each bad one) and check every path before any work.
+
+    Inputs must be files; outputs must be writable, each its own file, and
+    new unless ``--overwrite`` (or resolved in ``keep``: what a resumed run
+    writes on).
+    """
     try:
         options = model.model_validate(dict(values))
-    except ValidationError as error:
-        details = "; ".join(_describe(item, model) for item in error.errors())
+    except ValidationError as failure:
+        details = "; ".join(_describe(item, model) for item in failure.errors())
         raise fail(f"invalid options: {details}") from None
-    for name in model.output_files:
-        check_output_file(getattr(options, name), f"--{_dashed(name)}")
+    check_paths(options, keep)
+    return options
+
+
+def check_paths(options: Options, keep: Collection[Path] = ()) -> None:
+    """Check the paths of validated options: inputs, outputs, clashes, existing files (exit 2 at the first problem).
+
+    Examples
+    --------
+    >>> from typing import ClassVar
+    >>> class Run(Options):
+    ...     summary: Path | None = None
+    ...     checkpoint: Path | None = None
+    ...     output_files: ClassVar = ("summary", "checkpoint")
+    >>> try:
+    ...     check_paths(Run(summary="run.npz", checkpoint="run.npz"))
+    ... except Exception as stop:
+    ...     print(type(stop).__name__, stop.exit_code)
+    Exit 2
+    """
+    model = type(options)
+    for name in model.input_files:
+        check_input_file(getattr(options, name), f"--{_dashed(name)}")
+    outputs = {f"--{_dashed(name)}": getattr(options, name) for name in model.output_files}
+    for option, path in outputs.items():
+        check_output_file(path, option)
     for name in model.output_folders:
         check_output_folder(getattr(options, name), f"--{_dashed(name)}")
-    return options
+    refuse_clashes(outputs | {f"--{_dashed(name)}": getattr(options, name) for name in model.output_folders})
+    keep = {Path(path).resolve() for path in keep}
+    for option, path in outputs.items():
+        refuse_to_replace(path, option, options.overwrite, keep)
 
 
 def _field_name(model: type[Options], key: str) -> str:
@@ -232,87 +285,14 @@ def _field_name(model: type[Options], key: str) -> str:
     return name.lower() if name not in model.model_fields and name.lower() in model.model_fields else name
 
 
-def _unwritable(folder: Path) -> str | None:
-    """Why files cannot be written in ``folder`` (the writers make its missing part), or None if they can."""
-    while not folder.exists() and folder != folder.parent:
-        folder = folder.parent
-    if not folder.is_dir():
-        return f"{folder} is a file, not a folder"
-    return None if os.access(folder, os.W_OK | os.X_OK) else f"{folder} is read-only"
-
-
-def check_output_file(path: Path | None, option: str) -> None:
-    """Stop with an input error (exit 2) before any work if ``path`` cannot be written as a file.
+def write_summary(path: Path | None, summary: Mapping[str, Any], command: str) -> None:
+    """Write the run's summary as JSON (atomically) if a path was given; if that fails, rescue it and exit 1.
 
     Examples
     --------
-    >>> import tempfile
-    >>> check_output_file(None, "--summary")  # not asked for: nothing to check
-    >>> try:
-    ...     check_output_file(Path(tempfile.mkdtemp()), "--summary")  # a folder
-    ... except Exception as stop:
-    ...     print(type(stop).__name__, stop.exit_code)
-    Exit 2
+    >>> write_summary(None, {"transmission": 0.5}, "slab")  # no --summary: nothing to write
     """
-    if path is None:
-        return
-    path = Path(path)
-    if path.is_dir():
-        raise fail(f"{option} {path} is a folder: give a file name")
-    reason = _unwritable(path.parent)
-    if reason is not None:
-        raise fail(f"{option} {path} cannot be written: {reason}")
-
-
-def check_output_folder(path: Path | None, option: str) -> None:
-    """Stop with an input error (exit 2) before any work if ``path`` cannot be used as an output folder.
-
-    Examples
-    --------
-    >>> import tempfile
-    >>> file = Path(tempfile.mkdtemp()) / "taken"
-    >>> _ = file.write_text("x")
-    >>> try:
-    ...     check_output_folder(file, "--out")  # a file is in the way
-    ... except Exception as stop:
-    ...     print(type(stop).__name__, stop.exit_code)
-    Exit 2
-    """
-    if path is None:
-        return
-    path = Path(path)
-    if path.exists() and not path.is_dir():
-        raise fail(f"{option} {path} is a file, not a folder")
-    reason = _unwritable(path)
-    if reason is not None:
-        raise fail(f"{option} {path} cannot be written: {reason}")
-
-
-def refuse_to_overwrite_checkpoint(path: Path | None) -> None:
-    """Stop (exit 2) before a new run would overwrite an existing checkpoint: the work in it would be lost.
-
-    Examples
-    --------
-    >>> refuse_to_overwrite_checkpoint(None)  # no checkpoint asked for
-    >>> import tempfile
-    >>> existing = Path(tempfile.mkdtemp()) / "run.npz"
-    >>> _ = existing.write_bytes(b"saved work")
-    >>> try:
-    ...     refuse_to_overwrite_checkpoint(existing)
-    ... except Exception as stop:
-    ...     print(type(stop).__name__, stop.exit_code)
-    Exit 2
-    """
-    if path is not None and Path(path).exists():
-        raise fail(f"{path} exists: continue the run it holds with --resume {path}, or remove it (or name another "
-                   "--checkpoint) to start a new run")
-
-
-def write_summary(path: Path | None, summary: Mapping[str, Any]) -> None:
-    """Write the run's summary as JSON (atomically) if a path was given."""
-    if path is not None:
-        atomic_write_json(path, dict(summary))
-        console.print(f"summary written to [bold]{path}[/]")
+    Deliveries(command).finish(path, summary)
 
 
 @contextmanager

@@ -2,8 +2,9 @@
 
 The run itself is :class:`collisionkit.edmd.EdmdRun` (set-up, equilibration
 chunks, measurement blocks, checkpoint and bit-for-bit resume, trajectory
-frames); this command parses the options, runs it with a progress bar,
-prints the table, draws the plots and writes the summary.
+frames); this command checks the options, the files and the memory before
+any work, runs it with a progress bar, and prints the table, draws the
+plots and writes the summary (:mod:`._edmd_report`).
 """
 
 from __future__ import annotations
@@ -15,18 +16,27 @@ import typer
 from pydantic import Field, model_validator
 
 from ._common import (
-    INTERRUPTED_EXIT_CODE, Options, console, fail, load_options, option_values, print_table, progress_bar,
-    refuse_to_overwrite_checkpoint, require_gsd, require_plotting, validate_options, warn, write_summary,
+    INTERRUPTED_EXIT_CODE, Options, OverwriteOption, fail, load_options, note, option_values, progress_bar, refuse_folder,
+    require_gsd, require_plotting, run_failed, validate_options, warn,
 )
+from ._edmd_report import report
+from ._memory import edmd_memory, refuse_beyond_memory, size
+from ._warmup import warm_up
 
 InitialName = Literal["random", "fcc", "sc", "square", "hexagonal"]
 
-OUTPUT_OPTIONS = ("summary", "trajectory", "frame_every", "xyz", "out", "plots", "checkpoint")
+OUTPUT_OPTIONS = ("summary", "trajectory", "frame_every", "xyz", "out", "plots", "checkpoint", "overwrite")
 OUTPUT_SUFFIXES = {"trajectory": (".gsd",), "xyz": (".xyz", ".extxyz")}  # the formats --trajectory and --xyz write
 
 
 class EdmdOptions(Options):
-    """Options of ``collisionkit edmd``; None for equilibration, collisions and seed means "per particle" / random."""
+    """Options of ``collisionkit edmd``; None for equilibration, collisions and seed means "per particle" / random.
+
+    Examples
+    --------
+    >>> EdmdOptions.model_validate({"particles": 108, "initial": "fcc"}).parameters().particles
+    108
+    """
 
     dim: Literal[2, 3] = 3
     particles: int = Field(default=500, ge=2, le=100_000_000)
@@ -62,7 +72,13 @@ class EdmdOptions(Options):
         return self
 
     def parameters(self):
-        """The run's physics as :class:`collisionkit.edmd.EdmdParameters`."""
+        """The run's physics as :class:`collisionkit.edmd.EdmdParameters`.
+
+        Examples
+        --------
+        >>> EdmdOptions(dim=2, particles=64, initial="square").parameters().initial
+        'square'
+        """
         from ..edmd import EdmdParameters
 
         return EdmdParameters(**{name: getattr(self, name) for name in EdmdParameters.names()})
@@ -79,45 +95,60 @@ def _percent_reporter(advance, total: float):
     return report
 
 
+def _refuse_beyond_memory(parameters) -> None:
+    """Stop before any work if the run would not fit in the machine's available memory."""
+    needed = edmd_memory(parameters)
+    hint = ""
+    if parameters.initial == "random":
+        lattice = edmd_memory(parameters, lattice=True)
+        hint = (f"; the random start's compression needs the most (a lattice start, --initial fcc or hexagonal, "
+                f"needs about {size(lattice)})")
+    refuse_beyond_memory(needed, f"--particles {parameters.particles}", hint + ": use fewer particles")
+
+
 def _new_run(options: EdmdOptions):
     from ..edmd import EdmdRun, OverlapError
 
-    refuse_to_overwrite_checkpoint(options.checkpoint)
     _require_outputs(options)
     try:
         parameters = options.parameters().resolved()
     except ValueError as error:
         raise fail(str(error)) from None
+    _refuse_beyond_memory(parameters)
+    _say_seed(parameters.seed, drawn=options.seed is None)
+    warm_up(["edmd"], always=["edmd"])
     try:
         with progress_bar("setting up", total=100) as advance:
             return EdmdRun(parameters, checkpoint=options.checkpoint, trajectory=options.trajectory,
-                           frame_every=options.frame_every, progress=_percent_reporter(advance, 100),
-                           outputs=_saved_outputs(options))
+                           frame_every=options.frame_every, progress=_percent_reporter(advance, 100))
     except (ValueError, OverlapError) as error:
         raise fail(f"cannot set up the initial state: {error}") from None
 
 
 def _resumed_run(resume: Path, given: dict):
-    """The run saved in ``resume``; physics options given now must agree with it, outputs may change."""
+    """The run saved in ``resume``; physics options given now must agree with it, outputs are only those given now.
+
+    Output paths stored in the checkpoint are never used: a resumed run writes
+    what this command line names, continuing its own trajectory only if it
+    is named again.
+    """
     from ..edmd import EdmdRun
 
+    refuse_folder(resume, "--resume")
     physics = {key: value for key, value in given.items() if key not in OUTPUT_OPTIONS}
     try:
         run = EdmdRun.resume(resume, checkpoint=given.get("checkpoint", resume), trajectory=given.get("trajectory"),
                              frame_every=given.get("frame_every"), **physics)
     except ValueError as error:
         raise fail(str(error)) from None
-    outputs = run.outputs | {key: value for key, value in given.items() if key in OUTPUT_OPTIONS}
+    outputs = {key: value for key, value in given.items() if key in OUTPUT_OPTIONS}
     outputs |= {"checkpoint": run.checkpoint, "trajectory": run.trajectory, "frame_every": run.frame_every}
-    options = validate_options(EdmdOptions, run.parameters.to_dict() | outputs)
+    keep = [resume] + ([run.trajectory] if run.continues_trajectory else [])
+    options = validate_options(EdmdOptions, run.parameters.to_dict() | outputs, keep=keep)
     _require_outputs(options)
+    _say_seed(run.parameters.seed, drawn=False)
+    warm_up(["edmd"], always=["edmd"])
     return run, options
-
-
-def _saved_outputs(options: EdmdOptions) -> dict:
-    """The output options a resumed run writes again unless told otherwise (paths resolved)."""
-    return {key: str(Path(value).resolve()) if isinstance(value, Path) else value
-            for key in ("summary", "xyz", "out", "plots") if (value := getattr(options, key)) is not None}
 
 
 def _require_outputs(options: EdmdOptions) -> None:
@@ -128,76 +159,48 @@ def _require_outputs(options: EdmdOptions) -> None:
         require_gsd()
 
 
-# ------------------------------------------------------------------ results
+def _say_seed(seed: int, drawn: bool) -> None:
+    how = "drawn at random; " if drawn else ""
+    note(f"seed {seed} ({how}--seed {seed} repeats this run)")
 
 
-def _theory_column(result: dict) -> tuple[str, str, str, str]:
-    """Reference values for Z, omega, kT and the energy lost: theory if elastic, trends if not."""
-    if not result["elastic"]:
-        return "no equilibrium (inelastic)", "", "cools (Haff)", "> 0"
-    z = f"{result['compressibility_factor_theory']:.5g} ({result['theory']})"
-    omega = f"{result['collision_frequency_from_pressure']:.5g} (Enskog, from Z)"
-    return z, omega, "1 (elastic)", "0 (elastic)"
+def frame_intervals(parameters, every: int) -> tuple[dict[str, int], str | None]:
+    """The mean frame interval of each phase and, unless the frames fall exactly every ``every``, a note saying so.
 
+    Frames are written at the ends of equilibration chunks and measurement
+    blocks (:class:`~collisionkit.edmd.EdmdRun`): at the first end after
+    each multiple of ``every``. They are exactly ``every`` apart when every
+    multiple of it is such an end; otherwise a phase's frames come about
+    every ``max(every, its chunk or block)`` pair collisions.
 
-def _rows(result: dict) -> list[tuple[str, str, str]]:
-    def pm(key):
-        return f"{result[key]:.5g} ± {result[key + '_error']:.2g}"
+    Examples
+    --------
+    >>> from collisionkit.edmd import EdmdParameters
+    >>> parameters = EdmdParameters(particles=500, equilibration=20_000, collisions=40_000).resolved(seed=1)
+    >>> intervals, note = frame_intervals(parameters, 1000)
+    >>> intervals
+    {'equilibration': 10000, 'measurement': 4000}
+    >>> note.split(":")[0]
+    'frames are written only at the ends of equilibration chunks (10000 pair collisions) and measurement blocks (4000)'
+    >>> frame_intervals(parameters, 20_000)
+    ({'equilibration': 20000, 'measurement': 20000}, None)
+    """
+    from ..edmd.run import MIN_CHUNK
 
-    z, omega, kT, lost = _theory_column(result)
-    return [
-        ("compressibility factor Z = PV/NkT", pm("compressibility_factor"), z),
-        ("collision frequency per particle", pm("collision_frequency"), omega),
-        ("temperature kT (final)", f"{result['temperature']:.6g}", kT),
-        ("mean free path", pm("mean_free_path"), ""),
-        ("diffusion coefficient", pm("diffusion_coefficient"), "from the MSD"),
-        ("g(r) at contact", pm("contact_value"), ""),
-        ("energy lost (measurement / total)", f"{result['energy_lost']:.5g} / {result['energy_lost_total']:.5g}", lost),
-        ("pair collisions (measured)", str(result["collisions"]), f"after {result['equilibration_collisions']} equilibration"),
-        ("collisions per second", f"{result['collisions_per_second']:.4g}", "wall clock, measurement"),
-    ]
-
-
-def _plots(run, measurement, out: Path) -> list[Path]:
-    import matplotlib
-
-    matplotlib.use("Agg")
-    from .. import plotting
-
-    system = run.system
-    out.mkdir(parents=True, exist_ok=True)
-    files = []
-    if run.parameters.restitution == 1.0:
-        m = measurement
-        point = [(m.packing_fraction, m.compressibility_factor, m.compressibility_factor_error)]
-        files.append(plotting.save(plotting.plot_equation_of_state(point, system.dim), out / "equation_of_state.png"))
-    speeds = plotting.plot_speed_distribution(measurement.speeds, measurement.temperature, system.dim)
-    files.append(plotting.save(speeds, out / "speed_distribution.png"))
-    snapshot = plotting.plot_snapshot(system.positions(), system.radius, system.box[: system.dim])
-    files.append(plotting.save(snapshot, out / "snapshot.png"))
-    rdf = plotting.plot_radial_distribution(measurement.rdf_r, measurement.rdf)
-    files.append(plotting.save(rdf, out / "radial_distribution.png"))
-    return files
-
-
-def _report(run, options: EdmdOptions) -> None:
-    measurement = run.measurement()
-    files = [run.write_xyz(options.xyz)] if options.xyz is not None else []
-    if options.trajectory is not None:
-        files.append(options.trajectory)
-    if options.plots:
-        files.extend(_plots(run, measurement, options.out))
-    result = run.summary(files)
-    p = run.parameters
-    kind = "spheres" if p.dim == 3 else "discs"
-    title = f"EDMD: {p.particles} hard {kind}, eta = {p.packing_fraction:g}, e = {p.restitution:g}, seed {p.seed}"
-    print_table(title, ("quantity", "measured", "theory"), _rows(result))
-    note = run.cooling_note()
-    if note is not None:
-        warn(note)
-    write_summary(options.summary, result)
-    for path in files:
-        console.print(f"wrote {path}")
+    block, start = parameters.collisions // parameters.blocks, parameters.equilibration
+    phases = {"measurement": (block, start)}  # (chunk or block length, first collision of the phase)
+    if start > 0:
+        phases = {"equilibration": (min(max(parameters.particles, MIN_CHUNK), start), 0)} | phases
+    intervals = {phase: max(every, length) for phase, (length, _) in phases.items()}
+    if all(every % length == 0 and first % length == 0 for length, first in phases.values()):
+        return intervals, None
+    names = {"equilibration": ("equilibration chunks", " pair collisions", "equilibrating"),
+             "measurement": ("measurement blocks", "", "measuring")}
+    sizes = " and ".join(f"{names[phase][0]} ({length}{names[phase][1]})" for phase, (length, _) in phases.items())
+    spacings = " and ".join(f"every {interval} while {names[phase][2]}" for phase, interval in intervals.items())
+    return intervals, (f"frames are written only at the ends of {sizes}: --frame-every {every} gives a frame "
+                       f"about {spacings}, at the first end after each multiple of {every} "
+                       "(frame_interval_effective in the summary)")
 
 
 # ------------------------------------------------------------------ the command
@@ -240,7 +243,7 @@ def edmd(
     ] = None,
     frame_every: Annotated[
         int | None,
-        typer.Option(help=_help("A frame at the first chunk or block end after every N pair collisions.", "only the last frame")),
+        typer.Option(help=_help("A frame at the first chunk or block end after every N pair collisions (a note says the interval this gives).", "only the last frame")),
     ] = None,
     xyz: Annotated[Path | None, typer.Option(help="Write the final state as extended XYZ (ASE, OVITO).")] = None,
     out: Annotated[Path | None, typer.Option(help=_help("Folder for the plots.", "edmd-output"))] = None,
@@ -250,11 +253,12 @@ def edmd(
     ] = None,
     resume: Annotated[
         Path | None,
-        typer.Option(help="Continue the run saved in this checkpoint, with its options; checkpoints go on to it unless --checkpoint is given."),
+        typer.Option(help="Continue the run saved in this checkpoint, with its physics; checkpoints go on to it unless --checkpoint is given. Other outputs are only those given now (name its --trajectory again to continue it)."),
     ] = None,
     config: Annotated[
         Path | None, typer.Option("--config", help="TOML file with these options (command line wins).")
     ] = None,
+    overwrite: OverwriteOption = None,
 ):
     """Event-driven MD of hard spheres (3D) or discs (2D): pressure, collision frequency, g(r), diffusion.
 
@@ -264,22 +268,30 @@ def edmd(
         dim=dim, particles=particles, packing_fraction=packing_fraction, restitution=restitution,
         elastic_below=elastic_below, equilibration=equilibration, collisions=collisions, blocks=blocks, seed=seed, initial=initial,
         summary=summary, trajectory=trajectory, frame_every=frame_every, xyz=xyz, out=out, plots=plots,
-        checkpoint=checkpoint,
+        checkpoint=checkpoint, overwrite=overwrite,
     )  # fmt: skip
     if resume is None:
         options = load_options(EdmdOptions, config, given)
         run = _new_run(options)
     else:
         run, options = _resumed_run(resume, option_values(EdmdOptions, config, given))
+    extra = {}
+    if run.frame_every is not None:
+        intervals, frames_note = frame_intervals(run.parameters, run.frame_every)
+        extra["frame_interval_effective"] = intervals
+        if frames_note is not None:
+            note(frames_note)
+    where = (f"the last checkpoint is in {options.checkpoint}; continue with --resume {options.checkpoint}"
+             if options.checkpoint is not None else "no --checkpoint was given, so nothing is saved")
     try:
         with progress_bar("collisions", total=run.parameters.total_collisions) as advance:
             run.run(progress=_percent_reporter(advance, run.parameters.total_collisions))
     except KeyboardInterrupt:
-        where = (f"the last checkpoint is in {options.checkpoint}; continue with --resume {options.checkpoint}"
-                 if options.checkpoint is not None else "no --checkpoint was given, so nothing is saved")
         warn(f"interrupted: {where}")
         raise typer.Exit(INTERRUPTED_EXIT_CODE) from None
-    _report(run, options)
+    except OSError as failure:
+        raise run_failed(f"the run stopped: {failure}; {where}") from None
+    report(run, options, extra)
 
 
 def register(app: typer.Typer) -> None:

@@ -9,14 +9,21 @@ from typing import Annotated, ClassVar, Literal
 import typer
 from pydantic import Field
 
-from ._common import Options, console, fail, load_options, print_table, require_plotting, warn, write_summary
+from ._common import Deliveries, Options, OverwriteOption, console, fail, load_options, print_table, require_plotting, warn
+from ._warmup import warm_up
 
 UnitsName = Literal["nbody", "si", "cgs", "solar", "stellar"]
 LayoutName = Literal["diagonal", "x"]
 
 
 class EncounterOptions(Options):
-    """Options of ``collisionkit encounter``; the physics is :class:`collisionkit.encounters.EncounterParameters`."""
+    """Options of ``collisionkit encounter``; the physics is :class:`collisionkit.encounters.EncounterParameters`.
+
+    Examples
+    --------
+    >>> EncounterOptions(vinf=2.0).parameters().v_inf
+    2.0
+    """
 
     m1: float = Field(default=1.0, gt=0, allow_inf_nan=False)
     m2: float = Field(default=1.0, gt=0, allow_inf_nan=False)
@@ -34,7 +41,13 @@ class EncounterOptions(Options):
     output_folders: ClassVar[tuple[str, ...]] = ("out",)
 
     def parameters(self):
-        """The set-up as :class:`collisionkit.encounters.EncounterParameters` (``--vinf`` is ``v_inf``)."""
+        """The set-up as :class:`collisionkit.encounters.EncounterParameters` (``--vinf`` is ``v_inf``).
+
+        Examples
+        --------
+        >>> EncounterOptions(units="si").parameters().units
+        'si'
+        """
         from ..encounters import EncounterParameters
 
         values = {name: getattr(self, name) for name in EncounterParameters.names() if name != "v_inf"}
@@ -89,16 +102,19 @@ def encounter(
     plots: Annotated[bool | None, typer.Option("--plots/--no-plots", help="Plot the trajectories.  \\[default: plots]")] = None,
     summary: Annotated[Path | None, typer.Option("--summary", help="Write the results as JSON to this file.")] = None,
     config: Annotated[Path | None, typer.Option("--config", help="TOML file with these options (command line wins).")] = None,
+    overwrite: OverwriteOption = None,
 ):
     """Set up a hyperbolic two-body encounter (StarCrash eqs. 34-39) and print its derived quantities."""
     given = dict(
         m1=m1, m2=m2, rp=rp, vinf=vinf, sep0=sep0, units=units, layout=layout,
-        radius1=radius1, radius2=radius2, out=out, plots=plots, summary=summary,
+        radius1=radius1, radius2=radius2, out=out, plots=plots, summary=summary, overwrite=overwrite,
     )  # fmt: skip
     options = load_options(EncounterOptions, config, given)
     if options.plots:
         require_plotting()
     from ..encounters import encounter_summary
+
+    warm_up(["encounter"])
 
     parameters = options.parameters()
     try:
@@ -110,18 +126,20 @@ def encounter(
                 _rows(ic, result["contact"], result["unit_labels"]))
     for message in result["warnings"]:
         warn(message)
-    files = list(ic.write(options.out, units=system))
+    deliveries = Deliveries("encounter")
+    deliveries.write(f"the initial conditions in {options.out}", lambda: ic.write(options.out, units=system))
     if options.plots:
         import matplotlib
 
         matplotlib.use("Agg")
         from .. import plotting
 
-        files.append(plotting.save(plotting.plot_encounter(ic, units=system), options.out / "encounter.png"))
-    result["files"] = [str(path) for path in files]
-    write_summary(options.summary, result)
-    for path in files:
+        deliveries.write(f"the plot {options.out / 'encounter.png'}", lambda: plotting.save(
+            plotting.plot_encounter(ic, units=system), options.out / "encounter.png"))
+    result["files"] = [str(path) for path in deliveries.files]
+    for path in deliveries.files:
         console.print(f"wrote {path}")
+    deliveries.finish(options.summary, result)
 
 
 def register(app: typer.Typer) -> None:

@@ -17,11 +17,13 @@ from typing import Annotated, Any
 import typer
 
 from ._common import (
-    INTERRUPTED_EXIT_CODE, check_output_file, check_output_folder, console, error_console, fail, print_table,
-    progress_bar, write_summary,
+    INTERRUPTED_EXIT_CODE, RUN_FAILED_EXIT_CODE, OverwriteOption, check_output_file, check_output_folder, console,
+    error_console, fail, note, print_table, progress_bar, refuse_clashes, refuse_folder, refuse_to_replace,
+    write_summary,
 )
+from ._warmup import warm_up
 
-FAILED_POINTS_EXIT_CODE = 1
+FAILED_POINTS_EXIT_CODE = RUN_FAILED_EXIT_CODE
 SHOWN_FAILURES = 10
 CONNECT_TIMEOUT = "15s"
 
@@ -30,12 +32,15 @@ def _load(path: Path, out: Path):
     """The validated study, every point checked by its command's rules; any problem is an input error (exit 2)."""
     from .. import sweep as core
 
+    refuse_folder(path, "STUDY.toml")
     try:
         study = core.load_study(path)
         core.check_command(study)
         core.check_folder(study, out)
     except (ValueError, TypeError) as error:
         raise fail(f"invalid study {path}: {error}") from None
+    except OSError as error:
+        raise fail(f"cannot read the study {path}: {error.strerror or error}") from None
     return study
 
 
@@ -44,6 +49,7 @@ def _resumed(checkpoint: Path):
     from .. import sweep as core
     from .._io import read_checkpoint
 
+    refuse_folder(checkpoint, "--resume")
     try:
         saved = read_checkpoint(checkpoint, "sweep")
         study = core.study_from_dict(saved.parameters)
@@ -53,17 +59,21 @@ def _resumed(checkpoint: Path):
     return study, checkpoint.parent
 
 
-@contextlib.contextmanager
-def _executor(workers: int | None, scheduler: str | None):
-    """A client of the given scheduler, or of an embedded cluster of ``workers`` processes."""
-    from .. import sweep as core
-
+def _check_executor(workers: int | None, scheduler: str | None) -> None:
+    """Stop (exit 2) before any work if the cluster options do not go together or dask.distributed is missing."""
     if workers is not None and scheduler is not None:
         raise fail("--workers sets the size of the embedded cluster; it cannot be used with --scheduler")
     if workers is not None and workers < 1:
         raise fail(f"--workers must be >= 1; got {workers}")
     if importlib.util.find_spec("distributed") is None:
         raise fail("sweep runs on dask.distributed: pip install 'collisionkit[cluster]'")
+
+
+@contextlib.contextmanager
+def _executor(workers: int | None, scheduler: str | None):
+    """A client of the given scheduler, or of an embedded cluster of ``workers`` processes."""
+    from .. import sweep as core
+
     if scheduler is None:
         with core.local_client(workers) as client:
             yield client
@@ -102,6 +112,7 @@ def _point_rows(results) -> list[tuple]:
 
 
 def _report(results, summary: Path | None) -> dict[str, Any]:
+    """Print the table and the failures; write the summary (rescued if that fails: exit 1)."""
     study = results.study
     print_table(
         f"sweep of collisionkit {study.command}: {len(results.records)} runs",
@@ -113,6 +124,7 @@ def _report(results, summary: Path | None) -> dict[str, Any]:
         error_console.print(f"[bold red]failed[/] {failure['name']}: {failure['error']}")
     combined = {
         "study": study.to_dict(),
+        "seed": study.seed,
         "runs": len(results.records),
         "ok": len(results.records) - len(failures),
         "failed": len(failures),
@@ -120,9 +132,9 @@ def _report(results, summary: Path | None) -> dict[str, Any]:
         "failures": failures,
         "files": [str(path) for path in results.files],
     }
-    write_summary(summary, combined)
     for path in results.files:
         console.print(f"wrote {path}")
+    write_summary(summary, combined, "sweep")
     return combined
 
 
@@ -149,6 +161,7 @@ def sweep(
                                        "folder: skip finished points, rerun the rest.")
     ] = None,
     summary: Annotated[Path | None, typer.Option("--summary", help="Write the results as JSON to this file.")] = None,
+    overwrite: OverwriteOption = None,
 ):
     """Run a parameter sweep with replicas of a collisionkit command, on a local or remote Dask cluster.
 
@@ -157,6 +170,7 @@ def sweep(
     """
     from .. import sweep as core
 
+    _check_executor(workers, scheduler)
     if resume is not None:
         if study is not None or out is not None:
             raise fail("--resume continues the study saved in its checkpoint, in the checkpoint's folder: give "
@@ -168,9 +182,13 @@ def sweep(
         out = out if out is not None else Path("sweep-output")
         check_output_folder(out, "--out")
     check_output_file(summary, "--summary")
+    refuse_clashes({"--summary": summary, "--out": out})
+    refuse_to_replace(summary, "--summary", bool(overwrite))
     if resume is None:
         parsed = _load(study, out)
     total = len(core.expand(parsed)) * parsed.replicas
+    note(f"seed {parsed.seed} (the study's root seed: each run's own seed derives from it and its point)")
+    warm_up([parsed.command])  # compiled once here, the workers load the kernels from the cache
     try:
         with _executor(workers, scheduler) as client, progress_bar("points", total=total) as advance:
             results = core.run_study(parsed, out, executor=client, resume=resume is not None,

@@ -9,14 +9,24 @@ import typer
 from pydantic import Field, field_validator, model_validator
 
 from ._common import (
-    INTERRUPTED_EXIT_CODE, Options, console, fail, load_options, option_values, print_table, progress_bar,
-    refuse_to_overwrite_checkpoint, require, validate_options, warn, write_summary,
+    INTERRUPTED_EXIT_CODE, Deliveries, Options, OverwriteOption, console, fail, load_options, note, option_values,
+    print_table, progress_bar, refuse_folder, require, run_failed, validate_options, warn, write_summary,
 )
+from ._memory import refuse_beyond_memory, swarm_memory
+from ._warmup import warm_up
 
 ModelName = Literal["maxwell", "hard_sphere", "reid", "lucas_saelee"]
 
 
 class SwarmOptions(Options):
+    """Options of ``collisionkit swarm``; the physics is :class:`collisionkit.transport.SwarmParameters`.
+
+    Examples
+    --------
+    >>> SwarmOptions.model_validate({"model": "reid", "e-n": [12, 24]}).parameters().reduced_field
+    (12.0, 24.0)
+    """
+
     model: ModelName | None = None
     cross_sections: Path | None = None
     species: list[str] | None = None
@@ -35,19 +45,22 @@ class SwarmOptions(Options):
 
     output_files: ClassVar[tuple[str, ...]] = ("summary", "checkpoint")
     output_folders: ClassVar[tuple[str, ...]] = ("out",)
+    input_files: ClassVar[tuple[str, ...]] = ("cross_sections",)
 
     @model_validator(mode="after")
     def _physics(self):
         """The library's rules (one gas, E/N >= 0, a warm gas at E/N = 0 ...), so a sweep checks every point."""
         self.parameters()
-        if self.summary is not None and self.checkpoint is not None and \
-                self.summary.resolve() == self.checkpoint.resolve():
-            raise ValueError("--summary and --checkpoint name the same file; the summary would overwrite the "
-                             "checkpoint")
         return self
 
     def parameters(self):
-        """The scan's physics as :class:`collisionkit.transport.scan.SwarmParameters`."""
+        """The scan's physics as :class:`collisionkit.transport.scan.SwarmParameters`.
+
+        Examples
+        --------
+        >>> SwarmOptions(model="maxwell", seed=5).parameters().seed
+        5
+        """
         from ..transport.scan import SwarmParameters
 
         return SwarmParameters(reduced_field=self.e_n, model=self.model, cross_sections=self.cross_sections,
@@ -70,33 +83,43 @@ def _e_n_values(raw: list[str] | None) -> list[float] | None:
     return values
 
 
-SWARM_OUTPUTS = ("out", "summary", "checkpoint")  # what a resumed scan may change; the rest is its physics
+SWARM_OUTPUTS = ("out", "summary", "checkpoint", "overwrite")  # what a resumed scan may change; the rest is physics
 
 
 def _new_scan(options: SwarmOptions):
     from ..transport.scan import SwarmScan
 
-    refuse_to_overwrite_checkpoint(options.checkpoint)
     try:
-        outputs = {key: str(value.resolve()) for key in ("summary", "out") if (value := getattr(options, key)) is not None}
-        return SwarmScan(options.parameters(), checkpoint=options.checkpoint, outputs=outputs)
+        return SwarmScan(options.parameters(), checkpoint=options.checkpoint)
     except ValueError as error:
         raise fail(str(error)) from None
 
 
 def _resumed_scan(resume: Path, given: dict):
-    """The scan saved in ``resume``; physics options given now must agree with it, outputs may change."""
+    """The scan saved in ``resume``; physics options given now must agree with it, outputs are only those given now."""
     from ..transport.scan import SwarmScan
 
+    refuse_folder(resume, "--resume")
     physics = {_library_name(key): value for key, value in given.items() if key not in SWARM_OUTPUTS}
     try:
         scan = SwarmScan.resume(resume, checkpoint=given.get("checkpoint", resume), **physics)
     except ValueError as error:
         raise fail(str(error)) from None
-    outputs = scan.outputs | {key: value for key, value in given.items() if key in SWARM_OUTPUTS}
-    outputs["checkpoint"] = scan.checkpoint
-    options = validate_options(SwarmOptions, _options_of(scan.parameters) | outputs)
+    outputs = {key: value for key, value in given.items() if key in SWARM_OUTPUTS} | {"checkpoint": scan.checkpoint}
+    options = validate_options(SwarmOptions, _options_of(scan.parameters) | outputs, keep=[resume])
     return scan, options
+
+
+def _before_the_work(scan, options: SwarmOptions) -> None:
+    """The checks and notes before a scan runs: the plotting extra, the memory, the seed, the kernels."""
+    if options.out is not None:
+        require("matplotlib", "plot", "plots (--out)")
+    ionizing = any(process.kind in ("ionization", "attachment") for _, process in scan.gas.processes)
+    kind = " of a gas that ionizes or attaches" if ionizing else ""
+    refuse_beyond_memory(swarm_memory(options.particles, ionizing), f"--particles {options.particles}{kind}",
+                         ": use fewer particles")
+    note(f"seed {options.seed} (--seed {options.seed} repeats this run)")
+    warm_up(["swarm"])
 
 
 def _library_name(key: str) -> str:
@@ -117,19 +140,22 @@ def _swarm_row(result):
             f"{result.collisions_per_second:.3g}")
 
 
-def _swarm_plots(results, out: Path) -> list[Path]:
+def _swarm_plots(results, out: Path, deliveries: Deliveries) -> None:
+    """The plots and swarm.csv in ``out``, each written through ``deliveries``."""
     import matplotlib
 
     matplotlib.use("Agg")
     from .. import plotting
     from ..sweep import write_csv
 
-    out.mkdir(parents=True, exist_ok=True)
-    files = [plotting.save(plotting.plot_energy_distribution(results), out / "eedf.png")]
-    files.append(write_csv(out / "swarm.csv", [result.to_row() for result in results]))
+    deliveries.write(f"the folder {out}", lambda: out.mkdir(parents=True, exist_ok=True))
+    deliveries.write(f"the plot {out / 'eedf.png'}",
+                     lambda: plotting.save(plotting.plot_energy_distribution(results), out / "eedf.png"))
+    deliveries.write(f"the table {out / 'swarm.csv'}",
+                     lambda: write_csv(out / "swarm.csv", [result.to_row() for result in results]))
     if len(results) > 1:
-        files.append(plotting.save(plotting.plot_transport_coefficients(results).flat[0], out / "transport_coefficients.png"))
-    return files
+        deliveries.write(f"the plot {out / 'transport_coefficients.png'}", lambda: plotting.save(
+            plotting.plot_transport_coefficients(results).flat[0], out / "transport_coefficients.png"))
 
 
 def swarm(
@@ -150,18 +176,19 @@ def swarm(
     checkpoint: Annotated[Path | None, typer.Option(help="Write the finished E/N points to this JSON file after each one (atomically).")] = None,
     resume: Annotated[Path | None, typer.Option(help="Continue the sweep saved in this checkpoint, with its options (only --summary, --out, --checkpoint may change); skips its finished points; checkpoints go on to it unless --checkpoint is given.")] = None,
     config: Annotated[Path | None, typer.Option("--config", help="TOML file with these options (command line wins).")] = None,
+    overwrite: OverwriteOption = None,
 ):
     """Electron swarm transport coefficients (mean energy, drift, diffusion, rates) against E/N."""
     given = dict(model=model, cross_sections=cross_sections, species=species, fractions=fractions, e_n=_e_n_values(e_n),
                  b_n=b_n, gas_temperature=gas_temperature, particles=particles, seed=seed, tolerance=tolerance,
-                 collision_budget=collision_budget, sharing=sharing, out=out, summary=summary, checkpoint=checkpoint)
+                 collision_budget=collision_budget, sharing=sharing, out=out, summary=summary, checkpoint=checkpoint,
+                 overwrite=overwrite)
     if resume is None:
         options = load_options(SwarmOptions, config, given)
         scan = _new_scan(options)
     else:
         scan, options = _resumed_scan(resume, option_values(SwarmOptions, config, given))
-    if options.out is not None:
-        require("matplotlib", "plot", "plots (--out)")
+    _before_the_work(scan, options)
     results = scan.results
     try:
         with progress_bar("swarm", total=len(options.e_n)) as advance:
@@ -173,10 +200,12 @@ def swarm(
 
             report(len(results) / len(options.e_n))
             scan.run(progress=report)
-    except KeyboardInterrupt:
+    except (KeyboardInterrupt, OSError) as stop:
         where = (f"{len(results)} of {len(options.e_n)} E/N points are saved in {options.checkpoint}; continue with "
                  f"--resume {options.checkpoint}" if options.checkpoint is not None else
                  "no --checkpoint was given, so nothing is saved")
+        if isinstance(stop, OSError):
+            raise run_failed(f"the scan stopped: {stop}; {where}") from None
         warn(f"interrupted: {where}")
         raise typer.Exit(INTERRUPTED_EXIT_CODE) from None
     print_table("swarm transport (W along -z for electrons)",
@@ -188,13 +217,23 @@ def swarm(
                    f"({options.collision_budget:g}) before reaching the tolerance {options.tolerance:g}: "
                    "their errors are larger than asked; rerun with a larger --collision-budget")
         warn(message)
-    files = _swarm_plots(results, options.out) if options.out is not None else []
-    write_summary(options.summary, scan.summary(files))
-    for path in files:
+    deliveries = Deliveries("swarm")
+    if options.out is not None:
+        _swarm_plots(results, options.out, deliveries)
+    for path in deliveries.files:
         console.print(f"wrote {path}")
+    deliveries.finish(options.summary, scan.summary(deliveries.files) | {"seed": options.seed})
 
 
 class SlabOptions(Options):
+    """Options of ``collisionkit slab``; the physics is :class:`collisionkit.transport.SlabParameters`.
+
+    Examples
+    --------
+    >>> SlabOptions.model_validate({"thickness": 2, "mass-ratio": None}).mass_ratio
+    inf
+    """
+
     thickness: float = Field(default=1.0, ge=0, le=1e4, allow_inf_nan=False)
     albedo: float = Field(default=1.0, ge=0, le=1)
     incidence: Literal["normal", "isotropic"] = "normal"
@@ -217,7 +256,13 @@ class SlabOptions(Options):
         return self
 
     def parameters(self):
-        """The run as :class:`collisionkit.transport.SlabParameters`."""
+        """The run as :class:`collisionkit.transport.SlabParameters`.
+
+        Examples
+        --------
+        >>> SlabOptions(model="rod").parameters().model
+        'rod'
+        """
         from ..transport import SlabParameters
 
         return SlabParameters(**{name: getattr(self, name) for name in SlabParameters.names()})
@@ -233,12 +278,16 @@ def slab(
     seed: Annotated[int | None, typer.Option(help="Random seed (>= 0).  \\[default: 2026]")] = None,
     summary: Annotated[Path | None, typer.Option("--summary", help="Write the results as JSON to this file.")] = None,
     config: Annotated[Path | None, typer.Option("--config", help="TOML file with these options (command line wins).")] = None,
+    overwrite: OverwriteOption = None,
 ):
     """Transmission and reflection of a beam by a scattering slab (Krasov, sec. 5.5)."""
     given = dict(thickness=thickness, albedo=albedo, incidence=incidence, model=model, mass_ratio=mass_ratio,
-                 particles=particles, seed=seed, summary=summary)
+                 particles=particles, seed=seed, summary=summary, overwrite=overwrite)
     options = load_options(SlabOptions, config, given)
     from ..transport import run_slab, slab_summary
+
+    note(f"seed {options.seed} (--seed {options.seed} repeats this run)")
+    warm_up(["slab"])
 
     with progress_bar("slab", total=1) as advance:
         result = run_slab(options.parameters())
@@ -249,7 +298,7 @@ def slab(
             ("collisions per particle", f"{result.collisions_per_particle:.4f}", "")]
     print_table(f"slab d = {options.thickness:g} mfp, albedo {options.albedo:g}, {options.incidence} incidence",
                 ("quantity", "value", "error"), rows)
-    write_summary(options.summary, slab_summary(options.parameters(), result))
+    write_summary(options.summary, slab_summary(options.parameters(), result) | {"seed": options.seed}, "slab")
 
 
 def register(app: typer.Typer) -> None:

@@ -180,9 +180,6 @@ class EdmdRun:
         A frame at the first chunk or block end after every this many pair collisions.
     progress : callable, optional
         ``progress(fraction)`` while compressing the random initial state.
-    outputs : mapping, optional
-        What the caller writes at the end (JSON-ready, e.g. the command line's
-        ``summary`` and ``out``): kept in the checkpoint and given back on resume.
 
     Examples
     --------
@@ -193,7 +190,7 @@ class EdmdRun:
     """
 
     def __init__(self, parameters: EdmdParameters, checkpoint=None, trajectory=None, frame_every: int | None = None,
-                 progress=None, outputs=None, *, _state=None):
+                 progress=None, *, _state=None):
         if not isinstance(parameters, EdmdParameters):
             raise TypeError(f"parameters must be EdmdParameters; got {type(parameters).__name__}")
         if frame_every is not None:
@@ -204,8 +201,8 @@ class EdmdRun:
         self.checkpoint = None if checkpoint is None else Path(checkpoint)
         self.trajectory = None if trajectory is None else Path(trajectory)
         self.frame_every = frame_every
-        self.outputs = dict(outputs or {})
         self._writer = None
+        self._continued = False
         if _state is None:
             self.system = _initial_system(self.parameters, progress)
             self.sampler: Sampler | None = None
@@ -232,7 +229,7 @@ class EdmdRun:
             arrays |= self.sampler.state_dict()
         state = {"equilibrated": self.equilibrated, "frames": self.frames, "last_frame": self.last_frame,
                  "initial_energy": self.initial_energy, "trajectory": None if self.trajectory is None else
-                 str(self.trajectory.resolve()), "frame_every": self.frame_every, "outputs": self.outputs}
+                 str(self.trajectory.resolve()), "frame_every": self.frame_every}
         return write_checkpoint(path, CHECKPOINT_KIND, self.parameters.to_dict(), state, arrays)
 
     @classmethod
@@ -245,9 +242,14 @@ class EdmdRun:
             A checkpoint written by :meth:`save`.
         checkpoint : path, optional
             Where to write checkpoints from now on (default: ``path``).
-        trajectory, frame_every : optional
-            Frames from now on (default: the saved ones; the same file is
-            continued, cut back to the frames the checkpoint knows).
+        trajectory : path, optional
+            Frames from now on (default: none). The trajectory the run wrote
+            before is continued, cut back to the frames the checkpoint knows,
+            only when it is given again: a path stored in a checkpoint is data,
+            never a place to write.
+        frame_every : int, optional
+            The frame interval (default: the saved one when the saved
+            trajectory is continued).
         \\*\\*given
             Parameters given again (Python names or flags): each must equal
             the saved one (a resumed run keeps its physics).
@@ -276,12 +278,12 @@ class EdmdRun:
             raise CheckpointError(f"{path} holds parameters that are not valid now: {error}") from None
         check_unchanged(parameters, given, path)
         saved_trajectory = saved.state.get("trajectory")
-        trajectory = saved_trajectory if trajectory is None else trajectory
-        frame_every = saved.state.get("frame_every") if frame_every is None else frame_every
-        state = {"saved": saved, "append": trajectory is not None and saved_trajectory is not None and
-                 Path(trajectory).resolve() == Path(saved_trajectory)}
+        append = trajectory is not None and saved_trajectory is not None and \
+            Path(trajectory).resolve() == Path(saved_trajectory)
+        if frame_every is None and append:
+            frame_every = saved.state.get("frame_every")
         return cls(parameters, checkpoint=path if checkpoint is None else checkpoint, trajectory=trajectory,
-                   frame_every=frame_every, outputs=saved.state.get("outputs"), _state=state)
+                   frame_every=frame_every, _state={"saved": saved, "append": append})
 
     def _restore(self, state) -> None:
         saved = state["saved"]
@@ -295,9 +297,14 @@ class EdmdRun:
         self.frames = int(saved.state["frames"]) if state["append"] else 0
         self.last_frame = int(saved.state["last_frame"])
         self.initial_energy = float(saved.state["initial_energy"])
-        self._append = state["append"]
+        self._append = self._continued = state["append"]
 
     # ---------------------------------------------------------------- running
+
+    @property
+    def continues_trajectory(self) -> bool:
+        """True if this resumed run appends to the trajectory it wrote before (given again to :meth:`resume`)."""
+        return self._continued
 
     @property
     def measured(self) -> int:

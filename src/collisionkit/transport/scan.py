@@ -170,9 +170,6 @@ class SwarmScan:
         Written (``.npz``, atomically) after every finished E/N point.
     gas : Gas, optional
         A gas built in Python (default: ``parameters.gas()``).
-    outputs : mapping, optional
-        What the caller writes at the end (JSON-ready, e.g. the command line's
-        ``summary`` and ``out``): kept in the checkpoint and given back on resume.
 
     Examples
     --------
@@ -187,14 +184,13 @@ class SwarmScan:
     """
 
     def __init__(self, parameters: SwarmParameters, checkpoint=None, gas: Gas | None = None,
-                 results: Sequence[SwarmResult] = (), outputs=None):
+                 results: Sequence[SwarmResult] = ()):
         if not isinstance(parameters, SwarmParameters):
             raise TypeError(f"parameters must be SwarmParameters; got {type(parameters).__name__}")
         self.parameters = parameters
         self.checkpoint = None if checkpoint is None else Path(checkpoint)
         self.gas = parameters.gas() if gas is None else gas
         self.results: list[SwarmResult] = list(results)
-        self.outputs = dict(outputs or {})
 
     @property
     def finished(self) -> bool:
@@ -261,7 +257,7 @@ class SwarmScan:
         if path is None:
             return None
         state = {"cross_sections_sha256": file_digest(self.parameters.cross_sections),
-                 "results": [result.to_dict() for result in self.results], "outputs": self.outputs}
+                 "results": [result.to_dict() for result in self.results]}
         return write_checkpoint(path, CHECKPOINT_KIND, self.parameters.to_dict(), state)
 
     @classmethod
@@ -310,8 +306,7 @@ class SwarmScan:
         if [r.reduced_field for r in results] != list(parameters.reduced_field[: len(results)]):
             raise CheckpointError(f"{path} holds results for E/N = {[r.reduced_field for r in results]}, not the "
                                   f"first points of its scan {list(parameters.reduced_field)}")
-        return cls(parameters, checkpoint=path if checkpoint is None else checkpoint, gas=gas, results=results,
-                   outputs=saved.state.get("outputs"))
+        return cls(parameters, checkpoint=path if checkpoint is None else checkpoint, gas=gas, results=results)
 
     def summary(self, files: Sequence = ()) -> dict[str, Any]:
         """The scan's results: :func:`swarm_summary` of its parameters and results.

@@ -1,0 +1,94 @@
+"""What the ``edmd`` command shows and writes once the run is done: the table, the plots, the files and the summary."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from ._common import Deliveries, console, print_table, warn
+
+
+def _theory_column(result: dict) -> tuple[str, str, str, str]:
+    """Reference values for Z, omega, kT and the energy lost: theory if elastic, trends if not."""
+    if not result["elastic"]:
+        return "no equilibrium (inelastic)", "", "cools (Haff)", "> 0"
+    z = f"{result['compressibility_factor_theory']:.5g} ({result['theory']})"
+    omega = f"{result['collision_frequency_from_pressure']:.5g} (Enskog, from Z)"
+    return z, omega, "1 (elastic)", "0 (elastic)"
+
+
+def rows(result: dict) -> list[tuple[str, str, str]]:
+    """The table's rows (quantity, measured, theory) of an edmd summary.
+
+    Examples
+    --------
+    >>> from collisionkit.edmd import EdmdParameters, EdmdRun
+    >>> run = EdmdRun(EdmdParameters(dim=2, particles=64, initial="square", collisions=400, blocks=2, seed=1))
+    >>> rows(run.run().summary())[0][0]
+    'compressibility factor Z = PV/NkT'
+    """
+    def pm(key):
+        return f"{result[key]:.5g} ± {result[key + '_error']:.2g}"
+
+    z, omega, kT, lost = _theory_column(result)
+    return [
+        ("compressibility factor Z = PV/NkT", pm("compressibility_factor"), z),
+        ("collision frequency per particle", pm("collision_frequency"), omega),
+        ("temperature kT (final)", f"{result['temperature']:.6g}", kT),
+        ("mean free path", pm("mean_free_path"), ""),
+        ("diffusion coefficient", pm("diffusion_coefficient"), "from the MSD"),
+        ("g(r) at contact", pm("contact_value"), ""),
+        ("energy lost (measurement / total)", f"{result['energy_lost']:.5g} / {result['energy_lost_total']:.5g}", lost),
+        ("pair collisions (measured)", str(result["collisions"]), f"after {result['equilibration_collisions']} equilibration"),
+        ("collisions per second", f"{result['collisions_per_second']:.4g}", "wall clock, measurement (no compiling)"),
+    ]
+
+
+def _plots(run, measurement, out: Path, deliveries: Deliveries) -> None:
+    """Draw the plots into ``out``, each written through ``deliveries`` (a failed one is reported at the end)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from .. import plotting
+
+    system = run.system
+    figures = []
+    if run.parameters.restitution == 1.0:
+        m = measurement
+        point = [(m.packing_fraction, m.compressibility_factor, m.compressibility_factor_error)]
+        figures.append(("equation_of_state.png", lambda: plotting.plot_equation_of_state(point, system.dim)))
+    figures.append(("speed_distribution.png", lambda: plotting.plot_speed_distribution(
+        measurement.speeds, measurement.temperature, system.dim)))
+    figures.append(("snapshot.png", lambda: plotting.plot_snapshot(system.positions(), system.radius,
+                                                                    system.box[: system.dim])))
+    figures.append(("radial_distribution.png", lambda: plotting.plot_radial_distribution(measurement.rdf_r,
+                                                                                        measurement.rdf)))
+
+    def folder():
+        out.mkdir(parents=True, exist_ok=True)
+
+    deliveries.write(f"the plot folder {out}", folder)
+    for name, draw in figures:
+        deliveries.write(f"the plot {out / name}", lambda name=name, draw=draw: plotting.save(draw(), out / name))
+
+
+def report(run, options, extra: dict) -> None:
+    """Print the table and the notes, write the files and the summary (rescued if writing fails: exit 1)."""
+    measurement = run.measurement()
+    deliveries = Deliveries("edmd")
+    if options.xyz is not None:
+        deliveries.write(f"--xyz {options.xyz}", lambda: run.write_xyz(options.xyz))
+    if options.trajectory is not None:
+        deliveries.files.append(options.trajectory)
+    if options.plots:
+        _plots(run, measurement, options.out, deliveries)
+    result = run.summary(deliveries.files) | extra
+    p = run.parameters
+    kind = "spheres" if p.dim == 3 else "discs"
+    title = f"EDMD: {p.particles} hard {kind}, eta = {p.packing_fraction:g}, e = {p.restitution:g}, seed {p.seed}"
+    print_table(title, ("quantity", "measured", "theory"), rows(result))
+    note = run.cooling_note()
+    if note is not None:
+        warn(note)
+    for path in deliveries.files:
+        console.print(f"wrote {path}")
+    deliveries.finish(options.summary, result)
