@@ -303,7 +303,7 @@ class Deliveries:
             except OSError:
                 rescued.unlink(missing_ok=True)
         if written is None:
-            console.print(json.dumps(dict(result), indent=2, default=str), markup=False, highlight=False)
+            console.print(json.dumps(dict(result), indent=2, default=str), markup=False, highlight=False, soft_wrap=True)
             where = "nowhere could take them, so they are printed above"
         else:
             where = f"the results are saved in {written}"
