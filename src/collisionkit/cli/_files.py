@@ -28,7 +28,7 @@ from typing import Any
 import typer
 
 from .._io import atomic_write_json
-from ._messages import RUN_FAILED_EXIT_CODE, console, error, fail
+from ._messages import RUN_FAILED_EXIT_CODE, console, error, fail, say
 
 PROBE_PREFIX = ".collisionkit-probe-"
 
@@ -290,7 +290,7 @@ class Deliveries:
         if summary is not None:
             try:
                 atomic_write_json(summary, dict(result))
-                console.print(f"summary written to [bold]{summary}[/]")
+                say(f"summary written to {summary}")
             except OSError as failure:
                 self.failures.append(f"the summary {summary} ({_reason(failure)})")
         if not self.failures:
