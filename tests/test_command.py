@@ -25,3 +25,21 @@ def test_with_the_packages_the_script_runs_the_command_line(capsys):
         _command.main(["--help"])
     assert stop.value.code == 0
     assert "edmd" in capsys.readouterr().out
+
+
+def test_the_script_prints_its_version(capsys):
+    import collisionkit
+
+    with pytest.raises(SystemExit) as stop:
+        _command.main(["--version"])
+    assert stop.value.code == 0
+    assert capsys.readouterr().out.strip() == f"collisionkit {collisionkit.__version__}"
+
+
+def test_the_script_says_a_usage_error_in_one_line(capsys):
+    with pytest.raises(SystemExit) as stop:
+        _command.main(["edmd", "--particle", "5"])
+    assert stop.value.code == 2
+    error = capsys.readouterr().err
+    assert error.strip().splitlines() == ["error: no such option: --particle (Possible options: --particles) "
+                                          "(see collisionkit edmd --help)"]

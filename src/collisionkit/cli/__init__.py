@@ -13,7 +13,7 @@ from .._io import atomic_write_json
 
 from ._app import CommandLine, show_version
 from ._common import (
-    Deliveries, Options, OverwriteOption, console, load_options, note, print_table, progress_bar, require_plotting,
+    Deliveries, Options, OverwriteOption, load_options, note, print_table, progress_bar, require_plotting, say,
 )
 from ._warmup import warm_up
 
@@ -112,7 +112,7 @@ def demo(
     deliveries.write(f"the summary {options.out / 'summary.json'}",
                      lambda: atomic_write_json(options.out / "summary.json", combined))
     for path in combined["files"]:
-        console.print(f"wrote {path}")
+        say(f"wrote {path}")
     deliveries.finish(options.summary, combined)
 
 

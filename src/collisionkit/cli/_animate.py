@@ -10,8 +10,8 @@ import typer
 from pydantic import Field
 
 from ._common import (
-    Deliveries, Options, OverwriteOption, check_input_file, console, fail, load_options, progress_bar, require,
-    require_gsd, run_failed, warn,
+    Deliveries, Options, OverwriteOption, check_input_file, fail, load_options, progress_bar, require, require_gsd,
+    run_failed, say, warn,
 )
 from ._files import rescue_path
 
@@ -209,7 +209,7 @@ def animate(
         "fps": options.fps,
         "colour": options.colour,
     }
-    console.print(f"wrote {path} ({total} frame{'' if total == 1 else 's'})")
+    say(f"wrote {path} ({total} frame{'' if total == 1 else 's'})")
     deliveries = Deliveries("animate")
     if path != options.out:
         deliveries.failures.append(f"the animation {options.out}")

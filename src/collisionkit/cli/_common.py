@@ -32,7 +32,7 @@ from ._files import (
 )
 from ._messages import (
     BAD_INPUT_EXIT_CODE, INTERRUPTED_EXIT_CODE, RUN_FAILED_EXIT_CODE, console, error, error_console, fail, note,
-    run_failed, warn,
+    run_failed, say, warn,
 )
 
 __all__ = [
@@ -40,7 +40,7 @@ __all__ = [
     "check_input_file", "check_paths",
     "check_output_file", "check_output_folder", "console", "error", "error_console", "fail", "load_options", "note",
     "option_values", "OverwriteOption", "print_table", "refuse_folder", "progress_bar", "read_toml", "refuse_clashes", "refuse_to_replace", "require",
-    "require_gsd", "require_plotting", "run_failed", "validate_options", "warn", "write_summary",
+    "require_gsd", "require_plotting", "run_failed", "say", "validate_options", "warn", "write_summary",
 ]
 
 

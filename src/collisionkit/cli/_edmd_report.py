@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from ._common import Deliveries, console, print_table, warn
+from ._common import Deliveries, print_table, say, warn
 
 
 def _theory_column(result: dict) -> tuple[str, str, str, str]:
@@ -90,5 +90,5 @@ def report(run, options, extra: dict) -> None:
     if note is not None:
         warn(note)
     for path in deliveries.files:
-        console.print(f"wrote {path}")
+        say(f"wrote {path}")
     deliveries.finish(options.summary, result)

@@ -9,7 +9,7 @@ from typing import Annotated, ClassVar, Literal
 import typer
 from pydantic import Field
 
-from ._common import Deliveries, Options, OverwriteOption, console, fail, load_options, print_table, require_plotting, warn
+from ._common import Deliveries, Options, OverwriteOption, fail, load_options, print_table, require_plotting, say, warn
 from ._warmup import warm_up
 
 UnitsName = Literal["nbody", "si", "cgs", "solar", "stellar"]
@@ -138,7 +138,7 @@ def encounter(
             plotting.plot_encounter(ic, units=system), options.out / "encounter.png"))
     result["files"] = [str(path) for path in deliveries.files]
     for path in deliveries.files:
-        console.print(f"wrote {path}")
+        say(f"wrote {path}")
     deliveries.finish(options.summary, result)
 
 

@@ -28,7 +28,7 @@ from typing import Any
 import typer
 
 from .._io import atomic_write_json
-from ._messages import RUN_FAILED_EXIT_CODE, console, error, fail
+from ._messages import RUN_FAILED_EXIT_CODE, console, error, fail, say
 
 PROBE_PREFIX = ".collisionkit-probe-"
 
@@ -290,7 +290,7 @@ class Deliveries:
         if summary is not None:
             try:
                 atomic_write_json(summary, dict(result))
-                console.print(f"summary written to [bold]{summary}[/]")
+                say(f"summary written to {summary}")
             except OSError as failure:
                 self.failures.append(f"the summary {summary} ({_reason(failure)})")
         if not self.failures:
@@ -303,7 +303,7 @@ class Deliveries:
             except OSError:
                 rescued.unlink(missing_ok=True)
         if written is None:
-            console.print(json.dumps(dict(result), indent=2, default=str), markup=False, highlight=False)
+            console.print(json.dumps(dict(result), indent=2, default=str), markup=False, highlight=False, soft_wrap=True)
             where = "nowhere could take them, so they are printed above"
         else:
             where = f"the results are saved in {written}"

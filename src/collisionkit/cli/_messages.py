@@ -28,6 +28,17 @@ BAD_INPUT_EXIT_CODE = 2
 INTERRUPTED_EXIT_CODE = 130  # as a shell reports a command stopped by Ctrl-C (128 + SIGINT)
 
 
+def say(message: str) -> None:
+    """Print ``message`` on stdout on one line (a path in it stays whole to copy), markup escaped.
+
+    Examples
+    --------
+    >>> say("wrote demo-output/summary.json")
+    wrote demo-output/summary.json
+    """
+    console.print(escape(message), soft_wrap=True)
+
+
 def error(message: str) -> None:
     """Print ``message`` as an error on stderr, on one line, markup escaped.
 

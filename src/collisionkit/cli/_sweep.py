@@ -16,9 +16,11 @@ from typing import Annotated, Any
 
 import typer
 
+from rich.markup import escape
+
 from ._common import (
-    INTERRUPTED_EXIT_CODE, RUN_FAILED_EXIT_CODE, OverwriteOption, check_output_file, check_output_folder, console,
-    error_console, fail, note, print_table, progress_bar, refuse_clashes, refuse_folder, refuse_to_replace,
+    INTERRUPTED_EXIT_CODE, RUN_FAILED_EXIT_CODE, OverwriteOption, check_output_file, check_output_folder, error,
+    error_console, fail, note, print_table, progress_bar, refuse_clashes, refuse_folder, refuse_to_replace, say, warn,
     write_summary,
 )
 from ._warmup import warm_up
@@ -121,7 +123,7 @@ def _report(results, summary: Path | None) -> dict[str, Any]:
     )
     failures = [{"name": record["name"], "error": record["error"]} for record in results.failed]
     for failure in failures[:SHOWN_FAILURES]:
-        error_console.print(f"[bold red]failed[/] {failure['name']}: {failure['error']}")
+        error_console.print(f"[bold red]failed[/] {escape(failure['name'])}: {escape(str(failure['error']))}", soft_wrap=True)
     combined = {
         "study": study.to_dict(),
         "seed": study.seed,
@@ -133,7 +135,7 @@ def _report(results, summary: Path | None) -> dict[str, Any]:
         "files": [str(path) for path in results.files],
     }
     for path in results.files:
-        console.print(f"wrote {path}")
+        say(f"wrote {path}")
     write_summary(summary, combined, "sweep")
     return combined
 
@@ -195,12 +197,12 @@ def sweep(
                                      on_point=lambda record: advance())
     except KeyboardInterrupt:
         checkpoint = out / "checkpoint.npz"
-        error_console.print(f"[bold yellow]interrupted:[/] finished points are saved; continue with --resume {checkpoint}")
+        warn(f"interrupted: finished points are saved; continue with --resume {checkpoint}")
         raise typer.Exit(INTERRUPTED_EXIT_CODE) from None
     combined = _report(results, summary)
     if combined["failed"]:
-        error_console.print(f"{combined['failed']} of {combined['runs']} runs failed; rerun them with "
-                            f"--resume {out / 'checkpoint.npz'}")
+        error(f"{combined['failed']} of {combined['runs']} runs failed; rerun them with --resume "
+              f"{out / 'checkpoint.npz'}")
         raise typer.Exit(FAILED_POINTS_EXIT_CODE)
 
 

@@ -9,8 +9,8 @@ import typer
 from pydantic import Field, field_validator, model_validator
 
 from ._common import (
-    INTERRUPTED_EXIT_CODE, Deliveries, Options, OverwriteOption, console, fail, load_options, note, option_values,
-    print_table, progress_bar, refuse_folder, require, run_failed, validate_options, warn, write_summary,
+    INTERRUPTED_EXIT_CODE, Deliveries, Options, OverwriteOption, fail, load_options, note, option_values, print_table,
+    progress_bar, refuse_folder, require, run_failed, say, validate_options, warn, write_summary,
 )
 from ._memory import refuse_beyond_memory, swarm_memory
 from ._warmup import warm_up
@@ -221,7 +221,7 @@ def swarm(
     if options.out is not None:
         _swarm_plots(results, options.out, deliveries)
     for path in deliveries.files:
-        console.print(f"wrote {path}")
+        say(f"wrote {path}")
     deliveries.finish(options.summary, scan.summary(deliveries.files) | {"seed": options.seed})
 
 
