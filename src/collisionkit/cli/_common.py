@@ -153,6 +153,9 @@ def read_toml(path: Path) -> dict[str, Any]:
         raise fail(f"config file not found: {path}") from None
     except tomllib.TOMLDecodeError as error:
         raise fail(f"config file {path} is not valid TOML: {error}") from None
+    except UnicodeDecodeError as error:  # TOML is UTF-8 text
+        raise fail(f"config file {path} is not UTF-8 text, as TOML must be (byte {error.start}: "
+                   f"{error.reason})") from None
 
 
 def _describe(error: Mapping[str, Any], model: type[Options] | None = None) -> str:
