@@ -260,3 +260,67 @@ def test_read_gsd_frames_of_an_empty_file_is_an_error(tmp_path):
     trajectory.truncate_gsd(path, 0)
     with pytest.raises(ValueError, match="holds no frames"):
         trajectory.read_gsd_frames(path)
+
+
+# ------------------------------------------------------------------ damaged files, locks, resumes that append
+
+
+def _three_frames(path):
+    system = discs_2d()
+    with trajectory.GSDWriter(path) as writer:
+        for step in (0, 10, 20):
+            writer.write(system, step)
+    return system
+
+
+@pytest.mark.parametrize(
+    "damage",
+    [lambda data: data[: len(data) // 2], lambda data: data[:-100], lambda data: b"not a trajectory" * 9,
+     lambda _: b""],
+    ids=["cut in half", "cut short", "not GSD", "empty"],
+)
+def test_a_damaged_gsd_file_is_a_value_error_naming_it(tmp_path, damage):
+    # gsd raised RuntimeError("Corrupt GSD file: ...") through truncate_gsd and GSDWriter at a resume
+    path = tmp_path / "run.gsd"
+    _three_frames(path)
+    path.write_bytes(damage(path.read_bytes()))
+    for action in (lambda: trajectory.truncate_gsd(path, 2), lambda: trajectory.GSDWriter(path, mode="a"),
+                   lambda: trajectory.read_gsd(path), lambda: trajectory.read_gsd_frames(path)):
+        with pytest.raises(ValueError) as caught:
+            action()
+        message = str(caught.value)
+        assert message.startswith(f"{path} is damaged or is not a GSD trajectory") and "\n" not in message, message
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["run.gsd"]  # no lock or temporary file left behind
+
+
+def test_a_resume_never_cuts_the_frames_its_checkpoint_knows_and_refuses_a_file_without_them(tmp_path):
+    path = tmp_path / "run.gsd"
+    system = _three_frames(path)
+    before = path.read_bytes()
+    assert trajectory.truncate_gsd(path, 3, last_step=20) == 3 and path.read_bytes() == before  # nothing to cut
+    with pytest.raises(ValueError, match=r"holds 3 frames, fewer than the 5 its checkpoint wrote: it is not that run"):
+        trajectory.truncate_gsd(path, 5, last_step=40)
+    with pytest.raises(ValueError, match=r"has frame 1 at step 10, where its checkpoint wrote step 11"):
+        trajectory.truncate_gsd(path, 2, last_step=11)
+    assert path.read_bytes() == before  # refused: the file as it was
+    trajectory.write_gsd_frame(path, system, 30)  # written after the checkpoint: dropped at the resume
+    assert trajectory.truncate_gsd(path, 3, last_step=20) == 3
+    assert trajectory.read_gsd(path)["step"] == 20
+
+
+def test_an_open_gsd_writer_locks_its_file_against_other_processes(tmp_path):
+    from collisionkit._io import FileLockedError
+    from tests.test_io import held_by_another_process
+
+    path = tmp_path / "run.gsd"
+    writing = "from collisionkit.trajectory import GSDWriter\nwriter = GSDWriter(sys.argv[1])"
+    with held_by_another_process(writing, path) as pid:
+        for action in (lambda: trajectory.GSDWriter(path, mode="a"), lambda: trajectory.truncate_gsd(path, 0),
+                       lambda: trajectory.write_gsd_frame(path, discs_2d(), 0)):
+            with pytest.raises(FileLockedError) as caught:
+                action()
+            assert f"run.gsd is being written by another collisionkit process (pid {pid})" in str(caught.value)
+    with trajectory.GSDWriter(path, mode="a") as writer:  # closed (its process ended): free again
+        assert (tmp_path / ".run.gsd.lock").exists()
+        writer.write(discs_2d(), 0)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["run.gsd"]

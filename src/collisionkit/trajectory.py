@@ -22,15 +22,14 @@ XYZ).
 
 from __future__ import annotations
 
-import os
+import contextlib
 import stat
 import string
-import tempfile
 from pathlib import Path
 
 import numpy as np
 
-from ._io import atomic_write_text
+from ._io import atomic_replacement, atomic_write_text, exclusive
 
 __all__ = [
     "GSDWriter",
@@ -56,6 +55,23 @@ def _gsd_hoomd():
             "writing or reading GSD files needs the 'gsd' package: pip install 'collisionkit[io]' (or pip install gsd)"
         ) from None
     return gsd.hoomd
+
+
+@contextlib.contextmanager
+def _readable(path):
+    """Turn gsd's errors for a damaged file (RuntimeError "Corrupt GSD file: ...") into a ValueError naming ``path``."""
+    try:
+        yield
+    except RuntimeError as error:
+        reason = " ".join(str(error).split()).removesuffix(f": {path}") or type(error).__name__
+        raise ValueError(f"{path} is damaged or is not a GSD trajectory (gsd: {reason})") from None
+
+
+def _open_gsd(path, mode):
+    """``gsd.hoomd.open`` of an existing file (ValueError naming it if it is damaged)."""
+    hoomd = _gsd_hoomd()
+    with _readable(path):
+        return hoomd.open(str(path), mode)
 
 
 def type_names(species):
@@ -134,7 +150,9 @@ class GSDWriter:
     """A GSD trajectory open for writing: append one frame per call, then close.
 
     Each frame is flushed to disk as it is written, so a run killed later
-    keeps every frame written before.
+    keeps every frame written before. While it is open, the file is locked
+    (:func:`collisionkit._io.exclusive`): a writer in another process is
+    refused instead of corrupting it.
 
     Parameters
     ----------
@@ -143,6 +161,14 @@ class GSDWriter:
     mode : {"w", "a"}
         "w" creates or overwrites the file; "a" appends to it (creating it
         if needed).
+
+    Raises
+    ------
+    ValueError
+        If the file to append to is damaged or not a GSD file (the message
+        names it).
+    collisionkit._io.FileLockedError
+        If another process is writing the file.
 
     Examples
     --------
@@ -165,8 +191,15 @@ class GSDWriter:
             raise ValueError(f"mode must be 'w' (overwrite) or 'a' (append); got {mode!r}")
         self.path = Path(path)
         self.path.parent.mkdir(parents=True, exist_ok=True)
-        self._file = _gsd_hoomd().open(str(self.path), mode)
-        self.frames = len(self._file)
+        _gsd_hoomd()  # the missing package first, before any file is locked
+        self._lock = contextlib.ExitStack()
+        self._lock.enter_context(exclusive(self.path))
+        try:
+            self._file = _open_gsd(self.path, mode)
+            self.frames = len(self._file)
+        except BaseException:
+            self._lock.close()
+            raise
 
     def write(self, system, step):
         """Append the system's current state as a frame labelled ``step`` (an integer >= 0).
@@ -209,6 +242,7 @@ class GSDWriter:
         if self._file is not None:
             self._file.close()
             self._file = None
+        self._lock.close()
 
     def __enter__(self):
         return self
@@ -282,7 +316,7 @@ def read_gsd(path, frame=-1):
     >>> data["dim"], data["positions"].shape, data["step"], data["types"]
     (2, (40, 2), 7, ['A'])
     """
-    with _gsd_hoomd().open(str(path), "r") as trajectory:
+    with _open_gsd(path, "r") as trajectory, _readable(path):
         count = _frame_count(trajectory, path)
         if not -count <= frame < count:
             raise ValueError(f"frame must lie in [{-count}, {count}) for {path}; got {frame}")
@@ -328,7 +362,7 @@ def read_gsd_frames(path, every=1, max_frames=None):
         raise ValueError(f"every must be an integer >= 1; got {every!r}")
     if max_frames is not None and not (isinstance(max_frames, (int, np.integer)) and max_frames >= 1):
         raise ValueError(f"max_frames must be an integer >= 1 or None; got {max_frames!r}")
-    with _gsd_hoomd().open(str(path), "r") as trajectory:
+    with _open_gsd(path, "r") as trajectory, _readable(path):
         count = _frame_count(trajectory, path)
         return [_frame_data(trajectory[index], count) for index in range(0, count, every)[:max_frames]]
 
@@ -359,11 +393,13 @@ def _frame_data(snapshot, count):
     }
 
 
-def truncate_gsd(path, frames):
+def truncate_gsd(path, frames, *, last_step=None):
     """Keep only the first ``frames`` frames of a GSD file (atomically).
 
     Used when a run resumes from a checkpoint: frames written after the
-    checkpoint are dropped and written again as the run continues.
+    checkpoint are dropped and written again as the run continues; the
+    frames the checkpoint knows of are never touched (a file that holds no
+    more is left as it is).
 
     Parameters
     ----------
@@ -371,11 +407,23 @@ def truncate_gsd(path, frames):
         An existing GSD file.
     frames : int
         Frames to keep, >= 0; more than the file holds keeps them all.
+    last_step : int, optional
+        The step of frame ``frames - 1`` as the checkpoint knows it: then the
+        file must hold at least ``frames`` frames and that frame must have
+        this step, else it is not the run's trajectory (ValueError, the file
+        left as it is).
 
     Returns
     -------
     int
         Frames in the file afterwards.
+
+    Raises
+    ------
+    ValueError
+        If the file is damaged or not a GSD file, or fails ``last_step``.
+    collisionkit._io.FileLockedError
+        If another process is writing the file.
 
     Examples
     --------
@@ -390,24 +438,41 @@ def truncate_gsd(path, frames):
     ...         writer.write(system, step)
     >>> truncate_gsd(path, 2), read_gsd(path)["step"]
     (2, 1)
+    >>> truncate_gsd(path, 3, last_step=2)
+    Traceback (most recent call last):
+    ...
+    ValueError: ...run.gsd holds 2 frames, fewer than the 3 its checkpoint wrote: it is not that run's trajectory ...
     """
     if not (isinstance(frames, (int, np.integer)) and frames >= 0):
         raise ValueError(f"frames must be an integer >= 0; got {frames!r}")
     hoomd = _gsd_hoomd()
     path = Path(path)
-    handle, temporary = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
-    os.close(handle)
-    try:
-        with hoomd.open(str(path), "r") as source, hoomd.open(temporary, "w") as copy:
-            kept = min(frames, len(source))
-            for index in range(kept):
-                copy.append(source[index])
-        os.chmod(temporary, stat.S_IMODE(path.stat().st_mode))  # mkstemp's file is private (0600): keep the old mode
-        os.replace(temporary, path)
-    except BaseException:
-        Path(temporary).unlink(missing_ok=True)
-        raise
+    with exclusive(path), _open_gsd(path, "r") as source:
+        with _readable(path):
+            held = len(source)
+            if last_step is not None and frames > 0:
+                step = int(source[frames - 1].configuration.step) if held >= frames else None
+                _check_last_step(path, held, frames, step, last_step)
+        kept = min(frames, held)
+        if kept == held:
+            return kept
+        with atomic_replacement(path, mode=stat.S_IMODE(path.stat().st_mode)) as temporary:
+            with hoomd.open(str(temporary), "w") as copy:
+                for index in range(kept):
+                    with _readable(path):
+                        frame = source[index]
+                    copy.append(frame)
     return kept
+
+
+def _check_last_step(path, held, frames, step, last_step):
+    """ValueError unless a trajectory of ``held`` frames has its frame ``frames - 1`` (``step``) at ``last_step``."""
+    if held < frames:
+        raise ValueError(f"{path} holds {held} frames, fewer than the {frames} its checkpoint wrote: it is not that "
+                         "run's trajectory (give the run's own file, or a new --trajectory)")
+    if step != last_step:
+        raise ValueError(f"{path} has frame {frames - 1} at step {step}, where its checkpoint wrote step {last_step}: "
+                         "it is not that run's trajectory (give the run's own file, or a new --trajectory)")
 
 
 def _xyz_header(system, comment):

@@ -84,6 +84,15 @@ def test_config_keys_take_the_command_line_spelling_and_may_not_repeat(tmp_path)
     assert result.exit_code == 2 and "twice" in result.output
 
 
+def test_a_config_file_that_is_not_utf8_is_one_line_naming_the_file(tmp_path):
+    config = tmp_path / "latin1.toml"
+    config.write_bytes("particles = 108\n# café\n".encode("latin-1"))  # tomllib raised UnicodeDecodeError
+    result = runner.invoke(app, ["edmd", "--config", str(config)])
+    said = "".join(result.output.split())  # rich wraps, and may fold a long path
+    assert result.exit_code == 2 and "".join(f"config file {config} is not UTF-8 text".split()) in said, said
+    assert "Traceback" not in said
+
+
 @pytest.mark.parametrize(
     "line, option",
     [("seed = true", "seed"), ('packing-fraction = "0.3"', "packing-fraction"), ('plots = "yes"', "plots")],

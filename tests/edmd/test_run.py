@@ -75,6 +75,75 @@ def test_a_run_killed_mid_way_resumes_bit_for_bit_from_its_checkpoint(tmp_path, 
         EdmdRun.resume(checkpoint, packing_fraction=0.2)
 
 
+QUICK = dict(particles=108, initial="fcc", equilibration=500, collisions=400, blocks=2, seed=3)
+
+
+def _resaved(path, state=None, drop=(), arrays=None):
+    """The run's checkpoint written again with entries of its state or arrays replaced (a crafted file)."""
+    from collisionkit._io import write_checkpoint
+
+    saved = read_checkpoint(path, "edmd")
+    kept = {name: value for name, value in saved.arrays.items() if name not in drop} | (arrays or {})
+    write_checkpoint(path, "edmd", saved.parameters, saved.state | (state or {}), kept)
+
+
+@pytest.mark.parametrize(
+    ("state", "drop", "arrays", "words"),
+    [
+        ({"equilibrated": "lots"}, (), None, "state 'equilibrated' must be an integer in [0, 500]; got 'lots'"),
+        ({"equilibrated": 10**9}, (), None, "state 'equilibrated' must be an integer in [0, 500]"),
+        ({"last_frame": -5}, (), None, "state 'last_frame' must be an integer >= -1; got -5"),
+        ({"initial_energy": None}, (), None, "state 'initial_energy' must be a number >= 0; got None"),
+        ({"trajectory": 5}, (), None, "state 'trajectory' must be a text; got 5"),
+        ({"frame_every": 0}, (), None, "state 'frame_every' must be an integer >= 1; got 0"),
+        ({"outputs": ["summary.json"]}, (), None, "state 'outputs' must be a mapping"),
+        ({}, ("tree",), None, "the state has no array 'tree'"),
+        ({}, ("sampler_histogram",), None, "its measurement cannot be read (no array 'sampler_histogram')"),
+        ({}, (), {"sampler_scalars": np.array([7.0, 1.0, 1.0, 0.0, 0.0, 0.0])},
+         "measurement arrays (sampler_*) do not fit"),
+    ],
+)
+def test_a_damaged_run_checkpoint_is_one_line_naming_the_entry(tmp_path, state, drop, arrays, words):
+    # the state's entries went through int() and float() and the arrays through KeyError: tracebacks
+    path = tmp_path / "run.npz"
+    run = EdmdRun(EdmdParameters(**QUICK), checkpoint=path)
+    run.run()  # a finished run: its checkpoint holds the measurement too
+    _resaved(path, state, drop, arrays)
+    with pytest.raises(CheckpointError) as caught:
+        EdmdRun.resume(path)
+    message = str(caught.value)
+    assert str(path) in message and words in message and "\n" not in message, message
+
+
+def test_a_run_whose_checkpoint_another_process_writes_is_refused_before_any_work(tmp_path, monkeypatch):
+    from collisionkit._io import FileLockedError
+    from tests.test_io import HOLD, held_by_another_process
+
+    path = tmp_path / "run.npz"
+    run = EdmdRun(EdmdParameters(**QUICK), checkpoint=path)
+    monkeypatch.setattr(HardSphereSystem, "run", lambda *args, **kwargs: pytest.fail("the run started"))
+    with held_by_another_process(HOLD, path) as pid, pytest.raises(FileLockedError, match=f"pid {pid}"):
+        run.run()
+    monkeypatch.undo()
+    assert not path.exists()
+    run.run()  # the other process is gone
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["run.npz"]  # no lock file once the run ends
+
+
+def test_a_resumed_run_appends_to_its_trajectory_and_refuses_one_with_fewer_frames(tmp_path):
+    from collisionkit.trajectory import read_gsd, truncate_gsd
+
+    path, frames = tmp_path / "run.npz", tmp_path / "run.gsd"
+    run = EdmdRun(EdmdParameters(**QUICK), checkpoint=path, trajectory=frames, frame_every=100)
+    run.run()
+    written = run.frames
+    assert read_gsd(frames)["frames"] == written > 2
+    truncate_gsd(frames, written - 1)  # frames lost (or another file put in its place)
+    with pytest.raises(ValueError, match=f"holds {written - 1} frames, fewer than the {written} its checkpoint wrote"):
+        EdmdRun.resume(path).run()
+    assert read_gsd(frames)["frames"] == written - 1  # left as it was
+
+
 def test_a_checkpoint_of_another_kind_or_no_checkpoint_is_refused(tmp_path):
     from collisionkit.transport import SwarmParameters, SwarmScan
 

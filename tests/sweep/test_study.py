@@ -97,6 +97,15 @@ def test_load_study_reports_missing_and_malformed_files(tmp_path):
         sweep.load_study(broken)
 
 
+def test_a_study_file_that_is_not_utf8_is_one_line_naming_the_file(tmp_path):
+    latin1 = tmp_path / "latin1.toml"
+    latin1.write_bytes('command = "edmd"\nseed = 1\n# café\n'.encode("latin-1"))  # tomllib raised UnicodeDecodeError
+    with pytest.raises(ValueError) as caught:
+        sweep.load_study(latin1)
+    message = str(caught.value)
+    assert str(latin1) in message and "not UTF-8" in message and "\n" not in message
+
+
 # ------------------------------------------------------------------ the command's options
 
 

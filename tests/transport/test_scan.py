@@ -6,7 +6,7 @@ from pathlib import Path
 
 import pytest
 
-from collisionkit._io import read_checkpoint
+from collisionkit._io import CheckpointError, FileLockedError, read_checkpoint, write_checkpoint
 from collisionkit.transport import SwarmParameters, SwarmScan, scan
 
 DATA = Path(__file__).parent.parent / "data"
@@ -75,3 +75,61 @@ def test_a_single_point_summary_has_its_results_at_the_top_level():
     summary = one.summary()
     assert summary["mean_energy"] == summary["results"][0]["mean_energy"] > 0
     assert len(summary["drift_velocity_bulk"]) == 3 and summary["mean_energy_error"] > 0
+
+
+def _finished_scan(path):
+    scan = SwarmScan(SwarmParameters(model="maxwell", reduced_field=[5.0], particles=128, tolerance=0.5,
+                                     collision_budget=1e4), checkpoint=path)
+    scan.run()
+    return read_checkpoint(path, "swarm")
+
+
+@pytest.mark.parametrize(
+    ("change", "words"),
+    [
+        (lambda result: result.pop("mean_energy"), "result 0 cannot be read (data is not a SwarmResult.to_dict output"),
+        (lambda result: result.update(mean_energy="high"), "result 0 cannot be read"),
+        (lambda result: result.update(collisions="many"), "result 0 has a collisions of the wrong type"),
+        (lambda result: result.update(converged=1), "result 0 has a converged of the wrong type"),
+        (lambda result: result.update(drift_velocity_bulk=[1.0, 2.0]), "result 0 has a drift_velocity_bulk of"),
+        (lambda result: result.update(eedf=[1.0]), "result 0 has a eedf of the wrong type or shape"),
+        (lambda result: result.update(rate_coefficients={"a": "fast"}), "result 0 has a rate_coefficients of"),
+    ],
+)
+def test_a_swarm_checkpoint_with_a_damaged_result_is_refused_naming_it(tmp_path, change, words):
+    # a result of the wrong types was taken as it was, to fail in the summary at the end of the resumed scan
+    path = tmp_path / "scan.npz"
+    saved = _finished_scan(path)
+    results = saved.state["results"]
+    change(results[0])
+    write_checkpoint(path, "swarm", saved.parameters, saved.state | {"results": results})
+    with pytest.raises(CheckpointError) as caught:
+        SwarmScan.resume(path)
+    message = str(caught.value)
+    assert message.startswith(f"{path} is a damaged swarm checkpoint: ") and words in message, message
+
+
+@pytest.mark.parametrize(
+    ("state", "words"),
+    [
+        ({"results": {"0": 1}}, "state 'results' must be a list"),
+        ({"outputs": "summary.json"}, "state 'outputs' must be a mapping"),
+        ({"cross_sections_sha256": 7}, "state 'cross_sections_sha256' must be a text"),
+    ],
+)
+def test_a_swarm_checkpoint_with_entries_of_the_wrong_type_is_refused_naming_them(tmp_path, state, words):
+    path = tmp_path / "scan.npz"
+    saved = _finished_scan(path)
+    write_checkpoint(path, "swarm", saved.parameters, saved.state | state)
+    with pytest.raises(CheckpointError, match=words):
+        SwarmScan.resume(path)
+
+
+def test_a_scan_whose_checkpoint_another_process_writes_is_refused_before_any_point(tmp_path, monkeypatch):
+    from tests.test_io import HOLD, held_by_another_process
+
+    path = tmp_path / "scan.npz"
+    monkeypatch.setattr(scan, "simulate_swarm", lambda *args, **kwargs: pytest.fail("a point ran"))
+    with held_by_another_process(HOLD, path) as pid, pytest.raises(FileLockedError, match=f"pid {pid}"):
+        SwarmScan(SwarmParameters(reduced_field=[12.0], **QUICK), checkpoint=path).run()
+    assert not path.exists()

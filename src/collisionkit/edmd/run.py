@@ -17,6 +17,7 @@ the dynamics)::
 
 from __future__ import annotations
 
+import contextlib
 import dataclasses
 import math
 import secrets
@@ -26,7 +27,7 @@ from typing import Any
 
 import numpy as np
 
-from .._io import CheckpointError, read_checkpoint, write_checkpoint
+from .._io import CheckpointError, exclusive, read_checkpoint, write_checkpoint
 from .._params import Parameters, check_choice, check_integer, check_real, check_seed, check_unchanged
 from .initial import LATTICE_DIM, lattice, lattice_cells, maxwell_boltzmann, random_fluid
 from .measurement import Measurement, Sampler
@@ -257,8 +258,10 @@ class EdmdRun:
         Raises
         ------
         ValueError
-            If the file is not an EDMD checkpoint (:class:`~collisionkit._io.CheckpointError`)
-            or a parameter given differs.
+            If the file is not an EDMD checkpoint, or a damaged one (any of
+            its arrays or entries out of shape or range:
+            :class:`~collisionkit._io.CheckpointError`), or a parameter
+            given differs.
 
         Examples
         --------
@@ -277,26 +280,31 @@ class EdmdRun:
         except (TypeError, ValueError) as error:
             raise CheckpointError(f"{path} holds parameters that are not valid now: {error}") from None
         check_unchanged(parameters, given, path)
-        saved_trajectory = saved.state.get("trajectory")
+        saved_trajectory = saved.entry("trajectory", "text", optional=True)
         append = trajectory is not None and saved_trajectory is not None and \
             Path(trajectory).resolve() == Path(saved_trajectory)
         if frame_every is None and append:
-            frame_every = saved.state.get("frame_every")
+            frame_every = saved.entry("frame_every", "integer", 1, optional=True)
         return cls(parameters, checkpoint=path if checkpoint is None else checkpoint, trajectory=trajectory,
                    frame_every=frame_every, _state={"saved": saved, "append": append})
 
     def _restore(self, state) -> None:
         saved = state["saved"]
-        try:
+        try:  # every array is checked before a kernel sees it
             self.system = HardSphereSystem.from_state_dict(saved.arrays)
-        except ValueError as error:  # written by another engine version
+        except ValueError as error:  # written by another engine version, or arrays out of shape or range
             raise CheckpointError(f"cannot resume from {saved.path}: {error}") from None
         arrays = saved.arrays
-        self.sampler = Sampler.from_state_dict(self.system, arrays) if "sampler_scalars" in arrays else None
-        self.equilibrated = int(saved.state["equilibrated"])
-        self.frames = int(saved.state["frames"]) if state["append"] else 0
-        self.last_frame = int(saved.state["last_frame"])
-        self.initial_energy = float(saved.state["initial_energy"])
+        try:
+            self.sampler = Sampler.from_state_dict(self.system, arrays) if "sampler_scalars" in arrays else None
+        except (KeyError, TypeError, ValueError, IndexError) as error:
+            raise saved.damaged(f"its measurement cannot be read (no array {error})" if isinstance(error, KeyError)
+                                else f"its measurement cannot be read ({error})") from None
+        _check_sampler(saved, self.sampler, self.parameters, self.system)
+        self.equilibrated = saved.entry("equilibrated", "integer", 0, self.parameters.equilibration)
+        self.frames = saved.entry("frames", "integer", 0) if state["append"] else 0
+        self.last_frame = saved.entry("last_frame", "integer", -1)
+        self.initial_energy = saved.entry("initial_energy", "number", 0.0)
         self._append = self._continued = state["append"]
 
     # ---------------------------------------------------------------- running
@@ -363,19 +371,34 @@ class EdmdRun:
         return self
 
     def _open_trajectory(self) -> None:
-        if self.trajectory is None:
-            return
-        from ..trajectory import GSDWriter, truncate_gsd
+        """Lock the checkpoint and the trajectory for the run (a second writer is refused); open the trajectory.
 
-        append = getattr(self, "_append", False) and self.trajectory.exists()
-        self.frames = truncate_gsd(self.trajectory, self.frames) if append else 0
-        self._writer = GSDWriter(self.trajectory, mode="a" if append else "w")
-        self._append = True
+        A resumed run appends to its trajectory: frames after the
+        checkpoint's are dropped, and a file without all of the checkpoint's
+        frames is refused (it is not this run's trajectory).
+        """
+        self._locks = contextlib.ExitStack()
+        try:
+            for path in (self.checkpoint, self.trajectory):
+                self._locks.enter_context(exclusive(path))
+            if self.trajectory is None:
+                return
+            from ..trajectory import GSDWriter, truncate_gsd
+
+            append = getattr(self, "_append", False) and self.trajectory.exists()
+            last_step = self.last_frame if self.frames > 0 else None
+            self.frames = truncate_gsd(self.trajectory, self.frames, last_step=last_step) if append else 0
+            self._writer = GSDWriter(self.trajectory, mode="a" if append else "w")
+            self._append = True
+        except BaseException:
+            self._locks.close()
+            raise
 
     def _close_trajectory(self) -> None:
         if self._writer is not None:
             self._writer.close()
             self._writer = None
+        self._locks.close()
 
     def _frame(self, final: bool = False) -> None:
         step = self.system.collisions
@@ -451,6 +474,18 @@ class EdmdRun:
             note += (f". It reached the elastic floor: contacts slower than --elastic-below {system.elastic_below:.3g} "
                      "are elastic (against inelastic collapse), so fewer --collisions follow the cooling itself")
         return note
+
+
+def _check_sampler(saved, sampler: Sampler | None, parameters: EdmdParameters, system: HardSphereSystem) -> None:
+    """CheckpointError if the saved measurement does not fit the run (blocks, block length, records, positions)."""
+    if sampler is None:
+        return
+    lengths = {len(values) for values in sampler.records.values()} | {len(sampler.speeds)}
+    fits = (sampler.blocks, sampler.per_block) == (parameters.blocks, parameters.collisions // parameters.blocks)
+    fits &= len(lengths) == 1 and lengths.pop() <= sampler.blocks and sampler.histogram.ndim == 1
+    fits &= sampler.start_positions.shape == (system.count, system.dim) and math.isfinite(sampler.r_max)
+    if not fits:
+        raise saved.damaged("its measurement arrays (sampler_*) do not fit its parameters and particles")
 
 
 def equation_of_state(dim: int) -> tuple[str, Callable]:

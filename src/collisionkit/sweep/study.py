@@ -322,6 +322,9 @@ def load_study(path) -> Study:
         raise ValueError(f"study file not found: {path}") from None
     except tomllib.TOMLDecodeError as error:
         raise ValueError(f"study file {path} is not valid TOML: {error}") from None
+    except UnicodeDecodeError as error:  # TOML is UTF-8 text
+        raise ValueError(f"study file {path} is not UTF-8 text, as TOML must be (byte {error.start}: "
+                         f"{error.reason})") from None
     return study_from_dict(data)
 
 

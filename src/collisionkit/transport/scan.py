@@ -21,7 +21,9 @@ from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any, ClassVar
 
-from .._io import CheckpointError, file_digest, read_checkpoint, write_checkpoint
+import numpy as np
+
+from .._io import Checkpoint, CheckpointError, exclusive, file_digest, read_checkpoint, write_checkpoint
 from .._params import Parameters, check_choice, check_unchanged, check_integer, check_real, check_seed
 from .gases import MODEL_GASES, Gas, model_gas
 from .lxcat import read_lxcat
@@ -220,6 +222,12 @@ class SwarmScan:
             Called as ``progress(fraction)``, the fraction of the scan's
             points done, in [0, 1].
 
+        Raises
+        ------
+        collisionkit._io.FileLockedError
+            If another process is writing the scan's checkpoint (it is
+            locked for the run).
+
         Examples
         --------
         >>> scan = SwarmScan(SwarmParameters(model="maxwell", reduced_field=[5.0, 10.0], particles=640, tolerance=0.05))
@@ -227,18 +235,19 @@ class SwarmScan:
         ([5, 10], True)
         """
         p, total = self.parameters, len(self.parameters.reduced_field)
-        for value in p.reduced_field[len(self.results):]:
-            done = len(self.results)
+        with exclusive(self.checkpoint):  # a second process writing the checkpoint is refused
+            for value in p.reduced_field[len(self.results):]:
+                done = len(self.results)
 
-            def report(fraction, done=done):
-                if progress is not None:
-                    progress((done + fraction) / total)
+                def report(fraction, done=done):
+                    if progress is not None:
+                        progress((done + fraction) / total)
 
-            self.results.append(simulate_swarm(
-                self.gas, value, reduced_magnetic_field=p.reduced_magnetic_field, gas_temperature=p.gas_temperature,
-                particles=p.particles, seed=p.seed, sharing=p.sharing, tolerances=self.tolerances(value),
-                collision_budget=p.collision_budget, progress=report))
-            self.save()
+                self.results.append(simulate_swarm(
+                    self.gas, value, reduced_magnetic_field=p.reduced_magnetic_field, gas_temperature=p.gas_temperature,
+                    particles=p.particles, seed=p.seed, sharing=p.sharing, tolerances=self.tolerances(value),
+                    collision_budget=p.collision_budget, progress=report))
+                self.save()
         if progress is not None:
             progress(1.0)
         return self.results
@@ -279,8 +288,10 @@ class SwarmScan:
         Raises
         ------
         ValueError
-            If the file is not a swarm checkpoint (:class:`~collisionkit._io.CheckpointError`),
-            a parameter given differs, or the LXCat file changed since.
+            If the file is not a swarm checkpoint or a damaged one (a saved
+            result or entry of the wrong type or shape:
+            :class:`~collisionkit._io.CheckpointError`), a parameter given
+            differs, or the LXCat file changed since.
 
         Examples
         --------
@@ -294,11 +305,11 @@ class SwarmScan:
         saved = read_checkpoint(path, CHECKPOINT_KIND)
         try:
             parameters = SwarmParameters.from_mapping(saved.parameters)
-            results = [SwarmResult.from_dict(entry) for entry in saved.state["results"]]
         except (KeyError, TypeError, ValueError) as error:
             raise CheckpointError(f"{path} is a damaged swarm checkpoint: {error}") from None
+        results = [_saved_result(saved, index, entry) for index, entry in enumerate(saved.entry("results", "list"))]
         check_unchanged(parameters, given, path)
-        digest = saved.state.get("cross_sections_sha256")
+        digest = saved.entry("cross_sections_sha256", "text", optional=True)
         if parameters.cross_sections is not None and digest is not None and parameters.cross_sections.is_file() \
                 and file_digest(parameters.cross_sections) != digest:
             raise ValueError(f"{parameters.cross_sections} has changed since {path} was written (its SHA-256 "
@@ -319,6 +330,34 @@ class SwarmScan:
         [5.0, 10.0]
         """
         return swarm_summary(self.parameters, self.results, files)
+
+
+def _saved_result(saved: Checkpoint, index: int, entry) -> SwarmResult:
+    """Result ``index`` of a swarm checkpoint as a SwarmResult whose every field has its type and shape.
+
+    A damaged one is a CheckpointError naming the file, the result and the field.
+    """
+    try:
+        result = SwarmResult.from_dict(entry)
+    except (TypeError, ValueError) as error:
+        raise saved.damaged(f"result {index} cannot be read ({error})") from None
+    for name, spec in SwarmResult.__dataclass_fields__.items():
+        value = getattr(result, name)
+        if spec.type == "int":
+            valid = isinstance(value, int) and not isinstance(value, bool) and value >= 0
+        elif spec.type == "bool":
+            valid = isinstance(value, bool)
+        elif spec.type == "np.ndarray":
+            valid = value.ndim == 1 and (value.shape == (3,) if name.startswith("drift") else
+                                         value.shape == np.shape(result.eedf_energy))
+        elif spec.type == "dict" and name != "extras":
+            valid = all(isinstance(key, str) and isinstance(item, (int, float)) and not isinstance(item, bool)
+                        for key, item in value.items())
+        else:  # floats (from_dict converted them) and the free-form extras
+            valid = spec.type == "float" or isinstance(value, dict)
+        if not valid:
+            raise saved.damaged(f"result {index} has a {name} of the wrong type or shape: {value!r}")
+    return result
 
 
 def swarm_summary(parameters: SwarmParameters, results: Sequence[SwarmResult], files: Sequence = ()) -> dict[str, Any]:
