@@ -208,3 +208,29 @@ def test_a_point_whose_worker_died_resumes_from_its_own_checkpoint(tmp_path, mon
     assert physics_columns(read_table(tmp_path / "study" / "results.csv")) == \
         physics_columns(read_table(tmp_path / "reference" / "results.csv"))
     assert reference.table[0]["compressibility_factor"] == resumed.table[0]["compressibility_factor"]
+
+
+def test_a_second_sweep_of_a_running_study_is_refused(tmp_path):
+    # a sweep and a concurrent sweep --resume of one folder replaced finished results with failures
+    import subprocess
+    import sys
+
+    from collisionkit._io import FileLockedError
+
+    out = tmp_path / "study"
+    serial_run(ENCOUNTERS, out)
+    holder = subprocess.Popen([sys.executable, "-c", "import sys, time\nfrom collisionkit._io import exclusive\n"
+                               f"with exclusive({str(out / 'checkpoint.npz')!r}):\n    print('held', flush=True)\n"
+                               "    time.sleep(60)"], stdout=subprocess.PIPE, text=True)
+    try:
+        assert holder.stdout.readline().strip() == "held"
+        before = (out / "results.csv").read_bytes()
+        with pytest.raises(FileLockedError, match="pid"):
+            with ThreadPoolExecutor(1) as pool:
+                sweep.resume_study(out / "checkpoint.npz", executor=pool)
+        assert (out / "results.csv").read_bytes() == before
+    finally:
+        holder.kill()
+        holder.wait(timeout=30)
+    with ThreadPoolExecutor(1) as pool:
+        assert sweep.resume_study(out / "checkpoint.npz", executor=pool).skipped == 6  # free again

@@ -18,6 +18,7 @@ import typer
 
 from rich.markup import escape
 
+from .._io import FileLockedError
 from ._common import (
     INTERRUPTED_EXIT_CODE, RUN_FAILED_EXIT_CODE, OverwriteOption, check_output_file, check_output_folder, error,
     error_console, fail, note, print_table, progress_bar, refuse_clashes, refuse_folder, refuse_to_replace, say, warn,
@@ -195,6 +196,8 @@ def sweep(
         with _executor(workers, scheduler) as client, progress_bar("points", total=total) as advance:
             results = core.run_study(parsed, out, executor=client, resume=resume is not None,
                                      on_point=lambda record: advance())
+    except FileLockedError as error:
+        raise fail(f"{error}: another collisionkit sweep is running this study; wait for it or use another --out")
     except KeyboardInterrupt:
         checkpoint = out / "checkpoint.npz"
         warn(f"interrupted: finished points are saved; continue with --resume {checkpoint}")

@@ -21,7 +21,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from .._io import CheckpointError, atomic_write_json, atomic_write_text, read_checkpoint, write_checkpoint
+from .._io import CheckpointError, atomic_write_json, atomic_write_text, exclusive, read_checkpoint, write_checkpoint
 from .commands import sweep_command
 from .study import Study, _check_integer, load_study, study_from_dict
 from .table import results_table, write_outputs
@@ -326,7 +326,9 @@ def run_study(study, out, executor=None, workers: int | None = None, resume: boo
     resume : bool
         Continue the study in ``out`` (as :func:`resume_study`): skip the
         points whose ``result.json`` is complete, rerun the others. Without
-        it, ``out`` must not hold a study.
+        it, ``out`` must not hold a study. The study's checkpoint is locked
+        while it runs: a second sweep of the folder raises
+        :class:`~collisionkit._io.FileLockedError`.
     progress : callable, optional
         Called as ``progress(fraction)`` with the fraction of runs done.
     on_point : callable, optional
@@ -354,20 +356,22 @@ def run_study(study, out, executor=None, workers: int | None = None, resume: boo
     out = Path(out)
     tasks = point_tasks(study, out)
     check_folder(study, out, resume)
-    done = {task.name: record for task in tasks if resume and (record := _is_complete(task)) is not None}
-    files = [_save_checkpoint(study, out, done)]
-    report = _Reporter(len(tasks), progress, on_point)
-    for record in done.values():
-        report(record)
-    pending = [task for task in tasks if task.name not in done]
-    if pending:
-        with contextlib.ExitStack() as stack:
-            if executor is None:
-                executor = stack.enter_context(local_client(workers))
-            _execute(executor, pending, done, lambda record: (report(record), _save_checkpoint(study, out, done)))
-    records = [done[task.name] for task in tasks]
-    table = results_table(study, records)
-    files += write_outputs(study, out, table)
+    with exclusive(out / CHECKPOINT_FILE):  # a second sweep (or --resume) of this folder is refused meanwhile
+        check_folder(study, out, resume)  # again, now that no other sweep can start one here
+        done = {task.name: record for task in tasks if resume and (record := _is_complete(task)) is not None}
+        files = [_save_checkpoint(study, out, done)]
+        report = _Reporter(len(tasks), progress, on_point)
+        for record in done.values():
+            report(record)
+        pending = [task for task in tasks if task.name not in done]
+        if pending:
+            with contextlib.ExitStack() as stack:
+                if executor is None:
+                    executor = stack.enter_context(local_client(workers))
+                _execute(executor, pending, done, lambda record: (report(record), _save_checkpoint(study, out, done)))
+        records = [done[task.name] for task in tasks]
+        table = results_table(study, records)
+        files += write_outputs(study, out, table)
     return StudyResults(study, records, table, files, skipped=len(tasks) - len(pending))
 
 
