@@ -281,10 +281,11 @@ class EdmdRun:
             raise CheckpointError(f"{path} holds parameters that are not valid now: {error}") from None
         check_unchanged(parameters, given, path)
         saved_trajectory = saved.entry("trajectory", "text", optional=True)
+        saved_frame_every = saved.entry("frame_every", "integer", 1, optional=True)
         append = trajectory is not None and saved_trajectory is not None and \
             Path(trajectory).resolve() == Path(saved_trajectory)
         if frame_every is None and append:
-            frame_every = saved.entry("frame_every", "integer", 1, optional=True)
+            frame_every = saved_frame_every
         return cls(parameters, checkpoint=path if checkpoint is None else checkpoint, trajectory=trajectory,
                    frame_every=frame_every, _state={"saved": saved, "append": append})
 

@@ -91,7 +91,14 @@ def combine_replicas(values: Sequence[float], errors: Sequence[float] | None = N
 
 
 def combine_rows(rows: Sequence[Mapping[str, Any]], key: str) -> dict[str, Any]:
-    """:func:`combine_replicas` of the rows' ``key`` with their ``<key>_error`` (when every row has one)."""
+    """:func:`combine_replicas` of the rows' ``key`` with their ``<key>_error`` (when every row has one).
+
+    Examples
+    --------
+    >>> rows = [{"Z": 2.0, "Z_error": 0.1}, {"Z": 2.1, "Z_error": 0.1}]
+    >>> round(combine_rows(rows, "Z")["mean"], 6), round(combine_rows(rows[:1] + [{"Z": 2.1}], "Z")["error"], 6)
+    (2.05, 0.05)
+    """
     values = [row[key] for row in rows]
     own = [row.get(f"{key}_error") for row in rows]
     numeric = all(isinstance(error, (int, float)) and not isinstance(error, bool) for error in own)
