@@ -65,6 +65,12 @@ def test_an_output_in_an_unwritable_place_is_refused_before_any_work(tmp_path, m
     assert sorted(path.name for path in tmp_path.iterdir()) == ["study.toml"]  # nothing ran
 
 
+@linux_proc
+def test_a_folder_nothing_is_written_to_is_not_checked(tmp_path):
+    result = invoke([*EDMD, "--out", NOWHERE, "--summary", tmp_path / "s.json"])  # --no-plots: no plots, no folder
+    assert result.exit_code == 0, result.output
+
+
 def test_the_probe_leaves_nothing_behind(tmp_path):
     _files.check_output_file(tmp_path / "s.json", "--summary")
     _files.check_output_folder(tmp_path / "new" / "plots", "--out")

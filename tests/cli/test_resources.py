@@ -111,8 +111,10 @@ def test_a_cold_kernel_cache_is_said_on_stderr(tmp_path, monkeypatch):
 
 
 def test_the_cache_check_reads_numba_s_cache_index(tmp_path):
-    # in this process the kernels have run (and are cached); a fresh cache folder holds none of them
-    assert _warmup.cold(["edmd", "swarm", "slab", "encounter", "core"]) is False
+    # once warmed up (compiled here if the cache was cold) the cache holds them; a fresh cache folder holds none
+    domains = ["edmd", "swarm", "slab", "encounter", "core"]
+    _warmup.warm_up(domains)
+    assert _warmup.cold(domains) is False
     code = "from collisionkit.cli._warmup import cold; print(cold(['edmd']), cold([]))"
     env = os.environ | {"NUMBA_CACHE_DIR": str(tmp_path / "empty-cache"), "PYTHONPATH": str(ROOT / "src")}
     output = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True).stdout

@@ -75,6 +75,16 @@ class Options(BaseModel):
 
     overwrite: bool = False
 
+    def unwritten(self) -> set[str]:
+        """The output options this run will not write (``--out`` with ``--no-plots``): not checked.
+
+        Examples
+        --------
+        >>> Options().unwritten()
+        set()
+        """
+        return set()
+
     @model_validator(mode="before")
     @classmethod
     def _no_loose_types(cls, values: Any) -> Any:
@@ -269,11 +279,13 @@ def check_paths(options: Options, keep: Collection[Path] = ()) -> None:
     for name in model.input_files:
         check_input_file(getattr(options, name), f"--{_dashed(name)}")
     outputs = {f"--{_dashed(name)}": getattr(options, name) for name in model.output_files}
+    folders = {f"--{_dashed(name)}": getattr(options, name) for name in model.output_folders
+               if name not in options.unwritten()}
     for option, path in outputs.items():
         check_output_file(path, option)
-    for name in model.output_folders:
-        check_output_folder(getattr(options, name), f"--{_dashed(name)}")
-    refuse_clashes(outputs | {f"--{_dashed(name)}": getattr(options, name) for name in model.output_folders})
+    for option, path in folders.items():
+        check_output_folder(path, option)
+    refuse_clashes(outputs | folders)
     keep = {Path(path).resolve() for path in keep}
     for option, path in outputs.items():
         refuse_to_replace(path, option, options.overwrite, keep)

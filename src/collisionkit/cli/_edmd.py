@@ -71,6 +71,16 @@ class EdmdOptions(Options):
                 raise ValueError(f"--{name} must end in {' or '.join(suffixes)} (the format it writes); got {str(path)!r}")
         return self
 
+    def unwritten(self) -> set[str]:
+        """``out`` without plots: nothing goes there.
+
+        Examples
+        --------
+        >>> EdmdOptions(plots=False).unwritten()
+        {'out'}
+        """
+        return set() if self.plots else {"out"}
+
     def parameters(self):
         """The run's physics as :class:`collisionkit.edmd.EdmdParameters`.
 
@@ -116,13 +126,15 @@ def _new_run(options: EdmdOptions):
         raise fail(str(error)) from None
     _refuse_beyond_memory(parameters)
     _say_seed(parameters.seed, drawn=options.seed is None)
+    extra = _frame_notes(parameters, options.frame_every)
     warm_up(["edmd"], always=["edmd"])
     try:
         with progress_bar("setting up", total=100) as advance:
-            return EdmdRun(parameters, checkpoint=options.checkpoint, trajectory=options.trajectory,
-                           frame_every=options.frame_every, progress=_percent_reporter(advance, 100))
+            run = EdmdRun(parameters, checkpoint=options.checkpoint, trajectory=options.trajectory,
+                          frame_every=options.frame_every, progress=_percent_reporter(advance, 100))
     except (ValueError, OverlapError) as error:
         raise fail(f"cannot set up the initial state: {error}") from None
+    return run, extra
 
 
 def _resumed_run(resume: Path, given: dict):
@@ -147,8 +159,9 @@ def _resumed_run(resume: Path, given: dict):
     options = validate_options(EdmdOptions, run.parameters.to_dict() | outputs, keep=keep)
     _require_outputs(options)
     _say_seed(run.parameters.seed, drawn=False)
+    extra = _frame_notes(run.parameters, run.frame_every)
     warm_up(["edmd"], always=["edmd"])
-    return run, options
+    return run, options, extra
 
 
 def _require_outputs(options: EdmdOptions) -> None:
@@ -162,6 +175,16 @@ def _require_outputs(options: EdmdOptions) -> None:
 def _say_seed(seed: int, drawn: bool) -> None:
     how = "drawn at random; " if drawn else ""
     note(f"seed {seed} ({how}--seed {seed} repeats this run)")
+
+
+def _frame_notes(parameters, every: int | None) -> dict:
+    """Say (before any work) the frame interval the chunks give; the summary's ``frame_interval_effective``."""
+    if every is None:
+        return {}
+    intervals, frames_note = frame_intervals(parameters, every)
+    if frames_note is not None:
+        note(frames_note)
+    return {"frame_interval_effective": intervals}
 
 
 def frame_intervals(parameters, every: int) -> tuple[dict[str, int], str | None]:
@@ -272,15 +295,9 @@ def edmd(
     )  # fmt: skip
     if resume is None:
         options = load_options(EdmdOptions, config, given)
-        run = _new_run(options)
+        run, extra = _new_run(options)
     else:
-        run, options = _resumed_run(resume, option_values(EdmdOptions, config, given))
-    extra = {}
-    if run.frame_every is not None:
-        intervals, frames_note = frame_intervals(run.parameters, run.frame_every)
-        extra["frame_interval_effective"] = intervals
-        if frames_note is not None:
-            note(frames_note)
+        run, options, extra = _resumed_run(resume, option_values(EdmdOptions, config, given))
     where = (f"the last checkpoint is in {options.checkpoint}; continue with --resume {options.checkpoint}"
              if options.checkpoint is not None else "no --checkpoint was given, so nothing is saved")
     try:

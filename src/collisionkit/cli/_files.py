@@ -277,6 +277,9 @@ class Deliveries:
 
         Examples
         --------
+        >>> import os, tempfile
+        >>> here = os.getcwd()
+        >>> os.chdir(tempfile.mkdtemp())  # the rescue file goes to the current folder
         >>> deliveries = Deliveries("slab")
         >>> deliveries.failures.append("the plot (disk full)")
         >>> try:
@@ -284,8 +287,9 @@ class Deliveries:
         ... except Exception as stop:
         ...     print(type(stop).__name__, stop.exit_code)
         Exit 1
-        >>> for rescued in Path.cwd().glob("collisionkit-slab-results-*.json"):
-        ...     rescued.unlink()
+        >>> [path.name.startswith("collisionkit-slab-results-") for path in Path.cwd().iterdir()]
+        [True]
+        >>> os.chdir(here)
         """
         if summary is not None:
             try:
