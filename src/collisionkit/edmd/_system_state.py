@@ -75,6 +75,7 @@ class Checkpoints:
         for name in cls._SCALARS:
             setattr(system, name, state[name].item())
         system.restitution_law = str(state["restitution_law"])
+        system._still = 0  # the collapse watch starts afresh
         return system
 
     def save(self, path):
