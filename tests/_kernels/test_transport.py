@@ -10,7 +10,7 @@ from scipy.integrate import solve_ivp
 
 from collisionkit._kernels.transport import (
     BOUND_COLUMN_OFFSET, EXTRA_COLUMNS, ISOTROPIC, NULL_COLUMN_OFFSET, SCREENED_COULOMB, SHARE_EQUAL, SHARE_UNIFORM,
-    TIME_COLUMN_OFFSET, WINDOW_COLLISIONS, WINDOW_GROWTH, advance_swarm, derived_field,
+    TIME_COLUMN_OFFSET, TRIAL_BUDGET, WINDOW_COLLISIONS, WINDOW_GROWTH, advance_swarm, derived_field,
 )
 from collisionkit._kernels.transport.collisions import ionized, two_body
 from collisionkit._kernels.transport.cross_sections import node_index, rate_bound
@@ -22,6 +22,7 @@ from collisionkit._kernels.transport.scattering import isotropic_direction, scat
 from collisionkit._kernels.transport.slab import elastic_lab
 from collisionkit.transport import Gas, Process, Species, reid_ramp, screened_coulomb_momentum_ratio
 from collisionkit.transport._tables import build_tables
+from tests.sweep.helpers import deadline
 
 E_CHARGE, ME = constants.e, constants.m_e
 
@@ -197,6 +198,29 @@ def test_every_ionization_in_a_step_adds_one_living_child_to_its_parent():
     np.testing.assert_array_equal(child_alive, born)
     energy_after = 0.5 * ME * ((vel**2).sum(axis=1) + (child_vel**2 * born[..., None]).sum(axis=(1, 2)))
     np.testing.assert_allclose(energy_after, energy_before, rtol=1e-9)
+
+
+def test_a_particle_that_never_collides_in_a_field_ends_its_call_within_the_budget():
+    # zero cross sections (the Python side refuses such a gas; the kernel must not rely on it): no trial ever
+    # comes, the windows of the flight grow no longer than a bound, and the step of 1e300 s never ended
+    tables = build_tables(Gas((Species("z", 1e-26, (Process("elastic", [0.0, 10.0], [0.0, 0.0]),)),)), ME, 0.0)
+    n = 4
+    vel = np.tile([0.0, 0.0, 1e5], (n, 1))
+    states = np.random.SeedSequence(8).generate_state(4 * n, np.uint64).reshape(n, 4)
+    field = derived_field(np.array([0.0, 0.0, 1e15]), np.zeros(3))
+    empty = (np.zeros((n, 0, 3)), np.zeros((n, 0, 3)), np.zeros((n, 0, 4), np.uint64), np.zeros((n, 0), bool),
+             np.zeros(n, np.int64))
+
+    def advance(budget):
+        return advance_swarm(0, n, np.zeros((n, 3)), vel.copy(), states.copy(), np.ones(n, bool), 0.0, 1e300, field,
+                             ME, 1e24, *tables.arrays(), SHARE_EQUAL, *tables.lookup(),
+                             np.zeros((n, tables.kind.size + EXTRA_COLUMNS)), *empty, False, WINDOW_COLLISIONS,
+                             WINDOW_GROWTH, budget)
+
+    advance(10)  # compile outside the deadline
+    with deadline(20.0):
+        stalled, speed = advance(TRIAL_BUDGET)
+    assert stalled == 0 and speed > 1e10  # the first particle, far beyond the table's 10 eV (1.9e6 m/s)
 
 
 # ------------------------------------------------------------------ exactness of the null-collision method

@@ -91,6 +91,7 @@ class Checkpoints:
             setattr(system, name, np.asarray(state[name]).item())
         system.restitution_law = str(state["restitution_law"])
         system._grow_overflowed_storage()  # saved as a run stopped to grow a row: grow it, as that run did next
+        system._still = 0  # the collapse watch starts afresh
         return system
 
     def save(self, path):

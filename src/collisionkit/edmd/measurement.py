@@ -183,6 +183,13 @@ class Sampler:
             Called as ``progress(fraction)`` with the fraction of the block's
             collisions done, in [0, 1], as the block runs.
 
+        Raises
+        ------
+        RuntimeError
+            If the system cannot be measured: its run stalled (see
+            :meth:`HardSphereSystem.run`), or the block took no time or
+            left no kinetic energy (a collapse).
+
         Examples
         --------
         >>> from collisionkit.edmd import Sampler, lattice, maxwell_boltzmann, HardSphereSystem
@@ -198,13 +205,21 @@ class Sampler:
         dim, count = system.dim, system.count
         kT_before = system.temperature()
         virial0, collisions0, time0 = system.virial, system.collisions, system.elapsed
-        system.compile_event_loop()  # numba compiles at the first call: not a part of the timed run
+        # numba compiles at the first call (seconds on a cold cache): not a part of the timed run
+        system.compile_event_loop()
+        _pair_distribution.pair_distance_histogram(np.zeros((1, dim)), system.box[:dim], system.periodic, 1.0, 1)
         # the measurement's wall clock: the events and the sampling of this block
         tick = perf_counter()
         system.run(collisions=self.per_block, progress=progress)
         kT_after = system.temperature()
         kT = 0.5 * (kT_before + kT_after)
         duration = system.elapsed - time0
+        if not (duration > 0.0 and kT > 0.0):
+            raise RuntimeError(
+                f"a block of {self.per_block} pair collisions took no time (duration {duration:g}, kT {kT:g}): the "
+                "system collapsed (e.g. restitution < 1 with elastic_below 0), so its pressure and collision "
+                "frequency are undefined; raise elastic_below or the restitution"
+            )
         virial = system.virial - virial0
         record = self.records
         record["temperature"].append(kT_after)

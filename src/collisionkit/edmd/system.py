@@ -22,6 +22,7 @@ from .._repr import hard_sphere_system_rows, html_table
 from . import _checks, _system_setup
 from ._neighbour_lists import NeighbourLists
 from ._particle_state import ParticleState
+from ._system_events import run_event_loop
 from ._system_parameters import SystemParameters
 from ._system_setup import RESTITUTION_LAWS
 from ._system_state import Checkpoints
@@ -73,7 +74,9 @@ class HardSphereSystem(SystemParameters, ParticleState, NeighbourLists, Checkpoi
     species : array_like of int, shape (N,), optional
         Species index per particle (0 .. S-1) for the restitution matrix.
     restitution : float or array_like, shape (S, S), optional
-        Coefficient of normal restitution per species pair, in [0, 1].
+        Coefficient of normal restitution per species pair, in [0, 1]. At 0
+        a contact is sticky: the pair's normal approach stops, and the pair
+        slides apart along its tangent.
     restitution_law : {"constant", "bridges"}
         "bridges": e = min(e_pair, (u_n / law_speed)^(-law_exponent)), the
         law measured for ice at planetary-ring temperatures (Bridges, Hatzes
@@ -81,13 +84,16 @@ class HardSphereSystem(SystemParameters, ParticleState, NeighbourLists, Checkpoi
     law_speed, law_exponent : float
         Parameters of the Bridges law.
     elastic_below : float, optional
-        Contacts with normal approach speed below this are elastic: protects
-        inelastic runs against inelastic collapse (infinitely many
-        collisions in finite time), in the spirit of the TC model of Luding &
-        McNamara (Granular Matter 1, 113 (1998)). Default: 0 for elastic
-        systems, 1e-6 times the initial rms speed otherwise.
+        Pair contacts with normal approach speed below this are elastic:
+        protects inelastic runs against inelastic collapse (infinitely many
+        collisions in finite time, which stops a run with a RuntimeError),
+        in the spirit of the TC model of Luding & McNamara (Granular Matter
+        1, 113 (1998)). Default: 0 for elastic systems, 1e-6 times the
+        initial rms speed otherwise.
     wall_restitution : float
-        Restitution of particle-wall contacts, in [0, 1].
+        Restitution of particle-wall contacts, in [0, 1]. Below 1 under
+        gravity a ball comes to rest on a wall after infinitely many
+        bounces: a run stops there with a RuntimeError (a wall collapse).
     gravity : array_like, shape (d,), optional
         Uniform acceleration; flights become exact parabolas.
     neighbour_shell : float, optional
@@ -157,6 +163,7 @@ class HardSphereSystem(SystemParameters, ParticleState, NeighbourLists, Checkpoi
         self.ids = np.arange(count)
         self.last_sort = 0
         self.acc = np.zeros(_k.ACC_SIZE)
+        self._still = 0  # events in a row at the current instant (the event loop's watch for a collapse)
         if elastic_below is None:
             elastic_below = _system_setup.default_elastic_below(self.restitution, restitution_law, velocities)
         self.params[_k.P_ELASTIC_BELOW] = _checks.bounded(elastic_below, "elastic_below", 0.0)
@@ -275,12 +282,20 @@ class HardSphereSystem(SystemParameters, ParticleState, NeighbourLists, Checkpoi
             fraction of the requested collisions (or time, whichever is the
             larger share) done so far, in [0, 1].
         chunk : int, optional
-            Collisions per kernel call, >= 1 (default: max(N, 10^5)).
+            Collisions between progress reports, >= 1 (default: max(N,
+            10^5)); Ctrl-C stops a run within a fraction of a second.
 
         Returns
         -------
         int
-            Pair collisions processed.
+            Pair collisions processed (fewer than asked if every particle
+            came to rest).
+
+        Raises
+        ------
+        RuntimeError
+            If the run cannot go on, with the cause: a collapse (infinitely
+            many collisions in finite time), or no pair can collide.
 
         Examples
         --------
@@ -343,11 +358,8 @@ class HardSphereSystem(SystemParameters, ParticleState, NeighbourLists, Checkpoi
         self._run_events(0, self.time)
 
     def _run_events(self, collisions, t_stop):
-        return _k.run_events(
-            self.time, collisions, t_stop, self.p, self.book, self._image, self.cell_of, self.neighbours,
-            self.neighbour_count, self.cell_members, self.cell_count, self.cell_points, self.ncell, self.geom, self.dim,
-            self.restitution, self.params, self.queue, self.tree, self.leaves, self.acc,
-        )
+        """Process events until ``collisions`` pair collisions or time ``t_stop``; return the time reached."""
+        return run_event_loop(self, collisions, t_stop)
 
     def __repr__(self):
         kind = "spheres" if self.dim == 3 else "discs"

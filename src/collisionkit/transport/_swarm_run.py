@@ -28,6 +28,8 @@ MIN_RESULT_SAMPLES = 2  # samples a result needs at the least (slopes)
 GROWTH_LIMIT = 1.5  # population growth per sample that halves the interval during the transient
 MAX_SLOTS = 16  # child slots per particle and step before a step is split
 MOMENT_COLUMNS = 14
+# trials a particle may take in a step per real collision planned for it (at least _k.TRIAL_BUDGET)
+TRIALS_PER_PLANNED_COLLISION = 10_000
 
 
 @dataclass
@@ -82,12 +84,13 @@ class Stepper:
         self.threads = threads
         self.slots = 4 if np.any(tables.kind == _k.IONIZATION) else 0
         self.check = bool(check)  # count trials whose true rate exceeds the bound
+        self.trial_budget = _k.TRIAL_BUDGET  # windows and trials a particle may take in one step
         self.pool = ThreadPoolExecutor(threads) if threads > 1 else None
 
     def close(self):
-        """Stop the worker threads."""
+        """Stop the worker threads (the calls not started are dropped: after Ctrl-C, nothing waits for them)."""
         if self.pool is not None:
-            self.pool.shutdown()
+            self.pool.shutdown(cancel_futures=True)
 
     def _run(self, swarm, t0, t1, buffers):
         tallies, child_pos, child_vel, child_state, child_alive, child_count = buffers
@@ -96,18 +99,31 @@ class Stepper:
         bounds = np.linspace(0, n, chunks + 1).astype(np.int64)
 
         def work(c):
-            # window and growth are passed although they have defaults: numba's specialization for
+            # window, growth and budget are passed although they have defaults: numba's specialization for
             # omitted arguments ran about 15 % slower
-            _k.advance_swarm(int(bounds[c]), int(bounds[c + 1]), swarm.pos, swarm.vel, swarm.states, swarm.alive,
-                             t0, t1, self.field, self.mass, self.density, *self.tables.arrays(), self.sharing,
-                             *self.tables.lookup(), tallies, child_pos, child_vel, child_state, child_alive,
-                             child_count, self.check, _k.WINDOW_COLLISIONS, _k.WINDOW_GROWTH)
+            return _k.advance_swarm(int(bounds[c]), int(bounds[c + 1]), swarm.pos, swarm.vel, swarm.states,
+                                    swarm.alive, t0, t1, self.field, self.mass, self.density, *self.tables.arrays(),
+                                    self.sharing, *self.tables.lookup(), tallies, child_pos, child_vel, child_state,
+                                    child_alive, child_count, self.check, _k.WINDOW_COLLISIONS, _k.WINDOW_GROWTH,
+                                    self.trial_budget)
 
-        if self.pool is None:
-            for c in range(chunks):
-                work(c)
-        else:
-            list(self.pool.map(work, range(chunks)))
+        # one call per chunk of particles (a fraction of a second each), so Ctrl-C lands between calls; the
+        # first runaway ends the step (the calls not started yet are dropped when the stepper closes)
+        outcomes = map(work, range(chunks)) if self.pool is None else self.pool.map(work, range(chunks))
+        for stalled, speed in outcomes:
+            if stalled >= 0:
+                raise RuntimeError(self._runaway_message(speed, t1 - t0))
+
+    def _runaway_message(self, speed, duration):
+        """Why a step could not end: a particle took ``TRIAL_BUDGET`` trials and reached ``speed`` (m/s)."""
+        energy = 0.5 * self.mass * speed**2 / EV
+        top = float(self.tables.nodes[-1]) / EV
+        return (f"the swarm cannot be advanced: a particle took {self.trial_budget} trial collisions in a step of "
+                f"{duration:.3g} s (planned for about collisions_per_sample real ones) and reached {energy:.3g} eV "
+                f"({energy / top:.3g} times the "
+                f"top of the cross-section tables, {top:.3g} eV): it collides far less often than the gas's tables "
+                "promise at the start and runs away in the field; are the cross sections zero or tiny over these "
+                "energies (an all-zero block such as ELASTIC, or a units slip such as cm^2 for m^2)?")
 
     def step(self, swarm: Swarm, t0, t1, groups, control=None):
         """Advance from t0 to t1; return (swarm with children appended, per-group tallies).
@@ -202,6 +218,10 @@ class SwarmRun:
             swarm = control_population(swarm, self.groups, self.target, self.rng)
         if swarm.size == 0 or not swarm.alive.any():
             raise RuntimeError("every particle was attached: no swarm left (lower attachment or raise E/N)")
+        if not np.isfinite(swarm.vel[swarm.alive]).all():
+            raise RuntimeError("particles escaped to unbounded energy (their velocities overflowed): the cross "
+                               "sections are zero or tiny over the energies reached (an all-zero block, or a units "
+                               "slip such as cm^2 for m^2?)")
         self.swarm = swarm
         moments = np.zeros((self.groups, MOMENT_COLUMNS))
         _k.group_moments(swarm.pos, swarm.vel, swarm.alive, swarm.group, self.groups, self.stepper.mass, moments)
@@ -226,6 +246,8 @@ class SwarmRun:
         bound = self.tables.bound
         k = min(int(speed / self.tables.bound_step), bound.shape[1] - 1)
         self.dt = collisions_per_sample / max(self.density * bound[:, k].sum(), 1e-300)
+        planned = math.ceil(TRIALS_PER_PLANNED_COLLISION * collisions_per_sample)
+        self.stepper.trial_budget = max(_k.TRIAL_BUDGET, planned)
         self.step()
         tally = self.tallies[-1]
         n_proc = self.tables.kind.size

@@ -106,6 +106,14 @@ def _warn_unreachable_diffusion(tolerances, particles, defaults):
                       f"use particles >= {needed} or a looser diffusion tolerance", stacklevel=3)
 
 
+def _require_collisions(tables):
+    """ValueError if no process of the gas can ever happen: every cross section and rate coefficient zero."""
+    if not (np.any(tables.bound > 0.0) or np.any(tables.const_max > 0.0)):
+        raise ValueError("every cross section and rate coefficient of the gas is zero: no particle can ever collide, "
+                         "and a driven swarm would run away for ever (an all-zero block, such as ELASTIC, in a "
+                         "cross-section file, or a units slip?)")
+
+
 def _field_record(reduced_field, reduced_magnetic_field, density, mass, charge, gravity):
     """The kernel's field record of E/N (Td, along +z), B/N (Hx, along +y) and gravity, for ``charge / mass``."""
     electric = np.array([0.0, 0.0, reduced_field * TOWNSEND * density])
@@ -193,7 +201,12 @@ def simulate_swarm(
         If ``gas`` is not a :class:`Gas`, or an argument is not a number of the
         right kind (bools are refused).
     ValueError
-        If an argument is out of its range; the message names it and the range.
+        If an argument is out of its range (the message names it and the
+        range), or every cross section and rate coefficient is zero.
+    RuntimeError
+        If the swarm cannot be advanced: a particle runs away to unbounded
+        energy (cross sections zero or tiny over the energies it reaches),
+        or every particle was attached. The message names the likely cause.
 
     Notes
     -----
@@ -223,10 +236,11 @@ def simulate_swarm(
                                      known_tolerances=DEFAULT_TOLERANCES)
     tolerances = reachable_tolerances(tolerances, tolerances is DEFAULT_TOLERANCES, reduced_field, charge, gravity,
                                       gas_temperature)
+    tables = build_tables(gas, mass, gas_temperature)
+    _require_collisions(tables)
     _warn_unreachable_diffusion(tolerances, particles, defaults)
     threads = threads or os.cpu_count() or 1
     density = REFERENCE_DENSITY
-    tables = build_tables(gas, mass, gas_temperature)
     field_record = _field_record(reduced_field, reduced_magnetic_field, density, mass, charge, gravity)
     swarm = initial_swarm(particles, groups, seed, mass, initial_energy)
     rng = np.random.default_rng(np.random.SeedSequence(seed).spawn(groups + 1)[-1])
@@ -266,6 +280,7 @@ def trace_trajectories(gas: Gas, reduced_field: float, *, particles: int = 5, co
     real_in_range(collisions, "collisions (per particle)", 0.0)
     integer_in_range(points, "points", 1)
     tables = build_tables(gas, constants.m_e, 0.0)
+    _require_collisions(tables)
     field_record = _field_record(reduced_field, reduced_magnetic_field, REFERENCE_DENSITY, constants.m_e,
                                  -constants.e, (0.0, 0.0, 0.0))
     swarm = initial_swarm(particles, 1, seed, constants.m_e, initial_energy)

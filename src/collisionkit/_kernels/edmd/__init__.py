@@ -31,6 +31,10 @@ as used for speed by Smallenburg, arXiv:2201.01100):
   PREDICTED_AT). Unlike per-particle counters, this needs no read of the
   partner's record when predicting, one memory round trip fewer. Stale
   events are re-predicted;
+* the prediction and the collision step judge whether a pair approaches by
+  one test, bit for bit, and the impulse keeps the energy without bias
+  (:mod:`.exact`); the loop runs in calls of a bounded number of events and
+  gives up on a collapse (events in a row at one instant, without end);
 * what an event needs of a particle sits in two 64-byte records: ``p``
   (position, velocity, own time, radius: all a neighbour's prediction
   reads) and ``b`` (next event, event numbers, anchor, mass, species), so
@@ -50,8 +54,9 @@ contact quadratic is the one of :mod:`collisionkit._kernels.collisions`.
 The kernels are split by responsibility: :mod:`.layout` (the arrays'
 columns and slots), :mod:`.motion` (flight, minimum images),
 :mod:`.prediction` (contact, list and wall times), :mod:`.queue` (the event
-tree), :mod:`.cells` and :mod:`.neighbour_lists`, :mod:`.contacts`
-(resolving a collision), :mod:`.loop` (the event loop) and
+tree), :mod:`.cells` and :mod:`.neighbour_lists`, :mod:`.exact`
+(error-free sums and products), :mod:`.contacts` (resolving a collision),
+:mod:`.loop` (the event loop) and
 :mod:`.measurement` (gaps, drift, pair distances). None of them allocates
 or returns an array: all are compiled without reference counting
 (:func:`collisionkit._jit.borrowing_kernel`). The names the public module
@@ -97,6 +102,13 @@ from .layout import (
     PREDICTED_AT,
     QUEUE_BLOCK,
     SPECIES,
+    STALLED_EVENTS,
+    STOP_COLLISIONS,
+    STOP_EVENTS,
+    STOP_NO_EVENT,
+    STOP_OVERFLOW,
+    STOP_STALLED,
+    STOP_TIME,
     TARGET,
     TREE_LEVELS_PREFETCHED,
     R,
@@ -117,7 +129,8 @@ __all__ = [
     "ANCHOR", "ANCHOR_ROUNDING", "CELL_SLOTS_PER_LINE", "CHANGED_AT", "G_BOX", "G_CELL", "G_GRAVITY", "G_PERIODIC",
     "LAW_BRIDGES", "LAW_CONSTANT", "LIST_TARGET", "MASS", "P_ELASTIC_BELOW", "P_GROWTH", "P_LAW", "P_LAW_EXPONENT",
     "P_LAW_SPEED", "P_LIST_SCALE", "P_SCALE0", "P_SHELL", "P_SIZE", "P_WALL_RESTITUTION", "PREDICTED_AT",
-    "QUEUE_BLOCK", "R", "SPECIES", "T", "TARGET", "TREE_LEVELS_PREFETCHED", "V", "X",
+    "QUEUE_BLOCK", "R", "SPECIES", "STALLED_EVENTS", "STOP_COLLISIONS", "STOP_EVENTS", "STOP_NO_EVENT",
+    "STOP_OVERFLOW", "STOP_STALLED", "STOP_TIME", "T", "TARGET", "TREE_LEVELS_PREFETCHED", "V", "X",
     "build_all_lists", "first_root_from_below", "largest_anchor_drift", "min_gap", "pair_contact_time",
     "pair_distance_counts", "predict_all", "queue_update", "run_events", "synchronise", "tree_build", "wall_gap",
     "wall_target",

@@ -59,6 +59,17 @@ ACC_EVENTS = 8  # events processed (pair, stale, list, wall): numbers them for s
 ACC_CELL_OVERFLOW = 9  # > 0: a cell outgrew its slots; the run stopped to grow them
 ACC_SIZE = 10
 
+# why run_events returned (its second result)
+STOP_COLLISIONS = 0  # it made the pair collisions asked for
+STOP_TIME = 1  # the next event comes after t_stop
+STOP_NO_EVENT = 2  # nothing will ever happen (every particle at rest)
+STOP_EVENTS = 3  # it processed the events allowed per call: call again (the caller can be interrupted in between)
+STOP_OVERFLOW = 4  # a neighbour list or a cell outgrew its row (acc[ACC_LIST_OVERFLOW], acc[ACC_CELL_OVERFLOW])
+STOP_STALLED = 5  # STALLED_EVENTS events in a row without the clock moving: a collapse (Zeno), never progress
+
+# events in a row at one instant that make run_events give up (the clock of a collapse stops in floating point)
+STALLED_EVENTS = 1 << 16
+
 # float32 anchor-and-radius slots of a cell in one 64-byte cache line
 CELL_SLOTS_PER_LINE = 4
 

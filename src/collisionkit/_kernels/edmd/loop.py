@@ -11,7 +11,8 @@ from .._memory import prefetch
 from .contacts import bounce_off_wall, collide_pair
 from .layout import (
     ACC_EVENTS, ACC_LIST_REBUILDS, ACC_STALE_EVENTS, CHANGED_AT, LIST_TARGET, P_GROWTH, P_SCALE0, PREDICTED_AT,
-    QUEUE_BLOCK, TARGET, TREE_LEVELS_PREFETCHED, wall_target,
+    QUEUE_BLOCK, STALLED_EVENTS, STOP_COLLISIONS, STOP_EVENTS, STOP_NO_EVENT, STOP_OVERFLOW, STOP_STALLED, STOP_TIME,
+    TARGET, TREE_LEVELS_PREFETCHED, wall_target,
 )
 from .motion import advance
 from .neighbour_lists import rebuild_list
@@ -68,30 +69,59 @@ def _repredict(p, i, b, neighbours, neighbour_count, geom, dim, params, queue, t
 
 
 @kernel
-def run_events(t, max_pair_collisions, t_stop, p, b, image, cell_of, neighbours, neighbour_count, cell_members,
-               cell_count, cell_points, ncell, geom, dim, restitution, params, queue, tree, leaves, acc):
-    """Process events until ``max_pair_collisions`` collisions or time ``t_stop``.
+def run_events(t, still, max_pair_collisions, max_events, t_stop, p, b, image, cell_of, neighbours, neighbour_count,
+               cell_members, cell_count, cell_points, ncell, geom, dim, restitution, params, queue, tree, leaves, acc):
+    """Process events until ``max_pair_collisions`` collisions, ``max_events`` events or time ``t_stop``.
 
-    Returns the current time: the last event's time, or ``t_stop`` if that
-    came first (particles are not moved to it: call ``synchronise``). Stops
-    early, with ``acc[ACC_LIST_OVERFLOW]`` or ``acc[ACC_CELL_OVERFLOW]`` set
-    to the size needed, if a neighbour list or a cell outgrows its row (grow
-    the rows and rebuild every list).
+    ``still`` is the number of events in a row at time ``t`` so far (the
+    previous call's count). Returns ``(time, still, longest, stop,
+    target)``: the current time (the last event's time, or ``t_stop`` if
+    that came first; particles are not moved to it: call ``synchronise``),
+    the events in a row at it, the most events in a row at one instant in
+    this call (a collapse that round-off ended, if large), why it stopped
+    (a ``STOP_*`` code of :mod:`.layout`) and the target of the last event
+    (a partner >= 0, ``LIST_TARGET`` or a wall's code: what stalled, with
+    ``STOP_STALLED``).
+    It stops early with ``STOP_OVERFLOW``, ``acc[ACC_LIST_OVERFLOW]`` or
+    ``acc[ACC_CELL_OVERFLOW]`` set to the size needed, if a neighbour list
+    or a cell outgrows its row (grow the rows and rebuild every list); and
+    with ``STOP_STALLED`` after ``STALLED_EVENTS`` events in a row at one
+    instant, a collapse (infinitely many events in finite time) whose
+    clock has stopped in floating point and that would never end.
+    ``max_events`` bounds the time of one call, so that a caller looping
+    over calls can be interrupted in between.
     """
     done = 0
+    events = 0
+    longest = still
+    stop = STOP_COLLISIONS
+    target = LIST_TARGET
     scale0 = params[P_SCALE0]
     growth = params[P_GROWTH]
     event = int(acc[ACC_EVENTS])
     while done < max_pair_collisions:
+        if events >= max_events:
+            stop = STOP_EVENTS
+            break
         event_time = tree[1, 0]
         i = int(tree[1, 1])
         if event_time > t_stop:
+            if t_stop > t:
+                still = 0
             t = t_stop
+            stop = STOP_TIME
             break
         if event_time == math.inf:
+            stop = STOP_NO_EVENT
+            break
+        still = still + 1 if event_time == t else 0
+        longest = max(longest, still)
+        if still >= STALLED_EVENTS:
+            stop = STOP_STALLED
             break
         t = event_time
         event += 1
+        events += 1
         # memory latency dominates: start every load whose address is known, then compute;
         # also for the particle of the next event, most likely the runner-up now
         _prefetch_particle(i, p, b, queue, neighbours, neighbour_count, tree, leaves)
@@ -111,15 +141,16 @@ def run_events(t, max_pair_collisions, t_stop, p, b, image, cell_of, neighbours,
                 acc[ACC_STALE_EVENTS] += 1.0
             else:
                 advance(p, j, t, geom, dim)
-                collide_pair(p, i, j, b, geom, dim, scale0 + growth * t, growth, restitution, params, acc)
-                b[i, CHANGED_AT] = event
-                b[j, CHANGED_AT] = event
-                done += 1
+                if collide_pair(p, i, j, b, geom, scale0 + growth * t, growth, restitution, params, acc):
+                    b[i, CHANGED_AT] = event
+                    b[j, CHANGED_AT] = event
+                    done += 1
                 partner = j
         elif target == LIST_TARGET:
             acc[ACC_LIST_REBUILDS] += 1.0
             if not rebuild_list(p, i, b, cell_of, neighbours, neighbour_count, cell_members, cell_count, cell_points,
                                 ncell, geom, dim, params, image, acc):
+                stop = STOP_OVERFLOW
                 break
         else:
             bounce_off_wall(p, i, wall_target(target), b, params, acc)
@@ -134,7 +165,7 @@ def run_events(t, max_pair_collisions, t_stop, p, b, image, cell_of, neighbours,
             _repredict(p, i if q == 0 else partner, b, neighbours, neighbour_count, geom, dim, params, queue, tree,
                        leaves, event)
     acc[ACC_EVENTS] = event
-    return t
+    return t, still, longest, stop, target
 
 
 @kernel

@@ -16,6 +16,7 @@ from .layout import (
     ANCHOR, G_BOX, G_GRAVITY, G_PERIODIC, LIST_TARGET, P_GROWTH, P_SCALE0, P_SHELL, PREDICTED_AT, R, T, TARGET, V, X,
     wall_target,
 )
+from .exact import sure_approach
 from .motion import half_box, minimum_image
 
 
@@ -56,13 +57,17 @@ def pair_contact_time(rx, ry, rz, ux, uy, uz, contact, scale, growth, beat):
     r is the separation (partner minus particle), u the relative velocity
     (partner minus particle). Returns 0 for an overlapping approaching pair
     (round-off), inf if they never touch or cannot touch before ``beat``.
+    Whether the pair approaches is the collision step's test
+    (:func:`.exact.sure_approach`).
     """
     rr = rx * rx + ry * ry + rz * rz
     ru = rx * ux + ry * uy + rz * uz
     sigma = contact * scale
     rate = contact * growth
     c = rr - sigma * sigma
-    b = ru - sigma * rate
+    shift = sigma * rate
+    # the collision step's approach test, bit for bit (see .exact)
+    b = sure_approach(ru - shift, rx, ry, rz, ux, uy, uz, shift)
     if c <= 0.0:
         return 0.0 if b < 0.0 else math.inf
     if rate == 0.0:
@@ -125,8 +130,9 @@ def _first_contact_ballistic(p, i, neighbours, neighbour_count, geom, scale, hor
         sigma = (ri + p[j, R]) * scale
         b = rx * ux + ry * uy + rz * uz
         c = rx * rx + ry * ry + rz * rz - sigma * sigma
-        # b < 0 and c + 2 b best < 0 in one comparison, so one (rarely taken, well predicted) branch
-        if max(b, c + 2.0 * b * best) < 0.0:
+        # b < 0 and c + 2 b best < 0 in one comparison, so one (rarely taken, well predicted) branch;
+        # then b's sign made sure, as the collision step makes it (see .exact)
+        if max(b, c + 2.0 * b * best) < 0.0 and sure_approach(b, rx, ry, rz, ux, uy, uz, 0.0) < 0.0:
             cx = ry * uz - rz * uy
             cy = rz * ux - rx * uz
             cz = rx * uy - ry * ux

@@ -40,7 +40,7 @@ and sharing codes, tally columns), :mod:`.rng` (random streams),
 
 from __future__ import annotations
 
-from .advance import WINDOW_COLLISIONS, WINDOW_GROWTH, advance_swarm
+from .advance import TRIAL_BUDGET, WINDOW_COLLISIONS, WINDOW_GROWTH, advance_swarm
 from .flight import derived_field
 from .layout import (
     ATTACHMENT,
@@ -61,7 +61,7 @@ from .slab import slab_batch
 
 __all__ = [
     "ATTACHMENT", "BOUND_COLUMN_OFFSET", "ELASTIC", "EXCITATION", "EXTRA_COLUMNS", "IONIZATION", "ISOTROPIC",
-    "NULL_COLUMN_OFFSET", "SCREENED_COULOMB", "SHARE_EQUAL", "SHARE_UNIFORM", "TIME_COLUMN_OFFSET",
+    "NULL_COLUMN_OFFSET", "SCREENED_COULOMB", "SHARE_EQUAL", "SHARE_UNIFORM", "TIME_COLUMN_OFFSET", "TRIAL_BUDGET",
     "WINDOW_COLLISIONS", "WINDOW_GROWTH", "advance_swarm", "derived_field", "energy_histogram", "group_moments",
     "group_sums", "slab_batch",
 ]

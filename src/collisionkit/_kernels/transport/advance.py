@@ -23,14 +23,25 @@ WINDOW_COLLISIONS = 1.3
 # ... and at most the time in which |a| t reaches WINDOW_GROWTH times the speed (or 16 speed bins): in a strong
 # field, a long window would reach speeds where the bound is far above the rate along most of the window
 WINDOW_GROWTH = 0.5
+# windows and trials a particle (with its children) may take in one call by default: a step is planned for a
+# few tens of collisions a particle, so a particle that needs a million runs away (cross sections zero or tiny
+# over the energies it reaches) and would never end the step; the call gives up on it (about 0.1 s of work)
+TRIAL_BUDGET = 1 << 20
 
 
 @kernel
 def advance_swarm(lo, hi, pos, vel, states, alive, t_start, t_end, field, mass, density, gas, kind, species_of,
                   threshold, const_rate, angular, screening, sharing, nodes, sigma, accelerator, accelerator_step,
                   bound, bound_step, sigma_max, const_max, tallies, child_pos, child_vel, child_state, child_alive,
-                  child_count, check=False, window=WINDOW_COLLISIONS, growth=WINDOW_GROWTH):
+                  child_count, check=False, window=WINDOW_COLLISIONS, growth=WINDOW_GROWTH, budget=TRIAL_BUDGET):
     """Advance particles lo..hi-1 (and their descendants) from t_start to t_end.
+
+    Returns ``(-1, 0.0)``, or ``(i, speed)`` if particle i (with its
+    children) used up ``budget`` windows and trials before ``t_end``: the
+    call gives up at once (the step is incomplete), with the speed the
+    particle had reached. A particle whose collision rate stays far below
+    the step's plan (zero or tiny cross sections) runs away in a field and
+    would otherwise never end its step.
 
     ``tallies[i]`` receives the collisions per process, the null collisions,
     the particle time of particle i and its children and (with ``check``)
@@ -75,6 +86,7 @@ def advance_swarm(lo, hi, pos, vel, states, alive, t_start, t_end, field, mass, 
         if not alive[i]:
             continue
         n_children = 0
+        iterations = 0  # windows and trials of the particle and its children
         member = -1  # -1: the particle itself, then its children
         while True:
             if member < 0:
@@ -105,6 +117,13 @@ def advance_swarm(lo, hi, pos, vel, states, alive, t_start, t_end, field, mass, 
                 tau = -math.log(uniform(rng))
                 landed = False  # reached t_end without a real collision
                 while True:  # windows and trials of this flight
+                    iterations += 1
+                    if iterations > budget:
+                        if exact:
+                            fx, fy, fz = vx + ax * elapsed, vy + ay * elapsed, vz + az * elapsed
+                        else:
+                            fx, fy, fz = flown_velocity(vx, vy, vz, elapsed, field)
+                        return i, math.sqrt(fx * fx + fy * fy + fz * fz)
                     if elapsed >= window_end:  # open the next window
                         if accel_mag > 0.0:
                             h = window / nu_window if nu_window > 0.0 else fallback
@@ -238,3 +257,4 @@ def advance_swarm(lo, hi, pos, vel, states, alive, t_start, t_end, field, mass, 
             if member >= n_children or n_children > slots:
                 break
         child_count[i] = n_children
+    return -1, 0.0

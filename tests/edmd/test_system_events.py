@@ -1,0 +1,179 @@
+"""Tests of running the event loop (collisionkit.edmd._system_events): runs that cannot go on, interrupts, and the
+contacts that once made the loop spin.
+
+Every hang here used to keep one kernel call busy for ever, where no signal can land. The systems are compiled
+before the deadline (a cold numba cache takes tens of seconds), so the deadline times only the run.
+"""
+
+import math
+import time
+from fractions import Fraction
+
+import numpy as np
+import pytest
+
+from collisionkit import edmd
+from collisionkit._kernels import edmd as kernels
+from collisionkit.edmd import _system_events
+from tests.edmd.systems import fcc_system
+from tests.sweep.helpers import deadline
+
+
+def _compiled(system):
+    system.compile_event_loop()
+    return system
+
+
+def parallel_discs():
+    """Two discs on parallel lines in a periodic box, at the same velocity: no pair can ever collide."""
+    return _compiled(edmd.HardSphereSystem([[1.0, 1.0], [1.0, 5.0]], [[1.0, 0.0], [1.0, 0.0]], 0.5, 10.0))
+
+
+def test_a_run_for_collisions_no_pair_can_make_stops_with_the_cause():
+    # spun for ever: list rebuilds without end inside one kernel call, run(collisions=100) never returned
+    system = parallel_discs()
+    with deadline(30.0), pytest.raises(RuntimeError, match="no pair collision in .* no pair can collide"):
+        system.run(collisions=100)
+    # a stretch of time is still theirs to run
+    assert parallel_discs().run(time=50.0) == 0
+
+
+def test_a_dilute_gas_is_not_mistaken_for_one_that_cannot_collide():
+    # a collision every ~4000 events: far from the QUIET_EVENTS without a collision the run would give up at
+    system = _compiled(fcc_system(cells=3, eta=0.001))
+    assert system.run(collisions=300) == 300
+
+
+def test_a_ball_on_an_inelastic_floor_under_gravity_is_reported_as_a_wall_collapse():
+    # two balls dropped in separate columns: each bounces ever lower, infinitely many bounces in finite time
+    # (elastic_below guards pair contacts only); spun for ever at the instant they came to rest
+    system = _compiled(edmd.HardSphereSystem([[2.0, 3.0], [7.0, 5.0]], np.zeros((2, 2)), 0.5, 10.0,
+                                             periodic=[True, False], gravity=[0.0, -1.0], wall_restitution=0.5))
+    with deadline(30.0), pytest.raises(RuntimeError, match="wall collapse: .* bounces off a wall"):
+        system.run(collisions=100)
+    assert system.elapsed + system.time == pytest.approx(math.sqrt(2 * 2.5) * 3, rel=1e-9)  # 2.5 high, e = 0.5
+
+
+def test_inelastic_collapse_without_an_elastic_floor_is_an_error_naming_it():
+    # restitution 0.3, elastic_below 0: a cluster collides without end at one instant
+    system = _compiled(edmd.random_fluid(2, 300, 0.6, seed=0, restitution=0.3, elastic_below=0.0))
+    with deadline(30.0), pytest.raises(RuntimeError, match="inelastic collapse: 65536 events in a row .* elastic"):
+        system.run(collisions=300_000)
+
+
+def test_a_collapse_that_round_off_ended_is_warned_of():
+    system = _compiled(edmd.random_fluid(3, 300, 0.4, seed=0, restitution=0.3, elastic_below=0.0))
+    with deadline(30.0), pytest.warns(RuntimeWarning, match="inelastic collapse: .* events in a row at one instant"):
+        system.run(collisions=300_000)
+
+
+def test_an_interrupt_lands_within_a_second_of_a_run_without_collisions():
+    # the alarm stands in for Ctrl-C: Python handles signals between kernel calls only, and a run of these two
+    # discs for a long time was one kernel call (no collision ever ends it)
+    system = parallel_discs()
+    start = time.perf_counter()
+    with pytest.raises(TimeoutError), deadline(0.3):
+        system.run(time=1e15)
+    assert time.perf_counter() - start < 1.3
+
+
+def test_a_kernel_call_stops_at_its_event_allowance_and_at_a_stalled_instant():
+    system = parallel_discs()
+    arrays = (system.p, system.book, system._image, system.cell_of, system.neighbours, system.neighbour_count,
+              system.cell_members, system.cell_count, system.cell_points, system.ncell, system.geom, system.dim,
+              system.restitution, system.params, system.queue, system.tree, system.leaves, system.acc)
+    t, still, longest, stop, target = kernels.run_events(0.0, 0, 100, 1000, math.inf, *arrays)
+    assert stop == kernels.STOP_EVENTS and system.acc[kernels.ACC_EVENTS] == 1000 and t > 0.0
+    # a ball resting on the floor under gravity: a bounce at once, that changes nothing, for ever
+    resting = edmd.HardSphereSystem([[2.0, 0.5], [7.0, 5.0]], np.zeros((2, 2)), 0.5, 10.0, periodic=[True, False],
+                                    gravity=[0.0, -1.0])
+    arrays = (resting.p, resting.book, resting._image, resting.cell_of, resting.neighbours, resting.neighbour_count,
+              resting.cell_members, resting.cell_count, resting.cell_points, resting.ncell, resting.geom,
+              resting.dim, resting.restitution, resting.params, resting.queue, resting.tree, resting.leaves,
+              resting.acc)
+    t, still, longest, stop, target = kernels.run_events(0.0, 0, 100, 1 << 20, math.inf, *arrays)
+    assert (t, stop, target) == (0.0, kernels.STOP_STALLED, kernels.wall_target(2))
+    assert still == longest == kernels.STALLED_EVENTS
+
+
+def test_events_in_a_row_at_one_instant_are_counted_across_calls():
+    # a collapse split over calls of fewer events than STALLED_EVENTS is still caught
+    resting = edmd.HardSphereSystem([[2.0, 0.5], [7.0, 5.0]], np.zeros((2, 2)), 0.5, 10.0, periodic=[True, False],
+                                    gravity=[0.0, -1.0])
+    arrays = (resting.p, resting.book, resting._image, resting.cell_of, resting.neighbours, resting.neighbour_count,
+              resting.cell_members, resting.cell_count, resting.cell_points, resting.ncell, resting.geom,
+              resting.dim, resting.restitution, resting.params, resting.queue, resting.tree, resting.leaves,
+              resting.acc)
+    still, calls = 0, 0
+    while True:
+        _, still, _, stop, _ = kernels.run_events(0.0, still, 100, 1000, math.inf, *arrays)
+        calls += 1
+        if stop != kernels.STOP_EVENTS:
+            break
+    assert stop == kernels.STOP_STALLED and calls == kernels.STALLED_EVENTS // 1000 + 1
+
+
+def test_restitution_zero_is_a_sticky_contact():
+    # head-on, equal masses: both stop (the normal approach ends); was a ZeroDivisionError or "stopped colliding"
+    system = edmd.HardSphereSystem([[3.0, 5.0], [6.0, 5.0]], [[1.0, 0.0], [-1.0, 0.0]], 0.5, 10.0, restitution=0.0)
+    assert system.run(collisions=1) == 1
+    np.testing.assert_array_equal(system.velocities(), np.zeros((2, 2)))
+    assert system.energy_lost == pytest.approx(1.0, rel=1e-15)
+    # an oblique contact keeps the tangential motion: the pair slides apart along its tangent
+    system = edmd.HardSphereSystem([[3.0, 5.0], [4.0, 5.6]], [[1.0, 0.0], [0.0, 0.0]], 0.5, 10.0, restitution=0.0)
+    assert system.run(collisions=1) == 1
+    positions, velocities = system.positions(), system.velocities()
+    normal = (positions[1] - positions[0]) / np.linalg.norm(positions[1] - positions[0])
+    assert (velocities[1] - velocities[0]) @ normal == pytest.approx(0.0, abs=1e-15)
+    np.testing.assert_allclose(velocities.sum(axis=0), [1.0, 0.0], rtol=1e-15)
+
+
+def test_a_gas_with_restitution_zero_runs_and_is_measured():
+    # the collision step found receding some pairs the prediction sent to collide at once (a sticky contact
+    # leaves b = r.u at round-off): the same pair again and again at one instant, each time "collided"
+    positions, box = edmd.lattice("square", 20, 0.3)
+    system = _compiled(edmd.HardSphereSystem(positions, edmd.maxwell_boltzmann(np.ones(400), 2, seed=1), 0.5, box,
+                                             restitution=0.0))
+    with deadline(30.0):
+        assert system.run(collisions=400_000) == 400_000
+    assert system.temperature() < 0.1  # was 0.89: most "collisions" changed nothing
+    run = edmd.EdmdRun(edmd.EdmdParameters(dim=2, particles=100, initial="square", restitution=0.0, seed=1,
+                                           collisions=4000, blocks=2))
+    with deadline(60.0):
+        assert run.run().measurement().collisions == 4000
+
+
+def test_a_grazing_touch_is_judged_alike_by_the_prediction_and_the_collision_step():
+    # in contact, |r| = 1; the plain r.u rounds to -5.6e-17, while exactly it is +1.6e-17: receding. The collision
+    # step judged it receding and the prediction approaching: collide at once, for ever (e = 0.1)
+    r = [0.32149425662228026, -0.8636488644210076, -0.38826805423984007]
+    u = [1.5252817078295342, 0.2758589414822427, 0.6493556307131993]
+    assert r[0] * u[0] + r[1] * u[1] + r[2] * u[2] < 0.0 < sum(Fraction(a) * Fraction(b) for a, b in zip(r, u))
+    assert kernels.pair_contact_time(*r, *u, 1.0, 1.0, 0.0, math.inf) == math.inf
+    positions = np.array([[5.0, 5.0, 5.0], np.add([5.0, 5.0, 5.0], r)])
+    system = _compiled(edmd.HardSphereSystem(positions, np.array([[0.0, 0.0, 0.0], u]), 0.5, 10.0,
+                                             restitution=0.1))
+    with deadline(30.0):
+        system.run(time=0.1)
+    assert system.collisions == 0
+
+
+def test_elastic_collisions_keep_the_energy_without_drift():
+    # each collision raised the energy by ~5e-17 of the pair's (a normal rounded to unit length has
+    # |n|^2 - 1 = +8e-17 on average): +3.6e-13 of the total here, always up; now the round-off floor, ~1e-15
+    system = _compiled(fcc_system(cells=3, eta=0.45))
+
+    def energy():
+        return sum(Fraction(float(v)) ** 2 for v in system.velocities().ravel())
+
+    before = energy()
+    system.run(collisions=200_000)
+    assert abs(float((energy() - before) / before)) < 2e-14
+
+
+def test_the_stall_messages_name_their_causes():
+    system = parallel_discs()
+    assert _system_events.stall_message(system, kernels.wall_target(0)).startswith("wall collapse")
+    assert _system_events.stall_message(system, kernels.LIST_TARGET).startswith("the event loop stalled")
+    assert "locked in contact" in _system_events.stall_message(system, 1)
+    assert _system_events.mean_free_time(parallel_discs()) == pytest.approx(1 / (2 * math.sqrt(2) * 0.02), rel=1e-12)
