@@ -8,9 +8,14 @@ seconds), so the deadline times only the run.
 
 import warnings
 
+import numpy as np
 import pytest
+from scipy import constants
 
+from collisionkit._kernels import transport as kernels
 from collisionkit.transport import Gas, Process, Species, reid_ramp, simulate_swarm
+from collisionkit.transport import _swarm_run
+from collisionkit.transport._tables import build_tables
 from collisionkit.transport.swarm import trace_trajectories
 from tests.sweep.helpers import deadline
 
@@ -45,3 +50,24 @@ def test_a_swarm_that_runs_away_stops_with_the_likely_cause(compiled, threads):
             simulate_swarm(_flat_gas(1e-40), 10.0, particles=128, threads=threads, collision_budget=1e4)
     with deadline(30.0), pytest.raises(RuntimeError, match=r"reached [0-9.e+]+ eV \([0-9.e+]+ times the top"):
         trace_trajectories(_flat_gas(1e-40), 10.0, particles=2, points=50)
+
+
+def test_a_large_swarm_is_advanced_in_calls_of_a_bounded_number_of_particles(monkeypatch):
+    # one call per thread's share of a million particles took seconds, where Ctrl-C cannot land
+    ranges = []
+
+    def record(lo, hi, *args):
+        ranges.append((lo, hi))
+        return -1, 0.0
+
+    monkeypatch.setattr(kernels, "advance_swarm", record)
+    tables = build_tables(reid_ramp(), constants.m_e, 0.0)
+    stepper = _swarm_run.Stepper(tables, kernels.derived_field(np.zeros(3), np.zeros(3)), constants.m_e, 1e24, 0, 1)
+    n = 3 * _swarm_run.PARTICLES_PER_CALL + 1
+    swarm = _swarm_run.initial_swarm(n, 16, 1, constants.m_e, 1.0)
+    stepper.step(swarm, 0.0, 1e-12, 16)
+    assert len(ranges) == 8 and ranges[0][0] == 0 and ranges[-1][1] == n  # 8 a thread: enough
+    ranges.clear()
+    big = _swarm_run.initial_swarm(20 * _swarm_run.PARTICLES_PER_CALL, 16, 1, constants.m_e, 1.0)
+    stepper.step(big, 0.0, 1e-12, 16)
+    assert len(ranges) == 20 and max(hi - lo for lo, hi in ranges) <= _swarm_run.PARTICLES_PER_CALL

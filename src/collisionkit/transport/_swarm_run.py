@@ -28,6 +28,9 @@ MIN_RESULT_SAMPLES = 2  # samples a result needs at the least (slopes)
 GROWTH_LIMIT = 1.5  # population growth per sample that halves the interval during the transient
 MAX_SLOTS = 16  # child slots per particle and step before a step is split
 MOMENT_COLUMNS = 14
+# particles per kernel call at most: a step of a few tens of collisions each takes about 0.1 s of them, so
+# Ctrl-C lands between calls however large the swarm (results do not depend on how particles are split)
+PARTICLES_PER_CALL = 1 << 15
 # trials a particle may take in a step per real collision planned for it (at least _k.TRIAL_BUDGET)
 TRIALS_PER_PLANNED_COLLISION = 10_000
 
@@ -95,7 +98,7 @@ class Stepper:
     def _run(self, swarm, t0, t1, buffers):
         tallies, child_pos, child_vel, child_state, child_alive, child_count = buffers
         n = swarm.size
-        chunks = max(1, min(n, 8 * self.threads))
+        chunks = max(1, min(n, max(8 * self.threads, -(-n // PARTICLES_PER_CALL))))
         bounds = np.linspace(0, n, chunks + 1).astype(np.int64)
 
         def work(c):
