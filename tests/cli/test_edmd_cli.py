@@ -327,3 +327,23 @@ def test_a_new_run_does_not_overwrite_an_existing_checkpoint(tmp_path):
     assert again.exit_code == 2 and f"--resume {checkpoint}" in again.output.replace("\n", "")
     assert checkpoint.read_bytes() == saved
     assert invoke("--resume", checkpoint, "--no-plots").exit_code == 0  # resuming writes on to it, as before
+
+
+def test_a_checkpoint_another_run_is_writing_is_refused_in_one_line(tmp_path):
+    # a second `edmd --resume c.npz` against a running run was refused with a traceback and exit 1
+    import subprocess
+    import sys
+
+    checkpoint = tmp_path / "c.npz"
+    assert invoke(*SMALL, "--checkpoint", checkpoint).exit_code == 0
+    holder = subprocess.Popen([sys.executable, "-c", "import time\nfrom collisionkit._io import exclusive\n"
+                               f"with exclusive({str(checkpoint)!r}):\n    print('held', flush=True)\n    time.sleep(60)"],
+                              stdout=subprocess.PIPE, text=True)
+    try:
+        assert holder.stdout.readline().strip() == "held"
+        result = invoke("--resume", checkpoint, "--collisions", 8_000)
+        said = " ".join(result.output.split())
+        assert result.exit_code == 2 and "another collisionkit" in said and "Traceback" not in result.output
+    finally:
+        holder.kill()
+        holder.wait(timeout=30)

@@ -15,6 +15,7 @@ from typing import Annotated, ClassVar, Literal
 import typer
 from pydantic import Field, model_validator
 
+from .._io import FileLockedError
 from ._common import (
     INTERRUPTED_EXIT_CODE, Options, OverwriteOption, fail, load_options, note, option_values, progress_bar, refuse_folder,
     require_gsd, require_plotting, run_failed, validate_options, warn,
@@ -303,6 +304,8 @@ def edmd(
     try:
         with progress_bar("collisions", total=run.parameters.total_collisions) as advance:
             run.run(progress=_percent_reporter(advance, run.parameters.total_collisions))
+    except FileLockedError as locked:
+        raise fail(f"{locked}: another collisionkit run is writing it; wait for it or name other files") from None
     except KeyboardInterrupt:
         warn(f"interrupted: {where}")
         raise typer.Exit(INTERRUPTED_EXIT_CODE) from None

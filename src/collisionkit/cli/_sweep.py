@@ -196,8 +196,9 @@ def sweep(
         with _executor(workers, scheduler) as client, progress_bar("points", total=total) as advance:
             results = core.run_study(parsed, out, executor=client, resume=resume is not None,
                                      on_point=lambda record: advance())
-    except FileLockedError as error:
-        raise fail(f"{error}: another collisionkit sweep is running this study; wait for it or use another --out")
+    except FileLockedError as locked:
+        raise fail(f"{locked}: another collisionkit sweep is running this study; wait for it or use another --out") \
+            from None
     except KeyboardInterrupt:
         checkpoint = out / "checkpoint.npz"
         warn(f"interrupted: finished points are saved; continue with --resume {checkpoint}")

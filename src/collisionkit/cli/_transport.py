@@ -8,6 +8,7 @@ from typing import Annotated, Any, ClassVar, Literal
 import typer
 from pydantic import Field, field_validator, model_validator
 
+from .._io import FileLockedError
 from ._common import (
     INTERRUPTED_EXIT_CODE, Deliveries, Options, OverwriteOption, fail, load_options, note, option_values, print_table,
     progress_bar, refuse_folder, require, run_failed, say, validate_options, warn, write_summary,
@@ -200,6 +201,9 @@ def swarm(
 
             report(len(results) / len(options.e_n))
             scan.run(progress=report)
+    except FileLockedError as locked:
+        raise fail(f"{locked}: another collisionkit run is writing it; wait for it or name another --checkpoint") \
+            from None
     except (KeyboardInterrupt, OSError) as stop:
         where = (f"{len(results)} of {len(options.e_n)} E/N points are saved in {options.checkpoint}; continue with "
                  f"--resume {options.checkpoint}" if options.checkpoint is not None else
