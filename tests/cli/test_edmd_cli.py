@@ -347,3 +347,14 @@ def test_a_checkpoint_another_run_is_writing_is_refused_in_one_line(tmp_path):
     finally:
         holder.kill()
         holder.wait(timeout=30)
+
+
+def test_an_engine_watchdog_is_one_line_and_exit_1(monkeypatch):
+    # the engine's RuntimeErrors (inelastic or wall collapse, no possible collision) reached the shell as tracebacks
+    def collapsed(*args, **kwargs):
+        raise RuntimeError("inelastic collapse: 65536 events at one instant")
+
+    monkeypatch.setattr(edmd.HardSphereSystem, "run", collapsed)
+    result = invoke("--dim", 2, "--particles", 64, "--initial", "square", "--collisions", 2000, "--no-plots")
+    said = " ".join(result.output.split())
+    assert result.exit_code == 1 and "the run stopped: inelastic collapse" in said and "Traceback" not in said

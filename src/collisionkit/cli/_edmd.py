@@ -309,7 +309,7 @@ def edmd(
     except KeyboardInterrupt:
         warn(f"interrupted: {where}")
         raise typer.Exit(INTERRUPTED_EXIT_CODE) from None
-    except OSError as failure:
+    except (OSError, RuntimeError) as failure:  # RuntimeError: the engine's watchdogs (collapse, no collision)
         raise run_failed(f"the run stopped: {failure}; {where}") from None
     report(run, options, extra)
 

@@ -204,6 +204,10 @@ def swarm(
     except FileLockedError as locked:
         raise fail(f"{locked}: another collisionkit run is writing it; wait for it or name another --checkpoint") \
             from None
+    except ValueError as refused:  # the gas cannot make a swarm (no collision process at all)
+        raise fail(str(refused)) from None
+    except RuntimeError as failure:  # the engine's watchdog: a runaway particle (zero or tiny cross sections)
+        raise run_failed(f"the scan stopped: {failure}") from None
     except (KeyboardInterrupt, OSError) as stop:
         where = (f"{len(results)} of {len(options.e_n)} E/N points are saved in {options.checkpoint}; continue with "
                  f"--resume {options.checkpoint}" if options.checkpoint is not None else
