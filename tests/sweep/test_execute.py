@@ -234,3 +234,22 @@ def test_a_second_sweep_of_a_running_study_is_refused(tmp_path):
         holder.wait(timeout=30)
     with ThreadPoolExecutor(1) as pool:
         assert sweep.resume_study(out / "checkpoint.npz", executor=pool).skipped == 6  # free again
+
+
+def test_a_point_still_run_by_an_earlier_client_s_worker_is_waited_for_not_failed(tmp_path):
+    # a killed client's worker kept running a point; the resumed study's second attempt failed on its lock
+    import subprocess
+    import sys
+
+    study = sweep.study_from_dict({**SMALL_EDMD, "replicas": 1, "vary": {"packing-fraction": [0.2]}})
+    task = sweep.point_tasks(study, tmp_path)[0]
+    task.directory.mkdir(parents=True)
+    holder = subprocess.Popen([sys.executable, "-c", "import time\nfrom collisionkit._io import exclusive\n"
+                               f"with exclusive({str(task.directory / 'checkpoint.npz')!r}):\n"
+                               "    print('held', flush=True)\n    time.sleep(2)"], stdout=subprocess.PIPE, text=True)
+    try:
+        assert holder.stdout.readline().strip() == "held"
+        record = sweep.run_point(task)
+    finally:
+        holder.wait(timeout=60)
+    assert record["status"] == "ok", record["error"]

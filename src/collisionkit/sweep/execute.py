@@ -21,8 +21,10 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from .._io import CheckpointError, atomic_write_json, atomic_write_text, exclusive, read_checkpoint, write_checkpoint
-from .commands import sweep_command
+from .._io import (
+    CheckpointError, FileLockedError, atomic_write_json, atomic_write_text, exclusive, read_checkpoint, write_checkpoint,
+)
+from .commands import POINT_CHECKPOINT, sweep_command
 from .study import Study, _check_integer, load_study, study_from_dict
 from .table import results_table, write_outputs
 from .tasks import PointTask, _split_options, point_tasks
@@ -32,6 +34,7 @@ __all__ = ["StudyResults", "check_folder", "local_client", "remote_client", "res
 RESULT_FORMAT = 2
 CHECKPOINT_FILE = "checkpoint.npz"
 CHECKPOINT_KIND = "sweep"
+LOCK_WAIT_SECONDS = 24 * 3600.0  # a point still run by an earlier client's worker: wait for it this long at most
 
 
 # ------------------------------------------------------------------ running one point
@@ -69,7 +72,15 @@ def run_point(task: PointTask) -> dict[str, Any]:
     try:
         command = sweep_command(task.command)
         parameters, outputs = _split_options(command, task.options)
-        summary = command.run(parameters, task.directory, outputs)
+        try:
+            summary = command.run(parameters, task.directory, outputs)
+        except FileLockedError:
+            # a worker of an earlier client (killed, then the study resumed) still runs this point: let it finish
+            _wait_until_free(task.directory / POINT_CHECKPOINT)
+            finished = _is_complete(task)
+            if finished is not None:
+                return finished
+            summary = command.run(parameters, task.directory, outputs)
         atomic_write_json(task.directory / "summary.json", summary)
         summary = json.loads((task.directory / "summary.json").read_text())  # as a reader sees it (NaN as null)
     except Exception as exception:  # the run's failure is the point's result
@@ -80,6 +91,19 @@ def run_point(task: PointTask) -> dict[str, Any]:
     record["cpu_time"] = cpu_time
     atomic_write_json(task.result_path, record)
     return record
+
+
+def _wait_until_free(path: Path, timeout: float = LOCK_WAIT_SECONDS) -> None:
+    """Wait until no other process holds the lock of ``path`` (FileLockedError after ``timeout`` seconds)."""
+    deadline = time.monotonic() + timeout
+    while True:
+        try:
+            with exclusive(path):
+                return
+        except FileLockedError:
+            if time.monotonic() > deadline:
+                raise
+            time.sleep(0.2)
 
 
 def _read_json(path: Path) -> dict | None:
