@@ -14,6 +14,7 @@ masses in kg.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass, field
 
@@ -79,6 +80,12 @@ class Process:
     screening_energy : float
         Screened Coulomb only: eta = screening_energy / (4 eps) (eV, > 0).
     label : str
+    weight_ratio : float
+        Excitation only: the ratio g_final / g_initial of the statistical
+        weights of the excited and the ground level (LXCat writes it after
+        the threshold of a reversible ``<->`` process). 0 (the default) makes
+        the process one-way; > 0 allows its superelastic inverse by detailed
+        balance (Klein-Rosseland).
 
     Examples
     --------
@@ -96,6 +103,7 @@ class Process:
     scattering: str = "isotropic"
     screening_energy: float = 1.0
     label: str = ""
+    weight_ratio: float = 0.0
 
     def __post_init__(self):
         if self.kind not in PROCESS_KINDS:
@@ -107,7 +115,7 @@ class Process:
         object.__setattr__(self, "energy", energy)
         object.__setattr__(self, "cross_section", sigma)
         object.__setattr__(self, "label", label)
-        for name, low in (("threshold", 0.0), ("rate_coefficient", 0.0)):
+        for name, low in (("threshold", 0.0), ("rate_coefficient", 0.0), ("weight_ratio", 0.0)):
             value = float(getattr(self, name))
             if not (math.isfinite(value) and value >= low):
                 raise ValueError(f"{label}: {name} must be finite and >= 0; got {value}")
@@ -116,6 +124,8 @@ class Process:
             raise ValueError(f"{label}: screening_energy must be > 0 (eV); got {self.screening_energy}")
         if energy.size == 0 and self.rate_coefficient == 0.0:
             raise ValueError(f"{label}: give a cross-section table or a rate_coefficient > 0")
+        if self.weight_ratio > 0.0 and self.kind != "excitation":
+            raise ValueError(f"{label}: weight_ratio (a superelastic inverse) applies to excitation only")
 
     def with_scattering(self, scattering: str, screening_energy: float = 1.0) -> "Process":
         """The same process with another angular model.
@@ -127,8 +137,7 @@ class Process:
         >>> elastic.with_scattering("screened_coulomb", screening_energy=0.5).scattering
         'screened_coulomb'
         """
-        return Process(self.kind, self.energy, self.cross_section, self.threshold, self.rate_coefficient,
-                       scattering, screening_energy, self.label)
+        return dataclasses.replace(self, scattering=scattering, screening_energy=screening_energy)
 
 
 @dataclass(frozen=True, eq=False)
