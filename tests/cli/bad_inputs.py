@@ -55,6 +55,8 @@ BAD_INPUTS = [
     ("edmd", ["--resume", "{dir}"], "is a folder, not a file"),
     ("edmd", ["--resume", "{missing}"], "checkpoint not found"),
     ("edmd", ["--resume", "{file}"], "is not a checkpoint"),
+    ("edmd", ["--extend", "5"], "--extend needs --resume FILE"),
+    ("edmd", ["--extend", "0", "--resume", "{file}"], "invalid value for '--extend'"),
     ("edmd", ["--config", "{dir}"], "is a folder, not a file"),
     ("edmd", ["--config", "{file}"], "not valid TOML"),
     ("edmd", ["--overwrite=1"], "does not take a value"),

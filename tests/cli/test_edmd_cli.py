@@ -358,3 +358,35 @@ def test_an_engine_watchdog_is_one_line_and_exit_1(monkeypatch):
     result = invoke("--dim", 2, "--particles", 64, "--initial", "square", "--collisions", 2000, "--no-plots")
     said = " ".join(result.output.split())
     assert result.exit_code == 1 and "the run stopped: inelastic collapse" in said and "Traceback" not in said
+
+
+def test_extend_continues_a_finished_run_and_its_trajectory(tmp_path):
+    # issue 16, item 8: `--extend N` continues a finished run (its checkpoint, its trajectory)
+    checkpoint, trajectory = tmp_path / "c.npz", tmp_path / "t.gsd"
+    first = tmp_path / "first.json"
+    assert invoke(*SMALL, "--checkpoint", checkpoint, "--summary", first, "--trajectory", trajectory,
+                  "--frame-every", 4_000).exit_code == 0
+    steps_before = [int(frame.configuration.step) for frame in gsd.hoomd.open(trajectory)]
+    second = tmp_path / "second.json"
+    result = invoke("--resume", checkpoint, "--extend", 1, "--summary", second, "--trajectory", trajectory,
+                    "--no-plots")
+    assert result.exit_code == 0, result.output
+    before, after = json.loads(first.read_text()), json.loads(second.read_text())
+    length = before["collisions"] // before["parameters"]["blocks"]
+    assert after["collisions"] == before["collisions"] + length
+    assert f"extending the run by {length} measured pair collisions (1 rounded up" in " ".join(result.output.split())
+    steps = [int(frame.configuration.step) for frame in gsd.hoomd.open(trajectory)]
+    # the frames of the first run, then a frame at the new end, appended to the same file
+    assert steps == steps_before + [25_000 + after["collisions"]], (steps_before, steps)
+
+
+@pytest.mark.parametrize(("arguments", "words"), [
+    (("--extend", 5), "--extend needs --resume FILE"),
+    (("--resume", "CHECKPOINT", "--collisions", 10**6), "to measure more, give --extend N"),
+])
+def test_extend_is_refused_without_a_run_to_extend(tmp_path, arguments, words):
+    checkpoint = tmp_path / "c.npz"
+    assert invoke(*SMALL, "--checkpoint", checkpoint, "--no-plots").exit_code == 0
+    result = invoke(*[checkpoint if value == "CHECKPOINT" else value for value in arguments])
+    assert result.exit_code == 2
+    assert words in " ".join(result.output.split())

@@ -159,3 +159,23 @@ def test_a_checkpoint_of_another_kind_or_no_checkpoint_is_refused(tmp_path):
         EdmdRun.resume(tmp_path / "missing.npz")
     with pytest.raises(RuntimeError, match="call run"):
         EdmdRun(EdmdParameters(**SMALL)).measurement()
+
+
+def test_an_extended_run_measures_whole_more_blocks_exactly_as_a_longer_run_would(tmp_path):
+    # issue 16, item 8: a finished run could not be extended with more collisions
+    short = dict(SMALL, collisions=2_000, blocks=2)
+    path = tmp_path / "short.npz"
+    EdmdRun(EdmdParameters(**short), checkpoint=path).run()
+    extended = EdmdRun.resume(path)
+    assert extended.finished
+    assert extended.extend(1_500) == 2_000  # rounded up to whole blocks of 1000
+    assert not extended.finished
+    extended.run()
+    assert extended.finished and extended.measured == 4_000
+    assert read_checkpoint(path, "edmd").parameters["blocks"] == 4  # the checkpoint records the new totals
+    longer = EdmdRun(EdmdParameters(**SMALL)).run()
+    for name in ("temperature", "compressibility", "pressure", "frequency", "time", "msd"):
+        assert extended.sampler.records[name] == longer.sampler.records[name], name
+    np.testing.assert_array_equal(extended.sampler.histogram, longer.sampler.histogram)
+    with pytest.raises(ValueError, match="collisions must be >= 1"):
+        extended.extend(0)

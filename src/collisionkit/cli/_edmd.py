@@ -138,7 +138,7 @@ def _new_run(options: EdmdOptions):
     return run, extra
 
 
-def _resumed_run(resume: Path, given: dict):
+def _resumed_run(resume: Path, given: dict, extend: int | None = None):
     """The run saved in ``resume``; physics options given now must agree with it, outputs are only those given now.
 
     Output paths stored in the checkpoint are never used: a resumed run writes
@@ -153,7 +153,9 @@ def _resumed_run(resume: Path, given: dict):
         run = EdmdRun.resume(resume, checkpoint=given.get("checkpoint", resume), trajectory=given.get("trajectory"),
                              frame_every=given.get("frame_every"), **physics)
     except ValueError as error:
-        raise fail(str(error)) from None
+        hint = "; to measure more, give --extend N (more pair collisions)" if str(error).startswith("collisions =") else ""
+        raise fail(f"{error}{hint}") from None
+    _extend(run, extend)
     outputs = {key: value for key, value in given.items() if key in OUTPUT_OPTIONS}
     outputs |= {"checkpoint": run.checkpoint, "trajectory": run.trajectory, "frame_every": run.frame_every}
     keep = [resume] + ([run.trajectory] if run.continues_trajectory else [])
@@ -163,6 +165,20 @@ def _resumed_run(resume: Path, given: dict):
     extra = _frame_notes(run.parameters, run.frame_every)
     warm_up(["edmd"], always=["edmd"])
     return run, options, extra
+
+
+def _extend(run, extend: int | None) -> None:
+    """Add the blocks ``--extend`` asks for, with a note when the count is rounded up to whole blocks."""
+    if extend is None:
+        if run.finished:
+            note("the run was already finished: its results are reported again; --extend N measures N more "
+                 "pair collisions")
+        return
+    added = run.extend(extend)
+    length = run.parameters.collisions // run.parameters.blocks
+    rounded = f" ({extend} rounded up to whole blocks of {length})" if added != extend else ""
+    note(f"extending the run by {added} measured pair collisions{rounded}: {run.parameters.blocks} blocks, "
+         f"{run.parameters.collisions} in all")
 
 
 def _require_outputs(options: EdmdOptions) -> None:
@@ -279,6 +295,10 @@ def edmd(
         Path | None,
         typer.Option(help="Continue the run saved in this checkpoint, with its physics; checkpoints go on to it unless --checkpoint is given. Other outputs are only those given now (name its --trajectory again to continue it)."),
     ] = None,
+    extend: Annotated[
+        int | None,
+        typer.Option(min=1, help="With --resume: measure N more pair collisions (whole blocks of the run's block length), also after a finished run."),
+    ] = None,
     config: Annotated[
         Path | None, typer.Option("--config", help="TOML file with these options (command line wins).")
     ] = None,
@@ -295,10 +315,12 @@ def edmd(
         checkpoint=checkpoint, overwrite=overwrite,
     )  # fmt: skip
     if resume is None:
+        if extend is not None:
+            raise fail("--extend needs --resume FILE: the checkpoint of the run to go on with")
         options = load_options(EdmdOptions, config, given)
         run, extra = _new_run(options)
     else:
-        run, options, extra = _resumed_run(resume, option_values(EdmdOptions, config, given))
+        run, options, extra = _resumed_run(resume, option_values(EdmdOptions, config, given), extend)
     where = (f"the last checkpoint is in {options.checkpoint}; continue with --resume {options.checkpoint}"
              if options.checkpoint is not None else "no --checkpoint was given, so nothing is saved")
     try:

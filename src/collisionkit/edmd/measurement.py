@@ -174,6 +174,19 @@ class Sampler:
         """All blocks done."""
         return self.done >= self.blocks
 
+    def extend(self, blocks: int) -> None:
+        """Plan ``blocks`` more blocks of the same length (the lags of the MSD's time origins stay as they were).
+
+        Examples
+        --------
+        >>> from collisionkit.edmd import Sampler, random_fluid
+        >>> sampler = Sampler(random_fluid(2, 100, 0.3, seed=1), collisions=2000, blocks=2)
+        >>> sampler.extend(3)
+        >>> sampler.blocks, sampler.per_block
+        (5, 1000)
+        """
+        self.blocks += _checks.integer_at_least(blocks, "blocks", 1)
+
     def run_block(self, progress=None):
         """Run and record one block.
 

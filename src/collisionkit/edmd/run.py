@@ -325,6 +325,43 @@ class EdmdRun:
         """True once every measurement block is done."""
         return self.sampler is not None and self.sampler.finished
 
+    def extend(self, collisions: int) -> int:
+        """Measure at least ``collisions`` more pair collisions: whole blocks of the run's block length are added.
+
+        A finished (or unfinished) run goes on with ``ceil(collisions / L)``
+        more blocks of L = ``parameters.collisions // parameters.blocks``
+        pair collisions, so every block, old and new, has the same length and
+        the errors stay standard errors of equal blocks. The parameters (and
+        the next checkpoint) record the new totals; call :meth:`run` to do them.
+
+        Parameters
+        ----------
+        collisions : int
+            More pair collisions to measure (>= 1), rounded up to whole blocks.
+
+        Returns
+        -------
+        int
+            The pair collisions added (a multiple of the block length).
+
+        Examples
+        --------
+        >>> run = EdmdRun(EdmdParameters(dim=2, particles=64, initial="square", collisions=400, blocks=2, seed=1))
+        >>> run.run().extend(250), run.parameters.blocks
+        (400, 4)
+        >>> run.run().measured
+        800
+        """
+        collisions = check_integer("collisions", collisions, 1)
+        p = self.parameters
+        length = p.collisions // p.blocks
+        added_blocks = -(-collisions // length)
+        blocks = p.blocks + added_blocks
+        self.parameters = p.replace(blocks=blocks, collisions=blocks * length)
+        if self.sampler is not None:
+            self.sampler.extend(added_blocks)
+        return added_blocks * length
+
     def run(self, progress: Callable[[float], Any] | None = None) -> EdmdRun:
         """Do the equilibration chunks and measurement blocks still to do; write the last frame.
 
