@@ -44,14 +44,33 @@ def test_a_dilute_gas_is_not_mistaken_for_one_that_cannot_collide():
     assert system.run(collisions=300) == 300
 
 
-def test_a_ball_on_an_inelastic_floor_under_gravity_is_reported_as_a_wall_collapse():
-    # two balls dropped in separate columns: each bounces ever lower, infinitely many bounces in finite time
-    # (elastic_below guards pair contacts only); spun for ever at the instant they came to rest
-    system = _compiled(edmd.HardSphereSystem([[2.0, 3.0], [7.0, 5.0]], np.zeros((2, 2)), 0.5, 10.0,
-                                             periodic=[True, False], gravity=[0.0, -1.0], wall_restitution=0.5))
-    with deadline(30.0), pytest.raises(RuntimeError, match="wall collapse: .* bounces off a wall"):
+def _dropped_balls(**elastic_below):
+    """Two balls dropped at rest in separate columns onto an inelastic floor (e = 0.5) under gravity."""
+    return _compiled(edmd.HardSphereSystem([[2.0, 3.0], [7.0, 5.0]], np.zeros((2, 2)), 0.5, 10.0,
+                                           periodic=[True, False], gravity=[0.0, -1.0], wall_restitution=0.5,
+                                           **elastic_below))
+
+
+def test_a_ball_on_an_inelastic_floor_without_an_elastic_floor_is_reported_as_a_wall_collapse():
+    # each ball bounces ever lower, infinitely many bounces in finite time; spun for ever at the instant they rested
+    system = _dropped_balls(elastic_below=0.0)
+    with deadline(30.0), pytest.raises(RuntimeError, match="wall collapse: .* bounces off a wall: .* raise elastic_below"):
         system.run(collisions=100)
     assert system.elapsed + system.time == pytest.approx(math.sqrt(2 * 2.5) * 3, rel=1e-9)  # 2.5 high, e = 0.5
+
+
+def test_the_elastic_floor_guards_wall_bounces_too():
+    # issue 16, item 9: elastic_below guarded pair contacts only, so a ball on an inelastic floor always collapsed
+    system = _dropped_balls()
+    assert system.elastic_below == pytest.approx(1e-6 * math.sqrt(10.0))  # sqrt(<v^2> + |g| L), balls at rest
+    with deadline(30.0):
+        system.run(time=10.0)  # past the collapse instant sqrt(5) * 3 of the lower ball
+    heights = system.positions()[:, 1] - 0.5
+    speeds = np.abs(system.velocities()[:, 1])
+    # each ball now bounces elastically at (about) the floor speed: its energy per mass stays at that scale
+    energy = heights + 0.5 * speeds**2
+    assert np.all(energy < 0.5 * (1.01 * system.elastic_below) ** 2 + 1e-12)
+    assert np.all(energy > 0.5 * (0.5 * system.elastic_below) ** 2)  # e = 0.5 above the floor, elastic below it
 
 
 def test_inelastic_collapse_without_an_elastic_floor_is_an_error_naming_it():

@@ -54,8 +54,9 @@ def stall_message(system, target):
     if target < _k.LIST_TARGET:  # a wall
         return (f"wall collapse: {when}, bounces off a wall: a particle under gravity bounces ever lower on an "
                 "inelastic wall (or rests on it), infinitely many bounces in finite time "
-                f"(wall_restitution {system.params[_k.P_WALL_RESTITUTION]:g}; elastic_below "
-                f"{system.elastic_below:g} guards pair contacts only); give wall_restitution 1, or no gravity")
+                f"(wall_restitution {system.params[_k.P_WALL_RESTITUTION]:g}, elastic_below "
+                f"{system.elastic_below:g}); raise elastic_below (bounces and contacts slower than it are "
+                "elastic; the default is 1e-6 of sqrt(<v^2> + |g| L)), or give wall_restitution 1")
     if target == _k.LIST_TARGET:
         return f"the event loop stalled: {when}, neighbour-list rebuilds (no particle moves)"
     if system.growth > 0:

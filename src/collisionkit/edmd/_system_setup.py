@@ -86,11 +86,19 @@ def restitution_parameters(species, restitution, law, law_speed, law_exponent, w
     return np.ascontiguousarray(matrix), params
 
 
-def default_elastic_below(restitution, law, velocities):
-    """The elastic floor when none is given: 1e-6 of the rms speed if collisions can lose energy, else 0."""
-    inelastic = np.any(restitution < 1.0) or law != "constant"
-    rms = math.sqrt(np.mean(np.sum(velocities**2, axis=1))) if inelastic else 0.0
-    return 1e-6 * rms
+def default_elastic_below(restitution, law, velocities, wall_restitution=1.0, gravity=None, box=None):
+    """The elastic floor when none is given: 1e-6 of the speed scale if contacts can lose energy, else 0.
+
+    Pair contacts and wall bounces both obey it. The speed scale is
+    sqrt(<v^2> + |g| L) (L the longest box edge): the rms speed without
+    gravity, and the speed of a fall across the box under gravity, so that
+    particles dropped at rest on an inelastic floor are guarded too.
+    """
+    inelastic = np.any(restitution < 1.0) or law != "constant" or wall_restitution < 1.0
+    if not inelastic:
+        return 0.0
+    fall = 0.0 if gravity is None or box is None else float(np.linalg.norm(gravity)) * float(np.max(box))
+    return 1e-6 * math.sqrt(float(np.mean(np.sum(velocities**2, axis=1))) + fall)
 
 
 def geometry(box, periodic, gravity):

@@ -84,12 +84,13 @@ class HardSphereSystem(SystemParameters, ParticleState, NeighbourLists, Checkpoi
     law_speed, law_exponent : float
         Parameters of the Bridges law.
     elastic_below : float, optional
-        Pair contacts with normal approach speed below this are elastic:
-        protects inelastic runs against inelastic collapse (infinitely many
-        collisions in finite time, which stops a run with a RuntimeError),
-        in the spirit of the TC model of Luding & McNamara (Granular Matter
-        1, 113 (1998)). Default: 0 for elastic systems, 1e-6 times the
-        initial rms speed otherwise.
+        Pair contacts and wall bounces with normal approach speed below
+        this are elastic: protects inelastic runs against inelastic collapse
+        (infinitely many collisions in finite time, which stops a run with a
+        RuntimeError), in the spirit of the TC model of Luding & McNamara
+        (Granular Matter 1, 113 (1998)). Default: 0 for elastic systems,
+        else 1e-6 times sqrt(<v^2> + |g| L) at the start (the rms speed
+        without gravity; L the longest box edge).
     wall_restitution : float
         Restitution of particle-wall contacts, in [0, 1]. Below 1 under
         gravity a ball comes to rest on a wall after infinitely many
@@ -165,7 +166,8 @@ class HardSphereSystem(SystemParameters, ParticleState, NeighbourLists, Checkpoi
         self.acc = np.zeros(_k.ACC_SIZE)
         self._still = 0  # events in a row at the current instant (the event loop's watch for a collapse)
         if elastic_below is None:
-            elastic_below = _system_setup.default_elastic_below(self.restitution, restitution_law, velocities)
+            elastic_below = _system_setup.default_elastic_below(self.restitution, restitution_law, velocities,
+                                                                self.params[_k.P_WALL_RESTITUTION], gravity, box)
         self.params[_k.P_ELASTIC_BELOW] = _checks.bounded(elastic_below, "elastic_below", 0.0)
         _system_setup.allocate_engine_arrays(self)
         self._refresh_lists()

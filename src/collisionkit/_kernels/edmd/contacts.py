@@ -133,7 +133,7 @@ def bounce_off_wall(p, i, code, b, params, acc):
     upward = code % 2 == 1
     v = p[i, V + axis]
     if (upward and v > 0.0) or ((not upward) and v < 0.0):
-        e = params[P_WALL_RESTITUTION]
+        e = params[P_WALL_RESTITUTION] if abs(v) >= params[P_ELASTIC_BELOW] else 1.0
         p[i, V + axis] = -e * v
         acc[ACC_WALL_IMPULSE] += b[i, MASS] * (1.0 + e) * abs(v)
         acc[ACC_WALL_COLLISIONS] += 1.0
