@@ -7,6 +7,7 @@ before the deadline (a cold numba cache takes tens of seconds), so the deadline 
 
 import math
 import time
+import warnings
 from fractions import Fraction
 
 import numpy as np
@@ -101,7 +102,7 @@ def test_a_kernel_call_stops_at_its_event_allowance_and_at_a_stalled_instant():
     arrays = (system.p, system.book, system._image, system.cell_of, system.neighbours, system.neighbour_count,
               system.cell_members, system.cell_count, system.cell_points, system.ncell, system.geom, system.dim,
               system.restitution, system.params, system.queue, system.tree, system.leaves, system.acc)
-    t, still, longest, stop, target = kernels.run_events(0.0, 0, 100, 1000, math.inf, *arrays)
+    t, still, longest, stop, target = kernels.run_events(0.0, 0, 100, 1000, math.inf, kernels.STALLED_EVENTS, *arrays)
     assert stop == kernels.STOP_EVENTS and system.acc[kernels.ACC_EVENTS] == 1000 and t > 0.0
     # a ball resting on the floor under gravity: a bounce at once, that changes nothing, for ever
     resting = edmd.HardSphereSystem([[2.0, 0.5], [7.0, 5.0]], np.zeros((2, 2)), 0.5, 10.0, periodic=[True, False],
@@ -110,7 +111,7 @@ def test_a_kernel_call_stops_at_its_event_allowance_and_at_a_stalled_instant():
               resting.cell_members, resting.cell_count, resting.cell_points, resting.ncell, resting.geom,
               resting.dim, resting.restitution, resting.params, resting.queue, resting.tree, resting.leaves,
               resting.acc)
-    t, still, longest, stop, target = kernels.run_events(0.0, 0, 100, 1 << 20, math.inf, *arrays)
+    t, still, longest, stop, target = kernels.run_events(0.0, 0, 100, 1 << 20, math.inf, kernels.STALLED_EVENTS, *arrays)
     assert (t, stop, target) == (0.0, kernels.STOP_STALLED, kernels.wall_target(2))
     assert still == longest == kernels.STALLED_EVENTS
 
@@ -125,11 +126,33 @@ def test_events_in_a_row_at_one_instant_are_counted_across_calls():
               resting.acc)
     still, calls = 0, 0
     while True:
-        _, still, _, stop, _ = kernels.run_events(0.0, still, 100, 1000, math.inf, *arrays)
+        _, still, _, stop, _ = kernels.run_events(0.0, still, 100, 1000, math.inf, kernels.STALLED_EVENTS, *arrays)
         calls += 1
         if stop != kernels.STOP_EVENTS:
             break
     assert stop == kernels.STOP_STALLED and calls == kernels.STALLED_EVENTS // 1000 + 1
+
+
+def _lockstep_lattice(cells, restitution=1.0):
+    """A square lattice whose columns move in step, +x and -x in turn: all its pairs collide at one instant."""
+    positions, box = edmd.lattice("square", cells, 0.3)
+    column = np.round(positions[:, 0] / (box[0] / cells) - 0.5).astype(int)
+    velocities = np.zeros_like(positions)
+    velocities[:, 0] = np.where(column % 2 == 0, 1.0, -1.0)
+    return edmd.HardSphereSystem(positions, velocities, 0.5, box, restitution=restitution)
+
+
+def test_a_symmetric_start_with_many_simultaneous_events_is_not_a_collapse():
+    # issue 16, item 10: fixed limits (2^12 to warn, 2^16 to stop) called N/2 pairs colliding at one instant
+    # an "inelastic collapse" of an elastic system (N = 136900 warned 4 times); the limits now grow with N
+    system = _compiled(_lockstep_lattice(370))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        with deadline(60.0):
+            assert system.run(collisions=3 * system.count) == 3 * system.count
+    assert system.kinetic_energy() == pytest.approx(0.5 * system.count, rel=1e-12)
+    assert _system_events.stall_limit(system.count) == 8 * system.count
+    assert not _system_events.loses_energy(system) and _system_events.loses_energy(_lockstep_lattice(4, 0.9))
 
 
 def test_restitution_zero_is_a_sticky_contact():

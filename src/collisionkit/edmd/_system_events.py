@@ -5,7 +5,7 @@
 :func:`run_event_loop`, for at most
 ``EVENTS_PER_CALL`` events at a time, a fraction of a second even at
 N = 10^6, so Ctrl-C lands between two calls. The loop gives up after
-``STALLED_EVENTS`` events in a row at one instant (counted across calls):
+:func:`stall_limit` events in a row at one instant (counted across calls):
 a collapse, infinitely many events in finite time, whose clock has stopped
 in floating point and that would never end. A run asked for pair
 collisions alone gives up when no pair collision came in ``QUIET_EVENTS``
@@ -13,8 +13,11 @@ events and in ``QUIET_FREE_TIMES`` mean free times of kinetic theory (list
 rebuilds and wall bounces go on for ever when no pair can meet; the second
 condition spares a dilute gas, whose collisions are rare among its
 events). Each becomes a RuntimeError naming the likely cause and the way
-out. A run warns (RuntimeWarning) of ``COLLAPSE_WARNING_EVENTS`` or more
-events in a row at one instant that did end (round-off ended a collapse).
+out. A run of a system that can lose energy warns (RuntimeWarning) of
+:func:`collapse_warning_limit` or more events in a row at one instant that
+did end (round-off ended a collapse). Both limits grow with N: a symmetric
+start (a lattice whose particles move in step) makes up to about N events
+at one instant that are physics, not a collapse.
 """
 
 from __future__ import annotations
@@ -29,8 +32,46 @@ from .._kernels import edmd as _k
 # events per call of the event loop: well under a second even at N = 10^6, so that Ctrl-C is answered at once
 EVENTS_PER_CALL = 1 << 17
 # events in a row at one instant that make a run warn of a collapse that round-off ended (an inelastic
-# cluster's cascade with the default elastic_below takes up to about a thousand)
+# cluster's cascade with the default elastic_below takes up to about a thousand), at least 2 per particle
 COLLAPSE_WARNING_EVENTS = 1 << 12
+# events in a row at one instant that stop a run (a collapse whose clock has stopped), at least 8 per particle
+STALL_EVENTS_PER_PARTICLE = 8
+
+
+def stall_limit(count: int) -> int:
+    """Events in a row at one instant that stop a run of ``count`` particles: max(2^16, 8 N).
+
+    Examples
+    --------
+    >>> stall_limit(100), stall_limit(10**6)
+    (65536, 8000000)
+    """
+    return max(_k.STALLED_EVENTS, STALL_EVENTS_PER_PARTICLE * count)
+
+
+def collapse_warning_limit(count: int) -> int:
+    """Events in a row at one instant (that ended) that make a run of ``count`` particles warn: max(2^12, 2 N).
+
+    Examples
+    --------
+    >>> collapse_warning_limit(100), collapse_warning_limit(10**5)
+    (4096, 200000)
+    """
+    return max(COLLAPSE_WARNING_EVENTS, 2 * count)
+
+
+def loses_energy(system) -> bool:
+    """True if a contact or a wall bounce of ``system`` can lose energy (a collapse is possible).
+
+    Examples
+    --------
+    >>> from collisionkit.edmd import HardSphereSystem
+    >>> system = HardSphereSystem([[1.0, 1.0], [1.0, 5.0]], [[1.0, 0.0], [1.0, 0.0]], 0.5, 10.0)
+    >>> loses_energy(system)
+    False
+    """
+    return bool(np.any(system.restitution < 1.0) or system.restitution_law != "constant"
+                or system.params[_k.P_WALL_RESTITUTION] < 1.0)
 # a run asked for collisions gives up after this many events without one (about a second of a small
 # system's events) if they also lasted QUIET_FREE_TIMES mean free times (N / 2 collisions expected in each)
 QUIET_EVENTS = 1 << 22
@@ -50,7 +91,7 @@ def stall_message(system, target):
     >>> stall_message(system, 3).split(":")[0]
     'inelastic collapse'
     """
-    when = f"{_k.STALLED_EVENTS} events in a row at time {system.elapsed + system.time:.17g}"
+    when = f"{stall_limit(system.count)} events in a row at time {system.elapsed + system.time:.17g}"
     if target < _k.LIST_TARGET:  # a wall
         return (f"wall collapse: {when}, bounces off a wall: a particle under gravity bounces ever lower on an "
                 "inelastic wall (or rests on it), infinitely many bounces in finite time "
@@ -164,15 +205,15 @@ def run_event_loop(system, collisions, t_stop):
     while True:
         made, events = system.collisions, system.acc[_k.ACC_EVENTS]
         system.time, system._still, longest, stop, target = _k.run_events(
-            system.time, system._still, left, EVENTS_PER_CALL, t_stop, system.p, system.book, system._image,
-            system.cell_of, system.neighbours, system.neighbour_count, system.cell_members, system.cell_count,
+            system.time, system._still, left, EVENTS_PER_CALL, t_stop, stall_limit(system.count), system.p,
+            system.book, system._image, system.cell_of, system.neighbours, system.neighbour_count, system.cell_members, system.cell_count,
             system.cell_points, system.ncell, system.geom, system.dim, system.restitution, system.params,
             system.queue, system.tree, system.leaves, system.acc,
         )
         made = system.collisions - made
         if stop == _k.STOP_STALLED:
             raise RuntimeError(stall_message(system, target))
-        if longest >= COLLAPSE_WARNING_EVENTS and system._still < longest:  # a collapse that ended
+        if longest >= collapse_warning_limit(system.count) and system._still < longest and loses_energy(system):
             warnings.warn(collapse_warning(system, longest), RuntimeWarning, stacklevel=4)
         if stop != _k.STOP_EVENTS:
             return system.time

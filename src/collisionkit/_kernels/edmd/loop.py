@@ -11,7 +11,7 @@ from .._memory import prefetch
 from .contacts import bounce_off_wall, collide_pair
 from .layout import (
     ACC_EVENTS, ACC_LIST_REBUILDS, ACC_STALE_EVENTS, CHANGED_AT, LIST_TARGET, P_GROWTH, P_SCALE0, PREDICTED_AT,
-    QUEUE_BLOCK, STALLED_EVENTS, STOP_COLLISIONS, STOP_EVENTS, STOP_NO_EVENT, STOP_OVERFLOW, STOP_STALLED, STOP_TIME,
+    QUEUE_BLOCK, STOP_COLLISIONS, STOP_EVENTS, STOP_NO_EVENT, STOP_OVERFLOW, STOP_STALLED, STOP_TIME,
     TARGET, TREE_LEVELS_PREFETCHED, wall_target,
 )
 from .motion import advance
@@ -69,8 +69,8 @@ def _repredict(p, i, b, neighbours, neighbour_count, geom, dim, params, queue, t
 
 
 @kernel
-def run_events(t, still, max_pair_collisions, max_events, t_stop, p, b, image, cell_of, neighbours, neighbour_count,
-               cell_members, cell_count, cell_points, ncell, geom, dim, restitution, params, queue, tree, leaves, acc):
+def run_events(t, still, max_pair_collisions, max_events, t_stop, stall_limit, p, b, image, cell_of, neighbours,
+               neighbour_count, cell_members, cell_count, cell_points, ncell, geom, dim, restitution, params, queue, tree, leaves, acc):
     """Process events until ``max_pair_collisions`` collisions, ``max_events`` events or time ``t_stop``.
 
     ``still`` is the number of events in a row at time ``t`` so far (the
@@ -85,9 +85,10 @@ def run_events(t, still, max_pair_collisions, max_events, t_stop, p, b, image, c
     It stops early with ``STOP_OVERFLOW``, ``acc[ACC_LIST_OVERFLOW]`` or
     ``acc[ACC_CELL_OVERFLOW]`` set to the size needed, if a neighbour list
     or a cell outgrows its row (grow the rows and rebuild every list); and
-    with ``STOP_STALLED`` after ``STALLED_EVENTS`` events in a row at one
-    instant, a collapse (infinitely many events in finite time) whose
-    clock has stopped in floating point and that would never end.
+    with ``STOP_STALLED`` after ``stall_limit`` events in a row at one
+    instant (the caller scales it with N: a symmetric lattice makes N
+    events at one instant), a collapse (infinitely many events in finite
+    time) whose clock has stopped in floating point and that would never end.
     ``max_events`` bounds the time of one call, so that a caller looping
     over calls can be interrupted in between.
     """
@@ -116,7 +117,7 @@ def run_events(t, still, max_pair_collisions, max_events, t_stop, p, b, image, c
             break
         still = still + 1 if event_time == t else 0
         longest = max(longest, still)
-        if still >= STALLED_EVENTS:
+        if still >= stall_limit:
             stop = STOP_STALLED
             break
         t = event_time
