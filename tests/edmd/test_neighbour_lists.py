@@ -98,3 +98,19 @@ def test_the_shell_is_the_requested_fraction_of_the_largest_diameter():
     assert system.neighbour_shell_width == pytest.approx(edmd.DEFAULT_SHELL, rel=1e-12)
     wider = fcc_system(cells=3, eta=0.3, neighbour_shell=0.9)
     assert wider.neighbour_shell_width == pytest.approx(0.9, rel=1e-12)
+
+
+@pytest.mark.parametrize("eta", [0.02, 0.3])
+def test_cells_are_sized_by_the_grid_they_hold_not_by_every_grid_before(eta):
+    # issue 16, item 6: each grid change of a compression took 1.25 times the old grid's slots, and the small
+    # starting radii asked for many empty cells: 65 kB of cells a particle at eta = 0.02 (1.4 kB at 0.3)
+    system = edmd.random_fluid(3, 4000, eta, seed=1)
+    cells = int(np.prod(system.ncell))
+    assert cells <= 2 * system.count
+    occupancy = np.bincount(system.cell_of.astype(np.int64), minlength=cells).max()
+    slots = system.cell_members.shape[1]
+    assert occupancy <= slots <= max(12, 2 * occupancy)
+    assert system.cell_points.nbytes / system.count < 1_000
+    energy = system.kinetic_energy()
+    assert system.run(collisions=4 * system.count) == 4 * system.count  # the capped grid runs as before
+    assert system.kinetic_energy() == pytest.approx(energy, rel=1e-12)
