@@ -237,3 +237,16 @@ def test_a_new_sweep_does_not_overwrite_an_existing_checkpoint(tmp_path):
     again = runner.invoke(app, [*SWEEP, "--checkpoint", str(checkpoint)])  # --resume forgotten
     assert again.exit_code == 2 and f"--resume {checkpoint}" in again.output.replace("\n", "")
     assert checkpoint.read_bytes() == saved
+
+
+def test_ctrl_c_stops_a_slab_run_with_exit_130_and_says_nothing_is_saved(monkeypatch):
+    # typer ended an interrupted slab run with 130 and no word
+    from collisionkit import transport
+
+    def interrupted(*args, **kwargs):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(transport, "run_slab", interrupted)
+    result = runner.invoke(app, ["slab", "--thickness", "1", "--particles", "1000"])
+    assert result.exit_code == 130
+    assert "warning: interrupted: a slab run keeps no checkpoint" in " ".join(result.output.split())

@@ -148,3 +148,32 @@ def test_equal_masses_never_turn_back_in_one_collision():
     assert equal.transmission + equal.reflection + equal.absorption == pytest.approx(1.0, abs=1e-12)
     assert equal.reflection < 2e-3  # two collisions: probability below d^2 / 2 = 1.25e-3
     assert heavier.reflection > 5 * equal.reflection + 4 * heavier.reflection_error
+
+
+def test_the_result_does_not_depend_on_the_collision_budget_of_a_kernel_call(monkeypatch):
+    # histories cut short by the budget go on in the next call with the same random numbers
+    from collisionkit.transport import slab
+
+    reference = simulate_slab(3.0, 0.9, mass_ratio=4.0, particles=640, seed=5, threads=2).to_dict()
+    monkeypatch.setattr(slab, "COLLISIONS_PER_CALL", 7)
+    progress = []
+    cut = simulate_slab(3.0, 0.9, mass_ratio=4.0, particles=640, seed=5, threads=2, progress=progress.append)
+    assert cut.to_dict() == reference
+    assert progress[-1] == 1.0 and progress == sorted(progress)
+
+
+def test_ctrl_c_stops_a_thick_slab_within_a_second():
+    # issue 16, item 9: one kernel call ran a batch's histories to their end (here 1.6e5 histories of about
+    # d = 2e4 collisions each, a minute a batch), and Ctrl-C waited for every batch to end
+    import _thread
+    import threading
+    import time
+
+    from tests.sweep.helpers import deadline
+
+    timer = threading.Timer(0.5, _thread.interrupt_main)
+    start = time.perf_counter()
+    timer.start()
+    with deadline(20.0), pytest.raises(KeyboardInterrupt):
+        simulate_slab(20_000.0, particles=10**7, seed=1, threads=2)
+    assert time.perf_counter() - start < 2.0

@@ -38,7 +38,8 @@ from ._messages import (
 __all__ = [
     "BAD_INPUT_EXIT_CODE", "INTERRUPTED_EXIT_CODE", "RUN_FAILED_EXIT_CODE", "Deliveries", "Options",
     "check_input_file", "check_paths",
-    "check_output_file", "check_output_folder", "console", "error", "error_console", "fail", "load_options", "note",
+    "check_output_file", "check_output_folder", "console", "error", "error_console", "fail", "fraction_reporter",
+    "load_options", "note",
     "option_values", "OverwriteOption", "print_table", "refuse_folder", "progress_bar", "read_toml", "refuse_clashes", "refuse_to_replace", "require",
     "require_gsd", "require_plotting", "run_failed", "say", "validate_options", "warn", "write_summary",
 ]
@@ -320,6 +321,17 @@ def progress_bar(description: str, total: float):
     with Progress(*columns, console=error_console, transient=False) as progress:
         task = progress.add_task(description, total=total)
         yield lambda amount=1: progress.advance(task, amount)
+
+
+def fraction_reporter(advance, total: float):
+    """A library ``progress(fraction)`` callback that advances a :func:`progress_bar` of ``total`` steps."""
+    shown = [0.0]
+
+    def report(fraction):
+        advance(fraction * total - shown[0])
+        shown[0] = fraction * total
+
+    return report
 
 
 def print_table(title: str, columns: Iterable[str], rows: Iterable[Iterable[Any]]) -> None:

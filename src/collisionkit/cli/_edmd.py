@@ -17,8 +17,8 @@ from pydantic import Field, model_validator
 
 from .._io import FileLockedError
 from ._common import (
-    INTERRUPTED_EXIT_CODE, Options, OverwriteOption, fail, load_options, note, option_values, progress_bar, refuse_folder,
-    require_gsd, require_plotting, run_failed, validate_options, warn,
+    INTERRUPTED_EXIT_CODE, Options, OverwriteOption, fail, fraction_reporter, load_options, note, option_values,
+    progress_bar, refuse_folder, require_gsd, require_plotting, run_failed, validate_options, warn,
 )
 from ._edmd_report import report
 from ._memory import edmd_memory, refuse_beyond_memory, size
@@ -95,17 +95,6 @@ class EdmdOptions(Options):
         return EdmdParameters(**{name: getattr(self, name) for name in EdmdParameters.names()})
 
 
-def _percent_reporter(advance, total: float):
-    """A ``progress(fraction)`` callback advancing a bar of ``total`` steps."""
-    shown = [0.0]
-
-    def report(fraction):
-        advance(fraction * total - shown[0])
-        shown[0] = fraction * total
-
-    return report
-
-
 def _refuse_beyond_memory(parameters) -> None:
     """Stop before any work if the run would not fit in the machine's available memory."""
     needed = edmd_memory(parameters)
@@ -132,7 +121,7 @@ def _new_run(options: EdmdOptions):
     try:
         with progress_bar("setting up", total=100) as advance:
             run = EdmdRun(parameters, checkpoint=options.checkpoint, trajectory=options.trajectory,
-                          frame_every=options.frame_every, progress=_percent_reporter(advance, 100))
+                          frame_every=options.frame_every, progress=fraction_reporter(advance, 100))
     except (ValueError, OverlapError) as error:
         raise fail(f"cannot set up the initial state: {error}") from None
     return run, extra
@@ -325,7 +314,7 @@ def edmd(
              if options.checkpoint is not None else "no --checkpoint was given, so nothing is saved")
     try:
         with progress_bar("collisions", total=run.parameters.total_collisions) as advance:
-            run.run(progress=_percent_reporter(advance, run.parameters.total_collisions))
+            run.run(progress=fraction_reporter(advance, run.parameters.total_collisions))
     except FileLockedError as locked:
         raise fail(f"{locked}: another collisionkit run is writing it; wait for it or name other files") from None
     except KeyboardInterrupt:

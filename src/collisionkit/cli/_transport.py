@@ -10,8 +10,8 @@ from pydantic import Field, field_validator, model_validator
 
 from .._io import FileLockedError
 from ._common import (
-    INTERRUPTED_EXIT_CODE, Deliveries, Options, OverwriteOption, fail, load_options, note, option_values, print_table,
-    progress_bar, refuse_folder, require, run_failed, say, validate_options, warn, write_summary,
+    INTERRUPTED_EXIT_CODE, Deliveries, Options, OverwriteOption, fail, fraction_reporter, load_options, note,
+    option_values, print_table, progress_bar, refuse_folder, require, run_failed, say, validate_options, warn, write_summary,
 )
 from ._memory import refuse_beyond_memory, swarm_memory
 from ._warmup import warm_up
@@ -193,12 +193,7 @@ def swarm(
     results = scan.results
     try:
         with progress_bar("swarm", total=len(options.e_n)) as advance:
-            shown = [0.0]
-
-            def report(fraction):
-                advance(fraction * len(options.e_n) - shown[0])
-                shown[0] = fraction * len(options.e_n)
-
+            report = fraction_reporter(advance, len(options.e_n))
             report(len(results) / len(options.e_n))
             scan.run(progress=report)
     except FileLockedError as locked:
@@ -297,9 +292,12 @@ def slab(
     note(f"seed {options.seed} (--seed {options.seed} repeats this run)")
     warm_up(["slab"])
 
-    with progress_bar("slab", total=1) as advance:
-        result = run_slab(options.parameters())
-        advance()
+    try:
+        with progress_bar("histories", total=options.particles) as advance:
+            result = run_slab(options.parameters(), progress=fraction_reporter(advance, options.particles))
+    except KeyboardInterrupt:
+        warn("interrupted: a slab run keeps no checkpoint, so nothing is saved (fewer --particles make it shorter)")
+        raise typer.Exit(INTERRUPTED_EXIT_CODE) from None
     rows = [("transmission (x > d)", f"{result.transmission:.6f}", f"{result.transmission_error:.2g}"),
             ("reflection (x < 0)", f"{result.reflection:.6f}", f"{result.reflection_error:.2g}"),
             ("absorption", f"{result.absorption:.6f}", f"{result.absorption_error:.2g}"),

@@ -17,8 +17,11 @@ from __future__ import annotations
 
 import math
 import os
-from concurrent.futures import ThreadPoolExecutor
+import threading
+from collections.abc import Callable
+from concurrent.futures import ThreadPoolExecutor, wait
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -30,6 +33,10 @@ __all__ = ["SlabResult", "simulate_slab", "INCIDENCES"]
 
 INCIDENCES = ("normal", "isotropic")
 BATCHES = 64
+# collisions in one kernel call of a batch at most (a few milliseconds): Ctrl-C waits for no more
+COLLISIONS_PER_CALL = 1 << 18
+# how often the progress callback hears of the histories finished
+PROGRESS_SECONDS = 0.2
 
 
 @dataclass
@@ -83,13 +90,52 @@ class SlabResult:
                 for name, value in self.__dict__.items()}
 
 
+def _run_batches(seed, particles, threads, progress, physics):
+    """The BATCHES batches' counts, angle and energy histograms, run in ``threads`` threads.
+
+    Each batch's kernel calls end after at most ``COLLISIONS_PER_CALL``
+    collisions; the workers stop between calls once the main thread is
+    interrupted, and the main thread reports the histories finished.
+    """
+    sequences = np.random.SeedSequence(seed).spawn(BATCHES)
+    left = np.full(BATCHES, particles // BATCHES)
+    left[: particles % BATCHES] += 1
+    angle_bins, energy_bins = physics[-2:]
+    counts = np.zeros((BATCHES, 4))
+    angles = np.zeros((BATCHES, 2, angle_bins))
+    energies = np.zeros((BATCHES, 2, energy_bins))
+    stop = threading.Event()
+
+    def work(b):
+        state = sequences[b].generate_state(4, np.uint64)
+        flight = np.zeros(_k.FLIGHT_SIZE)
+        while left[b] > 0 and not stop.is_set():
+            left[b] -= _k.slab_batch(state, flight, int(left[b]), COLLISIONS_PER_CALL, *physics, counts[b],
+                                     angles[b], energies[b])
+
+    with ThreadPoolExecutor(threads) as pool:
+        try:
+            pending = {pool.submit(work, b) for b in range(BATCHES)}
+            while pending:
+                done, pending = wait(pending, timeout=PROGRESS_SECONDS)
+                for future in done:
+                    future.result()
+                if progress is not None:
+                    progress(1.0 - float(left.sum()) / particles)
+        except BaseException:
+            stop.set()  # the workers end within one kernel call; the pool waits for them
+            raise
+    return counts, angles, energies
+
+
 def _fraction(count, total):
     p = count / total
     return float(p), float(math.sqrt(max(p * (1.0 - p), 0.0) / total))
 
 
 def simulate_slab(thickness, albedo=1.0, *, incidence="normal", model="isotropic", mass_ratio=math.inf,
-                  particles=100_000, seed=0, angle_bins=20, energy_bins=20, threads=None) -> SlabResult:
+                  particles=100_000, seed=0, angle_bins=20, energy_bins=20, threads=None,
+                  progress: Callable[[float], Any] | None = None) -> SlabResult:
     r"""Transmission and reflection of particles through a slab (Krasov, sec. 5.5).
 
     Parameters
@@ -115,6 +161,10 @@ def simulate_slab(thickness, albedo=1.0, *, incidence="normal", model="isotropic
         Bins of the exit cosine and energy distributions (1 to 10000).
     threads : int
         Worker threads (>= 1; default: all cores); the result does not depend on it.
+    progress : callable, optional
+        ``progress(fraction)``: the fraction of the histories finished, in [0, 1].
+        Ctrl-C stops the run within a kernel call's budget of collisions
+        (``COLLISIONS_PER_CALL``, milliseconds), however thick the slab.
 
     Returns
     -------
@@ -155,20 +205,11 @@ def simulate_slab(thickness, albedo=1.0, *, incidence="normal", model="isotropic
     angle_bins = integer_in_range(angle_bins, "angle_bins", 1, 10_000)
     energy_bins = integer_in_range(energy_bins, "energy_bins", 1, 10_000)
     threads = (os.cpu_count() or 1) if threads is None else integer_in_range(threads, "threads", 1)
-    sequences = np.random.SeedSequence(seed).spawn(BATCHES)
-    per_batch = np.full(BATCHES, particles // BATCHES)
-    per_batch[: particles % BATCHES] += 1
-    counts = np.zeros((BATCHES, 4))
-    angles = np.zeros((BATCHES, 2, angle_bins))
-    energies = np.zeros((BATCHES, 2, energy_bins))
-
-    def work(b):
-        state = sequences[b].generate_state(4, np.uint64)
-        _k.slab_batch(state, int(per_batch[b]), float(thickness), float(albedo), incidence == "isotropic",
-                      model == "rod", float(mass_ratio), angle_bins, energy_bins, counts[b], angles[b], energies[b])
-
-    with ThreadPoolExecutor(threads) as pool:
-        list(pool.map(work, range(BATCHES)))
+    counts, angles, energies = _run_batches(
+        seed, particles, threads, progress,
+        (float(thickness), float(albedo), incidence == "isotropic", model == "rod", float(mass_ratio), angle_bins,
+         energy_bins),
+    )
     total = counts.sum(axis=0)
     transmission, reflection, absorption = (_fraction(total[k], particles) for k in range(3))
     return SlabResult(

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from collections.abc import Callable
 from typing import Any
 
 from .._params import Parameters, check_choice, check_integer, check_real, check_seed
@@ -52,8 +53,8 @@ class SlabParameters(Parameters):
                              "mass-ratio inf")
 
 
-def run_slab(parameters: SlabParameters) -> SlabResult:
-    """Run the slab the parameters describe.
+def run_slab(parameters: SlabParameters, progress: Callable[[float], Any] | None = None) -> SlabResult:
+    """Run the slab the parameters describe; ``progress(fraction)`` hears of the histories finished.
 
     Examples
     --------
@@ -63,7 +64,7 @@ def run_slab(parameters: SlabParameters) -> SlabResult:
     """
     p = parameters
     return simulate_slab(p.thickness, p.albedo, incidence=p.incidence, model=p.model, mass_ratio=p.mass_ratio,
-                         particles=p.particles, seed=p.seed)
+                         particles=p.particles, seed=p.seed, progress=progress)
 
 
 def slab_summary(parameters: SlabParameters, result: SlabResult) -> dict[str, Any]:

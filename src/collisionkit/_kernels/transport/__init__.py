@@ -57,10 +57,10 @@ from .layout import (
     TIME_COLUMN_OFFSET,
 )
 from .moments import energy_histogram, group_moments, group_sums
-from .slab import slab_batch
+from .slab import FLIGHT_SIZE, slab_batch
 
 __all__ = [
-    "ATTACHMENT", "BOUND_COLUMN_OFFSET", "ELASTIC", "EXCITATION", "EXTRA_COLUMNS", "IONIZATION", "ISOTROPIC",
+    "ATTACHMENT", "BOUND_COLUMN_OFFSET", "ELASTIC", "FLIGHT_SIZE", "EXCITATION", "EXTRA_COLUMNS", "IONIZATION", "ISOTROPIC",
     "NULL_COLUMN_OFFSET", "SCREENED_COULOMB", "SHARE_EQUAL", "SHARE_UNIFORM", "TIME_COLUMN_OFFSET", "TRIAL_BUDGET",
     "WINDOW_COLLISIONS", "WINDOW_GROWTH", "advance_swarm", "derived_field", "energy_histogram", "group_moments",
     "group_sums", "slab_batch",

@@ -8,10 +8,15 @@ from ..._jit import kernel
 from .rng import uniform
 
 
+# slots of a batch's in-flight history (``flight``), kept between calls of :func:`slab_batch`
+FLIGHT_X, FLIGHT_MU, FLIGHT_ENERGY, FLIGHT_ACTIVE = 0, 1, 2, 3
+FLIGHT_SIZE = 4
+
+
 @kernel
-def slab_batch(state, count, thickness, albedo, isotropic_incidence, rod, mass_ratio, angle_bins, energy_bins,
-               out_counts, angle_hist, energy_hist):
-    """Histories of ``count`` particles through a slab 0 <= x <= thickness (unit mean free path).
+def slab_batch(state, flight, count, max_collisions, thickness, albedo, isotropic_incidence, rod, mass_ratio,
+               angle_bins, energy_bins, out_counts, angle_hist, energy_hist):
+    """Go on with a batch's histories through a slab 0 <= x <= thickness (unit mean free path); return those finished.
 
     Free paths s = -ln(xi) (Krasov, sec. 5.5); at a collision the particle
     is absorbed with probability 1 - albedo, else scattered isotropically in
@@ -19,17 +24,31 @@ def slab_batch(state, count, thickness, albedo, isotropic_incidence, rod, mass_r
     energy loss, isotropic in the lab) or, for the rod model, forward or
     backward with probability 1/2. Energies are in units of the incident
     energy. ``out_counts`` += (transmitted, reflected, absorbed, collisions).
+
+    The call returns after ``count`` histories have ended or after
+    ``max_collisions`` collisions, whichever comes first; a history cut
+    short waits in ``flight`` (x, mu, energy, active) for the next call,
+    which draws the same random numbers it would have drawn (the result
+    does not depend on the budget). A thick slab's single history can take
+    d^2 collisions: the budget keeps a call short, so the caller can stop.
     """
-    for _ in range(count):
-        if rod:
-            mu = 1.0
-        elif isotropic_incidence:
-            mu = math.sqrt(uniform(state))  # isotropic flux: current density 2 mu
+    finished = 0
+    collisions = 0
+    while finished < count:
+        if flight[FLIGHT_ACTIVE] == 0.0:
+            if rod or not isotropic_incidence:
+                mu = 1.0
+            else:
+                mu = math.sqrt(uniform(state))  # isotropic flux: current density 2 mu
+            x = 0.0
+            energy = 1.0
+            flight[FLIGHT_ACTIVE] = 1.0
         else:
-            mu = 1.0
-        x = 0.0
-        energy = 1.0
+            x, mu, energy = flight[FLIGHT_X], flight[FLIGHT_MU], flight[FLIGHT_ENERGY]
         while True:
+            if collisions >= max_collisions:
+                flight[FLIGHT_X], flight[FLIGHT_MU], flight[FLIGHT_ENERGY] = x, mu, energy
+                return finished
             x += mu * -math.log(uniform(state))
             if x >= thickness:
                 out_counts[0] += 1.0
@@ -41,6 +60,7 @@ def slab_batch(state, count, thickness, albedo, isotropic_incidence, rod, mass_r
                 angle_hist[1, min(angle_bins - 1, int(-mu * angle_bins))] += 1.0
                 energy_hist[1, min(energy_bins - 1, int(energy * energy_bins))] += 1.0
                 break
+            collisions += 1
             out_counts[3] += 1.0
             if uniform(state) >= albedo:
                 out_counts[2] += 1.0
@@ -51,6 +71,9 @@ def slab_batch(state, count, thickness, albedo, isotropic_incidence, rod, mass_r
                 mu = 2.0 * uniform(state) - 1.0
             else:
                 mu, energy = elastic_lab(mu, energy, mass_ratio, state)
+        flight[FLIGHT_ACTIVE] = 0.0
+        finished += 1
+    return finished
 
 
 @kernel
