@@ -229,3 +229,22 @@ def test_a_swarm_study_collects_mean_energy_and_drift_with_errors_and_draws_its_
     assert again.exit_code == 0 and "4 runs" in " ".join(again.output.split())
     refused = invoke(study_file(tmp_path, SWARM_STUDY), "--resume", out / "checkpoint.npz")
     assert refused.exit_code == 2 and "neither STUDY.toml nor --out" in " ".join(refused.output.split())
+
+
+def test_a_study_whose_folder_takes_no_table_saves_it_elsewhere_and_exits_1(tmp_path, monkeypatch):
+    # issue 16, item 1: results.csv failing at the end printed a traceback and lost the table
+    from collisionkit.sweep import execute
+
+    def full(study, out, table):
+        raise OSError(28, "No space left on device")
+
+    monkeypatch.setattr(execute, "write_outputs", full)
+    monkeypatch.chdir(tmp_path)
+    result = invoke(study_file(tmp_path, ENCOUNTER_STUDY), "--out", tmp_path / "study", "--workers", 1)
+    said = " ".join(result.output.split())
+    assert result.exit_code == 1 and "Traceback" not in result.output
+    assert "No space left on device; every run's results are saved in" in said
+    rescued = sorted(tmp_path.glob("collisionkit-sweep-results-*.csv"))
+    assert len(rescued) == 1
+    rows = read_table(rescued[0])
+    assert len(rows) == 6 and [row["status"] for row in rows].count("failed") == 2  # sep0 = 0.5 < rp fails

@@ -253,3 +253,30 @@ def test_a_point_still_run_by_an_earlier_client_s_worker_is_waited_for_not_faile
     finally:
         holder.wait(timeout=60)
     assert record["status"] == "ok", record["error"]
+
+
+def test_a_folder_that_takes_no_more_files_loses_no_result(tmp_path, monkeypatch):
+    # issue 16, item 1: a failed checkpoint save stopped the study, and a failed results.csv lost every result
+    from collisionkit.sweep import execute
+
+    saves = []
+
+    def full_after_the_first(study, out, records):
+        saves.append(len(records))
+        if len(saves) > 1:
+            raise OSError(28, "No space left on device")
+        return out / execute.CHECKPOINT_FILE
+
+    def full(study, out, table):
+        raise OSError(28, "No space left on device")
+
+    monkeypatch.setattr(execute, "_save_checkpoint", full_after_the_first)
+    monkeypatch.setattr(execute, "write_outputs", full)
+    study = {**ENCOUNTERS, "replicas": 1}
+    with ThreadPoolExecutor(1) as pool, pytest.raises(sweep.OutputsNotWritten) as caught:
+        sweep.run_study(study, tmp_path, executor=pool)
+    assert len(saves) == 4  # the set-up's save, then one after each point: the study went on
+    results = caught.value.results
+    assert [row["status"] for row in results.table] == ["ok", "ok", "ok"]
+    assert all(row["orbit.deflection_angle"] > 0 for row in results.table)
+    assert caught.value.errno == 28 and "could not be written in" in str(caught.value)

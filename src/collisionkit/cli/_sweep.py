@@ -18,12 +18,13 @@ import typer
 
 from rich.markup import escape
 
-from .._io import FileLockedError
+from .._io import FileLockedError, write_csv
 from ._common import (
     INTERRUPTED_EXIT_CODE, RUN_FAILED_EXIT_CODE, OverwriteOption, check_output_file, check_output_folder, error,
-    error_console, fail, note, print_table, progress_bar, refuse_clashes, refuse_folder, refuse_to_replace, say, warn,
-    write_summary,
+    error_console, fail, note, print_table, progress_bar, refuse_clashes, refuse_folder, refuse_to_replace, run_failed,
+    say, warn, write_summary,
 )
+from ._files import rescue_path
 from ._warmup import warm_up
 
 FAILED_POINTS_EXIT_CODE = RUN_FAILED_EXIT_CODE
@@ -141,6 +142,22 @@ def _report(results, summary: Path | None) -> dict[str, Any]:
     return combined
 
 
+def _rescue_table(unwritten, summary: Path | None) -> None:
+    """The study ran but its folder took no table: save ``results.csv`` elsewhere, say where, exit 1."""
+    results = unwritten.results
+    rescued = rescue_path("sweep", ".csv")
+    if rescued is not None:
+        try:
+            write_csv(rescued, results.table)
+        except OSError:
+            rescued.unlink(missing_ok=True)
+            rescued = None
+    _report(results, summary)
+    where = f"every run's results are saved in {rescued}" if rescued is not None else \
+        "no folder took a rescue copy either: each point's result.json is in its own folder"
+    raise run_failed(f"{unwritten.strerror}; {where}")
+
+
 def sweep(
     study: Annotated[
         Path | None,
@@ -203,6 +220,8 @@ def sweep(
         checkpoint = out / "checkpoint.npz"
         warn(f"interrupted: finished points are saved; continue with --resume {checkpoint}")
         raise typer.Exit(INTERRUPTED_EXIT_CODE) from None
+    except core.OutputsNotWritten as unwritten:
+        _rescue_table(unwritten, summary)
     combined = _report(results, summary)
     if combined["failed"]:
         error(f"{combined['failed']} of {combined['runs']} runs failed; rerun them with --resume "

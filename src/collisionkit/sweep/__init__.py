@@ -41,7 +41,9 @@ Points run on any :class:`concurrent.futures.Executor` or on a
 """
 
 from .commands import MAIN_RESULTS, SweepCommand, sweep_command, sweep_commands
-from .execute import StudyResults, check_folder, local_client, remote_client, resume_study, run_point, run_study
+from .execute import (
+    OutputsNotWritten, StudyResults, check_folder, local_client, remote_client, resume_study, run_point, run_study,
+)
 from .study import Study, expand, load_study, study_from_dict
 from .statistics import combine_replicas
 from .table import aggregate, points_table, results_table, write_csv, write_outputs, write_parquet
@@ -51,6 +53,7 @@ __all__ = [
     "MAIN_RESULTS",
     "PointTask",
     "Study",
+    "OutputsNotWritten",
     "StudyResults",
     "SweepCommand",
     "aggregate",

@@ -29,7 +29,8 @@ from .study import Study, _check_integer, load_study, study_from_dict
 from .table import results_table, write_outputs
 from .tasks import PointTask, _split_options, point_tasks
 
-__all__ = ["StudyResults", "check_folder", "local_client", "remote_client", "resume_study", "run_point", "run_study"]
+__all__ = ["OutputsNotWritten", "StudyResults", "check_folder", "local_client", "remote_client", "resume_study",
+           "run_point", "run_study"]
 
 RESULT_FORMAT = 2
 CHECKPOINT_FILE = "checkpoint.npz"
@@ -322,6 +323,40 @@ def check_folder(study: Study, out, resume: bool = False) -> None:
         raise ValueError(f"out {out} holds a different study ({path}); resume it with the same study or use another folder")
 
 
+class OutputsNotWritten(OSError):
+    """The study ran, but its tables could not be written in its folder; ``results`` holds them all.
+
+    Raised by :func:`run_study` after the work, so that a caller can save
+    ``results.table`` elsewhere (the command line writes it to a rescue
+    file and says where).
+
+    Examples
+    --------
+    >>> failure = OutputsNotWritten("sweep-output", OSError(28, "No space left on device"), results=None)
+    >>> str(failure)
+    "[Errno 28] the study's tables could not be written in sweep-output: No space left on device"
+    """
+
+    def __init__(self, out, failure: OSError, results: StudyResults | None):
+        super().__init__(failure.errno, f"the study's tables could not be written in {out}: "
+                                        f"{failure.strerror or failure}")
+        self.results = results
+
+
+def _saver(study: Study, out: Path, done: Mapping[str, dict]) -> Callable[[], None]:
+    """Save the study's checkpoint after a point; a failure (the folder unwritable now) does not stop the study.
+
+    The work goes on: the finished points are in memory, and the tables
+    written at the end (or rescued) hold them; only a resume would miss them.
+    """
+
+    def save() -> None:
+        with contextlib.suppress(OSError):
+            _save_checkpoint(study, out, done)
+
+    return save
+
+
 def _save_checkpoint(study: Study, out: Path, records: Mapping[str, dict]) -> Path:
     finished = sorted(name for name, record in records.items() if record["status"] == "ok")
     state = {"fingerprint": study.fingerprint(), "finished": finished}
@@ -392,11 +427,16 @@ def run_study(study, out, executor=None, workers: int | None = None, resume: boo
             with contextlib.ExitStack() as stack:
                 if executor is None:
                     executor = stack.enter_context(local_client(workers))
-                _execute(executor, pending, done, lambda record: (report(record), _save_checkpoint(study, out, done)))
+                save = _saver(study, out, done)
+                _execute(executor, pending, done, lambda record: (report(record), save()))
         records = [done[task.name] for task in tasks]
         table = results_table(study, records)
-        files += write_outputs(study, out, table)
-    return StudyResults(study, records, table, files, skipped=len(tasks) - len(pending))
+        results = StudyResults(study, records, table, files, skipped=len(tasks) - len(pending))
+        try:
+            files += write_outputs(study, out, table)
+        except OSError as failure:
+            raise OutputsNotWritten(out, failure, results) from failure
+    return results
 
 
 def resume_study(checkpoint, executor=None, workers: int | None = None,
