@@ -36,7 +36,7 @@ def test_an_edmd_run_too_big_for_the_memory_is_refused_before_any_work(tmp_path,
     assert time.perf_counter() - start < 10
     assert result.exit_code == 2, result.output
     assert said(result.output) == (
-        "error: --particles 100000000 needs about 1.02 TB of memory, more than the 8 GB available on this machine; "
+        "error: --particles 100000000 needs about 247 GB of memory, more than the 8 GB available on this machine; "
         "the random start's compression needs the most (a lattice start, --initial fcc or hexagonal, needs about "
         "177 GB): use fewer particles")
     assert list(tmp_path.iterdir()) == []

@@ -17,12 +17,12 @@ from pathlib import Path
 
 from ._messages import fail
 
-# EDMD from a random start: the Lubachevsky-Stillinger compression needs the most, about c / eta a particle,
-# its cells sized for the small starting radii. Resident bytes per particle (N = 64 000; 32 000 at 0.02):
-# 3D eta 0.02: 109 kB, 0.05: 44 kB, 0.1: 17.4 kB, 0.2: 9.1 kB, 0.3: 9.5 kB, 0.5: 5.7 kB (c = 1.7 to 2.9 kB);
-# 2D eta 0.1: 57 kB, 0.3: 15.6 kB, 0.6: 10.6 kB (c = 4.7 to 6.4 kB). tracemalloc counts 1.5 times more
-# (allocated, not all touched).
-EDMD_RANDOM_BYTES_PER_PARTICLE_TIMES_ETA = {3: 3_000, 2: 6_600}
+# EDMD from a random start: the Lubachevsky-Stillinger compression's cells are sized from the grid they hold
+# and are at most 2 a particle, so the need no longer grows as the packing fraction falls. Resident bytes per
+# particle, a fresh process per run after a warm-up run, with a checkpoint and 10 blocks (N = 160 000):
+# 3D eta 0.02: 2.32 kB, 0.1: 2.08 kB, 0.3: 1.88 kB, 0.5: 1.90 kB; 2D eta 0.1: 2.22 kB, 0.3: 1.82 kB
+# (before the cells were fixed: 109 kB at 3D eta 0.02, 9.5 kB at 0.3)
+EDMD_RANDOM_BYTES_PER_PARTICLE = 2_300
 # EDMD from a lattice: 703 B a particle resident at N = 108 000 and 256 000 (686 B traced), 1.56 kB with a
 # checkpoint, whose arrays are a second copy of the state while it is written
 EDMD_LATTICE_BYTES_PER_PARTICLE = 1_600
@@ -70,14 +70,13 @@ def edmd_memory(parameters, lattice: bool = False) -> int:
     --------
     >>> from collisionkit.edmd import EdmdParameters
     >>> edmd_memory(EdmdParameters(particles=100_000_000)) / 1e9   # the issue's 1e8 spheres at eta = 0.3
-    1017.0
+    247.0
     >>> round(edmd_memory(EdmdParameters(particles=1_000_188, initial="fcc")) / 1e9, 2)
     1.77
     """
     per_particle = EDMD_LATTICE_BYTES_PER_PARTICLE
     if parameters.initial == "random" and not lattice:
-        per_particle = max(per_particle, EDMD_RANDOM_BYTES_PER_PARTICLE_TIMES_ETA[parameters.dim] /
-                           parameters.packing_fraction)
+        per_particle = max(per_particle, EDMD_RANDOM_BYTES_PER_PARTICLE)
     return round(parameters.particles * (per_particle + EDMD_BYTES_PER_PARTICLE_AND_BLOCK * parameters.blocks))
 
 
