@@ -332,7 +332,7 @@ class PolytropeParameters(Parameters):
 
 
 def polytrope_star(n: float, particles: int, mass: float = 1.0, radius: float = 1.0, *, units="nbody",
-                   neighbours: int = 50, gamma: float | None = None, seed=None) -> StarModel:
+                   neighbours: int = 50, gamma: float | None = None, seed=None, progress=None) -> StarModel:
     """An unrelaxed polytrope of index n as SPH particles (see the module's description).
 
     Parameters
@@ -350,6 +350,9 @@ def polytrope_star(n: float, particles: int, mass: float = 1.0, radius: float = 
     gamma : float, optional
         Adiabatic index for the internal energy; default 1 + 1/n.
     seed : int or numpy.random.Generator, optional
+    progress : callable, optional
+        Called with the fraction of the work done (the smoothing lengths,
+        the longest part, in steps).
 
     Returns
     -------
@@ -379,24 +382,28 @@ def polytrope_star(n: float, particles: int, mass: float = 1.0, radius: float = 
     sin_polar = np.sqrt(1.0 - cos_polar**2)
     r = radius * xi / solution.xi1
     positions = r[:, None] * np.c_[sin_polar * np.cos(azimuth), sin_polar * np.sin(azimuth), cos_polar]
+    if progress is not None:
+        progress(0.2)
     pressure_over_density = system.G * mass / radius * solution.xi1 * solution.theta(xi) / ((n + 1.0) * solution.omega)
     return StarModel(
         positions=positions,
         velocities=np.zeros((count, 3)),
         masses=np.full(count, mass / count),
-        smoothing_lengths=neighbour_smoothing_lengths(positions, star["neighbours"]),
+        smoothing_lengths=neighbour_smoothing_lengths(
+            positions, star["neighbours"], progress=None if progress is None else lambda done: progress(0.2 + 0.8 * done)),
         internal_energies=pressure_over_density / (_gamma(n, star["gamma"]) - 1.0),
         ids=np.arange(1, count + 1),
         units=system,
     )
 
 
-def polytrope_summary(parameters: PolytropeParameters) -> tuple[dict, StarModel]:
+def polytrope_summary(parameters: PolytropeParameters, progress=None) -> tuple[dict, StarModel]:
     """The ``star`` command as a library call: the sampled star and its summary.
 
     The summary holds the Lane-Emden surface (xi1, omega_n), the star's
     properties (:meth:`StarModel.summary`), the expected potential energy
-    -3/(5-n) G M^2 / R and thermal energy, the seed and the ``parameters``.
+    -3/(5-n) G M^2 / R and thermal energy, the seed and the ``parameters``;
+    ``progress`` as in :func:`polytrope_star`.
 
     Examples
     --------
@@ -407,7 +414,7 @@ def polytrope_summary(parameters: PolytropeParameters) -> tuple[dict, StarModel]
     """
     star = polytrope_star(parameters.polytrope, parameters.particles, parameters.mass, parameters.radius,
                           units=parameters.units, neighbours=parameters.neighbours, gamma=parameters.gamma,
-                          seed=parameters.seed)
+                          seed=parameters.seed, progress=progress)
     solution = lane_emden(parameters.polytrope)
     n, G, M, R = parameters.polytrope, star.G, parameters.mass, parameters.radius
     potential = -3.0 / (5.0 - n) * G * M**2 / R

@@ -300,14 +300,16 @@ class StarModel:
         return f"StarModel({len(self)} particles, mass={self.mass:.6g}, units={self.units.name!r}{pair})"
 
 
-def neighbour_smoothing_lengths(positions, neighbours: int = 50, *, chunk: int = 65536) -> np.ndarray:
+def neighbour_smoothing_lengths(positions, neighbours: int = 50, *, chunk: int = 65536, progress=None) -> np.ndarray:
     """Smoothing lengths from a fixed number of neighbours: the distance to each particle's ``neighbours``-th nearest.
 
     h_i is the radius of the sphere about particle i that holds exactly
     ``neighbours`` other particles (GADGET-2's convention: the kernel
     vanishes at h and ``DesNumNgb`` neighbours lie within it), found with
     :class:`scipy.spatial.cKDTree`. SPH codes iterate h from this start
-    under their own kernel and neighbour definition.
+    under their own kernel and neighbour definition. ``progress``, if
+    given, is called with the fraction done after each ``chunk`` of
+    particles.
 
     Examples
     --------
@@ -329,4 +331,6 @@ def neighbour_smoothing_lengths(positions, neighbours: int = 50, *, chunk: int =
         rows = slice(start, start + chunk)
         distances, _ = tree.query(positions[rows], k=[neighbours + 1])  # the first is the particle itself
         lengths[rows] = distances[:, 0]
+        if progress is not None:
+            progress(min(1.0, (start + chunk) / positions.shape[0]))
     return lengths
