@@ -23,7 +23,7 @@ R_SUN = 6.957e8
 class UnitSystem:
     """A consistent set of units and the value of G in it.
 
-    Attributes
+    Parameters
     ----------
     name : str
         Key in :data:`UNIT_SYSTEMS`.
