@@ -162,6 +162,17 @@ def test_stars_too_close_for_tides_or_overlapping_are_warned(stars):
     assert any("overlap" in text for text in summary["warnings"]) and any("tidal" in text for text in summary["warnings"])
 
 
+def test_the_orbit_may_be_a_mapping_but_not_point_masses(stars):
+    from collisionkit.encounters import EncounterParameters
+
+    pair = place_stars(*stars, {"rp": 1.2, "vinf": 100.0, "sep0": 12.0, "units": "stellar"})
+    assert np.array_equal(pair.positions, place_stars(*stars, PARAMETERS).positions)
+    with pytest.raises(TypeError, match="the masses come from the particles"):
+        place_stars(*stars, EncounterParameters(m1=3.0))
+    with pytest.raises(ValueError, match="unknown parameter 'm1'"):
+        place_stars(*stars, {"m1": 3.0})
+
+
 def test_the_grid_exit_warning_is_kept(stars):
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")

@@ -29,6 +29,7 @@ from __future__ import annotations
 
 import dataclasses
 import warnings
+from collections.abc import Mapping
 from typing import Any, ClassVar
 
 import numpy as np
@@ -142,6 +143,16 @@ class StarEncounterParameters(Parameters):
         return converted[0], converted[1]
 
 
+def _parameters(parameters) -> StarEncounterParameters:
+    """``parameters`` as StarEncounterParameters: itself, or made from a mapping of names or flags."""
+    if isinstance(parameters, StarEncounterParameters):
+        return parameters
+    if isinstance(parameters, Mapping):
+        return StarEncounterParameters.from_mapping(parameters)
+    raise TypeError(f"parameters must be StarEncounterParameters (rp, v_inf, sep0, units, layout: the masses come "
+                    f"from the particles) or a mapping of them; got {type(parameters).__name__}")
+
+
 def _placed(star1: StarModel, star2: StarModel, ic: InitialConditions) -> StarModel:
     """Both stars moved rigidly to the two-body positions and velocities of ``ic``, as one model."""
     moved = [star.moved(shift=position - star.centre_of_mass, boost=velocity - star.centre_of_mass_velocity)
@@ -167,14 +178,16 @@ def _tidal_message(sep0: float, radius1: float, radius2: float) -> str | None:
             "consider a larger sep0")
 
 
-def place_stars(star1: StarModel, star2: StarModel, parameters: StarEncounterParameters) -> StarModel:
+def place_stars(star1: StarModel, star2: StarModel, parameters) -> StarModel:
     """Two particle stars on the StarCrash orbit, in one model (see the module's description).
 
     Parameters
     ----------
     star1, star2 : StarModel
         Each converted to ``parameters.units`` first.
-    parameters : StarEncounterParameters
+    parameters : StarEncounterParameters or mapping
+        The orbit (a mapping such as ``{"rp": 1, "vinf": 0.5, "sep0": 10}``
+        is made into StarEncounterParameters).
 
     Returns
     -------
@@ -200,6 +213,7 @@ def place_stars(star1: StarModel, star2: StarModel, parameters: StarEncounterPar
     >>> bool(np.allclose(pair.masses @ pair.velocities, 0, atol=1e-15)), pair.ids[300], int(pair.star_ids[300])
     (True, np.int64(301), 2)
     """
+    parameters = _parameters(parameters)
     star1, star2 = parameters._stars(star1, star2)
     point = parameters.point_masses(star1, star2)
     ic, messages = point.initial_conditions()
@@ -212,7 +226,7 @@ def place_stars(star1: StarModel, star2: StarModel, parameters: StarEncounterPar
 
 
 def star_encounter_summary(star1: StarModel, star2: StarModel,
-                           parameters: StarEncounterParameters) -> tuple[dict[str, Any], InitialConditions, StarModel]:
+                           parameters) -> tuple[dict[str, Any], InitialConditions, StarModel]:
     """The ``encounter --star1 --star2`` command as a library call: its summary, the two-body set-up, the placed stars.
 
     The summary is :func:`~collisionkit.encounters.encounter_summary`'s for
@@ -221,7 +235,8 @@ def star_encounter_summary(star1: StarModel, star2: StarModel,
     of the mass, centre of mass and its velocity before placing),
     ``overlap_at_sep0``, ``sep0_over_radii`` = sep0 / (R1 + R2), the tidal
     warning among the ``warnings``, the point-mass set-up as
-    ``point_masses`` and these ``parameters``.
+    ``point_masses`` and these ``parameters`` (StarEncounterParameters or
+    a mapping of them, as :func:`place_stars` takes).
 
     Examples
     --------
@@ -231,6 +246,7 @@ def star_encounter_summary(star1: StarModel, star2: StarModel,
     >>> summary["overlap_at_sep0"], summary["warnings"], round(summary["initial_conditions"]["m2"], 12)
     (False, [], 1.0)
     """
+    parameters = _parameters(parameters)
     star1, star2 = parameters._stars(star1, star2)
     point = parameters.point_masses(star1, star2)
     summary, ic = encounter_summary(point)

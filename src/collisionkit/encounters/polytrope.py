@@ -41,7 +41,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
-from typing import Any, ClassVar
+from typing import Any
 
 import numpy as np
 from scipy.integrate import solve_ivp
@@ -315,8 +315,6 @@ class PolytropeParameters(Parameters):
     neighbours: int = 50
     gamma: float | None = None
     seed: int = 2026
-
-    FLAGS: ClassVar = {}
 
     def __post_init__(self):
         check_choice("units", self.units, UNIT_SYSTEMS)
