@@ -31,7 +31,7 @@ def test_the_gallery_has_the_examples_of_the_issue():
     expected = {
         "plot_newtons_cradle", "plot_billiard_break", "plot_stationary_scan", "plot_hard_sphere_eos",
         "plot_granular_cooling", "plot_stellar_flyby", "plot_rutherford", "plot_reid_ramp",
-        "plot_slab_transmission",
+        "plot_slab_transmission", "plot_star_collision",
     }  # fmt: skip
     assert expected <= names
 
@@ -65,3 +65,13 @@ def test_slab_example_meets_the_exact_results(tmp_path, monkeypatch):
     for result, tau in zip(namespace["absorbing"], namespace["thickness"]):
         assert abs(result.transmission - np.exp(-tau)) < 4 * result.transmission_error + 1e-12
     assert namespace["worst"] < 1e-12
+
+
+def test_star_collision_example_writes_the_placed_pair(tmp_path, monkeypatch):
+    from collisionkit.encounters import read_star
+
+    namespace = run_script(ROOT / "examples" / "plot_star_collision.py", tmp_path, monkeypatch)
+    pair = read_star(tmp_path / "initial_conditions.hdf5")
+    assert len(pair) == 4500 and pair.units.name == "stellar" and namespace["summary"]["warnings"] == []
+    assert np.array_equal(pair.positions, namespace["pair"].positions)
+    assert namespace["ic"].sep0 == 8 * (namespace["R1"] + namespace["R2"])

@@ -15,7 +15,7 @@ ROOT = Path(__file__).resolve().parent.parent
 WITHOUT_THE_EXTRAS = textwrap.dedent(
     """
     import sys
-    for name in ("typer", "rich", "pydantic", "matplotlib"):
+    for name in ("typer", "rich", "pydantic", "matplotlib", "h5py"):
         sys.modules[name] = None  # import of any of them now raises ImportError
     import collisionkit
     from collisionkit import compat, edmd, encounters, kinematics, scattering, sweep, trajectory, transport
@@ -28,6 +28,8 @@ WITHOUT_THE_EXTRAS = textwrap.dedent(
     assert [row["packing-fraction"] for row in results.table] == [0.1, 0.2]
     assert all(row["compressibility_factor"] > 1 for row in results.table)
     assert not any(name in sys.modules and sys.modules[name] is not None for name in ("typer", "rich", "pydantic"))
+    star = encounters.polytrope_star(1.5, 100, neighbours=10, seed=1)  # stars without h5py: .npz files
+    assert len(encounters.read_star(encounters.write_star(star, sys.argv[1] + "-star.npz"))) == 100
     print("ok", len(results.table))
     """
 )

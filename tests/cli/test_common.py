@@ -29,6 +29,7 @@ def without(monkeypatch):
         (["edmd", "--particles", "108", "--plots"], "matplotlib", "plot"),
         (["edmd", "--particles", "108", "--no-plots", "--trajectory", "{tmp}/run.gsd"], "gsd", "io"),
         (["encounter", "--plots"], "matplotlib", "plot"),
+        (["star", "--polytrope", "1.5", "--out", "{tmp}/star.hdf5"], "h5py", "stars"),
         (["demo", "--pairs", "1000", "--plots"], "matplotlib", "plot"),
         (["swarm", "--model", "maxwell", "--E-N", "10", "--out", "{tmp}/plots"], "matplotlib", "plot"),
         (["animate", "--trajectory", "{tmp}/run.gsd"], "gsd", "io"),

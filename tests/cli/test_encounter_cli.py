@@ -130,3 +130,78 @@ def test_unknown_toml_key_exits_with_2(tmp_path):
     result = invoke("--config", config, "--out", tmp_path, "--no-plots")
     assert result.exit_code == 2
     assert "unknown option 'periastron'" in result.output
+
+
+@pytest.fixture(scope="module")
+def star_files(tmp_path_factory):
+    """A 1 Msun n = 3 star in stellar units (.hdf5) and a 0.5 Msun n = 1.5 star in cgs (.npz)."""
+    from collisionkit.encounters import polytrope_star, write_star
+
+    folder = tmp_path_factory.mktemp("stars")
+    first = write_star(polytrope_star(3.0, 500, 1.0, 1.0, units="stellar", neighbours=20, seed=1), folder / "a.hdf5")
+    second = polytrope_star(1.5, 300, 0.5, 0.5, units="stellar", neighbours=20, seed=2).in_units("cgs")
+    return first, write_star(second, folder / "b.npz")
+
+
+def test_two_star_files_are_placed_for_an_sph_code(tmp_path, star_files):
+    from collisionkit.encounters import read_star
+
+    out, summary = tmp_path / "out", tmp_path / "s.json"
+    result = invoke("--star1", star_files[0], "--star2", star_files[1], "--units", "stellar", "--rp", 1.0,
+                    "--vinf", 50.0, "--sep0", 20.0, "--out", out, "--summary", summary)
+    assert result.exit_code == 0, result.output
+    said = " ".join(result.output.split())
+    assert f"note: --star2 {star_files[1]} is in cgs units: converted to stellar" in said
+    data = json.loads(summary.read_text())
+    stars = data["stars"]
+    assert stars["star1"]["mass"] == pytest.approx(1.0, rel=1e-14) and stars["star2"]["mass"] == pytest.approx(0.5)
+    assert stars["star1"]["particles"] == 500 and stars["star2"]["particles"] == 300
+    r1, r2 = stars["star1"]["radius_99"], stars["star2"]["radius_99"]
+    assert data["sep0_over_radii"] == pytest.approx(20.0 / (r1 + r2), rel=1e-15) and data["overlap_at_sep0"] is False
+    assert data["warnings"] == [] and data["initial_conditions"]["m2"] == stars["star2"]["mass"]
+    assert sorted(data["files"]) == sorted(str(out / name) for name in (
+        "initial_conditions.json", "initial_conditions.txt", "initial_conditions.hdf5", "encounter.png"))
+    pair = read_star(out / "initial_conditions.hdf5")
+    assert len(pair) == 800 and pair.units.name == "stellar" and pair.star_ids.tolist() == [1] * 500 + [2] * 300
+    ic = data["initial_conditions"]
+    for number in (1, 2):
+        mine = pair.star_ids == number
+        centre = pair.masses[mine] @ pair.positions[mine] / pair.masses[mine].sum()
+        assert centre == pytest.approx(ic["positions"][number - 1], abs=1e-12)
+    assert np.linalg.norm(pair.masses @ pair.velocities) < 1e-12 * pair.mass * 50
+
+
+def test_stars_too_close_are_warned_and_their_masses_are_not_given_twice(tmp_path, star_files):
+    summary = tmp_path / "s.json"
+    result = invoke("--star1", star_files[0], "--star2", star_files[1], "--units", "stellar", "--rp", 0.5,
+                    "--vinf", 50.0, "--sep0", 1.0, "--layout", "x", "--no-plots", "--out", tmp_path, "--summary", summary)
+    assert result.exit_code == 0, result.output
+    data = json.loads(summary.read_text())
+    assert data["overlap_at_sep0"] is True and len(data["warnings"]) == 2
+    said = " ".join(result.output.split())
+    assert "warning: the bodies overlap" in said and "tidal effects at the start are not negligible" in said
+    config = tmp_path / "c.toml"
+    config.write_text("m2 = 3.0\n")
+    result = invoke("--config", config, "--star1", star_files[0], "--star2", star_files[1], "--out", tmp_path)
+    assert result.exit_code == 2 and "--m2 comes from the particles" in result.output
+
+
+def test_a_star_file_that_is_not_a_star_is_exit_code_2(tmp_path, star_files):
+    bad = tmp_path / "bad.hdf5"
+    bad.write_text("not hdf5")
+    result = invoke("--star1", star_files[0], "--star2", bad, "--out", tmp_path / "out", "--no-plots")
+    assert result.exit_code == 2
+    line = " ".join(result.output.split())
+    assert line.startswith("error: --star2") and "not an HDF5 file" in line and "Traceback" not in result.output
+    assert not (tmp_path / "out").exists()
+
+
+def test_placing_stars_without_h5py_names_the_extra(tmp_path, star_files, monkeypatch):
+    import importlib.util
+
+    real = importlib.util.find_spec
+    monkeypatch.setattr(importlib.util, "find_spec", lambda name: None if name == "h5py" else real(name))
+    npz = star_files[1]
+    result = invoke("--star1", npz, "--star2", npz, "--out", tmp_path / "out", "--no-plots")
+    assert result.exit_code == 2 and "pip install 'collisionkit[stars]'" in " ".join(result.output.split())
+    assert not (tmp_path / "out").exists()

@@ -135,6 +135,10 @@ from . import _encounter  # noqa: E402
 
 _encounter.register(app)
 
+from . import _star  # noqa: E402
+
+_star.register(app)
+
 from . import _edmd  # noqa: E402
 
 _edmd.register(app)

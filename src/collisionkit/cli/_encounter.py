@@ -9,7 +9,11 @@ from typing import Annotated, ClassVar, Literal
 import typer
 from pydantic import Field
 
-from ._common import Deliveries, Options, OverwriteOption, fail, load_options, print_table, require_plotting, say, warn
+from ._common import (
+    Deliveries, Options, OverwriteOption, fail, note, option_values, print_table, require, require_plotting, say,
+    validate_options, warn,
+)
+from ._star import check_star_file
 from ._warmup import warm_up
 
 UnitsName = Literal["nbody", "si", "cgs", "solar", "stellar"]
@@ -34,11 +38,14 @@ class EncounterOptions(Options):
     layout: LayoutName = "diagonal"
     radius1: float | None = Field(default=None, ge=0, allow_inf_nan=False)
     radius2: float | None = Field(default=None, ge=0, allow_inf_nan=False)
+    star1: Path | None = None
+    star2: Path | None = None
     out: Path = Path("encounter-output")
     plots: bool = True
     summary: Path | None = None
 
     output_folders: ClassVar[tuple[str, ...]] = ("out",)
+    input_files: ClassVar[tuple[str, ...]] = ("star1", "star2")
 
     def parameters(self):
         """The set-up as :class:`collisionkit.encounters.EncounterParameters` (``--vinf`` is ``v_inf``).
@@ -52,6 +59,19 @@ class EncounterOptions(Options):
 
         values = {name: getattr(self, name) for name in EncounterParameters.names() if name != "v_inf"}
         return EncounterParameters(v_inf=self.vinf, **values)
+
+    def star_parameters(self):
+        """The orbit of two particle stars as :class:`collisionkit.encounters.StarEncounterParameters`.
+
+        Examples
+        --------
+        >>> EncounterOptions(sep0=30.0, layout="x").star_parameters().sep0
+        30.0
+        """
+        from ..encounters import StarEncounterParameters
+
+        return StarEncounterParameters(rp=self.rp, v_inf=self.vinf, sep0=self.sep0, units=self.units,
+                                       layout=self.layout)
 
 
 def _rows(ic, contact, labels):
@@ -96,6 +116,10 @@ def encounter(
     ] = None,
     radius1: Annotated[float | None, typer.Option(help="Radius of body 1 for contact detection (>= 0).")] = None,
     radius2: Annotated[float | None, typer.Option(help="Radius of body 2 for contact detection (>= 0).")] = None,
+    star1: Annotated[Path | None, typer.Option(
+        "--star1", help="Star 1 as SPH particles (.hdf5 snapshot or .npz): its mass and radius come from them, and "
+                        "both stars are placed in OUT/initial_conditions.hdf5. With --star2.")] = None,
+    star2: Annotated[Path | None, typer.Option("--star2", help="Star 2 as SPH particles (.hdf5 or .npz).")] = None,
     out: Annotated[
         Path | None, typer.Option(help="Folder for the initial conditions and the plot.  \\[default: encounter-output]")
     ] = None,
@@ -104,42 +128,108 @@ def encounter(
     config: Annotated[Path | None, typer.Option("--config", help="TOML file with these options (command line wins).")] = None,
     overwrite: OverwriteOption = None,
 ):
-    """Set up a hyperbolic two-body encounter (StarCrash eqs. 34-39) and print its derived quantities."""
+    """Set up a hyperbolic two-body encounter (StarCrash eqs. 34-39) and print its derived quantities; with --star1
+    and --star2, place two particle stars on it for an SPH code."""
     given = dict(
-        m1=m1, m2=m2, rp=rp, vinf=vinf, sep0=sep0, units=units, layout=layout,
-        radius1=radius1, radius2=radius2, out=out, plots=plots, summary=summary, overwrite=overwrite,
+        m1=m1, m2=m2, rp=rp, vinf=vinf, sep0=sep0, units=units, layout=layout, radius1=radius1, radius2=radius2,
+        star1=star1, star2=star2, out=out, plots=plots, summary=summary, overwrite=overwrite,
     )  # fmt: skip
-    options = load_options(EncounterOptions, config, given)
+    values = option_values(EncounterOptions, config, given)
+    options = validate_options(EncounterOptions, values)
+    with_stars = _check_stars(options, values)
     if options.plots:
         require_plotting()
-    from ..encounters import encounter_summary
+    if with_stars:
+        stars = _read_stars(options)
+    from ..encounters import encounter_summary, star_encounter_summary, write_star
 
     warm_up(["encounter"])
 
-    parameters = options.parameters()
     try:
-        result, ic = encounter_summary(parameters)
+        if with_stars:
+            result, ic, pair = star_encounter_summary(*stars, options.star_parameters())
+        else:
+            result, ic = encounter_summary(options.parameters())
     except ValueError as error:
         raise fail(str(error)) from None
-    system = parameters.unit_system()
-    print_table(f"two-body encounter ({system.name} units, G = {system.G:.10g})", ("quantity", "value", "unit"),
-                _rows(ic, result["contact"], result["unit_labels"]))
+    system = options.parameters().unit_system()
+    rows = _rows(ic, result["contact"], result["unit_labels"])
+    if with_stars:
+        rows += _star_rows(result)
+    print_table(f"two-body encounter ({system.name} units, G = {system.G:.10g})", ("quantity", "value", "unit"), rows)
     for message in result["warnings"]:
         warn(message)
     deliveries = Deliveries("encounter")
     deliveries.write(f"the initial conditions in {options.out}", lambda: ic.write(options.out, units=system))
+    if with_stars:
+        placed = options.out / "initial_conditions.hdf5"
+        deliveries.write(f"the stars {placed}", lambda: write_star(pair, placed))
     if options.plots:
         import matplotlib
 
         matplotlib.use("Agg")
         from .. import plotting
 
-        deliveries.write(f"the plot {options.out / 'encounter.png'}", lambda: plotting.save(
-            plotting.plot_encounter(ic, units=system), options.out / "encounter.png"))
+        def figure():
+            return plotting.plot_star_encounter(ic, pair, units=system) if with_stars else \
+                plotting.plot_encounter(ic, units=system)
+
+        deliveries.write(f"the plot {options.out / 'encounter.png'}",
+                         lambda: plotting.save(figure(), options.out / "encounter.png"))
     result["files"] = [str(path) for path in deliveries.files]
     for path in deliveries.files:
         say(f"wrote {path}")
     deliveries.finish(options.summary, result)
+
+
+def _check_stars(options: EncounterOptions, values) -> bool:
+    """Whether the run places particle stars; their options checked (exit 2) before any work."""
+    if options.star1 is None and options.star2 is None:
+        return False
+    if options.star1 is None or options.star2 is None:
+        raise fail("--star1 and --star2 go together: give both star files, or neither")
+    for name in ("m1", "m2", "radius1", "radius2"):
+        if name in values:
+            raise fail(f"--{name} comes from the particles of --star1 and --star2 (masses, and radii holding 99 % of "
+                       "the mass): leave it out")
+    check_star_file(options.star1, "--star1")
+    check_star_file(options.star2, "--star2")
+    require("h5py", "stars", "placing particle stars (--star1, --star2) in initial_conditions.hdf5")
+    return True
+
+
+def _read_stars(options: EncounterOptions):
+    """Both star files read (a file that states no units is taken in --units); a bad file is exit 2."""
+    from ..encounters import StarFileError, read_star
+
+    stars = []
+    for option, path in (("--star1", options.star1), ("--star2", options.star2)):
+        try:
+            star = read_star(path, default_units=options.units)
+        except (StarFileError, ValueError, OSError) as error:
+            raise fail(f"{option} {' '.join(str(error).split())}") from None
+        stars.append(star)
+    for option, path, star in zip(("--star1", "--star2"), (options.star1, options.star2), stars):
+        if star.units.name != options.units:
+            note(f"{option} {path} is in {star.units.name} units: converted to {options.units}")
+    return stars
+
+
+def _star_rows(result):
+    rows = []
+    labels = result["unit_labels"]
+    for number in (1, 2):
+        star = result["stars"][f"star{number}"]
+        rows += [
+            (f"star {number}: particles", star["particles"], ""),
+            (f"star {number}: mass", f"{star['mass']:.10g}", labels["mass"]),
+            (f"star {number}: radius holding 99 % of the mass", f"{star['radius_99']:.10g}", labels["length"]),
+        ]
+    rows += [
+        ("sep0 / (R1 + R2) (tides negligible above 5)", f"{result['sep0_over_radii']:.10g}", ""),
+        ("stars overlap at sep0", result["overlap_at_sep0"], ""),
+    ]
+    return rows
 
 
 def register(app: typer.Typer) -> None:

@@ -54,7 +54,19 @@ The package, by responsibility:
   :func:`focusing_cross_section`;
 * :mod:`~collisionkit.encounters.initial_conditions` - the StarCrash set-up:
   :func:`starcrash_initial_conditions`, :class:`InitialConditions`,
-  :class:`GridExitWarning`.
+  :class:`GridExitWarning`;
+* :mod:`~collisionkit.encounters.star_model` - particle stars:
+  :class:`StarModel` (SPH particles and their units) and
+  :func:`neighbour_smoothing_lengths`;
+* :mod:`~collisionkit.encounters.star_files` - :func:`read_star` and
+  :func:`write_star` in the GADGET/SWIFT HDF5 snapshot layout (h5py, the
+  ``stars`` extra) and as ``.npz``;
+* :mod:`~collisionkit.encounters.polytrope` - :func:`lane_emden` and
+  :func:`polytrope_star`, an unrelaxed polytrope as SPH particles
+  (:class:`PolytropeParameters`, :func:`polytrope_summary`);
+* :mod:`~collisionkit.encounters.placement` - two particle stars placed on the
+  StarCrash orbit: :func:`place_stars`, :class:`StarEncounterParameters`,
+  :func:`star_encounter_summary`.
 """
 
 from .contact import EncounterContact, Impact, MergedBody, focusing_cross_section, merge_bodies
@@ -65,9 +77,13 @@ from .initial_conditions import (
     starcrash_initial_conditions,
 )
 from .orbit import Hyperbolic, TwoBodyOrbit
+from .placement import StarEncounterParameters, TidalWarning, place_stars, star_encounter_summary
+from .polytrope import LaneEmden, PolytropeParameters, lane_emden, polytrope_star, polytrope_summary
 from .relative_orbit import ON_ORBIT_TOLERANCE
 from .run import EncounterParameters, encounter_summary
-from .units import GM_SUN, R_SUN, UNIT_SYSTEMS, UnitSystem, unit_system
+from .star_files import StarFileError, read_star, write_star
+from .star_model import StarModel, neighbour_smoothing_lengths
+from .units import GM_SUN, R_SUN, UNIT_SYSTEMS, UnitSystem, conversion_factors, unit_system, unit_system_from_cgs
 
 __all__ = [
     "EncounterParameters",
@@ -85,4 +101,20 @@ __all__ = [
     "starcrash_initial_conditions",
     "focusing_cross_section",
     "merge_bodies",
+    "conversion_factors",
+    "unit_system_from_cgs",
+    "StarModel",
+    "neighbour_smoothing_lengths",
+    "StarFileError",
+    "read_star",
+    "write_star",
+    "LaneEmden",
+    "lane_emden",
+    "PolytropeParameters",
+    "polytrope_star",
+    "polytrope_summary",
+    "StarEncounterParameters",
+    "TidalWarning",
+    "place_stars",
+    "star_encounter_summary",
 ]

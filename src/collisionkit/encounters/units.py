@@ -11,7 +11,7 @@ from dataclasses import dataclass
 
 import scipy.constants as const
 
-__all__ = ["GM_SUN", "R_SUN", "UNIT_SYSTEMS", "UnitSystem", "unit_system"]
+__all__ = ["GM_SUN", "R_SUN", "UNIT_SYSTEMS", "UnitSystem", "conversion_factors", "unit_system", "unit_system_from_cgs"]
 
 #: IAU 2015 nominal solar mass parameter GM_sun (m^3 s^-2), Resolution B3.
 GM_SUN = 1.3271244e20
@@ -23,7 +23,7 @@ R_SUN = 6.957e8
 class UnitSystem:
     """A consistent set of units and the value of G in it.
 
-    Attributes
+    Parameters
     ----------
     name : str
         Key in :data:`UNIT_SYSTEMS`.
@@ -88,3 +88,87 @@ def unit_system(name: str) -> UnitSystem:
         allowed = ", ".join(repr(key) for key in UNIT_SYSTEMS)
         raise ValueError(f"units must be one of {allowed}; got {name!r}")
     return UNIT_SYSTEMS[name]
+
+
+def _sized(system: UnitSystem, role: str) -> None:
+    if not all(math.isfinite(size) for size in (system.mass_si, system.length_si, system.time_si)):
+        raise ValueError(f"{role} units {system.name!r} have no size in SI (G = 1 sets no scale): "
+                         "a model in them converts to no other system")
+
+
+def conversion_factors(source: UnitSystem | str, target: UnitSystem | str) -> dict[str, float]:
+    r"""The numbers that multiply a quantity in ``source`` units to give it in ``target`` units.
+
+    With unit sizes :math:`M_s, L_s, T_s` (in kg, m, s) of the source and
+    :math:`M_t, L_t, T_t` of the target: mass :math:`M_s/M_t`, length
+    :math:`L_s/L_t`, time :math:`T_s/T_t`, velocity
+    :math:`(L_s/T_s)/(L_t/T_t)` and specific energy (an SPH particle's
+    internal energy per unit mass) the square of the velocity factor. A
+    system converts to itself with factors of exactly 1 (N-body units
+    too); N-body units convert to no other system (G = 1 sets no scale).
+
+    Parameters
+    ----------
+    source, target : UnitSystem or str
+
+    Returns
+    -------
+    dict
+        Keys ``mass``, ``length``, ``time``, ``velocity``, ``specific_energy``.
+
+    Raises
+    ------
+    ValueError
+        Between N-body units and a system with sizes.
+
+    Examples
+    --------
+    >>> from collisionkit.encounters import conversion_factors
+    >>> factors = conversion_factors("si", "cgs")
+    >>> factors["mass"], factors["length"], factors["velocity"], factors["specific_energy"]
+    (1000.0, 100.0, 100.0, 10000.0)
+    >>> round(conversion_factors("stellar", "cgs")["velocity"])  # km/s in cm/s
+    100000
+    """
+    source = unit_system(source) if isinstance(source, str) else source
+    target = unit_system(target) if isinstance(target, str) else target
+    if source == target:
+        return dict.fromkeys(("mass", "length", "time", "velocity", "specific_energy"), 1.0)
+    _sized(source, "the source")
+    _sized(target, "the target")
+    velocity = (source.length_si / source.time_si) / (target.length_si / target.time_si)
+    return {
+        "mass": source.mass_si / target.mass_si,
+        "length": source.length_si / target.length_si,
+        "time": source.time_si / target.time_si,
+        "velocity": velocity,
+        "specific_energy": velocity * velocity,
+    }
+
+
+def unit_system_from_cgs(mass_g: float, length_cm: float, time_s: float, *, rtol: float = 1e-12) -> UnitSystem:
+    """The unit system whose units are ``mass_g`` grams, ``length_cm`` centimetres and ``time_s`` seconds.
+
+    The named system of :data:`UNIT_SYSTEMS` whose three sizes agree within
+    ``rtol`` (the units SPH snapshot files state in cgs, as SWIFT writes
+    them); otherwise a system named ``"custom"`` with exactly these sizes,
+    labelled in cgs, and G = 6.6743e-8 M_u T_u^2 / L_u^3 (CODATA 2018).
+
+    Examples
+    --------
+    >>> from collisionkit.encounters import unit_system, unit_system_from_cgs
+    >>> unit_system_from_cgs(1e3, 1e2, 1.0).name
+    'si'
+    >>> swift = unit_system_from_cgs(1.98841e33, 6.957e10, 1.0)  # SWIFT's Msun, Rsun, s
+    >>> swift.name, swift.mass
+    ('custom', '1.98841e+33 g')
+    """
+    sizes = (mass_g * 1e-3, length_cm * 1e-2, time_s)
+    if not all(math.isfinite(size) and size > 0 for size in sizes):
+        raise ValueError(f"unit sizes must be finite and > 0; got {mass_g!r} g, {length_cm!r} cm, {time_s!r} s")
+    for system in UNIT_SYSTEMS.values():
+        known = (system.mass_si, system.length_si, system.time_si)
+        if all(math.isclose(size, size_known, rel_tol=rtol, abs_tol=0.0) for size, size_known in zip(sizes, known)):
+            return system
+    mass, length, time = f"{mass_g:.6g} g", f"{length_cm:.6g} cm", f"{time_s:.6g} s"
+    return _system("custom", mass, length, time, f"{length}/{time}", *sizes)

@@ -38,7 +38,7 @@ from .edmd import (
     plot_snapshot,
     plot_speed_distribution,
 )
-from .encounters import plot_encounter
+from .encounters import plot_encounter, plot_star_encounter
 from .sweep import plot_sweep
 from .transport import REID_PUBLISHED, plot_energy_distribution, plot_trajectories, plot_transport_coefficients
 
@@ -55,6 +55,7 @@ __all__ = [
     "maxwell_boltzmann_speed_density",
     "plot_deflection_laws",
     "plot_encounter",
+    "plot_star_encounter",
     "plot_energy_distribution",
     "plot_energy_loss",
     "plot_equation_of_state",

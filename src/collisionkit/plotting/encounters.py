@@ -92,3 +92,52 @@ def plot_encounter(orbit, max_separation=None, points=400, units=None, ax=None):
     return ax
 
 
+def plot_star_encounter(initial_conditions, stars, units=None, max_points=4000, ax=None):
+    """Two particle stars at their start on the encounter's orbit, with the asymptotes.
+
+    The centres of mass' trajectories and asymptotes as :func:`plot_encounter`
+    draws them, and each star's particles at the start (body 1 in blue, body 2
+    in orange), projected on the orbital plane.
+
+    Parameters
+    ----------
+    initial_conditions : collisionkit.encounters.InitialConditions
+        The two-body set-up the stars were placed on.
+    stars : collisionkit.encounters.StarModel
+        The placed pair (``star_ids`` 1 and 2), in the units of the set-up.
+    units : collisionkit.encounters.UnitSystem or str, optional
+        As in :func:`plot_encounter`: draw in its length unit (default: in r_p).
+    max_points : int
+        At most this many particles of each star are drawn (every k-th).
+    ax : matplotlib Axes, optional
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+
+    Examples
+    --------
+    >>> from collisionkit import plotting
+    >>> from collisionkit.encounters import StarEncounterParameters, polytrope_star, star_encounter_summary
+    >>> star = polytrope_star(1.5, 300, neighbours=10, seed=1)
+    >>> _, ic, pair = star_encounter_summary(star, star, StarEncounterParameters(sep0=20.0))
+    >>> ax = plotting.plot_star_encounter(ic, pair)
+    >>> len(ax.collections), ax.get_legend_handles_labels()[1][2:]
+    (2, ['star 1 (300 particles)', 'star 2 (300 particles)'])
+    """
+    if stars.star_ids is None:
+        raise ValueError("stars must be a placed pair (star_ids 1 and 2), as place_stars gives")
+    ax = plot_encounter(initial_conditions, units=units, ax=ax)
+    orbit = initial_conditions.orbit
+    scale = _encounter_units(orbit, units)[0]
+    plane = orbit.basis[:2].T
+    for number, colour in ((1, "C0"), (2, "C1")):
+        mine = stars.positions[stars.star_ids == number]
+        step = max(1, -(-len(mine) // max_points))
+        xy = mine[::step] @ plane / scale
+        ax.scatter(xy[:, 0], xy[:, 1], s=1.5, color=colour, alpha=0.5, linewidths=0,
+                   label=f"star {number} ({len(mine)} particles)")
+    ax.set_title(f"two stars at sep0 = {initial_conditions.sep0:.4g}, e = {orbit.eccentricity:.4g}")
+    ax.legend(markerscale=4)
+    return ax
+
