@@ -9,7 +9,9 @@ import numpy as np
 import pytest
 from scipy import constants
 
-from collisionkit.transport import Gas, LXCatError, Process, Species, parse_lxcat, read_lxcat, simulate_swarm
+from collisionkit.transport import (
+    Gas, LXCatError, LXCatWarning, Process, Species, parse_lxcat, read_lxcat, simulate_swarm,
+)
 
 E_CHARGE, ME = constants.e, constants.m_e
 
@@ -40,7 +42,8 @@ def test_new_format_with_species_process_param_lines_and_a_mixture():
 
 
 def test_species_selection_and_missing_species():
-    gas = read_lxcat(DATA / "lxcat_new_mixture.txt", species=["B"])
+    with pytest.warns(LXCatWarning, match=r"lxcat_new_mixture.txt: skipped 3 blocks of A \(not asked for\)"):
+        gas = read_lxcat(DATA / "lxcat_new_mixture.txt", species=["B"])
     assert [s.name for s in gas.species] == ["B"]
     with pytest.raises(LXCatError, match="not in the file"):
         read_lxcat(DATA / "lxcat_new_mixture.txt", species=["C"])
@@ -125,5 +128,7 @@ def test_effective_cross_section_below_the_inelastic_sum_is_clipped_at_zero(tmp_
     text = ("EFFECTIVE\nX\n1e-4\n-----\n0 5e-20\n10 4e-20\n20 2e-20\n-----\n"
             "EXCITATION\nX -> X*\n5.0\n-----\n5 0\n10 1e-20\n20 3e-20\n-----\n")
     (tmp_path / "x.txt").write_text(text)
-    elastic = read_lxcat(tmp_path / "x.txt").species[0].processes[0]
+    with pytest.warns(LXCatWarning, match=r"x.txt, line 1 \(the EFFECTIVE block of X at line 1\): effective minus "
+                                          r"inelastic cross sections is negative at 1 of 3 energies, 20 to 20 eV"):
+        elastic = read_lxcat(tmp_path / "x.txt").species[0].processes[0]
     np.testing.assert_allclose(elastic.cross_section, [5e-20, 3e-20, 0.0], atol=1e-35)

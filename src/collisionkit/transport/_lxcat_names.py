@@ -102,17 +102,17 @@ def is_formula(name: str) -> bool:
     return bool(FORMULA.fullmatch(base))
 
 
-def product_formula(process: str) -> str | None:
-    """The formula of the first heavy product of a ``PROCESS:`` reaction, without its state; None if none.
+def product_target(process: str) -> str | None:
+    """The first heavy product of a ``PROCESS:`` reaction, named as a target (state kept unless ground); else None.
 
-    ``E + Nitrogen <-> E + N2 (J=0-J=2), Rotational`` gives ``N2``: for a
-    process that leaves the target unchanged this names the target.
+    For an elastic process this is its target: ``E + Oxygen -> E + O(1D), Elastic`` is elastic scattering on
+    O(1D).
 
     Examples
     --------
-    >>> from collisionkit.transport._lxcat_names import product_formula
-    >>> product_formula("E + Nitrogen <-> E + N2 (J=0-J=2), Rotational"), product_formula("E + CO-elec -> E + CO-elec")
-    ('N2', None)
+    >>> from collisionkit.transport._lxcat_names import product_target
+    >>> product_target("E + Oxygen -> E + O(1D), Elastic"), product_target("E + Oxygen -> E + O, Elastic")
+    ('O(1D)', 'O')
     """
     reaction = process.rsplit(",", 1)[0] if "," in process.split(")")[-1] else process
     for arrow in ARROWS:
@@ -125,10 +125,25 @@ def product_formula(process: str) -> str | None:
         term = "".join(term.split())
         if term.lower() in ("e", "") or term.startswith("E+"):
             continue
-        base, _ = _split_state(term)
-        base = _charge(base)
-        return base if FORMULA.fullmatch(base) else None
+        name = target_name(term)
+        return name if is_formula(name) else None
     return None
+
+
+def product_formula(process: str) -> str | None:
+    """The formula of the first heavy product of a ``PROCESS:`` reaction, without its state; None if none.
+
+    ``E + Nitrogen <-> E + N2 (J=0-J=2), Rotational`` gives ``N2``: for a
+    process that leaves the target unchanged this names the target.
+
+    Examples
+    --------
+    >>> from collisionkit.transport._lxcat_names import product_formula
+    >>> product_formula("E + Nitrogen <-> E + N2 (J=0-J=2), Rotational"), product_formula("E + CO-elec -> E + CO-elec")
+    ('N2', None)
+    """
+    name = product_target(process)
+    return None if name is None else _split_state(name)[0]
 
 
 def resolve_names(raw_names, preserving_products) -> dict[str, str]:

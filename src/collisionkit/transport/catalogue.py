@@ -61,6 +61,8 @@ class GasSet:
         Where to get it (the LXCat database page).
     terms : str
         The terms the file is under.
+    cite : str
+        The reference, short (``Yanguas-Gil et al. 2005``).
 
     Examples
     --------
@@ -77,6 +79,7 @@ class GasSet:
     shipped: bool
     url: str
     terms: str
+    cite: str = ""
 
     def path(self) -> Path | None:
         """The file if it is here (shipped, or placed in the data folder), else None.
@@ -137,28 +140,33 @@ class GasSet:
         return read_lxcat(path, species=species, database=database)
 
 
-def _ist_lisbon(name: str, set_reference: str) -> GasSet:
+def _ist_lisbon(name: str, set_reference: str, cite: str) -> GasSet:
     return GasSet(name, name, "IST-Lisbon", f"{set_reference}; {IST_LISBON}", f"IST-Lisbon_{name}.txt", True,
-                  "https://www.lxcat.net/IST-Lisbon", GPL)
+                  "https://www.lxcat.net/IST-Lisbon", GPL, cite)
 
 
-def _download(name: str, species: str, database: str, reference: str) -> GasSet:
+def _download(name: str, species: str, database: str, reference: str, cite: str) -> GasSet:
     return GasSet(name, species, database, reference, f"{name}.txt", False, f"https://www.lxcat.net/{database}",
-                  LXCAT_TERMS)
+                  LXCAT_TERMS, cite)
 
 
 CATALOGUE: dict[str, GasSet] = {entry.name: entry for entry in (
-    _ist_lisbon("Ar", "A. Yanguas-Gil, J. Cotrino and L.L. Alves, J. Phys. D 38, 1588 (2005)"),
-    _ist_lisbon("N2", "J. Loureiro and C.M. Ferreira, J. Phys. D 19, 17 (1986)"),
-    _ist_lisbon("O2", "L.L. Alves, P. Coche, M.A. Ridenti and V. Guerra, Eur. Phys. J. D 70, 124 (2016)"),
-    _ist_lisbon("He", "M. Santos, C. Noel, T. Belmonte and L.L. Alves, J. Phys. D 47, 265201 (2014)"),
-    _download("Ar-Biagi", "Ar", "Biagi", "S.F. Biagi, Magboltz (Fortran code), Biagi database, www.lxcat.net"),
-    _download("Ar-Phelps", "Ar", "Phelps", "A.V. Phelps, Phelps database, www.lxcat.net"),
-    _download("N2-Biagi", "N2", "Biagi", "S.F. Biagi, Magboltz (Fortran code), Biagi database, www.lxcat.net"),
+    _ist_lisbon("Ar", "A. Yanguas-Gil, J. Cotrino and L.L. Alves, J. Phys. D 38, 1588 (2005)",
+                "Yanguas-Gil et al. 2005"),
+    _ist_lisbon("N2", "J. Loureiro and C.M. Ferreira, J. Phys. D 19, 17 (1986)", "Loureiro & Ferreira 1986"),
+    _ist_lisbon("O2", "L.L. Alves, P. Coche, M.A. Ridenti and V. Guerra, Eur. Phys. J. D 70, 124 (2016)",
+                "Alves et al. 2016"),
+    _ist_lisbon("He", "M. Santos, C. Noel, T. Belmonte and L.L. Alves, J. Phys. D 47, 265201 (2014)",
+                "Santos et al. 2014"),
+    _download("Ar-Biagi", "Ar", "Biagi", "S.F. Biagi, Magboltz (Fortran code), Biagi database, www.lxcat.net",
+              "Biagi, Magboltz"),
+    _download("Ar-Phelps", "Ar", "Phelps", "A.V. Phelps, Phelps database, www.lxcat.net", "Phelps"),
+    _download("N2-Biagi", "N2", "Biagi", "S.F. Biagi, Magboltz (Fortran code), Biagi database, www.lxcat.net",
+              "Biagi, Magboltz"),
     _download("N2-Phelps", "N2", "Phelps", "A.V. Phelps and L.C. Pitchford, Phys. Rev. A 31, 2932 (1985); "
-                                         "Phelps database, www.lxcat.net"),
+                                         "Phelps database, www.lxcat.net", "Phelps & Pitchford 1985"),
     _download("O2-Phelps", "O2", "Phelps", "A.V. Phelps, JILA Information Center Report 28 (1985); Phelps database, "
-                                         "www.lxcat.net"),
+                                         "www.lxcat.net", "Phelps 1985"),
 )}
 
 
@@ -173,11 +181,11 @@ def data_folder() -> Path:
     Examples
     --------
     >>> import os
+    >>> from unittest import mock
     >>> from collisionkit.transport import data_folder
-    >>> os.environ["COLLISIONKIT_DATA"] = "/tmp/my-gases"
-    >>> str(data_folder())
+    >>> with mock.patch.dict(os.environ, {"COLLISIONKIT_DATA": "/tmp/my-gases"}):
+    ...     str(data_folder())
     '/tmp/my-gases'
-    >>> del os.environ["COLLISIONKIT_DATA"]
     """
     chosen = os.environ.get("COLLISIONKIT_DATA")
     if chosen:
@@ -204,7 +212,7 @@ def _placed_files() -> list[GasSet]:
         if path.name in taken or name in CATALOGUE or any(mark in name for mark in ":,") or not path.is_file():
             continue
         found.append(GasSet(name, "", "", f"placed by you ({path.name})", path.name, False, str(path),
-                            "your own download"))
+                            "your own download", "your file"))
     return found
 
 
@@ -247,7 +255,7 @@ def parse_gas_spec(spec: str) -> list[tuple[str, float]]:
     >>> parse_gas_spec("Ar:0.9,N2:0.2")
     Traceback (most recent call last):
     ...
-    ValueError: gas Ar:0.9,N2:0.2: mole fractions must sum to 1 (within 1e-06); they sum to 1.1
+    ValueError: gas 'Ar:0.9,N2:0.2': mole fractions must sum to 1 (within 1e-06); they sum to 1.1
     """
     if not isinstance(spec, str) or not spec.strip():
         raise ValueError(f"gas must be a catalogue name or a mixture such as 'Ar:0.9,N2:0.1'; got {spec!r}")
@@ -258,21 +266,21 @@ def parse_gas_spec(spec: str) -> list[tuple[str, float]]:
     for part in parts:
         name, colon, text = part.partition(":")
         if not colon or not name.strip():
-            raise ValueError(f"gas {spec}: write each part as NAME:FRACTION (e.g. 'Ar:0.9,N2:0.1'); got {part!r}")
+            raise ValueError(f"gas {spec!r}: write each part as NAME:FRACTION (e.g. 'Ar:0.9,N2:0.1'); got {part!r}")
         try:
             fraction = float(text)
         except ValueError:
-            raise ValueError(f"gas {spec}: the fraction of {name.strip()} must be a number; got {text!r}") from None
+            raise ValueError(f"gas {spec!r}: the fraction of {name.strip()} must be a number; got {text!r}") from None
         if not (math.isfinite(fraction) and 0.0 <= fraction <= 1.0):
-            raise ValueError(f"gas {spec}: the fraction of {name.strip()} must lie in [0, 1]; got {text.strip()}")
+            raise ValueError(f"gas {spec!r}: the fraction of {name.strip()} must lie in [0, 1]; got {text.strip()}")
         mixture.append((name.strip(), fraction))
     names = [name for name, _ in mixture]
     twice = sorted({name for name in names if names.count(name) > 1})
     if twice:
-        raise ValueError(f"gas {spec}: {twice[0]} is named twice")
+        raise ValueError(f"gas {spec!r}: {twice[0]} is named twice")
     total = math.fsum(fraction for _, fraction in mixture)
     if abs(total - 1.0) > FRACTION_TOLERANCE:
-        raise ValueError(f"gas {spec}: mole fractions must sum to 1 (within {FRACTION_TOLERANCE:g}); they sum to "
+        raise ValueError(f"gas {spec!r}: mole fractions must sum to 1 (within {FRACTION_TOLERANCE:g}); they sum to "
                          f"{total:.10g}")
     return mixture
 
@@ -328,7 +336,7 @@ def catalogue_gas(spec: str) -> Gas:
                              f"({', '.join(s.name for s in gas.species)}): read it with --cross-sections and --species")
         species = gas.species[0].name
         if species in names:
-            raise ValueError(f"gas {spec}: {names[species]} and {name} are both the species {species}; take one")
+            raise ValueError(f"gas {spec!r}: {names[species]} and {name} are both the species {species}; take one")
         names[species] = name
         parts[gas] = fraction
     if len(parts) == 1:
@@ -369,6 +377,7 @@ def catalogue_rows() -> list[dict]:
             species = species or ", ".join(dict.fromkeys(c["species"] for c in chosen))
             database = database or ", ".join(dict.fromkeys(c["database"] for c in chosen))
         rows.append({"name": entry.name, "species": species, "database": database, "reference": entry.reference,
+                     "cite": entry.cite,
                      "processes": counts, "status": entry.status(), "where": entry.where(), "terms": entry.terms,
                      "file": str(path) if path is not None else str(data_folder() / entry.file)})
     return rows

@@ -41,7 +41,7 @@ import numpy as np
 from scipy import constants
 
 from ._lxcat_blocks import KEYWORDS, LXCatBlock, LXCatError, scan
-from ._lxcat_names import product_formula, resolve_names, target_name
+from ._lxcat_names import product_formula, product_target, resolve_names, target_name
 from .gases import Gas, Process, Species
 
 __all__ = ["KEYWORDS", "LXCatError", "LXCatWarning", "LXCatBlock", "parse_lxcat", "read_lxcat", "lxcat_contents"]
@@ -113,6 +113,8 @@ def _read_file(path: Path) -> list[LXCatBlock]:
     resolved = resolve_names([block.target for block in blocks], products)
     for block in blocks:
         block.name = resolved.get(block.target, block.target)
+        if block.kind in MOMENTUM_KINDS and block.target in resolved:  # elastic on a state: E + Oxygen -> E + O(1D)
+            block.name = product_target(block.process) or block.name
     return blocks
 
 
