@@ -173,8 +173,13 @@ def test_a_multi_database_export_asks_for_the_database_of_a_species_it_holds_twi
         assert joined.label == single.label and np.array_equal(joined.cross_section, single.cross_section)
     alves = _quiet(export, species=["Ar"], database={"Ar": "alves"}).species[0]  # per species, any case
     assert len(alves.processes) == _keyword_count(ALVES_AR, {"ELASTIC", "EXCITATION", "IONIZATION"})
-    with pytest.raises(LXCatError, match=r"species Ar is not in the database 'Biagi'.*its databases: Alves, IST-Lisbon"):
+    with pytest.raises(LXCatError, match=r"database 'Biagi' holds none of Ar in export.txt \(their databases: Alves, "
+                                         r"IST-Lisbon\)"):
         read_lxcat(export, species=["Ar"], database="Biagi")
+    with pytest.raises(LXCatError, match=r"species Ar is not in the database 'Biagi'.*its databases: Alves, IST-Lisbon"):
+        read_lxcat(export, species=["Ar"], database={"Ar": "Biagi"})
+    with pytest.raises(LXCatError, match=r"database 'Phelps' holds none of Ar in IST-Lisbon_Ar.txt"):
+        read_lxcat(AR, database="Phelps")  # a database named for a file of one database must be its own
 
 
 def test_a_broken_block_of_another_species_does_not_stop_the_reading_and_is_named_when_used(tmp_path):

@@ -312,6 +312,12 @@ def read_lxcat(path, species=None, fractions=None, database=None, scattering="is
     chosen = _chosen_species(blocks, species)
     if fractions is not None and len(list(fractions)) != len(chosen):
         raise LXCatError(f"fractions: give one per species ({len(chosen)}: {', '.join(chosen)}); got {len(list(fractions))}")
+    if isinstance(database, str):
+        key = database.lower()
+        if not any(b.database.lower() == key or Path(b.source).name.lower() == key for b in blocks if b.name in chosen):
+            found = ", ".join(dict.fromkeys(b.database for b in blocks if b.name in chosen))
+            raise LXCatError(f"database {database!r} holds none of {', '.join(chosen)} in {_files(blocks)} "
+                             f"(their databases: {found})")
     used, members = [], []
     for name in chosen:
         own = _database_blocks(name, [b for b in blocks if b.name == name], database)
