@@ -26,3 +26,9 @@ def _approx_without_a_silent_floor(expected, rel=None, abs=None, nan_ok=False):
 
 _pytest_approx = pytest.approx
 pytest.approx = _approx_without_a_silent_floor
+
+
+@pytest.fixture(autouse=True)
+def _an_empty_gas_data_folder(tmp_path_factory, monkeypatch):
+    """Every test sees an empty data folder of placed cross-section files, not the user's own (COLLISIONKIT_DATA)."""
+    monkeypatch.setenv("COLLISIONKIT_DATA", str(tmp_path_factory.mktemp("collisionkit-data")))

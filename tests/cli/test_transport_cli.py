@@ -123,7 +123,7 @@ def test_swarm_refuses_species_and_fractions_with_a_model_gas():
     for extra in (["--species", "Ar"], ["--fractions", "0.5"]):
         result = runner.invoke(app, ["swarm", "--model", "reid", *extra, *quick], env={"COLUMNS": "200"})
         assert result.exit_code == 2, result.output
-        assert "species and fractions pick gases from an LXCat file (cross_sections)" in result.output
+        assert "species, fractions and database pick gases from LXCat files (cross_sections)" in result.output
 
 
 def test_a_single_value_in_the_config_is_a_list_of_one(tmp_path):

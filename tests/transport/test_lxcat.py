@@ -9,7 +9,9 @@ import numpy as np
 import pytest
 from scipy import constants
 
-from collisionkit.transport import Gas, LXCatError, Process, Species, parse_lxcat, read_lxcat, simulate_swarm
+from collisionkit.transport import (
+    Gas, LXCatError, LXCatWarning, Process, Species, parse_lxcat, read_lxcat, simulate_swarm,
+)
 
 E_CHARGE, ME = constants.e, constants.m_e
 
@@ -40,7 +42,8 @@ def test_new_format_with_species_process_param_lines_and_a_mixture():
 
 
 def test_species_selection_and_missing_species():
-    gas = read_lxcat(DATA / "lxcat_new_mixture.txt", species=["B"])
+    with pytest.warns(LXCatWarning, match=r"lxcat_new_mixture.txt: skipped 3 blocks of A \(not asked for\)"):
+        gas = read_lxcat(DATA / "lxcat_new_mixture.txt", species=["B"])
     assert [s.name for s in gas.species] == ["B"]
     with pytest.raises(LXCatError, match="not in the file"):
         read_lxcat(DATA / "lxcat_new_mixture.txt", species=["C"])
@@ -125,5 +128,97 @@ def test_effective_cross_section_below_the_inelastic_sum_is_clipped_at_zero(tmp_
     text = ("EFFECTIVE\nX\n1e-4\n-----\n0 5e-20\n10 4e-20\n20 2e-20\n-----\n"
             "EXCITATION\nX -> X*\n5.0\n-----\n5 0\n10 1e-20\n20 3e-20\n-----\n")
     (tmp_path / "x.txt").write_text(text)
-    elastic = read_lxcat(tmp_path / "x.txt").species[0].processes[0]
+    with pytest.warns(LXCatWarning, match=r"x.txt, line 1 \(the EFFECTIVE block of X at line 1\): effective minus "
+                                          r"inelastic cross sections is negative at 1 of 3 energies, 20 to 20 eV"):
+        elastic = read_lxcat(tmp_path / "x.txt").species[0].processes[0]
     np.testing.assert_allclose(elastic.cross_section, [5e-20, 3e-20, 0.0], atol=1e-35)
+
+
+# ------------------------------------------------------------------ target lines, parameter lines and kinds
+
+
+SYNTAX = """\
+MOMENTUM
+e + N2 -> e + N2
+ 1.95e-5 / mass ratio
+-----
+ 0 1e-20
+ 100 1e-20
+-----
+EXCITATION
+e + N2 -> e + N2(v=1)
+ 0.29 / threshold energy
+-----
+ 0.29 0
+ 10 1e-21
+-----
+EXCITATION
+N2 <-> N2(A)
+ 6.2 / 3.0
+-----
+ 6.2 0
+ 20 1e-21
+-----
+EXCITATION
+N2(X,v=0) <-> N2(B)
+ 7.4
+-----
+ 7.4 0
+ 20 1e-21
+-----
+EXCITATION
+N2 -> N2(C)
+ 11.0  2.0
+-----
+ 11 0
+ 20 1e-21
+-----
+VIBRATIONAL
+SPECIES: e / N2
+PROCESS: E + N2 -> E + N2(v=2), Vibrational
+PARAM.:  E = 0.58 eV
+-----
+ 0.58 0
+ 10 1e-21
+-----
+IONIZATION
+N2 -> N2^+
+ 15.6
+-----
+ 15.6 0
+ 100 1e-20
+-----
+ATTACHMENT
+O2 -> O2^-
+-----
+ 0 1e-22
+ 1 0
+-----
+EFFECTIVE
+O2
+ 1.71e-5
+-----
+ 0 1e-20
+ 100 1e-20
+-----
+"""
+
+
+def test_every_target_line_syntax_parameter_line_and_kind_of_the_format(tmp_path):
+    """The target lines of the LXCat format's description (``N2``, ``e + N2 -> e + N2(v=1)``, ``N2 -> N2^+``,
+    ``O2 -> O2^-``, ``<->``, a ground-state designation) and its parameter lines (a comment after the number,
+    ``threshold / ratio``, ``threshold ratio``), with every kind keyword."""
+    (tmp_path / "syntax.txt").write_text(SYNTAX)
+    gas = read_lxcat(tmp_path / "syntax.txt")
+    n2, o2 = gas.species
+    assert (n2.name, o2.name) == ("N2", "O2")
+    assert constants.m_e / n2.mass == pytest.approx(1.95e-5) and constants.m_e / o2.mass == pytest.approx(1.71e-5)
+    kinds = [(p.kind, p.threshold, p.weight_ratio) for p in n2.processes]
+    assert kinds == [("elastic", 0.0, 0.0), ("excitation", 0.29, 0.0),
+                     ("excitation", 6.2, 3.0),   # <-> with its ratio after a slash
+                     ("excitation", 7.4, 1.0),   # <-> without a ratio: 1, the BOLSIG+ convention
+                     ("excitation", 11.0, 2.0),  # a second number makes the excitation reversible
+                     ("excitation", 0.58, 0.0),  # VIBRATIONAL from its PARAM.: line
+                     ("ionization", 15.6, 0.0)]
+    assert [p.kind for p in o2.processes] == ["attachment", "elastic"]
+

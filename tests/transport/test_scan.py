@@ -16,10 +16,10 @@ QUICK = dict(model="reid", particles=640, seed=3, tolerance=0.05, collision_budg
 @pytest.mark.parametrize(
     ("values", "error", "words"),
     [
-        ({}, ValueError, "give exactly one of model and cross_sections"),
+        ({}, ValueError, "give exactly one of model, gas and cross_sections"),
         ({"model": "reid", "cross_sections": "x.txt"}, ValueError, "give exactly one"),
         ({"model": "argon"}, ValueError, "model must be one of"),
-        ({"model": "reid", "species": ["Ar"]}, ValueError, "species and fractions pick gases"),
+        ({"model": "reid", "species": ["Ar"]}, ValueError, "species, fractions and database pick gases"),
         ({"model": "reid", "reduced_field": [10.0, float("nan")]}, ValueError, "reduced_field (E/N) must be finite"),
         ({"model": "reid", "reduced_field": 0.0}, ValueError, "no steady state"),
         ({"model": "reid", "particles": 100}, ValueError, "particles must be in [128, 10000000]"),
@@ -38,7 +38,7 @@ def test_the_flags_and_the_python_names_spell_the_same_parameters():
     assert SwarmParameters.from_mapping({"model": "reid", "E-N": 5, "B-N": 100.0}) == \
         SwarmParameters(model="reid", reduced_field=[5.0], reduced_magnetic_field=100.0)
     relative = SwarmParameters(cross_sections=DATA / "lxcat_classic_reid.txt")
-    assert relative.cross_sections.is_absolute()  # found again from any folder on resume
+    assert relative.cross_sections[0].is_absolute()  # found again from any folder on resume
 
 
 def test_a_scan_killed_mid_way_resumes_as_if_never_stopped(tmp_path, monkeypatch):

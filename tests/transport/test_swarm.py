@@ -558,3 +558,18 @@ def test_flux_diffusion_coefficients_of_reids_ramp_match_the_published_values():
             value, error = getattr(r, estimator), getattr(r, f"{estimator}_error")
             assert error < 0.15 * references[0], estimator
             assert min(abs(value - ref) for ref in references) < 4 * error + 0.03 * references[0], (estimator, value)
+
+
+def test_a_trace_in_an_ionizing_real_gas_drops_the_children_it_does_not_follow():
+    """trace_trajectories follows no children (no slots): an ionization in argon at 50 Td made the step retry with
+    twice zero slots on a swarm it had not kept, and fail. Kills: the retry without slots."""
+    import warnings
+
+    from collisionkit.transport import LXCatWarning, catalogue_gas, trace_trajectories
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", LXCatWarning)
+        argon = catalogue_gas("Ar")
+    times, positions = trace_trajectories(argon, 100.0, particles=4, collisions=2000.0, points=200, seed=2026)
+    assert positions.shape == (200, 4, 3) and np.all(np.diff(times) > 0)
+    assert np.all(positions[-1, :, 2] < positions[0, :, 2])  # the electrons drift against E (+z)

@@ -154,3 +154,7 @@ _transport.register(app)
 from . import _animate  # noqa: E402
 
 _animate.register(app)
+
+from . import _gases  # noqa: E402
+
+_gases.register(app)

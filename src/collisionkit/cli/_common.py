@@ -278,7 +278,9 @@ def check_paths(options: Options, keep: Collection[Path] = ()) -> None:
     """
     model = type(options)
     for name in model.input_files:
-        check_input_file(getattr(options, name), f"--{_dashed(name)}")
+        value = getattr(options, name)
+        for path in value if isinstance(value, (list, tuple)) else [value]:  # a repeated option: each file
+            check_input_file(path, f"--{_dashed(name)}")
     outputs = {f"--{_dashed(name)}": getattr(options, name) for name in model.output_files}
     folders = {f"--{_dashed(name)}": getattr(options, name) for name in model.output_folders
                if name not in options.unwritten()}

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import warnings
+from contextlib import contextmanager
 from pathlib import Path
 from typing import Annotated, Any, ClassVar, Literal
 
@@ -29,9 +31,11 @@ class SwarmOptions(Options):
     """
 
     model: ModelName | None = None
-    cross_sections: Path | None = None
+    gas: str | None = None
+    cross_sections: list[Path] | None = None
     species: list[str] | None = None
     fractions: list[float] | None = None
+    database: str | None = None
     e_n: list[float] = Field(default=[12.0], min_length=1)
     b_n: float = Field(default=0.0, allow_inf_nan=False)
     gas_temperature: float = Field(default=0.0, ge=0, allow_inf_nan=False)
@@ -47,6 +51,12 @@ class SwarmOptions(Options):
     output_files: ClassVar[tuple[str, ...]] = ("summary", "checkpoint")
     output_folders: ClassVar[tuple[str, ...]] = ("out",)
     input_files: ClassVar[tuple[str, ...]] = ("cross_sections",)
+
+    @field_validator("cross_sections", mode="before")
+    @classmethod
+    def _one_file_is_a_list(cls, value: Any) -> Any:
+        """``cross-sections = "ar.txt"`` in a TOML file (and a saved checkpoint's single path) is a list of one."""
+        return [value] if isinstance(value, (str, Path)) else value
 
     @model_validator(mode="after")
     def _physics(self):
@@ -64,8 +74,9 @@ class SwarmOptions(Options):
         """
         from ..transport.scan import SwarmParameters
 
-        return SwarmParameters(reduced_field=self.e_n, model=self.model, cross_sections=self.cross_sections,
-                               species=self.species, fractions=self.fractions, reduced_magnetic_field=self.b_n,
+        return SwarmParameters(reduced_field=self.e_n, model=self.model, gas=self.gas, cross_sections=self.cross_sections,
+                               species=self.species, fractions=self.fractions, database=self.database,
+                               reduced_magnetic_field=self.b_n,
                                gas_temperature=self.gas_temperature, particles=self.particles, seed=self.seed,
                                tolerance=self.tolerance, collision_budget=self.collision_budget, sharing=self.sharing)
 
@@ -87,11 +98,37 @@ def _e_n_values(raw: list[str] | None) -> list[float] | None:
 SWARM_OUTPUTS = ("out", "summary", "checkpoint", "overwrite")  # what a resumed scan may change; the rest is physics
 
 
+@contextmanager
+def lxcat_notes():
+    """Show the notes of an LXCat read (skipped blocks, clipped values: LXCatWarning) as one-line notes.
+
+    Examples
+    --------
+    >>> import warnings
+    >>> from collisionkit.transport import LXCatWarning
+    >>> with lxcat_notes():
+    ...     warnings.warn("a note", LXCatWarning)
+    """
+    from ..transport import LXCatWarning
+
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", LXCatWarning)
+        try:
+            yield
+        finally:
+            for item in caught:
+                if issubclass(item.category, LXCatWarning):
+                    note(str(item.message))
+                else:
+                    warnings.warn_explicit(item.message, item.category, item.filename, item.lineno)
+
+
 def _new_scan(options: SwarmOptions):
     from ..transport.scan import SwarmScan
 
     try:
-        return SwarmScan(options.parameters(), checkpoint=options.checkpoint)
+        with lxcat_notes():
+            return SwarmScan(options.parameters(), checkpoint=options.checkpoint)
     except ValueError as error:
         raise fail(str(error)) from None
 
@@ -103,7 +140,8 @@ def _resumed_scan(resume: Path, given: dict):
     refuse_folder(resume, "--resume")
     physics = {_library_name(key): value for key, value in given.items() if key not in SWARM_OUTPUTS}
     try:
-        scan = SwarmScan.resume(resume, checkpoint=given.get("checkpoint", resume), **physics)
+        with lxcat_notes():
+            scan = SwarmScan.resume(resume, checkpoint=given.get("checkpoint", resume), **physics)
     except ValueError as error:
         raise fail(str(error)) from None
     outputs = {key: value for key, value in given.items() if key in SWARM_OUTPUTS} | {"checkpoint": scan.checkpoint}
@@ -161,9 +199,11 @@ def _swarm_plots(results, out: Path, deliveries: Deliveries) -> None:
 
 def swarm(
     model: Annotated[str | None, typer.Option(help="Model gas: maxwell, hard_sphere, reid, lucas_saelee.")] = None,
-    cross_sections: Annotated[Path | None, typer.Option("--cross-sections", help="LXCat cross-section file.")] = None,
-    species: Annotated[list[str] | None, typer.Option(help="Species of the LXCat file to use (repeat).")] = None,
+    gas: Annotated[str | None, typer.Option(help="Real gas by name (collisionkit gases lists them), or a mixture by mole fraction: 'Ar:0.9,N2:0.1'.")] = None,
+    cross_sections: Annotated[list[Path] | None, typer.Option("--cross-sections", help="LXCat cross-section file (repeat to join files).")] = None,
+    species: Annotated[list[str] | None, typer.Option(help="Species of the LXCat files to use (repeat).")] = None,
     fractions: Annotated[list[float] | None, typer.Option(help="Their number fractions (repeat).")] = None,
+    database: Annotated[str | None, typer.Option(help="Database to take a species from when the LXCat files hold it from several (e.g. Biagi).")] = None,
     e_n: Annotated[list[str] | None, typer.Option("--E-N", help="E/N in Td; repeat or comma list for a sweep.  \\[default: 12]")] = None,
     b_n: Annotated[float | None, typer.Option("--B-N", help="B/N in Hx, B along y (E along z).  \\[default: 0]")] = None,
     gas_temperature: Annotated[float | None, typer.Option(help="Gas temperature in K (>= 0).  \\[default: 0]")] = None,
@@ -180,7 +220,8 @@ def swarm(
     overwrite: OverwriteOption = None,
 ):
     """Electron swarm transport coefficients (mean energy, drift, diffusion, rates) against E/N."""
-    given = dict(model=model, cross_sections=cross_sections, species=species, fractions=fractions, e_n=_e_n_values(e_n),
+    given = dict(model=model, gas=gas, cross_sections=cross_sections, species=species, fractions=fractions,
+                 database=database, e_n=_e_n_values(e_n),
                  b_n=b_n, gas_temperature=gas_temperature, particles=particles, seed=seed, tolerance=tolerance,
                  collision_budget=collision_budget, sharing=sharing, out=out, summary=summary, checkpoint=checkpoint,
                  overwrite=overwrite)

@@ -14,7 +14,9 @@ collisions), real gases (LXCat files) and transport coefficients.
 * :func:`simulate_slab` - transmission and reflection of a beam by a slab;
 * gases: :class:`Gas`, :class:`Species`, :class:`Process`, model gases
   (:func:`maxwell_model`, :func:`hard_sphere_gas`, :func:`reid_ramp`,
-  :func:`lucas_saelee`) and :func:`read_lxcat`.
+  :func:`lucas_saelee`) and :func:`read_lxcat`;
+* real gases by name: :func:`catalogue_gas` (``"Ar"``, ``"Ar:0.9,N2:0.1"``),
+  the :data:`CATALOGUE` of LXCat sets (shipped, or placed in :func:`data_folder`).
 """
 
 from .gases import (
@@ -29,7 +31,17 @@ from .gases import (
     reid_ramp,
     screened_coulomb_momentum_ratio,
 )
-from .lxcat import LXCatError, parse_lxcat, read_lxcat
+from .lxcat import LXCatError, LXCatWarning, parse_lxcat, read_lxcat
+from .catalogue import (
+    CATALOGUE,
+    GasSet,
+    catalogue,
+    catalogue_entry,
+    catalogue_files,
+    catalogue_gas,
+    data_folder,
+    parse_gas_spec,
+)
 from .scan import SwarmParameters, SwarmScan, swarm_summary
 from .slab import SlabResult, simulate_slab
 from .slab_parameters import SlabParameters, run_slab, slab_summary
@@ -44,12 +56,15 @@ from .swarm import (
 )
 
 __all__ = [
+    "CATALOGUE",
     "DEFAULT_TOLERANCES",
     "HUXLEY",
     "MODEL_GASES",
     "TOWNSEND",
     "Gas",
+    "GasSet",
     "LXCatError",
+    "LXCatWarning",
     "Process",
     "Species",
     "SlabParameters",
@@ -57,11 +72,17 @@ __all__ = [
     "SwarmParameters",
     "SwarmScan",
     "SwarmResult",
+    "catalogue",
+    "catalogue_entry",
+    "catalogue_files",
+    "catalogue_gas",
+    "data_folder",
     "diffusion_error_floor",
     "hard_sphere_gas",
     "lucas_saelee",
     "maxwell_model",
     "model_gas",
+    "parse_gas_spec",
     "parse_lxcat",
     "read_lxcat",
     "reid_ramp",

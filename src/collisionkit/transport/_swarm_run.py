@@ -142,7 +142,7 @@ class Stepper:
             backup = swarm.copy() if slots else None
             self._run(swarm, t0, t1, buffers)
             tallies, child_pos, child_vel, child_state, child_alive, child_count = buffers
-            if np.all(child_count <= slots):
+            if not slots or np.all(child_count <= slots):  # no slots: children are not followed (a trace)
                 break
             swarm = backup
             if self.slots < MAX_SLOTS:

@@ -1,188 +1,76 @@
-"""Reader of LXCat cross-section files (classic blocks and the SPECIES:/PROCESS:/PARAM.: style).
+"""Reader of LXCat cross-section files: both layouts, every process kind, several files, multi-database exports.
 
-A block starts with a keyword line (ELASTIC, EFFECTIVE, EXCITATION,
-IONIZATION, ATTACHMENT), then the target species (``Ar`` or
-``Ar -> Ar*``), then - except for ATTACHMENT - a number: the mass ratio m/M
-(ELASTIC, EFFECTIVE) or the threshold energy in eV (EXCITATION,
-IONIZATION). Comment lines follow until a line of five or more dashes; the
-table (energy in eV, cross section in m^2) runs to the next dashes line.
-Newer files add ``SPECIES: e / Ar``, ``PROCESS: E + Ar -> E + Ar*, Excitation``
-and ``PARAM.: E = 11.5 eV`` (or ``m/M = 1.36e-5``) lines in the comment
-part; a block may also start directly at its ``SPECIES:`` line, the kind then
-being read from the ``PROCESS:`` line. Everything outside blocks is ignored.
+Blocks (see :mod:`collisionkit.transport._lxcat_blocks` for the layout):
+ELASTIC and MOMENTUM (elastic momentum transfer), EFFECTIVE (momentum
+transfer of all processes), EXCITATION, VIBRATIONAL, ROTATIONAL / ROTATION
+(excitations), IONIZATION, ATTACHMENT, in the classic layout (keyword,
+target, parameter lines) or the newer one (``SPECIES:`` / ``PROCESS:`` /
+``PARAM.:`` lines). Species names follow :mod:`._lxcat_names`: ``Ar``,
+``Ar <-> Ar*``, ``e / Ar`` and ``Ar(1S0)`` are all ``Ar``.
 
-EFFECTIVE (momentum transfer of all processes) becomes an elastic momentum
-transfer cross section ``sigma_eff - sum(inelastic)`` (clipped at 0), as
-BOLSIG+ does.
+How a gas is made from the blocks:
 
-Malformed input raises :class:`LXCatError` (a ValueError) naming the file and line.
+* only the blocks of the species asked for are checked: a malformed block of
+  another species (or of another database) is skipped with a note, never
+  read;
+* a species found in several databases (a multi-database export, or files
+  from two databases) needs ``database=`` (its ``PERMLINK`` name, e.g.
+  ``Biagi``; the file name for a file without ``DATABASE:`` lines);
+* the mass ratio m/M comes from the ELASTIC or EFFECTIVE block; a file that
+  brings a species without one (a rotational set) is read with a note when
+  another file gives the species its elastic block, else refused;
+* EFFECTIVE becomes an elastic momentum-transfer cross section
+  ``sigma_eff - sum(inelastic of the same file)``, as BOLSIG+ does; a
+  negative difference is clipped to 0 with a warning;
+* a reversible excitation (``<->``, or a second number after the energy loss,
+  or ``PARAM.: g1/g0 = ...``) gets ``Process.weight_ratio``: the given ratio,
+  1 for ``<->`` without one (the BOLSIG+ convention written in LXCat
+  headers).
+
+Notes are :class:`LXCatWarning` (Python warnings); errors are
+:class:`LXCatError` naming the file, the line and the block.
 """
 
 from __future__ import annotations
 
-import re
-from dataclasses import dataclass, field
+import warnings
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 
 import numpy as np
 from scipy import constants
 
+from ._lxcat_blocks import KEYWORDS, LXCatBlock, LXCatError, scan
+from ._lxcat_names import product_formula, product_target, resolve_names, target_name
 from .gases import Gas, Process, Species
 
-__all__ = ["LXCatError", "LXCatBlock", "parse_lxcat", "read_lxcat"]
+__all__ = ["KEYWORDS", "LXCatError", "LXCatWarning", "LXCatBlock", "parse_lxcat", "read_lxcat", "lxcat_contents"]
 
-KEYWORDS = ("ELASTIC", "EFFECTIVE", "MOMENTUM", "EXCITATION", "IONIZATION", "ATTACHMENT", "ROTATION", "ROTATIONAL")
-KIND_OF = {"ELASTIC": "elastic", "EFFECTIVE": "effective", "MOMENTUM": "elastic", "EXCITATION": "excitation",
-           "ROTATION": "excitation", "ROTATIONAL": "excitation", "IONIZATION": "ionization",
-           "ATTACHMENT": "attachment"}
-DASHES = re.compile(r"^-{5,}\s*$")
-NUMBER = r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eEdD][-+]?\d+)?"
+PRESERVING = ("ELASTIC", "MOMENTUM", "EFFECTIVE", "ROTATIONAL", "ROTATION", "VIBRATIONAL")  # the target is unchanged
+MOMENTUM_KINDS = ("elastic", "effective")
 
 
-class LXCatError(ValueError):
-    """A malformed or unphysical LXCat file; the message names the line.
+class LXCatWarning(UserWarning):
+    """A note about an LXCat read: skipped blocks, clipped values, a set completed from another file.
 
     Examples
     --------
-    >>> from collisionkit.transport import LXCatError, parse_lxcat
-    >>> try:
-    ...     parse_lxcat(chr(10).join(["ELASTIC", "Ar", " not a number", "-----", "1 2", "-----"]))
-    ... except LXCatError as error:
-    ...     print("refused")
-    refused
+    >>> import warnings
+    >>> from collisionkit.transport import LXCatWarning
+    >>> with warnings.catch_warnings(record=True) as caught:
+    ...     warnings.simplefilter("always")
+    ...     warnings.warn("a note", LXCatWarning)
+    >>> caught[0].category.__name__
+    'LXCatWarning'
     """
 
 
-@dataclass
-class LXCatBlock:
-    """One process block as read from the file.
-
-    Examples
-    --------
-    >>> from collisionkit.transport.lxcat import LXCatBlock
-    >>> LXCatBlock(kind="EXCITATION", species="Ar", line=12, parameter=11.5).parameter
-    11.5
-    """
-
-    kind: str
-    species: str
-    line: int
-    parameter: float | None = None
-    process: str = ""
-    energy: np.ndarray = field(default_factory=lambda: np.zeros(0))
-    cross_section: np.ndarray = field(default_factory=lambda: np.zeros(0))
-
-    @property
-    def target(self) -> str:
-        """The target name: ``Ar`` from ``Ar -> Ar*`` or ``e / Ar``."""
-        name = self.species.split("->")[0].split("<->")[0]
-        if "/" in name:
-            name = name.split("/")[-1]
-        return name.strip()
-
-
-def _number(text, where):
-    try:
-        return float(text.replace("d", "e").replace("D", "e"))
-    except ValueError:
-        raise LXCatError(f"{where}: expected a number, got {text!r}") from None
-
-
-def _kind_from_process(text, where):
-    kind = text.rsplit(",", 1)[-1].strip().upper()
-    for keyword in KEYWORDS:
-        if kind.startswith(keyword):
-            return KIND_OF[keyword]
-    raise LXCatError(f"{where}: cannot tell the process type from PROCESS: {text!r}")
-
-
-def _param(block, text, where):
-    match = re.search(r"(m/M|E)\s*=\s*(" + NUMBER + ")", text)
-    if match:
-        value = _number(match.group(2), where)
-        if match.group(1) == "E" and block.kind in ("excitation", "ionization"):
-            block.parameter = value
-        elif match.group(1) == "m/M" and block.kind in ("elastic", "effective"):
-            block.parameter = value
-
-
-def _read_table(lines, start, source):
-    """Rows from ``start`` to the closing dashes; return (energy, sigma, next index)."""
-    rows = []
-    i = start
-    while i < len(lines):
-        text = lines[i].strip()
-        if DASHES.match(text):
-            return np.array([r[0] for r in rows]), np.array([r[1] for r in rows]), i + 1
-        where = f"{source}, line {i + 1}"
-        parts = text.split()
-        if len(parts) < 2:
-            raise LXCatError(f"{where}: expected two numbers (energy, cross section) in the table, got {text!r}")
-        energy, sigma = _number(parts[0], where), _number(parts[1], where)
-        if energy < 0:
-            raise LXCatError(f"{where}: negative energy {energy}")
-        if sigma < 0:
-            raise LXCatError(f"{where}: negative cross section {sigma}")
-        if rows and energy <= rows[-1][0]:
-            raise LXCatError(f"{where}: energies must increase ({energy} after {rows[-1][0]})")
-        rows.append((energy, sigma))
-        i += 1
-    raise LXCatError(f"{source}, line {start}: table not closed by a line of dashes")
-
-
-def _read_block(lines, i, source):
-    """Parse the block starting at line index ``i``; return (block, next index)."""
-    first = lines[i].strip()
-    where = f"{source}, line {i + 1}"
-    keyword = first.split()[0].upper() if first else ""
-    if keyword in KIND_OF:
-        if i + 1 >= len(lines):
-            raise LXCatError(f"{where}: {keyword} block ends before its species line")
-        block = LXCatBlock(KIND_OF[keyword], lines[i + 1].strip(), i + 1)
-        j = i + 2
-        if block.kind != "attachment" and j < len(lines) and re.match(r"^\s*" + NUMBER + r"(\s|$)", lines[j]):
-            block.parameter = _number(lines[j].split()[0], f"{source}, line {j + 1}")
-            j += 1
-    else:  # a block that starts at SPECIES:
-        block = LXCatBlock("", first.split(":", 1)[1].strip(), i + 1)
-        j = i + 1
-    while j < len(lines) and not DASHES.match(lines[j].strip()):
-        text = lines[j].strip()
-        upper = text.upper()
-        here = f"{source}, line {j + 1}"
-        if upper.startswith("SPECIES:") and block.kind:
-            block.species = text.split(":", 1)[1].strip()
-        elif upper.startswith("PROCESS:"):
-            block.process = text.split(":", 1)[1].strip()
-            if not block.kind:
-                block.kind = _kind_from_process(block.process, here)
-        elif upper.startswith("PARAM.:") and block.kind:
-            _param(block, text, here)
-        j += 1
-    if j >= len(lines):
-        raise LXCatError(f"{where}: block has no table (no line of dashes follows)")
-    if not block.kind:
-        raise LXCatError(f"{where}: block without a process type (no keyword line and no PROCESS: line)")
-    block.energy, block.cross_section, j = _read_table(lines, j + 1, source)
-    _check_block(block, where)
-    return block, j
-
-
-def _check_block(block, where):
-    if block.energy.size == 0:
-        raise LXCatError(f"{where}: empty cross-section table")
-    if block.kind in ("excitation", "ionization"):
-        if block.parameter is None:
-            raise LXCatError(f"{where}: {block.kind} block needs a threshold energy (eV)")
-        if block.parameter < 0:
-            raise LXCatError(f"{where}: threshold below zero ({block.parameter} eV)")
-    if block.kind in ("elastic", "effective"):
-        if block.parameter is None or not block.parameter > 0:
-            raise LXCatError(f"{where}: {block.kind} block needs a mass ratio m/M > 0; got {block.parameter}")
+def _note(message: str) -> None:
+    warnings.warn(message, LXCatWarning, stacklevel=3)
 
 
 def parse_lxcat(text: str, source: str = "<string>") -> list[LXCatBlock]:
-    """All process blocks of an LXCat file's text.
+    """All process blocks of an LXCat file's text, each checked (LXCatError at the first malformed one).
 
     Examples
     --------
@@ -198,73 +86,217 @@ def parse_lxcat(text: str, source: str = "<string>") -> list[LXCatBlock]:
     >>> [(b.kind, b.target, b.parameter, b.energy.size) for b in parse_lxcat(text)]
     [('excitation', 'Ar', 11.5, 2)]
     """
-    lines = text.splitlines()
-    blocks, i = [], 0
-    while i < len(lines):
-        stripped = lines[i].strip()
-        keyword = stripped.split()[0].upper() if stripped else ""
-        starts_at_species = stripped.upper().startswith("SPECIES:") and i + 1 < len(lines) and (
-            lines[i + 1].strip().upper().startswith("PROCESS:"))
-        if stripped == keyword and keyword in KIND_OF or starts_at_species:
-            block, i = _read_block(lines, i, source)
-            blocks.append(block)
-        else:
-            i += 1
+    blocks = scan(text, source)
     if not blocks:
-        raise LXCatError(f"{source}: no cross-section blocks found (expected ELASTIC, EXCITATION, ... keywords)")
+        raise LXCatError(f"{source}: no cross-section blocks found (expected {', '.join(KEYWORDS)} keywords)")
+    return [block.check() for block in blocks]
+
+
+def _read_file(path: Path) -> list[LXCatBlock]:
+    """The blocks of one file, each with its species name resolved within the file (``name`` attribute)."""
+    if path.is_dir():
+        raise LXCatError(f"cross-section file {path} is a folder, not a file")
+    try:
+        text = path.read_text(encoding="utf-8", errors="replace")
+    except FileNotFoundError:
+        raise LXCatError(f"cross-section file not found: {path}") from None
+    except OSError as failure:
+        raise LXCatError(f"cross-section file {path} cannot be read: {failure.strerror or failure}") from None
+    blocks = scan(text, str(path))
+    if not blocks:
+        raise LXCatError(f"{path}: no cross-section blocks found (expected {', '.join(KEYWORDS)} keywords)")
+    products: dict[str, set] = {}
+    for block in blocks:
+        formula = product_formula(block.process) if block.keyword in PRESERVING and block.process else None
+        if formula is not None:
+            products.setdefault(block.target, set()).add(formula)
+    resolved = resolve_names([block.target for block in blocks], products)
+    for block in blocks:
+        block.name = resolved.get(block.target, block.target)
+        if block.kind in MOMENTUM_KINDS and block.target in resolved:  # elastic on a state: E + Oxygen -> E + O(1D)
+            block.name = product_target(block.process) or block.name
     return blocks
 
 
-def _species_from_blocks(name, blocks, scattering, screening_energy):
-    masses = [b.parameter for b in blocks if b.kind in ("elastic", "effective")]
-    if not masses:
-        raise LXCatError(f"species {name}: no ELASTIC or EFFECTIVE block (needed for the mass ratio)")
-    mass = constants.m_e / masses[0]
-    inelastic = [b for b in blocks if b.kind in ("excitation", "ionization", "attachment")]
-    processes = []
-    for b in blocks:
-        label = b.process or f"{b.kind} {b.species}"
-        if b.kind in ("elastic", "effective"):
-            sigma = b.cross_section.copy()
-            if b.kind == "effective":
-                for other in inelastic:
-                    sigma -= np.interp(b.energy, other.energy, other.cross_section, left=0.0,
-                                       right=other.cross_section[-1])
-                sigma = np.maximum(sigma, 0.0)
-            processes.append(Process("elastic", b.energy, sigma, label=label, scattering="isotropic"))
-        else:
-            threshold = b.parameter if b.kind != "attachment" else 0.0
-            processes.append(Process(b.kind, b.energy, b.cross_section, threshold=threshold, label=label))
-    species = Species(name, mass, tuple(processes))
-    if scattering != "isotropic":
-        from .gases import screened_coulomb_momentum_ratio
-
-        converted = []
-        for p in species.processes:
-            if p.kind == "elastic":
-                ratio = screened_coulomb_momentum_ratio(p.energy, screening_energy)
-                p = Process("elastic", p.energy, p.cross_section / ratio, label=p.label, scattering=scattering,
-                            screening_energy=screening_energy)
-            converted.append(p)
-        species = Species(name, mass, tuple(converted))
-    return species
+def _paths(path) -> list[Path]:
+    if isinstance(path, (str, Path)) or hasattr(path, "__fspath__"):
+        return [Path(path)]
+    paths = [Path(item) for item in path]
+    if not paths:
+        raise LXCatError("give at least one cross-section file")
+    return paths
 
 
-def read_lxcat(path, species=None, fractions=None, scattering="isotropic", screening_energy=1.0) -> Gas:
-    """Read an LXCat file into a :class:`~collisionkit.transport.Gas`.
+def _chosen_species(blocks, species) -> list[str]:
+    names = list(dict.fromkeys(block.name for block in blocks))
+    if species is None:
+        return names
+    chosen = []
+    for wanted in ([species] if isinstance(species, str) else list(species)):
+        spelled = target_name(str(wanted))
+        match = next((b.name for b in blocks if spelled in (b.name, b.target) or wanted == b.species), None)
+        if match is None:
+            files = list(dict.fromkeys(Path(block.source).name for block in blocks))
+            where = f"the file {files[0]}" if len(files) == 1 else f"the files {', '.join(files)}"
+            raise LXCatError(f"species {wanted!r} is not in {where} (found {', '.join(names)})")
+        chosen.append(match)
+    return chosen
+
+
+def _files(blocks) -> str:
+    return ", ".join(dict.fromkeys(Path(block.source).name for block in blocks))
+
+
+def _database_blocks(name, blocks, database):
+    """The blocks of species ``name`` from one database (``database``: str, mapping or None)."""
+    databases = list(dict.fromkeys(block.database for block in blocks))
+    wanted = database.get(name) if isinstance(database, Mapping) else database
+    if wanted is not None:
+        key = str(wanted).lower()
+        picked = [b for b in blocks if b.database.lower() == key or Path(b.source).name.lower() == key]
+        if picked:
+            return picked
+        if len(databases) > 1 or isinstance(database, Mapping):
+            raise LXCatError(f"species {name} is not in the database {wanted!r} in {_files(blocks)} "
+                             f"(its databases: {', '.join(databases)})")
+    if len(databases) > 1:
+        raise LXCatError(f"species {name} is in {len(databases)} databases in {_files(blocks)}: "
+                         f"{', '.join(databases)}; choose one with database= (--database), e.g. {databases[0]!r}")
+    return blocks
+
+
+def _momentum_block(name, blocks):
+    momentum = [b for b in blocks if b.kind in MOMENTUM_KINDS]
+    if not momentum:
+        raise LXCatError(f"species {name} has no ELASTIC or EFFECTIVE block in {_files(blocks)} (its mass ratio and "
+                         "momentum transfer): add the file of its complete set (a rotational set needs the file with "
+                         "its elastic cross section), or leave the species out with species= (--species)")
+    if len(momentum) > 1:
+        places = "; ".join(f"{b.keyword or b.kind.upper()} in {b.where}" for b in momentum)
+        raise LXCatError(f"species {name} has {len(momentum)} momentum-transfer blocks ({places}): a complete set "
+                         "has one ELASTIC or one EFFECTIVE; choose the files or database= of one set")
+    for source in dict.fromkeys(b.source for b in blocks):
+        if source != momentum[0].source:
+            count = sum(b.source == source for b in blocks)
+            _note(f"{source}: its {count} processes of {name} have no elastic or effective block in this file; "
+                  f"the elastic one comes from {momentum[0].source}")
+    return momentum[0]
+
+
+def _elastic_from_effective(effective: LXCatBlock, inelastic) -> np.ndarray:
+    """sigma_eff - sum(inelastic) at the effective table's energies, clipped at 0 with a warning."""
+    sigma = effective.cross_section.copy()
+    for other in inelastic:
+        sigma -= np.interp(effective.energy, other.energy, other.cross_section, left=0.0,
+                           right=other.cross_section[-1])
+    negative = sigma < 0
+    if np.any(negative):
+        worst = int(np.argmin(sigma))
+        low, high = effective.energy[negative].min(), effective.energy[negative].max()
+        _note(f"{effective.where} ({effective.title}): effective minus inelastic cross sections is negative at "
+              f"{int(negative.sum())} of {sigma.size} energies, {low:g} to {high:g} eV (down to {sigma[worst]:.3g} "
+              "m^2; inelastic tables count as constant beyond their last energy); clipped to 0")
+    return np.maximum(sigma, 0.0)
+
+
+def _process(block: LXCatBlock, effective_elastic=None) -> Process:
+    label = block.process or f"{block.keyword.lower() or block.kind} {block.species}".strip()
+    if block.kind in MOMENTUM_KINDS:
+        sigma = block.cross_section if effective_elastic is None else effective_elastic
+        return Process("elastic", block.energy, sigma, label=label, scattering="isotropic")
+    threshold = block.parameter if block.kind in ("excitation", "ionization") else 0.0
+    ratio = 0.0
+    if block.kind == "excitation" and (block.reversible or block.weight_ratio is not None):
+        ratio = block.weight_ratio if block.weight_ratio is not None else 1.0
+    try:
+        return Process(block.kind, block.energy, block.cross_section, threshold=threshold, label=label,
+                       weight_ratio=ratio)
+    except ValueError as refused:
+        raise LXCatError(f"{block.where}: {refused} ({block.title})") from None
+
+
+def _species(name, blocks, scattering, screening_energy) -> Species:
+    for block in blocks:
+        block.check()
+    momentum = _momentum_block(name, blocks)
+    inelastic = [b for b in blocks if b.kind not in MOMENTUM_KINDS]
+    elastic = None
+    if momentum.kind == "effective":
+        elastic = _elastic_from_effective(momentum, [b for b in inelastic if b.source == momentum.source])
+    processes = [_process(b, elastic if b is momentum else None) for b in blocks if b.kind not in MOMENTUM_KINDS
+                 or b is momentum]
+    levels = [b for b in inelastic if b.initial_level() is not None]
+    if levels:
+        _note(f"{_files(levels)}: {len(levels)} processes of {name} start from a given rotational or vibrational "
+              f"level (e.g. {levels[0].process or levels[0].species!r}, from {levels[0].initial_level()}); the swarm "
+              f"applies each to the whole {name} density (collisionkit has no populations of these levels), so "
+              "their rates are those of a gas wholly in that level")
+    species = Species(name, constants.m_e / momentum.parameter, tuple(processes))
+    if scattering == "isotropic":
+        return species
+    from .gases import screened_coulomb_momentum_ratio
+
+    converted = []
+    for p in species.processes:
+        if p.kind == "elastic":
+            ratio = screened_coulomb_momentum_ratio(p.energy, screening_energy)
+            p = Process("elastic", p.energy, p.cross_section / ratio, label=p.label, scattering=scattering,
+                        screening_energy=screening_energy)
+        converted.append(p)
+    return Species(name, species.mass, tuple(converted))
+
+
+def _skipped_note(blocks, used) -> None:
+    used = {id(block) for block in used}
+    for source in dict.fromkeys(b.source for b in blocks):
+        skipped = [b for b in blocks if b.source == source and id(b) not in used]
+        if not skipped:
+            continue
+        names = list(dict.fromkeys(f"{b.name} ({b.database})" if b.database != Path(b.source).name else b.name
+                                   for b in skipped))
+        broken = sum(b.problem is not None for b in skipped)
+        fault = f"; {broken} of them malformed, not read" if broken else ""
+        shown = ", ".join(names[:8]) + (f" and {len(names) - 8} more" if len(names) > 8 else "")
+        _note(f"{source}: skipped {len(skipped)} blocks of {shown} (not asked for{fault})")
+
+
+def read_lxcat(path, species=None, fractions=None, database=None, scattering="isotropic",
+               screening_energy=1.0) -> Gas:
+    """Read LXCat files into a :class:`~collisionkit.transport.Gas`.
 
     Parameters
     ----------
-    path : str or Path
-    species : sequence of str, optional
-        Targets to keep (default: every target in the file).
+    path : str or Path, or a sequence of them
+        One file or several (joined: a species may take its processes from
+        several files, e.g. a rotational set next to its complete set).
+    species : str or sequence of str, optional
+        Targets to keep (default: every target of the files), by name
+        (``N2``; ``N2(X)`` or the file's spelling also find it).
     fractions : sequence of float, optional
         Number fractions of those targets (default: equal).
+    database : str or mapping, optional
+        The database to take a species from when the files hold it from
+        several (a multi-database export): the ``PERMLINK`` name (``Biagi``,
+        ``IST-Lisbon``) or the file name; a mapping ``{species: database}``
+        chooses per species.
     scattering : {"isotropic", "screened_coulomb"}
         Angular model of elastic collisions; for screened Coulomb the file's
         momentum-transfer cross section is divided by <1 - cos chi>.
     screening_energy : float
         eV, see :func:`~collisionkit.transport.screened_coulomb_momentum_ratio`.
+
+    Raises
+    ------
+    LXCatError
+        A missing file, a species not in the files, a species in several
+        databases without ``database``, a malformed block of a species used
+        (naming file, line and block), a species without elastic block.
+
+    Warns
+    -----
+    LXCatWarning
+        Blocks skipped, effective-minus-inelastic values clipped, a species
+        completed from another file, level-resolved processes.
 
     Examples
     --------
@@ -276,17 +308,48 @@ def read_lxcat(path, species=None, fractions=None, scattering="isotropic", scree
     >>> gas.species[0].name, round(gas.species[0].mass / 9.1093837e-31 * 1.37e-4, 6)
     ('He', 1.0)
     """
-    path = Path(path)
-    try:
-        text = path.read_text(encoding="utf-8", errors="replace")
-    except FileNotFoundError:
-        raise LXCatError(f"cross-section file not found: {path}") from None
-    blocks = parse_lxcat(text, str(path))
-    names = list(dict.fromkeys(b.target for b in blocks))
-    chosen = list(species) if species is not None else names
-    missing = [name for name in chosen if name not in names]
-    if missing:
-        raise LXCatError(f"{path}: species {missing} not in the file (found {names})")
-    members = tuple(_species_from_blocks(name, [b for b in blocks if b.target == name], scattering, screening_energy)
-                    for name in chosen)
-    return Gas(members, tuple(fractions) if fractions is not None else ())
+    blocks = [block for file in _paths(path) for block in _read_file(file)]
+    chosen = _chosen_species(blocks, species)
+    if fractions is not None and len(list(fractions)) != len(chosen):
+        raise LXCatError(f"fractions: give one per species ({len(chosen)}: {', '.join(chosen)}); got {len(list(fractions))}")
+    if isinstance(database, str):
+        key = database.lower()
+        if not any(b.database.lower() == key or Path(b.source).name.lower() == key for b in blocks if b.name in chosen):
+            found = ", ".join(dict.fromkeys(b.database for b in blocks if b.name in chosen))
+            raise LXCatError(f"database {database!r} holds none of {', '.join(chosen)} in {_files(blocks)} "
+                             f"(their databases: {found})")
+    used, members = [], []
+    for name in chosen:
+        own = _database_blocks(name, [b for b in blocks if b.name == name], database)
+        used.extend(own)
+        members.append(own)
+    if species is not None or database is not None:
+        _skipped_note(blocks, used)
+    gas_species = tuple(_species(name, own, scattering, screening_energy) for name, own in zip(chosen, members))
+    return Gas(gas_species, tuple(fractions) if fractions is not None else ())
+
+
+def lxcat_contents(path) -> list[dict]:
+    """What LXCat files hold: one entry per species and database, with its processes counted by kind.
+
+    Nothing is checked (a malformed block is counted, marked in ``malformed``).
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> from collisionkit.transport.lxcat import lxcat_contents
+    >>> folder = pathlib.Path(tempfile.mkdtemp())
+    >>> _ = (folder / "x.txt").write_text("ELASTIC\\nX\\n1e-4\\n-----\\n0 1e-20\\n-----\\n")
+    >>> lxcat_contents(folder / "x.txt")[0]["processes"]
+    {'elastic': 1}
+    """
+    entries: dict[tuple[str, str], dict] = {}
+    for block in (block for file in _paths(path) for block in _read_file(file)):
+        entry = entries.setdefault((block.name, block.database), {
+            "species": block.name, "database": block.database, "processes": {}, "malformed": 0, "files": []})
+        kind = "elastic" if block.kind in MOMENTUM_KINDS else block.kind or "unknown"
+        entry["processes"][kind] = entry["processes"].get(kind, 0) + 1
+        entry["malformed"] += block.problem is not None
+        if block.source not in entry["files"]:
+            entry["files"].append(block.source)
+    return list(entries.values())

@@ -17,6 +17,7 @@ and resumes from it::
 from __future__ import annotations
 
 import dataclasses
+import hashlib
 from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any, ClassVar
@@ -25,6 +26,7 @@ import numpy as np
 
 from .._io import Checkpoint, CheckpointError, exclusive, file_digest, read_checkpoint, write_checkpoint
 from .._params import Parameters, check_choice, check_unchanged, check_integer, check_real, check_seed
+from .catalogue import catalogue_files, catalogue_gas
 from .gases import MODEL_GASES, Gas, model_gas
 from .lxcat import read_lxcat
 from .swarm import SwarmResult, simulate_swarm
@@ -45,12 +47,18 @@ class SwarmParameters(Parameters):
         E/N values in Td (finite, >= 0), run in order (``--E-N``).
     model : str, optional
         A model gas (:data:`~collisionkit.transport.MODEL_GASES`); exactly
-        one of ``model`` and ``cross_sections``.
-    cross_sections : path, optional
-        An LXCat file (stored resolved, so a resumed scan finds it from
-        any folder).
+        one of ``model``, ``gas`` and ``cross_sections``.
+    gas : str, optional
+        A real gas of the catalogue (``"Ar"``) or a mixture by mole fraction
+        (``"Ar:0.9,N2:0.1"``): :func:`~collisionkit.transport.catalogue_gas`.
+    cross_sections : path or sequence of paths, optional
+        LXCat files, joined (stored resolved, so a resumed scan finds them
+        from any folder).
     species, fractions : sequence, optional
-        Targets of the LXCat file to use and their number fractions.
+        Targets of the LXCat files to use and their number fractions.
+    database : str, optional
+        The database to take a species from when the files hold it from
+        several (:func:`~collisionkit.transport.read_lxcat`).
     reduced_magnetic_field : float
         B/N in Hx along y (``--B-N``).
     gas_temperature : float
@@ -79,9 +87,11 @@ class SwarmParameters(Parameters):
 
     reduced_field: Any = (12.0,)
     model: str | None = None
+    gas: str | None = None
     cross_sections: Any = None
     species: Any = None
     fractions: Any = None
+    database: str | None = None
     reduced_magnetic_field: float = 0.0
     gas_temperature: float = 0.0
     particles: int = 20_000
@@ -96,15 +106,23 @@ class SwarmParameters(Parameters):
         fields = _reduced_fields(self.reduced_field)
         set_ = object.__setattr__
         set_(self, "reduced_field", fields)
-        if (self.model is None) == (self.cross_sections is None):
-            raise ValueError("give exactly one of model and cross_sections (--model, --cross-sections)")
+        if sum(value is not None for value in (self.model, self.gas, self.cross_sections)) != 1:
+            raise ValueError("give exactly one of model, gas and cross_sections (--model, --gas, --cross-sections)")
+        if self.cross_sections is None:
+            chosen = f"the model gas {self.model}" if self.model is not None else f"the catalogue gas {self.gas}"
+            if self.species is not None or self.fractions is not None or self.database is not None:
+                raise ValueError("species, fractions and database pick gases from LXCat files (cross_sections); "
+                                 f"{chosen} takes none of them")
         if self.model is not None:
             check_choice("model", self.model, sorted(MODEL_GASES))
-            if self.species is not None or self.fractions is not None:
-                raise ValueError("species and fractions pick gases from an LXCat file (cross_sections); "
-                                 f"the model gas {self.model} takes neither")
+        elif self.gas is not None:
+            if not isinstance(self.gas, str):
+                raise TypeError(f"gas must be a catalogue name or a mixture such as 'Ar:0.9,N2:0.1'; got {self.gas!r}")
+            catalogue_files(self.gas)  # an unknown name, bad fractions or a set not downloaded: refused now
         else:
-            set_(self, "cross_sections", Path(self.cross_sections).resolve())
+            set_(self, "cross_sections", _paths(self.cross_sections))
+            if self.database is not None and not (isinstance(self.database, str) and self.database):
+                raise TypeError(f"database must be a database's name; got {self.database!r}")
         set_(self, "species", None if self.species is None else _strings("species", self.species))
         set_(self, "fractions", None if self.fractions is None else _reals("fractions", self.fractions))
         set_(self, "reduced_magnetic_field", check_real("reduced_magnetic_field (B/N)", self.reduced_magnetic_field))
@@ -118,29 +136,48 @@ class SwarmParameters(Parameters):
             raise ValueError("E/N = 0 in a gas at 0 K has no steady state (nothing heats the swarm; it cools "
                              "without end): give gas_temperature > 0 (--gas-temperature) or E/N > 0")
 
-    def gas(self) -> Gas:
-        """The target gas: the model gas, or the LXCat file's species (ValueError if unreadable).
+    def make_gas(self) -> Gas:
+        """The target gas: the model gas, the catalogue gas, or the LXCat files' species (ValueError if unreadable).
 
         Examples
         --------
-        >>> SwarmParameters(model="reid").gas().species[0].name
+        >>> SwarmParameters(model="reid").make_gas().species[0].name
         'reid'
+        >>> SwarmParameters(gas="Ar").make_gas().species[0].name
+        'Ar'
         """
         if self.model is not None:
             return model_gas(self.model)
-        if self.cross_sections.is_dir():
-            raise ValueError(f"cross_sections {self.cross_sections} is a folder; give an LXCat file")
-        return read_lxcat(self.cross_sections, species=self.species, fractions=self.fractions)
+        if self.gas is not None:
+            return catalogue_gas(self.gas)
+        for path in self.cross_sections:
+            if path.is_dir():
+                raise ValueError(f"cross_sections {path} is a folder; give an LXCat file")
+        return read_lxcat(self.cross_sections, species=self.species, fractions=self.fractions, database=self.database)
 
-    def gas_name(self) -> str:
-        """The model's name or the LXCat file's path.
+    def gas_files(self) -> list[Path]:
+        """The cross-section files the gas is read from (none for a model gas).
 
         Examples
         --------
-        >>> SwarmParameters(model="maxwell").gas_name()
-        'maxwell'
+        >>> [path.name for path in SwarmParameters(gas="N2").gas_files()], SwarmParameters(model="reid").gas_files()
+        (['IST-Lisbon_N2.txt'], [])
         """
-        return str(self.model or self.cross_sections)
+        if self.gas is not None:
+            return catalogue_files(self.gas)
+        return list(self.cross_sections or ())
+
+    def gas_name(self) -> str:
+        """The model's name, the catalogue gas or the LXCat files' paths.
+
+        Examples
+        --------
+        >>> SwarmParameters(model="maxwell").gas_name(), SwarmParameters(gas="Ar:0.9,N2:0.1").gas_name()
+        ('maxwell', 'Ar:0.9,N2:0.1')
+        """
+        if self.cross_sections is not None:
+            return ", ".join(str(path) for path in self.cross_sections)
+        return str(self.model or self.gas)
 
 
 def _reduced_fields(value) -> tuple[float, ...]:
@@ -148,6 +185,30 @@ def _reduced_fields(value) -> tuple[float, ...]:
     if not values:
         raise ValueError("reduced_field (E/N) needs at least one value in Td")
     return tuple(check_real("reduced_field (E/N)", item, 0.0) for item in values)
+
+
+def _paths(values) -> tuple[Path, ...]:
+    """One path or several, resolved (a resumed scan finds them from any folder)."""
+    values = [values] if isinstance(values, (str, Path)) or hasattr(values, "__fspath__") else list(values)
+    if not values:
+        raise ValueError("cross_sections needs at least one LXCat file")
+    return tuple(Path(value).resolve() for value in values)
+
+
+def gas_files_digest(paths) -> str | None:
+    """SHA-256 of the cross-section files (of one file: its own digest; of several: of their digests in order).
+
+    Examples
+    --------
+    >>> gas_files_digest([]) is None
+    True
+    """
+    paths = list(paths)
+    if not paths:
+        return None
+    if len(paths) == 1:
+        return file_digest(paths[0])
+    return hashlib.sha256("\n".join(file_digest(path) for path in paths).encode()).hexdigest()
 
 
 def _strings(name: str, values) -> tuple[str, ...]:
@@ -171,7 +232,7 @@ class SwarmScan:
     checkpoint : path, optional
         Written (``.npz``, atomically) after every finished E/N point.
     gas : Gas, optional
-        A gas built in Python (default: ``parameters.gas()``).
+        A gas built in Python (default: ``parameters.make_gas()``).
 
     Examples
     --------
@@ -191,7 +252,7 @@ class SwarmScan:
             raise TypeError(f"parameters must be SwarmParameters; got {type(parameters).__name__}")
         self.parameters = parameters
         self.checkpoint = None if checkpoint is None else Path(checkpoint)
-        self.gas = parameters.gas() if gas is None else gas
+        self.gas = parameters.make_gas() if gas is None else gas
         self.results: list[SwarmResult] = list(results)
 
     @property
@@ -265,7 +326,7 @@ class SwarmScan:
         path = self.checkpoint if path is None else Path(path)
         if path is None:
             return None
-        state = {"cross_sections_sha256": file_digest(self.parameters.cross_sections),
+        state = {"cross_sections_sha256": gas_files_digest(self.parameters.gas_files()),
                  "results": [result.to_dict() for result in self.results]}
         return write_checkpoint(path, CHECKPOINT_KIND, self.parameters.to_dict(), state)
 
@@ -310,10 +371,11 @@ class SwarmScan:
         results = [_saved_result(saved, index, entry) for index, entry in enumerate(saved.entry("results", "list"))]
         check_unchanged(parameters, given, path)
         digest = saved.entry("cross_sections_sha256", "text", optional=True)
-        if parameters.cross_sections is not None and digest is not None and parameters.cross_sections.is_file() \
-                and file_digest(parameters.cross_sections) != digest:
-            raise ValueError(f"{parameters.cross_sections} has changed since {path} was written (its SHA-256 "
-                             "differs): a resumed scan must use the same cross sections")
+        files = parameters.gas_files()
+        if files and digest is not None and all(file.is_file() for file in files) \
+                and gas_files_digest(files) != digest:
+            raise ValueError(f"{', '.join(str(file) for file in files)} has changed since {path} was written (its "
+                             "SHA-256 differs): a resumed scan must use the same cross sections")
         if [r.reduced_field for r in results] != list(parameters.reduced_field[: len(results)]):
             raise CheckpointError(f"{path} holds results for E/N = {[r.reduced_field for r in results]}, not the "
                                   f"first points of its scan {list(parameters.reduced_field)}")
@@ -372,7 +434,7 @@ def swarm_summary(parameters: SwarmParameters, results: Sequence[SwarmResult], f
     --------
     >>> from collisionkit.transport import simulate_swarm
     >>> parameters = SwarmParameters(model="maxwell", reduced_field=10.0)
-    >>> result = simulate_swarm(parameters.gas(), 10.0, particles=640, seed=1, tolerances={"mean_energy": 0.05})
+    >>> result = simulate_swarm(parameters.make_gas(), 10.0, particles=640, seed=1, tolerances={"mean_energy": 0.05})
     >>> summary = swarm_summary(parameters, [result])
     >>> summary["mean_energy"] == summary["results"][0]["mean_energy"], summary["parameters"]["model"]
     (True, 'maxwell')

@@ -1,0 +1,73 @@
+"""Real argon from the shipped IST-Lisbon set against measured swarm data and an independent two-term solver.
+
+Measurements: N. Nakamura and M. Kurachi, J. Phys. D 21, 718 (1988), 300 K: drift velocity W
+(1 % rms, 2 % max uncertainty) and N D_L (10 % max), as tabulated in
+github.com/dreamer2368/uncertain-crs, swarm/NakamuraKurachi1988.txt (BSD-3-Clause).
+
+Two-term: BOLOS (A. Luque, github.com/aluque/bolos, commit 9a56b00, run outside this
+repository with its Python-2 idioms updated) on the same file, 300 K, a quadratic grid of
+800 cells up to 20 mean energies (400 cells change the values by < 0.05 %): the set's own
+prediction. The issue that asked for these checks found the swarm engine within 0.6 % (mean
+energy) and 1.4 % (flux drift) of a two-term solver on argon at 10-500 Td: the allowances of
+the two-term comparison are 1 % and 2 % (the two-term approximation's own error).
+
+The set against the measurements: the two-term W of this set is 7.2 % (20 Td) and 10.0 %
+(50 Td) above Nakamura & Kurachi. That is the cross-section-set allowance of the
+measured comparison of W (12 %, with 2 % for the two-term approximation); N D_L is compared
+within its 10 % measurement uncertainty. docs/guide/transport.rst tabulates the differences.
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+
+import pytest
+
+from collisionkit.transport import LXCatWarning, catalogue_gas, simulate_swarm
+
+pytestmark = pytest.mark.slow
+
+#: E/N (Td): (W cm/s, N D_L 1/(cm s)) measured by Nakamura & Kurachi (1988) at 300 K
+NAKAMURA_KURACHI = {20.0: (18.8e5, 3.45e22), 50.0: (41.2e5, 3.48e22)}
+#: E/N (Td): (mean energy eV, flux drift m/s) of BOLOS on the same file at 300 K
+TWO_TERM = {20.0: (5.6904, 2.01425e4), 50.0: (6.2207, 4.53334e4)}
+W_MEASURED_MAX, DL_MEASURED_MAX = 0.02, 0.10
+SET_ALLOWANCE_W = 0.12
+TWO_TERM_MEAN_ENERGY, TWO_TERM_DRIFT = 0.01, 0.02
+
+
+def _combined(*relative):
+    return math.sqrt(sum(r * r for r in relative))
+
+
+@pytest.fixture(scope="module")
+def argon():
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", LXCatWarning)  # the shipped argon set reads without a note
+        gas = catalogue_gas("Ar")
+    return {field: simulate_swarm(gas, field, gas_temperature=300.0, particles=20_000, seed=11,
+                                  tolerances={"mean_energy": 0.01, "drift_velocity_bulk": 0.01})
+            for field in (20.0, 50.0)}
+
+
+@pytest.mark.parametrize("field", [20.0, 50.0])
+def test_argon_matches_the_two_term_solution_of_the_same_set(argon, field):
+    result = argon[field]
+    energy, drift = TWO_TERM[field]
+    sigma = result.mean_energy_error / result.mean_energy
+    assert abs(result.mean_energy / energy - 1) <= _combined(3 * sigma, TWO_TERM_MEAN_ENERGY)
+    flux, flux_error = -result.drift_velocity_flux[2], result.drift_velocity_flux_error[2]
+    assert abs(flux / drift - 1) <= _combined(3 * flux_error / flux, TWO_TERM_DRIFT)
+
+
+@pytest.mark.parametrize("field", [20.0, 50.0])
+def test_argon_matches_nakamura_and_kurachi_within_their_uncertainty_and_the_sets_allowance(argon, field):
+    result = argon[field]
+    measured_w = NAKAMURA_KURACHI[field][0] * 1e-2  # cm/s -> m/s
+    measured_dl = NAKAMURA_KURACHI[field][1] * 1e2  # 1/(cm s) -> 1/(m s)
+    w, w_error = -result.drift_velocity_bulk[2], result.drift_velocity_bulk_error[2]
+    assert result.converged
+    assert abs(w / measured_w - 1) <= _combined(3 * w_error / w, W_MEASURED_MAX) + SET_ALLOWANCE_W
+    dl_sigma = result.diffusion_L_N_error / result.diffusion_L_N
+    assert abs(result.diffusion_L_N / measured_dl - 1) <= _combined(3 * dl_sigma, DL_MEASURED_MAX)
