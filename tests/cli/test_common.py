@@ -161,3 +161,11 @@ def test_messages_are_one_line_at_any_terminal_width(tmp_path):
         assert result.returncode == 2, result.stderr
         lines = [line for line in result.stderr.splitlines() if line.strip()]
         assert len(lines) == 1 and str(missing) in lines[0], (columns, result.stderr)
+
+
+def test_messages_print_colon_words_as_written_not_as_emoji(capsys):
+    # "--gas Ar:x:0.5" came out with an emoji where ":x:" stood
+    from collisionkit.cli import _messages
+
+    _messages.error("bad --gas Ar:x:0.5 (a :smile: path)")
+    assert "Ar:x:0.5 (a :smile: path)" in " ".join(capsys.readouterr().err.split())

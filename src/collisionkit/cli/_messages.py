@@ -19,8 +19,10 @@ import typer
 from rich.console import Console
 from rich.markup import escape
 
-console = Console(soft_wrap=True)  # messages and paths never wrap: a script (or a test) reads them whole
-error_console = Console(stderr=True, soft_wrap=True)
+# messages and paths never wrap (a script, or a test, reads them whole), and text such as "Ar:0.9,N2:0.1" or a
+# path with ":x:" in it is printed as written, never as an emoji
+console = Console(soft_wrap=True, emoji=False)
+error_console = Console(stderr=True, soft_wrap=True, emoji=False)
 
 OK_EXIT_CODE = 0
 RUN_FAILED_EXIT_CODE = 1
