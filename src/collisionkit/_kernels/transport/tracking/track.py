@@ -43,6 +43,7 @@ from ..cross_sections import rate_bound, trial_frequencies
 from ..flight import flown_position, flown_velocity
 from ..layout import ATTACHMENT, ELASTIC, EXCITATION, IONIZATION
 from ..rng import next_u64, normal_pair, seed_state, uniform
+from ..scattering import isotropic_direction
 from .codes import (
     ABSORB, DONE, E_MAP, B_MAP, ENDED_ATTACHED, ENDED_OUTSIDE_FIELD, ENDED_STEPS, ENDED_SURFACE, ENDED_TIME,
     NULL_COLLISION, REFLECT, SUSPENDED, TALLY_ELECTRONS, TALLY_INDUCED, TALLY_NULL, TALLY_REJECTED, TALLY_STEPS,
@@ -66,7 +67,8 @@ EV = 1.602176634e-19
 
 @kernel
 def track_particles(stack_pos, stack_vel, stack_time, stack_birth, stack_state, stack_h, stack_primary, stack_fresh,
-                    control, tallies, records, births, profiles, signal, moments, group, sample_times,
+                    stack_id, control, tallies, records, births, profiles, signal, moments, group, sample_times,
+                    points,
                     e_kind, e_par, e_meta, e_values, e_user, b_kind, b_par, b_meta, b_values, b_user,
                     w_kind, w_par, surfaces, exact, flight,
                     mass, charge, density, method, tolerance, depth_tolerance, length, step_length, time_limit, max_steps, budget,
@@ -77,7 +79,10 @@ def track_particles(stack_pos, stack_vel, stack_time, stack_birth, stack_state, 
     """Track the particles on the stack (and their secondaries) until they end; see the module docstring.
 
     ``control``: [stack size, end records written, ion births written,
-    real collisions of this call]. Returns ``DONE`` or ``SUSPENDED``.
+    real collisions of this call, path points written, the next particle
+    number]. ``points`` receives (particle number, t, x, y, z) at the start
+    of every particle and the end of every step, while there is room (for
+    plots of tracks). Returns ``DONE`` or ``SUSPENDED``.
     """
     qm = charge / mass
     n_proc = kind.shape[0]
@@ -114,6 +119,7 @@ def track_particles(stack_pos, stack_vel, stack_time, stack_birth, stack_state, 
             rng[c] = stack_state[top, c]
         h = stack_h[top]
         primary = stack_primary[top]
+        number = stack_id[top]
         if stack_fresh[top]:
             tallies[primary, n_proc + TALLY_ELECTRONS] += 1.0
         g_row = group[primary]
@@ -123,6 +129,10 @@ def track_particles(stack_pos, stack_vel, stack_time, stack_birth, stack_state, 
         tau_left = -math.log(uniform(rng))
         need_derivative = True
         steps = 0
+        if stack_fresh[top] and control[4] < points.shape[0]:
+            row = points[control[4]]
+            row[0], row[1], row[2], row[3], row[4] = number, t, x, y, z
+            control[4] += 1
         next_sample = 0
         while next_sample < n_samples and sample_times[next_sample] < t:
             next_sample += 1
@@ -412,6 +422,10 @@ def track_particles(stack_pos, stack_vel, stack_time, stack_birth, stack_state, 
             x, y, z, vx, vy, vz = nx_, ny_, nz_, fx, fy, fz
             t += s_event
             tallies[primary, n_proc + TALLY_TIME] += s_event
+            if control[4] < points.shape[0]:
+                row = points[control[4]]
+                row[0], row[1], row[2], row[3], row[4] = number, t, x, y, z
+                control[4] += 1
             if event == 0:
                 if not exact:
                     for c in range(6):
@@ -485,6 +499,8 @@ def track_particles(stack_pos, stack_vel, stack_time, stack_birth, stack_state, 
                 stack_h[slot] = h
                 stack_primary[slot] = primary
                 stack_fresh[slot] = True
+                stack_id[slot] = control[5]
+                control[5] += 1
                 control[0] = slot + 1
                 if record_births:
                     row = births[control[2]]
@@ -515,11 +531,16 @@ def track_particles(stack_pos, stack_vel, stack_time, stack_birth, stack_state, 
                 stack_h[slot] = h
                 stack_primary[slot] = primary
                 stack_fresh[slot] = False
+                stack_id[slot] = number
                 control[0] = slot + 1
                 tallies[primary, n_proc + TALLY_WEIGHTING] -= charge * (weighting_at(w_kind, w_par, x, y, z)[3]
                                                                         - phi_start)
                 return SUSPENDED
             tau_left = -math.log(uniform(rng))  # (a suspended particle draws it when taken again)
+            if control[4] < points.shape[0]:
+                row = points[control[4]]
+                row[0], row[1], row[2], row[3], row[4] = number, t, x, y, z
+                control[4] += 1
         # ---- the particle ended: its record
         row = records[control[1]]
         row[0], row[1], row[2], row[3] = primary, status, surface, t
@@ -528,3 +549,27 @@ def track_particles(stack_pos, stack_vel, stack_time, stack_birth, stack_state, 
         control[1] += 1
         tallies[primary, n_proc + TALLY_WEIGHTING] -= charge * (weighting_at(w_kind, w_par, x, y, z)[3] - phi_start)
     return DONE
+
+
+@kernel
+def launch(states, speed, direction, velocities):
+    """Velocities of ``speed`` (m/s) along ``direction`` (a unit vector), or isotropic if it is zero, each drawn
+    from its particle's own stream (``states``, advanced).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from collisionkit._kernels.transport.tracking.track import launch
+    >>> states = np.arange(8, dtype=np.uint64).reshape(2, 4) + np.uint64(1)
+    >>> velocities = np.zeros((2, 3))
+    >>> launch(states, 2.0, np.zeros(3), velocities)
+    >>> np.linalg.norm(velocities, axis=1).round(12).tolist()
+    [2.0, 2.0]
+    """
+    isotropic = direction[0] == 0.0 and direction[1] == 0.0 and direction[2] == 0.0
+    for i in range(states.shape[0]):
+        if isotropic:
+            nx, ny, nz = isotropic_direction(states[i])
+        else:
+            nx, ny, nz = direction[0], direction[1], direction[2]
+        velocities[i, 0], velocities[i, 1], velocities[i, 2] = speed * nx, speed * ny, speed * nz

@@ -1,0 +1,442 @@
+"""The result of a tracking run: per-primary counts, end records, spectra, profiles, signals and samples.
+
+Every average comes with a standard error over the independent primaries
+(the avalanche of each primary is independent of the others): the gain is
+the mean number of electrons that reach the collecting electrode per
+primary; the drift time the mean time at which they reach it (measured from
+the release of their primary), a ratio of per-primary sums whose error
+follows from the delta method.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field, fields
+
+import numpy as np
+from scipy import constants
+
+from ..._kernels.transport.tracking import codes as _c
+
+__all__ = ["TrackingResult", "ratio_and_error"]
+
+EV = constants.e
+STATUS_NAMES = {_c.ENDED_SURFACE: "surface", _c.ENDED_ATTACHED: "attached", _c.ENDED_TIME: "time-limit",
+                _c.ENDED_OUTSIDE_FIELD: "outside-field", _c.ENDED_STEPS: "steps"}
+
+
+def ratio_and_error(numerators, denominators) -> tuple[float, float]:
+    """sum(a) / sum(b) over independent units and its standard error (delta method).
+
+    Var(R) ~ Var(a - R b) / (n mean(b)^2).
+
+    Examples
+    --------
+    >>> ratio_and_error([2.0, 4.0, 6.0], [1.0, 2.0, 3.0])
+    (2.0, 0.0)
+    """
+    a = np.asarray(numerators, dtype=float)
+    b = np.asarray(denominators, dtype=float)
+    total = b.sum()
+    if a.size == 0 or total == 0:
+        return math.nan, math.nan
+    ratio = float(a.sum() / total)
+    if a.size < 2:
+        return ratio, math.nan
+    residual = a - ratio * b
+    return ratio, float(np.sqrt(residual.var(ddof=1) / a.size) / b.mean())
+
+
+def _mean_and_error(values) -> tuple[float, float]:
+    values = np.asarray(values, dtype=float)
+    if values.size == 0:
+        return math.nan, math.nan
+    if values.size < 2:
+        return float(values.mean()), math.nan
+    return float(values.mean()), float(values.std(ddof=1) / math.sqrt(values.size))
+
+
+@dataclass
+class TrackingResult:
+    """What a tracking run measured (SI units; energies in eV where named so).
+
+    Per primary (arrays of length ``primaries``): ``electrons`` followed
+    (the primary and its secondaries), ``collected`` at the collecting
+    electrode, ``collisions`` per process (``primaries x processes``, columns
+    in ``process_labels`` order), ``induced_charge`` (the integral of the
+    electrons' induced current on the readout electrode, C) and
+    ``weighting_charge`` (the same from the weighting potential at the ends
+    of every path, -q (phi_w(end) - phi_w(start)), C), and the same two for
+    the ions.
+
+    ``records``: one row per electron that ended (see
+    :mod:`collisionkit._kernels.transport.tracking.codes`: primary, status,
+    surface, time, position, velocity, birth time); ``ion_records`` likewise
+    for drifted ions. ``signal`` and ``ion_signal``: the induced charge per
+    time bin of width ``signal_step`` from 0 (C per bin, summed over the
+    primaries). ``profiles``: ionizations and excitations per bin of the
+    profile coordinate over ``profile_edges`` (summed). ``moments``: per
+    group and sample time, sums of 1, r, r^2, v, kinetic energy, r_k v_k.
+
+    Examples
+    --------
+    >>> from collisionkit.transport import maxwell_model
+    >>> from collisionkit.transport.tracking import Device, track
+    >>> device = Device.parallel_plate(maxwell_model(1e-13, mass=1e-29), 1e-4, 10.0, density=1e23)
+    >>> result = track(device, primaries=20, position=(0, 0, 5e-5), seed=1)
+    >>> result.gain, result.primaries
+    (1.0, 20)
+    """
+
+    primaries: int
+    surfaces: tuple
+    collector: str | None
+    process_labels: tuple
+    process_kinds: tuple
+    electrons: np.ndarray
+    collected: np.ndarray
+    collisions: np.ndarray
+    null_collisions: int
+    steps: int
+    rejected_steps: int
+    particle_time: float
+    induced_charge: np.ndarray
+    weighting_charge: np.ndarray
+    records: np.ndarray
+    ion_records: np.ndarray
+    ion_induced_charge: np.ndarray
+    signal: np.ndarray
+    ion_signal: np.ndarray
+    signal_step: float
+    profile_coordinate: str
+    profile_edges: np.ndarray
+    profiles: np.ndarray
+    sample_times: np.ndarray
+    moments: np.ndarray
+    seconds: float
+    method: str
+    points: np.ndarray = field(default_factory=lambda: np.zeros((0, 5)))
+
+    # ------------------------------------------------------------------ gain and drift
+
+    def _collector_index(self) -> int:
+        if self.collector is None:
+            raise ValueError("this device names no collecting electrode (collector)")
+        return list(self.surfaces).index(self.collector)
+
+    def collected_records(self) -> np.ndarray:
+        """The end records of the electrons that reached the collecting electrode.
+
+        Examples
+        --------
+        >>> from collisionkit.transport import maxwell_model
+        >>> from collisionkit.transport.tracking import Device, track
+        >>> device = Device.parallel_plate(maxwell_model(1e-13, mass=1e-29), 1e-4, 10.0, density=1e23)
+        >>> track(device, primaries=3, position=(0, 0, 5e-5), seed=1).collected_records().shape
+        (3, 11)
+        """
+        index = self._collector_index()
+        r = self.records
+        mask = (r[:, _c.RECORD_STATUS] == _c.ENDED_SURFACE) & (r[:, _c.RECORD_SURFACE] == index)
+        return r[mask]
+
+    @property
+    def gain(self) -> float:
+        """Mean number of electrons reaching the collecting electrode per primary."""
+        return _mean_and_error(self.collected)[0]
+
+    @property
+    def gain_error(self) -> float:
+        """Standard error of :attr:`gain`."""
+        return _mean_and_error(self.collected)[1]
+
+    def _per_primary_times(self):
+        records = self.collected_records()
+        primary = records[:, _c.RECORD_PRIMARY].astype(np.int64)
+        sums = np.bincount(primary, weights=records[:, _c.RECORD_TIME], minlength=self.primaries)
+        counts = np.bincount(primary, minlength=self.primaries)
+        return sums, counts
+
+    @property
+    def drift_time(self) -> float:
+        """Mean time (s) at which the electrons reach the collecting electrode, from the release of their primary."""
+        return ratio_and_error(*self._per_primary_times())[0]
+
+    @property
+    def drift_time_error(self) -> float:
+        """Standard error of :attr:`drift_time`."""
+        return ratio_and_error(*self._per_primary_times())[1]
+
+    def process_counts(self, kind: str) -> np.ndarray:
+        """Collisions of every process of ``kind`` (``"ionization"`` ...) per primary.
+
+        Examples
+        --------
+        >>> from collisionkit.transport import maxwell_model
+        >>> from collisionkit.transport.tracking import Device, track
+        >>> device = Device.parallel_plate(maxwell_model(1e-13, mass=1e-29), 1e-4, 10.0, density=1e23)
+        >>> track(device, primaries=2, position=(0, 0, 5e-5), seed=1).process_counts("ionization").tolist()
+        [0.0, 0.0]
+        """
+        mine = np.array([k == kind for k in self.process_kinds], dtype=bool)
+        return self.collisions[:, mine].sum(axis=1) if mine.any() else np.zeros(self.primaries)
+
+    # ------------------------------------------------------------------ spectra
+
+    def arrival_time_spectrum(self, bins: int = 50) -> tuple[np.ndarray, np.ndarray]:
+        """(bin edges in s, electrons per primary in each bin) of the arrival times at the collecting electrode.
+
+        Examples
+        --------
+        >>> from collisionkit.transport import maxwell_model
+        >>> from collisionkit.transport.tracking import Device, track
+        >>> device = Device.parallel_plate(maxwell_model(1e-13, mass=1e-29), 1e-4, 10.0, density=1e23)
+        >>> edges, counts = track(device, primaries=5, position=(0, 0, 5e-5), seed=1).arrival_time_spectrum(4)
+        >>> float(counts.sum())
+        1.0
+        """
+        times = self.collected_records()[:, _c.RECORD_TIME]
+        counts, edges = np.histogram(times, bins=bins)
+        return edges, counts / max(self.primaries, 1)
+
+    def energies(self, records=None) -> np.ndarray:
+        """Kinetic energies (eV) of end records (default: those at the collecting electrode), for an electron.
+
+        Examples
+        --------
+        >>> from collisionkit.transport import maxwell_model
+        >>> from collisionkit.transport.tracking import Device, track
+        >>> device = Device.parallel_plate(maxwell_model(1e-13, mass=1e-29), 1e-4, 10.0, density=1e23)
+        >>> bool((track(device, primaries=2, position=(0, 0, 5e-5), seed=1).energies() > 0).all())
+        True
+        """
+        records = self.collected_records() if records is None else records
+        v = records[:, _c.RECORD_VX:_c.RECORD_VZ + 1]
+        return 0.5 * constants.m_e * (v**2).sum(axis=1) / EV
+
+    def energy_spectrum(self, bins: int = 50) -> tuple[np.ndarray, np.ndarray]:
+        """(bin edges in eV, electrons per primary and eV) of the energies at the collecting electrode.
+
+        Examples
+        --------
+        >>> from collisionkit.transport import maxwell_model
+        >>> from collisionkit.transport.tracking import Device, track
+        >>> device = Device.parallel_plate(maxwell_model(1e-13, mass=1e-29), 1e-4, 10.0, density=1e23)
+        >>> edges, density = track(device, primaries=5, position=(0, 0, 5e-5), seed=1).energy_spectrum(4)
+        >>> round(float((density * (edges[1] - edges[0])).sum()), 12)
+        1.0
+        """
+        counts, edges = np.histogram(self.energies(), bins=bins)
+        width = np.diff(edges)
+        return edges, counts / max(self.primaries, 1) / np.where(width > 0, width, 1.0)
+
+    def gain_distribution(self) -> tuple[np.ndarray, np.ndarray]:
+        """(gains, fraction of primaries) of the gain's distribution (every value that occurred).
+
+        Examples
+        --------
+        >>> from collisionkit.transport import maxwell_model
+        >>> from collisionkit.transport.tracking import Device, track
+        >>> device = Device.parallel_plate(maxwell_model(1e-13, mass=1e-29), 1e-4, 10.0, density=1e23)
+        >>> track(device, primaries=4, position=(0, 0, 5e-5), seed=1).gain_distribution()
+        (array([1]), array([1.]))
+        """
+        values, counts = np.unique(self.collected.astype(np.int64), return_counts=True)
+        return values, counts / counts.sum()
+
+    def polya_theta(self) -> tuple[float, float]:
+        """The Polya parameter theta of the gain distribution from its moments, var/mean^2 = 1/(1 + theta) - 1/mean
+        (0 for the exponential Yule-Furry law), with a standard error by the jackknife over primaries.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from collisionkit.transport.tracking.result import _polya_theta
+        >>> gains = np.random.default_rng(1).geometric(1 / 200.0, 200000)  # Yule-Furry, mean 200
+        >>> bool(abs(_polya_theta(gains)) < 0.02)
+        True
+        """
+        values = self.collected.astype(float)
+        theta = _polya_theta(values)
+        if values.size < 3:
+            return theta, math.nan
+        blocks = np.array_split(np.arange(values.size), min(values.size, 32))
+        partial = np.array([_polya_theta(np.delete(values, block)) for block in blocks])
+        return theta, float(math.sqrt((len(blocks) - 1) * partial.var()))
+
+    # ------------------------------------------------------------------ signals and profiles
+
+    def current(self, ions: bool = True) -> tuple[np.ndarray, np.ndarray]:
+        """(bin edges in s, induced current in A per primary) on the readout electrode: electrons (and ions).
+
+        Examples
+        --------
+        >>> from collisionkit.transport import maxwell_model
+        >>> from collisionkit.transport.tracking import Device, track
+        >>> device = Device.parallel_plate(maxwell_model(1e-13, mass=1e-29), 1e-4, 10.0, density=1e23)
+        >>> edges, current = track(device, primaries=4, position=(0, 0, 5e-5), seed=1).current()
+        >>> edges.size == current.size + 1
+        True
+        """
+        total = self.signal + (self.ion_signal if ions else 0.0)
+        edges = np.arange(total.size + 1) * self.signal_step
+        return edges, total / max(self.primaries, 1) / self.signal_step
+
+    def profile(self, kind: str = "ionization") -> tuple[np.ndarray, np.ndarray]:
+        """(bin edges in m, events per primary and metre) of ``ionization`` or ``excitation`` along the profile
+        coordinate (z for plates, the distance from the wire for a counter).
+
+        Examples
+        --------
+        >>> from collisionkit.transport import maxwell_model
+        >>> from collisionkit.transport.tracking import Device, track
+        >>> device = Device.parallel_plate(maxwell_model(1e-13, mass=1e-29), 1e-4, 10.0, density=1e23)
+        >>> edges, rate = track(device, primaries=2, position=(0, 0, 5e-5), seed=1).profile("excitation")
+        >>> float(rate.sum())
+        0.0
+        """
+        row = {"ionization": 0, "excitation": 1}.get(kind)
+        if row is None:
+            raise ValueError(f"kind must be 'ionization' or 'excitation'; got {kind!r}")
+        width = np.diff(self.profile_edges)
+        counts = self.profiles[row] if self.profiles.shape[1] else np.zeros(0)
+        return self.profile_edges, counts / max(self.primaries, 1) / np.where(width > 0, width, 1.0)
+
+    # ------------------------------------------------------------------ transport in an unbounded gas
+
+    def transport(self, start: float = 0.5) -> dict[str, tuple[float, float]]:
+        """Swarm coefficients from the sampled moments, fitted over the samples from fraction ``start`` of the run
+        on: bulk drift velocity W (along z, m/s), N-less bulk D_L and D_T (m^2/s) and the mean energy (eV),
+        each with its standard error over the groups.
+
+        Examples
+        --------
+        >>> from collisionkit.transport import maxwell_model
+        >>> from collisionkit.transport.tracking import Device, UniformField, track
+        >>> device = Device(maxwell_model(1e-13, mass=1e-29), 1e23, 0.0, UniformField((0, 0, 1e3)))
+        >>> result = track(device, primaries=64, sample_times=[1e-10, 2e-10, 3e-10], seed=1)
+        >>> sorted(result.transport())
+        ['diffusion_L', 'diffusion_T', 'drift_velocity', 'mean_energy']
+        """
+        if self.sample_times.size < 2:
+            raise ValueError("the run sampled fewer than 2 times: give sample_times to track()")
+        first = int(start * (self.sample_times.size - 1))
+        times = self.sample_times[first:]
+        m = self.moments[:, first:, :]
+        n = np.maximum(m[..., 0], 1.0)
+        mean = m[..., 1:14] / n[..., None]
+        centroid = mean[..., 0:3]
+        variance = (mean[..., 3:6] - centroid**2) * (n / np.maximum(n - 1.0, 1.0))[..., None]
+        tc = times - times.mean()
+
+        def slope(y):
+            return (y - y.mean(axis=1, keepdims=True)) @ tc / (tc @ tc)
+
+        per_group = {
+            "drift_velocity": slope(centroid[..., 2]),
+            "diffusion_L": 0.5 * slope(variance[..., 2]),
+            "diffusion_T": 0.25 * slope(variance[..., 0] + variance[..., 1]),
+            "mean_energy": (mean[..., 9] / EV).mean(axis=1),
+        }
+        return {name: _mean_and_error(values) for name, values in per_group.items()}
+
+    # ------------------------------------------------------------------ combining and saving
+
+    @classmethod
+    def combine(cls, parts) -> TrackingResult:
+        """One result from the results of consecutive batches of primaries of the same run.
+
+        Examples
+        --------
+        >>> from collisionkit.transport import maxwell_model
+        >>> from collisionkit.transport.tracking import Device, track
+        >>> device = Device.parallel_plate(maxwell_model(1e-13, mass=1e-29), 1e-4, 10.0, density=1e23)
+        >>> part = track(device, primaries=2, position=(0, 0, 5e-5), seed=1)
+        >>> TrackingResult.combine([part, part]).primaries
+        4
+        """
+        parts = list(parts)
+        first = parts[0]
+        offsets = np.cumsum([0] + [p.primaries for p in parts[:-1]])
+
+        def shifted(name):
+            arrays = []
+            for offset, p in zip(offsets, parts):
+                rows = getattr(p, name).copy()
+                rows[:, _c.RECORD_PRIMARY] += offset
+                arrays.append(rows)
+            return np.concatenate(arrays)
+
+        values = {}
+        for item in fields(cls):
+            name = item.name
+            data = [getattr(p, name) for p in parts]
+            if name in ("records", "ion_records"):
+                values[name] = shifted(name)
+            elif name in ("electrons", "collected", "collisions", "induced_charge", "weighting_charge",
+                          "ion_induced_charge"):
+                values[name] = np.concatenate(data)
+            elif name in ("primaries", "null_collisions", "steps", "rejected_steps", "particle_time", "seconds",
+                          "signal", "ion_signal", "profiles", "moments"):
+                values[name] = sum(data[1:], data[0])
+            elif name == "points":
+                values[name] = np.concatenate(data)
+            else:
+                values[name] = data[0]
+        return cls(**values)
+
+    def to_arrays(self) -> dict[str, np.ndarray]:
+        """Every field as an array (for a checkpoint); :meth:`from_arrays` reads them back.
+
+        Examples
+        --------
+        >>> from collisionkit.transport import maxwell_model
+        >>> from collisionkit.transport.tracking import Device, track
+        >>> device = Device.parallel_plate(maxwell_model(1e-13, mass=1e-29), 1e-4, 10.0, density=1e23)
+        >>> result = track(device, primaries=2, position=(0, 0, 5e-5), seed=1)
+        >>> TrackingResult.from_arrays(result.to_arrays()).collected.tolist() == result.collected.tolist()
+        True
+        """
+        out = {}
+        for item in fields(self):
+            value = getattr(self, item.name)
+            if item.name == "collector":
+                value = "" if value is None else value
+            out[item.name] = np.asarray(value) if not isinstance(value, tuple) else np.array(value, dtype=str)
+        return out
+
+    @classmethod
+    def from_arrays(cls, arrays) -> TrackingResult:
+        """The result saved by :meth:`to_arrays` (KeyError or ValueError if an entry is missing or damaged).
+
+        Examples
+        --------
+        >>> TrackingResult.from_arrays({})
+        Traceback (most recent call last):
+        ...
+        KeyError: 'primaries'
+        """
+        values = {}
+        scalars = {"primaries": int, "null_collisions": int, "steps": int, "rejected_steps": int,
+                   "particle_time": float, "signal_step": float, "seconds": float, "method": str,
+                   "profile_coordinate": str, "collector": str}
+        for item in fields(cls):
+            value = arrays[item.name]
+            if item.name in scalars:
+                value = scalars[item.name](np.asarray(value).item())
+            elif item.name in ("surfaces", "process_labels", "process_kinds"):
+                value = tuple(str(v) for v in np.asarray(value).reshape(-1))
+            else:
+                value = np.asarray(value, dtype=float)
+            values[item.name] = value
+        values["collector"] = values["collector"] or None
+        return cls(**values)
+
+
+def _polya_theta(values) -> float:
+    values = np.asarray(values, dtype=float)
+    mean = values.mean()
+    variance = values.var(ddof=1)
+    if mean <= 0 or variance <= 0:
+        return math.nan
+    return 1.0 / (variance / mean**2 + 1.0 / mean) - 1.0

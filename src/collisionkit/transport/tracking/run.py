@@ -1,0 +1,424 @@
+"""Tracking runs: primaries released in a device, followed with their avalanches until they end.
+
+:func:`track` checks its arguments, prepares the kernel's arrays
+(:mod:`collisionkit._kernels.transport.tracking`) and runs batches of
+primaries in threads; each batch calls the kernel until its stack is empty,
+emptying the record buffers and growing the stack when the kernel asks.
+Every primary has its own random stream, derived from the seed and its
+index alone, so results do not depend on threads, batches or on where a
+checkpointed run was resumed.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import time
+from concurrent.futures import ThreadPoolExecutor
+from dataclasses import dataclass
+
+import numpy as np
+from scipy import constants
+
+from ..._kernels.transport import derived_field
+from ..._kernels.transport.tracking import codes as _c
+from ..._kernels.transport.tracking import track_particles
+from ..._kernels.transport.tracking.ions import drift_ions
+from ..._kernels.transport.tracking.track import launch
+from .._tables import SHARING_CODES
+from .device import Device
+from .fields import CoaxialField, ParallelPlateField, _finite, _vector
+from .result import TrackingResult
+from .tables import tracking_tables
+
+__all__ = ["METHODS", "IonDrift", "track"]
+
+METHODS = {"null-collision": _c.NULL_COLLISION, "path-length": _c.PATH_LENGTH}
+EV = constants.e
+CALL_COLLISIONS = 1 << 18  # real collisions per kernel call at most: a call lasts a fraction of a second
+PILOT_PRIMARIES = 4  # primaries of the pilot run that sizes the signal's time window
+SIGNAL_MARGIN = 1.25  # the signal window: this times the latest end seen in the pilot run
+
+
+@dataclass(frozen=True)
+class IonDrift:
+    """Positive ions drifting at a constant ``mobility`` (m^2/(V s) at the device's density, > 0): v = K E.
+
+    Examples
+    --------
+    >>> from collisionkit.transport.tracking import IonDrift
+    >>> IonDrift(1.5e-4).charge == 1.602176634e-19
+    True
+    """
+
+    mobility: float
+    charge: float = constants.e
+
+    def __post_init__(self):
+        object.__setattr__(self, "mobility", _finite("ion mobility (m^2/(V s))", self.mobility, 0.0, True))
+        object.__setattr__(self, "charge", _finite("ion charge (C)", self.charge))
+
+
+def _positions(position, primaries, geometry) -> np.ndarray:
+    array = np.asarray(position, dtype=float)
+    if array.shape == (3,):
+        array = np.broadcast_to(array, (primaries, 3))
+    if array.shape != (primaries, 3) or not np.all(np.isfinite(array)):
+        raise ValueError(f"position must be three numbers (m) or one row of three per primary ({primaries}); "
+                         f"got shape {np.shape(position)}")
+    outside = ~geometry.contains(array)
+    if outside.any():
+        raise ValueError(f"position {array[np.argmax(outside)].tolist()} (m) lies outside the device's volume")
+    return np.ascontiguousarray(array)
+
+
+def _profile(device: Device, profile, bins):
+    """(kind code, parameters, edges, name) of the profile coordinate."""
+    if profile is None:
+        if isinstance(device.electric, ParallelPlateField):
+            profile = ("z", 0.0, device.electric.gap)
+        elif isinstance(device.electric, CoaxialField):
+            profile = ("radius", device.electric.wire_radius, device.electric.cathode_radius)
+        else:
+            return 0, np.zeros(4), np.zeros(1), "none", 0
+    name, low, high = profile
+    if name not in ("z", "radius") or not (math.isfinite(low) and math.isfinite(high) and high > low):
+        raise ValueError(f"profile must be ('z' or 'radius', low, high) with high > low (m); got {profile!r}")
+    axis = device.electric.axis if isinstance(device.electric, CoaxialField) else (0.0, 0.0)
+    code = _c.PROFILE_Z if name == "z" else _c.PROFILE_RADIUS
+    return code, np.array([*axis, low, high]), np.linspace(low, high, bins + 1), name, bins
+
+
+@dataclass
+class _Plan:
+    """Everything a batch needs: the kernel's shared arguments and the run's settings."""
+
+    device: Device
+    tables: object
+    fields: tuple
+    settings: dict
+    positions: np.ndarray
+    speed: float
+    direction: np.ndarray
+    seed: int
+    first_primary: int
+    groups: int
+    sample_times: np.ndarray
+    signal_bins: int
+    signal_step: float
+    profile: tuple
+    ions: IonDrift | None
+    mass: float
+    charge: float
+    point_capacity: int
+
+
+def _states(seed: int, indices) -> np.ndarray:
+    return np.array([np.random.SeedSequence(seed, spawn_key=(int(i),)).generate_state(4, np.uint64)
+                     for i in indices], dtype=np.uint64).reshape(-1, 4)
+
+
+def _run_batch(plan: _Plan, lo: int, hi: int, points_wanted: bool, report=None) -> TrackingResult:
+    """Primaries lo..hi-1 (run indices) with their avalanches: the kernel called until the stack is empty."""
+    start = time.perf_counter()
+    n = hi - lo
+    n_proc = plan.tables.tables.kind.size
+    capacity = max(64, 4 * n)
+    stack = {"pos": np.zeros((capacity, 3)), "vel": np.zeros((capacity, 3)), "time": np.zeros(capacity),
+             "birth": np.zeros(capacity), "state": np.zeros((capacity, 4), np.uint64), "h": np.zeros(capacity),
+             "primary": np.zeros(capacity, np.int64), "fresh": np.ones(capacity, bool),
+             "id": np.zeros(capacity, np.int64)}
+    order = np.arange(n)[::-1]  # the first primary on top of the stack: avalanches are followed one by one
+    states = _states(plan.seed, plan.first_primary + lo + np.arange(n))
+    velocities = np.zeros((n, 3))
+    launch(states, plan.speed, plan.direction, velocities)
+    stack["pos"][:n] = plan.positions[lo:hi][order]
+    stack["vel"][:n] = velocities[order]
+    stack["state"][:n] = states[order]
+    stack["primary"][:n] = order
+    stack["id"][:n] = order
+    reference = max(plan.speed, math.sqrt(2.0 * 1e-3 * EV / plan.mass))
+    stack["h"][:n] = 1e-3 * plan.settings["length"] / reference
+    control = np.array([n, 0, 0, 0, 0, n], np.int64)
+    tallies = np.zeros((n, n_proc + _c.TALLY_COLUMNS))
+    records = np.zeros((max(64, 2 * n), _c.RECORD_COLUMNS))
+    births = np.zeros((max(64, 2 * n), _c.BIRTH_COLUMNS))
+    profile_code, profile_par, _, _, profile_bins = plan.profile
+    profiles = np.zeros((2, profile_bins))
+    signal = np.zeros(plan.signal_bins)
+    moments = np.zeros((plan.groups, plan.sample_times.size, _c.MOMENT_COLUMNS))
+    group = ((plan.first_primary + lo + np.arange(n)) % plan.groups).astype(np.int64)
+    points = np.zeros((plan.point_capacity if points_wanted else 0, 5))
+    kept_records, kept_births = [], []
+    s = plan.settings
+    while True:
+        outcome = track_particles(
+            stack["pos"], stack["vel"], stack["time"], stack["birth"], stack["state"], stack["h"], stack["primary"],
+            stack["fresh"], stack["id"], control, tallies, records, births, profiles, signal, moments, group,
+            plan.sample_times, points, *plan.fields, s["mass"], s["charge"], s["density"], s["method"],
+            s["tolerance"], s["depth_tolerance"], s["length"], s["step_length"], s["time_limit"], s["max_steps"],
+            CALL_COLLISIONS, plan.ions is not None, s["sharing"], profile_code, profile_par, 0.0, plan.signal_step,
+            *plan.tables.arrays())
+        kept_records.append(records[: control[1]].copy())
+        kept_births.append(births[: control[2]].copy())
+        if report is not None and control[3]:
+            report(int(control[3]))
+        control[1] = control[2] = control[3] = 0
+        if outcome == _c.DONE:
+            break
+        if control[0] + 2 > stack["pos"].shape[0]:
+            for name, array in stack.items():
+                grown = np.zeros((2 * array.shape[0],) + array.shape[1:], array.dtype)
+                grown[: array.shape[0]] = array
+                stack[name] = grown
+    records = np.concatenate(kept_records)
+    births = np.concatenate(kept_births)
+    ion_records, ion_induced, ion_signal = _drift_ions(plan, births, n)
+    collector = plan.device.collector
+    surfaces = tuple(surface.name for surface in plan.device.geometry.surfaces)
+    collected = np.zeros(n)
+    if collector is not None:
+        index = surfaces.index(collector)
+        mask = (records[:, _c.RECORD_STATUS] == _c.ENDED_SURFACE) & (records[:, _c.RECORD_SURFACE] == index)
+        collected = np.bincount(records[mask, _c.RECORD_PRIMARY].astype(np.int64), minlength=n).astype(float)
+    tables = plan.tables.tables
+    return TrackingResult(
+        primaries=n, surfaces=surfaces, collector=collector, process_labels=tables.labels,
+        process_kinds=tables.kinds, electrons=tallies[:, n_proc + _c.TALLY_ELECTRONS].copy(), collected=collected,
+        collisions=tallies[:, :n_proc].copy(), null_collisions=int(tallies[:, n_proc + _c.TALLY_NULL].sum()),
+        steps=int(tallies[:, n_proc + _c.TALLY_STEPS].sum()),
+        rejected_steps=int(tallies[:, n_proc + _c.TALLY_REJECTED].sum()),
+        particle_time=float(tallies[:, n_proc + _c.TALLY_TIME].sum()),
+        induced_charge=tallies[:, n_proc + _c.TALLY_INDUCED].copy(),
+        weighting_charge=tallies[:, n_proc + _c.TALLY_WEIGHTING].copy(), records=records, ion_records=ion_records,
+        ion_induced_charge=ion_induced, signal=signal, ion_signal=ion_signal, signal_step=plan.signal_step,
+        profile_coordinate=plan.profile[3], profile_edges=plan.profile[2], profiles=profiles,
+        sample_times=plan.sample_times, moments=moments, seconds=time.perf_counter() - start,
+        method=[name for name, code in METHODS.items() if code == s["method"]][0], points=points[: control[4]].copy())
+
+
+def _drift_ions(plan: _Plan, births, n):
+    """The ions born in a batch drifted to the electrodes: (end records, induced charge per primary, signal)."""
+    records = np.zeros((births.shape[0], _c.RECORD_COLUMNS))
+    induced = np.zeros(n)
+    signal = np.zeros(plan.signal_bins)
+    if plan.ions is None or births.shape[0] == 0:
+        return records, induced, signal
+    kind, parameters, meta, values, user = plan.fields[:5]
+    w_kind, w_par = plan.fields[10], plan.fields[11]
+    drift_ions(np.ascontiguousarray(births), records, induced, signal, kind, parameters, meta, values, user, w_kind,
+               w_par, plan.fields[12], plan.ions.mobility, plan.ions.charge, plan.settings["tolerance"],
+               plan.settings["length"], math.inf, plan.settings["max_steps"], 0.0, plan.signal_step)
+    return records, induced, signal
+
+
+def _field_arrays(device: Device):
+    """The kernel's field arguments: E, B, weighting, surfaces, exact flag and the uniform-field record."""
+    from .fields import UniformField, UniformMagneticField
+
+    electric = device.electric or UniformField((0.0, 0.0, 0.0))
+    magnetic = device.magnetic or UniformMagneticField((0.0, 0.0, 0.0))
+    e_arrays = electric.arrays() if device.electric is not None else (_c.E_NONE, *electric.arrays()[1:])
+    b_arrays = magnetic.arrays() if device.magnetic is not None else (_c.B_NONE, *magnetic.arrays()[1:])
+    exact = electric.is_uniform() and magnetic.is_uniform()
+    w_kind, w_par = device.weighting.arrays() if device.weighting is not None else (_c.W_NONE,
+                                                                                     np.zeros(_c.FIELD_PARAMETERS))
+    return (*e_arrays, *b_arrays, w_kind, w_par, device.geometry.table(), exact), exact, electric, magnetic
+
+
+def track(device: Device, *, primaries: int = 100, position=(0.0, 0.0, 0.0), energy: float = 0.1,
+          direction=None, method: str = "null-collision", seed: int = 0, mass: float = constants.m_e,
+          charge: float = -constants.e, sharing: str = "equal", ions: IonDrift | None = None,
+          time_limit: float | None = None, sample_times=None, tolerance: float = 1e-6, depth_tolerance: float = 1e-5,
+          step_length: float | None = None, signal_window="auto", signal_bins: int = 200, profile=None,
+          profile_bins: int = 100, groups: int = 16, threads: int | None = None, progress=None,
+          record_points: int = 0, max_steps: int = 10_000_000, first_primary: int = 0,
+          batch_size: int | None = None) -> TrackingResult:
+    r"""Release ``primaries`` particles in ``device`` and follow them and their avalanches to the end.
+
+    Krasov's algorithm (sec. 5.5) with numerical motion: see
+    :mod:`collisionkit._kernels.transport.tracking.track`.
+
+    Parameters
+    ----------
+    device : Device
+        Gas, fields, surfaces, readout (:class:`Device.parallel_plate`, :class:`Device.coaxial` ...).
+    primaries : int
+        Particles released (>= 1).
+    position : 3 numbers or (primaries x 3) array
+        Where they start (m), inside the volume.
+    energy : float
+        Their kinetic energy (eV, >= 0), along ``direction`` or isotropic (default).
+    method : {"null-collision", "path-length"}
+        How collisions are found: trial collisions at a rate bound, or the
+        optical depth integrated along the trajectory (Krasov's path length).
+    seed : int
+        Seed (>= 0); primary i draws from ``SeedSequence(seed, spawn_key=(first_primary + i,))``.
+    mass, charge : float
+        The tracked particle (kg, C): an electron by default.
+    sharing : {"equal", "uniform"}
+        Energy sharing of the two electrons after an ionization.
+    ions : IonDrift, optional
+        Drift the ions of every ionization at a constant mobility to the electrodes.
+    time_limit : float, optional
+        Particles still moving at this time (s) end (``time-limit``); an
+        unbounded device needs it or ``sample_times``.
+    sample_times : sequence, optional
+        Times (s, increasing) at which the moments of the particles alive are
+        summed, per group (:meth:`TrackingResult.transport`).
+    tolerance : float
+        Relative tolerance of the integrated motion (position against the
+        geometry's length scale, velocity against the speed), in (0, 0.1].
+    depth_tolerance : float
+        Absolute tolerance of the optical depth per step (path-length method), in (0, 0.1].
+    step_length : float, optional
+        Longest distance a step may move a particle (m); default the geometry's length scale.
+    signal_window : float, "auto" or None
+        Time span (s) of the induced-current histogram, from 0; "auto" sizes
+        it from a pilot run of a few primaries; None records none.
+    signal_bins, profile_bins : int
+        Bins of the current and of the ionization / excitation profiles.
+    profile : tuple, optional
+        ("z" or "radius", low, high): the profile coordinate (default from the device).
+    groups : int
+        Independent groups of the sampled moments (2 to 1024).
+    threads : int, optional
+        Worker threads (default: all cores); results do not depend on it.
+    progress : callable, optional
+        Called with the fraction of primaries done.
+    record_points : int
+        Track points (particle, t, x, y, z) to keep for plots (the first batch's).
+    max_steps : int
+        Steps a particle may take at most (a guard against particles trapped for ever).
+    first_primary : int
+        Index of the first primary (a run continued from a checkpoint).
+    batch_size : int, optional
+        Primaries per kernel batch (default: the primaries spread over the threads).
+
+    Returns
+    -------
+    TrackingResult
+
+    Examples
+    --------
+    Electrons drifting across a 1 mm gap in a Maxwell-model gas (no ionization): every one is collected.
+
+    >>> from collisionkit.transport import maxwell_model
+    >>> from collisionkit.transport.tracking import Device, track
+    >>> device = Device.parallel_plate(maxwell_model(1e-13, mass=1e-29), 1e-3, 10.0, density=1e23)
+    >>> result = track(device, primaries=8, position=(0, 0, 1e-4), seed=3)
+    >>> result.gain, bool(result.drift_time > 0)
+    (1.0, True)
+    """
+    if not isinstance(device, Device):
+        raise TypeError(f"device must be a Device; got {type(device).__name__}")
+    primaries = _integer("primaries", primaries, 1)
+    if method not in METHODS:
+        raise ValueError(f"method must be one of {', '.join(METHODS)}; got {method!r}")
+    if sharing not in SHARING_CODES:
+        raise ValueError(f"sharing must be one of {', '.join(SHARING_CODES)}; got {sharing!r}")
+    seed = _integer("seed", seed, 0)
+    energy = _finite("energy (eV)", energy, 0.0)
+    mass = _finite("mass (kg)", mass, 0.0, low_open=True)
+    charge = _finite("charge (C)", charge)
+    tolerance = _bounded("tolerance", tolerance)
+    depth_tolerance = _bounded("depth_tolerance", depth_tolerance)
+    groups = _integer("groups", groups, 2, 1024)
+    max_steps = _integer("max_steps", max_steps, 1)
+    record_points = _integer("record_points", record_points, 0)
+    first_primary = _integer("first_primary", first_primary, 0)
+    if ions is not None and not isinstance(ions, IonDrift):
+        raise TypeError(f"ions must be an IonDrift; got {type(ions).__name__}")
+    if direction is None:
+        direction = np.zeros(3)
+    else:
+        direction = _vector("direction", direction)
+        if not np.linalg.norm(direction) > 0:
+            raise ValueError("direction must not be zero")
+        direction = direction / np.linalg.norm(direction)
+    positions = _positions(position, primaries, device.geometry)
+    sample_times = np.zeros(0) if sample_times is None else np.asarray(sample_times, dtype=float).reshape(-1)
+    if sample_times.size and (not np.all(np.isfinite(sample_times)) or np.any(np.diff(sample_times) <= 0)
+                              or sample_times[0] < 0):
+        raise ValueError("sample_times must be finite, >= 0 and increasing (s)")
+    if time_limit is None:
+        time_limit = float(sample_times[-1]) if sample_times.size else math.inf
+    time_limit = _finite("time_limit (s)", time_limit, 0.0, low_open=True) if math.isfinite(time_limit) else math.inf
+    if not device.geometry.surfaces and not math.isfinite(time_limit):
+        raise ValueError("an unbounded device (no surfaces) needs time_limit or sample_times: nothing else ends a "
+                         "particle")
+    length = device.geometry.length_scale
+    step_length = length if step_length is None else _finite("step_length (m)", step_length, 0.0, low_open=True)
+    field_args, exact, electric, _ = _field_arrays(device)
+    code = METHODS[method]
+    if code == _c.NULL_COLLISION and not exact and not math.isfinite(electric.bound()) and \
+            field_args[0] == _c.E_USER:
+        raise ValueError("the null-collision method needs a bound of the field: give UserField(..., max_field=) or "
+                         "use method='path-length'")
+    flight = np.zeros(13)
+    if exact:
+        acceleration = charge * (electric.uniform_value() if device.electric is not None else np.zeros(3)) / mass
+        omega = charge * (device.magnetic.uniform_value() if device.magnetic is not None else np.zeros(3)) / mass
+        flight = derived_field(acceleration, omega)
+    fields = (*field_args, flight)
+    tables = tracking_tables(device.gas, mass, device.gas_temperature)
+    settings = {"mass": mass, "charge": charge, "density": device.density, "method": code, "tolerance": tolerance,
+                "depth_tolerance": depth_tolerance, "length": length, "step_length": step_length,
+                "time_limit": time_limit, "max_steps": max_steps, "sharing": SHARING_CODES[sharing]}
+    plan = _Plan(device, tables, fields, settings, positions, math.sqrt(2.0 * energy * EV / mass), direction, seed,
+                 first_primary, groups, np.ascontiguousarray(sample_times), 0, 1.0,
+                 _profile(device, profile, _integer("profile_bins", profile_bins, 1)), ions, mass, charge,
+                 record_points)
+    if device.weighting is not None and signal_window is not None:
+        bins = _integer("signal_bins", signal_bins, 1)
+        if signal_window == "auto":
+            signal_window = _pilot_window(plan, primaries)
+        window = _finite("signal_window (s)", signal_window, 0.0, low_open=True)
+        plan.signal_bins, plan.signal_step = bins, window / bins
+    threads = threads or os.cpu_count() or 1
+    batch_size = batch_size or max(1, math.ceil(primaries / (4 * threads)))
+    bounds = list(range(0, primaries, batch_size)) + [primaries]
+    done = [0]
+
+    def work(b):
+        part = _run_batch(plan, bounds[b], bounds[b + 1], b == 0)
+        done[0] += bounds[b + 1] - bounds[b]
+        if progress is not None:
+            progress(done[0] / primaries)
+        return part
+
+    if threads == 1 or len(bounds) == 2:
+        parts = [work(b) for b in range(len(bounds) - 1)]
+    else:
+        with ThreadPoolExecutor(threads) as pool:
+            parts = list(pool.map(work, range(len(bounds) - 1)))
+    return TrackingResult.combine(parts)
+
+
+def _pilot_window(plan: _Plan, primaries: int) -> float:
+    """The signal window from a pilot run of a few primaries: SIGNAL_MARGIN times the latest end (electrons, ions)."""
+    pilot = _run_batch(plan, 0, min(PILOT_PRIMARIES, primaries), False)
+    latest = 0.0
+    for records in (pilot.records, pilot.ion_records):
+        finished = records[np.isfinite(records[:, _c.RECORD_TIME]), _c.RECORD_TIME] if records.size else []
+        if len(finished):
+            latest = max(latest, float(np.max(finished)))
+    if not latest > 0.0:
+        latest = plan.settings["time_limit"] if math.isfinite(plan.settings["time_limit"]) else 1e-6
+    return SIGNAL_MARGIN * latest
+
+
+def _integer(name, value, low, high=None):
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
+        raise TypeError(f"{name} must be an integer; got {value!r}")
+    if value < low or (high is not None and value > high):
+        allowed = f">= {low}" if high is None else f"in [{low}, {high}]"
+        raise ValueError(f"{name} must be {allowed}; got {value}")
+    return int(value)
+
+
+def _bounded(name, value):
+    value = _finite(name, value, 0.0, low_open=True)
+    if value > 0.1:
+        raise ValueError(f"{name} must be in (0, 0.1]; got {value:g}")
+    return value
