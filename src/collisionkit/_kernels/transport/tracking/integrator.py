@@ -144,7 +144,9 @@ def depth_crossing(nu0, depth1, nu1, h, target, s_high, depth_high):
         s_next = s - f / slope if slope > 0.0 else 0.5 * (low + high)
         if not (low < s_next < high):
             s_next = 0.5 * (low + high)
-        if abs(s_next - s) <= 1e-13 * h or high - low <= 1e-13 * h:
-            return high if f < 0.0 else s
+        if abs(s_next - s) <= 1e-13 * h:
+            return s_next
+        if high - low <= 1e-13 * h:
+            return high
         s = s_next
     return high
