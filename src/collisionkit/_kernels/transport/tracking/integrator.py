@@ -140,7 +140,8 @@ def depth_crossing(nu0, depth1, nu1, h, target, s_high, depth_high):
             high = s
         else:
             low = s
-        slope = (3.0 * t2 - 4.0 * theta + 1.0) * nu0 + (6.0 * theta - 6.0 * t2) * depth1 / h + (3.0 * t2 - 2.0 * theta) * nu1
+        slope = ((3.0 * t2 - 4.0 * theta + 1.0) * nu0 + (6.0 * theta - 6.0 * t2) * depth1 / h
+                 + (3.0 * t2 - 2.0 * theta) * nu1)
         s_next = s - f / slope if slope > 0.0 else 0.5 * (low + high)
         if not (low < s_next < high):
             s_next = 0.5 * (low + high)

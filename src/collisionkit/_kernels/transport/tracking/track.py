@@ -56,10 +56,10 @@ from .integrator import (
 )
 from .rates import chosen_process, chosen_species, profile_bin, species_rates
 
-GROWTH = 0.5
-NEWTON_ITERATIONS = 8
+GROWTH = 0.5  # null collisions: a step lasts at most the time in which a|t| reaches GROWTH times the speed
+NEWTON_ITERATIONS = 8  # path length: refinements of the collision time on the integrated optical depth
 GAUSS_NODES = np.array([-0.8611363115940526, -0.3399810435848563, 0.3399810435848563, 0.8611363115940526])
-GAUSS_WEIGHTS = np.array([0.3478548451374538, 0.6521451548625461, 0.6521451548625461, 0.3478548451374538])  # null collisions: a step lasts at most the time in which a|t| reaches GROWTH times the speed
+GAUSS_WEIGHTS = np.array([0.3478548451374538, 0.6521451548625461, 0.6521451548625461, 0.3478548451374538])
 BISECTIONS = 50  # halvings of a step to find where it leaves the volume
 SPEED_FLOOR_EV = 1e-3  # eV: the speed scale of the error control and of the step limits for a particle at rest
 EV = 1.602176634e-19
@@ -71,8 +71,8 @@ def track_particles(stack_pos, stack_vel, stack_time, stack_birth, stack_state, 
                     points,
                     e_kind, e_par, e_meta, e_values, e_user, b_kind, b_par, b_meta, b_values, b_user,
                     w_kind, w_par, surfaces, exact, flight,
-                    mass, charge, density, method, tolerance, depth_tolerance, length, step_length, time_limit, max_steps, budget,
-                    record_births, sharing, profile_kind, profile_par, signal_start, signal_step,
+                    mass, charge, density, method, tolerance, depth_tolerance, length, step_length, time_limit,
+                    max_steps, budget, record_births, sharing, profile_kind, profile_par, signal_start, signal_step,
                     gas, kind, species_of, threshold, const_rate, angular, screening, nodes, sigma, accelerator,
                     accelerator_step, bound, bound_step, sigma_max, const_max, species_sigma, species_const, thermal,
                     thermal_step):
@@ -129,6 +129,8 @@ def track_particles(stack_pos, stack_vel, stack_time, stack_birth, stack_state, 
         tau_left = -math.log(uniform(rng))
         need_derivative = True
         steps = 0
+        pending = 0  # a crossing found on the dense output: the step is taken again to end exactly there
+        pending_h = 0.0
         if stack_fresh[top] and control[4] < points.shape[0]:
             row = points[control[4]]
             row[0], row[1], row[2], row[3], row[4] = number, t, x, y, z
@@ -266,6 +268,19 @@ def track_particles(stack_pos, stack_vel, stack_time, stack_birth, stack_state, 
                     cz = hermite_position(y0[2], y0[5], k[0, 5], y1[2], y1[5], k[6, 5], h, theta)[0]
                 f, surface = lowest_surface(surfaces, cx, cy, cz)
                 event = 2 if f < 0.0 else 3
+                if event == 3:
+                    surface = -1
+                if not exact and low > 0.0 and pending == 0:
+                    # the dense output is less accurate than a step's end: take the step again, as far as the
+                    # crossing, so that the particle ends (or is reflected) with a step's accuracy
+                    pending = event
+                    pending_h = low
+                    h = low
+                    continue
+            elif pending != 0 and h == pending_h:  # the step taken again ends at the crossing
+                event = pending
+                surface = lowest_surface(surfaces, y1[0], y1[1], y1[2])[1] if event == 2 else -1
+            pending = 0
             # collisions before s_event
             chosen = -1
             species = 0
