@@ -151,6 +151,10 @@ from . import _transport  # noqa: E402
 
 _transport.register(app)
 
+from . import _track  # noqa: E402
+
+_track.register(app)
+
 from . import _animate  # noqa: E402
 
 _animate.register(app)

@@ -44,6 +44,10 @@ def _main_kernels(domain: str) -> list:
         from .._kernels import collisions
 
         return [collisions.resolve_contacts]
+    if domain == "track":
+        from .._kernels.transport.tracking import track
+
+        return [track.track_particles]
     raise ValueError(f"no kernels known for {domain!r}")
 
 
@@ -73,7 +77,8 @@ def kernels_cached(dispatchers: Iterable) -> bool:
 
 
 def cold(domains: Iterable[str]) -> bool:
-    """True if a kernel of the named domains (``edmd``, ``swarm``, ``slab``, ``encounter``, ``core``) must compile.
+    """True if a kernel of the named domains (``edmd``, ``swarm``, ``slab``, ``encounter``, ``core``, ``track``) must
+    compile.
 
     Examples
     --------
@@ -127,8 +132,17 @@ def _tiny_core() -> None:
     resolve_contact(np.ones(2), np.ones((2, 3)), np.ones(2), -np.ones((2, 3)), np.ones((2, 3)))
 
 
+def _tiny_track() -> None:
+    from ..transport import model_gas
+    from ..transport.tracking import Device, track
+
+    device = Device.parallel_plate(model_gas("maxwell"), 1e-5, 1.0, density=1e23)
+    track(device, primaries=2, position=(0.0, 0.0, 5e-6), seed=0, threads=1, signal_window=1e-9)
+
+
 TINY_RUNS: dict[str, Callable[[], None]] = {
     "edmd": _tiny_edmd, "swarm": _tiny_swarm, "slab": _tiny_slab, "encounter": _tiny_encounter, "core": _tiny_core,
+    "track": _tiny_track,
 }
 
 

@@ -12,6 +12,8 @@ follow the domains:
   distribution, snapshots, radial distribution;
 * :mod:`~collisionkit.plotting.transport` - energy distributions, transport
   coefficients, swarm trajectories;
+* :mod:`~collisionkit.plotting.tracking` - sample tracks in a device, and
+  the spectra, profiles and induced current of a tracking run;
 * :mod:`~collisionkit.plotting.sweep` - a parameter study's result;
 * :mod:`~collisionkit.plotting.animation` - animations saved as GIF or MP4;
 * :func:`save` writes any of these figures to an image file.
@@ -40,6 +42,7 @@ from .edmd import (
 )
 from .encounters import plot_encounter, plot_star_encounter
 from .sweep import plot_sweep
+from .tracking import plot_tracking_spectra, plot_tracks
 from .transport import REID_PUBLISHED, plot_energy_distribution, plot_trajectories, plot_transport_coefficients
 
 __all__ = [
@@ -64,6 +67,8 @@ __all__ = [
     "plot_speed_distribution",
     "plot_stationary_scan",
     "plot_sweep",
+    "plot_tracking_spectra",
+    "plot_tracks",
     "plot_trajectories",
     "plot_transport_coefficients",
     "save",

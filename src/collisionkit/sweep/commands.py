@@ -22,6 +22,7 @@ MAIN_RESULTS = {
     "swarm": "mean_energy",
     "slab": "transmission",
     "encounter": "orbit.deflection_angle",
+    "track": "gain",
 }
 
 
@@ -171,11 +172,27 @@ def _run_encounter(parameters, folder: Path, outputs: Mapping[str, Any]) -> dict
     return summary | {"files": [str(path) for path in files]}
 
 
+def _track_parameters():
+    from ..transport.tracking import TrackParameters
+
+    return TrackParameters
+
+
+def _run_track(parameters, folder: Path, outputs: Mapping[str, Any]) -> dict:
+    from ..transport.tracking import TrackRun
+
+    checkpoint = folder / POINT_CHECKPOINT
+    run = _resumed(TrackRun, checkpoint, parameters) or TrackRun(parameters, checkpoint=checkpoint)
+    run.run()
+    return run.summary()
+
+
 _COMMANDS = {
     "edmd": SweepCommand("edmd", _edmd_parameters, _run_edmd, {"trajectory": Path, "frame-every": int, "xyz": Path}),
     "swarm": SweepCommand("swarm", _swarm_parameters, _run_swarm),
     "slab": SweepCommand("slab", _slab_parameters, _run_slab),
     "encounter": SweepCommand("encounter", _encounter_parameters, _run_encounter),
+    "track": SweepCommand("track", _track_parameters, _run_track),
 }
 
 
@@ -185,7 +202,7 @@ def sweep_commands() -> tuple[str, ...]:
     Examples
     --------
     >>> sweep_commands()
-    ('edmd', 'encounter', 'slab', 'swarm')
+    ('edmd', 'encounter', 'slab', 'swarm', 'track')
     """
     return tuple(sorted(_COMMANDS))
 

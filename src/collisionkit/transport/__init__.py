@@ -16,7 +16,11 @@ collisions), real gases (LXCat files) and transport coefficients.
   (:func:`maxwell_model`, :func:`hard_sphere_gas`, :func:`reid_ramp`,
   :func:`lucas_saelee`) and :func:`read_lxcat`;
 * real gases by name: :func:`catalogue_gas` (``"Ar"``, ``"Ar:0.9,N2:0.1"``),
-  the :data:`CATALOGUE` of LXCat sets (shipped, or placed in :func:`data_folder`).
+  the :data:`CATALOGUE` of LXCat sets (shipped, or placed in :func:`data_folder`);
+* particles in any field and in devices (:mod:`collisionkit.transport.tracking`):
+  fields, surfaces, :class:`Device`, :func:`track` (avalanches, gain, spectra,
+  induced currents), :class:`TrackParameters` and :class:`TrackRun` (the
+  ``track`` command).
 """
 
 from .gases import (
@@ -93,4 +97,20 @@ __all__ = [
     "slab_summary",
     "swarm_summary",
     "trace_trajectories",
+]
+
+# particle tracking in devices (issue 18)
+from . import tracking  # noqa: E402
+from .tracking import (  # noqa: E402
+    CoaxialField, Cylinder, Device, DipoleMagneticField, FieldMap, Geometry, IonDrift, MagneticMirror,
+    ParallelPlateField, Plane, PointChargeField, Sphere, TrackingResult, TrackParameters, TrackRun, UniformField,
+    UniformMagneticField, UserField, WeightingField, coaxial_geometry, gas_density, parallel_plate_geometry,
+    read_field_map, track, track_summary,
+)
+
+__all__ += [
+    "CoaxialField", "Cylinder", "Device", "DipoleMagneticField", "FieldMap", "Geometry", "IonDrift", "MagneticMirror",
+    "ParallelPlateField", "Plane", "PointChargeField", "Sphere", "TrackingResult", "TrackParameters", "TrackRun",
+    "UniformField", "UniformMagneticField", "UserField", "WeightingField", "coaxial_geometry", "gas_density",
+    "parallel_plate_geometry", "read_field_map", "track", "track_summary",
 ]

@@ -27,12 +27,14 @@ from .fields import (
     UniformMagneticField, UserField,
 )
 from .geometry import Cylinder, Geometry, Plane, Sphere, Surface, coaxial_geometry, parallel_plate_geometry
+from .parameters import TrackParameters, TrackRun, track_summary
 from .result import TrackingResult
 from .run import METHODS, IonDrift, track
 
 __all__ = [
     "CoaxialField", "Cylinder", "Device", "DipoleMagneticField", "Field", "FieldMap", "Geometry", "IonDrift",
     "METHODS", "MagneticMirror", "ParallelPlateField", "Plane", "PointChargeField", "Sphere", "Surface",
-    "TrackingResult", "UniformField", "UniformMagneticField", "UserField", "WeightingField", "coaxial_geometry",
-    "gas_density", "parallel_plate_geometry", "read_field_map", "track",
+    "TrackParameters", "TrackRun", "TrackingResult", "UniformField", "UniformMagneticField", "UserField",
+    "WeightingField", "coaxial_geometry", "gas_density", "parallel_plate_geometry", "read_field_map", "track",
+    "track_summary",
 ]

@@ -76,6 +76,22 @@ class Surface:
         """
         raise NotImplementedError
 
+    def inward_normal(self, points, step: float = 1e-7) -> np.ndarray:
+        """Unit normals (n x 3) pointing into the volume at ``points``: the gradient of the signed distance
+        (central differences of ``step`` times the distance scale, exact for the linear and quadratic parts).
+
+        Examples
+        --------
+        >>> from collisionkit.transport.tracking import Sphere
+        >>> Sphere((0, 0, 0), 1.0).inward_normal([[0, 0, 1.0]]).round(9).tolist()
+        [[0.0, 0.0, -1.0]]
+        """
+        points = np.asarray(points, dtype=float).reshape(-1, 3)
+        scale = step * max(1.0, float(np.abs(points).max(initial=0.0)))
+        gradient = np.column_stack([(self.distance(points + scale * e) - self.distance(points - scale * e))
+                                    / (2 * scale) for e in np.eye(3)])
+        return gradient / np.maximum(np.linalg.norm(gradient, axis=1), 1e-300)[:, None]
+
 
 @dataclass(frozen=True)
 class Plane(Surface):

@@ -36,8 +36,9 @@ __all__ = ["METHODS", "IonDrift", "track"]
 METHODS = {"null-collision": _c.NULL_COLLISION, "path-length": _c.PATH_LENGTH}
 EV = constants.e
 CALL_COLLISIONS = 1 << 18  # real collisions per kernel call at most: a call lasts a fraction of a second
-PILOT_PRIMARIES = 4  # primaries of the pilot run that sizes the signal's time window
-SIGNAL_MARGIN = 1.25  # the signal window: this times the latest end seen in the pilot run
+PILOT_PRIMARIES = 8  # primaries of the pilot run that sizes the signal's time window
+SIGNAL_MARGIN = 2.0  # the signal window: this times the latest end seen in the pilot run
+ON_SURFACE = 1e-12  # a start this close to a surface (relative to the length scale) is on it: emitted inward
 
 
 @dataclass(frozen=True)
@@ -132,6 +133,7 @@ def _run_batch(plan: _Plan, lo: int, hi: int, points_wanted: bool, report=None) 
     states = _states(plan.seed, plan.first_primary + lo + np.arange(n))
     velocities = np.zeros((n, 3))
     launch(states, plan.speed, plan.direction, velocities)
+    _emit_inward(plan.device.geometry, plan.positions[lo:hi], velocities)
     stack["pos"][:n] = plan.positions[lo:hi][order]
     stack["vel"][:n] = velocities[order]
     stack["state"][:n] = states[order]
@@ -197,6 +199,17 @@ def _run_batch(plan: _Plan, lo: int, hi: int, points_wanted: bool, report=None) 
         method=[name for name, code in METHODS.items() if code == s["method"]][0], points=points[: control[4]].copy())
 
 
+def _emit_inward(geometry, positions, velocities) -> None:
+    """Primaries that start on a surface (an electrode emitting) and would leave at once go into the volume: the
+    velocity's outward normal part is turned inward (an isotropic source becomes one over the inner half-space)."""
+    for surface in geometry.surfaces:
+        on = np.abs(surface.distance(positions)) <= ON_SURFACE * geometry.length_scale
+        if on.any():
+            normal = surface.inward_normal(positions[on])
+            along = (velocities[on] * normal).sum(axis=1)
+            velocities[on] -= 2.0 * np.minimum(along, 0.0)[:, None] * normal
+
+
 def _drift_ions(plan: _Plan, births, n):
     """The ions born in a batch drifted to the electrodes: (end records, induced charge per primary, signal)."""
     records = np.zeros((births.shape[0], _c.RECORD_COLUMNS))
@@ -246,7 +259,8 @@ def track(device: Device, *, primaries: int = 100, position=(0.0, 0.0, 0.0), ene
     primaries : int
         Particles released (>= 1).
     position : 3 numbers or (primaries x 3) array
-        Where they start (m), inside the volume.
+        Where they start (m), inside the volume; a start on a surface (an
+        electrode) emits into the volume.
     energy : float
         Their kinetic energy (eV, >= 0), along ``direction`` or isotropic (default).
     method : {"null-collision", "path-length"}

@@ -1,0 +1,525 @@
+"""The ``track`` command as a library object: a device's parameters, a run in checkpointed chunks, its summary.
+
+:class:`TrackParameters` holds the physics (flat, as sweeps and the command
+line name them); :meth:`TrackParameters.from_sections` reads the device file's
+``[gas]``, ``[geometry]``, ``[source]`` and ``[ions]`` tables::
+
+    [gas]                      # as the swarm takes it
+    model = "lucas_saelee"     # or gas = "Ar", or cross-sections = ["file.txt"]
+    pressure = 101325.0        # Pa (or density, m^-3)
+    temperature = 300.0        # K
+    [geometry]
+    kind = "parallel-plate"    # cathode z = 0 at 0 V, anode z = gap at voltage
+    gap = 1e-3                 # m
+    voltage = 1500.0           # V
+    [source]
+    electrons = 100
+    position = [0.0, 0.0, 0.0] # m (coaxial: or radius = r in m)
+
+:class:`TrackRun` runs the primaries in chunks, writes a checkpoint after
+each (a crash loses one chunk at most) and resumes from it;
+:func:`track_summary` is the command's JSON summary.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from collections.abc import Callable, Mapping
+from pathlib import Path
+from typing import Any, ClassVar
+
+import numpy as np
+
+from ..._io import CheckpointError, exclusive, read_checkpoint, write_checkpoint
+from ..._params import Parameters, check_choice, check_integer, check_real, check_seed, check_unchanged
+from ..gases import Gas
+from ..scan import SwarmParameters, gas_files_digest
+from .device import Device
+from .fields import UniformMagneticField
+from .result import TrackingResult
+from .run import METHODS, IonDrift, track
+
+__all__ = ["GEOMETRIES", "SECTIONS", "TrackParameters", "TrackRun", "track_summary"]
+
+GEOMETRIES = ("parallel-plate", "coaxial")
+CHECKPOINT_KIND = "track"
+CHUNKS = 20  # a run is saved after each twentieth of its primaries (at least CHUNK_MIN of them)
+CHUNK_MIN = 16
+SPECTRUM_BINS = 50
+# the device file's tables and the parameters their keys set (keys may use dashes)
+SECTIONS = {
+    "gas": {"model": "model", "gas": "gas", "cross_sections": "cross_sections", "species": "species",
+            "fractions": "fractions", "database": "database", "pressure": "pressure", "temperature": "temperature",
+            "density": "density"},
+    "geometry": {"kind": "geometry", "gap": "gap", "voltage": "voltage", "wire_radius": "wire_radius",
+                 "cathode_radius": "cathode_radius", "magnetic_field": "magnetic_field"},
+    "source": {"electrons": "electrons", "position": "position", "radius": "radius", "energy": "energy",
+               "direction": "direction"},
+    "ions": {"mobility": "ion_mobility"},
+}
+
+
+def _vector_or_none(name: str, value):
+    if value is None:
+        return None
+    if isinstance(value, (str, bytes)) or not hasattr(value, "__len__") or len(value) != 3:
+        raise ValueError(f"{name} must be three numbers; got {value!r}")
+    return tuple(check_real(name, item) for item in value)
+
+
+@dataclasses.dataclass(frozen=True)
+class TrackParameters(Parameters):
+    """The physics of a ``track`` run, checked when made.
+
+    Parameters
+    ----------
+    geometry : {"parallel-plate", "coaxial"}
+        The device: plates (``gap``; the cathode z = 0 at 0 V, the anode z =
+        gap at ``voltage``) or a counter (``wire_radius``, ``cathode_radius``;
+        the wire at ``voltage``, the cathode at 0 V; axis z).
+    gap, wire_radius, cathode_radius : float
+        Sizes in m (> 0).
+    voltage : float
+        V (finite).
+    magnetic_field : 3 numbers, optional
+        A uniform magnetic field (T).
+    model, gas, cross_sections, species, fractions, database
+        The gas, exactly as :class:`~collisionkit.transport.SwarmParameters` takes it.
+    pressure, temperature, density : float
+        The gas: pressure (Pa, > 0; default 1 atm) and temperature (K, > 0), or
+        its number density (m^-3) instead of the pressure.
+    electrons : int
+        Primary electrons (1 to 1e7).
+    position : 3 numbers, optional
+        Their start (m); default the cathode's centre (plates). A start on an
+        electrode emits into the gas.
+    radius : float, optional
+        Coaxial: the start's distance from the axis (m), in (a, b).
+    energy : float
+        The primaries' energy (eV, >= 0).
+    direction : 3 numbers, optional
+        Their direction (default isotropic).
+    method : {"null-collision", "path-length"}
+    ion_mobility : float, optional
+        Drift the ions at this mobility (m^2/(V s), > 0).
+    seed : int
+    tolerance : float
+        The integrator's relative tolerance, in (0, 0.1].
+    sharing : {"equal", "uniform"}
+
+    Examples
+    --------
+    >>> p = TrackParameters(model="reid", gap=1e-3, voltage=100.0, electrons=10)
+    >>> p.device().collector, p.positions().tolist()
+    ('anode', [[0.0, 0.0, 0.0]])
+    >>> TrackParameters(model="reid", gap=-1.0)
+    Traceback (most recent call last):
+    ...
+    ValueError: gap must be > 0; got -1
+    """
+
+    geometry: str = "parallel-plate"
+    gap: float | None = None
+    voltage: float = 0.0
+    wire_radius: float | None = None
+    cathode_radius: float | None = None
+    magnetic_field: Any = None
+    model: str | None = None
+    gas: str | None = None
+    cross_sections: Any = None
+    species: Any = None
+    fractions: Any = None
+    database: str | None = None
+    pressure: float | None = None
+    temperature: float = 300.0
+    density: float | None = None
+    electrons: int = 100
+    position: Any = None
+    radius: float | None = None
+    energy: float = 0.1
+    direction: Any = None
+    method: str = "null-collision"
+    ion_mobility: float | None = None
+    seed: int = 2026
+    tolerance: float = 1e-6
+    sharing: str = "equal"
+
+    FLAGS: ClassVar = {}
+
+    def __post_init__(self):
+        set_ = object.__setattr__
+        check_choice("geometry", self.geometry, GEOMETRIES)
+        if self.geometry == "parallel-plate":
+            if self.gap is None:
+                raise ValueError("a parallel-plate device needs gap (m)")
+            set_(self, "gap", check_real("gap", self.gap, 0.0, low_open=True))
+            for name in ("wire_radius", "cathode_radius", "radius"):
+                if getattr(self, name) is not None:
+                    raise ValueError(f"{name} belongs to a coaxial device; a parallel-plate one takes gap")
+        else:
+            if self.wire_radius is None or self.cathode_radius is None:
+                raise ValueError("a coaxial device needs wire_radius and cathode_radius (m)")
+            set_(self, "wire_radius", check_real("wire_radius", self.wire_radius, 0.0, low_open=True))
+            set_(self, "cathode_radius", check_real("cathode_radius", self.cathode_radius, self.wire_radius,
+                                                    low_open=True))
+            if self.gap is not None:
+                raise ValueError("gap belongs to a parallel-plate device; a coaxial one takes wire_radius and "
+                                 "cathode_radius")
+        set_(self, "voltage", check_real("voltage", self.voltage))
+        set_(self, "magnetic_field", _vector_or_none("magnetic_field (T)", self.magnetic_field))
+        swarm = self.swarm_parameters()  # the gas's checks, exactly the swarm's
+        set_(self, "cross_sections", swarm.cross_sections)
+        set_(self, "species", swarm.species)
+        set_(self, "fractions", swarm.fractions)
+        if self.pressure is not None and self.density is not None:
+            raise ValueError("give pressure (Pa) or density (m^-3), not both")
+        if self.pressure is not None:
+            set_(self, "pressure", check_real("pressure", self.pressure, 0.0, low_open=True))
+        if self.density is not None:
+            set_(self, "density", check_real("density", self.density, 0.0, low_open=True))
+        # the gas's temperature gives the density from the pressure (> 0); with a density it may be 0 (targets at rest)
+        set_(self, "temperature", check_real("temperature", self.temperature, 0.0, low_open=self.density is None))
+        set_(self, "electrons", check_integer("electrons", self.electrons, 1, 10_000_000))
+        set_(self, "position", _vector_or_none("position (m)", self.position))
+        if self.radius is not None:
+            if self.position is not None:
+                raise ValueError("give position or radius, not both")
+            set_(self, "radius", check_real("radius", self.radius, self.wire_radius, self.cathode_radius,
+                                            low_open=True, high_open=True))
+        set_(self, "energy", check_real("energy", self.energy, 0.0))
+        set_(self, "direction", _vector_or_none("direction", self.direction))
+        if self.direction is not None and not any(self.direction):
+            raise ValueError("direction must not be zero")
+        check_choice("method", self.method, tuple(METHODS))
+        if self.ion_mobility is not None:
+            set_(self, "ion_mobility", check_real("ion_mobility", self.ion_mobility, 0.0, low_open=True))
+        set_(self, "seed", check_seed("seed", self.seed))
+        set_(self, "tolerance", check_real("tolerance", self.tolerance, 0.0, 0.1, low_open=True))
+        check_choice("sharing", self.sharing, ("equal", "uniform"))
+        self.positions()  # inside the device
+
+    @classmethod
+    def from_sections(cls, tables: Mapping[str, Any], **flat) -> TrackParameters:
+        """The parameters of a device file's tables (``[gas]``, ``[geometry]``, ``[source]``, ``[ions]``) and of flat
+        keys (``seed``, ``method`` ...); ValueError naming an unknown table or key.
+
+        Examples
+        --------
+        >>> p = TrackParameters.from_sections({"gas": {"model": "reid", "density": 1e24},
+        ...                                    "geometry": {"kind": "coaxial", "wire-radius": 25e-6,
+        ...                                                 "cathode-radius": 0.01, "voltage": 1500.0},
+        ...                                    "source": {"electrons": 5, "radius": 0.005}})
+        >>> p.geometry, p.radius, p.device().collector
+        ('coaxial', 0.005, 'wire')
+        """
+        return cls.from_mapping(flatten_sections(tables) | flat)
+
+    def swarm_parameters(self) -> SwarmParameters:
+        """The gas as the swarm takes it (a :class:`~collisionkit.transport.SwarmParameters`).
+
+        Examples
+        --------
+        >>> TrackParameters(gas="Ar", gap=1e-3).swarm_parameters().gas_name()
+        'Ar'
+        """
+        try:
+            return SwarmParameters(model=self.model, gas=self.gas, cross_sections=self.cross_sections,
+                                   species=self.species, fractions=self.fractions, database=self.database,
+                                   gas_temperature=self.temperature)
+        except ValueError as error:
+            raise ValueError(str(error).replace("--cross-sections", "cross-sections").replace("--gas", "gas")
+                             .replace("--model", "model")) from None
+
+    def make_gas(self) -> Gas:
+        """The gas (see :meth:`collisionkit.transport.SwarmParameters.make_gas`).
+
+        Examples
+        --------
+        >>> TrackParameters(model="reid", gap=1e-3).make_gas().species[0].name
+        'reid'
+        """
+        return self.swarm_parameters().make_gas()
+
+    def device(self, gas: Gas | None = None) -> Device:
+        """The :class:`Device` (gas made here unless given).
+
+        Examples
+        --------
+        >>> round(TrackParameters(model="reid", gap=1e-3).device().density / 2.446e25, 3)  # 1 atm, 300 K
+        1.0
+        """
+        gas = self.make_gas() if gas is None else gas
+        magnetic = None if self.magnetic_field is None else UniformMagneticField(self.magnetic_field)
+        pressure = 101325.0 if self.pressure is None and self.density is None else self.pressure
+        common = dict(pressure=pressure, density=self.density, temperature=self.temperature, magnetic=magnetic)
+        if self.geometry == "parallel-plate":
+            return Device.parallel_plate(gas, self.gap, self.voltage, **common)
+        return Device.coaxial(gas, self.wire_radius, self.cathode_radius, self.voltage, **common)
+
+    def positions(self) -> np.ndarray:
+        """The start of the primaries (1 x 3, m), checked to lie in the device.
+
+        Examples
+        --------
+        >>> TrackParameters(model="reid", wire_radius=1e-5, cathode_radius=1e-2, geometry="coaxial",
+        ...                 radius=2e-3).positions().tolist()
+        [[0.002, 0.0, 0.0]]
+        """
+        if self.position is not None:
+            point = np.array([self.position])
+        elif self.radius is not None:
+            point = np.array([[self.radius, 0.0, 0.0]])
+        elif self.geometry == "parallel-plate":
+            point = np.zeros((1, 3))
+        else:
+            point = np.array([[0.5 * (self.wire_radius + self.cathode_radius), 0.0, 0.0]])
+        if self.geometry == "parallel-plate":
+            inside = 0.0 <= point[0, 2] <= self.gap
+        else:
+            inside = self.wire_radius <= math.hypot(point[0, 0], point[0, 1]) <= self.cathode_radius
+        if not inside:
+            raise ValueError(f"position {point[0].tolist()} (m) lies outside the device")
+        return point
+
+
+def flatten_sections(tables: Mapping[str, Any]) -> dict[str, Any]:
+    """The flat parameters of a device file's tables (ValueError for an unknown table or key).
+
+    Examples
+    --------
+    >>> flatten_sections({"geometry": {"kind": "coaxial"}, "seed": 3})
+    {'geometry': 'coaxial', 'seed': 3}
+    """
+    flat: dict[str, Any] = {}
+    for key, value in tables.items():
+        section = SECTIONS.get(str(key).replace("-", "_")) if isinstance(value, Mapping) else None
+        if isinstance(value, Mapping) and section is None:
+            raise ValueError(f"unknown table [{key}]; the device file's tables are {', '.join(SECTIONS)}")
+        if section is None:
+            flat[str(key).replace("-", "_")] = value
+            continue
+        for name, item in value.items():
+            target = section.get(str(name).replace("-", "_"))
+            if target is None:
+                raise ValueError(f"unknown key {name!r} in [{key}]; allowed: {', '.join(section)}")
+            if target in flat:
+                raise ValueError(f"{target} is given twice")
+            flat[target] = item
+    return flat
+
+
+class TrackRun:
+    """A ``track`` run in chunks of primaries, checkpointed after each.
+
+    Parameters
+    ----------
+    parameters : TrackParameters
+    checkpoint : path, optional
+        Written (``.npz``, atomically) after every chunk.
+    gas : Gas, optional
+        A gas built in Python (default: made from the parameters).
+    threads : int, optional
+        Worker threads (results do not depend on them).
+
+    Examples
+    --------
+    >>> import pathlib, tempfile
+    >>> path = pathlib.Path(tempfile.mkdtemp()) / "run.npz"
+    >>> p = TrackParameters(model="maxwell", gap=1e-4, voltage=1.0, density=1e23, electrons=20, position=[0, 0, 5e-5])
+    >>> run = TrackRun(p, checkpoint=path)
+    >>> result = run.run()
+    >>> TrackRun.resume(path).result.collected.tolist() == result.collected.tolist()
+    True
+    """
+
+    def __init__(self, parameters: TrackParameters, checkpoint=None, gas: Gas | None = None,
+                 threads: int | None = None, result: TrackingResult | None = None,
+                 signal_window: float | None = None):
+        if not isinstance(parameters, TrackParameters):
+            raise TypeError(f"parameters must be TrackParameters; got {type(parameters).__name__}")
+        self.parameters = parameters
+        self.checkpoint = None if checkpoint is None else Path(checkpoint)
+        self.device = parameters.device(gas)
+        self.threads = threads
+        self.result = result
+        self.signal_window = signal_window
+
+    @property
+    def done(self) -> int:
+        """Primaries finished so far."""
+        return 0 if self.result is None else self.result.primaries
+
+    @property
+    def finished(self) -> bool:
+        """True once every primary has been followed."""
+        return self.done >= self.parameters.electrons
+
+    def run(self, progress: Callable[[float], Any] | None = None) -> TrackingResult:
+        """Follow the primaries not done yet; return the result of them all.
+
+        ``progress(fraction)`` is called with the fraction of primaries done.
+
+        Examples
+        --------
+        >>> p = TrackParameters(model="maxwell", gap=1e-4, voltage=1.0, density=1e23, electrons=4,
+        ...                     position=[0, 0, 5e-5])
+        >>> TrackRun(p).run().gain
+        1.0
+        """
+        p = self.parameters
+        chunk = max(CHUNK_MIN, math.ceil(p.electrons / CHUNKS))
+        with exclusive(self.checkpoint):
+            while not self.finished:
+                count = min(chunk, p.electrons - self.done)
+                done = self.done
+
+                def report(fraction, done=done, count=count):
+                    if progress is not None:
+                        progress((done + fraction * count) / p.electrons)
+
+                part = track(self.device, primaries=count, position=p.positions()[0], energy=p.energy,
+                             direction=p.direction, method=p.method, seed=p.seed, sharing=p.sharing,
+                             ions=None if p.ion_mobility is None else IonDrift(p.ion_mobility),
+                             tolerance=p.tolerance, signal_window=self.signal_window or "auto",
+                             first_primary=done, threads=self.threads, progress=report,
+                             record_points=2000 if done == 0 else 0)
+                if self.signal_window is None:
+                    self.signal_window = part.signal_step * part.signal.size if part.signal.size else None
+                self.result = part if self.result is None else TrackingResult.combine([self.result, part])
+                self.save()
+        if progress is not None:
+            progress(1.0)
+        return self.result
+
+    def save(self, path=None) -> Path | None:
+        """Write the checkpoint (to ``path``, default the run's); None if there is none.
+
+        Examples
+        --------
+        >>> TrackRun(TrackParameters(model="reid", gap=1e-3)).save() is None
+        True
+        """
+        path = self.checkpoint if path is None else Path(path)
+        if path is None:
+            return None
+        state = {"done": self.done, "signal_window": self.signal_window,
+                 "cross_sections_sha256": gas_files_digest(self.parameters.swarm_parameters().gas_files())}
+        arrays = {} if self.result is None else {f"result_{k}": v for k, v in self.result.to_arrays().items()}
+        return write_checkpoint(path, CHECKPOINT_KIND, self.parameters.to_dict(), state, arrays)
+
+    @classmethod
+    def resume(cls, path, checkpoint=None, gas: Gas | None = None, threads: int | None = None,
+               **given) -> TrackRun:
+        """The run saved in ``path``; parameters given again must equal the saved ones.
+
+        Raises
+        ------
+        ValueError
+            If the file is not a track checkpoint or a damaged one, a
+            parameter differs, or a cross-section file changed since.
+
+        Examples
+        --------
+        >>> import pathlib, tempfile
+        >>> path = pathlib.Path(tempfile.mkdtemp()) / "run.npz"
+        >>> _ = TrackRun(TrackParameters(model="reid", gap=1e-3), checkpoint=path).save()
+        >>> TrackRun.resume(path, gap=1e-3).done
+        0
+        """
+        saved = read_checkpoint(path, CHECKPOINT_KIND)
+        try:
+            parameters = TrackParameters.from_mapping(saved.parameters)
+        except (KeyError, TypeError, ValueError) as error:
+            raise CheckpointError(f"{path} is a damaged track checkpoint: {error}") from None
+        check_unchanged(parameters, given, path)
+        digest = saved.entry("cross_sections_sha256", "text", optional=True)
+        files = parameters.swarm_parameters().gas_files()
+        if digest is not None and all(Path(f).is_file() for f in files) and gas_files_digest(files) != digest:
+            raise ValueError(f"the cross-section files of {path} have changed since it was written: a resumed run "
+                             "must use the same cross sections")
+        done = saved.entry("done", "integer", 0, parameters.electrons)
+        window = saved.entry("signal_window", "number", 0.0, optional=True)
+        result = None
+        if done:
+            try:
+                result = TrackingResult.from_arrays({k[len("result_"):]: v for k, v in saved.arrays.items()
+                                                     if k.startswith("result_")})
+            except (KeyError, TypeError, ValueError) as error:
+                raise saved.damaged(f"its result cannot be read ({error})") from None
+            if result.primaries != done:
+                raise saved.damaged(f"it holds {result.primaries} primaries, not the {done} it says")
+        return cls(parameters, checkpoint=path if checkpoint is None else checkpoint, gas=gas, threads=threads,
+                   result=result, signal_window=window)
+
+    def summary(self, files=()) -> dict[str, Any]:
+        """:func:`track_summary` of the run so far.
+
+        Examples
+        --------
+        >>> p = TrackParameters(model="maxwell", gap=1e-4, voltage=1.0, density=1e23, electrons=4,
+        ...                     position=[0, 0, 5e-5])
+        >>> run = TrackRun(p)
+        >>> _ = run.run()
+        >>> run.summary()["gain"]
+        1.0
+        """
+        if self.result is None:
+            raise ValueError("the run has no result yet: call run() first")
+        return track_summary(self.parameters, self.result, files)
+
+
+def _plain(values) -> list:
+    return [float(v) if math.isfinite(v) else None for v in np.asarray(values, dtype=float).reshape(-1)]
+
+
+def track_summary(parameters: TrackParameters, result: TrackingResult, files=()) -> dict[str, Any]:
+    """The ``track`` command's JSON summary: ``gain`` and ``drift_time`` with their ``*_error`` partners, the
+    gain's distribution (Polya theta), the spectra, profiles, the induced current and the run's counts.
+
+    Examples
+    --------
+    >>> p = TrackParameters(model="maxwell", gap=1e-4, voltage=1.0, density=1e23, electrons=4,
+    ...                     position=[0, 0, 5e-5])
+    >>> summary = track_summary(p, TrackRun(p).run())
+    >>> summary["gain"], summary["gain_error"], sorted(summary["arrival_time_spectrum"])
+    (1.0, 0.0, ['counts', 'edges'])
+    """
+    theta, theta_error = result.polya_theta()
+    electrons = result.electrons
+    ionizations = result.process_counts("ionization")
+    entry = {
+        "gain": result.gain, "gain_error": result.gain_error,
+        "drift_time": result.drift_time, "drift_time_error": result.drift_time_error,
+        "electrons_per_primary": float(electrons.mean()),
+        "electrons_per_primary_error": float(electrons.std(ddof=1) / math.sqrt(electrons.size))
+        if electrons.size > 1 else math.nan,
+        "ionizations_per_primary": float(ionizations.mean()),
+        "polya_theta": theta, "polya_theta_error": theta_error,
+        "induced_charge": float(result.induced_charge.mean()),
+        "induced_charge_error": float(result.induced_charge.std(ddof=1) / math.sqrt(result.primaries))
+        if result.primaries > 1 else math.nan,
+    }
+    for name, key in (("arrival_time_spectrum", "arrival"), ("energy_spectrum", "energy")):
+        if result.collected_records().shape[0]:
+            edges, counts = getattr(result, name)(SPECTRUM_BINS)
+            entry[name] = {"edges": _plain(edges), "counts": _plain(counts)}
+        else:
+            entry[name] = {"edges": [], "counts": []}
+    edges, ionization = result.profile("ionization")
+    entry["profiles"] = {"coordinate": result.profile_coordinate, "edges": _plain(edges),
+                         "ionization": _plain(ionization), "excitation": _plain(result.profile("excitation")[1])}
+    edges, current = result.current()
+    entry["current"] = {"edges": _plain(edges), "current": _plain(current)}
+    gains, fractions = result.gain_distribution()
+    entry["gain_distribution"] = {"gain": [int(g) for g in gains], "fraction": _plain(fractions)}
+    if result.ion_records.shape[0]:
+        times = result.ion_records[:, 3] - result.ion_records[:, 10]
+        entry["ion_drift_time"] = float(times.mean())
+        entry["ion_drift_time_error"] = float(times.std(ddof=1) / math.sqrt(times.size)) if times.size > 1 else None
+    entry |= {"primaries": result.primaries, "collisions": int(result.collisions.sum()),
+              "null_collisions": result.null_collisions, "steps": result.steps, "seconds": result.seconds,
+              "method": result.method, "collector": result.collector, "surfaces": list(result.surfaces),
+              "gas": parameters.swarm_parameters().gas_name(), "files": [str(path) for path in files],
+              "parameters": parameters.to_dict()}
+    return entry
