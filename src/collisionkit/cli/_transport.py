@@ -17,6 +17,8 @@ from ._memory import refuse_beyond_memory, swarm_memory
 from ._warmup import warm_up
 
 ModelName = Literal["maxwell", "hard_sphere", "reid", "lucas_saelee"]
+ScatteringLaw = Literal["isotropic", "okhrimovskyy", "vahedi-surendra", "forward"]
+ScatteringKind = Literal["elastic", "excitation", "ionization", "attachment", "superelastic"]
 
 
 class SwarmOptions(Options):
@@ -34,12 +36,14 @@ class SwarmOptions(Options):
     fractions: list[float] | None = None
     e_n: list[float] = Field(default=[12.0], min_length=1)
     b_n: float = Field(default=0.0, allow_inf_nan=False)
-    gas_temperature: float = Field(default=0.0, ge=0, allow_inf_nan=False)
+    gas_temperature: float = Field(default=300.0, ge=0, allow_inf_nan=False)
     particles: int = Field(default=20_000, ge=128, le=10_000_000)
     seed: int = Field(default=2026, ge=0)
     tolerance: float = Field(default=2e-3, gt=0, le=0.5)
     collision_budget: float = Field(default=5e8, ge=1e4, allow_inf_nan=False)
     sharing: Literal["equal", "uniform"] = "equal"
+    scattering: ScatteringLaw | dict[ScatteringKind, ScatteringLaw] | None = None
+    populations: dict[str, float] | None = None
     out: Path | None = None
     summary: Path | None = None
     checkpoint: Path | None = None
@@ -67,7 +71,8 @@ class SwarmOptions(Options):
         return SwarmParameters(reduced_field=self.e_n, model=self.model, cross_sections=self.cross_sections,
                                species=self.species, fractions=self.fractions, reduced_magnetic_field=self.b_n,
                                gas_temperature=self.gas_temperature, particles=self.particles, seed=self.seed,
-                               tolerance=self.tolerance, collision_budget=self.collision_budget, sharing=self.sharing)
+                               tolerance=self.tolerance, collision_budget=self.collision_budget, sharing=self.sharing,
+                               scattering=self.scattering, populations=self.populations)
 
 
 def _e_n_values(raw: list[str] | None) -> list[float] | None:
@@ -133,11 +138,19 @@ def _options_of(parameters) -> dict:
     return {names.get(key, key): value for key, value in parameters.to_dict().items()}
 
 
+def _with_error(value, error, digits=4):
+    """``value ± error``; 0 alone for an exact zero (no reaction), "-" for NaN (no SST root, an older result)."""
+    if value != value:
+        return "-"
+    return "0" if value == 0.0 and error == 0.0 else f"{value:.{digits}g} ± {error:.2g}"
+
+
 def _swarm_row(result):
     return (f"{result.reduced_field:g}", f"{result.mean_energy:.5g} ± {result.mean_energy_error:.2g}",
             f"{-result.drift_velocity_bulk[2]:.5g} ± {result.drift_velocity_bulk_error[2]:.2g}",
             f"{result.diffusion_L_N:.4g} ± {result.diffusion_L_N_error:.2g}",
             f"{result.diffusion_T_N:.4g} ± {result.diffusion_T_N_error:.2g}",
+            _with_error(result.alpha_N, result.alpha_N_error), _with_error(result.eta_N, result.eta_N_error),
             f"{result.collisions_per_second:.3g}")
 
 
@@ -166,12 +179,13 @@ def swarm(
     fractions: Annotated[list[float] | None, typer.Option(help="Their number fractions (repeat).")] = None,
     e_n: Annotated[list[str] | None, typer.Option("--E-N", help="E/N in Td; repeat or comma list for a sweep.  \\[default: 12]")] = None,
     b_n: Annotated[float | None, typer.Option("--B-N", help="B/N in Hx, B along y (E along z).  \\[default: 0]")] = None,
-    gas_temperature: Annotated[float | None, typer.Option(help="Gas temperature in K (>= 0).  \\[default: 0]")] = None,
+    gas_temperature: Annotated[float | None, typer.Option(help="Gas temperature in K (>= 0): targets' Maxwellian and Boltzmann populations of reversible excitations (superelastic collisions); 0 for the model-gas benchmarks.  \\[default: 300]")] = None,
     particles: Annotated[int | None, typer.Option(help="Simulated particles (128 to 1e7).  \\[default: 20000]")] = None,
     seed: Annotated[int | None, typer.Option(help="Random seed (>= 0).  \\[default: 2026]")] = None,
     tolerance: Annotated[float | None, typer.Option(help="Target relative error of mean energy and drift (of mean energy alone at E/N = 0).  \\[default: 0.002]")] = None,
     collision_budget: Annotated[float | None, typer.Option(help="Stop after this many real collisions per E/N.  \\[default: 5e8]")] = None,
     sharing: Annotated[str | None, typer.Option(help="Ionization energy sharing: equal or uniform.  \\[default: equal]")] = None,
+    scattering: Annotated[str | None, typer.Option(help="Angular scattering law of every process: isotropic, okhrimovskyy, vahedi-surendra or forward (elastic tables are momentum transfer, converted; per process kind: a [scattering] table in --config).  \\[default: isotropic]")] = None,
     out: Annotated[Path | None, typer.Option(help="Folder for plots and swarm.csv, a row per E/N (none if not given).")] = None,
     summary: Annotated[Path | None, typer.Option("--summary", help="Write the results as JSON to this file.")] = None,
     checkpoint: Annotated[Path | None, typer.Option(help="Write the finished E/N points to this JSON file after each one (atomically).")] = None,
@@ -179,10 +193,11 @@ def swarm(
     config: Annotated[Path | None, typer.Option("--config", help="TOML file with these options (command line wins).")] = None,
     overwrite: OverwriteOption = None,
 ):
-    """Electron swarm transport coefficients (mean energy, drift, diffusion, rates) against E/N."""
+    """Electron swarm transport coefficients (mean energy, drift, diffusion, rates, SST Townsend alpha/N and eta/N) against E/N."""
     given = dict(model=model, cross_sections=cross_sections, species=species, fractions=fractions, e_n=_e_n_values(e_n),
                  b_n=b_n, gas_temperature=gas_temperature, particles=particles, seed=seed, tolerance=tolerance,
-                 collision_budget=collision_budget, sharing=sharing, out=out, summary=summary, checkpoint=checkpoint,
+                 collision_budget=collision_budget, sharing=sharing, scattering=scattering, out=out, summary=summary,
+                 checkpoint=checkpoint,
                  overwrite=overwrite)
     if resume is None:
         options = load_options(SwarmOptions, config, given)
@@ -217,7 +232,8 @@ def swarm(
         warn(f"interrupted: {where}")
         raise typer.Exit(INTERRUPTED_EXIT_CODE) from None
     print_table("swarm transport (W along -z for electrons)",
-                ("E/N (Td)", "mean energy (eV)", "bulk W (m/s)", "N D_L (1/m/s)", "N D_T (1/m/s)", "collisions/s"),
+                ("E/N (Td)", "mean energy (eV)", "bulk W (m/s)", "N D_L (1/m/s)", "N D_T (1/m/s)",
+                 "alpha/N (m^2)", "eta/N (m^2)", "collisions/s"),
                 [_swarm_row(r) for r in results])
     unconverged = [f"{r.reduced_field:g}" for r in results if not r.converged]
     if unconverged:

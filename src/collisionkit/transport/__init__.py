@@ -14,11 +14,18 @@ collisions), real gases (LXCat files) and transport coefficients.
 * :func:`simulate_slab` - transmission and reflection of a beam by a slab;
 * gases: :class:`Gas`, :class:`Species`, :class:`Process`, model gases
   (:func:`maxwell_model`, :func:`hard_sphere_gas`, :func:`reid_ramp`,
-  :func:`lucas_saelee`) and :func:`read_lxcat`.
+  :func:`lucas_saelee`) and :func:`read_lxcat`;
+* angular scattering laws (:mod:`~collisionkit.transport.angular`:
+  :func:`mean_scattering_cosine`, :func:`momentum_transfer_ratio`),
+  superelastic collisions (:mod:`~collisionkit.transport.superelastic`:
+  :func:`superelastic_cross_section`, :func:`level_populations`) and SST
+  Townsend coefficients (:func:`townsend_coefficients`).
 """
 
+from .angular import SCATTERING_LAWS, mean_scattering_cosine, momentum_transfer_ratio
 from .gases import (
     MODEL_GASES,
+    SCATTERING_KINDS,
     Gas,
     Process,
     Species,
@@ -32,6 +39,7 @@ from .gases import (
 from .lxcat import LXCatError, parse_lxcat, read_lxcat
 from .scan import SwarmParameters, SwarmScan, swarm_summary
 from .slab import SlabResult, simulate_slab
+from .superelastic import level_populations, superelastic_cross_section
 from .slab_parameters import SlabParameters, run_slab, slab_summary
 from .swarm import (
     DEFAULT_TOLERANCES,
@@ -42,11 +50,14 @@ from .swarm import (
     simulate_swarm,
     trace_trajectories,
 )
+from .townsend import townsend_coefficients
 
 __all__ = [
     "DEFAULT_TOLERANCES",
     "HUXLEY",
     "MODEL_GASES",
+    "SCATTERING_KINDS",
+    "SCATTERING_LAWS",
     "TOWNSEND",
     "Gas",
     "LXCatError",
@@ -59,9 +70,12 @@ __all__ = [
     "SwarmResult",
     "diffusion_error_floor",
     "hard_sphere_gas",
+    "level_populations",
     "lucas_saelee",
     "maxwell_model",
+    "mean_scattering_cosine",
     "model_gas",
+    "momentum_transfer_ratio",
     "parse_lxcat",
     "read_lxcat",
     "reid_ramp",
@@ -70,6 +84,8 @@ __all__ = [
     "simulate_slab",
     "simulate_swarm",
     "slab_summary",
+    "superelastic_cross_section",
     "swarm_summary",
+    "townsend_coefficients",
     "trace_trajectories",
 ]

@@ -351,7 +351,8 @@ class Gas:
         unknown = [key for key in populations if key not in reversible]
         if unknown:
             choices = ", ".join(sorted(reversible)) or "none: the gas has no reversible excitation (weight_ratio > 0)"
-            raise ValueError(f"populations: {unknown[0]!r} is not a reversible excitation of the gas; choices: {choices}")
+            raise ValueError(f"populations: {unknown[0]!r} is not a reversible excitation of the gas; "
+                             f"choices: {choices}")
         ambiguous = [key for key in populations if counts[key] > 1]
         if ambiguous:
             raise ValueError(f"populations: {ambiguous[0]!r} names more than one process of the gas")
