@@ -31,6 +31,7 @@ JUMP_FLOOR = 1e-2
 # a continuous table (sigma_ex(Delta) = 0): sigma_sup has the finite limit (g0/gk) Delta sigma_ex'(Delta); the
 # formula is evaluated this far above zero instead (relative error 1e-9)
 LIMIT_FLOOR = 1e-9
+MIN_WIDTH = 1e-7  # eV: the narrowest interval the refinement of a curved cross section makes
 # anisotropic laws whose momentum-transfer conversion the tables do (screened_coulomb takes integral tables)
 CONVERTED_LAWS = ("okhrimovskyy", "vahedi-surendra")
 
@@ -122,15 +123,18 @@ def gas_channels(gas: Gas, mass: float, gas_temperature: float) -> list[Channel]
     return channels
 
 
-def refined_nodes(column, nodes: np.ndarray, top: float, rtol: float, rounds: int = 60) -> np.ndarray:
+def refined_nodes(column, nodes: np.ndarray, top: float, rtol: float, constant_rate: float = 0.0,
+                  mass: float = constants.m_e, rounds: int = 60) -> np.ndarray:
     """Nodes (eV) on [0, top] between which linear interpolation of the cross section ``column`` is within ``rtol``.
 
-    The test is on the rate, ``sigma(e) sqrt(e)``: the midpoint of an interval
-    is added while the interpolated rate there is further than ``rtol`` of
-    the exact one plus ``rtol / 100`` of the largest rate at the nodes (so a
-    cross section like sqrt(e) near zero, whose relative interpolation error
-    never falls, stops refining where its rate is negligible), until no
-    interval fails or they are 1e-12 of ``top`` wide.
+    The test is on the channel's rate ``sigma(e) g + k`` (``g`` the speed of
+    a projectile of ``mass`` at the energy e, ``k`` the channel's
+    ``constant_rate``): the midpoint of an interval is added while the
+    interpolated cross section there, times ``g``, is further than ``rtol``
+    of that rate from the exact one, until no interval fails or they are
+    ``MIN_WIDTH`` eV (or 1e-12 of ``top``) wide. (A cross section like sqrt(e)
+    near zero, whose relative interpolation error does not fall with the
+    interval, is then refined only as far as it matters next to ``k``.)
 
     Examples
     --------
@@ -145,10 +149,9 @@ def refined_nodes(column, nodes: np.ndarray, top: float, rtol: float, rounds: in
         values = column(nodes)
         middle = 0.5 * (nodes[:-1] + nodes[1:])
         exact = column(middle)
-        weight = np.sqrt(middle)
-        floor = 1e-2 * rtol * float(np.max(np.abs(values) * np.sqrt(nodes)))
-        bad = (np.abs(exact - 0.5 * (values[:-1] + values[1:])) * weight > rtol * np.abs(exact) * weight + floor) \
-            & (np.diff(nodes) > 1e-12 * top)
+        speed = np.sqrt(2.0 * middle * EV / mass)
+        error = np.abs(exact - 0.5 * (values[:-1] + values[1:])) * speed
+        bad = (error > rtol * (np.abs(exact) * speed + constant_rate)) & (np.diff(nodes) > max(MIN_WIDTH, 1e-12 * top))
         if not bad.any():
             break
         nodes = np.unique(np.concatenate([nodes, middle[bad]]))

@@ -74,13 +74,13 @@ class KernelTables:
                 self.sigma_max, self.const_max, self.sigma_total)
 
 
-def _nodes(channels) -> np.ndarray:
-    """The union of the channels' breakpoints, refined where a channel is curved (eV)."""
+def _nodes(channels, mass: float) -> np.ndarray:
+    """The union of the channels' breakpoints, refined where a channel is curved (eV; projectile of ``mass``)."""
     union = np.unique(np.concatenate([np.zeros(1)] + [c.breakpoints for c in channels]))
     top = float(union[-1]) if union.size > 1 else 1.0
     if any(c.curved for c in channels):
         top = max(top, CURVE_TOP)
-    extra = [refined_nodes(c.column, c.breakpoints, top, CURVE_RTOL) for c in channels if c.curved]
+    extra = [refined_nodes(c.column, c.breakpoints, top, CURVE_RTOL, c.const_rate, mass) for c in channels if c.curved]
     union = np.unique(np.concatenate([union, *extra]))
     return union if union.size > 1 else np.array([0.0, 1.0])
 
@@ -133,7 +133,7 @@ def _unique(labels) -> tuple[str, ...]:
 def build_tables(gas: Gas, mass: float, gas_temperature: float) -> KernelTables:
     """Kernel arrays for a projectile of ``mass`` (kg) in ``gas`` at ``gas_temperature`` (K)."""
     channels = gas_channels(gas, mass, gas_temperature)
-    nodes = _nodes(channels)
+    nodes = _nodes(channels, mass)
     nodes_joule = nodes * EV
     sigma = np.column_stack([c.column(nodes) for c in channels])
     n_species = len(gas.species)

@@ -68,7 +68,7 @@ def townsend_coefficients(drift_velocity, diffusion_L_N, ionization_frequency_N,
         root = np.sqrt(np.where(x <= 1.0, 1.0 - x, np.nan))
         root = np.where(w > 0.0, root, np.nan)
         denominator = 0.5 * w * (1.0 + root)
-        alpha = np.where(ki == 0.0, 0.0, ki / denominator)
-        eta = np.where(ka == 0.0, 0.0, ka / denominator)
+        alpha = ki / denominator  # both NaN where the relation has no root
+        eta = ka / denominator
     none = (ki == 0.0) & (ka == 0.0)
     return np.where(none, 0.0, alpha)[()], np.where(none, 0.0, eta)[()]
