@@ -17,8 +17,6 @@ from ._memory import refuse_beyond_memory, swarm_memory
 from ._warmup import warm_up
 
 ModelName = Literal["maxwell", "hard_sphere", "reid", "lucas_saelee"]
-ScatteringLaw = Literal["isotropic", "okhrimovskyy", "vahedi-surendra", "forward"]
-ScatteringKind = Literal["elastic", "excitation", "ionization", "attachment", "superelastic"]
 
 
 class SwarmOptions(Options):
@@ -42,7 +40,7 @@ class SwarmOptions(Options):
     tolerance: float = Field(default=2e-3, gt=0, le=0.5)
     collision_budget: float = Field(default=5e8, ge=1e4, allow_inf_nan=False)
     sharing: Literal["equal", "uniform"] = "equal"
-    scattering: ScatteringLaw | dict[ScatteringKind, ScatteringLaw] | None = None
+    scattering: str | dict[str, str] | None = None  # checked by SwarmParameters, whose message names the laws
     populations: dict[str, float] | None = None
     out: Path | None = None
     summary: Path | None = None
@@ -51,6 +49,15 @@ class SwarmOptions(Options):
     output_files: ClassVar[tuple[str, ...]] = ("summary", "checkpoint")
     output_folders: ClassVar[tuple[str, ...]] = ("out",)
     input_files: ClassVar[tuple[str, ...]] = ("cross_sections",)
+
+    @field_validator("scattering", mode="before")
+    @classmethod
+    def _law_or_table(cls, value: Any) -> Any:
+        """A law (a string) or a table of laws by process kind; the laws are checked by SwarmParameters."""
+        if value is not None and not isinstance(value, (str, dict)):
+            raise ValueError("must be a law (isotropic, okhrimovskyy, vahedi-surendra, forward) or a table of laws "
+                             "by process kind")
+        return value
 
     @model_validator(mode="after")
     def _physics(self):
