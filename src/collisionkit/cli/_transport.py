@@ -161,8 +161,9 @@ def _swarm_row(result):
             f"{result.collisions_per_second:.3g}")
 
 
-def _swarm_plots(results, out: Path, deliveries: Deliveries) -> None:
-    """The plots and swarm.csv in ``out``, each written through ``deliveries``."""
+def _swarm_plots(results, out: Path, deliveries: Deliveries, reid_benchmark: bool) -> None:
+    """The plots and swarm.csv in ``out``, each written through ``deliveries``; the published Reid values are drawn
+    only for the run they describe (``reid_benchmark``: Reid's ramp at 0 K without a magnetic field)."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -176,7 +177,8 @@ def _swarm_plots(results, out: Path, deliveries: Deliveries) -> None:
                      lambda: write_csv(out / "swarm.csv", [result.to_row() for result in results]))
     if len(results) > 1:
         deliveries.write(f"the plot {out / 'transport_coefficients.png'}", lambda: plotting.save(
-            plotting.plot_transport_coefficients(results).flat[0], out / "transport_coefficients.png"))
+            plotting.plot_transport_coefficients(results, reference=plotting.REID_PUBLISHED if reid_benchmark else ())
+            .flat[0], out / "transport_coefficients.png"))
 
 
 def swarm(
@@ -250,7 +252,9 @@ def swarm(
         warn(message)
     deliveries = Deliveries("swarm")
     if options.out is not None:
-        _swarm_plots(results, options.out, deliveries)
+        reid = options.model == "reid" and options.gas_temperature == 0.0 and options.b_n == 0.0 and \
+            options.scattering is None
+        _swarm_plots(results, options.out, deliveries, reid)
     for path in deliveries.files:
         say(f"wrote {path}")
     deliveries.finish(options.summary, scan.summary(deliveries.files) | {"seed": options.seed})
