@@ -30,7 +30,7 @@ moment, in closed form:
 ``screened_coulomb``
     Wentzel's screened Coulomb law with a screening energy :math:`\epsilon_s`:
     :math:`p \propto (1 + 2\eta - \cos\chi)^{-2}`, :math:`\eta = \epsilon_s/(4\epsilon)`
-    (see :func:`~collisionkit.transport.screened_coulomb_momentum_ratio`).
+    (see :func:`screened_coulomb_momentum_ratio`).
 
 An elastic (momentum-transfer) cross section :math:`\sigma_m` becomes the
 integral cross section :math:`\sigma = \sigma_m / (1 - \langle\cos\chi\rangle)`
@@ -47,7 +47,7 @@ from scipy import constants
 from .. import _arrays
 
 __all__ = ["SCATTERING_LAWS", "HARTREE_EV", "okhrimovskyy_parameter", "mean_scattering_cosine",
-           "momentum_transfer_ratio", "scattering_cosine_from_uniform"]
+           "momentum_transfer_ratio", "scattering_cosine_from_uniform", "screened_coulomb_momentum_ratio"]
 
 SCATTERING_LAWS = ("isotropic", "okhrimovskyy", "vahedi-surendra", "forward")
 HARTREE_EV = constants.physical_constants["Hartree energy in eV"][0]
@@ -108,8 +108,6 @@ def mean_scattering_cosine(law: str, energy, screening_energy: float = 1.0):
         exact = 1.0 - 2.0 * (safe - log) / (safe * log)
         return np.where(small, energy / 6.0 - energy**2 / 12.0, exact)
     if law == "screened_coulomb":
-        from .gases import screened_coulomb_momentum_ratio
-
         return 1.0 - screened_coulomb_momentum_ratio(energy, screening_energy)
     raise ValueError(f"law must be one of {SCATTERING_LAWS + ('screened_coulomb',)}; got {law!r}")
 
@@ -157,3 +155,36 @@ def scattering_cosine_from_uniform(law: str, energy, uniform, screening_energy: 
         eta = screening_energy / (4.0 * np.maximum(energy, 1e-300))
         return np.clip(1.0 + 2.0 * eta - 2.0 * eta * (1.0 + eta) / (eta + u), -1.0, 1.0)
     raise ValueError(f"law must be one of {SCATTERING_LAWS + ('screened_coulomb',)}; got {law!r}")
+
+
+def screened_coulomb_momentum_ratio(energy, screening_energy):
+    r"""Ratio sigma_m / sigma_el of the screened Coulomb (Wentzel) angular distribution.
+
+    With :math:`p(\cos\chi) \propto (1 + 2\eta - \cos\chi)^{-2}` and
+    :math:`\eta = \epsilon_s / (4 \epsilon)`,
+    :math:`\langle 1 - \cos\chi \rangle = 2\eta(1 + \eta)\ln(1 + 1/\eta) - 2\eta`
+    (1 for isotropic scattering, eta -> infinity). Divide a momentum-transfer
+    cross section by this ratio to get the elastic cross section to sample.
+
+    Parameters
+    ----------
+    energy : float or array_like
+        Collision energy (eV), finite and >= 0 (0: isotropic, ratio 1).
+    screening_energy : float or array_like
+        The screening energy (eV), finite and > 0.
+
+    Examples
+    --------
+    >>> from collisionkit.transport import screened_coulomb_momentum_ratio
+    >>> round(float(screened_coulomb_momentum_ratio(1e-6, 1.0)), 4)
+    1.0
+    >>> 0 < float(screened_coulomb_momentum_ratio(10.0, 1.0)) < 0.5
+    True
+    """
+    energy = _arrays.as_finite_in_range(energy, "energy", 0.0)
+    screening_energy = _arrays.as_finite_in_range(screening_energy, "screening_energy", 0.0, inclusive=(False, False))
+    eta = screening_energy / (4.0 * np.maximum(energy, 1e-300))
+    small = eta > 1e6
+    safe = np.where(small, 1.0, eta)
+    exact = 2.0 * safe * (1.0 + safe) * np.log1p(1.0 / safe) - 2.0 * safe
+    return np.where(small, 1.0, exact)

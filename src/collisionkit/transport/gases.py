@@ -23,7 +23,7 @@ import numpy as np
 from scipy import constants
 
 from .. import _arrays
-from .angular import SCATTERING_LAWS
+from .angular import SCATTERING_LAWS, screened_coulomb_momentum_ratio
 
 __all__ = [
     "PROCESS_KINDS",
@@ -374,39 +374,6 @@ def _laws_by_kind(scattering, kinds) -> dict[str, str]:
         if law not in SCATTERING_MODELS:
             raise ValueError(f"scattering[{kind!r}] must be one of {', '.join(SCATTERING_MODELS)}; got {law!r}")
     return laws
-
-
-def screened_coulomb_momentum_ratio(energy, screening_energy):
-    r"""Ratio sigma_m / sigma_el of the screened Coulomb (Wentzel) angular distribution.
-
-    With :math:`p(\cos\chi) \propto (1 + 2\eta - \cos\chi)^{-2}` and
-    :math:`\eta = \epsilon_s / (4 \epsilon)`,
-    :math:`\langle 1 - \cos\chi \rangle = 2\eta(1 + \eta)\ln(1 + 1/\eta) - 2\eta`
-    (1 for isotropic scattering, eta -> infinity). Divide a momentum-transfer
-    cross section by this ratio to get the elastic cross section to sample.
-
-    Parameters
-    ----------
-    energy : float or array_like
-        Collision energy (eV), finite and >= 0 (0: isotropic, ratio 1).
-    screening_energy : float or array_like
-        The screening energy (eV), finite and > 0.
-
-    Examples
-    --------
-    >>> from collisionkit.transport import screened_coulomb_momentum_ratio
-    >>> round(float(screened_coulomb_momentum_ratio(1e-6, 1.0)), 4)
-    1.0
-    >>> 0 < float(screened_coulomb_momentum_ratio(10.0, 1.0)) < 0.5
-    True
-    """
-    energy = _arrays.as_finite_in_range(energy, "energy", 0.0)
-    screening_energy = _arrays.as_finite_in_range(screening_energy, "screening_energy", 0.0, inclusive=(False, False))
-    eta = screening_energy / (4.0 * np.maximum(energy, 1e-300))
-    small = eta > 1e6
-    safe = np.where(small, 1.0, eta)
-    exact = 2.0 * safe * (1.0 + safe) * np.log1p(1.0 / safe) - 2.0 * safe
-    return np.where(small, 1.0, exact)
 
 
 # ------------------------------------------------------------------ model gases
