@@ -19,7 +19,8 @@ collisions), real gases (LXCat files) and transport coefficients.
   :func:`mean_scattering_cosine`, :func:`momentum_transfer_ratio`),
   superelastic collisions (:mod:`~collisionkit.transport.superelastic`:
   :func:`superelastic_cross_section`, :func:`level_populations`) and SST
-  Townsend coefficients (:func:`townsend_coefficients`).
+  Townsend coefficients (:func:`townsend_coefficients`), also measured by
+  a spatially resolved SST run (:func:`simulate_sst`).
 """
 
 from .angular import SCATTERING_LAWS, mean_scattering_cosine, momentum_transfer_ratio
@@ -41,6 +42,7 @@ from .scan import SwarmParameters, SwarmScan, swarm_summary
 from .slab import SlabResult, simulate_slab
 from .superelastic import level_populations, superelastic_cross_section
 from .slab_parameters import SlabParameters, run_slab, slab_summary
+from .sst import SSTResult, simulate_sst
 from .swarm import (
     DEFAULT_TOLERANCES,
     HUXLEY,
@@ -65,6 +67,7 @@ __all__ = [
     "Species",
     "SlabParameters",
     "SlabResult",
+    "SSTResult",
     "SwarmParameters",
     "SwarmScan",
     "SwarmResult",
@@ -82,6 +85,7 @@ __all__ = [
     "run_slab",
     "screened_coulomb_momentum_ratio",
     "simulate_slab",
+    "simulate_sst",
     "simulate_swarm",
     "slab_summary",
     "superelastic_cross_section",
