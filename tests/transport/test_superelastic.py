@@ -174,8 +174,13 @@ def test_the_trial_frequency_bounds_superelastic_and_anisotropic_rates_in_whole_
     (the same collisions: the summed table rejects exactly the trials the processes would)."""
     from collisionkit.transport import swarm
 
-    gas = _two_level(jump=jump, mass=20 * ME).with_scattering(
+    two = _two_level(jump=jump, mass=20 * ME).species[0]
+    extra = tuple(Process("excitation", [e, 30.0], [0.0, 2e-20], threshold=e, label=f"x{e}") for e in (0.5, 1.5))
+    # five processes (with the inverse): enough for the kernel's early rejection against the summed table
+    gas = Gas((Species(two.name, two.mass, two.processes + extra),)).with_scattering(
         {"elastic": "okhrimovskyy", "excitation": "vahedi-surendra", "superelastic": "forward"})
+    from collisionkit._kernels.transport.advance import EARLY_REJECTION
+    assert len(gas.species[0].processes) + 1 >= EARLY_REJECTION
     options = dict(gas_temperature=3000.0, particles=640, seed=21, threads=2, tolerances={"mean_energy": 0.05},
                    collision_budget=2e6)
     plain = simulate_swarm(gas, 20.0, **options)
