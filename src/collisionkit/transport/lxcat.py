@@ -34,7 +34,7 @@ Notes are :class:`LXCatWarning` (Python warnings); errors are
 from __future__ import annotations
 
 import warnings
-from collections.abc import Mapping, Sequence
+from collections.abc import Mapping
 from pathlib import Path
 
 import numpy as np
