@@ -121,7 +121,8 @@ def half_step_corrected(record: dict, field: float) -> dict:
 
 def warm_up(field: float) -> float:
     """Load/compile the numba kernels and estimate the total rate coefficient (sizes ThunderBoltz's run)."""
-    result = simulate_swarm(reid_ramp(), field, particles=2000, collision_budget=5e6, threads=1, seed=99,
+    result = simulate_swarm(reid_ramp(), field, gas_temperature=0.0, particles=2000, collision_budget=5e6, threads=1,
+                            seed=99,
                             tolerances={"mean_energy": 1e-9})
     return sum(result.rate_coefficients.values())
 
@@ -130,7 +131,7 @@ def run_collisionkit(field: float, particles: int, collisions: float, seed: int)
     """One single-thread collisionkit run up to the collision budget."""
     load = os.getloadavg()
     wall, cpu = time.perf_counter(), time.process_time()
-    result = simulate_swarm(reid_ramp(), field, particles=particles, threads=1, seed=seed,
+    result = simulate_swarm(reid_ramp(), field, gas_temperature=0.0, particles=particles, threads=1, seed=seed,
                             collision_budget=collisions, tolerances={"mean_energy": 1e-9})
     wall, cpu = time.perf_counter() - wall, time.process_time() - cpu
     return {"code": "collisionkit", "label": "collisionkit", "reduced_field": field, "electrons": particles,

@@ -3,7 +3,8 @@ Reid's ramp: electron swarm transport
 =====================================
 
 Reid's ramp model is the classic benchmark of electron swarm codes: a
-constant elastic cross section of 6e-20 m^2 on a gas of mass 4 amu at 0 K and
+constant elastic cross section of 6e-20 m^2 on a gas of mass 4 amu at 0 K
+(``gas_temperature=0``: the default is 300 K) and
 one excitation process rising as 1e-19 m^2 (eps - 0.2 eV)/eV above its 0.2 eV
 threshold. Electrons accelerated by the field E along z fly between
 collisions drawn with the null-collision method (Skullerud), the free-path
@@ -21,7 +22,8 @@ from collisionkit import plotting, transport
 
 gas = transport.reid_ramp()
 results = [
-    transport.simulate_swarm(gas, field, particles=4000, groups=8, seed=3, tolerances={"mean_energy": 0.01})
+    transport.simulate_swarm(gas, field, gas_temperature=0.0, particles=4000, groups=8, seed=3,
+                             tolerances={"mean_energy": 0.01})
     for field in (1.0, 12.0, 24.0)
 ]
 for result in results:

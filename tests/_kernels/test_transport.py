@@ -357,12 +357,12 @@ def test_normal_pairs_are_independent_standard_normals():
 # ------------------------------------------------------------------ found by a mutation audit
 
 
-@pytest.mark.parametrize("loss_ev", [0.0, 0.7])
+@pytest.mark.parametrize("loss_ev", [0.0, 0.7, -0.7])
 def test_two_body_collisions_conserve_momentum_and_lose_exactly_the_threshold(loss_ev):
     """Exact kinematics of two_body: the target's velocity after follows from momentum conservation, and
-    the total kinetic energy drops by exactly the threshold (0 for elastic). Projectile 3 eV, target of 4 m
-    moving, isotropic scattering. Kills: the relative energy lowered by 2 x threshold, the reduced mass
-    replaced by m, the recoil share light <-> heavy."""
+    the total kinetic energy drops by exactly the threshold (0 for elastic; a superelastic collision, loss < 0,
+    gains it). Projectile 3 eV, target of 4 m moving, isotropic scattering. Kills: the relative energy lowered
+    by 2 x threshold, the reduced mass replaced by m, the recoil share light <-> heavy, a gain ignored."""
     state = _state(4)
     m, big = ME, 4 * ME
     rng = np.random.default_rng(3)

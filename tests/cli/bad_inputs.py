@@ -137,6 +137,8 @@ BAD_INPUTS = [
     ("swarm", ["--model", "reid", "--tolerance", "0"], "tolerance"),
     ("swarm", ["--model", "reid", "--collision-budget", "10"], "collision_budget"),
     ("swarm", ["--model", "reid", "--sharing", "half"], "sharing"),
+    ("swarm", ["--model", "reid", "--scattering", "sideways"], "scattering"),
+    ("swarm", ["--model", "reid", "--scattering", "forward"], "forward scattering transfers no momentum"),
     ("swarm", ["--model", "reid", "--out", "{file}"], "is a file, not a folder"),
     ("swarm", ["--model", "reid", "--summary", "{dir}"], "is a folder: give a file name"),
     ("swarm", ["--model", "reid", "--checkpoint", "{dir}"], "is a folder: give a file name"),

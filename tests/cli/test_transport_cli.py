@@ -4,6 +4,7 @@ import csv
 import json
 from pathlib import Path
 
+import pytest
 from typer.testing import CliRunner
 
 from collisionkit.cli import app
@@ -145,7 +146,8 @@ def test_a_single_value_in_the_config_is_a_list_of_one(tmp_path):
 
 def test_swarm_at_zero_field_needs_a_warm_gas_and_then_converges_without_a_drift_tolerance(tmp_path):
     # E/N = 0 at 0 K has no steady state: a user's run took its whole 5e8-collision budget (25 min) for nothing
-    result = runner.invoke(app, ["swarm", "--model", "reid", "--E-N", "0"], env={"COLUMNS": "200"})
+    result = runner.invoke(app, ["swarm", "--model", "reid", "--E-N", "0", "--gas-temperature", "0"],
+                           env={"COLUMNS": "200"})
     assert result.exit_code == 2 and "no steady state" in " ".join(result.output.split())
     summary = tmp_path / "thermal.json"
     result = runner.invoke(app, ["swarm", "--model", "maxwell", "--E-N", "0", "--gas-temperature", "3000",
@@ -250,3 +252,67 @@ def test_ctrl_c_stops_a_slab_run_with_exit_130_and_says_nothing_is_saved(monkeyp
     result = runner.invoke(app, ["slab", "--thickness", "1", "--particles", "1000"])
     assert result.exit_code == 130
     assert "warning: interrupted: a slab run keeps no checkpoint" in " ".join(result.output.split())
+
+
+def test_swarm_at_zero_field_relaxes_to_the_default_gas_temperature_of_300_k(tmp_path):
+    """--E-N 0 is a valid run by default: the swarm thermalises at 300 K, <e> = 3/2 kT within 4 standard errors
+    (a Maxwell gas of light targets relaxes in a few collisions)."""
+    from scipy import constants
+
+    config = tmp_path / "thermal.toml"
+    config.write_text('model = "maxwell"\ne-n = 0\nparticles = 500\ntolerance = 0.01\n')
+    summary = tmp_path / "thermal.json"
+    result = runner.invoke(app, ["swarm", "--config", str(config), "--summary", str(summary)], env={"COLUMNS": "200"})
+    assert result.exit_code == 0, result.output
+    entry = json.loads(summary.read_text())
+    assert entry["gas_temperature"] == 300.0 and entry["converged"] is True
+    thermal = 1.5 * constants.k * 300.0 / constants.e
+    assert abs(entry["mean_energy"] - thermal) < 4 * entry["mean_energy_error"]
+    assert entry["alpha_N"] == 0.0 and entry["eta_N"] == 0.0
+
+
+def test_swarm_prints_and_writes_the_sst_townsend_coefficients(tmp_path):
+    summary = tmp_path / "ls.json"
+    result = runner.invoke(app, ["swarm", "--model", "lucas_saelee", "--E-N", "300", "--particles", "640",
+                                 "--tolerance", "0.05", "--collision-budget", "3e6", "--summary", str(summary)],
+                           env={"COLUMNS": "220"})
+    assert result.exit_code == 0, result.output
+    entry = json.loads(summary.read_text())
+    assert entry["alpha_N"] > 0 and 0 < entry["alpha_N_error"] < entry["alpha_N"] and entry["eta_N"] == 0.0
+    output = " ".join(result.output.split())
+    assert "alpha/N (m^2)" in output and "eta/N (m^2)" in output
+    assert f"{entry['alpha_N']:.4g} ± {entry['alpha_N_error']:.2g}" in output
+
+
+def test_swarm_takes_a_scattering_law_for_every_process_or_per_kind_and_populations_from_a_config(tmp_path):
+    summary = tmp_path / "s.json"
+    quick = ["--E-N", "50", "--particles", "640", "--tolerance", "0.05", "--collision-budget", "2e6"]
+    result = runner.invoke(app, ["swarm", "--model", "reid", "--scattering", "okhrimovskyy", *quick,
+                                 "--summary", str(summary)])
+    assert result.exit_code == 0, result.output
+    assert json.loads(summary.read_text())["parameters"]["scattering"] == "okhrimovskyy"
+    config = tmp_path / "laws.toml"
+    config.write_text('model = "reid"\n[scattering]\nelastic = "vahedi-surendra"\nexcitation = "forward"\n')
+    result = runner.invoke(app, ["swarm", "--config", str(config), *quick, "--summary", str(summary), "--overwrite"])
+    assert result.exit_code == 0, result.output
+    recorded = json.loads(summary.read_text())["parameters"]
+    assert recorded["scattering"] == {"elastic": "vahedi-surendra", "excitation": "forward"}
+    # a population needs a reversible excitation: Reid's ramp has none, and the message lists the choices
+    config.write_text('model = "reid"\n[populations]\n"reid:excitation" = 0.1\n')
+    result = runner.invoke(app, ["swarm", "--config", str(config), *quick], env={"COLUMNS": "200"})
+    assert result.exit_code == 2
+    assert "'reid:excitation' is not a reversible excitation of the gas" in " ".join(result.output.split())
+
+
+def test_a_scattering_law_can_be_swept_and_a_refused_one_names_the_point(tmp_path):
+    from collisionkit.sweep import Study
+    from collisionkit.sweep.tasks import point_tasks
+    from collisionkit.transport import SwarmParameters
+
+    fixed = {"model": "reid", "particles": 640, "E-N": 50.0}
+    study = Study("swarm", seed=1, fixed=fixed, vary={"scattering": ["isotropic", "vahedi-surendra"]})
+    laws = [SwarmParameters.from_mapping(task.options).make_gas().species[0].processes[0].scattering
+            for task in point_tasks(study, tmp_path)]
+    assert laws == ["isotropic", "vahedi-surendra"]
+    with pytest.raises(ValueError, match="scattering must be one of"):
+        point_tasks(Study("swarm", seed=1, fixed=fixed, vary={"scattering": ["isotropic", "bent"]}), tmp_path)

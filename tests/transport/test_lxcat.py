@@ -222,3 +222,12 @@ def test_every_target_line_syntax_parameter_line_and_kind_of_the_format(tmp_path
                      ("ionization", 15.6, 0.0)]
     assert [p.kind for p in o2.processes] == ["attachment", "elastic"]
 
+
+
+def test_the_reader_refuses_an_angular_law_the_gas_tables_convert_themselves():
+    # read_lxcat(scattering="okhrimovskyy") divided the elastic table by the screened-Coulomb ratio, and the
+    # kernel tables then divided it by 1 - <cos chi> again
+    from collisionkit.transport import read_lxcat
+
+    with pytest.raises(ValueError, match="call .with_scattering"):
+        read_lxcat(DATA / "lxcat_classic_reid.txt", scattering="okhrimovskyy")

@@ -71,8 +71,8 @@ def test_maxwell_model_transverse_diffusion_is_exact():
     nu = RATE * REFERENCE_DENSITY
     v2 = 2 * energy * E / ME
     exact = REFERENCE_DENSITY * v2 * (ME + LIGHT_GAS) / (3 * nu * (2 * ME + LIGHT_GAS))
-    r = simulate_swarm(maxwell_model(RATE, mass=LIGHT_GAS), 5.0, particles=20000, seed=14, threads=2,
-                       tolerances={"diffusion_T_N": 0.02}, collision_budget=2e8)
+    r = simulate_swarm(maxwell_model(RATE, mass=LIGHT_GAS), 5.0, gas_temperature=0.0, particles=20000, seed=14,
+                       threads=2, tolerances={"diffusion_T_N": 0.02}, collision_budget=2e8)
     assert r.converged and r.relative_error("diffusion_T_N") < 0.02
     assert _within(r.diffusion_T_N, r.diffusion_T_N_error, exact)
     assert r.diffusion_T_N_flux_error < 0.04 * exact
@@ -82,7 +82,8 @@ def test_maxwell_model_transverse_diffusion_is_exact():
 def test_maxwell_model_in_crossed_fields_gives_the_exact_e_cross_b_drift():
     w, energy = _maxwell_exact(5.0, b_over_n=400.0)
     r = simulate_swarm(maxwell_model(RATE, mass=LIGHT_GAS), 5.0, reduced_magnetic_field=400.0, particles=4000,
-                       seed=12, tolerances={"mean_energy": 3e-3, "drift_velocity_bulk": 3e-3}, threads=2)
+                       seed=12, gas_temperature=0.0, tolerances={"mean_energy": 3e-3, "drift_velocity_bulk": 3e-3},
+                       threads=2)
     assert abs(w[0]) > 0.3 * abs(w[2])  # a real deflection
     assert _within(r.drift_velocity_flux, r.drift_velocity_flux_error, w)
     assert _within(r.mean_energy, r.mean_energy_error, energy)
@@ -275,7 +276,7 @@ def _close_to_one_of(value, references, tolerance):
 @pytest.mark.slow
 @pytest.mark.parametrize("e_over_n", sorted(REID))
 def test_reids_ramp_matches_published_transport_coefficients(e_over_n):
-    r = simulate_swarm(reid_ramp(), e_over_n, particles=20000, seed=7, threads=2,
+    r = simulate_swarm(reid_ramp(), e_over_n, gas_temperature=0.0, particles=20000, seed=7, threads=2,
                        tolerances={"mean_energy": 1.5e-3, "drift_velocity_bulk": 1.5e-3,
                                    "diffusion_L_N": 0.015, "diffusion_T_N": 0.015},
                        collision_budget=4e8)
@@ -296,8 +297,8 @@ def test_a_neutral_particle_falling_through_the_gas_drifts_like_a_charge_in_a_fi
     field = 5.0 * TOWNSEND * REFERENCE_DENSITY  # the E of 5 Td
     g = E * field / ME  # the acceleration that field gives an electron
     r = simulate_swarm(maxwell_model(RATE, mass=LIGHT_GAS), 0.0, charge=0.0, gravity=(0.0, 0.0, -g),
-                       particles=4000, seed=13, tolerances={"mean_energy": 3e-3, "drift_velocity_bulk": 1e-2},
-                       threads=2)
+                       gas_temperature=0.0, particles=4000, seed=13,
+                       tolerances={"mean_energy": 3e-3, "drift_velocity_bulk": 1e-2}, threads=2)
     assert r.converged and r.relative_error("drift_velocity_bulk") < 1e-2
     assert _within(r.drift_velocity_bulk, r.drift_velocity_bulk_error, w)
     assert _within(r.mean_energy, r.mean_energy_error, energy)
@@ -313,8 +314,8 @@ def test_reported_errors_match_the_scatter_of_independent_runs():
     not a bias. Here (n - 1) s^2 / sigma^2 follows chi^2(n - 1); the band holds with probability 1 - 1e-4
     for each quantity, and fails if the errors are too small (or too large) by about a factor of two.
     """
-    runs = [simulate_swarm(reid_ramp(), 1.0, particles=1600, seed=seed, threads=2, tolerances={"mean_energy": 1e-9},
-                           collision_budget=4e6) for seed in range(100, 116)]
+    runs = [simulate_swarm(reid_ramp(), 1.0, gas_temperature=0.0, particles=1600, seed=seed, threads=2,
+                           tolerances={"mean_energy": 1e-9}, collision_budget=4e6) for seed in range(100, 116)]
     dof = len(runs) - 1
     low, high = stats.chi2.ppf([5e-5, 1 - 5e-5], dof) / dof
     for name in ("mean_energy", "diffusion_T_N", "diffusion_T_N_flux", "diffusion_L_N"):
@@ -351,9 +352,10 @@ def test_the_energy_distribution_of_a_thermalised_swarm_is_maxwellian():
 def test_an_undriven_swarm_needs_a_warm_gas_and_takes_no_drift_tolerance(monkeypatch):
     # with no field and no gravity nothing heats the swarm: at 0 K it cools forever (a run used its whole budget)
     with pytest.raises(ValueError, match="no steady state"):
-        simulate_swarm(maxwell_model(RATE, mass=LIGHT_GAS), 0.0, particles=500, threads=1)
+        simulate_swarm(maxwell_model(RATE, mass=LIGHT_GAS), 0.0, gas_temperature=0.0, particles=500, threads=1)
     with pytest.raises(ValueError, match="no steady state"):
-        simulate_swarm(maxwell_model(RATE, mass=LIGHT_GAS), 5.0, charge=0.0, particles=500, threads=1)
+        simulate_swarm(maxwell_model(RATE, mass=LIGHT_GAS), 5.0, charge=0.0, gas_temperature=0.0, particles=500,
+                       threads=1)
     with pytest.raises(ValueError, match=r"tolerances\['drift_velocity_bulk'\] cannot be met"):
         simulate_swarm(maxwell_model(RATE, mass=LIGHT_GAS), 0.0, gas_temperature=300.0, particles=500, threads=1,
                        tolerances={"drift_velocity_bulk": 0.01})
@@ -550,8 +552,8 @@ def test_flux_diffusion_coefficients_of_reids_ramp_match_the_published_values():
     4e7 collisions (~20 s) give the flux estimators to ~10 % (1 sd); tolerance 4 sd + 3 %.
     Kills: D_L flux from the y component, D_T flux without 1/2, <r_k v_k> summed with v_z only (kernel),
     and the bulk D_L without 1/2, D_T with 1/2 instead of 1/4."""
-    r = simulate_swarm(reid_ramp(), 24.0, particles=8000, seed=7, threads=2, tolerances={"mean_energy": 1e-9},
-                       collision_budget=4e7)
+    r = simulate_swarm(reid_ramp(), 24.0, gas_temperature=0.0, particles=8000, seed=7, threads=2,
+                       tolerances={"mean_energy": 1e-9}, collision_budget=4e7)
     published = {"diffusion_L_N": (0.4595e24, 0.4601e24), "diffusion_T_N": (1.138e24, 1.137e24)}
     for name, references in published.items():
         for estimator in (name, f"{name}_flux"):

@@ -98,24 +98,12 @@ DENSITY = 2.45e25
 
 @pytest.fixture(scope="module")
 def lucas_alpha():
-    """SST alpha (1/m) at N = DENSITY from a swarm run: alpha = (W / 2 D_L)(1 - sqrt(1 - 4 D_L nu_i / W^2))."""
+    """The swarm's SST alpha (1/m) at N = DENSITY and its standard error (SwarmResult.alpha_N: the bulk conversion
+    alpha = (W / 2 D_L)(1 - sqrt(1 - 4 D_L nu_i / W^2)))."""
     gas = lucas_saelee(1.0, mass=ME / 1e-3)
     r = simulate_swarm(gas, 10.0, gas_temperature=0.0, particles=4000, seed=5, threads=2, initial_energy=5.0,
                        tolerances={"mean_energy": 1e-9}, collision_budget=3e7)
-    w, d, ki = -r.drift_velocity_bulk[2], r.diffusion_L_N, r.ionization_frequency_N
-    alpha_n = w / (2 * d) * (1 - math.sqrt(1 - 4 * d * ki / w**2))
-    # its error, from W, D_L and k_i by finite differences (delta method)
-    errors = (r.drift_velocity_bulk_error[2], r.diffusion_L_N_error, r.ionization_frequency_N_error)
-
-    def formula(w, d, ki):
-        return w / (2 * d) * (1 - math.sqrt(1 - 4 * d * ki / w**2))
-
-    variance = 0.0
-    for i, err in enumerate(errors):
-        args = [w, d, ki]
-        args[i] *= 1 + 1e-6
-        variance += ((formula(*args) - alpha_n) / (1e-6 * [w, d, ki][i]) * err) ** 2
-    return alpha_n * DENSITY, math.sqrt(variance) * DENSITY
+    return r.alpha_N * DENSITY, r.alpha_N_error * DENSITY
 
 
 @pytest.fixture(scope="module")

@@ -41,6 +41,8 @@ class TrackOptions(Options):
     species: list[str] | None = None
     fractions: list[float] | None = None
     database: str | None = None
+    scattering: str | dict[str, str] | None = None
+    populations: dict[str, float] | None = None
     pressure: float | None = Field(default=None, gt=0, allow_inf_nan=False)
     temperature: float = Field(default=300.0, ge=0, allow_inf_nan=False)
     density: float | None = Field(default=None, gt=0, allow_inf_nan=False)

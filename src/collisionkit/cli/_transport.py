@@ -38,12 +38,14 @@ class SwarmOptions(Options):
     database: str | None = None
     e_n: list[float] = Field(default=[12.0], min_length=1)
     b_n: float = Field(default=0.0, allow_inf_nan=False)
-    gas_temperature: float = Field(default=0.0, ge=0, allow_inf_nan=False)
+    gas_temperature: float = Field(default=300.0, ge=0, allow_inf_nan=False)
     particles: int = Field(default=20_000, ge=128, le=10_000_000)
     seed: int = Field(default=2026, ge=0)
     tolerance: float = Field(default=2e-3, gt=0, le=0.5)
     collision_budget: float = Field(default=5e8, ge=1e4, allow_inf_nan=False)
     sharing: Literal["equal", "uniform"] = "equal"
+    scattering: str | dict[str, str] | None = None  # checked by SwarmParameters, whose message names the laws
+    populations: dict[str, float] | None = None
     out: Path | None = None
     summary: Path | None = None
     checkpoint: Path | None = None
@@ -57,6 +59,14 @@ class SwarmOptions(Options):
     def _one_file_is_a_list(cls, value: Any) -> Any:
         """``cross-sections = "ar.txt"`` in a TOML file (and a saved checkpoint's single path) is a list of one."""
         return [value] if isinstance(value, (str, Path)) else value
+    @field_validator("scattering", mode="before")
+    @classmethod
+    def _law_or_table(cls, value: Any) -> Any:
+        """A law (a string) or a table of laws by process kind; the laws are checked by SwarmParameters."""
+        if value is not None and not isinstance(value, (str, dict)):
+            raise ValueError("must be a law (isotropic, okhrimovskyy, vahedi-surendra, forward) or a table of laws "
+                             "by process kind")
+        return value
 
     @model_validator(mode="after")
     def _physics(self):
@@ -78,7 +88,8 @@ class SwarmOptions(Options):
                                species=self.species, fractions=self.fractions, database=self.database,
                                reduced_magnetic_field=self.b_n,
                                gas_temperature=self.gas_temperature, particles=self.particles, seed=self.seed,
-                               tolerance=self.tolerance, collision_budget=self.collision_budget, sharing=self.sharing)
+                               tolerance=self.tolerance, collision_budget=self.collision_budget, sharing=self.sharing,
+                               scattering=self.scattering, populations=self.populations)
 
 
 def _e_n_values(raw: list[str] | None) -> list[float] | None:
@@ -171,16 +182,25 @@ def _options_of(parameters) -> dict:
     return {names.get(key, key): value for key, value in parameters.to_dict().items()}
 
 
+def _with_error(value, error, digits=4):
+    """``value ± error``; 0 alone for an exact zero (no reaction), "-" for NaN (no SST root, an older result)."""
+    if value != value:
+        return "-"
+    return "0" if value == 0.0 and error == 0.0 else f"{value:.{digits}g} ± {error:.2g}"
+
+
 def _swarm_row(result):
     return (f"{result.reduced_field:g}", f"{result.mean_energy:.5g} ± {result.mean_energy_error:.2g}",
             f"{-result.drift_velocity_bulk[2]:.5g} ± {result.drift_velocity_bulk_error[2]:.2g}",
             f"{result.diffusion_L_N:.4g} ± {result.diffusion_L_N_error:.2g}",
             f"{result.diffusion_T_N:.4g} ± {result.diffusion_T_N_error:.2g}",
+            _with_error(result.alpha_N, result.alpha_N_error), _with_error(result.eta_N, result.eta_N_error),
             f"{result.collisions_per_second:.3g}")
 
 
-def _swarm_plots(results, out: Path, deliveries: Deliveries) -> None:
-    """The plots and swarm.csv in ``out``, each written through ``deliveries``."""
+def _swarm_plots(results, out: Path, deliveries: Deliveries, reid_benchmark: bool) -> None:
+    """The plots and swarm.csv in ``out``, each written through ``deliveries``; the published Reid values are drawn
+    only for the run they describe (``reid_benchmark``: Reid's ramp at 0 K without a magnetic field)."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -194,7 +214,8 @@ def _swarm_plots(results, out: Path, deliveries: Deliveries) -> None:
                      lambda: write_csv(out / "swarm.csv", [result.to_row() for result in results]))
     if len(results) > 1:
         deliveries.write(f"the plot {out / 'transport_coefficients.png'}", lambda: plotting.save(
-            plotting.plot_transport_coefficients(results).flat[0], out / "transport_coefficients.png"))
+            plotting.plot_transport_coefficients(results, reference=plotting.REID_PUBLISHED if reid_benchmark else ())
+            .flat[0], out / "transport_coefficients.png"))
 
 
 def swarm(
@@ -206,12 +227,13 @@ def swarm(
     database: Annotated[str | None, typer.Option(help="Database to take a species from when the LXCat files hold it from several (e.g. Biagi).")] = None,
     e_n: Annotated[list[str] | None, typer.Option("--E-N", help="E/N in Td; repeat or comma list for a sweep.  \\[default: 12]")] = None,
     b_n: Annotated[float | None, typer.Option("--B-N", help="B/N in Hx, B along y (E along z).  \\[default: 0]")] = None,
-    gas_temperature: Annotated[float | None, typer.Option(help="Gas temperature in K (>= 0).  \\[default: 0]")] = None,
+    gas_temperature: Annotated[float | None, typer.Option(help="Gas temperature in K (>= 0): targets' Maxwellian and Boltzmann populations of reversible excitations (superelastic collisions); 0 for the model-gas benchmarks.  \\[default: 300]")] = None,
     particles: Annotated[int | None, typer.Option(help="Simulated particles (128 to 1e7).  \\[default: 20000]")] = None,
     seed: Annotated[int | None, typer.Option(help="Random seed (>= 0).  \\[default: 2026]")] = None,
     tolerance: Annotated[float | None, typer.Option(help="Target relative error of mean energy and drift (of mean energy alone at E/N = 0).  \\[default: 0.002]")] = None,
     collision_budget: Annotated[float | None, typer.Option(help="Stop after this many real collisions per E/N.  \\[default: 5e8]")] = None,
     sharing: Annotated[str | None, typer.Option(help="Ionization energy sharing: equal or uniform.  \\[default: equal]")] = None,
+    scattering: Annotated[str | None, typer.Option(help="Angular scattering law of every process: isotropic, okhrimovskyy, vahedi-surendra or forward (elastic tables are momentum transfer, converted; per process kind: a [scattering] table in --config).  \\[default: isotropic]")] = None,
     out: Annotated[Path | None, typer.Option(help="Folder for plots and swarm.csv, a row per E/N (none if not given).")] = None,
     summary: Annotated[Path | None, typer.Option("--summary", help="Write the results as JSON to this file.")] = None,
     checkpoint: Annotated[Path | None, typer.Option(help="Write the finished E/N points to this JSON file after each one (atomically).")] = None,
@@ -219,11 +241,12 @@ def swarm(
     config: Annotated[Path | None, typer.Option("--config", help="TOML file with these options (command line wins).")] = None,
     overwrite: OverwriteOption = None,
 ):
-    """Electron swarm transport coefficients (mean energy, drift, diffusion, rates) against E/N."""
+    """Electron swarm transport coefficients (mean energy, drift, diffusion, rates, SST Townsend alpha/N and eta/N) against E/N."""
     given = dict(model=model, gas=gas, cross_sections=cross_sections, species=species, fractions=fractions,
                  database=database, e_n=_e_n_values(e_n),
                  b_n=b_n, gas_temperature=gas_temperature, particles=particles, seed=seed, tolerance=tolerance,
-                 collision_budget=collision_budget, sharing=sharing, out=out, summary=summary, checkpoint=checkpoint,
+                 collision_budget=collision_budget, sharing=sharing, scattering=scattering, out=out, summary=summary,
+                 checkpoint=checkpoint,
                  overwrite=overwrite)
     if resume is None:
         options = load_options(SwarmOptions, config, given)
@@ -253,7 +276,8 @@ def swarm(
         warn(f"interrupted: {where}")
         raise typer.Exit(INTERRUPTED_EXIT_CODE) from None
     print_table("swarm transport (W along -z for electrons)",
-                ("E/N (Td)", "mean energy (eV)", "bulk W (m/s)", "N D_L (1/m/s)", "N D_T (1/m/s)", "collisions/s"),
+                ("E/N (Td)", "mean energy (eV)", "bulk W (m/s)", "N D_L (1/m/s)", "N D_T (1/m/s)",
+                 "alpha/N (m^2)", "eta/N (m^2)", "collisions/s"),
                 [_swarm_row(r) for r in results])
     unconverged = [f"{r.reduced_field:g}" for r in results if not r.converged]
     if unconverged:
@@ -263,7 +287,9 @@ def swarm(
         warn(message)
     deliveries = Deliveries("swarm")
     if options.out is not None:
-        _swarm_plots(results, options.out, deliveries)
+        reid = options.model == "reid" and options.gas_temperature == 0.0 and options.b_n == 0.0 and \
+            options.scattering is None
+        _swarm_plots(results, options.out, deliveries, reid)
     for path in deliveries.files:
         say(f"wrote {path}")
     deliveries.finish(options.summary, scan.summary(deliveries.files) | {"seed": options.seed})

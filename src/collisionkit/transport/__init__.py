@@ -17,14 +17,22 @@ collisions), real gases (LXCat files) and transport coefficients.
   :func:`lucas_saelee`) and :func:`read_lxcat`;
 * real gases by name: :func:`catalogue_gas` (``"Ar"``, ``"Ar:0.9,N2:0.1"``),
   the :data:`CATALOGUE` of LXCat sets (shipped, or placed in :func:`data_folder`);
+* angular scattering laws (:mod:`~collisionkit.transport.angular`:
+  :func:`mean_scattering_cosine`, :func:`momentum_transfer_ratio`),
+  superelastic collisions (:mod:`~collisionkit.transport.superelastic`:
+  :func:`superelastic_cross_section`, :func:`level_populations`) and SST
+  Townsend coefficients (:func:`townsend_coefficients`), also measured by
+  a spatially resolved SST run (:func:`simulate_sst`);
 * particles in any field and in devices (:mod:`collisionkit.transport.tracking`):
   fields, surfaces, :class:`Device`, :func:`track` (avalanches, gain, spectra,
   induced currents), :class:`TrackParameters` and :class:`TrackRun` (the
   ``track`` command).
 """
 
+from .angular import SCATTERING_LAWS, mean_scattering_cosine, momentum_transfer_ratio
 from .gases import (
     MODEL_GASES,
+    SCATTERING_KINDS,
     Gas,
     Process,
     Species,
@@ -48,7 +56,9 @@ from .catalogue import (
 )
 from .scan import SwarmParameters, SwarmScan, swarm_summary
 from .slab import SlabResult, simulate_slab
+from .superelastic import level_populations, superelastic_cross_section
 from .slab_parameters import SlabParameters, run_slab, slab_summary
+from .sst import SSTResult, simulate_sst
 from .swarm import (
     DEFAULT_TOLERANCES,
     HUXLEY,
@@ -58,12 +68,15 @@ from .swarm import (
     simulate_swarm,
     trace_trajectories,
 )
+from .townsend import townsend_coefficients
 
 __all__ = [
     "CATALOGUE",
     "DEFAULT_TOLERANCES",
     "HUXLEY",
     "MODEL_GASES",
+    "SCATTERING_KINDS",
+    "SCATTERING_LAWS",
     "TOWNSEND",
     "Gas",
     "GasSet",
@@ -73,6 +86,7 @@ __all__ = [
     "Species",
     "SlabParameters",
     "SlabResult",
+    "SSTResult",
     "SwarmParameters",
     "SwarmScan",
     "SwarmResult",
@@ -83,19 +97,25 @@ __all__ = [
     "data_folder",
     "diffusion_error_floor",
     "hard_sphere_gas",
+    "level_populations",
     "lucas_saelee",
     "maxwell_model",
+    "mean_scattering_cosine",
     "model_gas",
     "parse_gas_spec",
+    "momentum_transfer_ratio",
     "parse_lxcat",
     "read_lxcat",
     "reid_ramp",
     "run_slab",
     "screened_coulomb_momentum_ratio",
     "simulate_slab",
+    "simulate_sst",
     "simulate_swarm",
     "slab_summary",
+    "superelastic_cross_section",
     "swarm_summary",
+    "townsend_coefficients",
     "trace_trajectories",
 ]
 

@@ -8,6 +8,7 @@ import numpy as np
 from scipy import constants
 
 from .._kernels import transport as _k
+from .townsend import townsend_coefficients
 
 EV = constants.e
 
@@ -52,3 +53,28 @@ def mean_and_error(values):
     """Mean over the groups (axis 0) and its standard error."""
     values = np.asarray(values, dtype=float)
     return values.mean(axis=0), values.std(axis=0, ddof=1) / math.sqrt(values.shape[0])
+
+
+def townsend_estimates(est) -> dict[str, tuple[float, float]]:
+    """SST ``alpha_N`` and ``eta_N`` (m^2) with their errors from the per-group estimates of :func:`estimates`.
+
+    The values come from the group means of |W_bulk,z|, N D_L, k_i and k_a
+    (:func:`~collisionkit.transport.townsend_coefficients`); the errors
+    propagate the groups' scatter through the formula to first order (the
+    delta method with the groups' covariance: the standard error of
+    ``f(mean) + grad f . (x_g - mean)`` over the groups g).
+    """
+    columns = np.column_stack([np.abs(est["drift_velocity_bulk"][:, 2]), est["diffusion_L_N"],
+                               est["ionization_frequency_N"], est["attachment_frequency_N"]])
+    mean = columns.mean(axis=0)
+    values = np.array(townsend_coefficients(*mean))
+    gradient = np.zeros((2, 4))
+    for k in range(4):
+        step = 1e-6 * max(abs(mean[k]), 1e-300)
+        up, down = mean.copy(), mean.copy()
+        up[k] += step
+        down[k] -= step
+        gradient[:, k] = (np.array(townsend_coefficients(*up)) - np.array(townsend_coefficients(*down))) / (2 * step)
+    linear = (columns - mean) @ gradient.T  # (groups, 2)
+    errors = linear.std(axis=0, ddof=1) / math.sqrt(columns.shape[0])
+    return {"alpha_N": (float(values[0]), float(errors[0])), "eta_N": (float(values[1]), float(errors[1]))}

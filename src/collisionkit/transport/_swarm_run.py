@@ -18,7 +18,7 @@ import numpy as np
 from scipy import constants
 
 from .._kernels import transport as _k
-from ._estimators import estimates, mean_and_error
+from ._estimators import estimates, mean_and_error, townsend_estimates
 from ._tables import KernelTables
 from .swarm_result import SwarmResult
 
@@ -329,6 +329,7 @@ class SwarmRun:
         tallies = np.array(self.tallies[first:])
         est = estimates(times, moments, tallies, self.tables.kinds, self.density)
         values = {name: mean_and_error(value) for name, value in est.items()}
+        values |= townsend_estimates(est)
         rates, rate_errors = values.pop("rates")
         total = max(self.histogram.sum(), 1.0)
         centres = (np.arange(self.histogram.size - 1) + 0.5) * self.histogram_step
@@ -370,4 +371,8 @@ class SwarmRun:
             groups=self.groups,
             converged=converged,
             extras={"bound_violations": self.bound_violations} if self.stepper.check else {},
+            alpha_N=values["alpha_N"][0],
+            alpha_N_error=values["alpha_N"][1],
+            eta_N=values["eta_N"][0],
+            eta_N_error=values["eta_N"][1],
         )

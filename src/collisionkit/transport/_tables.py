@@ -1,10 +1,16 @@
 """Turn a :class:`~collisionkit.transport.gases.Gas` into the kernel's arrays.
 
-All processes are evaluated on the union of their energy nodes (exact for
-piecewise-linear tables, with an extra node just below a table that starts
-with a jump). The trial-frequency bound per species is, on uniform speed
-bins, the running maximum of ``max(sigma_tot) * v_high + k_tot`` (the maximum
-of a piecewise-linear function on a bin is at its ends or at a node inside).
+The gas becomes channels (:mod:`._channels`: its processes, converted for
+anisotropic laws, and the superelastic inverses). All are evaluated on the
+union of their energy nodes: exact for piecewise-linear tables (with an extra
+node just below a table that starts with a jump); a curved cross section
+(momentum-transfer conversion, detailed balance) adds nodes until linear
+interpolation is within ``CURVE_RTOL`` of it. The trial-frequency bound per
+species is, on uniform speed bins, the running maximum of
+``max(sigma_tot) * v_high + k_tot`` (the maximum of a piecewise-linear
+function on a bin is at its ends or at a node inside); ``sigma_total`` holds
+each species' summed cross section at the nodes, for the kernel's early
+rejection of null trials.
 """
 
 from __future__ import annotations
@@ -16,16 +22,22 @@ import numpy as np
 from scipy import constants
 
 from .._kernels import transport as _k
+from ._channels import gas_channels, refined_nodes
 from .gases import Gas
 
 EV = constants.e
-ACCELERATOR_CELLS = 4096
+ACCELERATOR_CELLS = 4096  # cells of the node lookup's uniform grid at the least ...
+MAX_ACCELERATOR_CELLS = 1 << 20  # ... doubled up to this many while a cell holds more than CELL_NODES nodes
+CELL_NODES = 8
+CURVE_RTOL = 1e-4  # linear interpolation of a curved cross section between nodes, relative
+CURVE_TOP = 1000.0  # eV: curved cross sections are tabulated at least this far (then held constant, as tables are)
 BOUND_BINS = 4096
 GAS_SPEED_SIGMAS = 8.0  # P(|V| > 8 sigma) ~ 1e-14 for a 3D Maxwellian
 
 KIND_CODES = {"elastic": _k.ELASTIC, "excitation": _k.EXCITATION, "ionization": _k.IONIZATION,
-              "attachment": _k.ATTACHMENT}
-ANGULAR_CODES = {"isotropic": _k.ISOTROPIC, "screened_coulomb": _k.SCREENED_COULOMB}
+              "attachment": _k.ATTACHMENT, "superelastic": _k.SUPERELASTIC}
+ANGULAR_CODES = {"isotropic": _k.ISOTROPIC, "screened_coulomb": _k.SCREENED_COULOMB, "okhrimovskyy": _k.OKHRIMOVSKYY,
+                 "vahedi-surendra": _k.VAHEDI_SURENDRA, "forward": _k.FORWARD}
 SHARING_CODES = {"equal": _k.SHARE_EQUAL, "uniform": _k.SHARE_UNIFORM}  # energy sharing after ionization
 
 
@@ -50,6 +62,7 @@ class KernelTables:
     bound_step: float
     sigma_max: np.ndarray
     const_max: np.ndarray
+    sigma_total: np.ndarray
 
     def arrays(self):
         """The table arguments of ``advance_swarm`` after ``density``, in order."""
@@ -58,35 +71,30 @@ class KernelTables:
 
     def lookup(self):
         return (self.nodes, self.sigma, self.accelerator, self.accelerator_step, self.bound, self.bound_step,
-                self.sigma_max, self.const_max)
+                self.sigma_max, self.const_max, self.sigma_total)
 
 
-def _union_nodes(processes):
-    nodes = [np.zeros(1)]
-    for _, p in processes:
-        if p.energy.size:
-            nodes.append(p.energy)
-            if p.kind != "elastic" and p.energy[0] > 0 and p.cross_section[0] > 0:
-                nodes.append(np.array([np.nextafter(p.energy[0], 0.0)]))
-        if p.threshold > 0:
-            nodes.append(np.array([p.threshold]))
-    union = np.unique(np.concatenate(nodes))
+def _nodes(channels, mass: float) -> np.ndarray:
+    """The union of the channels' breakpoints, refined where a channel is curved (eV; projectile of ``mass``)."""
+    union = np.unique(np.concatenate([np.zeros(1)] + [c.breakpoints for c in channels]))
+    top = float(union[-1]) if union.size > 1 else 1.0
+    if any(c.curved for c in channels):
+        top = max(top, CURVE_TOP)
+    extra = [refined_nodes(c.column, c.breakpoints, top, CURVE_RTOL, c.const_rate, mass) for c in channels if c.curved]
+    union = np.unique(np.concatenate([union, *extra]))
     return union if union.size > 1 else np.array([0.0, 1.0])
 
 
-def _column(p, nodes):
-    if p.energy.size == 0:
-        return np.zeros(nodes.size)
-    left = p.cross_section[0] if p.kind == "elastic" else 0.0
-    column = np.interp(nodes, p.energy, p.cross_section, left=left, right=p.cross_section[-1])
-    if p.kind != "elastic":
-        column[nodes < p.threshold] = 0.0
-    return column
-
-
 def _accelerator(nodes_joule):
-    step = nodes_joule[-1] / ACCELERATOR_CELLS
-    starts = np.arange(ACCELERATOR_CELLS) * step
+    """The first node interval of each cell of a uniform energy grid: 4096 cells, more where nodes crowd."""
+    cells = ACCELERATOR_CELLS
+    while cells < MAX_ACCELERATOR_CELLS:
+        per_cell = np.bincount(np.minimum((nodes_joule / (nodes_joule[-1] / cells)).astype(np.int64), cells - 1))
+        if per_cell.max() <= CELL_NODES:
+            break
+        cells *= 2
+    step = nodes_joule[-1] / cells
+    starts = np.arange(cells) * step
     index = np.clip(np.searchsorted(nodes_joule, starts, side="right") - 1, 0, nodes_joule.size - 1)
     return index.astype(np.int64), float(step)
 
@@ -124,18 +132,19 @@ def _unique(labels) -> tuple[str, ...]:
 
 def build_tables(gas: Gas, mass: float, gas_temperature: float) -> KernelTables:
     """Kernel arrays for a projectile of ``mass`` (kg) in ``gas`` at ``gas_temperature`` (K)."""
-    processes = gas.processes
-    nodes = _union_nodes(processes)
+    channels = gas_channels(gas, mass, gas_temperature)
+    nodes = _nodes(channels, mass)
     nodes_joule = nodes * EV
-    fractions = [gas.fractions[s] for s, _ in processes]
-    sigma = np.column_stack([_column(p, nodes) * f for (_, p), f in zip(processes, fractions)])
+    sigma = np.column_stack([c.column(nodes) for c in channels])
     n_species = len(gas.species)
-    species_of = np.array([s for s, _ in processes], dtype=np.int64)
-    const_rate = np.array([p.rate_coefficient * f for (_, p), f in zip(processes, fractions)])
+    species_of = np.array([c.species for c in channels], dtype=np.int64)
+    const_rate = np.array([c.const_rate for c in channels])
     bounds, sigma_max, const_max, step = [], np.zeros(n_species), np.zeros(n_species), 1.0
+    sigma_total = np.zeros((nodes.size, n_species))
     for s in range(n_species):
         mine = species_of == s
         total = sigma[:, mine].sum(axis=1)
+        sigma_total[:, s] = total
         const_max[s] = const_rate[mine].sum()
         sigma_max[s] = total.max() * (1.0 + 1e-12)
         bound, step = _species_bound(total, const_max[s], nodes_joule, mass)
@@ -146,15 +155,15 @@ def build_tables(gas: Gas, mass: float, gas_temperature: float) -> KernelTables:
         gas_rows.append((member.mass, thermal, GAS_SPEED_SIGMAS * thermal))
     accelerator, accelerator_step = _accelerator(nodes_joule)
     return KernelTables(
-        labels=_unique(f"{gas.species[s].name}:{p.label}" for s, p in processes),
-        kinds=tuple(p.kind for _, p in processes),
+        labels=_unique(c.label for c in channels),
+        kinds=tuple(c.kind for c in channels),
         gas=np.array(gas_rows, dtype=float),
-        kind=np.array([KIND_CODES[p.kind] for _, p in processes], dtype=np.int64),
+        kind=np.array([KIND_CODES[c.kind] for c in channels], dtype=np.int64),
         species_of=species_of,
-        threshold=np.array([p.threshold for _, p in processes]) * EV,
+        threshold=np.array([c.threshold for c in channels]) * EV,
         const_rate=const_rate,
-        angular=np.array([ANGULAR_CODES[p.scattering] for _, p in processes], dtype=np.int64),
-        screening=np.array([p.screening_energy for _, p in processes]) * EV,
+        angular=np.array([ANGULAR_CODES[c.angular] for c in channels], dtype=np.int64),
+        screening=np.array([c.screening for c in channels]) * EV,
         nodes=np.ascontiguousarray(nodes_joule),
         sigma=np.ascontiguousarray(sigma),
         accelerator=accelerator,
@@ -163,4 +172,5 @@ def build_tables(gas: Gas, mass: float, gas_temperature: float) -> KernelTables:
         bound_step=step,
         sigma_max=sigma_max,
         const_max=const_max,
+        sigma_total=np.ascontiguousarray(sigma_total),
     )

@@ -16,15 +16,18 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 
 import numpy as np
 from scipy import constants
 
 from .. import _arrays
+from .angular import SCATTERING_LAWS, screened_coulomb_momentum_ratio
 
 __all__ = [
     "PROCESS_KINDS",
+    "SCATTERING_KINDS",
     "SCATTERING_MODELS",
     "Process",
     "Species",
@@ -39,7 +42,9 @@ __all__ = [
 ]
 
 PROCESS_KINDS = ("elastic", "excitation", "ionization", "attachment")
-SCATTERING_MODELS = ("isotropic", "screened_coulomb")
+# the kinds an angular law is chosen for: the process kinds and the superelastic inverses of reversible excitations
+SCATTERING_KINDS = PROCESS_KINDS + ("superelastic",)
+SCATTERING_MODELS = SCATTERING_LAWS + ("screened_coulomb",)
 
 ELECTRON_MASS = constants.m_e
 AMU = constants.atomic_mass
@@ -75,8 +80,16 @@ class Process:
         section is zero below it.
     rate_coefficient : float
         Constant rate coefficient k (m^3/s, >= 0) added to ``sigma * g``.
-    scattering : {"isotropic", "screened_coulomb"}
-        Angular distribution in the centre-of-mass frame.
+    scattering : {"isotropic", "okhrimovskyy", "vahedi-surendra", "forward", "screened_coulomb"}
+        Angular distribution in the centre-of-mass frame
+        (:mod:`collisionkit.transport.angular`). An elastic table (or rate
+        coefficient) is a momentum-transfer cross section: with
+        ``okhrimovskyy`` or ``vahedi-surendra`` the swarm samples
+        ``sigma_m / (1 - <cos chi>)``; ``forward`` transfers no momentum, so
+        an elastic process refuses it. ``screened_coulomb`` takes the table
+        as the integral cross section (convert a momentum-transfer one with
+        :func:`screened_coulomb_momentum_ratio`). The tables of the other
+        kinds are integral cross sections under every law.
     screening_energy : float
         Screened Coulomb only: eta = screening_energy / (4 eps) (eV, > 0).
     label : str
@@ -85,7 +98,14 @@ class Process:
         weights of the excited and the ground level (LXCat writes it after
         the threshold of a reversible ``<->`` process). 0 (the default) makes
         the process one-way; > 0 allows its superelastic inverse by detailed
-        balance (Klein-Rosseland).
+        balance (Klein-Rosseland; :mod:`collisionkit.transport.superelastic`).
+        A reversible process needs a cross-section table (no rate coefficient).
+    superelastic_scattering : str
+        Angular law of the superelastic inverse (one of ``scattering``'s).
+    population : float or None
+        Reversible excitations only: the fraction of the species in the
+        excited level, in [0, 1). None (the default): Boltzmann at the gas
+        temperature (:func:`~collisionkit.transport.superelastic.level_populations`).
 
     Examples
     --------
@@ -104,12 +124,15 @@ class Process:
     screening_energy: float = 1.0
     label: str = ""
     weight_ratio: float = 0.0
+    superelastic_scattering: str = "isotropic"
+    population: float | None = None
 
     def __post_init__(self):
         if self.kind not in PROCESS_KINDS:
             raise ValueError(f"kind must be one of {PROCESS_KINDS}; got {self.kind!r}")
-        if self.scattering not in SCATTERING_MODELS:
-            raise ValueError(f"scattering must be one of {SCATTERING_MODELS}; got {self.scattering!r}")
+        for name in ("scattering", "superelastic_scattering"):
+            if getattr(self, name) not in SCATTERING_MODELS:
+                raise ValueError(f"{name} must be one of {SCATTERING_MODELS}; got {getattr(self, name)!r}")
         label = self.label or self.kind
         energy, sigma = _checked_table(self.energy, self.cross_section, label)
         object.__setattr__(self, "energy", energy)
@@ -126,6 +149,47 @@ class Process:
             raise ValueError(f"{label}: give a cross-section table or a rate_coefficient > 0")
         if self.weight_ratio > 0.0 and self.kind != "excitation":
             raise ValueError(f"{label}: weight_ratio (a superelastic inverse) applies to excitation only")
+        if self.weight_ratio > 0.0 and self.rate_coefficient > 0.0:
+            raise ValueError(f"{label}: a reversible excitation (weight_ratio > 0) needs a cross-section table, not a "
+                             "rate coefficient (its superelastic rate would diverge at zero energy)")
+        if self.kind == "elastic" and self.scattering == "forward":
+            raise ValueError(f"{label}: forward scattering transfers no momentum, so an elastic (momentum-transfer) "
+                             "cross section cannot be scattered forward: sigma_m / (1 - <cos chi>) is infinite; use "
+                             "isotropic, okhrimovskyy or vahedi-surendra")
+        if self.population is not None:
+            if self.weight_ratio <= 0.0:
+                raise ValueError(f"{label}: population (of the excited level) applies to a reversible excitation "
+                                 "(weight_ratio > 0) only")
+            value = float(self.population)
+            if not (0.0 <= value < 1.0):
+                raise ValueError(f"{label}: population must lie in [0, 1) (fraction of the species in the excited "
+                                 f"level); got {value}")
+            object.__setattr__(self, "population", value)
+
+    def cross_section_at(self, energy):
+        """The tabulated cross section (m^2) at ``energy`` (eV): linear between the points, constant beyond the last;
+        below the first point constant for elastic, zero for the other kinds, and zero below the threshold.
+
+        Examples
+        --------
+        >>> from collisionkit.transport import reid_ramp
+        >>> excitation = reid_ramp().species[0].processes[1]
+        >>> [float(x) for x in excitation.cross_section_at([0.1, 1.2])]
+        [0.0, 1e-19]
+        """
+        energy = _arrays.as_finite_in_range(energy, "energy", 0.0)
+        if self.energy.size == 0:
+            return np.zeros_like(energy)
+        left = self.cross_section[0] if self.kind == "elastic" else 0.0
+        sigma = np.interp(energy, self.energy, self.cross_section, left=left, right=self.cross_section[-1])
+        if self.kind != "elastic":
+            sigma = np.where(energy < self.threshold, 0.0, sigma)
+        return sigma
+
+    @property
+    def reversible(self) -> bool:
+        """True for an excitation with a superelastic inverse (``weight_ratio > 0``)."""
+        return self.weight_ratio > 0.0
 
     def with_scattering(self, scattering: str, screening_energy: float = 1.0) -> "Process":
         """The same process with another angular model.
@@ -224,8 +288,19 @@ class Gas:
         """(species index, process) for every process of every species."""
         return [(s, p) for s, member in enumerate(self.species) for p in member.processes]
 
-    def with_scattering(self, scattering: str, screening_energy: float = 1.0, kinds=("elastic",)) -> "Gas":
-        """The gas with another angular model for the processes of ``kinds``.
+    def with_scattering(self, scattering, screening_energy: float = 1.0, kinds=("elastic",)) -> "Gas":
+        """The gas with another angular law for the processes of ``kinds``.
+
+        Parameters
+        ----------
+        scattering : str or mapping
+            A law of :data:`SCATTERING_MODELS` for every kind in ``kinds``, or
+            a mapping ``{kind: law}`` (then ``kinds`` is not used). Kinds are
+            those of :data:`SCATTERING_KINDS`: ``"superelastic"`` sets the law
+            of the inverses of reversible excitations.
+        screening_energy : float
+            eV, for ``screened_coulomb``.
+        kinds : sequence of str
 
         Examples
         --------
@@ -233,46 +308,72 @@ class Gas:
         >>> gas = reid_ramp().with_scattering("screened_coulomb")
         >>> [process.scattering for process in gas.species[0].processes]
         ['screened_coulomb', 'isotropic']
+        >>> gas = reid_ramp().with_scattering({"elastic": "okhrimovskyy", "excitation": "forward"})
+        >>> [process.scattering for process in gas.species[0].processes]
+        ['okhrimovskyy', 'forward']
         """
-        species = tuple(
-            Species(s.name, s.mass, tuple(p.with_scattering(scattering, screening_energy) if p.kind in kinds else p
-                                          for p in s.processes))
-            for s in self.species
-        )
+        laws = _laws_by_kind(scattering, kinds)
+
+        def changed(p: Process) -> Process:
+            inverse = p.kind == "excitation" and "superelastic" in laws
+            if p.kind not in laws and not inverse:
+                return p
+            return dataclasses.replace(p, scattering=laws.get(p.kind, p.scattering), screening_energy=screening_energy,
+                                       superelastic_scattering=laws["superelastic"] if inverse else
+                                       p.superelastic_scattering)
+
+        species = tuple(Species(s.name, s.mass, tuple(changed(p) for p in s.processes)) for s in self.species)
         return Gas(species, self.fractions)
 
+    def with_populations(self, populations) -> "Gas":
+        """The gas with set populations of excited levels: ``{"species:label": fraction}`` of reversible excitations.
 
-def screened_coulomb_momentum_ratio(energy, screening_energy):
-    r"""Ratio sigma_m / sigma_el of the screened Coulomb (Wentzel) angular distribution.
+        A fraction is that of the species' density in the process's excited
+        level (see :func:`~collisionkit.transport.superelastic.level_populations`);
+        ``None`` puts a level back to Boltzmann at the gas temperature.
 
-    With :math:`p(\cos\chi) \propto (1 + 2\eta - \cos\chi)^{-2}` and
-    :math:`\eta = \epsilon_s / (4 \epsilon)`,
-    :math:`\langle 1 - \cos\chi \rangle = 2\eta(1 + \eta)\ln(1 + 1/\eta) - 2\eta`
-    (1 for isotropic scattering, eta -> infinity). Divide a momentum-transfer
-    cross section by this ratio to get the elastic cross section to sample.
+        Examples
+        --------
+        >>> from collisionkit.transport import Gas, Process, Species
+        >>> gas = Gas((Species("x", 6.6e-27, (Process("elastic", [0, 10], [1e-20, 1e-20]),
+        ...            Process("excitation", [0.1, 10], [0, 1e-20], threshold=0.1, weight_ratio=3.0, label="x*"))),))
+        >>> gas.with_populations({"x:x*": 0.2}).species[0].processes[1].population
+        0.2
+        """
+        if not isinstance(populations, Mapping):
+            raise TypeError(f"populations must be a mapping of 'species:label' to fractions; got {populations!r}")
+        reversible = {f"{s.name}:{p.label}": (i, k) for i, s in enumerate(self.species)
+                      for k, p in enumerate(s.processes) if p.reversible}
+        counts: dict[str, int] = {}
+        for s in self.species:
+            for p in s.processes:
+                counts[f"{s.name}:{p.label}"] = counts.get(f"{s.name}:{p.label}", 0) + 1
+        unknown = [key for key in populations if key not in reversible]
+        if unknown:
+            choices = ", ".join(sorted(reversible)) or "none: the gas has no reversible excitation (weight_ratio > 0)"
+            raise ValueError(f"populations: {unknown[0]!r} is not a reversible excitation of the gas; "
+                             f"choices: {choices}")
+        ambiguous = [key for key in populations if counts[key] > 1]
+        if ambiguous:
+            raise ValueError(f"populations: {ambiguous[0]!r} names more than one process of the gas")
+        species = [list(s.processes) for s in self.species]
+        for key, fraction in populations.items():
+            i, k = reversible[key]
+            species[i][k] = dataclasses.replace(species[i][k], population=fraction)
+        return Gas(tuple(Species(s.name, s.mass, tuple(processes)) for s, processes in zip(self.species, species)),
+                   self.fractions)
 
-    Parameters
-    ----------
-    energy : float or array_like
-        Collision energy (eV), finite and >= 0 (0: isotropic, ratio 1).
-    screening_energy : float or array_like
-        The screening energy (eV), finite and > 0.
 
-    Examples
-    --------
-    >>> from collisionkit.transport import screened_coulomb_momentum_ratio
-    >>> round(float(screened_coulomb_momentum_ratio(1e-6, 1.0)), 4)
-    1.0
-    >>> 0 < float(screened_coulomb_momentum_ratio(10.0, 1.0)) < 0.5
-    True
-    """
-    energy = _arrays.as_finite_in_range(energy, "energy", 0.0)
-    screening_energy = _arrays.as_finite_in_range(screening_energy, "screening_energy", 0.0, inclusive=(False, False))
-    eta = screening_energy / (4.0 * np.maximum(energy, 1e-300))
-    small = eta > 1e6
-    safe = np.where(small, 1.0, eta)
-    exact = 2.0 * safe * (1.0 + safe) * np.log1p(1.0 / safe) - 2.0 * safe
-    return np.where(small, 1.0, exact)
+def _laws_by_kind(scattering, kinds) -> dict[str, str]:
+    """``{kind: law}`` from a law and kinds, or from a mapping; ValueError naming an unknown kind or law."""
+    laws = dict(scattering) if isinstance(scattering, Mapping) else {kind: scattering for kind in (
+        [kinds] if isinstance(kinds, str) else kinds)}
+    for kind, law in laws.items():
+        if kind not in SCATTERING_KINDS:
+            raise ValueError(f"scattering: kind must be one of {', '.join(SCATTERING_KINDS)}; got {kind!r}")
+        if law not in SCATTERING_MODELS:
+            raise ValueError(f"scattering[{kind!r}] must be one of {', '.join(SCATTERING_MODELS)}; got {law!r}")
+    return laws
 
 
 # ------------------------------------------------------------------ model gases

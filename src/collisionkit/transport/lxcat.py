@@ -34,7 +34,7 @@ Notes are :class:`LXCatWarning` (Python warnings); errors are
 from __future__ import annotations
 
 import warnings
-from collections.abc import Mapping, Sequence
+from collections.abc import Mapping
 from pathlib import Path
 
 import numpy as np
@@ -63,6 +63,11 @@ class LXCatWarning(UserWarning):
     >>> caught[0].category.__name__
     'LXCatWarning'
     """
+
+
+# the laws read_lxcat converts itself (screened Coulomb: the file's momentum-transfer table to the integral one);
+# the others are set with Gas.with_scattering, whose tables convert sigma_m in the kernel tables
+READER_SCATTERING = ("isotropic", "screened_coulomb")
 
 
 def _note(message: str) -> None:
@@ -232,7 +237,7 @@ def _species(name, blocks, scattering, screening_energy) -> Species:
               f"applies each to the whole {name} density (collisionkit has no populations of these levels), so "
               "their rates are those of a gas wholly in that level")
     species = Species(name, constants.m_e / momentum.parameter, tuple(processes))
-    if scattering == "isotropic":
+    if scattering != "screened_coulomb":
         return species
     from .gases import screened_coulomb_momentum_ratio
 
@@ -308,6 +313,10 @@ def read_lxcat(path, species=None, fractions=None, database=None, scattering="is
     >>> gas.species[0].name, round(gas.species[0].mass / 9.1093837e-31 * 1.37e-4, 6)
     ('He', 1.0)
     """
+    if scattering not in READER_SCATTERING:
+        # the other laws convert sigma_m in the kernel tables: converting here too would do it twice
+        raise ValueError(f"scattering must be one of {READER_SCATTERING} here; got {scattering!r}: for "
+                         "okhrimovskyy, vahedi-surendra or forward call .with_scattering(law) on the gas read")
     blocks = [block for file in _paths(path) for block in _read_file(file)]
     chosen = _chosen_species(blocks, species)
     if fractions is not None and len(list(fractions)) != len(chosen):

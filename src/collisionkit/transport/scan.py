@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import dataclasses
 import hashlib
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
 from typing import Any, ClassVar
 
@@ -26,8 +26,9 @@ import numpy as np
 
 from .._io import Checkpoint, CheckpointError, exclusive, file_digest, read_checkpoint, write_checkpoint
 from .._params import Parameters, check_choice, check_unchanged, check_integer, check_real, check_seed
+from .angular import SCATTERING_LAWS
 from .catalogue import catalogue_files, catalogue_gas
-from .gases import MODEL_GASES, Gas, model_gas
+from .gases import MODEL_GASES, SCATTERING_KINDS, Gas, model_gas
 from .lxcat import read_lxcat
 from .swarm import SwarmResult, simulate_swarm
 
@@ -62,7 +63,21 @@ class SwarmParameters(Parameters):
     reduced_magnetic_field : float
         B/N in Hx along y (``--B-N``).
     gas_temperature : float
-        In K (>= 0); E/N = 0 needs a warm gas.
+        In K (>= 0, 300 by default); E/N = 0 needs a warm gas. Above 0 the
+        reversible excitations have superelastic inverses
+        (:mod:`~collisionkit.transport.superelastic`); the model-gas
+        benchmarks assume 0.
+    scattering : str or dict, optional
+        Angular law (:data:`~collisionkit.transport.SCATTERING_LAWS`) of every
+        process (``--scattering``), or ``{kind: law}`` for the kinds of
+        :data:`~collisionkit.transport.SCATTERING_KINDS` (a TOML table
+        ``[scattering]``); kinds left out keep the gas's own (isotropic).
+        Elastic tables are momentum-transfer cross sections, converted for
+        the law (``forward`` is refused for them).
+    populations : dict, optional
+        ``{"species:label": fraction}``: the fraction of a species in the
+        excited level of a reversible excitation, instead of Boltzmann at
+        the gas temperature (a TOML table ``[populations]``).
     particles : int
         Simulated electrons, 128 to 1e7.
     seed : int
@@ -93,12 +108,14 @@ class SwarmParameters(Parameters):
     fractions: Any = None
     database: str | None = None
     reduced_magnetic_field: float = 0.0
-    gas_temperature: float = 0.0
+    gas_temperature: float = 300.0
     particles: int = 20_000
     seed: int = 2026
     tolerance: float = 2e-3
     collision_budget: float = 5e8
     sharing: str = "equal"
+    scattering: Any = None
+    populations: Any = None
 
     FLAGS: ClassVar = {"reduced_field": "E-N", "reduced_magnetic_field": "B-N"}
 
@@ -132,6 +149,8 @@ class SwarmParameters(Parameters):
         set_(self, "tolerance", check_real("tolerance", self.tolerance, 0.0, 0.5, low_open=True))
         set_(self, "collision_budget", check_real("collision_budget", self.collision_budget, 1e4))
         check_choice("sharing", self.sharing, SHARING_MODES)
+        set_(self, "scattering", _scattering(self.scattering))
+        set_(self, "populations", _populations(self.populations))
         if 0.0 in fields and self.gas_temperature == 0.0:
             raise ValueError("E/N = 0 in a gas at 0 K has no steady state (nothing heats the swarm; it cools "
                              "without end): give gas_temperature > 0 (--gas-temperature) or E/N > 0")
@@ -147,13 +166,36 @@ class SwarmParameters(Parameters):
         'Ar'
         """
         if self.model is not None:
-            return model_gas(self.model)
-        if self.gas is not None:
-            return catalogue_gas(self.gas)
-        for path in self.cross_sections:
-            if path.is_dir():
-                raise ValueError(f"cross_sections {path} is a folder; give an LXCat file")
-        return read_lxcat(self.cross_sections, species=self.species, fractions=self.fractions, database=self.database)
+            gas = model_gas(self.model)
+        elif self.gas is not None:
+            gas = catalogue_gas(self.gas)
+        else:
+            for path in self.cross_sections:
+                if path.is_dir():
+                    raise ValueError(f"cross_sections {path} is a folder; give an LXCat file")
+            gas = read_lxcat(self.cross_sections, species=self.species, fractions=self.fractions,
+                             database=self.database)
+        return self.physics_of(gas)
+
+    def physics_of(self, gas: Gas) -> Gas:
+        """``gas`` with the scan's angular laws and level populations (ValueError for a law a process refuses).
+
+        Examples
+        --------
+        >>> gas = SwarmParameters(model="reid", scattering="okhrimovskyy").make_gas()
+        >>> [process.scattering for process in gas.species[0].processes]
+        ['okhrimovskyy', 'okhrimovskyy']
+        """
+        if self.scattering is not None:
+            laws = self.scattering if isinstance(self.scattering, dict) else dict.fromkeys(SCATTERING_KINDS,
+                                                                                           self.scattering)
+            try:
+                gas = gas.with_scattering(laws)
+            except ValueError as error:
+                raise ValueError(f"scattering {self.scattering!r} cannot be used: {error}") from None
+        if self.populations is not None:
+            gas = gas.with_populations(self.populations)
+        return gas
 
     def gas_files(self) -> list[Path]:
         """The cross-section files the gas is read from (none for a model gas).
@@ -209,6 +251,31 @@ def gas_files_digest(paths) -> str | None:
     if len(paths) == 1:
         return file_digest(paths[0])
     return hashlib.sha256("\n".join(file_digest(path) for path in paths).encode()).hexdigest()
+def _scattering(value):
+    """The angular laws: None, one law for every kind, or ``{kind: law}`` (checked, kinds in canonical order)."""
+    if value is None:
+        return None
+    if isinstance(value, str):
+        check_choice("scattering", value, SCATTERING_LAWS)
+        return value
+    if not isinstance(value, Mapping) or not value:
+        raise TypeError(f"scattering must be a law ({', '.join(SCATTERING_LAWS)}) or a table of laws by process "
+                        f"kind ({', '.join(SCATTERING_KINDS)}); got {value!r}")
+    for kind, law in value.items():
+        check_choice("scattering kind", kind, SCATTERING_KINDS)
+        check_choice(f"scattering[{kind!r}]", law, SCATTERING_LAWS)
+    return {kind: value[kind] for kind in SCATTERING_KINDS if kind in value}
+
+
+def _populations(value):
+    """``{"species:label": fraction}`` with fractions in [0, 1), or None."""
+    if value is None:
+        return None
+    if not isinstance(value, Mapping) or not value:
+        raise TypeError(f"populations must be a table of fractions by process (\"species:label\" = fraction); "
+                        f"got {value!r}")
+    return {str(key): check_real(f"populations[{key!r}]", fraction, 0.0, 1.0, high_open=True)
+            for key, fraction in value.items()}
 
 
 def _strings(name: str, values) -> tuple[str, ...]:
@@ -232,7 +299,8 @@ class SwarmScan:
     checkpoint : path, optional
         Written (``.npz``, atomically) after every finished E/N point.
     gas : Gas, optional
-        A gas built in Python (default: ``parameters.make_gas()``).
+        A gas built in Python (default: ``parameters.make_gas()``); the
+        parameters' ``scattering`` and ``populations`` apply to it too.
 
     Examples
     --------
@@ -252,7 +320,7 @@ class SwarmScan:
             raise TypeError(f"parameters must be SwarmParameters; got {type(parameters).__name__}")
         self.parameters = parameters
         self.checkpoint = None if checkpoint is None else Path(checkpoint)
-        self.gas = parameters.make_gas() if gas is None else gas
+        self.gas = parameters.make_gas() if gas is None else parameters.physics_of(gas)
         self.results: list[SwarmResult] = list(results)
 
     @property

@@ -17,6 +17,9 @@ Observables (Robson, Ness, White, Dujko; e.g. Dujko et al., J. Phys. D 41,
   ``D_bulk,zz = (1/2) d(<z^2> - <z>^2)/dt`` (least-squares slopes);
 * rate coefficients ``k_j = (collisions j) / (N x particle time)``;
   effective ionization / attachment frequencies the same without ``1/N``;
+  a superelastic inverse is a process of its own (``label (superelastic)``);
+* Townsend coefficients ``alpha/N``, ``eta/N`` of steady-state Townsend
+  conditions from the bulk coefficients (:mod:`collisionkit.transport.townsend`);
 * mean energy and the energy distribution.
 
 Statistical errors come from independent groups: particles are dealt into
@@ -127,7 +130,7 @@ def simulate_swarm(
     reduced_field: float,
     *,
     reduced_magnetic_field: float = 0.0,
-    gas_temperature: float = 0.0,
+    gas_temperature: float = 300.0,
     particles: int = 20_000,
     groups: int = 16,
     seed: int = 0,
@@ -156,7 +159,11 @@ def simulate_swarm(
     reduced_magnetic_field : float
         B/N in Hx; B points along +y.
     gas_temperature : float
-        K (>= 0); 0 puts the targets at rest.
+        K (>= 0; 300 by default). The targets move with the gas's Maxwellian
+        and the reversible excitations' upper levels are populated by
+        Boltzmann (superelastic collisions,
+        :mod:`collisionkit.transport.superelastic`); 0 puts the targets at
+        rest with every level empty, as the model-gas benchmarks assume.
     particles, groups : int
         Initial particles (>= 8 groups) and independent groups (errors; 4 to 1024).
     seed : int or numpy.random.Generator
@@ -257,7 +264,7 @@ def simulate_swarm(
 
 def trace_trajectories(gas: Gas, reduced_field: float, *, particles: int = 5, collisions: float = 200.0,
                        points: int = 2000, reduced_magnetic_field: float = 0.0, seed: int = 0,
-                       initial_energy: float = 1.0) -> tuple[np.ndarray, np.ndarray]:
+                       initial_energy: float = 1.0, gas_temperature: float = 300.0) -> tuple[np.ndarray, np.ndarray]:
     """Positions of a few particles sampled on a uniform time grid (for plots).
 
     Returns ``(times, positions)`` with positions of shape (points, particles, 3);
@@ -274,12 +281,12 @@ def trace_trajectories(gas: Gas, reduced_field: float, *, particles: int = 5, co
     (50, 2, 3)
     """
     seed = seed_value(seed)
-    validate_swarm_setup(gas, reduced_field, reduced_magnetic_field, 0.0, seed, constants.m_e, -constants.e,
-                         initial_energy)
+    validate_swarm_setup(gas, reduced_field, reduced_magnetic_field, gas_temperature, seed, constants.m_e,
+                         -constants.e, initial_energy)
     integer_in_range(particles, "particles", 1)
     real_in_range(collisions, "collisions (per particle)", 0.0)
     integer_in_range(points, "points", 1)
-    tables = build_tables(gas, constants.m_e, 0.0)
+    tables = build_tables(gas, constants.m_e, gas_temperature)
     _require_collisions(tables)
     field_record = _field_record(reduced_field, reduced_magnetic_field, REFERENCE_DENSITY, constants.m_e,
                                  -constants.e, (0.0, 0.0, 0.0))

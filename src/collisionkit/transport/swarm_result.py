@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
-from dataclasses import dataclass, field
+from dataclasses import MISSING, dataclass, field
 
 import numpy as np
 
@@ -20,7 +20,11 @@ class SwarmResult:
     ``eedf`` is the energy distribution (1/eV) at the bin centres
     ``eedf_energy``, which span [0, 4 <e>) of the swarm when sampling began;
     ``eedf_above`` is the fraction of it beyond the last bin (in no bin, so
-    the EEDF integrates to ``1 - eedf_above``).
+    the EEDF integrates to ``1 - eedf_above``). ``alpha_N`` and ``eta_N``
+    are the Townsend ionization and attachment coefficients over N (m^2) of
+    steady-state Townsend conditions, from the bulk coefficients
+    (:func:`~collisionkit.transport.townsend_coefficients`; NaN where the
+    SST relation has no root, and in results saved before they existed).
     ``extras["bound_violations"]`` (only when the module switch
     ``collisionkit.transport.swarm.CHECK_BOUND`` is on) counts the trial
     collisions at which the true collision rate exceeded the trial bound:
@@ -70,6 +74,10 @@ class SwarmResult:
     groups: int
     converged: bool
     extras: dict = field(default_factory=dict)
+    alpha_N: float = math.nan
+    alpha_N_error: float = math.nan
+    eta_N: float = math.nan
+    eta_N_error: float = math.nan
 
     @property
     def collisions_per_second(self) -> float:
@@ -128,7 +136,8 @@ class SwarmResult:
         """
         if not isinstance(data, Mapping):
             raise TypeError(f"data must be a mapping (SwarmResult.to_dict output); got {type(data).__name__}")
-        missing = [name for name in cls.__dataclass_fields__ if name not in data and name != "extras"]
+        missing = [name for name, spec in cls.__dataclass_fields__.items() if name not in data
+                   and spec.default is MISSING and spec.default_factory is MISSING]  # with a default: may be older
         if missing:
             raise ValueError(f"data is not a SwarmResult.to_dict output: missing {', '.join(missing)}")
         values = {}

@@ -23,11 +23,15 @@ Algorithm (Krasov, sec. 5.5, extended as in Skullerud, J. Phys. D 1, 1567
 * at a trial collision the target species is chosen by its share of the
   trial frequency, a target velocity is drawn from the gas Maxwellian, and
   the process by its rate ``N sigma_j(eps) g + N k_j``; otherwise the
-  collision is null;
-* scattering in the centre-of-mass frame (isotropic or screened Coulomb),
-  exact recoil for elastic collisions, thresholds subtracted from the
-  relative kinetic energy; ionization creates a new particle (children are
-  advanced within the same call and stored in the parent's child slots).
+  collision is null. A trial above the species' total rate (one table of
+  the summed cross sections) is null without looking at the processes, so
+  a gas of many processes costs no more per null trial than one of two;
+* scattering in the centre-of-mass frame (isotropic, screened Coulomb,
+  Okhrimovskyy, Vahedi-Surendra or forward), exact recoil for elastic
+  collisions, thresholds subtracted from the relative kinetic energy (added
+  back for a superelastic collision); ionization creates a new particle
+  (children are advanced within the same call and stored in the parent's
+  child slots).
 
 The kernels are split by responsibility: :mod:`.layout` (process, angular
 and sharing codes, tally columns), :mod:`.rng` (random streams),
@@ -48,20 +52,24 @@ from .layout import (
     ELASTIC,
     EXCITATION,
     EXTRA_COLUMNS,
+    FORWARD,
     IONIZATION,
     ISOTROPIC,
     NULL_COLUMN_OFFSET,
+    OKHRIMOVSKYY,
     SCREENED_COULOMB,
     SHARE_EQUAL,
     SHARE_UNIFORM,
+    SUPERELASTIC,
     TIME_COLUMN_OFFSET,
+    VAHEDI_SURENDRA,
 )
 from .moments import energy_histogram, group_moments, group_sums
 from .slab import FLIGHT_SIZE, slab_batch
 
 __all__ = [
-    "ATTACHMENT", "BOUND_COLUMN_OFFSET", "ELASTIC", "FLIGHT_SIZE", "EXCITATION", "EXTRA_COLUMNS", "IONIZATION", "ISOTROPIC",
-    "NULL_COLUMN_OFFSET", "SCREENED_COULOMB", "SHARE_EQUAL", "SHARE_UNIFORM", "TIME_COLUMN_OFFSET", "TRIAL_BUDGET",
-    "WINDOW_COLLISIONS", "WINDOW_GROWTH", "advance_swarm", "derived_field", "energy_histogram", "group_moments",
-    "group_sums", "slab_batch",
+    "ATTACHMENT", "BOUND_COLUMN_OFFSET", "ELASTIC", "EXCITATION", "EXTRA_COLUMNS", "FLIGHT_SIZE", "FORWARD",
+    "IONIZATION", "ISOTROPIC", "NULL_COLUMN_OFFSET", "OKHRIMOVSKYY", "SCREENED_COULOMB", "SHARE_EQUAL",
+    "SHARE_UNIFORM", "SUPERELASTIC", "TIME_COLUMN_OFFSET", "TRIAL_BUDGET", "VAHEDI_SURENDRA", "WINDOW_COLLISIONS",
+    "WINDOW_GROWTH", "advance_swarm", "derived_field", "energy_histogram", "group_moments", "group_sums", "slab_batch",
 ]

@@ -19,15 +19,17 @@ from .scattering import isotropic_direction, scattered_direction
 @kernel
 def two_body(vx, vy, vz, gas_vx, gas_vy, gas_vz, gx, gy, gz, g_speed, energy, mass, target_mass, loss, model,
              screening, state):
-    """Projectile velocity after an elastic (``loss`` = 0) or inelastic two-body collision.
+    """Projectile velocity after an elastic (``loss`` = 0), inelastic or superelastic (``loss`` < 0) two-body
+    collision.
 
-    The relative kinetic energy drops by ``loss`` (the threshold), the
-    relative velocity turns in the centre-of-mass frame and the
-    centre-of-mass velocity is kept (exact recoil).
+    The relative kinetic energy drops by ``loss`` (the threshold; a
+    superelastic collision gains the excitation energy), the relative
+    velocity turns in the centre-of-mass frame and the centre-of-mass
+    velocity is kept (exact recoil).
     """
     total = mass + target_mass
     g_after = g_speed
-    if loss > 0.0:
+    if loss != 0.0:
         mu = mass * target_mass / total
         g_after = math.sqrt(2.0 * max(0.0, 0.5 * mu * g_speed * g_speed - loss) / mu)
     nx, ny, nz = scattered_direction(model, energy, screening, gx, gy, gz, g_speed, state)

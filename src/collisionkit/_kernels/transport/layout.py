@@ -7,10 +7,17 @@ ELASTIC = 0
 EXCITATION = 1
 IONIZATION = 2
 ATTACHMENT = 3
+SUPERELASTIC = 4  # the inverse of a reversible excitation: its (negative) threshold is the energy gained
 
-# angular models
+# angular models (collisionkit.transport.angular)
 ISOTROPIC = 0
 SCREENED_COULOMB = 1
+OKHRIMOVSKYY = 2
+VAHEDI_SURENDRA = 3
+FORWARD = 4
+
+ELECTRONVOLT = 1.602176634e-19  # J
+HARTREE = 27.211386245988 * ELECTRONVOLT  # J, the energy scale of the Okhrimovskyy law
 
 # energy sharing in ionization
 SHARE_EQUAL = 0

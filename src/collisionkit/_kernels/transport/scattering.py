@@ -1,28 +1,46 @@
-"""Directions after scattering: centre-of-mass deflection angles (isotropic, screened Coulomb)."""
+"""Directions after scattering: centre-of-mass deflection angles (isotropic, screened Coulomb, Okhrimovskyy,
+Vahedi-Surendra, forward)."""
 
 from __future__ import annotations
 
 import math
 
 from ..._jit import kernel
-from .layout import ISOTROPIC
+from .layout import ELECTRONVOLT, FORWARD, HARTREE, ISOTROPIC, OKHRIMOVSKYY, VAHEDI_SURENDRA
 from .rng import uniform
 
 
 @kernel
-def scattering_cosine(model, energy, screening, state):
-    """cos(chi) in the centre-of-mass frame.
+def cosine_from_uniform(model, energy, screening, u):
+    """cos(chi) in the centre-of-mass frame from a uniform number ``u`` in (0, 1) (energy and screening in J).
 
-    Isotropic: uniform in [-1, 1]. Screened Coulomb (Wentzel): density
-    proportional to (1 + 2 eta - cos chi)^-2 with eta = screening / (4 energy),
-    sampled by inversion: cos chi = 1 + 2 eta - 2 eta (1 + eta) / (eta + U).
+    Inversion of the laws' cumulative distributions
+    (:mod:`collisionkit.transport.angular`): isotropic 1 - 2u; screened
+    Coulomb (Wentzel, density proportional to (1 + 2 eta - cos chi)^-2, eta =
+    screening / (4 energy)) 1 + 2 eta - 2 eta (1 + eta) / (eta + u);
+    Okhrimovskyy 1 - 2u (1 - xi) / (1 + xi (1 - 2u)) with xi = 4 energy /
+    (E_h + 4 energy); Vahedi-Surendra (2 + e - 2 (1 + e)^u) / e with e the
+    energy in eV; forward 1.
     """
-    u = uniform(state)
     if model == ISOTROPIC or energy <= 0.0:
-        return 2.0 * u - 1.0
+        return 1.0 - 2.0 * u
+    if model == FORWARD:
+        return 1.0
+    if model == OKHRIMOVSKYY:
+        xi = 4.0 * energy / (HARTREE + 4.0 * energy)
+        return 1.0 - 2.0 * u * (1.0 - xi) / (1.0 + xi * (1.0 - 2.0 * u))
+    if model == VAHEDI_SURENDRA:
+        e = energy / ELECTRONVOLT
+        return max(-1.0, 1.0 - 2.0 * math.expm1(u * math.log1p(e)) / e)
     eta = screening / (4.0 * energy)
     c = 1.0 + 2.0 * eta - 2.0 * eta * (1.0 + eta) / (eta + u)
     return min(1.0, max(-1.0, c))
+
+
+@kernel
+def scattering_cosine(model, energy, screening, state):
+    """cos(chi) in the centre-of-mass frame, drawn with :func:`cosine_from_uniform`."""
+    return cosine_from_uniform(model, energy, screening, uniform(state))
 
 
 @kernel
@@ -53,8 +71,10 @@ def isotropic_direction(state):
 
 @kernel
 def scattered_direction(model, energy, screening, gx, gy, gz, g_speed, state):
-    """Direction of the relative velocity g after scattering (isotropic: g is not needed)."""
-    if model == ISOTROPIC:
+    """Direction of the relative velocity g after scattering (isotropic: g is not needed; forward: g's own)."""
+    if model == ISOTROPIC or g_speed <= 0.0:
         return isotropic_direction(state)
+    if model == FORWARD:
+        return gx / g_speed, gy / g_speed, gz / g_speed
     cos_chi = scattering_cosine(model, energy, screening, state)
     return rotated(gx / g_speed, gy / g_speed, gz / g_speed, cos_chi, 2.0 * math.pi * uniform(state))

@@ -51,13 +51,15 @@ SPECTRUM_BINS = 50
 SECTIONS = {
     "gas": {"model": "model", "gas": "gas", "cross_sections": "cross_sections", "species": "species",
             "fractions": "fractions", "database": "database", "pressure": "pressure", "temperature": "temperature",
-            "density": "density"},
+            "density": "density", "scattering": "scattering", "populations": "populations"},
     "geometry": {"kind": "geometry", "gap": "gap", "voltage": "voltage", "wire_radius": "wire_radius",
                  "cathode_radius": "cathode_radius", "magnetic_field": "magnetic_field"},
     "source": {"electrons": "electrons", "position": "position", "radius": "radius", "energy": "energy",
                "direction": "direction"},
     "ions": {"mobility": "ion_mobility"},
 }
+# tables of the swarm's config that a device file may hold at its top level as they are
+WHOLE_TABLES = ("scattering", "populations")
 
 
 def _vector_or_none(name: str, value):
@@ -84,8 +86,9 @@ class TrackParameters(Parameters):
         V (finite).
     magnetic_field : 3 numbers, optional
         A uniform magnetic field (T).
-    model, gas, cross_sections, species, fractions, database
-        The gas, exactly as :class:`~collisionkit.transport.SwarmParameters` takes it.
+    model, gas, cross_sections, species, fractions, database, scattering, populations
+        The gas, exactly as :class:`~collisionkit.transport.SwarmParameters` takes it (angular laws and level
+        populations too).
     pressure, temperature, density : float
         The gas: pressure (Pa, > 0; default 1 atm) and temperature (K, > 0), or
         its number density (m^-3) instead of the pressure.
@@ -131,6 +134,8 @@ class TrackParameters(Parameters):
     species: Any = None
     fractions: Any = None
     database: str | None = None
+    scattering: Any = None
+    populations: Any = None
     pressure: float | None = None
     temperature: float = 300.0
     density: float | None = None
@@ -172,6 +177,8 @@ class TrackParameters(Parameters):
         set_(self, "cross_sections", swarm.cross_sections)
         set_(self, "species", swarm.species)
         set_(self, "fractions", swarm.fractions)
+        set_(self, "scattering", swarm.scattering)
+        set_(self, "populations", swarm.populations)
         if self.pressure is not None and self.density is not None:
             raise ValueError("give pressure (Pa) or density (m^-3), not both")
         if self.pressure is not None:
@@ -226,7 +233,8 @@ class TrackParameters(Parameters):
         try:
             return SwarmParameters(model=self.model, gas=self.gas, cross_sections=self.cross_sections,
                                    species=self.species, fractions=self.fractions, database=self.database,
-                                   gas_temperature=self.temperature)
+                                   gas_temperature=self.temperature, scattering=self.scattering,
+                                   populations=self.populations)
         except ValueError as error:
             raise ValueError(str(error).replace("--cross-sections", "cross-sections").replace("--gas", "gas")
                              .replace("--model", "model")) from None
@@ -293,9 +301,15 @@ def flatten_sections(tables: Mapping[str, Any]) -> dict[str, Any]:
     """
     flat: dict[str, Any] = {}
     for key, value in tables.items():
+        if str(key) in WHOLE_TABLES and isinstance(value, Mapping):
+            if key in flat:
+                raise ValueError(f"{key} is given twice")
+            flat[str(key)] = dict(value)
+            continue
         section = SECTIONS.get(str(key).replace("-", "_")) if isinstance(value, Mapping) else None
         if isinstance(value, Mapping) and section is None:
-            raise ValueError(f"unknown table [{key}]; the device file's tables are {', '.join(SECTIONS)}")
+            raise ValueError(f"unknown table [{key}]; the device file's tables are "
+                             f"{', '.join([*SECTIONS, *WHOLE_TABLES])}")
         if section is None:
             flat[str(key).replace("-", "_")] = value
             continue

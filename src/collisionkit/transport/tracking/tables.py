@@ -84,12 +84,8 @@ def tracking_tables(gas: Gas, mass: float, gas_temperature: float) -> TrackingTa
     """
     tables = build_tables(gas, mass, gas_temperature)
     n_species = tables.gas.shape[0]
-    species_sigma = np.zeros((tables.nodes.size, n_species))
-    species_const = np.zeros(n_species)
-    for s in range(n_species):
-        mine = tables.species_of == s
-        species_sigma[:, s] = tables.sigma[:, mine].sum(axis=1)
-        species_const[s] = tables.const_rate[mine].sum()
+    species_sigma = tables.sigma_total  # each species' summed cross section at the nodes
+    species_const = np.array([tables.const_rate[tables.species_of == s].sum() for s in range(n_species)])
     thermal, step = np.zeros((1, n_species)), 1.0
     warm = gas_temperature > 0.0 and any(mass / member.mass >= THERMAL_MASS_RATIO for member in gas.species)
     if warm:
