@@ -32,13 +32,18 @@ from .._params import Parameters, check_choice, check_integer, check_real, check
 from .initial import LATTICE_DIM, lattice, lattice_cells, maxwell_boltzmann, random_fluid
 from .measurement import Measurement, Sampler
 from .system import HardSphereSystem
-from .theory import MAX_PACKING_FRACTION, carnahan_starling, enskog_collision_frequency, hansen_goos, henderson
+from .theory import (
+    MAX_PACKING_FRACTION, carnahan_starling, enskog_collision_frequency, enskog_transport, hansen_goos, henderson,
+    yeh_hummer_correction,
+)
 
 __all__ = ["EdmdParameters", "EdmdRun"]
 
 INITIAL_STATES = ("random", *LATTICE_DIM)
 EQUILIBRATION_PER_PARTICLE = 20
 COLLISIONS_PER_PARTICLE = 200
+# a transport run's default: blocks of 100 per particle (200 mean free times) outlast the fit window tenfold
+TRANSPORT_COLLISIONS_PER_PARTICLE = 1000
 MIN_CHUNK = 10_000
 CHECKPOINT_KIND = "edmd"
 
@@ -62,7 +67,8 @@ class EdmdParameters(Parameters):
     equilibration : int, optional
         Pair collisions before measuring (>= 0; default 20 per particle).
     collisions : int, optional
-        Pair collisions measured (>= blocks; default 200 per particle).
+        Pair collisions measured (>= blocks; default 200 per particle, 1000
+        with ``transport``).
     blocks : int
         Measurement blocks for the error bars, 2 to 100000.
     seed : int, optional
@@ -70,6 +76,15 @@ class EdmdParameters(Parameters):
     initial : str
         ``random`` (a compressed fluid) or a lattice: ``fcc``, ``sc`` (3D),
         ``square``, ``hexagonal`` (2D), which needs N = basis * cells^d.
+    transport : bool
+        Also measure the transport coefficients (shear and bulk viscosity,
+        thermal conductivity, self-diffusion; the interdiffusion of a binary
+        mixture), the pressure tensor and the velocity autocorrelation
+        (:class:`~collisionkit.edmd.Sampler`); needs restitution 1.
+    yeh_hummer : bool
+        Also report D corrected to the infinite system (Yeh & Hummer, from
+        the measured shear viscosity: :func:`~collisionkit.edmd.yeh_hummer_correction`);
+        needs ``transport`` and dim 3.
 
     Examples
     --------
@@ -91,6 +106,8 @@ class EdmdParameters(Parameters):
     blocks: int = 10
     seed: int | None = None
     initial: str = "random"
+    transport: bool = False
+    yeh_hummer: bool = False
 
     def __post_init__(self):
         set_ = object.__setattr__
@@ -116,6 +133,15 @@ class EdmdParameters(Parameters):
         check_choice("initial", self.initial, INITIAL_STATES)
         if self.initial != "random":
             lattice_cells(self.initial, self.dim, self.particles)
+        for name in ("transport", "yeh_hummer"):
+            if not isinstance(getattr(self, name), bool):
+                raise ValueError(f"{name} must be true or false; got {getattr(self, name)!r}")
+        if self.transport and self.restitution != 1.0:
+            raise ValueError(f"transport needs restitution 1 (the Einstein-Helfand relations hold in equilibrium, "
+                             f"which an inelastic gas never reaches); got restitution {self.restitution:g}")
+        if self.yeh_hummer and not (self.transport and self.dim == 3):
+            raise ValueError("yeh_hummer needs transport (the correction uses the measured shear viscosity) and dim 3 "
+                             "(its constant is the cubic lattice's)")
 
     def resolved(self, seed=None) -> EdmdParameters:
         """A copy with the defaults that depend on other parameters filled in (and a seed drawn if none).
@@ -131,7 +157,8 @@ class EdmdParameters(Parameters):
         >>> resolved.equilibration, resolved.collisions, resolved.seed
         (2000, 20000, 5)
         """
-        collisions = self.collisions if self.collisions is not None else COLLISIONS_PER_PARTICLE * self.particles
+        per_particle = TRANSPORT_COLLISIONS_PER_PARTICLE if self.transport else COLLISIONS_PER_PARTICLE
+        collisions = self.collisions if self.collisions is not None else per_particle * self.particles
         if collisions < self.blocks:
             raise ValueError(f"collisions ({collisions} by default for {self.particles} particles) must be >= "
                              f"blocks ({self.blocks}); set collisions")
@@ -396,7 +423,7 @@ class EdmdRun:
                 self.equilibrated += done
                 self._chunk_done()
             if self.sampler is None:
-                self.sampler = Sampler(self.system, p.collisions, p.blocks)
+                self.sampler = Sampler(self.system, p.collisions, p.blocks, transport=p.transport)
             while not self.sampler.finished:
                 step = self.sampler.per_block
                 self.sampler.run_block(report(self.equilibrated + self.measured))
@@ -522,6 +549,8 @@ def _check_sampler(saved, sampler: Sampler | None, parameters: EdmdParameters, s
     fits = (sampler.blocks, sampler.per_block) == (parameters.blocks, parameters.collisions // parameters.blocks)
     fits &= len(lengths) == 1 and lengths.pop() <= sampler.blocks and sampler.histogram.ndim == 1
     fits &= sampler.start_positions.shape == (system.count, system.dim) and math.isfinite(sampler.r_max)
+    fits &= (sampler.transport is not None) == parameters.transport
+    fits &= sampler.transport is None or len(sampler.transport.edge_times) == sampler.done + 1
     if not fits:
         raise saved.damaged("its measurement arrays (sampler_*) do not fit its parameters and particles")
 
@@ -570,8 +599,29 @@ def _edmd_summary(run: EdmdRun, measurement: Measurement, files: Sequence = ()) 
         }
         if p.dim == 3:
             result["compressibility_factor_carnahan_starling"] = float(carnahan_starling(eta))
+    if measurement.transport is not None:
+        result |= _transport_summary(run, measurement)
     if run.trajectory is not None:
         result["trajectory_frames"] = run.frames
     result["files"] = [str(path) for path in files]
     result["parameters"] = p.to_dict()
+    return result
+
+
+def _transport_summary(run: EdmdRun, measurement: Measurement) -> dict[str, Any]:
+    """Enskog's transport coefficients (spheres) and, asked for, D corrected to the infinite system (Yeh-Hummer)."""
+    p, transport, result = run.parameters, measurement.transport, {}
+    if p.dim == 3:
+        enskog = enskog_transport(measurement.packing_fraction, kT=measurement.temperature)
+        result |= {f"{key}_enskog": enskog[key] for key in
+                   ("shear_viscosity", "bulk_viscosity", "thermal_conductivity", "self_diffusion")}
+    eta, eta_error = transport.shear_viscosity, transport.shear_viscosity_error
+    if p.yeh_hummer:
+        correction = error = math.nan  # a viscosity measured <= 0 (noise) gives no correction
+        if eta > 0:
+            correction = float(yeh_hummer_correction(eta, float(run.system.box[0]), measurement.temperature))
+            error = math.hypot(measurement.diffusion_coefficient_error, correction * eta_error / eta)
+        result |= {"yeh_hummer_correction": correction,
+                   "self_diffusion_infinite": measurement.diffusion_coefficient + correction,
+                   "self_diffusion_infinite_error": error}
     return result
