@@ -193,7 +193,7 @@ class TransportSampler:
         sampler.edge_moments = list(np.array(state["transport_edge_moments"], dtype=float))
         sampler.vacf_sum = list(np.array(state["transport_vacf_sum"], dtype=float))
         sampler.vacf_count = list(np.array(state["transport_vacf_count"], dtype=float))
-        width = system.dim * system.dim + system.dim * (3 if sampler.binary else 2)
+        width = system.dim * system.dim + system.dim * (2 if sampler.binary else 1)
         blocks = len(sampler.edge_times) - 1
         fits = (len(sampler.moments) == len(sampler.times) == len(sampler.block_of) > 0
                 and all(row.shape == (width,) for row in sampler.moments + sampler.edge_moments)

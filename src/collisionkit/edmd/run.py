@@ -42,8 +42,8 @@ __all__ = ["EdmdParameters", "EdmdRun"]
 INITIAL_STATES = ("random", *LATTICE_DIM)
 EQUILIBRATION_PER_PARTICLE = 20
 COLLISIONS_PER_PARTICLE = 200
-# a transport run's default: blocks of 100 per particle (200 mean free times) outlast the fit window tenfold
-TRANSPORT_COLLISIONS_PER_PARTICLE = 1000
+# a transport run's default: 10 blocks of 200 per particle (400 mean free times) outlast the fit window tenfold
+TRANSPORT_COLLISIONS_PER_PARTICLE = 2000
 MIN_CHUNK = 10_000
 CHECKPOINT_KIND = "edmd"
 
@@ -67,7 +67,7 @@ class EdmdParameters(Parameters):
     equilibration : int, optional
         Pair collisions before measuring (>= 0; default 20 per particle).
     collisions : int, optional
-        Pair collisions measured (>= blocks; default 200 per particle, 1000
+        Pair collisions measured (>= blocks; default 200 per particle, 2000
         with ``transport``).
     blocks : int
         Measurement blocks for the error bars, 2 to 100000.

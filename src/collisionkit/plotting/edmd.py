@@ -277,8 +277,8 @@ def plot_helfand_moments(transport, axes=None):
     >>> from collisionkit.edmd import measure, random_fluid
     >>> m = measure(random_fluid(3, 108, 0.3, seed=1), collisions=40_000, blocks=4, transport=True)
     >>> axes = plotting.plot_helfand_moments(m.transport)
-    >>> len(axes), axes[0].get_title().split(":")[0]
-    (3, 'shear viscosity $\\eta$')
+    >>> len(axes), axes[0].get_title().split(" $")[0]
+    (3, 'shear viscosity')
     """
     fits = transport.fits
     if axes is None:
