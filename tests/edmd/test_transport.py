@@ -98,11 +98,12 @@ def test_the_dilute_gas_follows_chapman_enskog_and_enskog():
     the integral of the velocity autocorrelation against D from the MSD (its tail is exponential here)."""
     system = _fcc(5, 0.05 * 6 / math.pi, seed=1, neighbour_shell=2.0)
     system.run(collisions=20 * 500)
-    m = edmd.measure(system, collisions=4000 * 500, blocks=20, transport=True)
+    m = edmd.measure(system, collisions=8000 * 500, blocks=20, transport=True)
     t, enskog = m.transport, edmd.enskog_transport(0.05)
-    for key in ("shear_viscosity", "thermal_conductivity", "bulk_viscosity"):
+    # measured to about 3, 4 and 8 % (the bulk viscosity, Enskog's y^2 g term alone, is 4 % of the shear viscosity)
+    for key, precision in (("shear_viscosity", 0.04), ("thermal_conductivity", 0.06), ("bulk_viscosity", 0.1)):
         value, error = getattr(t, key), getattr(t, key + "_error")
-        assert error < 0.08 * value, key
+        assert error < precision * value, (key, value, error)
         assert _within(value, error, enskog[key]), (key, value, error, enskog[key])
     kT = m.temperature
     from_vacf = kT * np.trapezoid(t.vacf, t.vacf_time)
@@ -111,20 +112,32 @@ def test_the_dilute_gas_follows_chapman_enskog_and_enskog():
 
 @pytest.mark.slow
 def test_dynamos_test_state_and_the_nist_data_at_n_sigma3_0_5():
-    """N = 1372 FCC at n sigma^3 = 0.5: DynamO's mean free time and D, NIST's pressure and D, Enskog's shear
-    viscosity and thermal conductivity within the literature's band, Green-Kubo against Einstein-Helfand."""
+    """N = 1372 FCC at n sigma^3 = 0.5: DynamO's mean free time and D, NIST's pressure and D, D / D_E."""
     system = _fcc(7, 0.5, seed=3)
     system.run(collisions=30 * 1372)
-    m = edmd.measure(system, collisions=1000 * 1372, blocks=10, transport=True)
+    m = edmd.measure(system, collisions=600 * 1372, blocks=10)
     assert _within(m.mean_free_time, m.mean_free_time_error, 0.13031, band=0.01)
     assert _within(m.diffusion_coefficient, m.diffusion_coefficient_error, 0.247, band=0.08)
     pressure, pressure_error, diffusion, diffusion_error = NIST[0.5]
     assert _within(m.pressure, math.hypot(m.pressure_error, pressure_error), pressure)
     assert _within(m.diffusion_coefficient, math.hypot(m.diffusion_coefficient_error, diffusion_error), diffusion)
+    assert 1.2 < m.diffusion_coefficient / edmd.enskog_transport(math.pi / 12)["self_diffusion"] < 1.4  # AGW 1970
+
+
+@pytest.mark.slow
+def test_viscosity_and_conductivity_at_n_sigma3_0_5_against_enskog_and_green_kubo():
+    """N = 500 at n sigma^3 = 0.5 (the coefficients' relative errors depend on the run's length in free
+    times, not on N; their N dependence is below 1 % here, Sigurgeirsson & Heyes 2003): shear viscosity and
+    thermal conductivity within the literature's band of Enskog's, Green-Kubo of the stress series against the
+    Einstein-Helfand fit."""
+    system = _fcc(5, 0.5, seed=3)
+    system.run(collisions=30 * 500)
+    m = edmd.measure(system, collisions=6000 * 500, blocks=10, transport=True)
     t, enskog = m.transport, edmd.enskog_transport(math.pi / 12)
     for key in ("shear_viscosity", "thermal_conductivity"):
-        assert _within(getattr(t, key), getattr(t, key + "_error"), enskog[key], band=REFERENCE_BAND), key
-    assert 1.2 < m.diffusion_coefficient / enskog["self_diffusion"] < 1.4  # D / D_E about 1.3 (AGW 1970)
+        value, error = getattr(t, key), getattr(t, key + "_error")
+        assert error < 0.06 * value, (key, value, error)
+        assert _within(value, error, enskog[key], band=REFERENCE_BAND), (key, value, error, enskog[key])
     assert _within(t.green_kubo_shear_viscosity, math.hypot(t.green_kubo_shear_viscosity_error,
                                                             t.shear_viscosity_error), t.shear_viscosity, sigmas=3)
 
