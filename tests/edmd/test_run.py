@@ -230,3 +230,11 @@ def test_a_transport_run_reports_the_coefficients_with_errors_and_enskogs_values
     low, high = summary["transport_fit_window_free_times"]
     assert low < high and np.shape(summary["pressure_tensor"]) == (3, 3)
     assert EdmdParameters(particles=100, transport=True).resolved(seed=1).collisions == 200_000  # 2000 a particle
+
+
+def test_a_study_can_set_transport_as_it_sets_any_parameter():
+    from collisionkit.sweep.commands import sweep_command
+
+    command = sweep_command("edmd")
+    assert command.options()["transport"] == "transport" and command.canonical("yeh_hummer") == "yeh-hummer"
+    assert command.parameters.from_mapping({"transport": True, "particles": 108}).transport is True
