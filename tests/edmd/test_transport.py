@@ -171,3 +171,16 @@ def test_the_transport_errors_match_the_scatter_of_independent_runs():
     for key in values:
         ratio = np.var(values[key], ddof=1) / np.mean(np.square(errors[key]))
         assert low < ratio < high, (key, ratio)
+
+
+def test_discs_get_the_same_transport_measurement():
+    """2D: the traceless part has (d - 1)(d + 2) / 2 = 2 components; the tensor's trace is still d P."""
+    positions, box = edmd.lattice("hexagonal", 10, 0.4)
+    system = edmd.HardSphereSystem(positions, edmd.maxwell_boltzmann(np.ones(200), 2, seed=6), 0.5, box)
+    system.run(collisions=20 * 200)
+    m = edmd.measure(system, collisions=400 * 200, blocks=4, transport=True)
+    t = m.transport
+    assert t.pressure_tensor.shape == (2, 2) and np.trace(t.pressure_tensor) / 2 == pytest.approx(m.pressure,
+                                                                                                 rel=1e-11)
+    for key in ("shear_viscosity", "bulk_viscosity", "thermal_conductivity"):
+        assert getattr(t, key) > 3 * getattr(t, key + "_error") > 0, key
