@@ -54,6 +54,13 @@ class EinsteinFit:
     squared change (whose slope is the coefficient), ``curve_error`` its
     standard error; the fitted line is ``intercept + value * time`` over
     ``window``; ``blocks`` the slope of each block.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> time = np.arange(1.0, 5.0)
+    >>> einstein_fit(time, np.array([2.0 * time, 4.0 * time]), (1.0, 4.0)).blocks.round(12)
+    array([2., 4.])
     """
 
     value: float
@@ -67,7 +74,13 @@ class EinsteinFit:
 
 
 def block_slices(block_of):
-    """The (start, stop) sample ranges of each block, from the block number of each sample (non-decreasing)."""
+    """The (start, stop) sample ranges of each block, from the block number of each sample (non-decreasing).
+
+    Examples
+    --------
+    >>> block_slices([0, 0, 1, 1, 1])
+    [(0, 2), (2, 5)]
+    """
     block_of = np.asarray(block_of)
     if block_of.size == 0:
         return []
@@ -103,7 +116,15 @@ def block_curves(values, slices, lags, reduce):
 
 
 def column_statistics(curves, width):
-    """Per column (lag) of ``curves`` (blocks, width): the mean of the finite entries and its standard error."""
+    """Per column (lag) of ``curves`` (blocks, width): the mean of the finite entries and its standard error.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> means, errors = column_statistics(np.array([[1.0, np.nan], [3.0, 2.0]]), 2)
+    >>> means.tolist(), float(errors[0])
+    ([2.0, 2.0], 1.0)
+    """
     columns = [column[np.isfinite(column)] for column in np.asarray(curves).reshape(-1, width).T]
     means = np.array([float(np.mean(column)) if column.size else math.nan for column in columns])
     return means, np.array([block_error(column) for column in columns])

@@ -213,7 +213,14 @@ def _reordered(flat, old_ids, new_ids, dim):
 
 
 def refuse_unsuitable(system) -> None:
-    """ValueError unless ``system`` is periodic, elastic, without gravity and not growing (equilibrium transport)."""
+    """ValueError unless ``system`` is periodic, elastic, without gravity and not growing (equilibrium transport).
+
+    Examples
+    --------
+    >>> from collisionkit.edmd import random_fluid
+    >>> refuse_unsuitable(random_fluid(3, 50, 0.2, seed=1)) is None
+    True
+    """
     if not np.all(system.periodic):
         raise ValueError("transport coefficients need a periodic box on every axis (walls carry momentum away)")
     if np.any(system.restitution < 1.0) or system.restitution_law != "constant":
@@ -235,6 +242,13 @@ class TransportMeasurement:
     grid ``interval``) up to the window's end; ``pressure_tensor`` the block
     mean of the full pressure tensor; ``vacf`` the normalised velocity
     autocorrelation <v(0).v(t)>/<v^2> at ``vacf_time``.
+
+    Examples
+    --------
+    >>> from collisionkit.edmd import measure, random_fluid
+    >>> transport = measure(random_fluid(3, 108, 0.3, seed=1), collisions=20_000, blocks=2, transport=True).transport
+    >>> transport.pressure_tensor.shape, sorted(transport.fits)
+    ((3, 3), ['bulk_viscosity', 'shear_viscosity', 'thermal_conductivity'])
     """
 
     interval: float
@@ -259,7 +273,16 @@ class TransportMeasurement:
     fits: dict = field(repr=False)
 
     def summary(self) -> dict:
-        """The coefficients, the window, the pressure tensor and the autocorrelation as a JSON-ready dict."""
+        """The coefficients, the window, the pressure tensor and the autocorrelation as a JSON-ready dict.
+
+        Examples
+        --------
+        >>> from collisionkit.edmd import measure, random_fluid
+        >>> m = measure(random_fluid(3, 108, 0.3, seed=1), collisions=20_000, blocks=2, transport=True)
+        >>> summary = m.transport.summary()
+        >>> "shear_viscosity_error" in summary, len(summary["pressure_tensor"])
+        (True, 3)
+        """
         keys = ("shear_viscosity bulk_viscosity thermal_conductivity green_kubo_shear_viscosity"
                 + (" interdiffusion" if math.isfinite(self.interdiffusion) else "")).split()
         result = {}
@@ -286,7 +309,21 @@ def _shear(change):
 
 def transport_measurement(sampler: TransportSampler, blocks: int, free_time: float, volume: float,
                           particles: int) -> TransportMeasurement:
-    """The transport coefficients of the first ``blocks`` finished blocks of ``sampler`` (see :mod:`._helfand`)."""
+    """The transport coefficients of the first ``blocks`` finished blocks of ``sampler`` (see :mod:`._helfand`).
+
+    ``free_time`` is the measured mean free time (the window's unit),
+    ``volume`` the box's, ``particles`` N (the interdiffusion's norm).
+
+    Examples
+    --------
+    >>> from collisionkit.edmd import random_fluid
+    >>> system = random_fluid(3, 108, 0.3, seed=1)
+    >>> sampler = TransportSampler(system)
+    >>> for _ in range(2):
+    ...     sampler.run_block(10_000)
+    >>> transport_measurement(sampler, 2, free_time_estimate(system), system.volume, 108).interval == sampler.interval
+    True
+    """
     dim, kT, interval = sampler.system.dim, sampler.kT, sampler.interval
     square = dim * dim
     moments = np.asarray(sampler.moments)
