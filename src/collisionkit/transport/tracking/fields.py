@@ -107,6 +107,18 @@ class Field:
         """
         return self.kind, self.parameters(), _NO_MAP_META, _NO_MAP_VALUES, no_field()
 
+    def blocks(self) -> np.ndarray:
+        """The local bounds of |E| per block of cells that the null-collision method reads (maps only; one zero
+        entry for other fields).
+
+        Examples
+        --------
+        >>> from collisionkit.transport.tracking import UniformField
+        >>> UniformField((0, 0, 1.0)).blocks().shape
+        (1, 1, 1)
+        """
+        return np.zeros((1, 1, 1))
+
     def at(self, points) -> np.ndarray:
         """The field at ``points`` (n x 3, m): an (n x 3) array of V/m (electric) or T (magnetic).
 
@@ -313,14 +325,15 @@ class CoaxialField(Field):
         object.__setattr__(self, "axis", tuple(float(v) for v in axis))
 
     def parameters(self):
-        """axis x, y, a, b, V (see :meth:`Field.parameters`).
+        """axis x, y, a, b, V, ln(b/a) (see :meth:`Field.parameters`).
 
         Examples
         --------
         >>> CoaxialField(1e-5, 1e-2, 100.0).parameters()[:5].tolist()
         [0.0, 0.0, 1e-05, 0.01, 100.0]
         """
-        return _parameters(*self.axis, self.wire_radius, self.cathode_radius, self.voltage)
+        return _parameters(*self.axis, self.wire_radius, self.cathode_radius, self.voltage,
+                           math.log(self.cathode_radius / self.wire_radius))
 
     def bound(self):
         """The field at the wire, |V| / (a ln(b/a)) (see :meth:`Field.bound`).

@@ -48,9 +48,10 @@ def step_factor(error):
 
 
 @inline_kernel
-def stage_state(y0, k, stage, h, out):
-    """The state at which stage ``stage`` (1..6) evaluates the derivative: y0 + h sum_j A[stage, j] k[j]."""
-    for c in range(7):
+def stage_state(y0, k, stage, h, out, components=7):
+    """The state at which stage ``stage`` (1..6) evaluates the derivative: y0 + h sum_j A[stage, j] k[j] (its first
+    ``components`` components: 6 without the optical depth)."""
+    for c in range(components):
         total = 0.0
         for j in range(stage):
             total += A[stage, j] * k[j, c]
@@ -109,6 +110,35 @@ def hermite_position(x0, v0, a0, x1, v1, a1, h, theta):
     position = h00 * x0 + h * (h10 * v0 + h * h20 * a0) + h01 * x1 + h * (h11 * v1 + h * h21 * a1)
     velocity = d00 * (x0 - x1) / h + d10 * v0 + h * d20 * a0 + d11 * v1 + h * d21 * a1
     return position, velocity
+
+
+@inline_kernel
+def dense_state(y0, y1, k, h, theta):
+    """Position and velocity (a 6-tuple) of the step's dense output at theta = s/h: the quintic Hermite interpolant
+    of :func:`hermite_position` for the three axes, its basis computed once (y: states, k[0] and k[6]: derivatives
+    at the ends)."""
+    t2 = theta * theta
+    t3 = t2 * theta
+    t4 = t3 * theta
+    t5 = t4 * theta
+    h00 = 1.0 - 10.0 * t3 + 15.0 * t4 - 6.0 * t5
+    h10 = h * (theta - 6.0 * t3 + 8.0 * t4 - 3.0 * t5)
+    h20 = h * h * 0.5 * (t2 - 3.0 * t3 + 3.0 * t4 - t5)
+    h01 = 10.0 * t3 - 15.0 * t4 + 6.0 * t5
+    h11 = h * (-4.0 * t3 + 7.0 * t4 - 3.0 * t5)
+    h21 = h * h * 0.5 * (t3 - 2.0 * t4 + t5)
+    d00 = (-30.0 * t2 + 60.0 * t3 - 30.0 * t4) / h
+    d10 = 1.0 - 18.0 * t2 + 32.0 * t3 - 15.0 * t4
+    d20 = h * 0.5 * (2.0 * theta - 9.0 * t2 + 12.0 * t3 - 5.0 * t4)
+    d11 = -12.0 * t2 + 28.0 * t3 - 15.0 * t4
+    d21 = h * 0.5 * (3.0 * t2 - 8.0 * t3 + 5.0 * t4)
+    x = h00 * y0[0] + h10 * y0[3] + h20 * k[0, 3] + h01 * y1[0] + h11 * y1[3] + h21 * k[6, 3]
+    y = h00 * y0[1] + h10 * y0[4] + h20 * k[0, 4] + h01 * y1[1] + h11 * y1[4] + h21 * k[6, 4]
+    z = h00 * y0[2] + h10 * y0[5] + h20 * k[0, 5] + h01 * y1[2] + h11 * y1[5] + h21 * k[6, 5]
+    vx = d00 * (y0[0] - y1[0]) + d10 * y0[3] + d20 * k[0, 3] + d11 * y1[3] + d21 * k[6, 3]
+    vy = d00 * (y0[1] - y1[1]) + d10 * y0[4] + d20 * k[0, 4] + d11 * y1[4] + d21 * k[6, 4]
+    vz = d00 * (y0[2] - y1[2]) + d10 * y0[5] + d20 * k[0, 5] + d11 * y1[5] + d21 * k[6, 5]
+    return x, y, z, vx, vy, vz
 
 
 @inline_kernel

@@ -47,7 +47,7 @@ def drift_ions(births, records, induced, signal, e_kind, e_par, e_meta, e_values
     >>> par = np.array([1e-3, 100.0, 0, 0, 0, 0, 0, 0])  # 1 mm gap, 100 V: E = -1e5 V/m along z
     >>> none = cfunc(types.void(types.float64, types.float64, types.float64, types.CPointer(types.float64)))(
     ...     lambda x, y, z, out: None)
-    >>> steps = drift_ions(births, records, np.zeros(1), np.zeros(0), codes.E_PLATES, par, np.zeros(11),
+    >>> steps = drift_ions(births, records, np.zeros(1), np.zeros(0), codes.E_PLATES, par, np.zeros(12),
     ...                    np.zeros((2, 2, 2, 3)), none, codes.W_NONE, np.zeros(8), plane, 1e-4, 1.602e-19,
     ...                    1e-8, 1e-3, 1.0, 100000, 0.0, 1.0)
     >>> round(float(records[0, 3]) / 5e-5, 6)  # 0.5 mm at 1e-4 * 1e5 = 10 m/s

@@ -52,7 +52,7 @@ from .codes import (
 from .fields import electric_at, electric_bound, inside_map, magnetic_at, weighting_at
 from .geometry import lowest_surface, surface_normal
 from .integrator import (
-    B5, C, E54, depth_crossing, error_norm, hermite_cubic, hermite_position, stage_state, step_factor,
+    B5, C, E54, dense_state, depth_crossing, error_norm, hermite_cubic, stage_state, step_factor,
 )
 from .rates import chosen_process, chosen_species, profile_bin, species_rates
 
@@ -68,8 +68,7 @@ EV = 1.602176634e-19
 @kernel
 def track_particles(stack_pos, stack_vel, stack_time, stack_birth, stack_state, stack_h, stack_primary, stack_fresh,
                     stack_id, control, tallies, records, births, profiles, signal, moments, group, sample_times,
-                    points,
-                    e_kind, e_par, e_meta, e_values, e_user, b_kind, b_par, b_meta, b_values, b_user,
+                    points, e_kind, e_par, e_meta, e_values, e_blocks, e_user, b_kind, b_par, b_meta, b_values, b_user,
                     w_kind, w_par, surfaces, exact, flight,
                     mass, charge, density, method, tolerance, depth_tolerance, length, step_length, time_limit,
                     max_steps, budget, record_births, sharing, profile_kind, profile_par, signal_start, signal_step,
@@ -87,6 +86,7 @@ def track_particles(stack_pos, stack_vel, stack_time, stack_birth, stack_state, 
     qm = charge / mass
     n_proc = kind.shape[0]
     path = method != NULL_COLLISION
+    components = 7 if path else 6  # the optical depth is integrated by the path-length method only
     inverse_step = (1.0 / bound_step) * (1.0 + 1e-12)
     inverse_cell = (1.0 / accelerator_step) * (1.0 - 1e-12)
     speed_floor = math.sqrt(2.0 * SPEED_FLOOR_EV * EV / mass)
@@ -169,7 +169,7 @@ def track_particles(stack_pos, stack_vel, stack_time, stack_birth, stack_state, 
                     accel = uniform_accel
                 else:
                     reach = (1.0 + GROWTH) * reference * h
-                    accel = abs(qm) * electric_bound(e_kind, e_par, e_meta, x, y, z, reach)
+                    accel = abs(qm) * electric_bound(e_kind, e_par, e_meta, e_blocks, x, y, z, reach)
                 if accel > 0.0:
                     h = min(h, GROWTH * reference / accel)
                 nu_step = trial_frequencies(speed0 + accel * h, density, gas, bound, inverse_step, sigma_max,
@@ -200,7 +200,7 @@ def track_particles(stack_pos, stack_vel, stack_time, stack_birth, stack_state, 
                     k[6, 6] = k[5, 6]
             else:
                 for stage in range(1, 7):
-                    stage_state(y0, k, stage, h, ys)
+                    stage_state(y0, k, stage, h, ys, components)
                     ex, ey, ez = electric_at(e_kind, e_par, e_meta, e_values, e_user, buffer, ys[0], ys[1], ys[2])
                     bx, by, bz = magnetic_at(b_kind, b_par, b_meta, b_values, b_user, buffer, ys[0], ys[1], ys[2])
                     k[stage, 0], k[stage, 1], k[stage, 2] = ys[3], ys[4], ys[5]
@@ -213,7 +213,7 @@ def track_particles(stack_pos, stack_vel, stack_time, stack_birth, stack_state, 
                                                     thermal, thermal_step, nu_s)
                     else:
                         k[stage, 6] = 0.0
-                for c in range(7):
+                for c in range(components):
                     y1[c] = ys[c]
                 error = error_norm(y0, y1, k, h, length, speed_floor, tolerance, depth_tolerance, path)
             if error > 1.0:
@@ -232,9 +232,7 @@ def track_particles(stack_pos, stack_vel, stack_time, stack_birth, stack_state, 
                     cx, cy, cz = flown_position(x, y, z, vx, vy, vz, s_check, flight)
                 else:
                     theta = s_check / h
-                    cx = hermite_position(y0[0], y0[3], k[0, 3], y1[0], y1[3], k[6, 3], h, theta)[0]
-                    cy = hermite_position(y0[1], y0[4], k[0, 4], y1[1], y1[4], k[6, 4], h, theta)[0]
-                    cz = hermite_position(y0[2], y0[5], k[0, 5], y1[2], y1[5], k[6, 5], h, theta)[0]
+                    cx, cy, cz, _, _, _ = dense_state(y0, y1, k, h, theta)
                 f, _ = lowest_surface(surfaces, cx, cy, cz)
                 if f < 0.0 or (e_box and not inside_map(e_meta, cx, cy, cz)) or \
                         (b_box and not inside_map(b_meta, cx, cy, cz)):
@@ -249,9 +247,7 @@ def track_particles(stack_pos, stack_vel, stack_time, stack_birth, stack_state, 
                         cx, cy, cz = flown_position(x, y, z, vx, vy, vz, middle, flight)
                     else:
                         theta = middle / h
-                        cx = hermite_position(y0[0], y0[3], k[0, 3], y1[0], y1[3], k[6, 3], h, theta)[0]
-                        cy = hermite_position(y0[1], y0[4], k[0, 4], y1[1], y1[4], k[6, 4], h, theta)[0]
-                        cz = hermite_position(y0[2], y0[5], k[0, 5], y1[2], y1[5], k[6, 5], h, theta)[0]
+                        cx, cy, cz, _, _, _ = dense_state(y0, y1, k, h, theta)
                     f, _ = lowest_surface(surfaces, cx, cy, cz)
                     if f < 0.0 or (e_box and not inside_map(e_meta, cx, cy, cz)) or \
                             (b_box and not inside_map(b_meta, cx, cy, cz)):
@@ -263,9 +259,7 @@ def track_particles(stack_pos, stack_vel, stack_time, stack_birth, stack_state, 
                     cx, cy, cz = flown_position(x, y, z, vx, vy, vz, high, flight)
                 else:
                     theta = high / h
-                    cx = hermite_position(y0[0], y0[3], k[0, 3], y1[0], y1[3], k[6, 3], h, theta)[0]
-                    cy = hermite_position(y0[1], y0[4], k[0, 4], y1[1], y1[4], k[6, 4], h, theta)[0]
-                    cz = hermite_position(y0[2], y0[5], k[0, 5], y1[2], y1[5], k[6, 5], h, theta)[0]
+                    cx, cy, cz, _, _, _ = dense_state(y0, y1, k, h, theta)
                 f, surface = lowest_surface(surfaces, cx, cy, cz)
                 event = 2 if f < 0.0 else 3
                 if event == 3:
@@ -304,9 +298,7 @@ def track_particles(stack_pos, stack_vel, stack_time, stack_birth, stack_state, 
                                 ux, uy, uz = flown_velocity(vx, vy, vz, s_node, flight)
                             else:
                                 theta = s_node / h
-                                ux = hermite_position(y0[0], y0[3], k[0, 3], y1[0], y1[3], k[6, 3], h, theta)[1]
-                                uy = hermite_position(y0[1], y0[4], k[0, 4], y1[1], y1[4], k[6, 4], h, theta)[1]
-                                uz = hermite_position(y0[2], y0[5], k[0, 5], y1[2], y1[5], k[6, 5], h, theta)[1]
+                                _, _, _, ux, uy, uz = dense_state(y0, y1, k, h, theta)
                             rate = species_rates(math.sqrt(ux * ux + uy * uy + uz * uz), mass, density, nodes,
                                                  accelerator, inverse_cell, species_sigma, species_const, thermal,
                                                  thermal_step, nu_s)
@@ -337,9 +329,7 @@ def track_particles(stack_pos, stack_vel, stack_time, stack_birth, stack_state, 
                         tvx, tvy, tvz = flown_velocity(vx, vy, vz, position, flight)
                     else:
                         theta = position / h
-                        tvx = hermite_position(y0[0], y0[3], k[0, 3], y1[0], y1[3], k[6, 3], h, theta)[1]
-                        tvy = hermite_position(y0[1], y0[4], k[0, 4], y1[1], y1[4], k[6, 4], h, theta)[1]
-                        tvz = hermite_position(y0[2], y0[5], k[0, 5], y1[2], y1[5], k[6, 5], h, theta)[1]
+                        _, _, _, tvx, tvy, tvz = dense_state(y0, y1, k, h, theta)
                     r = uniform(rng) * nu_step
                     species = chosen_species(r, trial_s)
                     for s in range(species):
@@ -372,9 +362,7 @@ def track_particles(stack_pos, stack_vel, stack_time, stack_birth, stack_state, 
                 nx_, ny_, nz_, fx, fy, fz = y1[0], y1[1], y1[2], y1[3], y1[4], y1[5]
             else:
                 theta = s_event / h
-                nx_, fx = hermite_position(y0[0], y0[3], k[0, 3], y1[0], y1[3], k[6, 3], h, theta)
-                ny_, fy = hermite_position(y0[1], y0[4], k[0, 4], y1[1], y1[4], k[6, 4], h, theta)
-                nz_, fz = hermite_position(y0[2], y0[5], k[0, 5], y1[2], y1[5], k[6, 5], h, theta)
+                nx_, ny_, nz_, fx, fy, fz = dense_state(y0, y1, k, h, theta)
             while next_sample < n_samples and sample_times[next_sample] <= t + s_event:
                 s_sample = sample_times[next_sample] - t
                 if exact:
@@ -382,9 +370,7 @@ def track_particles(stack_pos, stack_vel, stack_time, stack_birth, stack_state, 
                     ux, uy, uz = flown_velocity(vx, vy, vz, s_sample, flight)
                 else:
                     theta = s_sample / h
-                    sx, ux = hermite_position(y0[0], y0[3], k[0, 3], y1[0], y1[3], k[6, 3], h, theta)
-                    sy, uy = hermite_position(y0[1], y0[4], k[0, 4], y1[1], y1[4], k[6, 4], h, theta)
-                    sz, uz = hermite_position(y0[2], y0[5], k[0, 5], y1[2], y1[5], k[6, 5], h, theta)
+                    sx, sy, sz, ux, uy, uz = dense_state(y0, y1, k, h, theta)
                 row = moments[g_row, next_sample]
                 row[0] += 1.0
                 row[1] += sx
@@ -409,9 +395,7 @@ def track_particles(stack_pos, stack_vel, stack_time, stack_birth, stack_state, 
                     nx, ny, nz = flown_velocity(vx, vy, vz, half, flight)
                 else:
                     theta = half / h
-                    mx, nx = hermite_position(y0[0], y0[3], k[0, 3], y1[0], y1[3], k[6, 3], h, theta)
-                    my, ny = hermite_position(y0[1], y0[4], k[0, 4], y1[1], y1[4], k[6, 4], h, theta)
-                    mz, nz = hermite_position(y0[2], y0[5], k[0, 5], y1[2], y1[5], k[6, 5], h, theta)
+                    mx, my, mz, nx, ny, nz = dense_state(y0, y1, k, h, theta)
                 wx, wy, wz, _ = weighting_at(w_kind, w_par, x, y, z)
                 i0 = wx * vx + wy * vy + wz * vz
                 wx, wy, wz, _ = weighting_at(w_kind, w_par, mx, my, mz)
