@@ -8,7 +8,8 @@ import pytest
 
 from collisionkit._kernels.transport.tracking import codes as C
 from collisionkit._kernels.transport.tracking.fields import (
-    compile_user_field, electric_at, field_values, inside_map, magnetic_at, no_field, potential_at, weighting_at,
+    compile_user_field, electric_at, field_values, inside_map, magnetic_at, no_field, potential_at, weighting_field,
+    weighting_potential,
 )
 from collisionkit._kernels.transport.tracking.geometry import lowest_surface, surface_normal, surface_value
 from collisionkit._kernels.transport.tracking.integrator import (
@@ -186,14 +187,15 @@ def test_a_user_field_is_called_by_the_kernels():
 
 def test_weighting_potentials_are_one_on_the_readout_zero_on_the_other_electrode_and_fields_their_gradients():
     plates = _parameters(2e-3)
-    assert weighting_at(C.W_PLATES, plates, 0, 0, 2e-3)[3] == 1.0 and weighting_at(C.W_PLATES, plates, 0, 0, 0)[3] == 0
+    assert weighting_potential(C.W_PLATES, plates, 0, 0, 2e-3) == 1.0 and weighting_potential(C.W_PLATES, plates,
+                                                                                              0, 0, 0) == 0
     coax = _parameters(0.0, 0.0, 25e-6, 1e-2, math.log(400))
-    assert abs(weighting_at(C.W_COAXIAL, coax, 25e-6, 0, 0)[3] - 1) < 1e-15
-    assert abs(weighting_at(C.W_COAXIAL, coax, 0, 1e-2, 0)[3]) < 1e-15
+    assert abs(weighting_potential(C.W_COAXIAL, coax, 25e-6, 0, 0) - 1) < 1e-15
+    assert abs(weighting_potential(C.W_COAXIAL, coax, 0, 1e-2, 0)) < 1e-15
     for kind, parameters in ((C.W_PLATES, plates), (C.W_COAXIAL, coax)):
         point = np.array([3e-4, 4e-4, 1e-3])
-        field = np.array(weighting_at(kind, parameters, *point)[:3])
-        gradient = _gradient(lambda x, y, z: weighting_at(kind, parameters, x, y, z)[3], point, 1e-9)
+        field = np.array(weighting_field(kind, parameters, *point))
+        gradient = _gradient(lambda x, y, z: weighting_potential(kind, parameters, x, y, z), point, 1e-9)
         assert np.allclose(field, -gradient, rtol=1e-5)
 
 

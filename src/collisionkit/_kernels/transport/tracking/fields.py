@@ -223,24 +223,35 @@ def potential_at(kind, p, x, y, z):
 
 
 @inline_kernel
-def weighting_at(kind, p, x, y, z):
-    """The weighting field E_w = -grad phi_w (1/m) and potential phi_w of the readout electrode: (ex, ey, ez, phi).
+def weighting_field(kind, p, x, y, z):
+    """The weighting field E_w = -grad phi_w (1/m) of the readout electrode, a tuple.
 
-    Parallel plates (the plane z = d reads out; ``p``: d): phi_w = z/d,
-    E_w = -z-hat/d; coaxial (the wire reads out; ``p``: axis x, y, a, b,
-    ln(b/a)): phi_w = ln(b/r)/ln(b/a),
+    Parallel plates (the plane z = d reads out; ``p``: d): E_w = -z-hat/d;
+    coaxial (the wire reads out; ``p``: axis x, y, a, b, ln(b/a)):
     E_w = r-hat / (r ln(b/a)) (Shockley, J. Appl. Phys. 9, 635 (1938); Ramo,
     Proc. IRE 27, 584 (1939)).
     """
     if kind == W_PLATES:
-        return 0.0, 0.0, -1.0 / p[0], z / p[0]
+        return 0.0, 0.0, -1.0 / p[0]
     if kind == W_COAXIAL:
         dx = x - p[0]
         dy = y - p[1]
         r = max(math.sqrt(dx * dx + dy * dy), p[2])
         scale = 1.0 / (r * r * p[4])
-        return scale * dx, scale * dy, 0.0, math.log(p[3] / r) / p[4]
-    return 0.0, 0.0, 0.0, 0.0
+        return scale * dx, scale * dy, 0.0
+    return 0.0, 0.0, 0.0
+
+
+@inline_kernel
+def weighting_potential(kind, p, x, y, z):
+    """The weighting potential phi_w of the readout electrode (1 on it, 0 on the others): z/d for plates,
+    ln(b/r)/ln(b/a) for a counter (see :func:`weighting_field`)."""
+    if kind == W_PLATES:
+        return z / p[0]
+    if kind == W_COAXIAL:
+        r = max(math.sqrt((x - p[0]) ** 2 + (y - p[1]) ** 2), p[2])
+        return math.log(p[3] / r) / p[4]
+    return 0.0
 
 
 @kernel

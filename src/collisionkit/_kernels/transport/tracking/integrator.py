@@ -30,10 +30,18 @@ A = np.array([
     [9017.0 / 3168.0, -355.0 / 33.0, 46732.0 / 5247.0, 49.0 / 176.0, -5103.0 / 18656.0, 0.0],
     [35.0 / 384.0, 0.0, 500.0 / 1113.0, 125.0 / 192.0, -2187.0 / 6784.0, 11.0 / 84.0],
 ])
+A21 = 1.0 / 5.0
+A31, A32 = 3.0 / 40.0, 9.0 / 40.0
+A41, A42, A43 = 44.0 / 45.0, -56.0 / 15.0, 32.0 / 9.0
+A51, A52, A53, A54 = 19372.0 / 6561.0, -25360.0 / 2187.0, 64448.0 / 6561.0, -212.0 / 729.0
+A61, A62, A63, A64, A65 = 9017.0 / 3168.0, -355.0 / 33.0, 46732.0 / 5247.0, 49.0 / 176.0, -5103.0 / 18656.0
+A71, A73, A74, A75, A76 = 35.0 / 384.0, 500.0 / 1113.0, 125.0 / 192.0, -2187.0 / 6784.0, 11.0 / 84.0
 B5 = np.array([35.0 / 384.0, 0.0, 500.0 / 1113.0, 125.0 / 192.0, -2187.0 / 6784.0, 11.0 / 84.0, 0.0])
 # 5th minus 4th order weights: the error estimate
 E54 = np.array([71.0 / 57600.0, 0.0, -71.0 / 16695.0, 71.0 / 1920.0, -17253.0 / 339200.0, 22.0 / 525.0, -1.0 / 40.0])
 
+E1, E3, E4, E5, E6, E7 = (71.0 / 57600.0, -71.0 / 16695.0, 71.0 / 1920.0, -17253.0 / 339200.0, 22.0 / 525.0,
+                          -1.0 / 40.0)
 SAFETY = 0.9
 SHRINK = 0.2  # a step shrinks at most this much, and grows at most GROW times, per try
 GROW = 5.0
@@ -51,10 +59,19 @@ def step_factor(error):
 def stage_state(y0, k, stage, h, out, components=7):
     """The state at which stage ``stage`` (1..6) evaluates the derivative: y0 + h sum_j A[stage, j] k[j] (its first
     ``components`` components: 6 without the optical depth)."""
-    for c in range(components):
-        total = 0.0
-        for j in range(stage):
-            total += A[stage, j] * k[j, c]
+    for c in range(components):  # written out: a loop over the tableau costs more than the arithmetic
+        if stage == 1:
+            total = A21 * k[0, c]
+        elif stage == 2:
+            total = A31 * k[0, c] + A32 * k[1, c]
+        elif stage == 3:
+            total = A41 * k[0, c] + A42 * k[1, c] + A43 * k[2, c]
+        elif stage == 4:
+            total = A51 * k[0, c] + A52 * k[1, c] + A53 * k[2, c] + A54 * k[3, c]
+        elif stage == 5:
+            total = A61 * k[0, c] + A62 * k[1, c] + A63 * k[2, c] + A64 * k[3, c] + A65 * k[4, c]
+        else:
+            total = A71 * k[0, c] + A73 * k[2, c] + A74 * k[3, c] + A75 * k[4, c] + A76 * k[5, c]
         out[c] = y0[c] + h * total
 
 
@@ -81,9 +98,7 @@ def error_norm(y0, y1, k, h, position_scale, speed_floor, tolerance, depth_toler
     worst = 0.0
     last = 7 if with_tau else 6
     for c in range(last):
-        total = 0.0
-        for j in range(7):
-            total += E54[j] * k[j, c]
+        total = (E1 * k[0, c] + E3 * k[2, c] + E4 * k[3, c] + E5 * k[4, c] + E6 * k[5, c] + E7 * k[6, c])
         scale = tolerance * (position_scale if c < 3 else speed) if c < 6 else depth_tolerance
         worst = max(worst, abs(h * total) / scale)
     return worst

@@ -16,7 +16,7 @@ import numpy as np
 
 from ...._jit import kernel
 from .codes import E_MAP, ENDED_OUTSIDE_FIELD, ENDED_STEPS, ENDED_SURFACE, ENDED_TIME
-from .fields import electric_at, inside_map, weighting_at
+from .fields import electric_at, inside_map, weighting_field
 from .geometry import lowest_surface
 from .integrator import A, E54, hermite_cubic, step_factor
 
@@ -134,11 +134,11 @@ def drift_ions(births, records, induced, signal, e_kind, e_par, e_meta, e_values
                 my = hermite_cubic(y0[1], k[0, 1], ys[1], k[6, 1], h, 0.5 * theta)
                 mz = hermite_cubic(y0[2], k[0, 2], ys[2], k[6, 2], h, 0.5 * theta)
                 ex, ey, ez = electric_at(e_kind, e_par, e_meta, e_values, e_user, buffer, mx, my, mz)
-                wx, wy, wz, _ = weighting_at(w_kind, w_par, x, y, z)
+                wx, wy, wz = weighting_field(w_kind, w_par, x, y, z)
                 i0 = wx * k[0, 0] + wy * k[0, 1] + wz * k[0, 2]
-                wx, wy, wz, _ = weighting_at(w_kind, w_par, mx, my, mz)
+                wx, wy, wz = weighting_field(w_kind, w_par, mx, my, mz)
                 i1 = sign * mobility * (wx * ex + wy * ey + wz * ez)
-                wx, wy, wz, _ = weighting_at(w_kind, w_par, nx, ny, nz)
+                wx, wy, wz = weighting_field(w_kind, w_par, nx, ny, nz)
                 i2 = wx * vx + wy * vy + wz * vz
                 charge_moved = charge * s_event * (i0 + 4.0 * i1 + i2) / 6.0
                 induced[primary] += charge_moved

@@ -39,7 +39,6 @@ import numpy as np
 
 from ...._jit import kernel
 from ..collisions import ionized, two_body
-from ..cross_sections import rate_bound, trial_frequencies
 from ..flight import flown_position, flown_velocity
 from ..layout import ATTACHMENT, ELASTIC, EXCITATION, IONIZATION
 from ..rng import next_u64, normal_pair, seed_state, uniform
@@ -49,14 +48,16 @@ from .codes import (
     NULL_COLLISION, REFLECT, SUSPENDED, TALLY_ELECTRONS, TALLY_INDUCED, TALLY_NULL, TALLY_REJECTED, TALLY_STEPS,
     TALLY_TIME, TALLY_WEIGHTING,
 )
-from .fields import electric_at, electric_bound, inside_map, magnetic_at, weighting_at
+from .fields import (
+    electric_at, electric_bound, inside_map, magnetic_at, weighting_field, weighting_potential,
+)
 from .geometry import lowest_surface, surface_normal
 from .integrator import (
     B5, C, E54, dense_state, depth_crossing, error_norm, hermite_cubic, stage_state, step_factor,
 )
-from .rates import chosen_process, chosen_species, profile_bin, species_rates
+from .rates import chosen_process, chosen_species, profile_bin, rate_bound, species_rates, trial_rates
 
-GROWTH = 0.5  # null collisions: a step lasts at most the time in which a|t| reaches GROWTH times the speed
+GROWTH = 1.0  # null collisions: a step lasts at most the time in which a|t| reaches GROWTH times the speed
 NEWTON_ITERATIONS = 8  # path length: refinements of the collision time on the integrated optical depth
 GAUSS_NODES = np.array([-0.8611363115940526, -0.3399810435848563, 0.3399810435848563, 0.8611363115940526])
 GAUSS_WEIGHTS = np.array([0.3478548451374538, 0.6521451548625461, 0.6521451548625461, 0.3478548451374538])
@@ -123,7 +124,7 @@ def track_particles(stack_pos, stack_vel, stack_time, stack_birth, stack_state, 
         if stack_fresh[top]:
             tallies[primary, n_proc + TALLY_ELECTRONS] += 1.0
         g_row = group[primary]
-        phi_start = weighting_at(w_kind, w_par, x, y, z)[3]
+        phi_start = weighting_potential(w_kind, w_par, x, y, z)
         status = -1
         surface = -1
         tau_left = -math.log(uniform(rng))
@@ -162,18 +163,21 @@ def track_particles(stack_pos, stack_vel, stack_time, stack_birth, stack_state, 
                 break
             speed0 = math.sqrt(vx * vx + vy * vy + vz * vz)
             reference = max(speed0, speed_floor)
-            h = min(h, remaining, step_length / reference)
+            # far from every surface a step may move up to half the clearance, near one the step length
+            clearance = lowest_surface(surfaces, x, y, z)[0]
+            h = min(h, remaining, max(step_length, 0.5 * clearance) / reference)
             nu_step = 0.0
+            accel = uniform_accel if exact else math.inf  # a bound of |q E / m| over the step, if known
             if not path:
-                if exact:
-                    accel = uniform_accel
-                else:
+                if not exact:
                     reach = (1.0 + GROWTH) * reference * h
                     accel = abs(qm) * electric_bound(e_kind, e_par, e_meta, e_blocks, x, y, z, reach)
                 if accel > 0.0:
                     h = min(h, GROWTH * reference / accel)
-                nu_step = trial_frequencies(speed0 + accel * h, density, gas, bound, inverse_step, sigma_max,
-                                            const_max, trial_s)
+                nu_step = trial_rates(speed0 + accel * h, density, gas, bound, inverse_step, sigma_max, const_max,
+                                      trial_s)
+            # a step that moves less than the clearance cannot leave the volume: no crossing to look for
+            clear = not (e_box or b_box) and speed0 * h + 0.5 * accel * h * h < clearance
             # ---- one step: the state at its end in y1, the end derivative in k[6]
             if exact:
                 px, py, pz = flown_position(x, y, z, vx, vy, vz, h, flight)
@@ -226,7 +230,7 @@ def track_particles(stack_pos, stack_vel, stack_time, stack_birth, stack_state, 
             event = 0  # 0 none, 1 collision, 2 surface, 3 outside the map, 4 time limit
             s_event = h
             low, high = 0.0, -1.0
-            for check in range(2):
+            for check in range(0 if clear else 2):
                 s_check = 0.5 * h if check == 0 else h
                 if exact:
                     cx, cy, cz = flown_position(x, y, z, vx, vy, vz, s_check, flight)
@@ -396,11 +400,11 @@ def track_particles(stack_pos, stack_vel, stack_time, stack_birth, stack_state, 
                 else:
                     theta = half / h
                     mx, my, mz, nx, ny, nz = dense_state(y0, y1, k, h, theta)
-                wx, wy, wz, _ = weighting_at(w_kind, w_par, x, y, z)
+                wx, wy, wz = weighting_field(w_kind, w_par, x, y, z)
                 i0 = wx * vx + wy * vy + wz * vz
-                wx, wy, wz, _ = weighting_at(w_kind, w_par, mx, my, mz)
+                wx, wy, wz = weighting_field(w_kind, w_par, mx, my, mz)
                 i1 = wx * nx + wy * ny + wz * nz
-                wx, wy, wz, _ = weighting_at(w_kind, w_par, nx_, ny_, nz_)
+                wx, wy, wz = weighting_field(w_kind, w_par, nx_, ny_, nz_)
                 i2 = wx * fx + wy * fy + wz * fz
                 induced = charge * s_event * (i0 + 4.0 * i1 + i2) / 6.0
                 tallies[primary, n_proc + TALLY_INDUCED] += induced
@@ -532,7 +536,7 @@ def track_particles(stack_pos, stack_vel, stack_time, stack_birth, stack_state, 
                 stack_fresh[slot] = False
                 stack_id[slot] = number
                 control[0] = slot + 1
-                tallies[primary, n_proc + TALLY_WEIGHTING] -= charge * (weighting_at(w_kind, w_par, x, y, z)[3]
+                tallies[primary, n_proc + TALLY_WEIGHTING] -= charge * (weighting_potential(w_kind, w_par, x, y, z)
                                                                         - phi_start)
                 return SUSPENDED
             tau_left = -math.log(uniform(rng))  # (a suspended particle draws it when taken again)
@@ -546,7 +550,7 @@ def track_particles(stack_pos, stack_vel, stack_time, stack_birth, stack_state, 
         row[4], row[5], row[6], row[7], row[8], row[9] = x, y, z, vx, vy, vz
         row[10] = birth
         control[1] += 1
-        tallies[primary, n_proc + TALLY_WEIGHTING] -= charge * (weighting_at(w_kind, w_par, x, y, z)[3] - phi_start)
+        tallies[primary, n_proc + TALLY_WEIGHTING] -= charge * (weighting_potential(w_kind, w_par, x, y, z) - phi_start)
     return DONE
 
 
