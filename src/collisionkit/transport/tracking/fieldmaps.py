@@ -106,13 +106,14 @@ class FieldMap(Field):
         return tuple(self.values.shape[: self.dimensions])
 
     def meta(self) -> np.ndarray:
-        """The kernel's description of the grid (origin, spacing, points, dimensions, largest |value|).
+        """The kernel's description of the grid (origin, spacing, points, dimensions, largest |value|, cells per
+        block of the local bounds).
 
         Examples
         --------
         >>> import numpy as np
         >>> FieldMap((0, 0), (1.0, 1.0), np.ones((2, 2, 3))).meta()[6:].tolist()
-        [2.0, 2.0, 1.0, 2.0, 1.7320508075688772]
+        [2.0, 2.0, 1.0, 2.0, 1.7320508075688772, 8.0]
         """
         meta = np.zeros(_c.MAP_META)
         meta[: self.dimensions] = self.origin

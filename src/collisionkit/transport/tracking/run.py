@@ -227,7 +227,8 @@ def _drift_ions(plan: _Plan, births, n):
 
 def _field_arrays(device: Device):
     """The kernel's field arguments: E, B, weighting, surfaces, exact flag and the uniform-field record."""
-    from .fields import UniformField, UniformMagneticField
+    from .fields import UniformField
+    from .magnetic import UniformMagneticField
 
     electric = device.electric or UniformField((0.0, 0.0, 0.0))
     magnetic = device.magnetic or UniformMagneticField((0.0, 0.0, 0.0))
