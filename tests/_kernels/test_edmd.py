@@ -10,6 +10,7 @@ from hypothesis import strategies as st
 from scipy import optimize
 
 from collisionkit._kernels import edmd as kernels
+from collisionkit._kernels.edmd.motion import wrap_into_box
 
 
 @pytest.mark.parametrize("growth", [0.0, 0.05, 0.5])
@@ -82,3 +83,29 @@ def test_event_queue_gives_the_earliest_event_lowest_index_on_ties(count, update
         reference[int(i)] = when
         assert winner_time == reference.min()
         assert winner == np.flatnonzero(reference == reference.min())[0]
+
+
+@numba.njit
+def _wrap(p, geom, image, b, acc):
+    wrap_into_box(p, 0, geom, 2, image, b, acc)
+
+
+def test_wrapping_a_particle_keeps_its_unwrapped_position_and_takes_back_the_moments_jump():
+    """x + image L is continuous through a wrap, also when -tiny + L rounds to L (the particle is put at 0 in its
+    own image); the image slots take back the jump of sum m v_a x_b and sum (m v^2 / 2) x_b."""
+    geom = np.zeros((4, 3))
+    geom[kernels.G_BOX] = [10.0, 10.0, 1.0]
+    geom[kernels.G_PERIODIC, :2] = 1.0
+    b = np.zeros((1, 8))
+    b[0, kernels.MASS] = 2.0
+    for x, wrapped, shift in ((10.5, 0.5, 1), (-1e-20, 0.0, 0), (-0.25, 9.75, -1)):
+        p = np.zeros((1, 8))
+        p[0, kernels.X : kernels.X + 2] = [x, 3.0]
+        p[0, kernels.V : kernels.V + 2] = [1.5, -2.0]
+        image, acc = np.zeros((1, 2), dtype=np.int64), np.zeros(kernels.ACC_SIZE)
+        _wrap(p, geom, image, b, acc)
+        assert p[0, kernels.X] == wrapped and image[0, 0] == shift and image[0, 1] == 0
+        moved = wrapped - x
+        np.testing.assert_allclose(acc[kernels.ACC_MOMENTUM_IMAGE : kernels.ACC_MOMENTUM_IMAGE + 9],
+                                   [-3.0 * moved, 0, 0, 4.0 * moved, 0, 0, 0, 0, 0], rtol=1e-15)
+        assert acc[kernels.ACC_ENERGY_IMAGE] == pytest.approx(-0.5 * 2.0 * 6.25 * moved, rel=1e-15)

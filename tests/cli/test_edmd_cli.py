@@ -390,3 +390,42 @@ def test_extend_is_refused_without_a_run_to_extend(tmp_path, arguments, words):
     result = invoke(*[checkpoint if value == "CHECKPOINT" else value for value in arguments])
     assert result.exit_code == 2
     assert words in " ".join(result.output.split())
+
+
+def test_transport_adds_the_coefficients_with_errors_to_the_table_the_summary_and_the_plots(tmp_path):
+    summary, out = tmp_path / "s.json", tmp_path / "plots"
+    result = invoke("--particles", 108, "--initial", "fcc", "--equilibration", 2_000, "--collisions", 20_000,
+                    "--blocks", 4, "--seed", 3, "--transport", "--yeh-hummer", "--summary", summary, "--out", out)
+    assert result.exit_code == 0, result.output
+    data = json.loads(summary.read_text())
+    for key in ("shear_viscosity", "bulk_viscosity", "thermal_conductivity", "self_diffusion",
+                "self_diffusion_infinite", "green_kubo_shear_viscosity"):
+        assert data[key] > 0 and data[key + "_error"] > 0, key
+    assert data["self_diffusion"] == data["diffusion_coefficient"]
+    assert data["parameters"]["transport"] is True and data["parameters"]["yeh_hummer"] is True
+    # the pressure tensor's trace is 3 P; the autocorrelation starts at 1
+    assert sum(data["pressure_tensor"][k][k] for k in range(3)) / 3 == pytest.approx(data["pressure"], rel=1e-11)
+    assert data["vacf"][0] == 1.0 and len(data["vacf_time"]) == len(data["vacf"])
+    low, high = data["transport_fit_window"]
+    text = " ".join(result.output.split())
+    for words in ("shear viscosity", "thermal conductivity", "(Enskog)", "Yeh-Hummer", "transport fit window",
+                  f"{low:.4g} to {high:.4g}"):
+        assert words in text, words
+    assert (out / "helfand_moments.png").stat().st_size > 10_000
+    assert str(out / "helfand_moments.png") in data["files"]
+
+
+def test_a_transport_run_resumes_with_its_transport_and_refuses_to_drop_it(tmp_path):
+    checkpoint, whole, part = tmp_path / "c.npz", tmp_path / "whole.json", tmp_path / "part.json"
+    run = ("--particles", 108, "--initial", "fcc", "--equilibration", 1_000, "--seed", 2, "--transport", "--no-plots")
+    assert invoke(*run, "--collisions", 8_000, "--blocks", 4, "--summary", whole).exit_code == 0
+    assert invoke(*run, "--collisions", 4_000, "--blocks", 2, "--checkpoint", checkpoint).exit_code == 0
+    refused = invoke("--resume", checkpoint, "--no-transport")
+    assert refused.exit_code == 2 and "transport = False differs from the checkpoint" in " ".join(refused.output.split())
+    extended = invoke("--resume", checkpoint, "--extend", 4_000, "--summary", part, "--no-plots")
+    assert extended.exit_code == 0, extended.output
+    a, b = json.loads(part.read_text()), json.loads(whole.read_text())
+    # (an extended run keeps the MSD's lags of its start: D differs, the transport samples do not)
+    for key in ("shear_viscosity", "bulk_viscosity_error", "thermal_conductivity", "pressure_tensor", "vacf",
+                "green_kubo_shear_viscosity", "transport_fit_window"):
+        assert a[key] == b[key], key

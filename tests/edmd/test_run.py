@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from collisionkit._io import CheckpointError, read_checkpoint
-from collisionkit.edmd import EdmdParameters, EdmdRun, HardSphereSystem
+from collisionkit.edmd import EdmdParameters, EdmdRun, HardSphereSystem, TransportSampler
 
 SMALL = dict(particles=108, initial="fcc", equilibration=12_000, collisions=4_000, blocks=4, seed=3)
 
@@ -24,6 +24,10 @@ SMALL = dict(particles=108, initial="fcc", equilibration=12_000, collisions=4_00
         ({"initial": "bcc"}, ValueError, "initial must be one of"),
         ({"initial": "fcc", "particles": 100}, ValueError, "needs particles = 4 * cells^3"),
         ({"seed": -1}, ValueError, "seed must be >= 0"),
+        ({"transport": True, "restitution": 0.9}, ValueError, "transport needs restitution 1"),
+        ({"transport": "yes"}, ValueError, "transport must be true or false; got 'yes'"),
+        ({"yeh_hummer": True}, ValueError, "yeh_hummer needs transport"),
+        ({"yeh_hummer": True, "transport": True, "dim": 2}, ValueError, "and dim 3"),
     ],
 )
 def test_bad_parameters_name_the_parameter_and_the_allowed_range(values, error, words):
@@ -179,3 +183,58 @@ def test_an_extended_run_measures_whole_more_blocks_exactly_as_a_longer_run_woul
     np.testing.assert_array_equal(extended.sampler.histogram, longer.sampler.histogram)
     with pytest.raises(ValueError, match="collisions must be >= 1"):
         extended.extend(0)
+
+
+TRANSPORT = dict(particles=108, initial="fcc", equilibration=2_000, collisions=8_000, blocks=4, seed=5, transport=True)
+
+
+def test_a_transport_run_killed_mid_block_resumes_and_extends_bit_for_bit(tmp_path, monkeypatch):
+    """The time grid, the moment series and the velocity autocorrelation continue from a checkpoint exactly:
+    a run killed inside its second block, resumed, then extended by two blocks reports what one straight run
+    of four blocks does, to the last bit."""
+    straight = EdmdRun(EdmdParameters(**TRANSPORT)).run().summary()
+    checkpoint = tmp_path / "run.npz"
+    short = dict(TRANSPORT, collisions=4_000, blocks=2)
+    real = TransportSampler._take
+
+    def killed_in_the_second_block(sampler, block):
+        if block == 1 and sampler._in_block == 20:  # 20 grid samples into the second block
+            raise KeyboardInterrupt
+        return real(sampler, block)
+
+    monkeypatch.setattr(TransportSampler, "_take", killed_in_the_second_block)
+    with pytest.raises(KeyboardInterrupt):
+        EdmdRun(EdmdParameters(**short), checkpoint=checkpoint).run()
+    monkeypatch.undo()
+    resumed = EdmdRun.resume(checkpoint, transport=True)
+    assert resumed.measured == 2_000 and resumed.sampler.transport is not None
+    resumed.run()
+    resumed.extend(4_000)
+    summary = resumed.run().summary()
+    for key in ("shear_viscosity", "shear_viscosity_error", "bulk_viscosity", "thermal_conductivity",
+                "green_kubo_shear_viscosity", "pressure_tensor", "vacf", "transport_fit_window"):
+        assert summary[key] == straight[key], key
+    with pytest.raises(ValueError, match="transport = False differs from the checkpoint"):
+        EdmdRun.resume(checkpoint, transport=False)
+
+
+def test_a_transport_run_reports_the_coefficients_with_errors_and_enskogs_values():
+    summary = EdmdRun(EdmdParameters(**TRANSPORT, yeh_hummer=True)).run().summary()
+    for key in ("shear_viscosity", "bulk_viscosity", "thermal_conductivity", "self_diffusion"):
+        assert summary[key] > 0 and summary[key + "_error"] > 0 and summary[key + "_enskog"] > 0, key
+    assert summary["self_diffusion"] == summary["diffusion_coefficient"]
+    side = (108 * (3.141592653589793 / 6) / 0.3) ** (1 / 3)  # the box of 108 spheres at eta = 0.3
+    correction = 2.837297 / (6 * 3.141592653589793 * summary["shear_viscosity"] * side)
+    assert summary["yeh_hummer_correction"] == pytest.approx(correction, rel=1e-9)
+    assert summary["self_diffusion_infinite"] == pytest.approx(summary["self_diffusion"] + correction, rel=1e-12)
+    low, high = summary["transport_fit_window_free_times"]
+    assert low < high and np.shape(summary["pressure_tensor"]) == (3, 3)
+    assert EdmdParameters(particles=100, transport=True).resolved(seed=1).collisions == 200_000  # 2000 a particle
+
+
+def test_a_study_can_set_transport_as_it_sets_any_parameter():
+    from collisionkit.sweep.commands import sweep_command
+
+    command = sweep_command("edmd")
+    assert command.options()["transport"] == "transport" and command.canonical("yeh_hummer") == "yeh-hummer"
+    assert command.parameters.from_mapping({"transport": True, "particles": 108}).transport is True

@@ -269,3 +269,22 @@ def test_the_crafted_cases_start_from_a_checkpoint_that_loads_and_runs(tmp_path)
     state = system.state_dict()
     fortran = {name: np.asfortranarray(value) if np.ndim(value) > 1 else value for name, value in state.items()}
     assert edmd.HardSphereSystem.from_state_dict(fortran).run(collisions=100) == 100  # any memory order is fine
+
+
+def test_a_format_2_checkpoint_without_the_transport_sums_loads_with_them_at_zero_and_runs_on():
+    """Engine format 2 had a 10-slot accumulator: its state restores with the transport sums appended at 0
+    (only their changes over a measurement mean anything) and runs on as the saved system would have."""
+    system = fcc_system(cells=3, eta=0.3)
+    system.run(collisions=3000)
+    state = {name: np.array(value) for name, value in system.state_dict().items()}
+    state["acc"] = state["acc"][: _k.ACC_SIZE_WITHOUT_TRANSPORT]
+    state["format"] = np.asarray(2)
+    old = edmd.HardSphereSystem.from_state_dict(state)
+    np.testing.assert_array_equal(old.acc[: _k.ACC_SIZE_WITHOUT_TRANSPORT], system.acc[: _k.ACC_SIZE_WITHOUT_TRANSPORT])
+    assert not np.any(old.acc[_k.ACC_SIZE_WITHOUT_TRANSPORT:]) and old.acc.shape == (_k.ACC_SIZE,)
+    old.run(collisions=2000)
+    system.run(collisions=2000)
+    np.testing.assert_array_equal(old.positions(), system.positions())
+    state["acc"] = state["acc"][:7]  # neither layout
+    with pytest.raises(CheckpointError, match=rf"array 'acc' must have shape \({_k.ACC_SIZE},\)"):
+        edmd.HardSphereSystem.from_state_dict(state)

@@ -49,6 +49,8 @@ class EdmdOptions(Options):
     blocks: int = Field(default=10, ge=2, le=100_000)
     seed: int | None = Field(default=None, ge=0)
     initial: InitialName = "random"
+    transport: bool = False
+    yeh_hummer: bool = False
     summary: Path | None = None
     trajectory: Path | None = None
     frame_every: int | None = Field(default=None, ge=1)
@@ -266,6 +268,16 @@ def edmd(
             help=_help("random (compressed fluid), fcc, sc (3D), square, hexagonal (2D); a lattice needs N = basis * cells^d.", "random")
         ),
     ] = None,
+    transport: Annotated[
+        bool | None,
+        typer.Option("--transport/--no-transport",
+                     help=_help("Also measure shear and bulk viscosity, thermal conductivity and self-diffusion (Einstein-Helfand moments; units sigma, m, kT), the pressure tensor and the velocity autocorrelation; needs restitution 1.", "no transport; with it the default --collisions is 2000 per particle")),
+    ] = None,
+    yeh_hummer: Annotated[
+        bool | None,
+        typer.Option("--yeh-hummer/--no-yeh-hummer",
+                     help=_help("With --transport in 3D: also report D corrected to the infinite system (Yeh-Hummer, from the measured shear viscosity).", "no")),
+    ] = None,
     summary: Annotated[Path | None, typer.Option("--summary", help="Write the results as JSON to this file.")] = None,
     trajectory: Annotated[
         Path | None, typer.Option(help="Write frames to this GSD file (HOOMD, OVITO, freud read it).")
@@ -293,14 +305,14 @@ def edmd(
     ] = None,
     overwrite: OverwriteOption = None,
 ):
-    """Event-driven MD of hard spheres (3D) or discs (2D): pressure, collision frequency, g(r), diffusion.
+    """Event-driven MD of hard spheres (3D) or discs (2D): pressure, collision frequency, g(r), diffusion; viscosity and thermal conductivity with --transport.
 
     Units: diameter 1, mass 1, initial kT = 1.
     """
     given = dict(
         dim=dim, particles=particles, packing_fraction=packing_fraction, restitution=restitution,
         elastic_below=elastic_below, equilibration=equilibration, collisions=collisions, blocks=blocks, seed=seed, initial=initial,
-        summary=summary, trajectory=trajectory, frame_every=frame_every, xyz=xyz, out=out, plots=plots,
+        transport=transport, yeh_hummer=yeh_hummer, summary=summary, trajectory=trajectory, frame_every=frame_every, xyz=xyz, out=out, plots=plots,
         checkpoint=checkpoint, overwrite=overwrite,
     )  # fmt: skip
     if resume is None:

@@ -30,7 +30,7 @@ def rows(result: dict) -> list[tuple[str, str, str]]:
         return f"{result[key]:.5g} ± {result[key + '_error']:.2g}"
 
     z, omega, kT, lost = _theory_column(result)
-    return [
+    return _transport_rows(result, pm) + [
         ("compressibility factor Z = PV/NkT", pm("compressibility_factor"), z),
         ("collision frequency per particle", pm("collision_frequency"), omega),
         ("temperature kT (final)", f"{result['temperature']:.6g}", kT),
@@ -41,6 +41,33 @@ def rows(result: dict) -> list[tuple[str, str, str]]:
         ("pair collisions (measured)", str(result["collisions"]), f"after {result['equilibration_collisions']} equilibration"),
         ("collisions per second", f"{result['collisions_per_second']:.4g}", "wall clock, measurement (no compiling)"),
     ]
+
+
+def _transport_rows(result: dict, pm) -> list[tuple[str, str, str]]:
+    """The rows of the transport coefficients (with --transport), Enskog's values in the theory column."""
+    if "shear_viscosity" not in result:
+        return []
+
+    def enskog(key):
+        return f"{result[key + '_enskog']:.4g} (Enskog)" if key + "_enskog" in result else ""
+
+    low, high = result["transport_fit_window"]
+    free_low, free_high = result["transport_fit_window_free_times"]
+    rows = [
+        ("shear viscosity", pm("shear_viscosity"), enskog("shear_viscosity")),
+        ("bulk viscosity", pm("bulk_viscosity"), enskog("bulk_viscosity")),
+        ("thermal conductivity", pm("thermal_conductivity"), enskog("thermal_conductivity")),
+        ("self-diffusion", pm("self_diffusion"), enskog("self_diffusion")),
+    ]
+    if "self_diffusion_infinite" in result:
+        rows.append(("self-diffusion, N = infinity", pm("self_diffusion_infinite"),
+                     f"Yeh-Hummer: + {result['yeh_hummer_correction']:.3g}"))
+    if "interdiffusion" in result:
+        rows.append(("interdiffusion D12 (/ thermodynamic factor)", pm("interdiffusion"), ""))
+    rows.append(("shear viscosity, Green-Kubo", pm("green_kubo_shear_viscosity"), "the stress series, cross-check"))
+    rows.append(("transport fit window", f"{low:.4g} to {high:.4g}",
+                 f"{free_low:.3g} to {free_high:.3g} mean free times"))
+    return rows
 
 
 def _plots(run, measurement, out: Path, deliveries: Deliveries) -> None:
@@ -62,6 +89,8 @@ def _plots(run, measurement, out: Path, deliveries: Deliveries) -> None:
                                                                     system.box[: system.dim])))
     figures.append(("radial_distribution.png", lambda: plotting.plot_radial_distribution(measurement.rdf_r,
                                                                                         measurement.rdf)))
+    if measurement.transport is not None:
+        figures.append(("helfand_moments.png", lambda: plotting.plot_helfand_moments(measurement.transport)[0]))
 
     def folder():
         out.mkdir(parents=True, exist_ok=True)

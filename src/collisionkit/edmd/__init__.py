@@ -16,7 +16,9 @@ Modules: :mod:`~collisionkit.edmd.theory` (equations of state, Enskog's
 collision rate, packing fractions and their limits),
 :mod:`~collisionkit.edmd.initial` (velocities, lattices, compressed random
 fluids), :mod:`~collisionkit.edmd.system` (the system and its event loop),
-:mod:`~collisionkit.edmd.measurement` (block-averaged observables),
+:mod:`~collisionkit.edmd.measurement` (block-averaged observables; with
+``transport=True`` also the transport coefficients from the Einstein-Helfand
+moments, sampled on a time grid and fitted in ``_helfand``),
 :mod:`~collisionkit.edmd.run` (:class:`EdmdRun`: the ``edmd`` command's run,
 with checkpoint and bit-for-bit resume). Every
 public name is importable from here.
@@ -25,25 +27,35 @@ Units: any consistent set; the CLI uses diameter 1 (largest species), mass 1
 and initial kT = 1.
 """
 
+from ._helfand import FIT_END, FIT_NOISE, FIT_START, EinsteinFit, green_kubo_viscosity
 from ._msd import MSD_FIT_FROM, MSD_GROUPS, MSD_MAX_LAGS
 from ._neighbour_lists import LIST_SCALE_MARGIN
 from .initial import LATTICE_BASIS, LATTICE_DIM, lattice, lattice_cells, maxwell_boltzmann, random_fluid
+from ._transport import TransportMeasurement, TransportSampler
 from .measurement import RECORDS, Measurement, Sampler, measure
 from .run import EdmdParameters, EdmdRun
 from .system import DEFAULT_SHELL, RESTITUTION_LAWS, SORT_INTERVAL, HardSphereSystem, OverlapError
 from .theory import (
     MAX_PACKING_FRACTION,
+    YEH_HUMMER_XI,
     carnahan_starling,
+    chapman_enskog_transport,
     enskog_collision_frequency,
+    enskog_transport,
     hansen_goos,
     henderson,
     packing_fraction,
+    yeh_hummer_correction,
 )
 
 __all__ = [
     "EdmdParameters",
     "EdmdRun",
     "DEFAULT_SHELL",
+    "EinsteinFit",
+    "FIT_END",
+    "FIT_NOISE",
+    "FIT_START",
     "LATTICE_BASIS",
     "LATTICE_DIM",
     "LIST_SCALE_MARGIN",
@@ -54,12 +66,18 @@ __all__ = [
     "RECORDS",
     "RESTITUTION_LAWS",
     "SORT_INTERVAL",
+    "TransportMeasurement",
+    "TransportSampler",
+    "YEH_HUMMER_XI",
     "HardSphereSystem",
     "Measurement",
     "OverlapError",
     "Sampler",
     "carnahan_starling",
+    "chapman_enskog_transport",
     "enskog_collision_frequency",
+    "enskog_transport",
+    "green_kubo_viscosity",
     "hansen_goos",
     "henderson",
     "lattice",
@@ -68,4 +86,5 @@ __all__ = [
     "measure",
     "packing_fraction",
     "random_fluid",
+    "yeh_hummer_correction",
 ]

@@ -92,3 +92,49 @@ class SystemParameters:
     def virial(self) -> float:
         """Sum over the pair collisions so far of impulse times contact distance (the collisional virial)."""
         return float(self.acc[_k.ACC_VIRIAL])
+
+    @property
+    def collisional_stress(self):
+        r"""The collisional stress sum so far, shape (d, d): :math:`\sum_{coll} \Delta p_{j,a} r_b`.
+
+        Over every pair collision, the impulse on one partner j times the
+        minimum-image separation r = x_j - x_i at contact (both along r, so
+        the tensor is symmetric); its trace is :attr:`virial`. Divided by
+        the volume and a stretch of time, it is the collisional part of the
+        pressure tensor over that stretch (Allen & Tildesley, Computer
+        Simulation of Liquids, 2nd ed., sec. 2.7).
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from collisionkit.edmd import HardSphereSystem, lattice, maxwell_boltzmann
+        >>> positions, box = lattice("square", 10, 0.3)
+        >>> system = HardSphereSystem(positions, maxwell_boltzmann(np.ones(100), 2, seed=1), 0.5, box)
+        >>> _ = system.run(collisions=1000)
+        >>> stress = system.collisional_stress
+        >>> bool(np.allclose(stress, stress.T)), bool(np.isclose(np.trace(stress), system.virial, rtol=1e-12))
+        (True, True)
+        """
+        full = np.zeros((3, 3))
+        for slot, (a, b) in enumerate(_k.STRESS_PAIRS):
+            full[a, b] = full[b, a] = self.acc[_k.ACC_STRESS + slot]
+        return full[: self.dim, : self.dim]
+
+    @property
+    def collisional_heat_transfer(self):
+        r"""The collisional energy transfer sum so far, shape (d,): :math:`\sum_{coll} \Delta E_j\, r_a`.
+
+        The kinetic energy gained by one partner j times the minimum-image
+        separation r = x_j - x_i at contact: over a stretch of time, the
+        collisional part of the heat flux times the volume (elastic spheres).
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from collisionkit.edmd import HardSphereSystem, lattice, maxwell_boltzmann
+        >>> positions, box = lattice("square", 10, 0.3)
+        >>> system = HardSphereSystem(positions, maxwell_boltzmann(np.ones(100), 2, seed=1), 0.5, box)
+        >>> system.collisional_heat_transfer.shape
+        (2,)
+        """
+        return self.acc[_k.ACC_HEAT : _k.ACC_HEAT + self.dim].copy()

@@ -32,8 +32,12 @@ class Checkpoints:
     _ARRAYS = ("p", "_mass", "_species", "_image", "ids", "acc", "geom", "params", "restitution", "book", "cell_of",
                "ncell", "queue", "tree", "neighbours", "neighbour_count", "cell_members", "cell_count", "cell_points")
     _SCALARS = ("dim", "time", "elapsed", "leaves", "last_sort", "_shell_request")
-    # layout of the engine's arrays in a checkpoint; raise it when they change (2: bookkeeping records, block queue)
-    STATE_FORMAT = 2
+    # layout of the engine's arrays in a checkpoint; raise it when they change (2: bookkeeping records, block queue;
+    # 3: the transport sums in the accumulator)
+    STATE_FORMAT = 3
+    # older formats a restore still reads: format 2 lacks the transport sums, which start at 0 (only their changes
+    # over a measurement have a meaning, and a format-2 run measured none)
+    READABLE_FORMATS = (2, 3)
 
     def state_dict(self):
         """Every array and number needed to continue the run bit for bit.
@@ -70,15 +74,18 @@ class Checkpoints:
         100
         """
         written = _scalar(state, "format", "i") if "format" in state else 1
-        if written != cls.STATE_FORMAT:
+        if written not in cls.READABLE_FORMATS:
             raise CheckpointError(
-                f"state has engine format {written}; this collisionkit reads format {cls.STATE_FORMAT} "
+                f"state has engine format {written}; this collisionkit reads formats "
+                f"{' and '.join(map(str, cls.READABLE_FORMATS))} "
                 "(checkpoints do not carry over between engine versions: restart the run)"
             )
         missing = [name for name in (*cls._ARRAYS, *cls._SCALARS, "restitution_law") if name not in state]
         if missing:
             raise CheckpointError(f"the state has no array {', '.join(map(repr, missing))}")
         arrays = {name: np.array(state[name], order="C") for name in cls._ARRAYS}  # copies: checked, then kept
+        if written < cls.STATE_FORMAT:
+            arrays["acc"] = _with_transport_sums(arrays["acc"])
         check_state(arrays, {name: state[name] for name in (*cls._SCALARS, "restitution_law")})
         system = cls.__new__(cls)
         for name, array in arrays.items():
@@ -150,7 +157,15 @@ _COUNTERS = (_k.ACC_PAIR_COLLISIONS, _k.ACC_WALL_COLLISIONS, _k.ACC_LIST_REBUILD
 _OVERFLOWS = (_k.ACC_LIST_OVERFLOW, _k.ACC_CELL_OVERFLOW)
 _PARAMETERS = (_k.P_SCALE0, _k.P_GROWTH, _k.P_LAW, _k.P_LAW_SPEED, _k.P_LAW_EXPONENT, _k.P_ELASTIC_BELOW,
                _k.P_WALL_RESTITUTION, _k.P_SHELL, _k.P_LIST_SCALE)
-_TOTALS = (_k.ACC_VIRIAL, _k.ACC_ENERGY_LOST, _k.ACC_WALL_IMPULSE, *_COUNTERS, *_OVERFLOWS)
+_TRANSPORT_SUMS = tuple(range(_k.ACC_STRESS, _k.ACC_SIZE))
+_TOTALS = (_k.ACC_VIRIAL, _k.ACC_ENERGY_LOST, _k.ACC_WALL_IMPULSE, *_COUNTERS, *_OVERFLOWS, *_TRANSPORT_SUMS)
+
+
+def _with_transport_sums(acc):
+    """The accumulator of a format-2 state (no transport sums) with them appended at 0; other sizes unchanged."""
+    if acc.shape != (_k.ACC_SIZE_WITHOUT_TRANSPORT,) or acc.dtype != np.float64:
+        return acc  # check_state names what is wrong with it
+    return np.concatenate([acc, np.zeros(_k.ACC_SIZE - _k.ACC_SIZE_WITHOUT_TRANSPORT)])
 
 
 def _bad(name, what):

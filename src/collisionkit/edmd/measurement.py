@@ -15,6 +15,7 @@ import numpy as np
 
 from .._repr import html_table, measurement_rows
 from . import _checks, _msd, _pair_distribution
+from ._transport import TransportMeasurement, TransportSampler, transport_measurement
 from .system import HardSphereSystem
 from .theory import _ball_volume
 
@@ -39,7 +40,9 @@ class Measurement:
     sample), ``rdf_r``, ``rdf`` (g(r)), ``msd_time``, ``msd``, ``block_*`` per
     block; ``wall_seconds`` is the wall clock of the measurement (events and
     sampling, not compiling), so ``collisions_per_second`` is the rate a run
-    of this size delivers.
+    of this size delivers. ``transport``: the transport coefficients
+    (:class:`~collisionkit.edmd.TransportMeasurement`) of a measurement
+    asked for them, else None.
 
     Examples
     --------
@@ -80,6 +83,7 @@ class Measurement:
     block_temperature: np.ndarray = field(repr=False)
     block_compressibility: np.ndarray = field(repr=False)
     block_frequency: np.ndarray = field(repr=False)
+    transport: TransportMeasurement | None = field(default=None, repr=False)
 
     @property
     def collisions_per_second(self) -> float:
@@ -103,6 +107,9 @@ class Measurement:
         ).split()
         result = {key: getattr(self, key) for key in keys}
         result["collisions_per_second"] = self.collisions_per_second
+        if self.transport is not None:
+            result |= {"self_diffusion": self.diffusion_coefficient,
+                       "self_diffusion_error": self.diffusion_coefficient_error} | self.transport.summary()
         return result
 
     def _repr_html_(self):
@@ -132,6 +139,11 @@ class Sampler:
         Number of blocks, >= 2.
     rdf_bins : int
         Bins of g(r) up to min(L/2, 5 diameters).
+    transport : bool
+        Also measure the transport coefficients: each block runs in
+        stretches of a grid interval, sampling the Helfand moments and the
+        velocities (:class:`~collisionkit.edmd._transport.TransportSampler`;
+        the system must be periodic and elastic).
 
     Examples
     --------
@@ -145,7 +157,8 @@ class Sampler:
     (30000, True)
     """
 
-    def __init__(self, system: HardSphereSystem, collisions: int, blocks: int = 10, rdf_bins: int = 500):
+    def __init__(self, system: HardSphereSystem, collisions: int, blocks: int = 10, rdf_bins: int = 500,
+                 transport: bool = False):
         if not isinstance(system, HardSphereSystem):
             raise TypeError(f"system must be a HardSphereSystem; got {type(system).__name__}")
         self.blocks = _checks.integer_at_least(blocks, "blocks", 2)
@@ -163,6 +176,9 @@ class Sampler:
         self.wall_seconds = 0.0
         self.records = {name: [] for name in RECORDS}
         self.speeds = []
+        if not isinstance(transport, (bool, np.bool_)):
+            raise TypeError(f"transport must be True or False; got {transport!r}")
+        self.transport = TransportSampler(system) if transport else None
 
     @property
     def done(self) -> int:
@@ -223,7 +239,10 @@ class Sampler:
         _pair_distribution.pair_distance_histogram(np.zeros((1, dim)), system.box[:dim], system.periodic, 1.0, 1)
         # the measurement's wall clock: the events and the sampling of this block
         tick = perf_counter()
-        system.run(collisions=self.per_block, progress=progress)
+        if self.transport is None:
+            system.run(collisions=self.per_block, progress=progress)
+        else:
+            self.transport.run_block(self.per_block, progress)
         kT_after = system.temperature()
         kT = 0.5 * (kT_before + kT_after)
         duration = system.elapsed - time0
@@ -275,6 +294,8 @@ class Sampler:
         }
         if self.lag_msd is not None:
             state |= self.lag_msd.state_dict()
+        if self.transport is not None:
+            state |= self.transport.state_dict()
         return state
 
     @classmethod
@@ -306,6 +327,8 @@ class Sampler:
         sampler.records.setdefault("msd_groups", [np.full(_msd.MSD_GROUPS, math.nan)] * len(sampler.records["msd"]))
         sampler.speeds = [row for row in np.array(state["sampler_speeds"])]
         sampler.lag_msd = _msd.LagMSD.from_state_dict(state)
+        has_transport = "transport_scalars" in state
+        sampler.transport = TransportSampler.from_state_dict(system, state) if has_transport else None
         return sampler
 
     def result(self) -> Measurement:
@@ -374,10 +397,13 @@ class Sampler:
             block_temperature=np.asarray(record["temperature"]),
             block_compressibility=np.asarray(record["compressibility"]),
             block_frequency=np.asarray(record["frequency"]),
+            transport=None if self.transport is None else transport_measurement(
+                self.transport, self.done, 1.0 / omega, system.volume, count),
         )
 
 
-def measure(system: HardSphereSystem, collisions: int, blocks: int = 10, rdf_bins: int = 500, progress=None):
+def measure(system: HardSphereSystem, collisions: int, blocks: int = 10, rdf_bins: int = 500, progress=None,
+            transport: bool = False):
     """Run ``collisions`` pair collisions in ``blocks`` blocks and return the observables.
 
     See :class:`Sampler` for the estimators and the parameters.
@@ -390,6 +416,8 @@ def measure(system: HardSphereSystem, collisions: int, blocks: int = 10, rdf_bin
     progress : callable, optional
         Called as ``progress(fraction)`` with the fraction of all the
         blocks' collisions done, in [0, 1], as the measurement runs.
+    transport : bool
+        Also measure the transport coefficients (see :class:`Sampler`).
 
     Returns
     -------
@@ -402,7 +430,7 @@ def measure(system: HardSphereSystem, collisions: int, blocks: int = 10, rdf_bin
     >>> 1.8 < m.compressibility_factor < 2.3
     True
     """
-    sampler = Sampler(system, collisions, blocks, rdf_bins)
+    sampler = Sampler(system, collisions, blocks, rdf_bins, transport)
     while not sampler.finished:
         sampler.run_block(None if progress is None else _share_of_blocks(progress, sampler))
     return sampler.result()

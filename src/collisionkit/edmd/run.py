@@ -29,16 +29,19 @@ import numpy as np
 
 from .._io import CheckpointError, exclusive, read_checkpoint, write_checkpoint
 from .._params import Parameters, check_choice, check_integer, check_real, check_seed, check_unchanged
+from ._summary import edmd_summary
 from .initial import LATTICE_DIM, lattice, lattice_cells, maxwell_boltzmann, random_fluid
 from .measurement import Measurement, Sampler
 from .system import HardSphereSystem
-from .theory import MAX_PACKING_FRACTION, carnahan_starling, enskog_collision_frequency, hansen_goos, henderson
+from .theory import MAX_PACKING_FRACTION
 
 __all__ = ["EdmdParameters", "EdmdRun"]
 
 INITIAL_STATES = ("random", *LATTICE_DIM)
 EQUILIBRATION_PER_PARTICLE = 20
 COLLISIONS_PER_PARTICLE = 200
+# a transport run's default: 10 blocks of 200 per particle (400 mean free times) outlast the fit window tenfold
+TRANSPORT_COLLISIONS_PER_PARTICLE = 2000
 MIN_CHUNK = 10_000
 CHECKPOINT_KIND = "edmd"
 
@@ -62,7 +65,8 @@ class EdmdParameters(Parameters):
     equilibration : int, optional
         Pair collisions before measuring (>= 0; default 20 per particle).
     collisions : int, optional
-        Pair collisions measured (>= blocks; default 200 per particle).
+        Pair collisions measured (>= blocks; default 200 per particle, 2000
+        with ``transport``).
     blocks : int
         Measurement blocks for the error bars, 2 to 100000.
     seed : int, optional
@@ -70,6 +74,15 @@ class EdmdParameters(Parameters):
     initial : str
         ``random`` (a compressed fluid) or a lattice: ``fcc``, ``sc`` (3D),
         ``square``, ``hexagonal`` (2D), which needs N = basis * cells^d.
+    transport : bool
+        Also measure the transport coefficients (shear and bulk viscosity,
+        thermal conductivity, self-diffusion; the interdiffusion of a binary
+        mixture), the pressure tensor and the velocity autocorrelation
+        (:class:`~collisionkit.edmd.Sampler`); needs restitution 1.
+    yeh_hummer : bool
+        Also report D corrected to the infinite system (Yeh & Hummer, from
+        the measured shear viscosity: :func:`~collisionkit.edmd.yeh_hummer_correction`);
+        needs ``transport`` and dim 3.
 
     Examples
     --------
@@ -91,6 +104,8 @@ class EdmdParameters(Parameters):
     blocks: int = 10
     seed: int | None = None
     initial: str = "random"
+    transport: bool = False
+    yeh_hummer: bool = False
 
     def __post_init__(self):
         set_ = object.__setattr__
@@ -116,6 +131,15 @@ class EdmdParameters(Parameters):
         check_choice("initial", self.initial, INITIAL_STATES)
         if self.initial != "random":
             lattice_cells(self.initial, self.dim, self.particles)
+        for name in ("transport", "yeh_hummer"):
+            if not isinstance(getattr(self, name), bool):
+                raise ValueError(f"{name} must be true or false; got {getattr(self, name)!r}")
+        if self.transport and self.restitution != 1.0:
+            raise ValueError(f"transport needs restitution 1 (the Einstein-Helfand relations hold in equilibrium, "
+                             f"which an inelastic gas never reaches); got restitution {self.restitution:g}")
+        if self.yeh_hummer and not (self.transport and self.dim == 3):
+            raise ValueError("yeh_hummer needs transport (the correction uses the measured shear viscosity) and dim 3 "
+                             "(its constant is the cubic lattice's)")
 
     def resolved(self, seed=None) -> EdmdParameters:
         """A copy with the defaults that depend on other parameters filled in (and a seed drawn if none).
@@ -131,7 +155,8 @@ class EdmdParameters(Parameters):
         >>> resolved.equilibration, resolved.collisions, resolved.seed
         (2000, 20000, 5)
         """
-        collisions = self.collisions if self.collisions is not None else COLLISIONS_PER_PARTICLE * self.particles
+        per_particle = TRANSPORT_COLLISIONS_PER_PARTICLE if self.transport else COLLISIONS_PER_PARTICLE
+        collisions = self.collisions if self.collisions is not None else per_particle * self.particles
         if collisions < self.blocks:
             raise ValueError(f"collisions ({collisions} by default for {self.particles} particles) must be >= "
                              f"blocks ({self.blocks}); set collisions")
@@ -396,7 +421,7 @@ class EdmdRun:
                 self.equilibrated += done
                 self._chunk_done()
             if self.sampler is None:
-                self.sampler = Sampler(self.system, p.collisions, p.blocks)
+                self.sampler = Sampler(self.system, p.collisions, p.blocks, transport=p.transport)
             while not self.sampler.finished:
                 step = self.sampler.per_block
                 self.sampler.run_block(report(self.equilibrated + self.measured))
@@ -492,7 +517,7 @@ class EdmdRun:
         >>> summary["theory"], summary["parameters"]["seed"], "compressibility_factor_error" in summary
         ('Henderson (1975)', 1, True)
         """
-        return _edmd_summary(self, self.measurement(), files)
+        return edmd_summary(self, self.measurement(), files)
 
     def cooling_note(self) -> str | None:
         """What an inelastic run's averages mean (it cooled, maybe to the elastic floor); None if elastic.
@@ -522,56 +547,7 @@ def _check_sampler(saved, sampler: Sampler | None, parameters: EdmdParameters, s
     fits = (sampler.blocks, sampler.per_block) == (parameters.blocks, parameters.collisions // parameters.blocks)
     fits &= len(lengths) == 1 and lengths.pop() <= sampler.blocks and sampler.histogram.ndim == 1
     fits &= sampler.start_positions.shape == (system.count, system.dim) and math.isfinite(sampler.r_max)
+    fits &= (sampler.transport is not None) == parameters.transport
+    fits &= sampler.transport is None or len(sampler.transport.edge_times) == sampler.done + 1
     if not fits:
         raise saved.damaged("its measurement arrays (sampler_*) do not fit its parameters and particles")
-
-
-def equation_of_state(dim: int) -> tuple[str, Callable]:
-    """The reference equation of state of hard spheres (Hansen-Goos 2016) or discs (Henderson 1975).
-
-    Examples
-    --------
-    >>> name, Z = equation_of_state(3)
-    >>> name, round(float(Z(0.3)), 3)
-    ('Hansen-Goos (2016)', 3.984)
-    """
-    return ("Hansen-Goos (2016)", hansen_goos) if dim == 3 else ("Henderson (1975)", henderson)
-
-
-def _in_sigmas(difference: float, error: float) -> float:
-    return difference / error if error > 0 else math.nan
-
-
-def _edmd_summary(run: EdmdRun, measurement: Measurement, files: Sequence = ()) -> dict[str, Any]:
-    """The edmd command's JSON summary: the measurement, the comparison with theory, the parameters."""
-    p, system = run.parameters, run.system
-    result = measurement.summary()
-    result |= {
-        "initial": p.initial,
-        "restitution": p.restitution,
-        "seed": p.seed,
-        "blocks": p.blocks,
-        "equilibration_collisions": run.equilibrated,
-        "energy_lost_total": run.initial_energy - system.kinetic_energy(),
-        "elastic": p.restitution == 1.0,
-        "elastic_below": system.elastic_below,
-    }
-    if p.restitution == 1.0:
-        name, equation = equation_of_state(p.dim)
-        eta, Z = measurement.packing_fraction, measurement.compressibility_factor
-        theory = float(equation(eta))
-        result |= {
-            "theory": name,
-            "compressibility_factor_theory": theory,
-            "compressibility_factor_relative_deviation": Z / theory - 1.0,
-            "compressibility_factor_deviation_sigmas": _in_sigmas(Z - theory, measurement.compressibility_factor_error),
-            "collision_frequency_from_pressure": float(enskog_collision_frequency(Z, p.dim, kT=measurement.temperature)),
-            "collision_frequency_theory": float(enskog_collision_frequency(theory, p.dim, kT=1.0)),
-        }
-        if p.dim == 3:
-            result["compressibility_factor_carnahan_starling"] = float(carnahan_starling(eta))
-    if run.trajectory is not None:
-        result["trajectory_frames"] = run.frames
-    result["files"] = [str(path) for path in files]
-    result["parameters"] = p.to_dict()
-    return result

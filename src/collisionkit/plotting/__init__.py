@@ -9,7 +9,7 @@ follow the domains:
   deflection laws, inelastic energy loss;
 * :mod:`~collisionkit.plotting.encounters` - two-body encounters;
 * :mod:`~collisionkit.plotting.edmd` - equation of state, speed
-  distribution, snapshots, radial distribution;
+  distribution, snapshots, radial distribution, Helfand moments and their fits;
 * :mod:`~collisionkit.plotting.transport` - energy distributions, transport
   coefficients, swarm trajectories;
 * :mod:`~collisionkit.plotting.tracking` - sample tracks in a device, and
@@ -36,6 +36,7 @@ from .collisions import plot_deflection_laws, plot_energy_loss, plot_stationary_
 from .edmd import (
     maxwell_boltzmann_speed_density,
     plot_equation_of_state,
+    plot_helfand_moments,
     plot_radial_distribution,
     plot_snapshot,
     plot_speed_distribution,
@@ -62,6 +63,7 @@ __all__ = [
     "plot_energy_distribution",
     "plot_energy_loss",
     "plot_equation_of_state",
+    "plot_helfand_moments",
     "plot_radial_distribution",
     "plot_snapshot",
     "plot_speed_distribution",

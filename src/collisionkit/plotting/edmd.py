@@ -1,11 +1,14 @@
 """Figures of event-driven hard-sphere dynamics (:mod:`collisionkit.edmd`).
 
-Equation of state, speed distribution, snapshots and the radial distribution function.
+Equation of state, speed distribution, snapshots, the radial distribution function and the Einstein-Helfand
+curves of the transport coefficients with their fits.
 """
 
 from __future__ import annotations
 
 import numpy as np
+
+import matplotlib.pyplot as plt
 
 from ._common import SIGMA_X, SIGMA_Y, THERMAL_SPEED, _axes
 
@@ -239,3 +242,60 @@ def plot_radial_distribution(r, g, ax=None):
     return ax
 
 
+
+
+_HELFAND_LABELS = {
+    "shear_viscosity": r"shear viscosity $\eta$",
+    "bulk_viscosity": r"bulk viscosity $\zeta$",
+    "thermal_conductivity": r"thermal conductivity $\lambda$",
+    "interdiffusion": r"interdiffusion $D_{12}$",
+}
+
+
+def plot_helfand_moments(transport, axes=None):
+    """The Einstein-Helfand curves of a transport measurement, each with its fitted line over the fit window.
+
+    One panel per coefficient: the block mean of the normalised mean
+    squared change of its Helfand moment against the lag (its slope is the
+    coefficient), with its standard error as a band, the straight line
+    fitted over the window (shaded) and the value with its error.
+
+    Parameters
+    ----------
+    transport : TransportMeasurement
+        ``Measurement.transport`` of a run with ``transport=True``.
+    axes : sequence of matplotlib Axes, optional
+        One per coefficient (3, or 4 for a binary mixture).
+
+    Returns
+    -------
+    ndarray of matplotlib Axes
+
+    Examples
+    --------
+    >>> from collisionkit import plotting
+    >>> from collisionkit.edmd import measure, random_fluid
+    >>> m = measure(random_fluid(3, 108, 0.3, seed=1), collisions=40_000, blocks=4, transport=True)
+    >>> axes = plotting.plot_helfand_moments(m.transport)
+    >>> len(axes), axes[0].get_title().split(" $")[0]
+    (3, 'shear viscosity')
+    """
+    fits = transport.fits
+    if axes is None:
+        _, axes = plt.subplots(1, len(fits), figsize=(4.2 * len(fits), 3.8), layout="constrained", squeeze=False)
+    axes = np.asarray(axes).ravel()
+    if axes.size != len(fits):
+        raise ValueError(f"axes must hold one Axes per coefficient ({len(fits)}); got {axes.size}")
+    for ax, (name, fit) in zip(axes, fits.items()):
+        ax.plot(fit.time, fit.curve, color="C0", label="Helfand moment")
+        ax.fill_between(fit.time, fit.curve - fit.curve_error, fit.curve + fit.curve_error, color="C0", alpha=0.25,
+                        lw=0)
+        if np.isfinite(fit.window[0]):
+            ax.axvspan(*fit.window, color="0.85", zorder=0, label="fit window")
+            line = np.array(fit.window)
+            ax.plot(line, fit.intercept + fit.value * line, "--", color="C3", lw=1.5, label="fit")
+        ax.set_title(f"{_HELFAND_LABELS.get(name, name)}: {fit.value:.4g} ± {fit.error:.2g}", fontsize=10)
+        ax.set_xlabel("lag $t$")
+        ax.set_ylabel("mean squared change / normalisation")
+        ax.legend(fontsize=8)
+    return axes

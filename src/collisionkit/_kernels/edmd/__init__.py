@@ -57,7 +57,10 @@ columns and slots), :mod:`.motion` (flight, minimum images),
 tree), :mod:`.cells` and :mod:`.neighbour_lists`, :mod:`.exact`
 (error-free sums and products), :mod:`.contacts` (resolving a collision),
 :mod:`.loop` (the event loop) and
-:mod:`.measurement` (gaps, drift, pair distances). None of them allocates
+:mod:`.measurement` (gaps, drift, pair distances, Helfand moments). Every pair collision
+also adds its momentum and energy transfer to the transport sums of the
+accumulator (collisional stress and heat flux, and Erpenbeck's image terms
+of the Helfand moments: :mod:`.layout`, :mod:`.contacts`). None of them allocates
 or returns an array: all are compiled without reference counting
 (:func:`collisionkit._jit.borrowing_kernel`). The names the public module
 :mod:`collisionkit.edmd` uses are importable from here.
@@ -68,12 +71,17 @@ from __future__ import annotations
 from .layout import (
     ACC_CELL_OVERFLOW,
     ACC_ENERGY_LOST,
+    ACC_ENERGY_IMAGE,
     ACC_EVENTS,
+    ACC_HEAT,
     ACC_LIST_OVERFLOW,
     ACC_LIST_REBUILDS,
+    ACC_MOMENTUM_IMAGE,
     ACC_PAIR_COLLISIONS,
     ACC_SIZE,
+    ACC_SIZE_WITHOUT_TRANSPORT,
     ACC_STALE_EVENTS,
+    ACC_STRESS,
     ACC_VIRIAL,
     ACC_WALL_COLLISIONS,
     ACC_WALL_IMPULSE,
@@ -109,6 +117,7 @@ from .layout import (
     STOP_OVERFLOW,
     STOP_STALLED,
     STOP_TIME,
+    STRESS_PAIRS,
     TARGET,
     TREE_LEVELS_PREFETCHED,
     R,
@@ -118,20 +127,23 @@ from .layout import (
     wall_target,
 )
 from .loop import predict_all, run_events
-from .measurement import largest_anchor_drift, min_gap, pair_distance_counts, synchronise, wall_gap
+from .measurement import (
+    largest_anchor_drift, min_gap, pair_distance_counts, stored_helfand_moments, synchronise, wall_gap,
+)
 from .neighbour_lists import build_all_lists
 from .prediction import first_root_from_below, pair_contact_time
 from .queue import queue_update, tree_build
 
 __all__ = [
-    "ACC_CELL_OVERFLOW", "ACC_ENERGY_LOST", "ACC_EVENTS", "ACC_LIST_OVERFLOW", "ACC_LIST_REBUILDS",
-    "ACC_PAIR_COLLISIONS", "ACC_SIZE", "ACC_STALE_EVENTS", "ACC_VIRIAL", "ACC_WALL_COLLISIONS", "ACC_WALL_IMPULSE",
+    "ACC_CELL_OVERFLOW", "ACC_ENERGY_IMAGE", "ACC_ENERGY_LOST", "ACC_EVENTS", "ACC_HEAT", "ACC_LIST_OVERFLOW",
+    "ACC_LIST_REBUILDS", "ACC_MOMENTUM_IMAGE", "ACC_PAIR_COLLISIONS", "ACC_SIZE", "ACC_SIZE_WITHOUT_TRANSPORT",
+    "ACC_STALE_EVENTS", "ACC_STRESS", "ACC_VIRIAL", "ACC_WALL_COLLISIONS", "ACC_WALL_IMPULSE",
     "ANCHOR", "ANCHOR_ROUNDING", "CELL_SLOTS_PER_LINE", "CHANGED_AT", "G_BOX", "G_CELL", "G_GRAVITY", "G_PERIODIC",
     "LAW_BRIDGES", "LAW_CONSTANT", "LIST_TARGET", "MASS", "P_ELASTIC_BELOW", "P_GROWTH", "P_LAW", "P_LAW_EXPONENT",
     "P_LAW_SPEED", "P_LIST_SCALE", "P_SCALE0", "P_SHELL", "P_SIZE", "P_WALL_RESTITUTION", "PREDICTED_AT",
     "QUEUE_BLOCK", "R", "SPECIES", "STALLED_EVENTS", "STOP_COLLISIONS", "STOP_EVENTS", "STOP_NO_EVENT",
-    "STOP_OVERFLOW", "STOP_STALLED", "STOP_TIME", "T", "TARGET", "TREE_LEVELS_PREFETCHED", "V", "X",
+    "STOP_OVERFLOW", "STOP_STALLED", "STOP_TIME", "STRESS_PAIRS", "T", "TARGET", "TREE_LEVELS_PREFETCHED", "V", "X",
     "build_all_lists", "first_root_from_below", "largest_anchor_drift", "min_gap", "pair_contact_time",
-    "pair_distance_counts", "predict_all", "queue_update", "run_events", "synchronise", "tree_build", "wall_gap",
-    "wall_target",
+    "pair_distance_counts", "predict_all", "queue_update", "run_events", "stored_helfand_moments", "synchronise",
+    "tree_build", "wall_gap", "wall_target",
 ]

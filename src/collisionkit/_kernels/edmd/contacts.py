@@ -26,8 +26,8 @@ import math
 # no EDMD kernel allocates or returns an array: all of them borrow, without reference counting
 from ..._jit import borrowing_inline_kernel as inline_kernel
 from .layout import (
-    ACC_ENERGY_LOST, ACC_PAIR_COLLISIONS, ACC_VIRIAL, ACC_WALL_COLLISIONS, ACC_WALL_IMPULSE, G_BOX, LAW_BRIDGES, MASS,
-    P_ELASTIC_BELOW, P_LAW, P_LAW_EXPONENT, P_LAW_SPEED, P_WALL_RESTITUTION, R, SPECIES, V, X,
+    ACC_ENERGY_IMAGE, ACC_ENERGY_LOST, ACC_HEAT, ACC_MOMENTUM_IMAGE, ACC_PAIR_COLLISIONS, ACC_STRESS, ACC_VIRIAL,
+    ACC_WALL_COLLISIONS, ACC_WALL_IMPULSE, G_BOX, LAW_BRIDGES, MASS, P_ELASTIC_BELOW, P_LAW, P_LAW_EXPONENT, P_LAW_SPEED, P_WALL_RESTITUTION, R, SPECIES, V, X,
 )
 from .exact import approach_ratio, sure_approach
 from .motion import half_box, minimum_image
@@ -55,9 +55,12 @@ def collide_pair(p, i, j, b, geom, scale, growth, restitution, params, acc):
     The approach test is the prediction's, and the impulse is along the
     separation itself (see the module docstring).
     """
-    rx = minimum_image(p[j, X] - p[i, X], geom[G_BOX, 0], half_box(geom, 0))
-    ry = minimum_image(p[j, X + 1] - p[i, X + 1], geom[G_BOX, 1], half_box(geom, 1))
-    rz = minimum_image(p[j, X + 2] - p[i, X + 2], geom[G_BOX, 2], half_box(geom, 2))
+    dx = p[j, X] - p[i, X]
+    dy = p[j, X + 1] - p[i, X + 1]
+    dz = p[j, X + 2] - p[i, X + 2]
+    rx = minimum_image(dx, geom[G_BOX, 0], half_box(geom, 0))
+    ry = minimum_image(dy, geom[G_BOX, 1], half_box(geom, 1))
+    rz = minimum_image(dz, geom[G_BOX, 2], half_box(geom, 2))
     ux = p[j, V] - p[i, V]
     uy = p[j, V + 1] - p[i, V + 1]
     uz = p[j, V + 2] - p[i, V + 2]
@@ -80,6 +83,12 @@ def collide_pair(p, i, j, b, geom, scale, growth, restitution, params, acc):
         acc[ACC_ENERGY_LOST] += 0.5 * reduced * (1.0 - e * e) * approach * approach
     share_i = (1.0 + e) * (mj / (mi + mj)) * ratio
     share_j = (1.0 + e) * (mi / (mi + mj)) * ratio
+    # the impulse on j is -(1 + e) mu ratio r; its energy change dp . (v + v') / 2 from j's velocity before
+    push = -(1.0 + e) * reduced * ratio  # > 0: j is pushed along r, away from i
+    gain = push * (rx * p[j, V] + ry * p[j, V + 1] + rz * p[j, V + 2]) + 0.5 * push * push * rr / mj
+    _add_transfer(acc, push, gain, rx, ry, rz)
+    if rx != dx or ry != dy or rz != dz:  # the pair meets across a periodic face: Erpenbeck's image terms
+        _add_image_terms(acc, push, gain, rx, ry, rz, dx, dy, dz, geom)
     p[i, V] += share_i * rx
     p[i, V + 1] += share_i * ry
     p[i, V + 2] += share_i * rz
@@ -91,6 +100,51 @@ def collide_pair(p, i, j, b, geom, scale, growth, restitution, params, acc):
     acc[ACC_VIRIAL] -= (1.0 + e) * reduced * ratio * rr
     acc[ACC_PAIR_COLLISIONS] += 1.0
     return True
+
+
+@inline_kernel
+def _add_transfer(acc, push, gain, rx, ry, rz):
+    """Add a collision's momentum and energy transfer (impulse ``push r`` and energy ``gain`` given to j) to the sums.
+
+    The collisional stress gets ``push r_a r_b`` (the impulse on j times the
+    separation), the collisional heat flux ``gain r_a``: their time
+    derivatives are the impulsive parts of the momentum and energy fluxes
+    (Allen & Tildesley, Computer Simulation of Liquids, 2nd ed., sec. 2.7
+    and 3.7; for hard spheres Alder, Gass & Wainwright, J. Chem. Phys. 53,
+    3813 (1970)).
+    """
+    px = push * rx
+    py = push * ry
+    pz = push * rz
+    acc[ACC_STRESS] += px * rx
+    acc[ACC_STRESS + 1] += py * ry
+    acc[ACC_STRESS + 2] += pz * rz
+    acc[ACC_STRESS + 3] += px * ry
+    acc[ACC_STRESS + 4] += px * rz
+    acc[ACC_STRESS + 5] += py * rz
+    acc[ACC_HEAT] += gain * rx
+    acc[ACC_HEAT + 1] += gain * ry
+    acc[ACC_HEAT + 2] += gain * rz
+
+
+@inline_kernel
+def _add_image_terms(acc, push, gain, rx, ry, rz, dx, dy, dz, geom):
+    """Erpenbeck's image terms of a collision across a periodic face (r the minimum image, d = x_j - x_i stored).
+
+    The Helfand moment of the stored positions jumps by the transfer times
+    ``d``, the stress integral's by the transfer times ``r``: the difference,
+    the transfer times the image shift ``r - d`` (a box length or 0 per
+    axis), is added to the image slots (see :mod:`.layout`).
+    """
+    for b in range(3):
+        r = rx if b == 0 else (ry if b == 1 else rz)
+        d = dx if b == 0 else (dy if b == 1 else dz)
+        if r != d:
+            shift = -geom[G_BOX, b] if d > r else geom[G_BOX, b]
+            acc[ACC_MOMENTUM_IMAGE + b] += push * rx * shift
+            acc[ACC_MOMENTUM_IMAGE + 3 + b] += push * ry * shift
+            acc[ACC_MOMENTUM_IMAGE + 6 + b] += push * rz * shift
+            acc[ACC_ENERGY_IMAGE + b] += gain * shift
 
 
 @inline_kernel

@@ -57,7 +57,20 @@ ACC_WALL_IMPULSE = 6  # sum of |momentum| transferred to walls
 ACC_LIST_OVERFLOW = 7  # > 0: a neighbour list outgrew its row; the run stopped to grow the rows
 ACC_EVENTS = 8  # events processed (pair, stale, list, wall): numbers them for stale detection
 ACC_CELL_OVERFLOW = 9  # > 0: a cell outgrew its slots; the run stopped to grow them
-ACC_SIZE = 10
+# the transport sums (see .contacts): with dp_j the impulse on j, dE_j its energy change and r = x_j - x_i the
+# minimum-image separation at contact, each pair collision adds
+ACC_STRESS = 10  # 6 slots xx, yy, zz, xy, xz, yz: the collisional stress sum dp_j,a r_b (STRESS_PAIRS order)
+ACC_HEAT = 16  # 3 slots: the collisional energy transfer sum dE_j r_a
+# Erpenbeck's image corrections of the Helfand moments of the stored positions x (wrapped lazily):
+# sum m v_a x_b jumps by dp_j,a (x_j - x_i)_b at a collision, by -m v_a L_b at a wrap of x_b; the moment of the
+# stress integral jumps by dp_j,a r_b and never at a wrap. The slots hold the difference of the two
+ACC_MOMENTUM_IMAGE = 19  # 9 slots, 3 a + b: sum dp_j,a (r - (x_j - x_i))_b over collisions - sum m v_a dx_b over wraps
+ACC_ENERGY_IMAGE = 28  # 3 slots: sum dE_j (r - (x_j - x_i))_a over collisions - sum (m v^2 / 2) dx_a over wraps
+ACC_SIZE = 31
+# the accumulator's size before the transport sums (checkpoints of engine format 2)
+ACC_SIZE_WITHOUT_TRANSPORT = 10
+# the (a, b) axis pairs of the six ACC_STRESS slots
+STRESS_PAIRS = ((0, 0), (1, 1), (2, 2), (0, 1), (0, 2), (1, 2))
 
 # why run_events returned (its second result)
 STOP_COLLISIONS = 0  # it made the pair collisions asked for

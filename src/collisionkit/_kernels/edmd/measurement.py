@@ -1,4 +1,4 @@
-"""Measurements on a synchronised system: moving all to one time, overlaps, anchor drift, pair distances."""
+"""Measurements on a synchronised system: moving all to one time, overlaps, anchor drift, pair distances, moments."""
 
 from __future__ import annotations
 
@@ -8,7 +8,7 @@ import math
 from ..._jit import borrowing_inline_kernel as inline_kernel
 from ..._jit import borrowing_kernel as kernel
 from .cells import cell_coordinates, cell_index, cell_offsets, neighbour_coordinate
-from .layout import ANCHOR, G_BOX, G_PERIODIC, R, X
+from .layout import ANCHOR, G_BOX, G_PERIODIC, MASS, R, V, X
 from .motion import advance
 
 
@@ -137,3 +137,26 @@ def pair_distance_counts(points, cell_start, ncell, box, periodic, r_max, counts
                                 b = int(math.sqrt(norm2) * inverse_width)
                                 if b < bins:
                                     counts[b] += 1.0
+
+
+@kernel
+def stored_helfand_moments(p, b, out):
+    """The Helfand moments of the stored positions x (synchronised particles) into ``out`` (12 entries).
+
+    ``out[3 a + b] = sum_i m_i v_ia x_ib`` (momentum) and
+    ``out[9 + a] = sum_i (m_i v_i^2 / 2) x_ia`` (energy). Plus the image
+    slots of the accumulator they are the moments whose time derivatives
+    are the momentum and energy fluxes (see :mod:`.layout`).
+    """
+    for k in range(12):
+        out[k] = 0.0
+    for i in range(p.shape[0]):
+        mass = b[i, MASS]
+        energy = 0.0
+        for a in range(3):
+            momentum = mass * p[i, V + a]
+            energy += 0.5 * momentum * p[i, V + a]
+            for c in range(3):
+                out[3 * a + c] += momentum * p[i, X + c]
+        for a in range(3):
+            out[9 + a] += energy * p[i, X + a]

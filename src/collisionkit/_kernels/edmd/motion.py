@@ -7,7 +7,7 @@ import math
 # no EDMD kernel allocates or returns an array: all of them borrow, without reference counting
 from ..._jit import borrowing_inline_kernel as inline_kernel
 from ..._jit import borrowing_kernel as kernel
-from .layout import G_BOX, G_GRAVITY, G_PERIODIC, T, V, X
+from .layout import ACC_ENERGY_IMAGE, ACC_MOMENTUM_IMAGE, G_BOX, G_GRAVITY, G_PERIODIC, MASS, T, V, X
 
 
 @inline_kernel
@@ -39,16 +39,35 @@ def half_box(geom, k):
 
 
 @inline_kernel
-def wrap_into_box(p, i, geom, dim, image):
-    """Bring particle i back into [0, L) on periodic axes (it is at most a box length out)."""
+def wrap_into_box(p, i, geom, dim, image, b, acc):
+    """Bring particle i back into [0, L) on periodic axes (it is at most a box length out).
+
+    The image counter keeps the unwrapped position ``x + image L``
+    continuous. The Helfand moments of the stored positions (``sum m v_a
+    x_b`` and ``sum (m v^2 / 2) x_b``) jump by the particle's share times
+    the move ``dx``; the image slots of ``acc`` take it back (see
+    :mod:`.layout`), so that moment plus the slots stays continuous.
+    """
     for k in range(dim):
         if geom[G_PERIODIC, k] != 0.0:
             length = geom[G_BOX, k]
-            if p[i, X + k] >= length:
+            before = p[i, X + k]
+            if before >= length:
                 p[i, X + k] -= length
                 image[i, k] += 1
-            elif p[i, X + k] < 0.0:
+            elif before < 0.0:
                 p[i, X + k] += length
                 image[i, k] -= 1
-                if p[i, X + k] >= length:  # -tiny + L rounds to L
+                if p[i, X + k] >= length:  # -tiny + L rounds to L: put it at 0, the same image
                     p[i, X + k] = 0.0
+                    image[i, k] += 1
+            else:
+                continue
+            moved = p[i, X + k] - before
+            mass = b[i, MASS]
+            energy = 0.0
+            for a in range(3):
+                momentum = mass * p[i, V + a]
+                acc[ACC_MOMENTUM_IMAGE + 3 * a + k] -= momentum * moved
+                energy += 0.5 * momentum * p[i, V + a]
+            acc[ACC_ENERGY_IMAGE + k] -= energy * moved

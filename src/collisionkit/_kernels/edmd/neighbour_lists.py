@@ -126,7 +126,7 @@ def rebuild_list(p, i, b, cell_of, neighbours, neighbour_count, cell_members, ce
     set to the size needed, if a list or a cell outgrew its row; the lists
     are then incomplete and must all be rebuilt.
     """
-    wrap_into_box(p, i, geom, dim, image)
+    wrap_into_box(p, i, geom, dim, image, b, acc)
     cell = cell_of_position(p, i, ncell, geom, dim)
     _prefetch_cells(cell, cell_members, cell_count, cell_points, ncell, geom, dim)
     for m in range(neighbour_count[i]):
@@ -151,7 +151,7 @@ def rebuild_list(p, i, b, cell_of, neighbours, neighbour_count, cell_members, ce
 
 @kernel
 def build_all_lists(p, b, cell_of, neighbours, neighbour_count, cell_members, cell_count, cell_points, ncell, geom,
-                    dim, params, image):
+                    dim, params, image, acc):
     """Anchor every particle at its position (all synchronised) and build every list.
 
     Returns the longest list and the fullest cell needed; if either exceeds
@@ -161,7 +161,7 @@ def build_all_lists(p, b, cell_of, neighbours, neighbour_count, cell_members, ce
     cell_count[:] = 0
     most = 0
     for i in range(p.shape[0]):
-        wrap_into_box(p, i, geom, dim, image)
+        wrap_into_box(p, i, geom, dim, image, b, acc)
         for k in range(3):
             b[i, ANCHOR + k] = p[i, X + k]
         cell = cell_of_position(p, i, ncell, geom, dim)
