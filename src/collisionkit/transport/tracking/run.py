@@ -196,7 +196,8 @@ def _run_batch(plan: _Plan, lo: int, hi: int, points_wanted: bool, report=None) 
         ion_induced_charge=ion_induced, signal=signal, ion_signal=ion_signal, signal_step=plan.signal_step,
         profile_coordinate=plan.profile[3], profile_edges=plan.profile[2], profiles=profiles,
         sample_times=plan.sample_times, moments=moments, seconds=time.perf_counter() - start,
-        method=[name for name, code in METHODS.items() if code == s["method"]][0], points=points[: control[4]].copy())
+        method=[name for name, code in METHODS.items() if code == s["method"]][0], points=points[: control[4]].copy(),
+        mass=plan.mass)
 
 
 def _emit_inward(geometry, positions, velocities) -> None:
