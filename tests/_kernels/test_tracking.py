@@ -8,7 +8,8 @@ import pytest
 
 from collisionkit._kernels.transport.tracking import codes as C
 from collisionkit._kernels.transport.tracking.fields import (
-    compile_user_field, electric_at, field_values, inside_map, magnetic_at, no_field, potential_at, weighting_at,
+    compile_user_field, electric_at, field_values, inside_map, magnetic_at, no_field, potential_at, weighting_field,
+    weighting_potential,
 )
 from collisionkit._kernels.transport.tracking.geometry import lowest_surface, surface_normal, surface_value
 from collisionkit._kernels.transport.tracking.integrator import (
@@ -114,7 +115,7 @@ def _gradient(function, point, step=1e-7):
 
 @pytest.mark.parametrize("kind, parameters, point", [
     (C.E_PLATES, _parameters(2e-3, 300.0), np.array([1e-3, -2e-3, 7e-4])),
-    (C.E_COAXIAL, _parameters(1e-4, -2e-4, 25e-6, 1e-2, 1500.0), np.array([2e-3, 1e-3, 0.3])),
+    (C.E_COAXIAL, _parameters(1e-4, -2e-4, 25e-6, 1e-2, 1500.0, math.log(400)), np.array([2e-3, 1e-3, 0.3])),
     (C.E_POINT, _parameters(0.1, 0.2, 0.3, 2.5, 1e-6), np.array([0.4, -0.1, 0.5])),
     (C.E_UNIFORM, _parameters(1.0, -2.0, 3.0), np.array([0.4, -0.1, 0.5])),
 ])
@@ -186,14 +187,15 @@ def test_a_user_field_is_called_by_the_kernels():
 
 def test_weighting_potentials_are_one_on_the_readout_zero_on_the_other_electrode_and_fields_their_gradients():
     plates = _parameters(2e-3)
-    assert weighting_at(C.W_PLATES, plates, 0, 0, 2e-3)[3] == 1.0 and weighting_at(C.W_PLATES, plates, 0, 0, 0)[3] == 0
-    coax = _parameters(0.0, 0.0, 25e-6, 1e-2)
-    assert abs(weighting_at(C.W_COAXIAL, coax, 25e-6, 0, 0)[3] - 1) < 1e-15
-    assert abs(weighting_at(C.W_COAXIAL, coax, 0, 1e-2, 0)[3]) < 1e-15
+    assert weighting_potential(C.W_PLATES, plates, 0, 0, 2e-3) == 1.0 and weighting_potential(C.W_PLATES, plates,
+                                                                                              0, 0, 0) == 0
+    coax = _parameters(0.0, 0.0, 25e-6, 1e-2, math.log(400))
+    assert abs(weighting_potential(C.W_COAXIAL, coax, 25e-6, 0, 0) - 1) < 1e-15
+    assert abs(weighting_potential(C.W_COAXIAL, coax, 0, 1e-2, 0)) < 1e-15
     for kind, parameters in ((C.W_PLATES, plates), (C.W_COAXIAL, coax)):
         point = np.array([3e-4, 4e-4, 1e-3])
-        field = np.array(weighting_at(kind, parameters, *point)[:3])
-        gradient = _gradient(lambda x, y, z: weighting_at(kind, parameters, x, y, z)[3], point, 1e-9)
+        field = np.array(weighting_field(kind, parameters, *point))
+        gradient = _gradient(lambda x, y, z: weighting_potential(kind, parameters, x, y, z), point, 1e-9)
         assert np.allclose(field, -gradient, rtol=1e-5)
 
 
@@ -224,11 +226,35 @@ def test_ions_drift_along_the_field_of_a_counter_in_the_analytic_time():
     births = np.array([[0, 0.0, r0, 0.0, 0.0], [0, 1e-6, 0.0, -r0, 0.0]])
     records = np.zeros((2, C.RECORD_COLUMNS))
     induced = np.zeros(1)
-    drift_ions(births, records, induced, np.zeros(0), C.E_COAXIAL, _parameters(0, 0, a, b, voltage), NO_META,
-               NO_VALUES, no_field(), C.W_COAXIAL, _parameters(0, 0, a, b), surfaces, mobility, 1.602176634e-19, 1e-9,
+    logarithm = math.log(b / a)
+    drift_ions(births, records, induced, np.zeros(0), C.E_COAXIAL, _parameters(0, 0, a, b, voltage, logarithm),
+               NO_META, NO_VALUES, no_field(), C.W_COAXIAL, _parameters(0, 0, a, b, logarithm), surfaces, mobility,
+               1.602176634e-19, 1e-9,
                a, 1.0, 10**6, 0.0, 1.0)
     expected = math.log(b / a) * (b**2 - r0**2) / (2 * mobility * voltage)
     assert np.allclose(records[:, C.RECORD_TIME] - births[:, 1], expected, rtol=1e-6)
     assert records[:, C.RECORD_SURFACE].tolist() == [1.0, 1.0]
     # Shockley-Ramo: the induced charge is -q (phi_w(b) - phi_w(r0)) = q ln(b/r0) / ln(b/a) for each ion
     assert induced[0] == pytest.approx(2 * 1.602176634e-19 * math.log(b / r0) / math.log(b / a), rel=1e-6)
+
+
+def test_the_local_bound_of_a_map_covers_the_field_within_the_reach():
+    """electric_bound of a map: at random points and reaches up to a block's width, never below |E| at random
+    points within the reach (the interpolated field there); beyond a block's width, the grid's largest value."""
+    from collisionkit.transport.tracking import FieldMap
+    from collisionkit._kernels.transport.tracking.fields import electric_bound
+
+    rng = np.random.default_rng(7)
+    values = rng.normal(size=(40, 30, 3)) * np.exp(rng.normal(size=(40, 30, 1)) * 2)
+    fieldmap = FieldMap((0.0, 0.0), (1.0, 2.0), values)
+    kind, parameters, meta, grid, user = fieldmap.arrays()
+    blocks = fieldmap.blocks()
+    for _ in range(300):
+        centre = rng.uniform([0, 0, 0], [39, 58, 1])
+        reach = rng.uniform(0, 8.0)
+        bound = electric_bound(kind, parameters, meta, blocks, *centre, reach)
+        offsets = rng.normal(size=(50, 3))
+        offsets *= reach * rng.uniform(0, 1, (50, 1)) / np.linalg.norm(offsets, axis=1, keepdims=True)
+        nearby = fieldmap.at(centre + offsets)
+        assert np.linalg.norm(nearby, axis=1).max() <= bound * (1 + 1e-12)
+    assert electric_bound(kind, parameters, meta, blocks, 5.0, 5.0, 0.0, 100.0) == meta[10]

@@ -410,3 +410,27 @@ def test_bad_arguments_are_refused_with_the_argument_named():
         Device.parallel_plate(reid_ramp(), 1e-3, 10.0)
     with pytest.raises(TypeError, match="magnetic field"):
         Device(reid_ramp(), 1e24, magnetic=UniformField((0, 0, 1.0)))
+
+
+@pytest.mark.parametrize("method", ["null-collision", "path-length"])
+def test_ions_tracked_in_their_own_gas_drift_with_the_maxwell_model_mobility(method):
+    """Ar+ (40 amu, charge +e) tracked collision by collision in a Maxwell-model gas of 40 amu at 300 K (constant
+    rate coefficient k): W = e E / (mu N k) with mu the reduced mass and the mean energy
+    3/2 kT + 1/2 (m + M) W^2 (Wannier; exact for the Maxwell model at any field), within 4 standard errors over the
+    groups. The gas's thermal motion enters the path-length method through its averaged rates (thermal tables) and
+    the rejection of target velocities; a constant k is its own average."""
+    amu = constants.atomic_mass
+    mass = 40 * amu
+    density, field, k = 2.45e25, 2.45e5, 1e-15
+    device = Device(maxwell_model(k, mass=mass), density, 300.0, UniformField((0, 0, field)))
+    times = np.linspace(0.0, 1e-8, 41)  # 250 collisions; the mean velocity relaxes in 2 / (N k) = 0.08 ns
+    result = track(device, primaries=4000, mass=mass, charge=E, energy=0.0388, method=method, sample_times=times,
+                   seed=13 + (method == "path-length"), threads=2)
+    found = result.transport(start=0.3)
+    mu = mass / 2
+    drift = E * field / (mu * density * k)
+    energy = 1.5 * constants.k * 300.0 / E + 0.5 * (2 * mass) * drift**2 / E
+    w, w_error = found["drift_velocity"]
+    assert abs(w - drift) < 4 * w_error and w_error < 0.02 * drift
+    e, e_error = found["mean_energy"]
+    assert abs(e - energy) < 4 * e_error

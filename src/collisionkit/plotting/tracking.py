@@ -37,6 +37,8 @@ def plot_tracks(result, device=None, ax=None, particles: int = 30):
     >>> ax = plotting.plot_tracks(SimpleNamespace(points=points))
     >>> len(ax.lines), ax.get_xlabel()
     (2, 'x (mm)')
+    >>> import matplotlib.pyplot as plt
+    >>> plt.close(ax.figure)
     """
     from ..transport.tracking import CoaxialField
 
@@ -70,6 +72,8 @@ def plot_tracking_spectra(result, axes=None, bins: int = 50):
     >>> axes = plotting.plot_tracking_spectra(track(device, primaries=4, position=(0, 0, 5e-5), seed=1))
     >>> axes.shape
     (2, 3)
+    >>> import matplotlib.pyplot as plt
+    >>> plt.close(axes[0, 0].figure)
     """
     if axes is None:
         _, axes = plt.subplots(2, 3, figsize=(13, 7), layout="constrained")

@@ -22,12 +22,11 @@ followed too), and ends on an electrode or another surface of the device.
 
 from .device import Device, WeightingField, gas_density
 from .fieldmaps import FieldMap, read_field_map
-from .fields import (
-    CoaxialField, DipoleMagneticField, Field, MagneticMirror, ParallelPlateField, PointChargeField, UniformField,
-    UniformMagneticField, UserField,
-)
+from .fields import CoaxialField, Field, ParallelPlateField, PointChargeField, UniformField, UserField
+from .magnetic import DipoleMagneticField, MagneticMirror, UniformMagneticField
 from .geometry import Cylinder, Geometry, Plane, Sphere, Surface, coaxial_geometry, parallel_plate_geometry
-from .parameters import TrackParameters, TrackRun, track_summary
+from .command import TrackRun, track_summary
+from .parameters import TrackParameters
 from .result import TrackingResult
 from .run import METHODS, IonDrift, track
 

@@ -88,7 +88,8 @@ class WeightingField:
         if self.kind == "plates":
             parameters[0] = self.gap
             return _c.W_PLATES, parameters
-        parameters[:4] = (*self.axis, self.wire_radius, self.cathode_radius)
+        parameters[:5] = (*self.axis, self.wire_radius, self.cathode_radius,
+                          math.log(self.cathode_radius / self.wire_radius))
         return _c.W_COAXIAL, parameters
 
     def _radius(self, points):

@@ -38,6 +38,13 @@ LENGTH_UNITS = {"m": 1.0, "cm": 1e-2, "mm": 1e-3, "um": 1e-6, "µm": 1e-6}
 ELECTRIC_UNITS = {"V/m": 1.0, "V/cm": 1e2, "kV/cm": 1e5, "V/mm": 1e3, "kV/mm": 1e6, "MV/m": 1e6, "kV/m": 1e3}
 MAGNETIC_UNITS = {"T": 1.0, "mT": 1e-3, "G": 1e-4, "kG": 0.1}
 RELATIVE_SPACING_TOLERANCE = 1e-6  # a grid axis is regular if every spacing is within this of the mean
+BLOCK_CELLS = 8  # cells per block (along each axis) of a map's local field bounds
+
+
+def _shifted(array: np.ndarray, axis: int, step: int) -> np.ndarray:
+    """``array`` moved by ``step`` along ``axis``, its edge repeated (the neighbour of an edge block is itself)."""
+    index = np.clip(np.arange(array.shape[axis]) - step, 0, array.shape[axis] - 1)
+    return np.take(array, index, axis=axis)
 
 
 class FieldMap(Field):
@@ -99,13 +106,14 @@ class FieldMap(Field):
         return tuple(self.values.shape[: self.dimensions])
 
     def meta(self) -> np.ndarray:
-        """The kernel's description of the grid (origin, spacing, points, dimensions, largest |value|).
+        """The kernel's description of the grid (origin, spacing, points, dimensions, largest |value|, cells per
+        block of the local bounds).
 
         Examples
         --------
         >>> import numpy as np
         >>> FieldMap((0, 0), (1.0, 1.0), np.ones((2, 2, 3))).meta()[6:].tolist()
-        [2.0, 2.0, 1.0, 2.0, 1.7320508075688772]
+        [2.0, 2.0, 1.0, 2.0, 1.7320508075688772, 8.0]
         """
         meta = np.zeros(_c.MAP_META)
         meta[: self.dimensions] = self.origin
@@ -115,7 +123,33 @@ class FieldMap(Field):
         meta[6:9] = self.values.shape[:3]
         meta[9] = self.dimensions
         meta[10] = float(np.sqrt((self.values**2).sum(axis=-1)).max())
+        meta[11] = BLOCK_CELLS
         return meta
+
+    def blocks(self) -> np.ndarray:
+        """The largest |value| over each block of ``BLOCK_CELLS`` cells per axis and its neighbouring blocks (the
+        null-collision method's local field bound, see :func:`collisionkit._kernels.transport.tracking.fields.
+        electric_bound`).
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> values = np.zeros((20, 3, 3)); values[19, 0] = (3.0, 4.0, 0.0)  # one large value at the far end
+        >>> FieldMap((0, 0), (1.0, 1.0), values).blocks()[:, 0, 0].tolist()  # blocks of 8 cells: 0-8, 8-16, 16-19
+        [0.0, 5.0, 5.0]
+        """
+        magnitude = np.sqrt((self.values**2).sum(axis=-1))
+        counts = [max(1, math.ceil((n - 1) / BLOCK_CELLS)) for n in magnitude.shape]
+        blocks = np.zeros(counts)
+        for index in np.ndindex(*counts):
+            window = tuple(slice(b * BLOCK_CELLS, min((b + 1) * BLOCK_CELLS + 1, n))
+                           for b, n in zip(index, magnitude.shape))
+            blocks[index] = magnitude[window].max()
+        dilated = blocks.copy()
+        for axis in range(3):
+            if counts[axis] > 1:
+                dilated = np.maximum(dilated, np.maximum(_shifted(dilated, axis, 1), _shifted(dilated, axis, -1)))
+        return np.ascontiguousarray(dilated)
 
     def arrays(self):
         """The kernel's arguments (see :meth:`Field.arrays`).

@@ -7,15 +7,14 @@ V/m, T, volts.
 
 Analytic fields (with their potential where there is one):
 
-* :class:`UniformField` (E), :class:`UniformMagneticField` (B);
+* :class:`UniformField`;
 * :class:`ParallelPlateField`: the plane z = 0 at 0 V, z = gap at ``voltage``,
   ``E = -V/d`` along z;
 * :class:`CoaxialField`: a wire of radius a at ``voltage`` inside a
   cylinder of radius b at 0 V, both about the z axis (through ``axis``):
   ``E = V / (r ln(b/a))`` radial, ``phi = V ln(b/r) / ln(b/a)``;
 * :class:`PointChargeField`: ``E = Q r-hat / (4 pi eps0 r^2)``;
-* :class:`DipoleMagneticField`: ``B = mu0 (3 r-hat (m . r-hat) - m) / (4 pi r^3)``;
-* :class:`MagneticMirror`: ``B_z = B0 (1 + (z/L)^2)``, ``B_r = -(r/2) dB_z/dz``.
+* magnetic fields in :mod:`.magnetic`.
 
 A :class:`UserField` wraps a function ``f(x, y, z, out)`` compiled with
 numba, and a :class:`~collisionkit.transport.tracking.fieldmaps.FieldMap`
@@ -34,10 +33,7 @@ from scipy import constants
 from ..._kernels.transport.tracking import codes as _c
 from ..._kernels.transport.tracking.fields import compile_user_field, field_values, no_field, potential_at
 
-__all__ = [
-    "Field", "UniformField", "ParallelPlateField", "CoaxialField", "PointChargeField", "UniformMagneticField",
-    "DipoleMagneticField", "MagneticMirror", "UserField",
-]
+__all__ = ["Field", "UniformField", "ParallelPlateField", "CoaxialField", "PointChargeField", "UserField"]
 
 _NO_MAP_META = np.zeros(_c.MAP_META)
 _NO_MAP_VALUES = np.zeros((2, 2, 2, 3))
@@ -106,6 +102,18 @@ class Field:
         (3, (2, 2, 2, 3))
         """
         return self.kind, self.parameters(), _NO_MAP_META, _NO_MAP_VALUES, no_field()
+
+    def blocks(self) -> np.ndarray:
+        """The local bounds of |E| per block of cells that the null-collision method reads (maps only; one zero
+        entry for other fields).
+
+        Examples
+        --------
+        >>> from collisionkit.transport.tracking import UniformField
+        >>> UniformField((0, 0, 1.0)).blocks().shape
+        (1, 1, 1)
+        """
+        return np.zeros((1, 1, 1))
 
     def at(self, points) -> np.ndarray:
         """The field at ``points`` (n x 3, m): an (n x 3) array of V/m (electric) or T (magnetic).
@@ -313,14 +321,15 @@ class CoaxialField(Field):
         object.__setattr__(self, "axis", tuple(float(v) for v in axis))
 
     def parameters(self):
-        """axis x, y, a, b, V (see :meth:`Field.parameters`).
+        """axis x, y, a, b, V, ln(b/a) (see :meth:`Field.parameters`).
 
         Examples
         --------
         >>> CoaxialField(1e-5, 1e-2, 100.0).parameters()[:5].tolist()
         [0.0, 0.0, 1e-05, 0.01, 100.0]
         """
-        return _parameters(*self.axis, self.wire_radius, self.cathode_radius, self.voltage)
+        return _parameters(*self.axis, self.wire_radius, self.cathode_radius, self.voltage,
+                           math.log(self.cathode_radius / self.wire_radius))
 
     def bound(self):
         """The field at the wire, |V| / (a ln(b/a)) (see :meth:`Field.bound`).
@@ -378,118 +387,6 @@ class PointChargeField(Field):
         0.0
         """
         return abs(self.charge) / (4.0 * math.pi * constants.epsilon_0 * self.radius**2)
-
-
-@dataclass(frozen=True)
-class UniformMagneticField(Field):
-    """A uniform magnetic field (T).
-
-    Examples
-    --------
-    >>> from collisionkit.transport.tracking import UniformMagneticField
-    >>> UniformMagneticField((0, 0, 0.1)).at([[1, 2, 3]]).tolist()
-    [[0.0, 0.0, 0.1]]
-    """
-
-    value: Any = (0.0, 0.0, 0.0)
-    magnetic: bool = field(default=True, init=False)
-    kind: int = field(default=_c.B_UNIFORM, init=False)
-
-    def __post_init__(self):
-        object.__setattr__(self, "value", _vector("value (T)", self.value))
-
-    def parameters(self):
-        """The components (see :meth:`Field.parameters`).
-
-        Examples
-        --------
-        >>> UniformMagneticField((0, 0, 0.1)).parameters()[:3].tolist()
-        [0.0, 0.0, 0.1]
-        """
-        return _parameters(*self.value)
-
-    def is_uniform(self):
-        """True (see :meth:`Field.is_uniform`).
-
-        Examples
-        --------
-        >>> UniformMagneticField((0, 0, 0.1)).is_uniform()
-        True
-        """
-        return True
-
-
-@dataclass(frozen=True)
-class DipoleMagneticField(Field):
-    """A magnetic dipole of ``moment`` (A m^2) at ``position`` (m), felt from ``radius`` (m) outwards.
-
-    ``B = mu0 / (4 pi) (3 r-hat (m . r-hat) - m) / r^3``.
-
-    Examples
-    --------
-    >>> from collisionkit.transport.tracking import DipoleMagneticField
-    >>> b = DipoleMagneticField((0, 0, 1.0)).at([[0, 0, 1.0], [1.0, 0, 0]])
-    >>> (b / 1e-7).round(9).tolist()  # on the axis 2 mu0 m / (4 pi r^3), on the equator -mu0 m / (4 pi r^3)
-    [[0.0, 0.0, 2.0], [0.0, 0.0, -1.0]]
-    """
-
-    moment: Any = (0.0, 0.0, 0.0)
-    position: Any = (0.0, 0.0, 0.0)
-    radius: float = 1e-6
-    magnetic: bool = field(default=True, init=False)
-    kind: int = field(default=_c.B_DIPOLE, init=False)
-
-    def __post_init__(self):
-        object.__setattr__(self, "moment", _vector("moment (A m^2)", self.moment))
-        object.__setattr__(self, "position", _vector("position (m)", self.position))
-        object.__setattr__(self, "radius", _finite("radius (m)", self.radius, 0.0, low_open=True))
-
-    def parameters(self):
-        """x, y, z, moment, radius (see :meth:`Field.parameters`).
-
-        Examples
-        --------
-        >>> DipoleMagneticField((0, 0, 2.0), (1, 0, 0), 0.5).parameters()[:7].tolist()
-        [1.0, 0.0, 0.0, 0.0, 0.0, 2.0, 0.5]
-        """
-        return _parameters(*self.position, *self.moment, self.radius)
-
-
-@dataclass(frozen=True)
-class MagneticMirror(Field):
-    """A magnetic mirror about the z axis through ``centre``: ``B_z = B0 (1 + (z/L)^2)`` and the paraxial
-    ``B_r = -(r/2) dB_z/dz = -B0 r z / L^2`` (divergence free); B0 in T, ``length`` L in m (> 0).
-
-    A particle of pitch angle theta at the centre is reflected where
-    ``B = B0 / sin^2(theta)`` (conservation of the magnetic moment).
-
-    Examples
-    --------
-    >>> from collisionkit.transport.tracking import MagneticMirror
-    >>> (MagneticMirror(0.1, 0.5).at([[0, 0, 0.5]]).round(12) + 0.0).tolist()
-    [[0.0, 0.0, 0.2]]
-    """
-
-    b0: float = 0.0
-    length: float = 1.0
-    centre: Any = (0.0, 0.0, 0.0)
-    magnetic: bool = field(default=True, init=False)
-    kind: int = field(default=_c.B_MIRROR, init=False)
-
-    def __post_init__(self):
-        object.__setattr__(self, "b0", _finite("b0 (T)", self.b0))
-        object.__setattr__(self, "length", _finite("length (m)", self.length, 0.0, low_open=True))
-        object.__setattr__(self, "centre", _vector("centre (m)", self.centre))
-
-    def parameters(self):
-        """centre, B0, L (see :meth:`Field.parameters`).
-
-        Examples
-        --------
-        >>> MagneticMirror(0.1, 0.5).parameters()[:5].tolist()
-        [0.0, 0.0, 0.0, 0.1, 0.5]
-        """
-        return _parameters(*self.centre, self.b0, self.length)
 
 
 class UserField(Field):

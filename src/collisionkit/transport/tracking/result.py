@@ -77,6 +77,8 @@ class TrackingResult:
     primaries). ``profiles``: ionizations and excitations per bin of the
     profile coordinate over ``profile_edges`` (summed). ``moments``: per
     group and sample time, sums of 1, r, r^2, v, kinetic energy, r_k v_k.
+    ``points``: (particle, t, x, y, z) along a few tracks; ``mass``: the
+    tracked particle's (kg).
 
     Examples
     --------
@@ -116,6 +118,7 @@ class TrackingResult:
     seconds: float
     method: str
     points: np.ndarray = field(default_factory=lambda: np.zeros((0, 5)))
+    mass: float = constants.m_e
 
     # ------------------------------------------------------------------ gain and drift
 
@@ -200,7 +203,7 @@ class TrackingResult:
         return edges, counts / max(self.primaries, 1)
 
     def energies(self, records=None) -> np.ndarray:
-        """Kinetic energies (eV) of end records (default: those at the collecting electrode), for an electron.
+        """Kinetic energies (eV) of end records (default: those at the collecting electrode) of the tracked particle.
 
         Examples
         --------
@@ -212,7 +215,7 @@ class TrackingResult:
         """
         records = self.collected_records() if records is None else records
         v = records[:, _c.RECORD_VX:_c.RECORD_VZ + 1]
-        return 0.5 * constants.m_e * (v**2).sum(axis=1) / EV
+        return 0.5 * self.mass * (v**2).sum(axis=1) / EV
 
     def energy_spectrum(self, bins: int = 50) -> tuple[np.ndarray, np.ndarray]:
         """(bin edges in eV, electrons per primary and eV) of the energies at the collecting electrode.
@@ -418,7 +421,7 @@ class TrackingResult:
         """
         values = {}
         scalars = {"primaries": int, "null_collisions": int, "steps": int, "rejected_steps": int,
-                   "particle_time": float, "signal_step": float, "seconds": float, "method": str,
+                   "particle_time": float, "signal_step": float, "seconds": float, "method": str, "mass": float,
                    "profile_coordinate": str, "collector": str}
         for item in fields(cls):
             value = arrays[item.name]

@@ -196,7 +196,8 @@ def _run_batch(plan: _Plan, lo: int, hi: int, points_wanted: bool, report=None) 
         ion_induced_charge=ion_induced, signal=signal, ion_signal=ion_signal, signal_step=plan.signal_step,
         profile_coordinate=plan.profile[3], profile_edges=plan.profile[2], profiles=profiles,
         sample_times=plan.sample_times, moments=moments, seconds=time.perf_counter() - start,
-        method=[name for name, code in METHODS.items() if code == s["method"]][0], points=points[: control[4]].copy())
+        method=[name for name, code in METHODS.items() if code == s["method"]][0], points=points[: control[4]].copy(),
+        mass=plan.mass)
 
 
 def _emit_inward(geometry, positions, velocities) -> None:
@@ -217,21 +218,23 @@ def _drift_ions(plan: _Plan, births, n):
     signal = np.zeros(plan.signal_bins)
     if plan.ions is None or births.shape[0] == 0:
         return records, induced, signal
-    kind, parameters, meta, values, user = plan.fields[:5]
-    w_kind, w_par = plan.fields[10], plan.fields[11]
+    kind, parameters, meta, values, _, user = plan.fields[:6]
+    w_kind, w_par = plan.fields[11], plan.fields[12]
     drift_ions(np.ascontiguousarray(births), records, induced, signal, kind, parameters, meta, values, user, w_kind,
-               w_par, plan.fields[12], plan.ions.mobility, plan.ions.charge, plan.settings["tolerance"],
+               w_par, plan.fields[13], plan.ions.mobility, plan.ions.charge, plan.settings["tolerance"],
                plan.settings["length"], math.inf, plan.settings["max_steps"], 0.0, plan.signal_step)
     return records, induced, signal
 
 
 def _field_arrays(device: Device):
     """The kernel's field arguments: E, B, weighting, surfaces, exact flag and the uniform-field record."""
-    from .fields import UniformField, UniformMagneticField
+    from .fields import UniformField
+    from .magnetic import UniformMagneticField
 
     electric = device.electric or UniformField((0.0, 0.0, 0.0))
     magnetic = device.magnetic or UniformMagneticField((0.0, 0.0, 0.0))
     e_arrays = electric.arrays() if device.electric is not None else (_c.E_NONE, *electric.arrays()[1:])
+    e_arrays = (*e_arrays[:4], electric.blocks(), e_arrays[4])  # the kernel takes the map's local bounds too
     b_arrays = magnetic.arrays() if device.magnetic is not None else (_c.B_NONE, *magnetic.arrays()[1:])
     exact = electric.is_uniform() and magnetic.is_uniform()
     w_kind, w_par = device.weighting.arrays() if device.weighting is not None else (_c.W_NONE,

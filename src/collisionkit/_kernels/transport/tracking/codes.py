@@ -6,7 +6,7 @@ from __future__ import annotations
 E_NONE = 0
 E_UNIFORM = 1  # Ex, Ey, Ez (V/m)
 E_PLATES = 2  # gap d, voltage V of the plane z = d (the plane z = 0 at 0 V)
-E_COAXIAL = 3  # axis x, axis y, wire radius a, cathode radius b, voltage V of the wire (the cathode at 0 V)
+E_COAXIAL = 3  # axis x, axis y, wire radius a, cathode radius b, voltage V of the wire (cathode 0 V), ln(b/a)
 E_POINT = 4  # x, y, z of the charge, k = Q / (4 pi eps0) (V m), smallest radius
 E_MAP = 5  # the grid (meta, values)
 E_USER = 6  # a compiled function; parameter 0: an upper bound of |E| (V/m), 0 if unknown
@@ -21,8 +21,9 @@ B_USER = 5
 
 FIELD_PARAMETERS = 8  # length of a field's parameter array
 
-# a field map's meta array: origin (3), spacing (3), points per axis (3), dimensions (2 or 3), largest |value|
-MAP_META = 11
+# a field map's meta array: origin (3), spacing (3), points per axis (3), dimensions (2 or 3), largest |value|,
+# cells per block of its local bounds (see fields.electric_bound)
+MAP_META = 12
 
 # collision methods
 NULL_COLLISION = 0  # trial collisions at a piecewise-constant bound of the rate (Skullerud)
@@ -70,7 +71,7 @@ MOMENT_COLUMNS = 14
 # weighting field kinds (the readout electrode at unit potential, the others at 0)
 W_NONE = 0
 W_PLATES = 1  # gap d: phi_w = z / d (the plane z = d reads out)
-W_COAXIAL = 2  # axis x, y, a, b: phi_w = ln(b / r) / ln(b / a) (the wire reads out)
+W_COAXIAL = 2  # axis x, y, a, b, ln(b/a): phi_w = ln(b / r) / ln(b / a) (the wire reads out)
 
 # profile coordinates
 PROFILE_Z = 0

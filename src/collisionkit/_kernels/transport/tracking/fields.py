@@ -111,7 +111,7 @@ def electric_at(kind, p, meta, values, user, buffer, x, y, z):
         r = math.sqrt(dx * dx + dy * dy)
         if r == 0.0:
             return 0.0, 0.0, 0.0
-        scale = p[4] / (max(r, p[2]) * math.log(p[3] / p[2]) * r)
+        scale = p[4] / (max(r, p[2]) * p[5] * r)
         return scale * dx, scale * dy, 0.0
     if kind == E_POINT:
         dx = x - p[0]
@@ -159,27 +159,37 @@ def magnetic_at(kind, p, meta, values, user, buffer, x, y, z):
 
 
 @inline_kernel
-def electric_bound(kind, p, meta, x, y, z, reach):
+def electric_bound(kind, p, meta, blocks, x, y, z, reach):
     """An upper bound of |E| (V/m) within ``reach`` (m) of (x, y, z); inf if none is known.
 
     Plates: V/d; coaxial: V / (ln(b/a) max(a, r - reach)); point charge:
-    k / max(r_min, r - reach)^2; maps: the largest value on the grid
-    (``meta[10]``: bilinear and trilinear interpolation never exceed it);
-    user functions: the bound given with them (parameter 0, 0: unknown).
+    k / max(r_min, r - reach)^2; user functions: the bound given with them
+    (parameter 0, 0: unknown). Maps: bilinear and trilinear interpolation
+    never exceed the largest |value| of the cell's corners, so ``blocks``
+    holds, per block of ``meta[11]`` cells along each axis, the largest
+    |value| over the block and its neighbours: within one block's width of
+    the point the block's entry bounds the field; farther, the largest value
+    of the whole grid (``meta[10]``).
     """
+    if kind == E_MAP:
+        size = meta[11]
+        if reach > size * min(meta[3], meta[4] if meta[9] == 2.0 else min(meta[4], meta[5])):
+            return meta[10]
+        i = min(max(int((x - meta[0]) / (meta[3] * size)), 0), blocks.shape[0] - 1)
+        j = min(max(int((y - meta[1]) / (meta[4] * size)), 0), blocks.shape[1] - 1)
+        k = 0 if meta[9] == 2.0 else min(max(int((z - meta[2]) / (meta[5] * size)), 0), blocks.shape[2] - 1)
+        return blocks[i, j, k]
     if kind == E_UNIFORM:
         return math.sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2])
     if kind == E_PLATES:
         return abs(p[1] / p[0])
     if kind == E_COAXIAL:
         r = math.sqrt((x - p[0]) ** 2 + (y - p[1]) ** 2)
-        return abs(p[4]) / (math.log(p[3] / p[2]) * max(p[2], r - reach))
+        return abs(p[4]) / (p[5] * max(p[2], r - reach))
     if kind == E_POINT:
         r = math.sqrt((x - p[0]) ** 2 + (y - p[1]) ** 2 + (z - p[2]) ** 2)
         closest = max(p[4], r - reach)
         return abs(p[3]) / (closest * closest)
-    if kind == E_MAP:
-        return meta[10]
     if kind == E_USER:
         return p[0] if p[0] > 0.0 else math.inf
     return 0.0
@@ -203,7 +213,7 @@ def potential_at(kind, p, x, y, z):
         return p[1] * z / p[0]
     if kind == E_COAXIAL:
         r = max(math.sqrt((x - p[0]) ** 2 + (y - p[1]) ** 2), p[2])
-        return p[4] * math.log(p[3] / r) / math.log(p[3] / p[2])
+        return p[4] * math.log(p[3] / r) / p[5]
     if kind == E_POINT:
         r = max(math.sqrt((x - p[0]) ** 2 + (y - p[1]) ** 2 + (z - p[2]) ** 2), p[4])
         return p[3] / r
@@ -213,24 +223,35 @@ def potential_at(kind, p, x, y, z):
 
 
 @inline_kernel
-def weighting_at(kind, p, x, y, z):
-    """The weighting field E_w = -grad phi_w (1/m) and potential phi_w of the readout electrode: (ex, ey, ez, phi).
+def weighting_field(kind, p, x, y, z):
+    """The weighting field E_w = -grad phi_w (1/m) of the readout electrode, a tuple.
 
-    Parallel plates (the plane z = d reads out): phi_w = z/d, E_w = -z-hat/d;
-    coaxial (the wire reads out): phi_w = ln(b/r)/ln(b/a),
+    Parallel plates (the plane z = d reads out; ``p``: d): E_w = -z-hat/d;
+    coaxial (the wire reads out; ``p``: axis x, y, a, b, ln(b/a)):
     E_w = r-hat / (r ln(b/a)) (Shockley, J. Appl. Phys. 9, 635 (1938); Ramo,
     Proc. IRE 27, 584 (1939)).
     """
     if kind == W_PLATES:
-        return 0.0, 0.0, -1.0 / p[0], z / p[0]
+        return 0.0, 0.0, -1.0 / p[0]
     if kind == W_COAXIAL:
         dx = x - p[0]
         dy = y - p[1]
         r = max(math.sqrt(dx * dx + dy * dy), p[2])
-        logarithm = math.log(p[3] / p[2])
-        scale = 1.0 / (r * r * logarithm)
-        return scale * dx, scale * dy, 0.0, math.log(p[3] / r) / logarithm
-    return 0.0, 0.0, 0.0, 0.0
+        scale = 1.0 / (r * r * p[4])
+        return scale * dx, scale * dy, 0.0
+    return 0.0, 0.0, 0.0
+
+
+@inline_kernel
+def weighting_potential(kind, p, x, y, z):
+    """The weighting potential phi_w of the readout electrode (1 on it, 0 on the others): z/d for plates,
+    ln(b/r)/ln(b/a) for a counter (see :func:`weighting_field`)."""
+    if kind == W_PLATES:
+        return z / p[0]
+    if kind == W_COAXIAL:
+        r = max(math.sqrt((x - p[0]) ** 2 + (y - p[1]) ** 2), p[2])
+        return math.log(p[3] / r) / p[4]
+    return 0.0
 
 
 @kernel
@@ -243,7 +264,7 @@ def field_values(magnetic, kind, p, meta, values, user, points, out):
     >>> from collisionkit._kernels.transport.tracking.codes import B_MIRROR
     >>> from collisionkit._kernels.transport.tracking.fields import field_values, no_field
     >>> out = np.zeros((1, 3))
-    >>> field_values(True, B_MIRROR, np.array([0, 0, 0, 1.0, 2.0, 0, 0, 0]), np.zeros(11), np.zeros((2, 2, 2, 3)),
+    >>> field_values(True, B_MIRROR, np.array([0, 0, 0, 1.0, 2.0, 0, 0, 0]), np.zeros(12), np.zeros((2, 2, 2, 3)),
     ...              no_field(), np.array([[0.1, 0.0, 2.0]]), out)
     >>> (out.round(6) + 0.0).tolist()  # B0 (1 + (z/L)^2) = 2 along z; B_x = -B0 x z / L^2 = -0.05
     [[-0.05, 0.0, 2.0]]
@@ -293,7 +314,7 @@ def compile_user_field(function):
     ...     out[1] = 0.0
     ...     out[2] = z
     >>> out = np.zeros((1, 3))
-    >>> field_values(False, E_USER, np.zeros(8), np.zeros(11), np.zeros((2, 2, 2, 3)), compile_user_field(field),
+    >>> field_values(False, E_USER, np.zeros(8), np.zeros(12), np.zeros((2, 2, 2, 3)), compile_user_field(field),
     ...              np.array([[1.5, 0.0, -1.0]]), out)
     >>> out.tolist()
     [[3.0, 0.0, -1.0]]

@@ -30,10 +30,18 @@ A = np.array([
     [9017.0 / 3168.0, -355.0 / 33.0, 46732.0 / 5247.0, 49.0 / 176.0, -5103.0 / 18656.0, 0.0],
     [35.0 / 384.0, 0.0, 500.0 / 1113.0, 125.0 / 192.0, -2187.0 / 6784.0, 11.0 / 84.0],
 ])
+A21 = 1.0 / 5.0
+A31, A32 = 3.0 / 40.0, 9.0 / 40.0
+A41, A42, A43 = 44.0 / 45.0, -56.0 / 15.0, 32.0 / 9.0
+A51, A52, A53, A54 = 19372.0 / 6561.0, -25360.0 / 2187.0, 64448.0 / 6561.0, -212.0 / 729.0
+A61, A62, A63, A64, A65 = 9017.0 / 3168.0, -355.0 / 33.0, 46732.0 / 5247.0, 49.0 / 176.0, -5103.0 / 18656.0
+A71, A73, A74, A75, A76 = 35.0 / 384.0, 500.0 / 1113.0, 125.0 / 192.0, -2187.0 / 6784.0, 11.0 / 84.0
 B5 = np.array([35.0 / 384.0, 0.0, 500.0 / 1113.0, 125.0 / 192.0, -2187.0 / 6784.0, 11.0 / 84.0, 0.0])
 # 5th minus 4th order weights: the error estimate
 E54 = np.array([71.0 / 57600.0, 0.0, -71.0 / 16695.0, 71.0 / 1920.0, -17253.0 / 339200.0, 22.0 / 525.0, -1.0 / 40.0])
 
+E1, E3, E4, E5, E6, E7 = (71.0 / 57600.0, -71.0 / 16695.0, 71.0 / 1920.0, -17253.0 / 339200.0, 22.0 / 525.0,
+                          -1.0 / 40.0)
 SAFETY = 0.9
 SHRINK = 0.2  # a step shrinks at most this much, and grows at most GROW times, per try
 GROW = 5.0
@@ -48,12 +56,22 @@ def step_factor(error):
 
 
 @inline_kernel
-def stage_state(y0, k, stage, h, out):
-    """The state at which stage ``stage`` (1..6) evaluates the derivative: y0 + h sum_j A[stage, j] k[j]."""
-    for c in range(7):
-        total = 0.0
-        for j in range(stage):
-            total += A[stage, j] * k[j, c]
+def stage_state(y0, k, stage, h, out, components=7):
+    """The state at which stage ``stage`` (1..6) evaluates the derivative: y0 + h sum_j A[stage, j] k[j] (its first
+    ``components`` components: 6 without the optical depth)."""
+    for c in range(components):  # written out: a loop over the tableau costs more than the arithmetic
+        if stage == 1:
+            total = A21 * k[0, c]
+        elif stage == 2:
+            total = A31 * k[0, c] + A32 * k[1, c]
+        elif stage == 3:
+            total = A41 * k[0, c] + A42 * k[1, c] + A43 * k[2, c]
+        elif stage == 4:
+            total = A51 * k[0, c] + A52 * k[1, c] + A53 * k[2, c] + A54 * k[3, c]
+        elif stage == 5:
+            total = A61 * k[0, c] + A62 * k[1, c] + A63 * k[2, c] + A64 * k[3, c] + A65 * k[4, c]
+        else:
+            total = A71 * k[0, c] + A73 * k[2, c] + A74 * k[3, c] + A75 * k[4, c] + A76 * k[5, c]
         out[c] = y0[c] + h * total
 
 
@@ -80,9 +98,7 @@ def error_norm(y0, y1, k, h, position_scale, speed_floor, tolerance, depth_toler
     worst = 0.0
     last = 7 if with_tau else 6
     for c in range(last):
-        total = 0.0
-        for j in range(7):
-            total += E54[j] * k[j, c]
+        total = (E1 * k[0, c] + E3 * k[2, c] + E4 * k[3, c] + E5 * k[4, c] + E6 * k[5, c] + E7 * k[6, c])
         scale = tolerance * (position_scale if c < 3 else speed) if c < 6 else depth_tolerance
         worst = max(worst, abs(h * total) / scale)
     return worst
@@ -109,6 +125,35 @@ def hermite_position(x0, v0, a0, x1, v1, a1, h, theta):
     position = h00 * x0 + h * (h10 * v0 + h * h20 * a0) + h01 * x1 + h * (h11 * v1 + h * h21 * a1)
     velocity = d00 * (x0 - x1) / h + d10 * v0 + h * d20 * a0 + d11 * v1 + h * d21 * a1
     return position, velocity
+
+
+@inline_kernel
+def dense_state(y0, y1, k, h, theta):
+    """Position and velocity (a 6-tuple) of the step's dense output at theta = s/h: the quintic Hermite interpolant
+    of :func:`hermite_position` for the three axes, its basis computed once (y: states, k[0] and k[6]: derivatives
+    at the ends)."""
+    t2 = theta * theta
+    t3 = t2 * theta
+    t4 = t3 * theta
+    t5 = t4 * theta
+    h00 = 1.0 - 10.0 * t3 + 15.0 * t4 - 6.0 * t5
+    h10 = h * (theta - 6.0 * t3 + 8.0 * t4 - 3.0 * t5)
+    h20 = h * h * 0.5 * (t2 - 3.0 * t3 + 3.0 * t4 - t5)
+    h01 = 10.0 * t3 - 15.0 * t4 + 6.0 * t5
+    h11 = h * (-4.0 * t3 + 7.0 * t4 - 3.0 * t5)
+    h21 = h * h * 0.5 * (t3 - 2.0 * t4 + t5)
+    d00 = (-30.0 * t2 + 60.0 * t3 - 30.0 * t4) / h
+    d10 = 1.0 - 18.0 * t2 + 32.0 * t3 - 15.0 * t4
+    d20 = h * 0.5 * (2.0 * theta - 9.0 * t2 + 12.0 * t3 - 5.0 * t4)
+    d11 = -12.0 * t2 + 28.0 * t3 - 15.0 * t4
+    d21 = h * 0.5 * (3.0 * t2 - 8.0 * t3 + 5.0 * t4)
+    x = h00 * y0[0] + h10 * y0[3] + h20 * k[0, 3] + h01 * y1[0] + h11 * y1[3] + h21 * k[6, 3]
+    y = h00 * y0[1] + h10 * y0[4] + h20 * k[0, 4] + h01 * y1[1] + h11 * y1[4] + h21 * k[6, 4]
+    z = h00 * y0[2] + h10 * y0[5] + h20 * k[0, 5] + h01 * y1[2] + h11 * y1[5] + h21 * k[6, 5]
+    vx = d00 * (y0[0] - y1[0]) + d10 * y0[3] + d20 * k[0, 3] + d11 * y1[3] + d21 * k[6, 3]
+    vy = d00 * (y0[1] - y1[1]) + d10 * y0[4] + d20 * k[0, 4] + d11 * y1[4] + d21 * k[6, 4]
+    vz = d00 * (y0[2] - y1[2]) + d10 * y0[5] + d20 * k[0, 5] + d11 * y1[5] + d21 * k[6, 5]
+    return x, y, z, vx, vy, vz
 
 
 @inline_kernel

@@ -16,7 +16,7 @@ import numpy as np
 
 from ...._jit import kernel
 from .codes import E_MAP, ENDED_OUTSIDE_FIELD, ENDED_STEPS, ENDED_SURFACE, ENDED_TIME
-from .fields import electric_at, inside_map, weighting_at
+from .fields import electric_at, inside_map, weighting_field
 from .geometry import lowest_surface
 from .integrator import A, E54, hermite_cubic, step_factor
 
@@ -47,7 +47,7 @@ def drift_ions(births, records, induced, signal, e_kind, e_par, e_meta, e_values
     >>> par = np.array([1e-3, 100.0, 0, 0, 0, 0, 0, 0])  # 1 mm gap, 100 V: E = -1e5 V/m along z
     >>> none = cfunc(types.void(types.float64, types.float64, types.float64, types.CPointer(types.float64)))(
     ...     lambda x, y, z, out: None)
-    >>> steps = drift_ions(births, records, np.zeros(1), np.zeros(0), codes.E_PLATES, par, np.zeros(11),
+    >>> steps = drift_ions(births, records, np.zeros(1), np.zeros(0), codes.E_PLATES, par, np.zeros(12),
     ...                    np.zeros((2, 2, 2, 3)), none, codes.W_NONE, np.zeros(8), plane, 1e-4, 1.602e-19,
     ...                    1e-8, 1e-3, 1.0, 100000, 0.0, 1.0)
     >>> round(float(records[0, 3]) / 5e-5, 6)  # 0.5 mm at 1e-4 * 1e5 = 10 m/s
@@ -134,11 +134,11 @@ def drift_ions(births, records, induced, signal, e_kind, e_par, e_meta, e_values
                 my = hermite_cubic(y0[1], k[0, 1], ys[1], k[6, 1], h, 0.5 * theta)
                 mz = hermite_cubic(y0[2], k[0, 2], ys[2], k[6, 2], h, 0.5 * theta)
                 ex, ey, ez = electric_at(e_kind, e_par, e_meta, e_values, e_user, buffer, mx, my, mz)
-                wx, wy, wz, _ = weighting_at(w_kind, w_par, x, y, z)
+                wx, wy, wz = weighting_field(w_kind, w_par, x, y, z)
                 i0 = wx * k[0, 0] + wy * k[0, 1] + wz * k[0, 2]
-                wx, wy, wz, _ = weighting_at(w_kind, w_par, mx, my, mz)
+                wx, wy, wz = weighting_field(w_kind, w_par, mx, my, mz)
                 i1 = sign * mobility * (wx * ex + wy * ey + wz * ez)
-                wx, wy, wz, _ = weighting_at(w_kind, w_par, nx, ny, nz)
+                wx, wy, wz = weighting_field(w_kind, w_par, nx, ny, nz)
                 i2 = wx * vx + wy * vy + wz * vz
                 charge_moved = charge * s_event * (i0 + 4.0 * i1 + i2) / 6.0
                 induced[primary] += charge_moved

@@ -13,10 +13,25 @@ import math
 
 from ...._jit import inline_kernel
 from ..cross_sections import node_index as _node_index
+from ..cross_sections import rate_bound as _rate_bound
 
-# the swarm's node lookup, inlined here: it runs at every stage of every step, and a call that is not inlined
-# costs reference counting on its two arrays (measured: 2/3 of the time per collision of the path-length method)
+# the swarm's node lookup and rate bound, inlined here: they run at every stage or every step, and a call that is
+# not inlined costs reference counting on its arrays (measured: 2/3 of the time per collision of the path-length
+# method)
 node_index = inline_kernel(_node_index.py_func)
+rate_bound = inline_kernel(_rate_bound.py_func)
+
+
+@inline_kernel
+def trial_rates(speed, density, gas, bound, inverse_step, sigma_max, const_max, nu_s):
+    """Trial frequency per species (in ``nu_s``) and their sum for projectile speeds <= ``speed``: the swarm's
+    :func:`collisionkit._kernels.transport.cross_sections.trial_frequencies`, with its rate bound inlined."""
+    total = 0.0
+    for s in range(gas.shape[0]):
+        nu = density * rate_bound(s, speed + gas[s, 2], bound, inverse_step, sigma_max, const_max)
+        nu_s[s] = nu
+        total += nu
+    return total
 
 
 @inline_kernel

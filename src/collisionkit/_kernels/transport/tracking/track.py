@@ -39,7 +39,6 @@ import numpy as np
 
 from ...._jit import kernel
 from ..collisions import ionized, two_body
-from ..cross_sections import rate_bound, trial_frequencies
 from ..flight import flown_position, flown_velocity
 from ..layout import ATTACHMENT, ELASTIC, EXCITATION, IONIZATION
 from ..rng import next_u64, normal_pair, seed_state, uniform
@@ -49,14 +48,16 @@ from .codes import (
     NULL_COLLISION, REFLECT, SUSPENDED, TALLY_ELECTRONS, TALLY_INDUCED, TALLY_NULL, TALLY_REJECTED, TALLY_STEPS,
     TALLY_TIME, TALLY_WEIGHTING,
 )
-from .fields import electric_at, electric_bound, inside_map, magnetic_at, weighting_at
+from .fields import (
+    electric_at, electric_bound, inside_map, magnetic_at, weighting_field, weighting_potential,
+)
 from .geometry import lowest_surface, surface_normal
 from .integrator import (
-    B5, C, E54, depth_crossing, error_norm, hermite_cubic, hermite_position, stage_state, step_factor,
+    B5, C, E54, dense_state, depth_crossing, error_norm, hermite_cubic, stage_state, step_factor,
 )
-from .rates import chosen_process, chosen_species, profile_bin, species_rates
+from .rates import chosen_process, chosen_species, profile_bin, rate_bound, species_rates, trial_rates
 
-GROWTH = 0.5  # null collisions: a step lasts at most the time in which a|t| reaches GROWTH times the speed
+GROWTH = 1.0  # null collisions: a step lasts at most the time in which a|t| reaches GROWTH times the speed
 NEWTON_ITERATIONS = 8  # path length: refinements of the collision time on the integrated optical depth
 GAUSS_NODES = np.array([-0.8611363115940526, -0.3399810435848563, 0.3399810435848563, 0.8611363115940526])
 GAUSS_WEIGHTS = np.array([0.3478548451374538, 0.6521451548625461, 0.6521451548625461, 0.3478548451374538])
@@ -68,8 +69,7 @@ EV = 1.602176634e-19
 @kernel
 def track_particles(stack_pos, stack_vel, stack_time, stack_birth, stack_state, stack_h, stack_primary, stack_fresh,
                     stack_id, control, tallies, records, births, profiles, signal, moments, group, sample_times,
-                    points,
-                    e_kind, e_par, e_meta, e_values, e_user, b_kind, b_par, b_meta, b_values, b_user,
+                    points, e_kind, e_par, e_meta, e_values, e_blocks, e_user, b_kind, b_par, b_meta, b_values, b_user,
                     w_kind, w_par, surfaces, exact, flight,
                     mass, charge, density, method, tolerance, depth_tolerance, length, step_length, time_limit,
                     max_steps, budget, record_births, sharing, profile_kind, profile_par, signal_start, signal_step,
@@ -87,6 +87,7 @@ def track_particles(stack_pos, stack_vel, stack_time, stack_birth, stack_state, 
     qm = charge / mass
     n_proc = kind.shape[0]
     path = method != NULL_COLLISION
+    components = 7 if path else 6  # the optical depth is integrated by the path-length method only
     inverse_step = (1.0 / bound_step) * (1.0 + 1e-12)
     inverse_cell = (1.0 / accelerator_step) * (1.0 - 1e-12)
     speed_floor = math.sqrt(2.0 * SPEED_FLOOR_EV * EV / mass)
@@ -123,7 +124,7 @@ def track_particles(stack_pos, stack_vel, stack_time, stack_birth, stack_state, 
         if stack_fresh[top]:
             tallies[primary, n_proc + TALLY_ELECTRONS] += 1.0
         g_row = group[primary]
-        phi_start = weighting_at(w_kind, w_par, x, y, z)[3]
+        phi_start = weighting_potential(w_kind, w_par, x, y, z)
         status = -1
         surface = -1
         tau_left = -math.log(uniform(rng))
@@ -162,18 +163,21 @@ def track_particles(stack_pos, stack_vel, stack_time, stack_birth, stack_state, 
                 break
             speed0 = math.sqrt(vx * vx + vy * vy + vz * vz)
             reference = max(speed0, speed_floor)
-            h = min(h, remaining, step_length / reference)
+            # far from every surface a step may move up to half the clearance, near one the step length
+            clearance = lowest_surface(surfaces, x, y, z)[0]
+            h = min(h, remaining, max(step_length, 0.5 * clearance) / reference)
             nu_step = 0.0
+            accel = uniform_accel if exact else math.inf  # a bound of |q E / m| over the step, if known
             if not path:
-                if exact:
-                    accel = uniform_accel
-                else:
+                if not exact:
                     reach = (1.0 + GROWTH) * reference * h
-                    accel = abs(qm) * electric_bound(e_kind, e_par, e_meta, x, y, z, reach)
+                    accel = abs(qm) * electric_bound(e_kind, e_par, e_meta, e_blocks, x, y, z, reach)
                 if accel > 0.0:
                     h = min(h, GROWTH * reference / accel)
-                nu_step = trial_frequencies(speed0 + accel * h, density, gas, bound, inverse_step, sigma_max,
-                                            const_max, trial_s)
+                nu_step = trial_rates(speed0 + accel * h, density, gas, bound, inverse_step, sigma_max, const_max,
+                                      trial_s)
+            # a step that moves less than the clearance cannot leave the volume: no crossing to look for
+            clear = not (e_box or b_box) and speed0 * h + 0.5 * accel * h * h < clearance
             # ---- one step: the state at its end in y1, the end derivative in k[6]
             if exact:
                 px, py, pz = flown_position(x, y, z, vx, vy, vz, h, flight)
@@ -200,7 +204,7 @@ def track_particles(stack_pos, stack_vel, stack_time, stack_birth, stack_state, 
                     k[6, 6] = k[5, 6]
             else:
                 for stage in range(1, 7):
-                    stage_state(y0, k, stage, h, ys)
+                    stage_state(y0, k, stage, h, ys, components)
                     ex, ey, ez = electric_at(e_kind, e_par, e_meta, e_values, e_user, buffer, ys[0], ys[1], ys[2])
                     bx, by, bz = magnetic_at(b_kind, b_par, b_meta, b_values, b_user, buffer, ys[0], ys[1], ys[2])
                     k[stage, 0], k[stage, 1], k[stage, 2] = ys[3], ys[4], ys[5]
@@ -213,7 +217,7 @@ def track_particles(stack_pos, stack_vel, stack_time, stack_birth, stack_state, 
                                                     thermal, thermal_step, nu_s)
                     else:
                         k[stage, 6] = 0.0
-                for c in range(7):
+                for c in range(components):
                     y1[c] = ys[c]
                 error = error_norm(y0, y1, k, h, length, speed_floor, tolerance, depth_tolerance, path)
             if error > 1.0:
@@ -226,15 +230,13 @@ def track_particles(stack_pos, stack_vel, stack_time, stack_birth, stack_state, 
             event = 0  # 0 none, 1 collision, 2 surface, 3 outside the map, 4 time limit
             s_event = h
             low, high = 0.0, -1.0
-            for check in range(2):
+            for check in range(0 if clear else 2):
                 s_check = 0.5 * h if check == 0 else h
                 if exact:
                     cx, cy, cz = flown_position(x, y, z, vx, vy, vz, s_check, flight)
                 else:
                     theta = s_check / h
-                    cx = hermite_position(y0[0], y0[3], k[0, 3], y1[0], y1[3], k[6, 3], h, theta)[0]
-                    cy = hermite_position(y0[1], y0[4], k[0, 4], y1[1], y1[4], k[6, 4], h, theta)[0]
-                    cz = hermite_position(y0[2], y0[5], k[0, 5], y1[2], y1[5], k[6, 5], h, theta)[0]
+                    cx, cy, cz, _, _, _ = dense_state(y0, y1, k, h, theta)
                 f, _ = lowest_surface(surfaces, cx, cy, cz)
                 if f < 0.0 or (e_box and not inside_map(e_meta, cx, cy, cz)) or \
                         (b_box and not inside_map(b_meta, cx, cy, cz)):
@@ -249,9 +251,7 @@ def track_particles(stack_pos, stack_vel, stack_time, stack_birth, stack_state, 
                         cx, cy, cz = flown_position(x, y, z, vx, vy, vz, middle, flight)
                     else:
                         theta = middle / h
-                        cx = hermite_position(y0[0], y0[3], k[0, 3], y1[0], y1[3], k[6, 3], h, theta)[0]
-                        cy = hermite_position(y0[1], y0[4], k[0, 4], y1[1], y1[4], k[6, 4], h, theta)[0]
-                        cz = hermite_position(y0[2], y0[5], k[0, 5], y1[2], y1[5], k[6, 5], h, theta)[0]
+                        cx, cy, cz, _, _, _ = dense_state(y0, y1, k, h, theta)
                     f, _ = lowest_surface(surfaces, cx, cy, cz)
                     if f < 0.0 or (e_box and not inside_map(e_meta, cx, cy, cz)) or \
                             (b_box and not inside_map(b_meta, cx, cy, cz)):
@@ -263,9 +263,7 @@ def track_particles(stack_pos, stack_vel, stack_time, stack_birth, stack_state, 
                     cx, cy, cz = flown_position(x, y, z, vx, vy, vz, high, flight)
                 else:
                     theta = high / h
-                    cx = hermite_position(y0[0], y0[3], k[0, 3], y1[0], y1[3], k[6, 3], h, theta)[0]
-                    cy = hermite_position(y0[1], y0[4], k[0, 4], y1[1], y1[4], k[6, 4], h, theta)[0]
-                    cz = hermite_position(y0[2], y0[5], k[0, 5], y1[2], y1[5], k[6, 5], h, theta)[0]
+                    cx, cy, cz, _, _, _ = dense_state(y0, y1, k, h, theta)
                 f, surface = lowest_surface(surfaces, cx, cy, cz)
                 event = 2 if f < 0.0 else 3
                 if event == 3:
@@ -304,9 +302,7 @@ def track_particles(stack_pos, stack_vel, stack_time, stack_birth, stack_state, 
                                 ux, uy, uz = flown_velocity(vx, vy, vz, s_node, flight)
                             else:
                                 theta = s_node / h
-                                ux = hermite_position(y0[0], y0[3], k[0, 3], y1[0], y1[3], k[6, 3], h, theta)[1]
-                                uy = hermite_position(y0[1], y0[4], k[0, 4], y1[1], y1[4], k[6, 4], h, theta)[1]
-                                uz = hermite_position(y0[2], y0[5], k[0, 5], y1[2], y1[5], k[6, 5], h, theta)[1]
+                                _, _, _, ux, uy, uz = dense_state(y0, y1, k, h, theta)
                             rate = species_rates(math.sqrt(ux * ux + uy * uy + uz * uz), mass, density, nodes,
                                                  accelerator, inverse_cell, species_sigma, species_const, thermal,
                                                  thermal_step, nu_s)
@@ -337,9 +333,7 @@ def track_particles(stack_pos, stack_vel, stack_time, stack_birth, stack_state, 
                         tvx, tvy, tvz = flown_velocity(vx, vy, vz, position, flight)
                     else:
                         theta = position / h
-                        tvx = hermite_position(y0[0], y0[3], k[0, 3], y1[0], y1[3], k[6, 3], h, theta)[1]
-                        tvy = hermite_position(y0[1], y0[4], k[0, 4], y1[1], y1[4], k[6, 4], h, theta)[1]
-                        tvz = hermite_position(y0[2], y0[5], k[0, 5], y1[2], y1[5], k[6, 5], h, theta)[1]
+                        _, _, _, tvx, tvy, tvz = dense_state(y0, y1, k, h, theta)
                     r = uniform(rng) * nu_step
                     species = chosen_species(r, trial_s)
                     for s in range(species):
@@ -372,9 +366,7 @@ def track_particles(stack_pos, stack_vel, stack_time, stack_birth, stack_state, 
                 nx_, ny_, nz_, fx, fy, fz = y1[0], y1[1], y1[2], y1[3], y1[4], y1[5]
             else:
                 theta = s_event / h
-                nx_, fx = hermite_position(y0[0], y0[3], k[0, 3], y1[0], y1[3], k[6, 3], h, theta)
-                ny_, fy = hermite_position(y0[1], y0[4], k[0, 4], y1[1], y1[4], k[6, 4], h, theta)
-                nz_, fz = hermite_position(y0[2], y0[5], k[0, 5], y1[2], y1[5], k[6, 5], h, theta)
+                nx_, ny_, nz_, fx, fy, fz = dense_state(y0, y1, k, h, theta)
             while next_sample < n_samples and sample_times[next_sample] <= t + s_event:
                 s_sample = sample_times[next_sample] - t
                 if exact:
@@ -382,9 +374,7 @@ def track_particles(stack_pos, stack_vel, stack_time, stack_birth, stack_state, 
                     ux, uy, uz = flown_velocity(vx, vy, vz, s_sample, flight)
                 else:
                     theta = s_sample / h
-                    sx, ux = hermite_position(y0[0], y0[3], k[0, 3], y1[0], y1[3], k[6, 3], h, theta)
-                    sy, uy = hermite_position(y0[1], y0[4], k[0, 4], y1[1], y1[4], k[6, 4], h, theta)
-                    sz, uz = hermite_position(y0[2], y0[5], k[0, 5], y1[2], y1[5], k[6, 5], h, theta)
+                    sx, sy, sz, ux, uy, uz = dense_state(y0, y1, k, h, theta)
                 row = moments[g_row, next_sample]
                 row[0] += 1.0
                 row[1] += sx
@@ -409,14 +399,12 @@ def track_particles(stack_pos, stack_vel, stack_time, stack_birth, stack_state, 
                     nx, ny, nz = flown_velocity(vx, vy, vz, half, flight)
                 else:
                     theta = half / h
-                    mx, nx = hermite_position(y0[0], y0[3], k[0, 3], y1[0], y1[3], k[6, 3], h, theta)
-                    my, ny = hermite_position(y0[1], y0[4], k[0, 4], y1[1], y1[4], k[6, 4], h, theta)
-                    mz, nz = hermite_position(y0[2], y0[5], k[0, 5], y1[2], y1[5], k[6, 5], h, theta)
-                wx, wy, wz, _ = weighting_at(w_kind, w_par, x, y, z)
+                    mx, my, mz, nx, ny, nz = dense_state(y0, y1, k, h, theta)
+                wx, wy, wz = weighting_field(w_kind, w_par, x, y, z)
                 i0 = wx * vx + wy * vy + wz * vz
-                wx, wy, wz, _ = weighting_at(w_kind, w_par, mx, my, mz)
+                wx, wy, wz = weighting_field(w_kind, w_par, mx, my, mz)
                 i1 = wx * nx + wy * ny + wz * nz
-                wx, wy, wz, _ = weighting_at(w_kind, w_par, nx_, ny_, nz_)
+                wx, wy, wz = weighting_field(w_kind, w_par, nx_, ny_, nz_)
                 i2 = wx * fx + wy * fy + wz * fz
                 induced = charge * s_event * (i0 + 4.0 * i1 + i2) / 6.0
                 tallies[primary, n_proc + TALLY_INDUCED] += induced
@@ -548,7 +536,7 @@ def track_particles(stack_pos, stack_vel, stack_time, stack_birth, stack_state, 
                 stack_fresh[slot] = False
                 stack_id[slot] = number
                 control[0] = slot + 1
-                tallies[primary, n_proc + TALLY_WEIGHTING] -= charge * (weighting_at(w_kind, w_par, x, y, z)[3]
+                tallies[primary, n_proc + TALLY_WEIGHTING] -= charge * (weighting_potential(w_kind, w_par, x, y, z)
                                                                         - phi_start)
                 return SUSPENDED
             tau_left = -math.log(uniform(rng))  # (a suspended particle draws it when taken again)
@@ -562,7 +550,7 @@ def track_particles(stack_pos, stack_vel, stack_time, stack_birth, stack_state, 
         row[4], row[5], row[6], row[7], row[8], row[9] = x, y, z, vx, vy, vz
         row[10] = birth
         control[1] += 1
-        tallies[primary, n_proc + TALLY_WEIGHTING] -= charge * (weighting_at(w_kind, w_par, x, y, z)[3] - phi_start)
+        tallies[primary, n_proc + TALLY_WEIGHTING] -= charge * (weighting_potential(w_kind, w_par, x, y, z) - phi_start)
     return DONE
 
 
