@@ -74,7 +74,7 @@ def plain_rate(src: Path, particles: int, density: float, per_particle: int) -> 
         "edmd.measure(s, collisions=2 * n, blocks=2)\n"
         f"print(json.dumps(edmd.measure(s, collisions={per_particle} * n, blocks=10).collisions_per_second))\n"
     )
-    env = dict(os.environ, PYTHONPATH=str(src), NUMBA_CACHE_DIR=str(src.parent / ".numba_cache_bench"))
+    env = dict(os.environ, PYTHONPATH=str(src))  # numba keeps the two checkouts' kernels apart by their paths
     output = subprocess.run([sys.executable, "-c", code], env=env, check=True, capture_output=True, text=True).stdout
     return float(output.strip().splitlines()[-1])
 
