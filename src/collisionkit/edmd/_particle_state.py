@@ -207,8 +207,12 @@ class ParticleState:
         ((2, 2), (2,), True)
         """
         self.synchronise()
+        return self._helfand_moments_now()
+
+    def _helfand_moments_now(self):
+        """:meth:`helfand_moments` at the current time without moving the particles there (no gravity)."""
         stored = np.empty(12)
-        _k.stored_helfand_moments(self.p, self.book, stored)
+        _k.stored_helfand_moments(self.p, self.book, self.time, stored)
         dim = self.dim
         momentum = (stored[:9] + self.acc[_k.ACC_MOMENTUM_IMAGE : _k.ACC_MOMENTUM_IMAGE + 9]).reshape(3, 3)
         energy = stored[9:] + self.acc[_k.ACC_ENERGY_IMAGE : _k.ACC_ENERGY_IMAGE + 3]

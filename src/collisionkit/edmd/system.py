@@ -341,6 +341,24 @@ class HardSphereSystem(SystemParameters, ParticleState, NeighbourLists, Checkpoi
                 break
         return done
 
+    def _run_until(self, collisions, elapsed):
+        """Process events until ``collisions`` more pair collisions or the total time ``elapsed``: the collisions made.
+
+        The core of :meth:`run` without its checks, progress and
+        synchronisation: the stretches between the grid times of a transport
+        measurement (a system neither growing nor walled; the particles stay
+        at their own times). Re-sorts and grows overflowed rows as
+        :meth:`run` does.
+        """
+        if self.collisions - self.last_sort >= SORT_INTERVAL * self.count:
+            self._sort_by_cell()
+        start = self.collisions
+        while True:
+            left = collisions - (self.collisions - start)
+            self.time = self._run_events(left, max(elapsed - self.elapsed, self.time))
+            if not self._grow_overflowed_storage():
+                return self.collisions - start
+
     def compile_event_loop(self):
         """Compile the event loop now (numba compiles at the first call), so that a timed run times only events.
 

@@ -8,7 +8,7 @@ import math
 from ..._jit import borrowing_inline_kernel as inline_kernel
 from ..._jit import borrowing_kernel as kernel
 from .cells import cell_coordinates, cell_index, cell_offsets, neighbour_coordinate
-from .layout import ANCHOR, G_BOX, G_PERIODIC, MASS, R, V, X
+from .layout import ANCHOR, G_BOX, G_PERIODIC, MASS, R, T, V, X
 from .motion import advance
 
 
@@ -140,23 +140,26 @@ def pair_distance_counts(points, cell_start, ncell, box, periodic, r_max, counts
 
 
 @kernel
-def stored_helfand_moments(p, b, out):
-    """The Helfand moments of the stored positions x (synchronised particles) into ``out`` (12 entries).
+def stored_helfand_moments(p, b, t, out):
+    """The Helfand moments of the stored positions x at time t into ``out`` (12 entries), particles in free flight.
 
     ``out[3 a + b] = sum_i m_i v_ia x_ib`` (momentum) and
-    ``out[9 + a] = sum_i (m_i v_i^2 / 2) x_ia`` (energy). Plus the image
-    slots of the accumulator they are the moments whose time derivatives
-    are the momentum and energy fluxes (see :mod:`.layout`).
+    ``out[9 + a] = sum_i (m_i v_i^2 / 2) x_ia`` (energy), each x moved
+    from the particle's own time to t along its straight flight (no
+    gravity; the records are not changed). Plus the image slots of the
+    accumulator they are the moments whose time derivatives are the
+    momentum and energy fluxes (see :mod:`.layout`).
     """
     for k in range(12):
         out[k] = 0.0
     for i in range(p.shape[0]):
         mass = b[i, MASS]
+        ahead = t - p[i, T]
         energy = 0.0
         for a in range(3):
             momentum = mass * p[i, V + a]
             energy += 0.5 * momentum * p[i, V + a]
             for c in range(3):
-                out[3 * a + c] += momentum * p[i, X + c]
+                out[3 * a + c] += momentum * (p[i, X + c] + p[i, V + c] * ahead)
         for a in range(3):
-            out[9 + a] += energy * p[i, X + a]
+            out[9 + a] += energy * (p[i, X + a] + p[i, V + a] * ahead)
