@@ -9,7 +9,7 @@ from scipy import constants, stats
 from scipy.integrate import solve_ivp
 
 from collisionkit._kernels.transport import (
-    BOUND_COLUMN_OFFSET, EXTRA_COLUMNS, ISOTROPIC, NULL_COLUMN_OFFSET, SCREENED_COULOMB, SHARE_EQUAL, SHARE_UNIFORM,
+    BOUND_COLUMN_OFFSET, DISPLACEMENT_COLUMN_OFFSET, EXTRA_COLUMNS, ISOTROPIC, NULL_COLUMN_OFFSET, SCREENED_COULOMB, SHARE_EQUAL, SHARE_UNIFORM,
     TIME_COLUMN_OFFSET, TRIAL_BUDGET, WINDOW_COLLISIONS, WINDOW_GROWTH, advance_swarm, derived_field,
 )
 from collisionkit._kernels.transport.collisions import ionized, two_body
@@ -198,6 +198,34 @@ def test_every_ionization_in_a_step_adds_one_living_child_to_its_parent():
     np.testing.assert_array_equal(child_alive, born)
     energy_after = 0.5 * ME * ((vel**2).sum(axis=1) + (child_vel**2 * born[..., None]).sum(axis=(1, 2)))
     np.testing.assert_allclose(energy_after, energy_before, rtol=1e-9)
+
+
+def test_the_displacement_tally_is_each_particle_s_path_from_its_start_to_its_end_or_attachment():
+    """tallies[:, P + 3 .. 5] hold the time integral of the velocity over the step (the flux drift is their sum
+    over the particle time): for a particle, its end position minus its start, where an attached particle ends
+    at its attachment point (and its particle time ends there too). In a field, with attachment: every
+    particle's tally equals its move to round-off, and the attached ones moved less on average."""
+    gas = Gas((Species("a", 1e-26, (Process("elastic", [0.0, 100.0], [5e-20, 5e-20]),
+                                    Process("attachment", rate_coefficient=2e-16))),))
+    tables = build_tables(gas, ME, 0.0)
+    n = 3000
+    rng = np.random.default_rng(9)
+    pos0 = rng.normal(0.0, 1e-3, (n, 3))
+    pos, vel = pos0.copy(), rng.normal(0.0, 5e5, (n, 3))
+    states = np.random.SeedSequence(9).generate_state(4 * n, np.uint64).reshape(n, 4)
+    alive = np.ones(n, bool)
+    tallies = np.zeros((n, tables.kind.size + EXTRA_COLUMNS))
+    empty = (np.zeros((n, 0, 3)), np.zeros((n, 0, 3)), np.zeros((n, 0, 4), np.uint64), np.zeros((n, 0), bool),
+             np.zeros(n, np.int64))
+    field = derived_field(np.array([0.0, 0.0, 3e15]), np.zeros(3))
+    advance_swarm(0, n, pos, vel, states, alive, 0.0, 2e-9, field, ME, 1e24, *tables.arrays(), SHARE_EQUAL,
+                  *tables.lookup(), tallies, *empty, True, WINDOW_COLLISIONS, WINDOW_GROWTH)
+    assert 300 < (~alive).sum() < n - 300
+    moved = tallies[:, tables.kind.size + DISPLACEMENT_COLUMN_OFFSET:][:, :3]
+    np.testing.assert_allclose(moved, pos - pos0, rtol=1e-12, atol=1e-18)
+    lived = tallies[:, tables.kind.size + TIME_COLUMN_OFFSET]
+    assert np.all(lived[alive] == 2e-9) and np.all(lived[~alive] < 2e-9)
+    assert moved[~alive, 2].mean() < moved[alive, 2].mean()  # the field pushes +z: the attached moved less
 
 
 def test_a_particle_that_never_collides_in_a_field_ends_its_call_within_the_budget():

@@ -166,15 +166,22 @@ def test_ctrl_c_stops_a_thick_slab_within_a_second():
     # issue 16, item 9: one kernel call ran a batch's histories to their end (here 1.6e5 histories of about
     # d = 2e4 collisions each, a minute a batch), and Ctrl-C waited for every batch to end
     import _thread
+    import signal
     import threading
     import time
 
     from tests.sweep.helpers import deadline
 
     simulate_slab(1.0, particles=64, seed=1, threads=2)  # compiled first: Ctrl-C during a compile waits for it
+    # Python's own Ctrl-C handler (interrupt_main does nothing under SIG_DFL or SIG_IGN, which a library run
+    # earlier in the session may have left)
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
     timer = threading.Timer(0.5, _thread.interrupt_main)
     start = time.perf_counter()
     timer.start()
-    with deadline(20.0), pytest.raises(KeyboardInterrupt):
-        simulate_slab(20_000.0, particles=10**7, seed=1, threads=2)
+    try:
+        with deadline(20.0), pytest.raises(KeyboardInterrupt):
+            simulate_slab(20_000.0, particles=10**7, seed=1, threads=2)
+    finally:
+        signal.signal(signal.SIGINT, previous)
     assert time.perf_counter() - start < 2.0

@@ -318,9 +318,11 @@ def test_reported_errors_match_the_scatter_of_independent_runs():
                            tolerances={"mean_energy": 1e-9}, collision_budget=4e6) for seed in range(100, 116)]
     dof = len(runs) - 1
     low, high = stats.chi2.ppf([5e-5, 1 - 5e-5], dof) / dof
-    for name in ("mean_energy", "diffusion_T_N", "diffusion_T_N_flux", "diffusion_L_N"):
-        values = np.array([getattr(r, name) for r in runs])
-        errors = np.array([getattr(r, f"{name}_error") for r in runs])
+    for name in ("mean_energy", "diffusion_T_N", "diffusion_T_N_flux", "diffusion_L_N", "drift_velocity_flux",
+                 "drift_velocity_bulk"):
+        # the drifts' z components (along E); the flux drift is the time average over every flight
+        values = np.array([np.ravel(getattr(r, name))[-1] for r in runs])
+        errors = np.array([np.ravel(getattr(r, f"{name}_error"))[-1] for r in runs])
         ratio = values.var(ddof=1) / np.mean(errors**2)
         assert low < ratio < high, (name, ratio)
 

@@ -19,12 +19,31 @@ def slope(t, y):
     return np.tensordot(tc, y - y.mean(axis=0), axes=(0, 0)) / np.dot(tc, tc)
 
 
-def estimates(times, moments, tallies, kinds, density):
-    """Per-group estimates (groups on the first axis) from the steady window."""
+def spatial_moments(moments):
+    """Per group (last axis of ``moments`` the 14 sums of :func:`~collisionkit._kernels.transport.group_moments`):
+    the centroid and the (unbiased) spatial variance per axis, 6 columns."""
+    n = moments[..., 0]
+    centroid = moments[..., 1:4] / np.maximum(n, 1.0)[..., None]
+    variance = (moments[..., 4:7] / np.maximum(n, 1.0)[..., None] - centroid**2) * (n / np.maximum(n - 1, 1))[..., None]
+    return np.concatenate([centroid, variance], axis=-1)
+
+
+def estimates(times, moments, tallies, kinds, density, shifts=None):
+    """Per-group estimates (groups on the first axis) from the steady window.
+
+    ``moments`` are per-sample snapshots (mean energy, positions, the flux
+    diffusion's <r v>); ``tallies`` are sums over every flight of the
+    interval before each sample (collisions, particle time, displacement).
+    ``shifts`` (samples, groups, 6) are population control's cumulative jumps
+    of the centroid and variance, taken out of the bulk coefficients' series.
+    """
     n = moments[..., 0]
     mean = moments[..., 1:14] / n[..., None]
     centroid = mean[..., 0:3]
-    variance = (mean[..., 3:6] - centroid**2) * (n / np.maximum(n - 1, 1))[..., None]
+    spatial = spatial_moments(moments)
+    if shifts is not None:
+        spatial = spatial - shifts
+    variance = spatial[..., 3:6]
     velocity = mean[..., 6:9]
     energy = mean[..., 9] / EV
     cross = mean[..., 10:13] - centroid * velocity
@@ -32,10 +51,14 @@ def estimates(times, moments, tallies, kinds, density):
     n_proc = len(kinds)
     particle_time = rates_time[:, n_proc + _k.TIME_COLUMN_OFFSET]
     counts = rates_time[:, :n_proc]
+    moved = rates_time[:, n_proc + _k.DISPLACEMENT_COLUMN_OFFSET:n_proc + _k.DISPLACEMENT_COLUMN_OFFSET + 3]
     est = {
         "mean_energy": energy.mean(axis=0),
-        "drift_velocity_flux": velocity.mean(axis=0),
-        "drift_velocity_bulk": slope(times, centroid),
+        # the flux drift <v> as the time average over every flight (displacement / particle time), not over the
+        # samples: a sample sees each velocity once, a flight integrates it, so the error falls by the ratio of
+        # the sampling interval to the velocity's correlation time (~20 collisions a sample: 10-15x in variance)
+        "drift_velocity_flux": moved / particle_time[:, None],
+        "drift_velocity_bulk": slope(times, spatial[..., 0:3]),
         "diffusion_L_N_flux": density * cross[..., 2].mean(axis=0),
         "diffusion_T_N_flux": density * 0.5 * (cross[..., 0] + cross[..., 1]).mean(axis=0),
         "diffusion_L_N": density * 0.5 * slope(times, variance[..., 2]),

@@ -18,7 +18,8 @@ import numpy as np
 from scipy import constants
 
 from .._kernels import transport as _k
-from ._estimators import estimates, mean_and_error, townsend_estimates
+from ._estimators import estimates, mean_and_error, spatial_moments, townsend_estimates
+from ._steady import mser_truncation
 from ._tables import KernelTables
 from .swarm_result import SwarmResult
 
@@ -198,6 +199,8 @@ class SwarmRun:
         self.t = 0.0
         self.dt = 0.0
         self.times, self.moments, self.tallies = [], [], []
+        self.shift = np.zeros((groups, 6))  # population control's jumps so far (centroid, variance), per group
+        self.shifts = []  # self.shift at each sample
         self.collisions = 0
         self.nulls = 0
         self.bound_violations = 0
@@ -218,7 +221,7 @@ class SwarmRun:
         if not self.steady_found and int(swarm.alive.sum()) > GROWTH_LIMIT * before:
             self.dt *= 0.5  # keep the population change per sample moderate (transient only)
         if not self.conservative:
-            swarm = control_population(swarm, self.groups, self.target, self.rng)
+            swarm = self._control(swarm)
         if swarm.size == 0 or not swarm.alive.any():
             raise RuntimeError("every particle was attached: no swarm left (lower attachment or raise E/N)")
         if not np.isfinite(swarm.vel[swarm.alive]).all():
@@ -230,6 +233,7 @@ class SwarmRun:
         _k.group_moments(swarm.pos, swarm.vel, swarm.alive, swarm.group, self.groups, self.stepper.mass, moments)
         self.times.append(self.t)
         self.moments.append(moments)
+        self.shifts.append(self.shift.copy())
         self.tallies.append(group_tally)
         n_proc = self.tables.kind.size
         real = int(group_tally[:, :n_proc].sum())
@@ -241,7 +245,26 @@ class SwarmRun:
             _k.energy_histogram(swarm.vel, swarm.alive, self.stepper.mass, self.histogram_step * EV, self.histogram)
 
     def _control(self, swarm):
-        return control_population(swarm, self.groups, self.target, self.rng)
+        """Population control, its jumps of each group's centroid and spatial variance added to ``self.shift``.
+
+        Thinning or cloning at random moves a group's centroid and variance
+        by chance (the expected move is zero); the bulk coefficients are
+        time slopes of those series, and the chance moves of a wide cloud
+        (its spread grows as 2 D t) would dominate their error. The
+        estimators subtract the recorded jumps (a control variate of mean
+        zero): the series then follow the physical births, deaths and flights
+        only.
+        """
+        before = self._spatial_moments(swarm)
+        swarm = control_population(swarm, self.groups, self.target, self.rng)
+        self.shift += self._spatial_moments(swarm) - before
+        return swarm
+
+    def _spatial_moments(self, swarm):
+        """Per group: the centroid (3) and the spatial variance per axis (3) of the living particles."""
+        moments = np.zeros((self.groups, MOMENT_COLUMNS))
+        _k.group_moments(swarm.pos, swarm.vel, swarm.alive, swarm.group, self.groups, self.stepper.mass, moments)
+        return spatial_moments(moments)
 
     def calibrate(self, collisions_per_sample):
         """Pick the sampling interval from the measured collision frequency; the probe step is then forgotten."""
@@ -261,44 +284,48 @@ class SwarmRun:
             self.dt = collisions_per_sample / frequency
         if ionizing > 0:
             self.dt = min(self.dt, 0.1 / ionizing)
-        self.times, self.moments, self.tallies = [], [], []
+        self.times, self.moments, self.tallies, self.shifts = [], [], [], []
         # the probe is the first step, which compiles the kernel on a cold numba cache (seconds): counting it
         # would make collisions_per_second measure the compiler
         self.seconds = 0.0
         self.collisions = self.nulls = 0
 
-    def _chunk_energy(self, chunk):
-        m = np.array(self.moments[-STEPS_PER_CHUNK * chunk:][:STEPS_PER_CHUNK] if chunk == 1 else
-                     self.moments[-STEPS_PER_CHUNK * chunk:-STEPS_PER_CHUNK * (chunk - 1)])
-        per_group = (m[..., 10] / m[..., 0]).mean(axis=0) / EV
-        return mean_and_error(per_group)
+    def _steady_start(self):
+        """First sample of the steady window by the MSER rule on the mean energy and drift series, or None.
 
-    def _steady(self):
-        if len(self.moments) < 3 * STEPS_PER_CHUNK:
-            return False
-        (last, last_err), (first, first_err) = self._chunk_energy(1), self._chunk_energy(3)
-        change = abs(last - first)
-        return change < max(3.0 * math.hypot(last_err, first_err), 1e-3 * abs(last))
+        The series are the swarm's mean energy and mean velocity per sample
+        (all groups together); see :mod:`._steady`.
+        """
+        moments = np.array(self.moments)
+        count = np.maximum(moments[..., 0].sum(axis=1), 1.0)
+        series = np.column_stack([moments[..., 10].sum(axis=1), moments[..., 7:10].sum(axis=1)]) / count[:, None]
+        return mser_truncation(series)
 
     def until_converged(self, tolerances, budget, max_seconds, min_samples, energy_bins, progress, setup):
         """Run the transient, then measure until the tolerances are met or the budget is spent.
 
-        The budget (collisions or seconds) is checked after every sample, so it
-        is overshot by at most one sample, or by the two samples a result needs
+        The transient ends where the MSER rule finds it (:mod:`._steady`);
+        the rule is applied again to the whole record before every result,
+        so a slow tail that the longer record resolves is cut too. The budget
+        (collisions or seconds) is checked after every sample, so it is
+        overshot by at most one sample, or by the two samples a result needs
         at the least when the transient used it up.
         """
         def spent():
             return self.collisions >= budget or self.seconds >= max_seconds
 
-        while not self._steady() and not spent():
+        start = None
+        while start is None and not spent():
             for _ in range(STEPS_PER_CHUNK):
                 self.step()
                 if spent():
                     break
             if progress:
                 progress(min(1.0, self.collisions / budget))
+            start = self._steady_start()
+        found = start is not None
+        start = start if found else len(self.times)
         self.steady_found = True
-        start = len(self.times)
         energies = self._current_energies()
         self.histogram_step = 4.0 * energies.mean() / energy_bins
         self.histogram = np.zeros(energy_bins + 1)  # the last slot counts energies beyond the last bin
@@ -307,6 +334,9 @@ class SwarmRun:
                 self.step()
                 if spent() and len(self.times) - start >= MIN_RESULT_SAMPLES:
                     break
+            if found:  # the longer record may resolve a slow tail: cut it too (at least half is kept)
+                cut = self._steady_start()
+                start = len(self.times) // 2 if cut is None else cut
             samples = len(self.times) - start
             if samples >= min_samples or spent():
                 result = self._result(start, setup, False)
@@ -327,7 +357,7 @@ class SwarmRun:
         moments = np.array(self.moments[start:])
         first = start + 1 if len(self.tallies) > start + 1 else start  # the first sample's tallies are of the interval before the window
         tallies = np.array(self.tallies[first:])
-        est = estimates(times, moments, tallies, self.tables.kinds, self.density)
+        est = estimates(times, moments, tallies, self.tables.kinds, self.density, np.array(self.shifts[start:]))
         values = {name: mean_and_error(value) for name, value in est.items()}
         values |= townsend_estimates(est)
         rates, rate_errors = values.pop("rates")

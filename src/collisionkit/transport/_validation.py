@@ -50,7 +50,8 @@ def validate_swarm_setup(gas, reduced_field, reduced_magnetic_field, gas_tempera
     integer_in_range(seed, "seed", 0)
     real_in_range(mass, "mass (kg)", 0.0)
     real_in_range(charge, "charge (C)")
-    real_in_range(initial_energy, "initial_energy (eV)", 0.0)
+    if initial_energy is not None:  # None: the single-energy power balance picks it
+        real_in_range(initial_energy, "initial_energy (eV)", 0.0)
 
 
 def validated_run_settings(particles, groups, gravity, sharing, tolerances, collision_budget, max_seconds,

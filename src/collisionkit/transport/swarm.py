@@ -40,6 +40,7 @@ from scipy import constants
 
 from .._arrays import seed_value
 from .._kernels import transport as _k
+from ._initial import balanced_energy
 from ._swarm_run import STEPS_PER_CHUNK, Stepper, SwarmRun, initial_swarm
 from ._tables import SHARING_CODES, build_tables
 from ._validation import (
@@ -125,6 +126,17 @@ def _field_record(reduced_field, reduced_magnetic_field, density, mass, charge, 
     return _k.derived_field(acceleration, charge * magnetic / mass)
 
 
+def _starting_energy(tables, density, mass, charge, reduced_magnetic_field, gravity, reduced_field,
+                     gas_temperature):
+    """The default initial mean energy (eV): the Maxwellian power balance in the run's force and B."""
+    electric = np.array([0.0, 0.0, reduced_field * TOWNSEND * density])
+    force = charge * electric + mass * np.asarray(gravity, dtype=float)
+    magnitude = float(np.linalg.norm(force))
+    omega = np.array([0.0, charge * reduced_magnetic_field * HUXLEY * density / mass, 0.0])
+    perpendicular = float(np.linalg.norm(np.cross(omega, force / magnitude))) if magnitude > 0.0 else 0.0
+    return balanced_energy(tables, density, magnitude, perpendicular, mass, gas_temperature)
+
+
 def simulate_swarm(
     gas: Gas,
     reduced_field: float,
@@ -138,7 +150,7 @@ def simulate_swarm(
     charge: float = -constants.e,
     gravity=(0.0, 0.0, 0.0),
     sharing: str = "equal",
-    initial_energy: float = 1.0,
+    initial_energy: float | None = None,
     tolerances: dict | None = None,
     collision_budget: float = 2e9,
     max_seconds: float = math.inf,
@@ -174,8 +186,12 @@ def simulate_swarm(
         Extra uniform acceleration (m/s^2, finite).
     sharing : {"equal", "uniform"}
         Energy sharing between the two electrons after ionization.
-    initial_energy : float
-        Mean energy (eV, > 0) of the initial Maxwellian.
+    initial_energy : float or None
+        Mean energy (eV, > 0) of the initial Maxwellian; by default the
+        energy at which the power balance of a Maxwellian swarm closes
+        (``collisionkit.transport._initial.balanced_energy``: 3/2 kT with
+        no field, within about 35 % of the steady mean energy in a field),
+        so that the transient is short.
     tolerances : dict
         Target relative errors (> 0) of ``mean_energy``, ``drift_velocity_bulk``,
         ``diffusion_L_N``, ``diffusion_T_N``; the run stops when all are met,
@@ -249,6 +265,9 @@ def simulate_swarm(
     threads = threads or os.cpu_count() or 1
     density = REFERENCE_DENSITY
     field_record = _field_record(reduced_field, reduced_magnetic_field, density, mass, charge, gravity)
+    if initial_energy is None:
+        initial_energy = _starting_energy(tables, density, mass, charge, reduced_magnetic_field, gravity,
+                                          reduced_field, gas_temperature)
     swarm = initial_swarm(particles, groups, seed, mass, initial_energy)
     rng = np.random.default_rng(np.random.SeedSequence(seed).spawn(groups + 1)[-1])
     stepper = Stepper(tables, field_record, mass, density, SHARING_CODES[sharing], threads, CHECK_BOUND)

@@ -49,6 +49,7 @@ from .flight import derived_field
 from .layout import (
     ATTACHMENT,
     BOUND_COLUMN_OFFSET,
+    DISPLACEMENT_COLUMN_OFFSET,
     ELASTIC,
     EXCITATION,
     EXTRA_COLUMNS,
@@ -68,7 +69,7 @@ from .moments import energy_histogram, group_moments, group_sums
 from .slab import FLIGHT_SIZE, slab_batch
 
 __all__ = [
-    "ATTACHMENT", "BOUND_COLUMN_OFFSET", "ELASTIC", "EXCITATION", "EXTRA_COLUMNS", "FLIGHT_SIZE", "FORWARD",
+    "ATTACHMENT", "BOUND_COLUMN_OFFSET", "DISPLACEMENT_COLUMN_OFFSET", "ELASTIC", "EXCITATION", "EXTRA_COLUMNS", "FLIGHT_SIZE", "FORWARD",
     "IONIZATION", "ISOTROPIC", "NULL_COLUMN_OFFSET", "OKHRIMOVSKYY", "SCREENED_COULOMB", "SHARE_EQUAL",
     "SHARE_UNIFORM", "SUPERELASTIC", "TIME_COLUMN_OFFSET", "TRIAL_BUDGET", "VAHEDI_SURENDRA", "WINDOW_COLLISIONS",
     "WINDOW_GROWTH", "advance_swarm", "derived_field", "energy_histogram", "group_moments", "group_sums", "slab_batch",

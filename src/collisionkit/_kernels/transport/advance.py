@@ -15,7 +15,8 @@ from .collisions import ionized, two_body
 from .cross_sections import node_index, trial_frequencies
 from .flight import flight_envelope, flown_position, flown_velocity, window_growth_speed, window_top_speed
 from .layout import (
-    ATTACHMENT, BOUND_COLUMN_OFFSET, ELASTIC, EXCITATION, NULL_COLUMN_OFFSET, SUPERELASTIC, TIME_COLUMN_OFFSET,
+    ATTACHMENT, BOUND_COLUMN_OFFSET, DISPLACEMENT_COLUMN_OFFSET, ELASTIC, EXCITATION, NULL_COLUMN_OFFSET, SUPERELASTIC,
+    TIME_COLUMN_OFFSET,
 )
 from .rng import next_u64, normal_pair, seed_state, uniform
 
@@ -52,7 +53,8 @@ def advance_swarm(lo, hi, pos, vel, states, alive, t_start, t_end, field, mass, 
     would otherwise never end its step.
 
     ``tallies[i]`` receives the collisions per process, the null collisions,
-    the particle time of particle i and its children and (with ``check``)
+    the particle time of particle i and its children, their displacement
+    (the time integral of their velocity over the step) and (with ``check``)
     the trials at which the true collision rate exceeded the trial bound
     (never, if the method is exact; checked runs evaluate every process at
     every trial instead of first testing the trial, for a species of
@@ -80,6 +82,7 @@ def advance_swarm(lo, hi, pos, vel, states, alive, t_start, t_end, field, mass, 
     null_column = n_proc + NULL_COLUMN_OFFSET
     time_column = n_proc + TIME_COLUMN_OFFSET
     bound_column = n_proc + BOUND_COLUMN_OFFSET
+    moved_column = n_proc + DISPLACEMENT_COLUMN_OFFSET
     accel_mag = math.sqrt(field[0] ** 2 + field[1] ** 2 + field[2] ** 2)
     ax, ay, az = field[0], field[1], field[2]
     exact = field[12] == 0.0
@@ -117,6 +120,7 @@ def advance_swarm(lo, hi, pos, vel, states, alive, t_start, t_end, field, mass, 
                     rng[k] = child_state[i, member, k]
                 t = child_time[member]
             t_begin = t
+            x0, y0, z0 = x, y, z
             survives = True
             speed0 = math.sqrt(vx * vx + vy * vy + vz * vz)
             nu_window = trial_frequencies(speed0, density, gas, bound, inverse_step, sigma_max, const_max, nu_s)
@@ -264,6 +268,10 @@ def advance_swarm(lo, hi, pos, vel, states, alive, t_start, t_end, field, mass, 
                     seed_state(next_u64(rng), child_state[i, n_children])
                     n_children += 1
             tallies[i, time_column] += t - t_begin
+            # the time integral of the velocity: the exact flights end to end (to the attachment point if any)
+            tallies[i, moved_column] += x - x0
+            tallies[i, moved_column + 1] += y - y0
+            tallies[i, moved_column + 2] += z - z0
             if member < 0:
                 pos[i, 0], pos[i, 1], pos[i, 2] = x, y, z
                 vel[i, 0], vel[i, 1], vel[i, 2] = vx, vy, vz

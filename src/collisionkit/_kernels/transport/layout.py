@@ -27,4 +27,5 @@ SHARE_UNIFORM = 1
 NULL_COLUMN_OFFSET = 0  # tallies[i, P]: null collisions
 TIME_COLUMN_OFFSET = 1  # tallies[i, P + 1]: particle time alive in the step
 BOUND_COLUMN_OFFSET = 2  # tallies[i, P + 2]: trials where the true rate exceeded the bound (checked runs)
-EXTRA_COLUMNS = 3
+DISPLACEMENT_COLUMN_OFFSET = 3  # tallies[i, P + 3 .. P + 5]: the integral of the velocity over the step (m)
+EXTRA_COLUMNS = 6
