@@ -123,3 +123,46 @@ def test_a_slow_relaxation_is_waited_for():
                            collision_budget=1e9)
         assert r.converged
         assert abs(r.mean_energy - kt) < 4 * r.mean_energy_error, (seed, r.mean_energy, r.mean_energy_error)
+
+
+def test_the_transient_s_swarm_grows_to_the_run_s_counts_with_whole_copies_and_fresh_streams():
+    from collisionkit.transport._swarm_run import grow_swarm, initial_swarm
+
+    small = initial_swarm(4 * 10, 4, 3, ME, 1.0)
+    small.alive[[0, 5]] = False  # the dead are not copied
+    counts = np.array([35, 30, 31, 40])
+    grown = grow_swarm(small, counts, np.random.default_rng(1))
+    np.testing.assert_array_equal(np.bincount(grown.group, minlength=4), counts)
+    assert grown.alive.all()
+    for g in range(4):
+        living = np.nonzero((small.group == g) & small.alive)[0]
+        copies = np.array([(np.all(grown.vel == small.vel[i], axis=1)).sum() for i in living])
+        # every living particle copied counts // members times, or once more (the extra ones at random)
+        assert set(copies) <= {counts[g] // living.size, counts[g] // living.size + 1}
+        assert copies.sum() == counts[g]
+    assert np.unique(grown.states, axis=0).shape[0] == grown.size  # every copy on its own stream
+    # the grown swarm's per-group means are the small one's up to the extra copies: exactly, with whole copies
+    whole = grow_swarm(small, np.array([18, 20, 20, 20]), np.random.default_rng(2))
+    for g, members in ((1, 10), (2, 10)):
+        mine = small.group == g
+        np.testing.assert_allclose(whole.vel[whole.group == g].mean(axis=0), small.vel[mine].mean(axis=0),
+                                   rtol=1e-12)
+
+
+def test_a_run_relaxes_with_a_share_of_its_particles_and_measures_with_all():
+    # 4096 particles in 16 groups: 1/4 of them relax (64 a group at the least), 1/16 of the default 20 000
+    from collisionkit.transport import _swarm_run
+
+    sizes = []
+    original = _swarm_run.SwarmRun.step
+
+    def step(self):
+        sizes.append(int(self.swarm.alive.sum()))
+        return original(self)
+
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setattr(_swarm_run.SwarmRun, "step", step)
+        r = simulate_swarm(reid_ramp(), 12.0, gas_temperature=0.0, particles=4096, seed=2, threads=1,
+                           tolerances={"mean_energy": 0.01})
+    assert sizes[0] == 1024 and sizes[-1] == 4096 and r.particles == 4096
+    assert abs(r.mean_energy / 0.2691 - 1) < 4 * r.mean_energy_error / r.mean_energy + 0.002  # LoKI-MC

@@ -190,12 +190,39 @@ def control_population(swarm: Swarm, groups, target, rng):
     return result
 
 
+def grow_swarm(swarm: Swarm, counts, rng):
+    """Each group's living particles cloned up to ``counts[g]`` (whole copies each, then extra ones at random).
+
+    The transient runs with a fraction of the particles (it costs per
+    particle, and its end does not depend on their number); once it ends,
+    every particle is copied the same number of times, which keeps each
+    group's distribution, and the clones get fresh random streams so that
+    they part at their next collision.
+    """
+    keep = []
+    for g, count in enumerate(counts):
+        members = np.nonzero((swarm.group == g) & swarm.alive)[0]
+        if members.size == 0:
+            continue
+        copies, extra = divmod(int(count), members.size)
+        chosen = np.concatenate([np.repeat(members, copies), np.sort(rng.choice(members, extra, replace=False))])
+        keep.append(np.sort(chosen, kind="stable"))
+    index = np.concatenate(keep)
+    result = swarm.take(index)
+    repeated = np.zeros(index.size, bool)
+    repeated[1:] = index[1:] == index[:-1]
+    clones = np.nonzero(repeated)[0]
+    result.states[clones] = rng.integers(1, 2**63, size=(clones.size, 4), dtype=np.uint64)  # fresh streams
+    return result
+
+
 class SwarmRun:
     """State of one swarm run: the particles, the clock and the per-step sums."""
 
     def __init__(self, stepper, swarm, groups, target, rng, tables, density):
         self.stepper, self.swarm, self.groups, self.target, self.rng = stepper, swarm, groups, target, rng
         self.tables, self.density = tables, density
+        self.final_counts = None  # per-group particle counts to grow to once the transient ends (None: no growth)
         self.t = 0.0
         self.dt = 0.0
         self.times, self.moments, self.tallies = [], [], []
@@ -259,6 +286,16 @@ class SwarmRun:
         swarm = control_population(swarm, self.groups, self.target, self.rng)
         self.shift += self._spatial_moments(swarm) - before
         return swarm
+
+    def _grow(self):
+        """Clone the transient's swarm up to the run's size (its jumps of centroid and variance recorded)."""
+        if self.final_counts is None:
+            return
+        before = self._spatial_moments(self.swarm)
+        self.swarm = grow_swarm(self.swarm, self.final_counts, self.rng)
+        self.shift += self._spatial_moments(self.swarm) - before
+        self.target = max(1, int(round(np.mean(self.final_counts))))
+        self.final_counts = None
 
     def _spatial_moments(self, swarm):
         """Per group: the centroid (3) and the spatial variance per axis (3) of the living particles."""
@@ -325,6 +362,7 @@ class SwarmRun:
             start = self._steady_start()
         found = start is not None
         start = start if found else len(self.times)
+        self._grow()
         self.steady_found = True
         energies = self._current_energies()
         self.histogram_step = 4.0 * energies.mean() / energy_bins

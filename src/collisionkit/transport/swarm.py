@@ -52,6 +52,11 @@ from .swarm_result import SwarmResult
 __all__ = ["SwarmResult", "simulate_swarm", "trace_trajectories", "diffusion_error_floor", "DEFAULT_TOLERANCES",
            "TOWNSEND", "HUXLEY", "REFERENCE_DENSITY"]
 
+# The transient runs with 1/TRANSIENT_SHARE of the particles (at least TRANSIENT_PER_GROUP a group), which are then
+# cloned to the full number: relaxing costs per particle, and in argon at low E/N it takes ~M/(2m) = 4e4 collisions
+# a particle (the whole of a run that relaxed with every particle)
+TRANSIENT_SHARE = 16
+TRANSIENT_PER_GROUP = 64
 TOWNSEND = 1e-21  # V m^2
 HUXLEY = 1e-27  # T m^3
 REFERENCE_DENSITY = 1e24  # m^-3; N-scaled results do not depend on it
@@ -177,7 +182,10 @@ def simulate_swarm(
         :mod:`collisionkit.transport.superelastic`); 0 puts the targets at
         rest with every level empty, as the model-gas benchmarks assume.
     particles, groups : int
-        Initial particles (>= 8 groups) and independent groups (errors; 4 to 1024).
+        Particles (>= 8 groups) and independent groups (errors; 4 to 1024).
+        The transient runs with 1/16 of the particles (at least 64 a
+        group); when it ends each is cloned (fresh random streams) up to
+        ``particles``, which then measure.
     seed : int or numpy.random.Generator
         Seed of the streams (>= 0), or a Generator that draws one.
     mass, charge : float
@@ -268,11 +276,14 @@ def simulate_swarm(
     if initial_energy is None:
         initial_energy = _starting_energy(tables, density, mass, charge, reduced_magnetic_field, gravity,
                                           reduced_field, gas_temperature)
-    swarm = initial_swarm(particles, groups, seed, mass, initial_energy)
+    counts = np.full(groups, particles // groups)
+    counts[: particles % groups] += 1
+    copies = max(1, min(TRANSIENT_SHARE, particles // groups // TRANSIENT_PER_GROUP))
+    swarm = initial_swarm(groups * max(1, particles // groups // copies), groups, seed, mass, initial_energy)
     rng = np.random.default_rng(np.random.SeedSequence(seed).spawn(groups + 1)[-1])
     stepper = Stepper(tables, field_record, mass, density, SHARING_CODES[sharing], threads, CHECK_BOUND)
-    target = max(1, particles // groups)
-    run = SwarmRun(stepper, swarm, groups, target, rng, tables, density)
+    run = SwarmRun(stepper, swarm, groups, max(1, swarm.size // groups), rng, tables, density)
+    run.final_counts = counts if copies > 1 else None
     try:
         run.calibrate(collisions_per_sample)
         return run.until_converged(tolerances, collision_budget, max_seconds, min_samples, energy_bins, progress,
