@@ -52,8 +52,8 @@ def half_box(geom, k):
 
 @inline_kernel
 def shear_offset(params, geom, t):
-    """x offset of the sliding image box above at clock time t (not reduced modulo L_x)."""
-    return params[P_SHEAR_OFFSET] + params[P_SHEAR_RATE] * geom[G_BOX, 1] * t
+    """x offset of the sliding image box above at clock time t, in [0, L_x]."""
+    return (params[P_SHEAR_OFFSET] + params[P_SHEAR_RATE] * geom[G_BOX, 1] * t) % geom[G_BOX, 0]
 
 
 @inline_kernel
@@ -63,7 +63,9 @@ def sheared_image(dx, dy, geom, offset):
     ``n`` (-1, 0 or 1) is the number of box heights taken off dy; the
     partner's image is then shifted by ``-n`` offsets along x and moves at
     ``-n G L_y`` relative to the partner (add that to the x relative
-    velocity). |dy| must be below 1.5 L_y; dx may be any size.
+    velocity). |dy| must be below 1.5 L_y, |dx| below L_x plus a shell and
+    the offset in [0, L_x]: then two compare-and-subtracts reduce dx, no
+    division (the prediction's inner loop).
     """
     ly = geom[G_BOX, 1]
     lx = geom[G_BOX, 0]
@@ -72,8 +74,8 @@ def sheared_image(dx, dy, geom, offset):
         n = 1.0
     elif dy < -0.5 * ly:
         n = -1.0
-    rx = dx - n * offset
-    rx -= lx * math.floor(rx / lx + 0.5)
+    half = 0.5 * lx
+    rx = minimum_image(minimum_image(dx - n * offset, lx, half), lx, half)
     return rx, dy - n * ly, n
 
 
