@@ -10,7 +10,7 @@ run at the same density.
 For each N (FCC start, 3D, one core): two copies of the system, one
 periodic and one sheared at rate G with the thermostat at kT = 1 (so both
 run at the same temperature; the thermostat re-predicts every event after
-every N collisions, part of the cost measured), 20 collisions per particle
+every 4N collisions, part of the cost measured), 20 collisions per particle
 of warm-up, then ``--repeats`` pairs of runs of ``--per-particle``
 collisions each, alternating in one process; the rate is collisions per
 CPU second.

@@ -147,13 +147,13 @@ def test_offset_follows_the_clock_and_peculiar_velocities_start_as_given():
     assert np.allclose(system.velocities()[:, 0] - flow, system.peculiar_velocities()[:, 0], atol=1e-12)
 
 
-def test_thermostat_rescales_to_kT_every_N_collisions():
+def test_thermostat_rescales_to_kT_on_its_grid_of_collisions():
     system = _sheared(2, 1.0, thermostat=1.5)
-    system.run(collisions=3 * system.count)
+    system.run(collisions=2 * edmd.THERMOSTAT_INTERVAL * system.count)
     assert system.temperature() == pytest.approx(1.5, rel=1e-12)
     assert system.thermostat_energy > 0  # viscous heating removed
     free = _sheared(2, 1.0)
-    free.run(collisions=3 * free.count)
+    free.run(collisions=2 * edmd.THERMOSTAT_INTERVAL * free.count)
     assert free.temperature() > 1.1  # without it the elastic fluid heats up
 
 

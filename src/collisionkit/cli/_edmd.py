@@ -287,7 +287,7 @@ def edmd(
     thermostat: Annotated[
         bool | None,
         typer.Option("--thermostat/--no-thermostat",
-                     help=_help("With --shear-rate: hold kT = 1 by rescaling the velocities relative to the flow every N pair collisions.", "no")),
+                     help=_help("With --shear-rate: hold kT = 1 by rescaling the velocities relative to the flow every 4 N pair collisions.", "no")),
     ] = None,
     summary: Annotated[Path | None, typer.Option("--summary", help="Write the results as JSON to this file.")] = None,
     trajectory: Annotated[

@@ -307,7 +307,8 @@ def _check_shear(params, geom, dim):
              "must hold a shear rate only for a periodic box without gravity")
     _require(params[_k.P_GROWTH] == 0.0, "params", "must hold no growth under shear")
     _require(0.0 <= params[_k.P_SHEAR_OFFSET] < geom[_k.G_BOX, 0], "params", "must hold a shear offset in [0, L_x)")
-    _require(params[_k.P_SHEAR_MARGIN] == params[_k.P_SHELL], "params", "must hold a shear margin equal to the shell")
+    _require(0.0 < params[_k.P_SHEAR_MARGIN] <= params[_k.P_SHELL], "params",
+             "must hold a shear margin in (0, shell] under shear")
 
 
 def _check_particles(arrays, p, dim, geom, params, time):

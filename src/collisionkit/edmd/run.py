@@ -90,7 +90,7 @@ class EdmdParameters(Parameters):
         not with ``transport``.
     thermostat : bool
         Under shear: hold kT = 1 by rescaling the peculiar velocities after
-        every N pair collisions (elastic spheres heat up under shear).
+        every 4 N pair collisions (elastic spheres heat up under shear).
 
     Examples
     --------

@@ -22,18 +22,20 @@ from .._repr import hard_sphere_system_rows, html_table
 from . import _checks, _system_setup
 from ._neighbour_lists import NeighbourLists
 from ._particle_state import ParticleState
-from ._shear import ShearFlow, shear_parameters
+from ._shear import THERMOSTAT_INTERVAL, ShearFlow, shear_parameters
 from ._system_events import run_event_loop
 from ._system_parameters import SystemParameters
 from ._system_setup import RESTITUTION_LAWS
 from ._system_state import Checkpoints
 
-__all__ = ["DEFAULT_SHELL", "RESTITUTION_LAWS", "SORT_INTERVAL", "HardSphereSystem", "OverlapError"]
+__all__ = ["DEFAULT_SHELL", "RESTITUTION_LAWS", "SHEAR_SHELL", "SORT_INTERVAL", "HardSphereSystem", "OverlapError"]
 
 # re-sort particles in memory by cell after this many collisions per particle
 SORT_INTERVAL = 20
 # neighbour-list shell (skin) in units of the largest diameter; benchmarks/bench_edmd.py --shells tunes it
 DEFAULT_SHELL = 0.7
+# the shell's default under shear, where the cells grow by the shear margin too (benchmarks/bench_edmd_shear.py)
+SHEAR_SHELL = 0.45
 
 
 class OverlapError(ValueError, RuntimeError):
@@ -100,7 +102,8 @@ class HardSphereSystem(SystemParameters, ParticleState, NeighbourLists, Checkpoi
         Uniform acceleration; flights become exact parabolas.
     neighbour_shell : float, optional
         Skin of the neighbour lists in units of the largest diameter, > 0
-        (default 0.7, the fastest at eta = 0.45 in benchmarks/bench_edmd.py).
+        (default 0.7, the fastest at eta = 0.45 in benchmarks/bench_edmd.py;
+        0.45 under shear, :data:`SHEAR_SHELL`).
         A wider shell means longer lists but fewer rebuilds. Only speed
         depends on it; in small periodic boxes it is narrowed so that twice
         the list radius stays below the box.
@@ -113,7 +116,8 @@ class HardSphereSystem(SystemParameters, ParticleState, NeighbourLists, Checkpoi
         streaming velocity G (y - L_y / 2) along x.
     thermostat : float, optional
         Under shear: the kT to which the peculiar velocities are rescaled
-        after every N pair collisions (> 0; default None, no thermostat).
+        after every ``THERMOSTAT_INTERVAL`` N pair collisions (> 0; default
+        None, no thermostat).
         Elastic spheres heat up under shear without one.
 
     Examples
@@ -144,7 +148,7 @@ class HardSphereSystem(SystemParameters, ParticleState, NeighbourLists, Checkpoi
         elastic_below=None,
         wall_restitution=1.0,
         gravity=None,
-        neighbour_shell=DEFAULT_SHELL,
+        neighbour_shell=None,
         shear_rate=0.0,
         thermostat=None,
         *,
@@ -164,6 +168,8 @@ class HardSphereSystem(SystemParameters, ParticleState, NeighbourLists, Checkpoi
         )
         self.restitution_law = restitution_law
         gravity = _system_setup.gravity_vector(gravity, dim)
+        if neighbour_shell is None:
+            neighbour_shell = DEFAULT_SHELL if shear_rate == 0.0 else SHEAR_SHELL
         self._shell_request = _checks.positive(neighbour_shell, "neighbour_shell")
 
         self.geom = _system_setup.geometry(box, periodic, gravity)
@@ -336,7 +342,7 @@ class HardSphereSystem(SystemParameters, ParticleState, NeighbourLists, Checkpoi
         done, remaining = 0, duration
         while done < target and remaining > 0:
             step = min(chunk, target - done)
-            if self.thermostat is not None:  # the peculiar velocities are rescaled after every N pair collisions
+            if self.thermostat is not None:  # the peculiar velocities are rescaled on a grid of the collision count
                 step = min(step, self._thermostat_due_in())
             if self.collisions - self.last_sort >= SORT_INTERVAL * self.count:
                 self._sort_by_cell()
@@ -353,7 +359,7 @@ class HardSphereSystem(SystemParameters, ParticleState, NeighbourLists, Checkpoi
                 shares = ([done / collisions] if collisions else []) + ([1.0 - remaining / duration] if time else [])
                 progress(min(max(shares), 1.0))
             self.synchronise()
-            if self.thermostat is not None and advanced > 0 and self.collisions % self.count == 0:
+            if self.thermostat is not None and advanced > 0 and self._thermostat_due_in() == THERMOSTAT_INTERVAL * self.count:
                 self._apply_thermostat()
             if self._grow_overflowed_storage():
                 continue
