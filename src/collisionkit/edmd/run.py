@@ -543,11 +543,17 @@ class EdmdRun:
         --------
         >>> EdmdRun(EdmdParameters(dim=2, particles=64, initial="square", seed=1)).cooling_note() is None
         True
+        >>> sheared = EdmdRun(EdmdParameters(dim=2, particles=64, initial="square", restitution=0.9, shear_rate=0.1))
+        >>> sheared.cooling_note().split(":")[0]
+        'restitution < 1 under shear'
         """
         if self.parameters.restitution == 1.0:
             return None
         system = self.system
         kT = system.temperature()
+        if self.parameters.shear_rate != 0.0:
+            return (f"restitution < 1 under shear: the viscous heating of the flow balances the collisional cooling "
+                    f"in a steady state (kT from 1 to {kT:.3g}); compare with granular_shear_flow (dilute gas)")
         note = (f"restitution < 1: the gas cooled as it ran (homogeneous cooling, Haff's law), kT from 1 to {kT:.3g}; "
                 "Z, the collision frequency and D are averages over a cooling state, not equilibrium values")
         if system.elastic_below > 0 and kT < 100.0 * system.elastic_below**2:
