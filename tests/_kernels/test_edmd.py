@@ -86,8 +86,8 @@ def test_event_queue_gives_the_earliest_event_lowest_index_on_ties(count, update
 
 
 @numba.njit
-def _wrap(p, geom, image, b, acc):
-    wrap_into_box(p, 0, geom, 2, image, b, acc)
+def _wrap(p, geom, image, b, acc, params):
+    wrap_into_box(p, 0, geom, 2, image, b, acc, params)
 
 
 def test_wrapping_a_particle_keeps_its_unwrapped_position_and_takes_back_the_moments_jump():
@@ -103,9 +103,37 @@ def test_wrapping_a_particle_keeps_its_unwrapped_position_and_takes_back_the_mom
         p[0, kernels.X : kernels.X + 2] = [x, 3.0]
         p[0, kernels.V : kernels.V + 2] = [1.5, -2.0]
         image, acc = np.zeros((1, 2), dtype=np.int64), np.zeros(kernels.ACC_SIZE)
-        _wrap(p, geom, image, b, acc)
+        _wrap(p, geom, image, b, acc, np.zeros(kernels.P_SIZE))
         assert p[0, kernels.X] == wrapped and image[0, 0] == shift and image[0, 1] == 0
         moved = wrapped - x
         np.testing.assert_allclose(acc[kernels.ACC_MOMENTUM_IMAGE : kernels.ACC_MOMENTUM_IMAGE + 9],
                                    [-3.0 * moved, 0, 0, 4.0 * moved, 0, 0, 0, 0, 0], rtol=1e-15)
         assert acc[kernels.ACC_ENERGY_IMAGE] == pytest.approx(-0.5 * 2.0 * 6.25 * moved, rel=1e-15)
+
+
+def test_sheared_wrap_moves_a_particle_to_its_sliding_image():
+    """Through y = L_y a particle becomes its image below: x back by the offset at its time, v_x down by G L_y."""
+    geom = np.zeros((4, 3))
+    geom[kernels.G_BOX] = [10.0, 8.0, 1.0]
+    geom[kernels.G_PERIODIC, :2] = 1.0
+    params = np.zeros(kernels.P_SIZE)
+    params[kernels.P_SHEAR_RATE] = 0.5
+    params[kernels.P_SHEAR_OFFSET] = 3.0
+    b = np.zeros((1, 8))
+    b[0, kernels.MASS] = 1.0
+    time = 2.0  # offset 3 + 0.5 * 8 * 2 = 11, 1 modulo 10
+    for y, x, wrapped_x, wrapped_y, velocity, images in (
+        (8.25, 4.0, 3.0, 0.25, 1.5 - 4.0, (0, 1)),  # up through L_y: x - 11 + 10
+        (-0.5, 9.5, 0.5, 7.5, 1.5 + 4.0, (1, -1)),  # down through 0: x + 11 - 20
+        (-1e-20, 2.0, 2.0, 0.0, 1.5, (0, 0)),  # -tiny + L_y rounds to L_y: at 0, no move
+    ):
+        p = np.zeros((1, 8))
+        p[0, kernels.X : kernels.X + 2] = [x, y]
+        p[0, kernels.V : kernels.V + 2] = [1.5, -2.0]
+        p[0, kernels.T] = time
+        image, acc = np.zeros((1, 2), dtype=np.int64), np.zeros(kernels.ACC_SIZE)
+        _wrap(p, geom, image, b, acc, params)
+        assert p[0, kernels.X] == pytest.approx(wrapped_x, abs=1e-12) and p[0, kernels.X + 1] == wrapped_y
+        assert p[0, kernels.V] == velocity and tuple(image[0]) == images
+        # its velocity relative to the flow G (y - L_y / 2) is unchanged
+        assert velocity - 0.5 * (wrapped_y - 4.0) == pytest.approx(1.5 - 0.5 * (y - 4.0), abs=1e-12)

@@ -97,3 +97,23 @@ def test_the_packing_fraction_limits_are_defined_once():
     """MAX_PACKING_FRACTION is the one definition of the densest supported packing, per dimension."""
     assert edmd.MAX_PACKING_FRACTION is theory.MAX_PACKING_FRACTION
     assert edmd.MAX_PACKING_FRACTION == {2: 0.7, 3: 0.5}
+
+
+def test_granular_shear_flow_limits_and_balances():
+    """Grad's uniform shear flow: the elastic limit gives Chapman-Enskog's first-Sonine viscosity; the balances hold."""
+    import math
+
+    from collisionkit.edmd import granular_shear_flow
+
+    for dim, first_sonine in ((3, 5 / (16 * math.sqrt(math.pi))), (2, 1 / (2 * math.sqrt(math.pi)))):
+        nearly_elastic = granular_shear_flow(1 - 1e-9, 0.01, 0.05, dim)
+        kT = nearly_elastic["temperature"]
+        assert nearly_elastic["viscosity"] == pytest.approx(first_sonine * math.sqrt(kT), rel=1e-6)
+        assert nearly_elastic["normal_stress_yy"] == pytest.approx(1.0, abs=1e-8)
+        flow = granular_shear_flow(0.7, 0.2, 0.02, dim)
+        # energy: viscous heating a eta a = cooling zeta p d / 2, with zeta = zeta* nu_0, nu_0 = p / eta_0(T)
+        alpha, n, T = 0.7, 0.02, flow["temperature"]
+        zeta = (dim + 2) * (1 - alpha**2) / (4 * dim) * n * T / (first_sonine * math.sqrt(T))
+        assert 0.2 * flow["viscosity"] * 0.2 == pytest.approx(zeta * n * T * dim / 2, rel=1e-12)
+        # the temperature scales as the square of the shear rate at fixed alpha and density
+        assert granular_shear_flow(0.7, 0.4, 0.02, dim)["temperature"] == pytest.approx(4 * T, rel=1e-12)

@@ -51,6 +51,8 @@ class EdmdOptions(Options):
     initial: InitialName = "random"
     transport: bool = False
     yeh_hummer: bool = False
+    shear_rate: float = Field(default=0.0, ge=0, allow_inf_nan=False)
+    thermostat: bool = False
     summary: Path | None = None
     trajectory: Path | None = None
     frame_every: int | None = Field(default=None, ge=1)
@@ -278,6 +280,15 @@ def edmd(
         typer.Option("--yeh-hummer/--no-yeh-hummer",
                      help=_help("With --transport in 3D: also report D corrected to the infinite system (Yeh-Hummer, from the measured shear viscosity).", "no")),
     ] = None,
+    shear_rate: Annotated[
+        float | None,
+        typer.Option(help=_help("Lees-Edwards shear at rate G (>= 0; flow x, gradient y): reports the shear stress and shear_viscosity = -P_xy / G.", "0, no shear")),
+    ] = None,
+    thermostat: Annotated[
+        bool | None,
+        typer.Option("--thermostat/--no-thermostat",
+                     help=_help("With --shear-rate: hold kT = 1 by rescaling the velocities relative to the flow every 4 N pair collisions.", "no")),
+    ] = None,
     summary: Annotated[Path | None, typer.Option("--summary", help="Write the results as JSON to this file.")] = None,
     trajectory: Annotated[
         Path | None, typer.Option(help="Write frames to this GSD file (HOOMD, OVITO, freud read it).")
@@ -312,7 +323,7 @@ def edmd(
     given = dict(
         dim=dim, particles=particles, packing_fraction=packing_fraction, restitution=restitution,
         elastic_below=elastic_below, equilibration=equilibration, collisions=collisions, blocks=blocks, seed=seed, initial=initial,
-        transport=transport, yeh_hummer=yeh_hummer, summary=summary, trajectory=trajectory, frame_every=frame_every, xyz=xyz, out=out, plots=plots,
+        transport=transport, yeh_hummer=yeh_hummer, shear_rate=shear_rate, thermostat=thermostat, summary=summary, trajectory=trajectory, frame_every=frame_every, xyz=xyz, out=out, plots=plots,
         checkpoint=checkpoint, overwrite=overwrite,
     )  # fmt: skip
     if resume is None:

@@ -30,7 +30,7 @@ def rows(result: dict) -> list[tuple[str, str, str]]:
         return f"{result[key]:.5g} ± {result[key + '_error']:.2g}"
 
     z, omega, kT, lost = _theory_column(result)
-    return _transport_rows(result, pm) + [
+    return _shear_rows(result, pm) + _transport_rows(result, pm) + [
         ("compressibility factor Z = PV/NkT", pm("compressibility_factor"), z),
         ("collision frequency per particle", pm("collision_frequency"), omega),
         ("temperature kT (final)", f"{result['temperature']:.6g}", kT),
@@ -43,9 +43,22 @@ def rows(result: dict) -> list[tuple[str, str, str]]:
     ]
 
 
+def _shear_rows(result: dict, pm) -> list[tuple[str, str, str]]:
+    """The rows of a sheared run (--shear-rate): the shear stress and the viscosity from it."""
+    if "shear_rate" not in result:
+        return []
+    enskog = result.get("shear_viscosity_enskog")
+    return [
+        ("shear viscosity -P_xy/G", pm("shear_viscosity"),
+         f"{enskog:.4g} (Enskog, G -> 0)" if enskog is not None else f"shear rate G = {result['shear_rate']:g}"),
+        ("shear stress P_xy (collisional part)", f"{pm('shear_stress')} ({pm('collisional_shear_stress')})",
+         f"shear rate G = {result['shear_rate']:g}"),
+    ]
+
+
 def _transport_rows(result: dict, pm) -> list[tuple[str, str, str]]:
     """The rows of the transport coefficients (with --transport), Enskog's values in the theory column."""
-    if "shear_viscosity" not in result:
+    if "transport_fit_window" not in result:
         return []
 
     def enskog(key):

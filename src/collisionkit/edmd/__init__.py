@@ -34,7 +34,8 @@ from .initial import LATTICE_BASIS, LATTICE_DIM, lattice, lattice_cells, maxwell
 from ._transport import TransportMeasurement, TransportSampler
 from .measurement import RECORDS, Measurement, Sampler, measure
 from .run import EdmdParameters, EdmdRun
-from .system import DEFAULT_SHELL, RESTITUTION_LAWS, SORT_INTERVAL, HardSphereSystem, OverlapError
+from ._shear import THERMOSTAT_INTERVAL
+from .system import DEFAULT_SHELL, RESTITUTION_LAWS, SHEAR_SHELL, SORT_INTERVAL, HardSphereSystem, OverlapError
 from .theory import (
     MAX_PACKING_FRACTION,
     YEH_HUMMER_XI,
@@ -42,6 +43,7 @@ from .theory import (
     chapman_enskog_transport,
     enskog_collision_frequency,
     enskog_transport,
+    granular_shear_flow,
     hansen_goos,
     henderson,
     packing_fraction,
@@ -65,7 +67,9 @@ __all__ = [
     "MSD_MAX_LAGS",
     "RECORDS",
     "RESTITUTION_LAWS",
+    "SHEAR_SHELL",
     "SORT_INTERVAL",
+    "THERMOSTAT_INTERVAL",
     "TransportMeasurement",
     "TransportSampler",
     "YEH_HUMMER_XI",
@@ -77,6 +81,7 @@ __all__ = [
     "chapman_enskog_transport",
     "enskog_collision_frequency",
     "enskog_transport",
+    "granular_shear_flow",
     "green_kubo_viscosity",
     "hansen_goos",
     "henderson",

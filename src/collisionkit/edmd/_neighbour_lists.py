@@ -22,6 +22,9 @@ from ._system_setup import copy_masses_and_species
 LIST_SCALE_MARGIN = 0.05
 # slots per cell a new system starts with (grown when a cell needs more)
 INITIAL_CELL_SLOTS = 8
+# the shear margin (the extra list radius of pairs across the y faces) in units of the shell: wider means rarer
+# sweeps but larger cells (benchmarks/bench_edmd_shear.py)
+SHEAR_MARGIN = 0.5
 # the most cells a particle, on average (per axis: (CELLS_PER_PARTICLE N)^(1/dim))
 CELLS_PER_PARTICLE = 2
 
@@ -77,15 +80,26 @@ class NeighbourLists:
                 f"the largest diameter ({largest:.6g})"
             )
         shell = self._shell_request * 2.0 * float(np.max(self.p[:, _k.R])) * max(list_scale, 1.0)
+        sheared = self.params[_k.P_SHEAR_RATE] != 0.0
         if periodic_sides.size:
             # the minimum image must be unique within the list radius: 2 (largest + shell) < L
             shell = min(shell, 0.98 * (0.5 * periodic_sides.min() - largest))
-        reach = largest + shell
+        if sheared:
+            # pairs across the y faces are listed to a shear margin further, and at least 3 rows of cells, each as
+            # high as that radius, keep the first and last rows apart (see _kernels.edmd.loop)
+            shell = min(shell, 0.98 / (1.0 + SHEAR_MARGIN) * (periodic_sides.min() / 3.0 - largest))
+            if shell < 0.01 * largest:
+                raise ValueError(
+                    f"box {self.box[: self.dim].tolist()} is too small to shear: every axis needs at least 3.1 times "
+                    f"the largest diameter ({largest:.6g})"
+                )
+        self.params[_k.P_SHEAR_MARGIN] = SHEAR_MARGIN * shell if sheared else 0.0
+        reach = largest + shell + self.params[_k.P_SHEAR_MARGIN]
         ncell = np.ones(3, dtype=np.int64)
         widths = np.ones(3)
         # cells wider than the reach are as valid: at most about CELLS_PER_PARTICLE a particle (small radii of a
         # compression's start, or a dilute gas, would otherwise ask for many empty cells)
-        most = max(1, int((CELLS_PER_PARTICLE * self.count) ** (1.0 / self.dim)))
+        most = max(3 if sheared else 1, int((CELLS_PER_PARTICLE * self.count) ** (1.0 / self.dim)))
         for k in range(self.dim):
             ncell[k] = min(max(int(math.floor(self.box[k] / reach * (1 - 1e-12))), 1), most)
             widths[k] = self.box[k] / ncell[k]
@@ -117,6 +131,7 @@ class NeighbourLists:
                 self._grow_lists(needed)
             else:
                 break
+        self._schedule_sweep()
         self._predict_all()
 
     def _fullest_cell(self, ncell, widths) -> int:

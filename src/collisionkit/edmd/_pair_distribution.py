@@ -21,8 +21,43 @@ def pair_histogram(system, r_max, bins):
     dim = system.dim
     system.synchronise()
     gap = system._time_to_next_event()
-    points = system._folded(ahead=0.5 * gap if 0.0 < gap < math.inf else 0.0)[0]
+    ahead = 0.5 * gap if 0.0 < gap < math.inf else 0.0
+    points = system._folded(ahead=ahead)[0]
+    if system.shear_rate != 0.0:
+        return _sheared_histogram(points[:, :dim], system.box[:dim], system._offset_at(system.time + ahead), r_max,
+                                  bins)
     return pair_distance_histogram(points[:, :dim], system.box[:dim], system.periodic[:dim], r_max, bins)
+
+
+def _sheared_histogram(points, box, offset, r_max, bins):
+    """:func:`pair_distance_histogram` under Lees-Edwards shear (points folded into the box, image offset ``offset``).
+
+    Within r_max of a y face a particle's nearest partners may be images
+    across it, shifted by -+ the offset: the points within r_max of a face
+    get ghost copies beyond the other one, and y is counted open. The
+    ordered pairs from the points to points and ghosts are then
+    (C(points + ghosts) + C(points) - C(ghosts)) / 2, C counting ordered
+    pairs within a set.
+    """
+    dim = points.shape[1]
+    lx, ly = box[0], box[1]
+    ghosts = []
+    for side, near in ((1.0, points[:, 1] < r_max), (-1.0, points[:, 1] >= ly - r_max)):
+        copy = points[near].copy()
+        copy[:, 1] += side * ly
+        copy[:, 0] = (copy[:, 0] + side * offset) % lx
+        copy[copy[:, 0] >= lx, 0] = 0.0
+        ghosts.append(copy)
+    ghosts = np.concatenate(ghosts)
+    tall = np.array(box, dtype=float)
+    tall[1] = ly + 2.0 * r_max
+    open_y = np.ones(dim, dtype=bool)
+    open_y[1] = False
+    lifted = [np.asarray(set_, dtype=float) + np.eye(dim)[1] * r_max for set_ in (points, ghosts)]
+    both = pair_distance_histogram(np.concatenate(lifted), tall, open_y, r_max, bins)
+    alone = pair_distance_histogram(lifted[0], tall, open_y, r_max, bins)
+    among_ghosts = pair_distance_histogram(lifted[1], tall, open_y, r_max, bins) if len(ghosts) > 1 else 0.0
+    return 0.5 * (both + alone - among_ghosts)
 
 
 def pair_distance_histogram(points, box, periodic, r_max, bins):

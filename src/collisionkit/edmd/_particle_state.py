@@ -69,7 +69,10 @@ class ParticleState:
         so stored positions may lie up to half a shell outside the box.
         ``ahead`` > 0 moves them that far along their free flights first
         (exact only before the next event: see :meth:`_time_to_next_event`).
+        Under shear, the images of Lees-Edwards (see ``_shear``).
         """
+        if self.params[_k.P_SHEAR_RATE] != 0.0:
+            return self._sheared_folded(ahead)[:2]
         gravity = self.geom[_k.G_GRAVITY, : self.dim]
         pos = self.pos + self.vel * ahead + 0.5 * gravity * ahead**2
         image = self._image.copy()
@@ -109,7 +112,7 @@ class ParticleState:
         return self._to_user_order(internal)
 
     def velocities(self):
-        """Velocities at the current time (a copy).
+        """Velocities at the current time (a copy); under shear those of the particles in the box (lab frame).
 
         Examples
         --------
@@ -121,10 +124,14 @@ class ParticleState:
         True
         """
         self.synchronise()
+        if self.params[_k.P_SHEAR_RATE] != 0.0:
+            velocities = self.vel.copy()
+            velocities[:, 0] += self._sheared_folded()[2]
+            return self._to_user_order(velocities)
         return self._to_user_order(self.vel)
 
     def kinetic_energy(self) -> float:
-        """Total kinetic energy sum(m v^2) / 2.
+        """Total kinetic energy sum(m v^2) / 2; under shear that of the peculiar velocities (relative to the flow).
 
         Examples
         --------
@@ -136,7 +143,8 @@ class ParticleState:
         100.0
         """
         self.synchronise()
-        return float(0.5 * np.sum(self._mass[:, None] * self.vel**2))
+        velocities = self._peculiar() if self.params[_k.P_SHEAR_RATE] != 0.0 else self.vel
+        return float(0.5 * np.sum(self._mass[:, None] * velocities**2))
 
     def temperature(self) -> float:
         """kT = 2 K / (d N).
@@ -154,7 +162,7 @@ class ParticleState:
         return 2.0 * self.kinetic_energy() / (self.dim * self.count)
 
     def momentum(self):
-        """Total momentum sum(m v).
+        """Total momentum sum(m v); under shear that of the peculiar velocities (relative to the flow).
 
         Examples
         --------
@@ -166,7 +174,8 @@ class ParticleState:
         True
         """
         self.synchronise()
-        return (self._mass[:, None] * self.vel).sum(axis=0)
+        velocities = self._peculiar() if self.params[_k.P_SHEAR_RATE] != 0.0 else self.vel
+        return (self._mass[:, None] * velocities).sum(axis=0)
 
     def helfand_moments(self):
         r"""The Einstein-Helfand moments of momentum and energy now: ``(G, G_E)``, shapes (d, d) and (d,).
@@ -221,6 +230,9 @@ class ParticleState:
     def set_velocities(self, velocities):
         """Replace all velocities (at the current time) and re-predict every event.
 
+        Under shear the velocities are those :meth:`velocities` gives: of the
+        particles in the box, lab frame.
+
         Examples
         --------
         >>> import numpy as np
@@ -237,10 +249,14 @@ class ParticleState:
         _arrays.require_finite(velocities, "velocities")
         self.synchronise()
         self.p[:, _k.V : _k.V + self.dim] = velocities[self.ids]
+        if self.params[_k.P_SHEAR_RATE] != 0.0:
+            self.p[:, _k.V] -= self._sheared_folded()[2]
         self._predict_all()
 
     def rescale_temperature(self, kT=1.0):
         """Scale all velocities to the temperature kT (kinetic definition); re-predicts events.
+
+        Under shear the peculiar velocities are scaled (the flow stays).
 
         Parameters
         ----------
@@ -261,5 +277,11 @@ class ParticleState:
         current = self.temperature()
         if current == 0.0:
             raise ValueError("cannot rescale the temperature of a system at rest (every velocity is zero)")
+        if self.params[_k.P_SHEAR_RATE] != 0.0:
+            factor = math.sqrt(kT / current)
+            self.p[:, _k.V] = self._streaming(self.p[:, _k.X + 1]) + factor * self._peculiar()[:, 0]
+            self.p[:, _k.V + 1 : _k.V + self.dim] *= factor
+            self._predict_all()
+            return
         self.set_velocities(self.velocities() * math.sqrt(kT / current))
 

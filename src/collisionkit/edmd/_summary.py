@@ -63,6 +63,11 @@ def edmd_summary(run, measurement, files: Sequence = ()) -> dict[str, Any]:
             result["compressibility_factor_carnahan_starling"] = float(carnahan_starling(eta))
     if measurement.transport is not None:
         result |= _transport_summary(run, measurement)
+    if p.shear_rate != 0.0:
+        result["thermostat"] = p.thermostat
+        if p.dim == 3:  # the zero-rate limit of the sheared fluid's viscosity, at the measured temperature
+            enskog = enskog_transport(measurement.packing_fraction, kT=measurement.temperature)
+            result["shear_viscosity_enskog"] = enskog["shear_viscosity"]
     if run.trajectory is not None:
         result["trajectory_frames"] = run.frames
     result["files"] = [str(path) for path in files]

@@ -21,6 +21,7 @@ import numpy as np
 
 from .._io import CheckpointError, read_checkpoint, write_checkpoint
 from .._kernels import edmd as _k
+from ._neighbour_lists import CELLS_PER_PARTICLE
 from ._system_setup import RESTITUTION_LAWS, aligned_zeros, next_power_of_two
 
 CHECKPOINT_KIND = "hard-sphere-system"
@@ -33,11 +34,12 @@ class Checkpoints:
                "ncell", "queue", "tree", "neighbours", "neighbour_count", "cell_members", "cell_count", "cell_points")
     _SCALARS = ("dim", "time", "elapsed", "leaves", "last_sort", "_shell_request")
     # layout of the engine's arrays in a checkpoint; raise it when they change (2: bookkeeping records, block queue;
-    # 3: the transport sums in the accumulator)
-    STATE_FORMAT = 3
+    # 3: the transport sums in the accumulator; 4: Lees-Edwards shear and its thermostat in the parameters and the
+    # accumulator)
+    STATE_FORMAT = 4
     # older formats a restore still reads: format 2 lacks the transport sums, which start at 0 (only their changes
-    # over a measurement have a meaning, and a format-2 run measured none)
-    READABLE_FORMATS = (2, 3)
+    # over a measurement have a meaning, and a format-2 run measured none); formats 2 and 3 were never sheared
+    READABLE_FORMATS = (2, 3, 4)
 
     def state_dict(self):
         """Every array and number needed to continue the run bit for bit.
@@ -85,7 +87,9 @@ class Checkpoints:
             raise CheckpointError(f"the state has no array {', '.join(map(repr, missing))}")
         arrays = {name: np.array(state[name], order="C") for name in cls._ARRAYS}  # copies: checked, then kept
         if written < cls.STATE_FORMAT:
-            arrays["acc"] = _with_transport_sums(arrays["acc"])
+            arrays["acc"] = _padded(arrays["acc"], (_k.ACC_SIZE_WITHOUT_TRANSPORT, _k.ACC_SIZE_WITHOUT_THERMOSTAT),
+                                    _k.ACC_SIZE)
+            arrays["params"] = _padded(arrays["params"], (_k.P_SIZE_WITHOUT_SHEAR,), _k.P_SIZE)
         check_state(arrays, {name: state[name] for name in (*cls._SCALARS, "restitution_law")})
         system = cls.__new__(cls)
         for name, array in arrays.items():
@@ -156,16 +160,21 @@ _DTYPES = {"p": np.float64, "_mass": np.float64, "_species": np.int64, "_image":
 _COUNTERS = (_k.ACC_PAIR_COLLISIONS, _k.ACC_WALL_COLLISIONS, _k.ACC_LIST_REBUILDS, _k.ACC_STALE_EVENTS, _k.ACC_EVENTS)
 _OVERFLOWS = (_k.ACC_LIST_OVERFLOW, _k.ACC_CELL_OVERFLOW)
 _PARAMETERS = (_k.P_SCALE0, _k.P_GROWTH, _k.P_LAW, _k.P_LAW_SPEED, _k.P_LAW_EXPONENT, _k.P_ELASTIC_BELOW,
-               _k.P_WALL_RESTITUTION, _k.P_SHELL, _k.P_LIST_SCALE)
+               _k.P_WALL_RESTITUTION, _k.P_SHELL, _k.P_LIST_SCALE, _k.P_SHEAR_RATE, _k.P_SHEAR_OFFSET, _k.P_SHEAR_SWEEP,
+               _k.P_SHEAR_MARGIN, _k.P_THERMOSTAT)
 _TRANSPORT_SUMS = tuple(range(_k.ACC_STRESS, _k.ACC_SIZE))
 _TOTALS = (_k.ACC_VIRIAL, _k.ACC_ENERGY_LOST, _k.ACC_WALL_IMPULSE, *_COUNTERS, *_OVERFLOWS, *_TRANSPORT_SUMS)
 
 
-def _with_transport_sums(acc):
-    """The accumulator of a format-2 state (no transport sums) with them appended at 0; other sizes unchanged."""
-    if acc.shape != (_k.ACC_SIZE_WITHOUT_TRANSPORT,) or acc.dtype != np.float64:
-        return acc  # check_state names what is wrong with it
-    return np.concatenate([acc, np.zeros(_k.ACC_SIZE - _k.ACC_SIZE_WITHOUT_TRANSPORT)])
+def _padded(array, old_sizes, size):
+    """An array of an older format (one of ``old_sizes`` long) with the newer slots appended at 0; others unchanged.
+
+    Format 2 lacks the transport sums and the thermostat slot, format 3 the
+    thermostat slot and the shear parameters: 0 is no shear, no thermostat.
+    """
+    if array.ndim != 1 or array.shape[0] not in old_sizes or array.dtype != np.float64:
+        return array  # check_state names what is wrong with it
+    return np.concatenate([array, np.zeros(size - array.shape[0])])
 
 
 def _bad(name, what):
@@ -273,6 +282,7 @@ def _check_parameters(arrays, law, p, geom, dim):
              "must hold a growth rate and an elastic floor >= 0")
     _require(0 <= params[_k.P_WALL_RESTITUTION] <= 1, "params", "must hold a wall restitution in [0, 1]")
     _require(params[_k.P_LAW] == RESTITUTION_LAWS[law], "params", f"must hold the law of restitution_law {law!r}")
+    _check_shear(params, geom, dim)
     _require(params[_k.P_LIST_SCALE] >= params[_k.P_SCALE0] * (1 - 1e-9), "params",
              "must hold a list scale >= the radius scale")
     _require(np.isfinite(p[:, _k.R]) & (p[:, _k.R] > 0), "p", "must hold radii > 0")
@@ -283,6 +293,22 @@ def _check_parameters(arrays, law, p, geom, dim):
              "must hold a shell that keeps the list radius below half of each periodic box length")
     _require(3.0 * largest * (1 - 1e-12) <= 2.0 * half, "p", "must hold radii that fit 3 diameters in a periodic box")
     return params
+
+
+def _check_shear(params, geom, dim):
+    """The shear entries: none without a shear rate; else a periodic box, no growth, offset and margin in range."""
+    rate = params[_k.P_SHEAR_RATE]
+    _require(params[_k.P_THERMOSTAT] >= 0, "params", "must hold a thermostat kT >= 0")
+    if rate == 0.0:
+        shear = params[[_k.P_SHEAR_OFFSET, _k.P_SHEAR_SWEEP, _k.P_SHEAR_MARGIN, _k.P_THERMOSTAT]]
+        _require(shear == 0.0, "params", "must hold no shear offset, sweep, margin or thermostat without a shear rate")
+        return
+    _require(np.all(geom[_k.G_PERIODIC, :dim] != 0) & np.all(geom[_k.G_GRAVITY] == 0), "params",
+             "must hold a shear rate only for a periodic box without gravity")
+    _require(params[_k.P_GROWTH] == 0.0, "params", "must hold no growth under shear")
+    _require(0.0 <= params[_k.P_SHEAR_OFFSET] < geom[_k.G_BOX, 0], "params", "must hold a shear offset in [0, L_x)")
+    _require(0.0 < params[_k.P_SHEAR_MARGIN] <= params[_k.P_SHELL], "params",
+             "must hold a shear margin in (0, shell] under shear")
 
 
 def _check_particles(arrays, p, dim, geom, params, time):
@@ -347,8 +373,10 @@ def _check_cells(arrays, p, dim, geom, params, rebuilt):
     count = p.shape[0]
     ncell = _array(arrays, "ncell", (3,))
     box = geom[_k.G_BOX, :dim]
-    reach = 2.0 * float(np.max(p[:, _k.R])) * params[_k.P_LIST_SCALE] + params[_k.P_SHELL]
-    grid = np.maximum(np.floor(box / reach * (1 - 1e-12)), 1).astype(np.int64)
+    reach = 2.0 * float(np.max(p[:, _k.R])) * params[_k.P_LIST_SCALE] + params[_k.P_SHELL] + params[_k.P_SHEAR_MARGIN]
+    # at most about CELLS_PER_PARTICLE cells a particle (at least 3 per axis under shear), as the lists make them
+    most = max(3 if params[_k.P_SHEAR_RATE] != 0.0 else 1, int((CELLS_PER_PARTICLE * count) ** (1.0 / dim)))
+    grid = np.minimum(np.maximum(np.floor(box / reach * (1 - 1e-12)), 1), most).astype(np.int64)
     _require(np.array_equal(ncell, np.concatenate([grid, np.ones(3 - dim, dtype=np.int64)])), "ncell",
              f"must hold the cell grid {grid.tolist()} of the box and the list radius; got {ncell.tolist()}")
     _require(geom[_k.G_CELL, :dim] == box / grid, "geom", "must hold the cell widths of the grid")

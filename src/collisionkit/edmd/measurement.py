@@ -19,10 +19,12 @@ from ._transport import TransportMeasurement, TransportSampler, transport_measur
 from .system import HardSphereSystem
 from .theory import _ball_volume
 
-__all__ = ["RECORDS", "Measurement", "Sampler", "measure"]
+__all__ = ["RECORDS", "SHEAR_RECORDS", "Measurement", "Sampler", "measure"]
 
 # what the sampler records at the end of each block
 RECORDS = ("temperature", "compressibility", "pressure", "frequency", "time", "msd", "msd_groups")
+# and, under shear, the xy element of the pressure tensor (kinetic plus collisional) and its collisional part
+SHEAR_RECORDS = ("shear_stress", "collisional_shear_stress")
 
 
 @dataclass
@@ -42,7 +44,11 @@ class Measurement:
     sampling, not compiling), so ``collisions_per_second`` is the rate a run
     of this size delivers. ``transport``: the transport coefficients
     (:class:`~collisionkit.edmd.TransportMeasurement`) of a measurement
-    asked for them, else None.
+    asked for them, else None. Under shear (``shear_rate`` > 0):
+    ``shear_stress`` (the block mean of P_xy, kinetic plus collisional),
+    ``collisional_shear_stress`` (its collisional part) and
+    ``shear_viscosity`` = -P_xy / G, each with its error; the diffusion
+    coefficient is NaN there (the flow carries the particles along x).
 
     Examples
     --------
@@ -84,6 +90,13 @@ class Measurement:
     block_compressibility: np.ndarray = field(repr=False)
     block_frequency: np.ndarray = field(repr=False)
     transport: TransportMeasurement | None = field(default=None, repr=False)
+    shear_rate: float = 0.0
+    shear_stress: float = math.nan
+    shear_stress_error: float = math.nan
+    collisional_shear_stress: float = math.nan
+    collisional_shear_stress_error: float = math.nan
+    shear_viscosity: float = math.nan
+    shear_viscosity_error: float = math.nan
 
     @property
     def collisions_per_second(self) -> float:
@@ -107,6 +120,10 @@ class Measurement:
         ).split()
         result = {key: getattr(self, key) for key in keys}
         result["collisions_per_second"] = self.collisions_per_second
+        if self.shear_rate != 0.0:
+            result |= {key: getattr(self, key) for key in (
+                "shear_rate", "shear_stress", "shear_stress_error", "collisional_shear_stress",
+                "collisional_shear_stress_error", "shear_viscosity", "shear_viscosity_error")}
         if self.transport is not None:
             result |= {"self_diffusion": self.diffusion_coefficient,
                        "self_diffusion_error": self.diffusion_coefficient_error} | self.transport.summary()
@@ -174,10 +191,13 @@ class Sampler:
         self.lag_msd = _msd.LagMSD(lags, self.start_positions, self.start_time)
         self.start_lost = system.energy_lost
         self.wall_seconds = 0.0
-        self.records = {name: [] for name in RECORDS}
+        self.records = {name: [] for name in RECORDS + (SHEAR_RECORDS if system.shear_rate != 0.0 else ())}
         self.speeds = []
         if not isinstance(transport, (bool, np.bool_)):
             raise TypeError(f"transport must be True or False; got {transport!r}")
+        if transport and system.shear_rate != 0.0:
+            raise ValueError("transport cannot be measured under shear (the Einstein-Helfand relations hold in "
+                             "equilibrium); the sheared system's shear viscosity comes from its stress")
         self.transport = TransportSampler(system) if transport else None
 
     @property
@@ -234,6 +254,7 @@ class Sampler:
         dim, count = system.dim, system.count
         kT_before = system.temperature()
         virial0, collisions0, time0 = system.virial, system.collisions, system.elapsed
+        shear0 = _shear_totals(system)
         # numba compiles at the first call (seconds on a cold cache): not a part of the timed run
         system.compile_event_loop()
         _pair_distribution.pair_distance_histogram(np.zeros((1, dim)), system.box[:dim], system.periodic, 1.0, 1)
@@ -263,6 +284,10 @@ class Sampler:
         squared = np.sum((unwrapped - self.start_positions) ** 2, axis=1)
         record["msd"].append(float(np.mean(squared)))
         record["msd_groups"].append(_msd.group_means(squared))
+        if system.shear_rate != 0.0:
+            stress, collisional = _shear_stresses(system, shear0, duration)
+            record["shear_stress"].append(stress)
+            record["collisional_shear_stress"].append(collisional)
         if self.lag_msd is not None:
             self.lag_msd.add(unwrapped, system.elapsed)
         self.speeds.append(np.linalg.norm(system.velocities(), axis=1))
@@ -322,7 +347,8 @@ class Sampler:
         sampler.r_max, sampler.start_time, sampler.start_lost, sampler.wall_seconds = r_max, start_time, start_lost, wall
         sampler.histogram = np.array(state["sampler_histogram"])
         sampler.start_positions = np.array(state["sampler_start_positions"])
-        sampler.records = {name: list(state[f"sampler_{name}"]) for name in RECORDS if f"sampler_{name}" in state}
+        sampler.records = {name: list(state[f"sampler_{name}"]) for name in RECORDS + SHEAR_RECORDS
+                           if f"sampler_{name}" in state}
         # a checkpoint written before the groups were recorded: their blocks are unknown (no D error)
         sampler.records.setdefault("msd_groups", [np.full(_msd.MSD_GROUPS, math.nan)] * len(sampler.records["msd"]))
         sampler.speeds = [row for row in np.array(state["sampler_speeds"])]
@@ -362,6 +388,8 @@ class Sampler:
         msd = np.concatenate([[0.0], record["msd"]])
         from_lags = self.lag_msd.diffusion(dim) if self.lag_msd is not None else None
         diffusion, diffusion_error = from_lags or _msd.diffusion_from_msd(msd_time, msd, record["msd_groups"], dim)
+        if system.shear_rate != 0.0:  # the flow carries the particles along x: no diffusion from the MSD
+            diffusion = diffusion_error = math.nan
         omega_error = _msd.block_error(record["frequency"])
         diameter = 2.0 * float(np.max(system.radius))
         contact, contact_error = _pair_distribution.contact_value(centres, rdf, self.histogram, diameter)
@@ -399,6 +427,7 @@ class Sampler:
             block_frequency=np.asarray(record["frequency"]),
             transport=None if self.transport is None else transport_measurement(
                 self.transport, self.done, 1.0 / omega, system.volume, count),
+            **_shear_results(system.shear_rate, record),
         )
 
 
@@ -434,6 +463,41 @@ def measure(system: HardSphereSystem, collisions: int, blocks: int = 10, rdf_bin
     while not sampler.finished:
         sampler.run_block(None if progress is None else _share_of_blocks(progress, sampler))
     return sampler.result()
+
+
+def _shear_totals(system):
+    """What the shear stress of a block is computed from: peculiar kinetic energy, energy lost and removed, stress."""
+    if system.shear_rate == 0.0:
+        return None
+    return (system.kinetic_energy(), system.energy_lost, system.thermostat_energy,
+            float(system.collisional_stress[0, 1]))
+
+
+def _shear_stresses(system, before, duration):
+    r"""P_xy over a block (kinetic plus collisional) and its collisional part, from the exact energy balance.
+
+    Over the block :math:`\Delta E + E_{lost} + E_{thermostat} = -G V \int
+    P_{xy} dt` (see :mod:`._shear`): the total needs no sampling of the
+    kinetic stress; the collisional part is the collisional stress sum's
+    change over V t.
+    """
+    energy, lost, removed, stress = before
+    work = (system.kinetic_energy() - energy) + (system.energy_lost - lost) + (system.thermostat_energy - removed)
+    volume_time = system.volume * duration
+    return (-work / (system.shear_rate * volume_time),
+            (float(system.collisional_stress[0, 1]) - stress) / volume_time)
+
+
+def _shear_results(rate, record):
+    """The Measurement's shear fields from the block records (none without shear)."""
+    if rate == 0.0:
+        return {}
+    stress, collisional = np.asarray(record["shear_stress"]), np.asarray(record["collisional_shear_stress"])
+    return {"shear_rate": rate,
+            "shear_stress": float(np.mean(stress)), "shear_stress_error": _msd.block_error(stress),
+            "collisional_shear_stress": float(np.mean(collisional)),
+            "collisional_shear_stress_error": _msd.block_error(collisional),
+            "shear_viscosity": -float(np.mean(stress)) / rate, "shear_viscosity_error": _msd.block_error(stress) / rate}
 
 
 def _share_of_blocks(progress, sampler):

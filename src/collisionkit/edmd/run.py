@@ -83,6 +83,14 @@ class EdmdParameters(Parameters):
         Also report D corrected to the infinite system (Yeh & Hummer, from
         the measured shear viscosity: :func:`~collisionkit.edmd.yeh_hummer_correction`);
         needs ``transport`` and dim 3.
+    shear_rate : float
+        Lees-Edwards shear at this rate (>= 0; 0: none): the summary gives
+        the shear stress and ``shear_viscosity`` = -P_xy / G with errors
+        (:class:`~collisionkit.edmd.HardSphereSystem`, ``shear_rate``);
+        not with ``transport``.
+    thermostat : bool
+        Under shear: hold kT = 1 by rescaling the peculiar velocities after
+        every 4 N pair collisions (elastic spheres heat up under shear).
 
     Examples
     --------
@@ -106,6 +114,8 @@ class EdmdParameters(Parameters):
     initial: str = "random"
     transport: bool = False
     yeh_hummer: bool = False
+    shear_rate: float = 0.0
+    thermostat: bool = False
 
     def __post_init__(self):
         set_ = object.__setattr__
@@ -131,12 +141,18 @@ class EdmdParameters(Parameters):
         check_choice("initial", self.initial, INITIAL_STATES)
         if self.initial != "random":
             lattice_cells(self.initial, self.dim, self.particles)
-        for name in ("transport", "yeh_hummer"):
+        set_(self, "shear_rate", check_real("shear_rate", self.shear_rate, 0.0))
+        for name in ("transport", "yeh_hummer", "thermostat"):
             if not isinstance(getattr(self, name), bool):
                 raise ValueError(f"{name} must be true or false; got {getattr(self, name)!r}")
         if self.transport and self.restitution != 1.0:
             raise ValueError(f"transport needs restitution 1 (the Einstein-Helfand relations hold in equilibrium, "
                              f"which an inelastic gas never reaches); got restitution {self.restitution:g}")
+        if self.thermostat and self.shear_rate == 0.0:
+            raise ValueError("thermostat needs a shear_rate > 0 (it holds a sheared system at kT = 1)")
+        if self.transport and self.shear_rate != 0.0:
+            raise ValueError("transport cannot be combined with shear_rate (the Einstein-Helfand relations hold in "
+                             "equilibrium); a sheared run reports shear_viscosity from its stress")
         if self.yeh_hummer and not (self.transport and self.dim == 3):
             raise ValueError("yeh_hummer needs transport (the correction uses the measured shear viscosity) and dim 3 "
                              "(its constant is the cubic lattice's)")
@@ -188,7 +204,8 @@ def _initial_system(parameters: EdmdParameters, progress: Callable[[float], Any]
     else:
         positions, box = lattice(p.initial, lattice_cells(p.initial, p.dim, p.particles), p.packing_fraction)
         velocities = maxwell_boltzmann(np.ones(p.particles), p.dim, kT=1.0, seed=p.seed)
-    return HardSphereSystem(positions, velocities, 0.5, box, restitution=p.restitution, elastic_below=p.elastic_below)
+    return HardSphereSystem(positions, velocities, 0.5, box, restitution=p.restitution, elastic_below=p.elastic_below,
+                            shear_rate=p.shear_rate, thermostat=1.0 if p.thermostat else None)
 
 
 class EdmdRun:
@@ -526,11 +543,17 @@ class EdmdRun:
         --------
         >>> EdmdRun(EdmdParameters(dim=2, particles=64, initial="square", seed=1)).cooling_note() is None
         True
+        >>> sheared = EdmdRun(EdmdParameters(dim=2, particles=64, initial="square", restitution=0.9, shear_rate=0.1))
+        >>> sheared.cooling_note().split(":")[0]
+        'restitution < 1 under shear'
         """
         if self.parameters.restitution == 1.0:
             return None
         system = self.system
         kT = system.temperature()
+        if self.parameters.shear_rate != 0.0:
+            return (f"restitution < 1 under shear: the viscous heating of the flow balances the collisional cooling "
+                    f"in a steady state (kT from 1 to {kT:.3g}); compare with granular_shear_flow (dilute gas)")
         note = (f"restitution < 1: the gas cooled as it ran (homogeneous cooling, Haff's law), kT from 1 to {kT:.3g}; "
                 "Z, the collision frequency and D are averages over a cooling state, not equilibrium values")
         if system.elastic_below > 0 and kT < 100.0 * system.elastic_below**2:

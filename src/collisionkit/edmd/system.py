@@ -22,17 +22,20 @@ from .._repr import hard_sphere_system_rows, html_table
 from . import _checks, _system_setup
 from ._neighbour_lists import NeighbourLists
 from ._particle_state import ParticleState
+from ._shear import THERMOSTAT_INTERVAL, ShearFlow, shear_parameters
 from ._system_events import run_event_loop
 from ._system_parameters import SystemParameters
 from ._system_setup import RESTITUTION_LAWS
 from ._system_state import Checkpoints
 
-__all__ = ["DEFAULT_SHELL", "RESTITUTION_LAWS", "SORT_INTERVAL", "HardSphereSystem", "OverlapError"]
+__all__ = ["DEFAULT_SHELL", "RESTITUTION_LAWS", "SHEAR_SHELL", "SORT_INTERVAL", "HardSphereSystem", "OverlapError"]
 
 # re-sort particles in memory by cell after this many collisions per particle
 SORT_INTERVAL = 20
 # neighbour-list shell (skin) in units of the largest diameter; benchmarks/bench_edmd.py --shells tunes it
 DEFAULT_SHELL = 0.7
+# the shell's default under shear, where the cells grow by the shear margin too (benchmarks/bench_edmd_shear.py)
+SHEAR_SHELL = 0.45
 
 
 class OverlapError(ValueError, RuntimeError):
@@ -53,7 +56,7 @@ class OverlapError(ValueError, RuntimeError):
     """
 
 
-class HardSphereSystem(SystemParameters, ParticleState, NeighbourLists, Checkpoints):
+class HardSphereSystem(SystemParameters, ParticleState, NeighbourLists, Checkpoints, ShearFlow):
     """N hard spheres (3D) or discs (2D) in a box, advanced event by event.
 
     Parameters
@@ -99,10 +102,23 @@ class HardSphereSystem(SystemParameters, ParticleState, NeighbourLists, Checkpoi
         Uniform acceleration; flights become exact parabolas.
     neighbour_shell : float, optional
         Skin of the neighbour lists in units of the largest diameter, > 0
-        (default 0.7, the fastest at eta = 0.45 in benchmarks/bench_edmd.py).
+        (default 0.7, the fastest at eta = 0.45 in benchmarks/bench_edmd.py;
+        0.45 under shear, :data:`SHEAR_SHELL`).
         A wider shell means longer lists but fewer rebuilds. Only speed
         depends on it; in small periodic boxes it is narrowed so that twice
         the list radius stays below the box.
+    shear_rate : float, optional
+        Lees-Edwards shear at rate G (default 0: none), flow along x and
+        gradient along y: the image boxes at y +- L_y slide along x at
+        +- G L_y (Lees & Edwards, J. Phys. C 5, 1921 (1972)). Needs every
+        axis periodic, no gravity. The ``velocities`` given are then those
+        relative to the flow (peculiar velocities): the system adds the
+        streaming velocity G (y - L_y / 2) along x.
+    thermostat : float, optional
+        Under shear: the kT to which the peculiar velocities are rescaled
+        after every ``THERMOSTAT_INTERVAL`` N pair collisions (> 0; default
+        None, no thermostat).
+        Elastic spheres heat up under shear without one.
 
     Examples
     --------
@@ -132,7 +148,9 @@ class HardSphereSystem(SystemParameters, ParticleState, NeighbourLists, Checkpoi
         elastic_below=None,
         wall_restitution=1.0,
         gravity=None,
-        neighbour_shell=DEFAULT_SHELL,
+        neighbour_shell=None,
+        shear_rate=0.0,
+        thermostat=None,
         *,
         _growth=0.0,
         _scale=1.0,
@@ -150,6 +168,8 @@ class HardSphereSystem(SystemParameters, ParticleState, NeighbourLists, Checkpoi
         )
         self.restitution_law = restitution_law
         gravity = _system_setup.gravity_vector(gravity, dim)
+        if neighbour_shell is None:
+            neighbour_shell = DEFAULT_SHELL if shear_rate == 0.0 else SHEAR_SHELL
         self._shell_request = _checks.positive(neighbour_shell, "neighbour_shell")
 
         self.geom = _system_setup.geometry(box, periodic, gravity)
@@ -169,10 +189,13 @@ class HardSphereSystem(SystemParameters, ParticleState, NeighbourLists, Checkpoi
             elastic_below = _system_setup.default_elastic_below(self.restitution, restitution_law, velocities,
                                                                 self.params[_k.P_WALL_RESTITUTION], gravity, box)
         self.params[_k.P_ELASTIC_BELOW] = _checks.bounded(elastic_below, "elastic_below", 0.0)
+        shear_parameters(self, shear_rate, thermostat)
+        if self.shear_rate != 0.0:
+            self._add_streaming()
         _system_setup.allocate_engine_arrays(self)
         self._refresh_lists()
         _system_setup.check_walls(self)
-        gap = self._pair_gap()
+        gap = self._sheared_gap() if self.shear_rate != 0.0 else self._pair_gap()
         if gap < -1e-9 * float(np.max(radius)):
             raise OverlapError(f"positions overlap: {_system_setup.closest_pair_description(self, gap)}")
 
@@ -202,6 +225,7 @@ class HardSphereSystem(SystemParameters, ParticleState, NeighbourLists, Checkpoi
             self.queue -= shift
             self.tree[:, 0] -= shift
             self.params[_k.P_SCALE0] += self.growth * shift
+            self._shear_clock(shift)
             self.elapsed += shift
             self.time = 0.0
 
@@ -233,7 +257,7 @@ class HardSphereSystem(SystemParameters, ParticleState, NeighbourLists, Checkpoi
         """
         tolerance = _checks.bounded(tolerance, "tolerance", 0.0)
         self.synchronise()
-        gap = self._pair_gap()
+        gap = self._sheared_gap() if self.shear_rate != 0.0 else self._pair_gap()
         if not np.all(self.periodic):
             gap = min(gap, _k.wall_gap(self.p, self.scale, self.geom, self.dim))
         if gap < -tolerance * float(np.max(self.radius)):
@@ -318,6 +342,8 @@ class HardSphereSystem(SystemParameters, ParticleState, NeighbourLists, Checkpoi
         done, remaining = 0, duration
         while done < target and remaining > 0:
             step = min(chunk, target - done)
+            if self.thermostat is not None:  # the peculiar velocities are rescaled on a grid of the collision count
+                step = min(step, self._thermostat_due_in())
             if self.collisions - self.last_sort >= SORT_INTERVAL * self.count:
                 self._sort_by_cell()
             before, start = self.collisions, self.time
@@ -333,6 +359,8 @@ class HardSphereSystem(SystemParameters, ParticleState, NeighbourLists, Checkpoi
                 shares = ([done / collisions] if collisions else []) + ([1.0 - remaining / duration] if time else [])
                 progress(min(max(shares), 1.0))
             self.synchronise()
+            if self.thermostat is not None and advanced > 0 and self._thermostat_due_in() == THERMOSTAT_INTERVAL * self.count:
+                self._apply_thermostat()
             if self._grow_overflowed_storage():
                 continue
             if lists_expired:

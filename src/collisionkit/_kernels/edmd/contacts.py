@@ -27,10 +27,11 @@ import math
 from ..._jit import borrowing_inline_kernel as inline_kernel
 from .layout import (
     ACC_ENERGY_IMAGE, ACC_ENERGY_LOST, ACC_HEAT, ACC_MOMENTUM_IMAGE, ACC_PAIR_COLLISIONS, ACC_STRESS, ACC_VIRIAL,
-    ACC_WALL_COLLISIONS, ACC_WALL_IMPULSE, G_BOX, LAW_BRIDGES, MASS, P_ELASTIC_BELOW, P_LAW, P_LAW_EXPONENT, P_LAW_SPEED, P_WALL_RESTITUTION, R, SPECIES, V, X,
+    ACC_WALL_COLLISIONS, ACC_WALL_IMPULSE, G_BOX, LAW_BRIDGES, MASS, P_ELASTIC_BELOW, P_LAW, P_LAW_EXPONENT, P_LAW_SPEED,
+    P_SHEAR_RATE, P_WALL_RESTITUTION, R, SPECIES, T, V, X,
 )
 from .exact import approach_ratio, sure_approach
-from .motion import half_box, minimum_image
+from .motion import half_box, minimum_image, shear_offset, sheared_image
 
 # the relative spacing of doubles: the smallest velocity change that is not lost to rounding, relative to the velocity
 _LAST_PLACE = 2.0**-52
@@ -58,10 +59,15 @@ def collide_pair(p, i, j, b, geom, scale, growth, restitution, params, acc):
     dx = p[j, X] - p[i, X]
     dy = p[j, X + 1] - p[i, X + 1]
     dz = p[j, X + 2] - p[i, X + 2]
-    rx = minimum_image(dx, geom[G_BOX, 0], half_box(geom, 0))
-    ry = minimum_image(dy, geom[G_BOX, 1], half_box(geom, 1))
+    slide = 0.0  # x velocity of j's nearest image relative to j (Lees-Edwards shear)
+    if params[P_SHEAR_RATE] != 0.0:
+        rx, ry, n = sheared_image(dx, dy, geom, shear_offset(params, geom, p[i, T]))
+        slide = -n * params[P_SHEAR_RATE] * geom[G_BOX, 1]
+    else:
+        rx = minimum_image(dx, geom[G_BOX, 0], half_box(geom, 0))
+        ry = minimum_image(dy, geom[G_BOX, 1], half_box(geom, 1))
     rz = minimum_image(dz, geom[G_BOX, 2], half_box(geom, 2))
-    ux = p[j, V] - p[i, V]
+    ux = p[j, V] + slide - p[i, V]
     uy = p[j, V + 1] - p[i, V + 1]
     uz = p[j, V + 2] - p[i, V + 2]
     contact = p[i, R] + p[j, R]
@@ -85,9 +91,10 @@ def collide_pair(p, i, j, b, geom, scale, growth, restitution, params, acc):
     share_j = (1.0 + e) * (mi / (mi + mj)) * ratio
     # the impulse on j is -(1 + e) mu ratio r; its energy change dp . (v + v') / 2 from j's velocity before
     push = -(1.0 + e) * reduced * ratio  # > 0: j is pushed along r, away from i
-    gain = push * (rx * p[j, V] + ry * p[j, V + 1] + rz * p[j, V + 2]) + 0.5 * push * push * rr / mj
+    gain = push * (rx * (p[j, V] + slide) + ry * p[j, V + 1] + rz * p[j, V + 2]) + 0.5 * push * push * rr / mj
     _add_transfer(acc, push, gain, rx, ry, rz)
-    if rx != dx or ry != dy or rz != dz:  # the pair meets across a periodic face: Erpenbeck's image terms
+    # the pair meets across a periodic face: Erpenbeck's image terms (none under shear: no Helfand moments there)
+    if (rx != dx or ry != dy or rz != dz) and params[P_SHEAR_RATE] == 0.0:
         _add_image_terms(acc, push, gain, rx, ry, rz, dx, dy, dz, geom)
     p[i, V] += share_i * rx
     p[i, V + 1] += share_i * ry
@@ -95,7 +102,7 @@ def collide_pair(p, i, j, b, geom, scale, growth, restitution, params, acc):
     p[j, V] -= share_j * rx
     p[j, V + 1] -= share_j * ry
     p[j, V + 2] -= share_j * rz
-    _separate(p, i, j, rx, ry, rz, shift, mj / (mi + mj), mi / (mi + mj), rr)
+    _separate(p, i, j, rx, ry, rz, shift, slide, mj / (mi + mj), mi / (mi + mj), rr)
     # impulse times contact distance: (1 + e) mu u_n |r|
     acc[ACC_VIRIAL] -= (1.0 + e) * reduced * ratio * rr
     acc[ACC_PAIR_COLLISIONS] += 1.0
@@ -148,16 +155,16 @@ def _add_image_terms(acc, push, gain, rx, ry, rz, dx, dy, dz, geom):
 
 
 @inline_kernel
-def _approaches(p, i, j, rx, ry, rz, shift):
-    """The approach test of the prediction and the collision step for the pair's velocities now."""
-    ux = p[j, V] - p[i, V]
+def _approaches(p, i, j, rx, ry, rz, shift, slide):
+    """The approach test of the prediction and the collision step for the pair's velocities now (j's image: + slide)."""
+    ux = p[j, V] + slide - p[i, V]
     uy = p[j, V + 1] - p[i, V + 1]
     uz = p[j, V + 2] - p[i, V + 2]
     return sure_approach(rx * ux + ry * uy + rz * uz - shift, rx, ry, rz, ux, uy, uz, shift) < 0.0
 
 
 @inline_kernel
-def _separate(p, i, j, rx, ry, rz, shift, share_i, share_j, rr):
+def _separate(p, i, j, rx, ry, rz, shift, slide, share_i, share_j, rr):
     """Make sure the pair no longer approaches after its collision: else it would collide again at once, for ever.
 
     An impulse below the last place of the velocities changes nothing (a
@@ -166,7 +173,7 @@ def _separate(p, i, j, rx, ry, rz, shift, share_i, share_j, rr):
     the approach test says it recedes.
     """
     kick = 0.0
-    while _approaches(p, i, j, rx, ry, rz, shift):
+    while _approaches(p, i, j, rx, ry, rz, shift, slide):
         if kick == 0.0:
             speed = 0.0
             for k in range(3):

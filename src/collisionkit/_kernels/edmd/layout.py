@@ -44,7 +44,15 @@ P_ELASTIC_BELOW = 5
 P_WALL_RESTITUTION = 6
 P_SHELL = 7  # neighbour-list shell (skin) width
 P_LIST_SCALE = 8  # largest radius scale the lists are valid for
-P_SIZE = 9
+# Lees-Edwards shear (x the flow, y the gradient): the image boxes at y +- L_y slide along x at +- G L_y
+P_SHEAR_RATE = 9  # the shear rate G (0: no shear)
+P_SHEAR_OFFSET = 10  # x offset of the image box above at clock time 0, in [0, L_x) (G L_y t mod L_x)
+P_SHEAR_SWEEP = 11  # clock time of the next sweep, when the particles anchored in the cells at the y faces rebuild
+P_SHEAR_MARGIN = 12  # extra list radius of the pairs across the y faces: the image drift allowed between sweeps
+P_THERMOSTAT = 13  # kT the peculiar velocities are rescaled to under shear (0: no thermostat)
+P_SIZE = 14
+# the parameter array's size before the shear entries (checkpoints of engine formats 2 and 3)
+P_SIZE_WITHOUT_SHEAR = 9
 
 # accumulator slots (acc array)
 ACC_VIRIAL = 0  # sum over pair collisions of impulse * contact distance
@@ -66,7 +74,10 @@ ACC_HEAT = 16  # 3 slots: the collisional energy transfer sum dE_j r_a
 # stress integral jumps by dp_j,a r_b and never at a wrap. The slots hold the difference of the two
 ACC_MOMENTUM_IMAGE = 19  # 9 slots, 3 a + b: sum dp_j,a (r - (x_j - x_i))_b over collisions - sum m v_a dx_b over wraps
 ACC_ENERGY_IMAGE = 28  # 3 slots: sum dE_j (r - (x_j - x_i))_a over collisions - sum (m v^2 / 2) dx_a over wraps
-ACC_SIZE = 31
+ACC_THERMOSTAT = 31  # kinetic energy the thermostat of a sheared system removed (negative: added)
+ACC_SIZE = 32
+# the accumulator's size before the thermostat slot (checkpoints of engine format 3)
+ACC_SIZE_WITHOUT_THERMOSTAT = 31
 # the accumulator's size before the transport sums (checkpoints of engine format 2)
 ACC_SIZE_WITHOUT_TRANSPORT = 10
 # the (a, b) axis pairs of the six ACC_STRESS slots

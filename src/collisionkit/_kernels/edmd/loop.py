@@ -10,8 +10,8 @@ from ..._jit import borrowing_kernel as kernel
 from .._memory import prefetch
 from .contacts import bounce_off_wall, collide_pair
 from .layout import (
-    ACC_EVENTS, ACC_LIST_REBUILDS, ACC_STALE_EVENTS, CHANGED_AT, LIST_TARGET, P_GROWTH, P_SCALE0, PREDICTED_AT,
-    QUEUE_BLOCK, STOP_COLLISIONS, STOP_EVENTS, STOP_NO_EVENT, STOP_OVERFLOW, STOP_STALLED, STOP_TIME,
+    ACC_EVENTS, ACC_LIST_REBUILDS, ACC_STALE_EVENTS, ANCHOR, CHANGED_AT, G_BOX, G_CELL, LIST_TARGET, P_GROWTH,
+    P_SCALE0, P_SHEAR_MARGIN, P_SHEAR_RATE, P_SHEAR_SWEEP, PREDICTED_AT, QUEUE_BLOCK, STOP_COLLISIONS, STOP_EVENTS, STOP_NO_EVENT, STOP_OVERFLOW, STOP_STALLED, STOP_TIME,
     TARGET, TREE_LEVELS_PREFETCHED, wall_target,
 )
 from .motion import advance
@@ -69,6 +69,32 @@ def _repredict(p, i, b, neighbours, neighbour_count, geom, dim, params, queue, t
 
 
 @kernel
+def _sweep_faces(t, p, b, image, cell_of, neighbours, neighbour_count, cell_members, cell_count, cell_points, ncell,
+                 geom, dim, params, queue, tree, leaves, acc, event):
+    """Lees-Edwards sweep at time t: every particle anchored in the first or last row of cells along y rebuilds.
+
+    Only those can meet a partner's image across a y face before their
+    own list event (a row is at least the list radius high), and the images
+    there drift along x relative to the anchors; after the sweep every such
+    pair was last listed at most one sweep interval ago, within the shear
+    margin of drift (see :func:`.neighbour_lists._gather_sheared`). Returns
+    False if a list or a cell outgrew its row (see :func:`run_events`).
+    """
+    height = geom[G_CELL, 1]
+    top = geom[G_BOX, 1] - height
+    for i in range(p.shape[0]):
+        y = b[i, ANCHOR + 1]
+        if y < height or y >= top:
+            advance(p, i, t, geom, dim)
+            acc[ACC_LIST_REBUILDS] += 1.0
+            if not rebuild_list(p, i, b, cell_of, neighbours, neighbour_count, cell_members, cell_count, cell_points,
+                                ncell, geom, dim, params, image, acc):
+                return False
+            _repredict(p, i, b, neighbours, neighbour_count, geom, dim, params, queue, tree, leaves, event)
+    return True
+
+
+@kernel
 def run_events(t, still, max_pair_collisions, max_events, t_stop, stall_limit, p, b, image, cell_of, neighbours,
                neighbour_count, cell_members, cell_count, cell_points, ncell, geom, dim, restitution, params, queue, tree, leaves, acc):
     """Process events until ``max_pair_collisions`` collisions, ``max_events`` events or time ``t_stop``.
@@ -106,6 +132,19 @@ def run_events(t, still, max_pair_collisions, max_events, t_stop, stall_limit, p
             break
         event_time = tree[1, 0]
         i = int(tree[1, 1])
+        if params[P_SHEAR_RATE] != 0.0 and event_time < math.inf and min(event_time, t_stop) >= params[P_SHEAR_SWEEP]:
+            # Lees-Edwards: the lists at the y faces are rebuilt before the images drift past the margin
+            sweep = params[P_SHEAR_SWEEP]
+            still = still + 1 if sweep == t else 0
+            t = sweep
+            event += 1
+            events += 1
+            if not _sweep_faces(t, p, b, image, cell_of, neighbours, neighbour_count, cell_members, cell_count,
+                                cell_points, ncell, geom, dim, params, queue, tree, leaves, acc, event):
+                stop = STOP_OVERFLOW
+                break
+            params[P_SHEAR_SWEEP] = sweep + params[P_SHEAR_MARGIN] / abs(params[P_SHEAR_RATE] * geom[G_BOX, 1])
+            continue
         if event_time > t_stop:
             if t_stop > t:
                 still = 0

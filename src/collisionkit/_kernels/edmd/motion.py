@@ -1,4 +1,14 @@
-"""Ballistic flight and the periodic box: moving a particle, minimum images, wrapping."""
+"""Ballistic flight and the periodic box: moving a particle, minimum images, wrapping.
+
+Under Lees-Edwards shear (Lees & Edwards, J. Phys. C 5, 1921 (1972); Allen
+& Tildesley, Computer Simulation of Liquids, 2nd ed., sec. 11.3) the image
+boxes above and below the box (y +- L_y) slide along x with velocities
++- G L_y: at clock time t the box above is shifted by the offset
+``o(t) = o(0) + G L_y t`` (mod L_x). A particle stored at y beyond L_y
+is the image of one at y - L_y, x - o and v_x - G L_y: every stored state
+is one of a particle's images, and :func:`sheared_image` takes the image of
+a partner nearest to a particle, with the relative velocity of that image.
+"""
 
 from __future__ import annotations
 
@@ -7,7 +17,9 @@ import math
 # no EDMD kernel allocates or returns an array: all of them borrow, without reference counting
 from ..._jit import borrowing_inline_kernel as inline_kernel
 from ..._jit import borrowing_kernel as kernel
-from .layout import ACC_ENERGY_IMAGE, ACC_MOMENTUM_IMAGE, G_BOX, G_GRAVITY, G_PERIODIC, MASS, T, V, X
+from .layout import (
+    ACC_ENERGY_IMAGE, ACC_MOMENTUM_IMAGE, G_BOX, G_GRAVITY, G_PERIODIC, MASS, P_SHEAR_OFFSET, P_SHEAR_RATE, T, V, X,
+)
 
 
 @inline_kernel
@@ -39,7 +51,74 @@ def half_box(geom, k):
 
 
 @inline_kernel
-def wrap_into_box(p, i, geom, dim, image, b, acc):
+def shear_offset(params, geom, t):
+    """x offset of the sliding image box above at clock time t, in [0, L_x]."""
+    offset = params[P_SHEAR_OFFSET] + params[P_SHEAR_RATE] * geom[G_BOX, 1] * t
+    lx = geom[G_BOX, 0]
+    return offset - lx * math.floor(offset / lx)  # cheaper than a modulo (fmod); at most L_x by round-off
+
+
+@inline_kernel
+def sheared_image(dx, dy, geom, offset):
+    """Lees-Edwards minimum image of a separation (dx, dy) of stored positions: ``(rx, ry, n)``.
+
+    ``n`` (-1, 0 or 1) is the number of box heights taken off dy; the
+    partner's image is then shifted by ``-n`` offsets along x and moves at
+    ``-n G L_y`` relative to the partner (add that to the x relative
+    velocity). |dy| must be below 1.5 L_y, |dx| below L_x plus a shell and
+    the offset in [0, L_x]: then two compare-and-subtracts reduce dx, no
+    division (the prediction's inner loop).
+    """
+    ly = geom[G_BOX, 1]
+    lx = geom[G_BOX, 0]
+    n = 0.0
+    if dy > 0.5 * ly:
+        n = 1.0
+    elif dy < -0.5 * ly:
+        n = -1.0
+    half = 0.5 * lx
+    rx = minimum_image(minimum_image(dx - n * offset, lx, half), lx, half)
+    return rx, dy - n * ly, n
+
+
+@inline_kernel
+def _wrap_sheared(p, i, geom, dim, image, params):
+    """Bring particle i back into the box under Lees-Edwards shear: y first (with its image's x and v_x), then x, z.
+
+    A particle leaving through y = L_y re-enters at y - L_y as its image
+    there: x shifted back by the offset at its time and v_x by G L_y, so its
+    velocity relative to the shear flow is unchanged. The image counters
+    count the box lengths crossed (along x they leave out the offsets).
+    """
+    ly = geom[G_BOX, 1]
+    y = p[i, X + 1]
+    n = 0
+    if y >= ly:
+        n = 1
+    elif y < 0.0:
+        n = -1
+    if n != 0:
+        p[i, X + 1] = y - n * ly
+        if p[i, X + 1] >= ly:  # -tiny + L rounds to L: put it at 0, no move to another image
+            p[i, X + 1] = 0.0
+            n = 0
+        else:
+            p[i, X] -= n * shear_offset(params, geom, p[i, T])
+            p[i, V] -= n * params[P_SHEAR_RATE] * ly
+            image[i, 1] += n
+    for k in range(0, dim, 2):  # x, then z
+        length = geom[G_BOX, k]
+        shift = math.floor(p[i, X + k] / length)
+        if shift != 0.0:
+            p[i, X + k] -= shift * length
+            image[i, k] += int(shift)
+            if p[i, X + k] >= length:
+                p[i, X + k] = 0.0
+                image[i, k] += 1
+
+
+@inline_kernel
+def wrap_into_box(p, i, geom, dim, image, b, acc, params):
     """Bring particle i back into [0, L) on periodic axes (it is at most a box length out).
 
     The image counter keeps the unwrapped position ``x + image L``
@@ -47,7 +126,11 @@ def wrap_into_box(p, i, geom, dim, image, b, acc):
     x_b`` and ``sum (m v^2 / 2) x_b``) jump by the particle's share times
     the move ``dx``; the image slots of ``acc`` take it back (see
     :mod:`.layout`), so that moment plus the slots stays continuous.
+    Under shear the image of :func:`_wrap_sheared` (no Helfand moments).
     """
+    if params[P_SHEAR_RATE] != 0.0:
+        _wrap_sheared(p, i, geom, dim, image, params)
+        return
     for k in range(dim):
         if geom[G_PERIODIC, k] != 0.0:
             length = geom[G_BOX, k]

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import math
+
 # no EDMD kernel allocates or returns an array: all of them borrow, without reference counting
 from ..._jit import borrowing_inline_kernel as inline_kernel
 from ..._jit import borrowing_kernel as kernel
@@ -10,10 +12,10 @@ from .cells import (
     cell_coordinates, cell_index, cell_insert, cell_of_position, cell_offsets, cell_remove, neighbour_coordinate,
 )
 from .layout import (
-    ACC_CELL_OVERFLOW, ACC_LIST_OVERFLOW, ANCHOR, ANCHOR_ROUNDING, CELL_SLOTS_PER_LINE, G_BOX, G_PERIODIC, P_LIST_SCALE,
-    P_SHELL, R, X,
+    ACC_CELL_OVERFLOW, ACC_LIST_OVERFLOW, ANCHOR, ANCHOR_ROUNDING, CELL_SLOTS_PER_LINE, G_BOX, G_CELL, G_PERIODIC,
+    P_LIST_SCALE, P_SHEAR_MARGIN, P_SHEAR_RATE, P_SHELL, R, T, X,
 )
-from .motion import half_box, minimum_image, wrap_into_box
+from .motion import half_box, minimum_image, shear_offset, sheared_image, wrap_into_box
 
 
 @inline_kernel
@@ -64,6 +66,80 @@ def gather_neighbours(p, i, b, cell_of, neighbours, neighbour_count, cell_member
                         count += 1
     neighbour_count[i] = min(count, width)
     return count
+
+
+@inline_kernel
+def _gather_sheared(p, i, b, cell_of, neighbours, neighbour_count, cell_members, cell_count, cell_points, ncell, geom,
+                    dim, params):
+    """:func:`gather_neighbours` under Lees-Edwards shear (at least 3 rows of cells along y).
+
+    Across a y face the neighbouring row of cells is the one at the other
+    face, seen shifted by the box offset at i's time: the cells scanned
+    there are those within a cell width of i's anchor minus that offset
+    (three, as elsewhere). Pairs whose nearest image lies across a y face
+    are listed out to the list radius plus the shear margin: between two
+    sweeps (every margin / (G L_y) in time) the images drift by less than
+    the margin relative to the anchors, and every particle anchored in the
+    first or last row of cells (all that could meet a partner across a face
+    before rebuilding) rebuilds its list at each sweep.
+    """
+    width = neighbours.shape[1]
+    count = 0
+    cx, cy, cz = cell_coordinates(cell_of[i], ncell)
+    zl, zh = cell_offsets(ncell[2], geom[G_PERIODIC, 2] != 0.0) if dim == 3 else (0, 0)
+    lz = geom[G_BOX, 2]
+    hz = half_box(geom, 2)
+    ax, ay, az = b[i, ANCHOR], b[i, ANCHOR + 1], b[i, ANCHOR + 2]
+    slack = ANCHOR_ROUNDING * (max(geom[G_BOX, 0], geom[G_BOX, 1], lz) + 1.0)
+    reach_i = p[i, R] * params[P_LIST_SCALE] + params[P_SHELL] + slack
+    margin = params[P_SHEAR_MARGIN]
+    list_scale = params[P_LIST_SCALE]
+    offset = shear_offset(params, geom, p[i, T])
+    cell_width = geom[G_CELL, 0]
+    for oz in range(zl, zh + 1):
+        nz, _ = neighbour_coordinate(cz, oz, ncell[2], geom[G_PERIODIC, 2] != 0.0, 0.0)
+        if nz < 0:
+            continue
+        for oy in range(-1, 2):
+            row = cy + oy
+            # the row seen across a face: its cells' images are shifted by -+ the offset, so look there
+            across = -1.0 if row < 0 else (1.0 if row >= ncell[1] else 0.0)
+            ny = row - int(across) * ncell[1]
+            centre = ax - across * offset
+            first = int(math.floor((centre - cell_width) / cell_width))
+            last = int(math.floor((centre + cell_width) / cell_width))
+            if across == 0.0:
+                first, last = cx - 1, cx + 1
+            if last - first + 1 >= ncell[0]:
+                first, last = 0, ncell[0] - 1
+            for column in range(first, last + 1):
+                nx = column % ncell[0]
+                cell = cell_index(nx, ny, nz, ncell)
+                for slot in range(cell_count[cell]):
+                    dx, dy, n = sheared_image(cell_points[cell, slot, 0] - ax, cell_points[cell, slot, 1] - ay, geom,
+                                              offset)
+                    dz = minimum_image(cell_points[cell, slot, 2] - az, lz, hz)
+                    reach = reach_i + cell_points[cell, slot, 3] * list_scale + (margin if n != 0.0 else 0.0)
+                    if dx * dx + dy * dy + dz * dz <= reach * reach:
+                        j = cell_members[cell, slot]
+                        if j == i:
+                            continue
+                        if count < width:
+                            neighbours[i, count] = j
+                        count += 1
+    neighbour_count[i] = min(count, width)
+    return count
+
+
+@inline_kernel
+def _gather(p, i, b, cell_of, neighbours, neighbour_count, cell_members, cell_count, cell_points, ncell, geom, dim,
+            params):
+    """Fill i's list: :func:`gather_neighbours`, or :func:`_gather_sheared` under shear."""
+    if params[P_SHEAR_RATE] != 0.0:
+        return _gather_sheared(p, i, b, cell_of, neighbours, neighbour_count, cell_members, cell_count, cell_points,
+                               ncell, geom, dim, params)
+    return gather_neighbours(p, i, b, cell_of, neighbours, neighbour_count, cell_members, cell_count, cell_points,
+                             ncell, geom, dim, params)
 
 
 @inline_kernel
@@ -126,7 +202,7 @@ def rebuild_list(p, i, b, cell_of, neighbours, neighbour_count, cell_members, ce
     set to the size needed, if a list or a cell outgrew its row; the lists
     are then incomplete and must all be rebuilt.
     """
-    wrap_into_box(p, i, geom, dim, image, b, acc)
+    wrap_into_box(p, i, geom, dim, image, b, acc, params)
     cell = cell_of_position(p, i, ncell, geom, dim)
     _prefetch_cells(cell, cell_members, cell_count, cell_points, ncell, geom, dim)
     for m in range(neighbour_count[i]):
@@ -140,8 +216,8 @@ def rebuild_list(p, i, b, cell_of, neighbours, neighbour_count, cell_members, ce
     if not cell_insert(i, cell, b, p[i, R], cell_of, cell_members, cell_count, cell_points):
         acc[ACC_CELL_OVERFLOW] = cell_count[cell] + 1
         return False
-    needed = gather_neighbours(p, i, b, cell_of, neighbours, neighbour_count, cell_members, cell_count, cell_points,
-                               ncell, geom, dim, params)
+    needed = _gather(p, i, b, cell_of, neighbours, neighbour_count, cell_members, cell_count, cell_points, ncell, geom,
+                     dim, params)
     needed = max(needed, _join_neighbours(i, neighbours, neighbour_count))
     if needed > neighbours.shape[1]:
         acc[ACC_LIST_OVERFLOW] = needed
@@ -161,7 +237,7 @@ def build_all_lists(p, b, cell_of, neighbours, neighbour_count, cell_members, ce
     cell_count[:] = 0
     most = 0
     for i in range(p.shape[0]):
-        wrap_into_box(p, i, geom, dim, image, b, acc)
+        wrap_into_box(p, i, geom, dim, image, b, acc, params)
         for k in range(3):
             b[i, ANCHOR + k] = p[i, X + k]
         cell = cell_of_position(p, i, ncell, geom, dim)
@@ -172,7 +248,7 @@ def build_all_lists(p, b, cell_of, neighbours, neighbour_count, cell_members, ce
         return 0, most
     needed = 0
     for i in range(p.shape[0]):
-        count = gather_neighbours(p, i, b, cell_of, neighbours, neighbour_count, cell_members, cell_count,
-                                  cell_points, ncell, geom, dim, params)
+        count = _gather(p, i, b, cell_of, neighbours, neighbour_count, cell_members, cell_count, cell_points, ncell,
+                        geom, dim, params)
         needed = max(needed, count)
     return needed, most

@@ -13,11 +13,11 @@ import math
 from ..._jit import borrowing_inline_kernel as inline_kernel
 from ..._jit import borrowing_kernel as kernel
 from .layout import (
-    ANCHOR, G_BOX, G_GRAVITY, G_PERIODIC, LIST_TARGET, P_GROWTH, P_SCALE0, P_SHELL, PREDICTED_AT, R, T, TARGET, V, X,
-    wall_target,
+    ANCHOR, G_BOX, G_GRAVITY, G_PERIODIC, LIST_TARGET, P_GROWTH, P_SCALE0, P_SHEAR_RATE, P_SHELL, PREDICTED_AT, R, T,
+    TARGET, V, X, wall_target,
 )
 from .exact import sure_approach
-from .motion import half_box, minimum_image
+from .motion import half_box, minimum_image, shear_offset, sheared_image
 
 
 @kernel
@@ -132,6 +132,52 @@ def _first_contact_ballistic(p, i, neighbours, neighbour_count, geom, scale, hor
         c = rx * rx + ry * ry + rz * rz - sigma * sigma
         # b < 0 and c + 2 b best < 0 in one comparison, so one (rarely taken, well predicted) branch;
         # then b's sign made sure, as the collision step makes it (see .exact)
+        if max(b, c + 2.0 * b * best) < 0.0 and sure_approach(b, rx, ry, rz, ux, uy, uz, 0.0) < 0.0:
+            cx = ry * uz - rz * uy
+            cy = rz * ux - rx * uz
+            cz = rx * uy - ry * ux
+            discriminant = sigma * sigma * (ux * ux + uy * uy + uz * uz) - (cx * cx + cy * cy + cz * cz)
+            if discriminant >= 0.0 or c <= 0.0:
+                tau = max(c, 0.0) / (math.sqrt(max(discriminant, 0.0)) - b)
+                if tau < best:
+                    best = tau
+                    partner = j
+    if partner < 0:
+        return math.inf, -1
+    return best, partner
+
+
+@inline_kernel
+def _first_contact_sheared(p, i, neighbours, neighbour_count, geom, params, horizon):
+    """:func:`_first_contact_ballistic` under Lees-Edwards shear: each partner's nearest image, with its velocity.
+
+    The image across a y face is shifted by the box offset at i's time and
+    moves at -+ G L_y along x relative to the partner, so the pair's
+    relative motion is again a straight line and its contact time the same
+    root (exact, as in a periodic box).
+    """
+    t = p[i, T]
+    xi, yi, zi = p[i, X], p[i, X + 1], p[i, X + 2]
+    vxi, vyi, vzi = p[i, V], p[i, V + 1], p[i, V + 2]
+    ri = p[i, R]
+    lz = geom[G_BOX, 2]
+    hz = half_box(geom, 2)
+    offset = shear_offset(params, geom, t)
+    slide = params[P_SHEAR_RATE] * geom[G_BOX, 1]
+    scale = params[P_SCALE0]
+    best = horizon
+    partner = -1
+    for m in range(neighbour_count[i]):
+        j = neighbours[i, m]
+        dt = t - p[j, T]
+        rx, ry, n = sheared_image(p[j, X] + p[j, V] * dt - xi, p[j, X + 1] + p[j, V + 1] * dt - yi, geom, offset)
+        rz = minimum_image(p[j, X + 2] + p[j, V + 2] * dt - zi, lz, hz)
+        ux = p[j, V] - n * slide - vxi
+        uy = p[j, V + 1] - vyi
+        uz = p[j, V + 2] - vzi
+        sigma = (ri + p[j, R]) * scale
+        b = rx * ux + ry * uy + rz * uz
+        c = rx * rx + ry * ry + rz * rz - sigma * sigma
         if max(b, c + 2.0 * b * best) < 0.0 and sure_approach(b, rx, ry, rz, ux, uy, uz, 0.0) < 0.0:
             cx = ry * uz - rz * uy
             cy = rz * ux - rx * uz
@@ -279,8 +325,11 @@ def predict(p, i, b, neighbours, neighbour_count, geom, dim, params, event):
     Records the event's target in ``b`` and returns its absolute time.
     """
     boundary, target = predict_boundary(p, i, b, geom, dim, params)
-    pair, partner = predict_pairs(p, i, neighbours, neighbour_count, geom, params[P_SCALE0], params[P_GROWTH],
-                                  boundary)
+    if params[P_SHEAR_RATE] != 0.0:
+        pair, partner = _first_contact_sheared(p, i, neighbours, neighbour_count, geom, params, boundary)
+    else:
+        pair, partner = predict_pairs(p, i, neighbours, neighbour_count, geom, params[P_SCALE0], params[P_GROWTH],
+                                      boundary)
     b[i, PREDICTED_AT] = event
     if partner >= 0:
         b[i, TARGET] = partner

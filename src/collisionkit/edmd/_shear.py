@@ -1,0 +1,240 @@
+r"""Lees-Edwards shear of a :class:`~collisionkit.edmd.HardSphereSystem`: the flow, its images, its thermostat.
+
+Homogeneous shear at rate G, flow along x and gradient along y (Lees &
+Edwards, J. Phys. C 5, 1921 (1972); Allen & Tildesley, Computer Simulation
+of Liquids, 2nd ed., sec. 11.3): the image boxes at y +- L_y slide along x
+at +- G L_y, so the streaming velocity :math:`u_x(y) = G (y - L_y/2)` is
+continuous through the images and the particles' velocities relative to it,
+the peculiar velocities :math:`c = v - u(y)`, are what the temperature
+measures. The event loop keeps the engine's exactness (see
+:mod:`collisionkit._kernels.edmd.motion`): flights are straight, a pair
+meeting across a y face meets the partner's sliding image, with that
+image's velocity.
+
+The balance of the peculiar kinetic energy :math:`E = \sum \tfrac12 m c^2`
+is exact event by event: between events :math:`dE/dt = -G \sum m c_x c_y`,
+at a collision :math:`\Delta E = -\Delta E_{lost} - G\,\Delta p_{j,x} r_y`
+(the impulse on j times the separation across the pair), so over any
+stretch of time
+
+.. math:: \Delta E + E_{lost} + E_{thermostat} = -G V \int P_{xy}\,dt ,
+
+with :math:`P_{xy}` the xy element of the pressure tensor, kinetic plus
+collisional. Hence the shear viscosity at rate G,
+:math:`\eta = -\langle P_{xy}\rangle / G`, from energies the engine keeps
+exactly; the collisional part alone is the engine's collisional stress sum.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .._kernels import edmd as _k
+from . import _checks
+
+# the thermostat rescales after every THERMOSTAT_INTERVAL N pair collisions (8 per particle, some 4 mean free times:
+# re-predicting every event costs about what N collisions do, so rescaling after every N cost 25 % of a run)
+THERMOSTAT_INTERVAL = 4
+
+
+def shear_parameters(system, shear_rate, thermostat):
+    """Check the shear rate and thermostat of a new system and store them in its parameters.
+
+    The shear needs every axis periodic, no gravity and no growth of the
+    radii; the thermostat (a kT > 0) needs a shear rate.
+    """
+    rate = _checks.bounded(shear_rate, "shear_rate", 0.0)
+    if thermostat is not None:
+        thermostat = _checks.positive(thermostat, "thermostat")
+        if rate == 0.0:
+            raise ValueError("thermostat needs a shear_rate: it holds a sheared system at kT (an unsheared elastic "
+                             "system keeps its temperature without one)")
+    if rate != 0.0:
+        if not np.all(system.periodic):
+            raise ValueError("shear_rate needs every axis periodic (Lees-Edwards images); got walls on axes "
+                             f"{np.flatnonzero(~system.periodic).tolist()}")
+        if np.any(system.geom[_k.G_GRAVITY] != 0.0):
+            raise ValueError("shear_rate cannot be combined with gravity (the flights under shear are straight)")
+        if system.growth != 0.0:
+            raise ValueError("shear_rate cannot be combined with growing radii (compress first, then shear)")
+    system.params[_k.P_SHEAR_RATE] = rate
+    system.params[_k.P_THERMOSTAT] = 0.0 if thermostat is None else thermostat
+
+
+class ShearFlow:
+    """Lees-Edwards shear of :class:`~collisionkit.edmd.HardSphereSystem` (a mixin): offsets, peculiar velocities.
+
+    It reads the system's records, box, clock and parameters, and owns the
+    shear entries of ``params`` and the thermostat slot of ``acc``.
+    """
+
+    @property
+    def shear_rate(self) -> float:
+        """The shear rate G (0: no shear): the image boxes at y +- L_y slide along x at +- G L_y.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from collisionkit.edmd import HardSphereSystem, lattice, maxwell_boltzmann
+        >>> positions, box = lattice("square", 10, 0.3)
+        >>> system = HardSphereSystem(positions, maxwell_boltzmann(np.ones(100), 2, seed=1), 0.5, box, shear_rate=0.1)
+        >>> system.shear_rate
+        0.1
+        """
+        return float(self.params[_k.P_SHEAR_RATE])
+
+    @property
+    def thermostat(self) -> float | None:
+        """The kT the peculiar velocities of a sheared system are rescaled to (None: no thermostat)."""
+        value = float(self.params[_k.P_THERMOSTAT])
+        return value if value > 0.0 else None
+
+    @property
+    def thermostat_energy(self) -> float:
+        """Kinetic energy the thermostat has removed so far (negative if it added energy)."""
+        return float(self.acc[_k.ACC_THERMOSTAT])
+
+    @property
+    def shear_offset(self) -> float:
+        """x offset of the image box above now: G L_y t modulo L_x (t the time sheared so far).
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from collisionkit.edmd import HardSphereSystem, lattice, maxwell_boltzmann
+        >>> positions, box = lattice("square", 10, 0.3)
+        >>> system = HardSphereSystem(positions, maxwell_boltzmann(np.ones(100), 2, seed=1), 0.5, box, shear_rate=0.1)
+        >>> _ = system.run(time=2.0)
+        >>> bool(np.isclose(system.shear_offset, 0.1 * box[1] * 2.0 % box[0]))
+        True
+        """
+        return float(self._offset_at(self.time) % self.box[0])
+
+    def _offset_at(self, t):
+        return self.params[_k.P_SHEAR_OFFSET] + self.params[_k.P_SHEAR_RATE] * self.box[1] * t
+
+    def _shear_clock(self, shift):
+        """The clock restarts ``shift`` later (see ``synchronise``): carry the offset and the next sweep over."""
+        if self.params[_k.P_SHEAR_RATE] != 0.0:
+            self.params[_k.P_SHEAR_OFFSET] = float(self._offset_at(shift) % self.box[0])
+            self.params[_k.P_SHEAR_SWEEP] -= shift
+
+    def _schedule_sweep(self):
+        """After all lists were rebuilt (clock at 0): the next sweep of the y faces, a margin's drift from now."""
+        if self.params[_k.P_SHEAR_RATE] != 0.0:
+            drift = abs(self.params[_k.P_SHEAR_RATE]) * self.box[1]
+            self.params[_k.P_SHEAR_SWEEP] = self.time + self.params[_k.P_SHEAR_MARGIN] / drift
+
+    def _streaming(self, y):
+        """Streaming velocity along x at heights y (stored, any image): G (y - L_y / 2)."""
+        return self.params[_k.P_SHEAR_RATE] * (y - 0.5 * self.box[1])
+
+    def _peculiar(self):
+        """Peculiar velocities of the stored records (synchronised), memory order: the same for every image."""
+        velocities = self.vel.copy()
+        velocities[:, 0] -= self._streaming(self.pos[:, 1])
+        return velocities
+
+    def _add_streaming(self):
+        """Turn the stored velocities (taken as peculiar) into lab velocities: add the streaming velocity."""
+        self.p[:, _k.V] += self._streaming(self.p[:, _k.X + 1])
+
+    def _sheared_folded(self, ahead=0.0):
+        """Positions folded into the box under shear (y first, x shifted by the offset), the image counters, v_x shifts.
+
+        Returns ``(positions, image, slide)``: a particle folded down
+        through y = L_y is its image there, shifted back along x by the
+        offset and slower along x by G L_y (``slide``, add it to v_x).
+        """
+        pos = self.pos + self.vel * ahead
+        image = self._image.copy()
+        ly = self.box[1]
+        across = np.floor(pos[:, 1] / ly)
+        pos[:, 1] -= across * ly
+        rounded = pos[:, 1] >= ly
+        pos[rounded, 1] = 0.0
+        across[rounded] = 0.0  # -tiny + L rounds to L: back at 0, no move to another image
+        pos[:, 0] -= across * self._offset_at(self.time + ahead)
+        image[:, 1] += across.astype(np.int64)
+        for k in range(0, self.dim, 2):
+            length = self.box[k]
+            shift = np.floor(pos[:, k] / length)
+            pos[:, k] -= shift * length
+            image[:, k] += shift.astype(np.int64)
+            up = pos[:, k] >= length
+            pos[up, k] = 0.0
+        slide = -across * self.params[_k.P_SHEAR_RATE] * ly
+        return pos, image, slide
+
+    def peculiar_velocities(self):
+        """Velocities relative to the shear flow, c = v - G (y - L_y / 2) e_x, now (particle order).
+
+        Without shear, the velocities.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from collisionkit.edmd import HardSphereSystem, lattice, maxwell_boltzmann
+        >>> positions, box = lattice("square", 10, 0.3)
+        >>> thermal = maxwell_boltzmann(np.ones(100), 2, seed=1)
+        >>> system = HardSphereSystem(positions, thermal, 0.5, box, shear_rate=0.5)
+        >>> bool(np.allclose(system.peculiar_velocities(), thermal))
+        True
+        """
+        self.synchronise()
+        return self._to_user_order(self._peculiar())
+
+    def _apply_thermostat(self):
+        """Rescale the peculiar velocities (synchronised system) to the thermostat's kT; re-predict every event.
+
+        The energy removed is added to ``thermostat_energy``. Only the
+        velocities relative to the flow change, so the flow itself and the
+        positions stay as they are.
+        """
+        peculiar = self._peculiar()
+        energy = 0.5 * float(np.sum(self._mass[:, None] * peculiar**2))
+        if energy == 0.0:
+            return
+        target = 0.5 * self.dim * self.count * self.params[_k.P_THERMOSTAT]
+        factor = math.sqrt(target / energy)
+        streaming = self.vel.copy()
+        streaming[:, 0] -= peculiar[:, 0]
+        streaming[:, 1:] = 0.0
+        self.p[:, _k.V : _k.V + self.dim] = streaming + factor * peculiar
+        self.acc[_k.ACC_THERMOSTAT] += energy - 0.5 * float(np.sum(self._mass[:, None] * (factor * peculiar) ** 2))
+        self._predict_all()
+
+    def _thermostat_due_in(self) -> int:
+        """Pair collisions until the next rescaling: after every THERMOSTAT_INTERVAL N (a fixed grid of the count)."""
+        interval = THERMOSTAT_INTERVAL * self.count
+        return interval - self.collisions % interval
+
+    def _sheared_gap(self):
+        """Smallest surface gap under shear (synchronised), from a k-d tree over the nearest images."""
+        from scipy.spatial import cKDTree
+
+        dim = self.dim
+        points, _, _ = self._sheared_folded()
+        radii = self.p[:, _k.R] * self.scale
+        reach = 2.0 * float(radii.max()) + self.neighbour_shell_width
+        box = self.box[:dim]
+        offset = (self._offset_at(self.time) + 0.5 * box[0]) % box[0] - 0.5 * box[0]
+        copies, owners = [], []
+        shifts = np.array(np.meshgrid(*[[-1, 0, 1]] * dim, indexing="ij")).reshape(dim, -1).T
+        for shift in shifts:
+            image = points + shift * box
+            image[:, 0] += shift[1] * offset
+            copies.append(image)
+            owners.append(np.arange(self.count))
+        images, owners = np.concatenate(copies), np.concatenate(owners)
+        pairs = cKDTree(points).query_ball_tree(cKDTree(images), reach)
+        gap = math.inf
+        for i, near in enumerate(pairs):
+            near = np.asarray(near, dtype=np.int64)
+            near = near[owners[near] != i]
+            if near.size:
+                distance = np.linalg.norm(images[near] - points[i], axis=1)
+                gap = min(gap, float(np.min(distance - radii[i] - radii[owners[near]])))
+        return gap
