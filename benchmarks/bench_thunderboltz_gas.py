@@ -267,7 +267,8 @@ def field_section(block: dict, target: float) -> str:
     lines += ["", f"Real collisions per CPU second, collisionkit / ThunderBoltz, back-to-back pairs: {ratios} "
               f"(median **{block['ratio_cpu_median']:.2f}**).", ""]
     lines += accuracy_rows(block, target)
-    lines += [comparison(block), ""]
+    lines += [comparison(block), "", "ThunderBoltz's runs against collisionkit's mean (the checks isolate its biases, "
+              "see the notes):", ""] + check_lines(block) + [""]
     return "\n".join(lines)
 
 
@@ -288,6 +289,24 @@ def comparison(block: dict) -> str:
                     f"{b.mean():.5g} ± {eb:.1g} | {100 * (b.mean() / a.mean() - 1):+.2f} % |")
     return ("Values (mean ± standard error over the repeats; the difference uses ThunderBoltz's time-averaged "
             "value where it has one):\n\n" + "\n".join(rows))
+
+
+def check_lines(block: dict) -> list[str]:
+    """The check runs against collisionkit's mean over its repeats, in percent (what each of ThunderBoltz's biases does)."""
+    ck = [p["collisionkit"] for p in block["pairs"]]
+    base = {name: statistics.mean(r[name] for r in ck) for name in ("mean_energy", "drift_velocity_bulk",
+                                                                     "ionization_rate")}
+    lines = []
+    for run in [p["thunderboltz"] for p in block["pairs"]][:1] + block["checks"]:
+        energy = run.get("mean_energy_time_averaged", run["mean_energy"])
+        late = run["relaxed_at_seconds"] / run["simulated_seconds"]
+        lines.append(f"* {run['label']}{' (first of the repeats)' if run in [p['thunderboltz'] for p in block['pairs']] else ''}: "
+                     f"<e> {100 * (energy / base['mean_energy'] - 1):+.2f} %, bulk W "
+                     f"{100 * (run['drift_velocity_bulk'] / base['drift_velocity_bulk'] - 1):+.2f} %, k_ion "
+                     f"{100 * (run['ionization_rate'] / base['ionization_rate'] - 1):+.1f} % against collisionkit"
+                     + (f"; relaxed only at {100 * late:.0f} % of the run (still drifting: a lower bound of the shift)"
+                        if late > 0.5 else "") + ".")
+    return lines
 
 
 def report(data: dict) -> str:
