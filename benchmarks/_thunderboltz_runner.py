@@ -32,6 +32,20 @@ What it does:
    process), mean energy ``Mi``, flux drift ``Vzi`` and the bulk drift as the
    slope of ``Rzi``; averages over the second half of the run, errors from 8
    blocks.
+
+With ``--lxcat FILE`` (``bench_thunderboltz_gas.py``) the model is a real gas
+read by ThunderBoltz's own LXCat reader (``CrossSections.from_LXCat``) from
+the same file collisionkit ships: every process on the fixed background
+(``set_fixed_background``: ``ElasticFixedParticle2``,
+``InelasticFixedParticle2``; ionization never moves its target), equal
+energy sharing after ionization (``add_differential_model("Ionization",
+"Equal")``; ThunderBoltz's default gives the ejected electron no energy),
+the gas mass from the ELASTIC block's mass ratio, ``--vsigma-samples``
+pairs for ThunderBoltz's per-step estimate of (v sigma)_max (its ``VS``) and
+``--carry-remainder`` (its ``CR = 1``: the fractional number of candidate
+pairs of a process is carried to the next step, as Bird's NTC scheme does;
+with its default ``CR = 0`` a process with less than one candidate pair per
+step, as most of argon's 37 excitations have, is never tried).
 """
 
 from __future__ import annotations
@@ -76,6 +90,18 @@ def reid_cross_sections() -> CrossSections:
     return cs
 
 
+def lxcat_cross_sections(path: str) -> tuple[CrossSections, float]:
+    """ThunderBoltz's own reading of an LXCat file, on a fixed background; and the electron/gas mass ratio."""
+    cs = CrossSections().from_LXCat(path)
+    cs.set_fixed_background(True)
+    cs.add_differential_model("Ionization", "Equal")
+    blocks = tb.parsing.read_LXCat_cs(path)
+    ratios = blocks.loc[blocks.process_type.isin(["ELASTIC", "EFFECTIVE"]), "target_mass_ratio"].dropna().unique()
+    if len(ratios) != 1:
+        raise RuntimeError(f"{path}: expected one electron/target mass ratio, found {list(ratios)}")
+    return cs, float(ratios[0])
+
+
 def build(workdir: Path, name: str) -> dict:
     """Compile the ThunderBoltz binary once (cached); return its path and compile time."""
     folder = workdir / f"bin-{name}"
@@ -109,13 +135,15 @@ def time_step(reduced_field: float, rate_coefficient: float, delta_energy: float
 
 
 def simulation(folder: Path, args, dt: float, steps: int) -> ThunderBoltz:
-    """A ThunderBoltz object with the Reid ramp input deck for this run."""
+    """A ThunderBoltz object with the input deck for this run (Reid's ramp, or an LXCat gas)."""
+    cs, ratio = lxcat_cross_sections(args.lxcat) if args.lxcat else (reid_cross_sections(), REID_MASS_RATIO)
+    extra = {"VS": args.vsigma_samples} if args.vsigma_samples else {}
     return ThunderBoltz(
-        directory=str(folder), cs=reid_cross_sections(),
+        directory=str(folder), cs=cs, **extra,
         NP=[args.electrons, 1], TP=[args.initial_temperature, 0.0], VV=[0.0, 0.0],
-        MP=[ELECTRON_AMU, ELECTRON_AMU / REID_MASS_RATIO], QP=[-1.0, 0.0],
+        MP=[ELECTRON_AMU, ELECTRON_AMU / ratio], QP=[-1.0, 0.0],
         L=GAS_DENSITY ** (-1.0 / 3.0), DT=dt, NS=steps, Ered=args.reduced_field,
-        OS=OUTPUT_STRIDE, FV=[steps + 1, steps + 1, 0], EX=0, CR=0,
+        OS=OUTPUT_STRIDE, FV=[steps + 1, steps + 1, 0], EX=0, CR=int(args.carry_remainder),
     )
 
 
@@ -151,8 +179,18 @@ def observables(calc: ThunderBoltz, electrons: int) -> dict:
     pairs = np.column_stack([t, rz])
     bulk = blocked(pairs, lambda p: np.polyfit(p[:, 0], p[:, 1], 1)[0])
     steady = counts[counts.step >= window.step.min()]
-    span = (steady.step.max() - steady.step.min()) * calc.tb_params["DT"]
-    rates = {p: float((steady[p].iloc[-1] - steady[p].iloc[0]) / (electrons * GAS_DENSITY * span)) for p in processes}
+    # electron time over the counted steps: the integral of the electron count (it grows by ionization)
+    lo, hi = steady.step.min(), steady.step.max()
+    grid = series[(series.step >= lo) & (series.step <= hi)]
+    if "Ni" in grid and len(grid) > 1:  # Ni is the electron density: count / L^3 = count * GAS_DENSITY
+        electron_time = float(np.trapz(grid.Ni.to_numpy(), grid.t.to_numpy())) / GAS_DENSITY  # numpy < 2 here
+    else:
+        electron_time = electrons * (hi - lo) * calc.tb_params["DT"]
+    rates = {p: float((steady[p].iloc[-1] - steady[p].iloc[0]) / (GAS_DENSITY * electron_time)) for p in processes}
+    energies = series.Mi.to_numpy()
+    tail = window.Mi.to_numpy()
+    steady_index = next((i for i in range(len(energies) - 3)
+                         if abs(energies[i:i + 4].mean() - tail.mean()) < 1.5 * tail.std(ddof=1)), 0)
     final = counts.iloc[-1]
     return {"collisions": int(sum(final[p] for p in processes)),
             "collisions_by_process": {p.replace(".dat", ""): int(final[p]) for p in processes},
@@ -160,7 +198,11 @@ def observables(calc: ThunderBoltz, electrons: int) -> dict:
             "drift_velocity_flux": flux[0], "drift_velocity_flux_error": flux[1],
             "drift_velocity_bulk": bulk[0], "drift_velocity_bulk_error": bulk[1],
             "rate_coefficients": {p.replace(".dat", ""): k for p, k in rates.items()},
-            "steady_from_seconds": float(window.t.min()), "simulated_seconds": float(series.t.max())}
+            "steady_from_seconds": float(window.t.min()), "simulated_seconds": float(series.t.max()),
+            # the first output whose 4-output mean energy is within 3 standard errors (1.5 sigma of one
+            # output) of the window mean: where a shorter run could have started averaging
+            "relaxed_at_seconds": float(series.t.iloc[steady_index]),
+            "electrons_final": round(series.Ni.iloc[-1] / GAS_DENSITY) if "Ni" in series else electrons}
 
 
 def run(args) -> dict:
@@ -177,6 +219,8 @@ def run(args) -> dict:
     timing = execute(folder)
     result = {"code": "ThunderBoltz", "version": importlib.metadata.version("thunderboltz"), **binary,
               "reduced_field": args.reduced_field, "electrons": args.electrons, "gas_particles": 1,
+              "gas": args.lxcat or "Reid ramp", "vsigma_samples": args.vsigma_samples or 1000,
+              "carry_remainder": bool(args.carry_remainder),
               "step_scale": args.step_scale,
               "gas_temperature_K": 0.0, "time_step": dt, "steps": steps, "collision_probability_per_step":
               args.rate_coefficient * GAS_DENSITY * dt, "folder": str(folder), **timing,
@@ -200,6 +244,12 @@ def parse(argv=None):
                         help="expected total rate coefficient k (m^3/s), only to size NS")
     parser.add_argument("--step-scale", type=float, default=1.0, help="multiplies the time step")
     parser.add_argument("--initial-temperature", type=float, default=2.0 / 3.0, help="electron TP (eV)")
+    parser.add_argument("--lxcat", help="an LXCat file: the gas instead of Reid's ramp")
+    parser.add_argument("--vsigma-samples", type=int, default=0,
+                        help="ThunderBoltz's VS (pairs sampled per step for (v sigma)_max); 0: its default")
+    parser.add_argument("--carry-remainder", action="store_true",
+                        help="CR = 1: carry the fractional number of candidate pairs to the next step (Bird's NTC); "
+                             "ThunderBoltz's default CR = 0 drops it, which loses the collisions of weak processes")
     parser.add_argument("--keep", action="store_true", help="keep the simulation folder")
     return parser.parse_args(argv)
 

@@ -122,6 +122,9 @@ def advance_swarm(lo, hi, pos, vel, states, alive, t_start, t_end, field, mass, 
             t_begin = t
             x0, y0, z0 = x, y, z
             survives = True
+            # a thermal target's velocity takes three normal numbers, drawn in pairs: the third of one pair is kept
+            # for the next trial of the same particle (its own stream, so results do not depend on the threads)
+            spare, has_spare = 0.0, False
             speed0 = math.sqrt(vx * vx + vy * vy + vz * vz)
             nu_window = trial_frequencies(speed0, density, gas, bound, inverse_step, sigma_max, const_max, nu_s)
             while True:  # one flight, from the last real collision
@@ -182,7 +185,11 @@ def advance_swarm(lo, hi, pos, vel, states, alive, t_start, t_end, field, mass, 
                     gas_vx = gas_vy = gas_vz = 0.0
                     if gas[s, 1] > 0.0:
                         gas_vx, gas_vy = normal_pair(rng)
-                        gas_vz, _ = normal_pair(rng)
+                        if has_spare:
+                            gas_vz, has_spare = spare, False
+                        else:
+                            gas_vz, spare = normal_pair(rng)
+                            has_spare = True
                         gas_vx *= gas[s, 1]
                         gas_vy *= gas[s, 1]
                         gas_vz *= gas[s, 1]
