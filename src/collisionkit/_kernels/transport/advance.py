@@ -14,6 +14,7 @@ from ..._jit import kernel
 from .collisions import ionized, two_body
 from .cross_sections import node_index, trial_frequencies
 from .flight import flight_envelope, flown_position, flown_velocity, window_growth_speed, window_top_speed
+from .oscillating import STATIC_SIZE, oscillating_displacement, oscillating_velocity, oscillating_window_speed
 from .layout import (
     ATTACHMENT, BOUND_COLUMN_OFFSET, ELASTIC, EXCITATION, NULL_COLUMN_OFFSET, SUPERELASTIC, TIME_COLUMN_OFFSET,
 )
@@ -74,6 +75,12 @@ def advance_swarm(lo, hi, pos, vel, states, alive, t_start, t_end, field, mass, 
     The particle loop is written out in this one function: a numba call
     that is not inlined costs two atomic reference-count operations per
     array argument.
+
+    An oscillating record (:mod:`.oscillating`: the static record extended
+    by E0 cos(omega t) with omega > 0) adds the exact response to the
+    oscillating force to every flight, the flight's start time giving its
+    phase, and bounds each window's speed with
+    :func:`.oscillating.oscillating_window_speed`.
     """
     n_species = gas.shape[0]
     n_proc = kind.shape[0]
@@ -81,6 +88,9 @@ def advance_swarm(lo, hi, pos, vel, states, alive, t_start, t_end, field, mass, 
     time_column = n_proc + TIME_COLUMN_OFFSET
     bound_column = n_proc + BOUND_COLUMN_OFFSET
     accel_mag = math.sqrt(field[0] ** 2 + field[1] ** 2 + field[2] ** 2)
+    ac = field.shape[0] > STATIC_SIZE and field[STATIC_SIZE] > 0.0  # an oscillating electric field
+    if ac:
+        accel_mag += field[STATIC_SIZE + 12]
     ax, ay, az = field[0], field[1], field[2]
     exact = field[12] == 0.0
     bx, by, bz, ux, uy, uz = field[3], field[4], field[5], field[9], field[10], field[11]
@@ -138,9 +148,26 @@ def advance_swarm(lo, hi, pos, vel, states, alive, t_start, t_end, field, mass, 
                             fx, fy, fz = vx + ax * elapsed, vy + ay * elapsed, vz + az * elapsed
                         else:
                             fx, fy, fz = flown_velocity(vx, vy, vz, elapsed, field)
+                        if ac:
+                            dvx, dvy, dvz = oscillating_velocity(t, elapsed, field)
+                            fx, fy, fz = fx + dvx, fy + dvy, fz + dvz
                         return i, math.sqrt(fx * fx + fy * fy + fz * fz)
                     if elapsed >= window_end:  # open the next window
-                        if accel_mag > 0.0:
+                        if ac:  # the exact velocity at the window's start, and the bound over the window
+                            if exact:
+                                fx, fy, fz = vx + ax * window_end, vy + ay * window_end, vz + az * window_end
+                            else:
+                                fx, fy, fz = flown_velocity(vx, vy, vz, window_end, field)
+                            dvx, dvy, dvz = oscillating_velocity(t, window_end, field)
+                            fx, fy, fz = fx + dvx, fy + dvy, fz + dvz
+                            s_start = math.sqrt(fx * fx + fy * fy + fz * fz)
+                            h = window / nu_window if nu_window > 0.0 else fallback
+                            h = min(h, growth * max(s_start, speed_floor) / accel_mag)
+                            s_window = oscillating_window_speed(fx, fy, fz, t + window_end, h, field, accel_mag)
+                            nu_window = trial_frequencies(s_window, density, gas, bound, inverse_step, sigma_max,
+                                                          const_max, nu_s)
+                            window_end += h
+                        elif accel_mag > 0.0:
                             h = window / nu_window if nu_window > 0.0 else fallback
                             h = min(h, growth * max(s_low, speed_floor) / accel_mag)
                             s_high = window_top_speed(vx, vy, vz, ax, ay, az, window_end + h, exact, vb, radius,
@@ -170,6 +197,9 @@ def advance_swarm(lo, hi, pos, vel, states, alive, t_start, t_end, field, mass, 
                         tvx, tvy, tvz = vx + ax * elapsed, vy + ay * elapsed, vz + az * elapsed
                     else:
                         tvx, tvy, tvz = flown_velocity(vx, vy, vz, elapsed, field)
+                    if ac:
+                        dvx, dvy, dvz = oscillating_velocity(t, elapsed, field)
+                        tvx, tvy, tvz = tvx + dvx, tvy + dvy, tvz + dvz
                     r = uniform(rng) * nu_window
                     s = 0
                     while s < n_species - 1 and r >= nu_s[s]:
@@ -226,11 +256,17 @@ def advance_swarm(lo, hi, pos, vel, states, alive, t_start, t_end, field, mass, 
                     x, y, z = x + vx * elapsed + ax * half, y + vy * elapsed + ay * half, z + vz * elapsed + az * half
                 else:
                     x, y, z = flown_position(x, y, z, vx, vy, vz, elapsed, field)
+                if ac:
+                    dx, dy, dz = oscillating_displacement(t, elapsed, field)
+                    x, y, z = x + dx, y + dy, z + dz
                 if landed:
                     if exact:
                         vx, vy, vz = vx + ax * elapsed, vy + ay * elapsed, vz + az * elapsed
                     else:
                         vx, vy, vz = flown_velocity(vx, vy, vz, elapsed, field)
+                    if ac:
+                        dvx, dvy, dvz = oscillating_velocity(t, elapsed, field)
+                        vx, vy, vz = vx + dvx, vy + dvy, vz + dvz
                     t = t_end
                     break
                 # a real collision, where the particle now is
