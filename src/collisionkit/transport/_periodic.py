@@ -83,14 +83,18 @@ class PeriodicRun(TensorRun):
         return abs(last - first) < max(3.0 * math.hypot(last_err, first_err), 1e-3 * abs(last))
 
     def _result(self, start, setup, converged):
-        start += (len(self.times) - start) % self.phases  # whole sets of phases
+        window = len(self.times) - start
+        if window >= self.phases:
+            start += window % self.phases  # whole sets of phases
+        else:  # a run stopped by its budget a few samples after the transient: its last set of phases
+            start = max(0, len(self.times) - self.phases)
         result = super()._result(start, setup, converged)
         moments = np.array(self.moments[start:])  # (samples, groups, columns)
         index = np.array(self.phase_index[start:])
         energy = moments[..., 10] / moments[..., 0] / EV
         velocity = moments[..., 7:10] / moments[..., 0][..., None]
-        by_phase_energy = np.stack([energy[index == k].mean(axis=0) for k in range(self.phases)], axis=1)
-        by_phase_velocity = np.stack([velocity[index == k].mean(axis=0) for k in range(self.phases)], axis=1)
+        by_phase_energy = np.stack([_phase_mean(energy, index == k) for k in range(self.phases)], axis=1)
+        by_phase_velocity = np.stack([_phase_mean(velocity, index == k) for k in range(self.phases)], axis=1)
         result.phases = 2.0 * math.pi * np.arange(self.phases) / self.phases
         result.mean_energy_by_phase, result.mean_energy_by_phase_error = mean_and_error(by_phase_energy)
         result.drift_velocity_flux_by_phase, result.drift_velocity_flux_by_phase_error = mean_and_error(
@@ -99,3 +103,10 @@ class PeriodicRun(TensorRun):
         result.mean_energy, result.mean_energy_error = float(mean_energy), float(mean_energy_error)
         result.drift_velocity_flux, result.drift_velocity_flux_error = mean_and_error(by_phase_velocity.mean(axis=1))
         return result
+
+
+def _phase_mean(values, chosen):
+    """Mean over the chosen samples (axis 0); NaN where none was taken (a run shorter than a set of phases)."""
+    if not chosen.any():
+        return np.full(values.shape[1:], np.nan)
+    return values[chosen].mean(axis=0)
