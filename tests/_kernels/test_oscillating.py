@@ -12,9 +12,16 @@ from scipy.integrate import solve_ivp
 
 from collisionkit._kernels.transport.flight import derived_field, flown_position, flown_velocity
 from collisionkit._kernels.transport.oscillating import (
-    SERIES_GAP, divided_difference, oscillating_displacement, oscillating_field, oscillating_velocity,
-    oscillating_window_speed,
+    SERIES_GAP, divided_difference, oscillating_displacement, oscillating_field, oscillating_flown_velocity,
+    oscillating_window,
 )
+
+
+def _velocity(v0, t0, tau, record):
+    """The velocity after tau from v0 at time t0 (and the phase omega (t0 + tau) as cos, sin)."""
+    omega = record[13]
+    vx, vy, vz, c1, s1 = oscillating_flown_velocity(*v0, math.cos(omega * t0), math.sin(omega * t0), tau, record)
+    return np.array([vx, vy, vz]), (c1, s1)
 
 
 def _case(rng, kind):
@@ -50,9 +57,10 @@ def test_the_flight_is_the_solution_of_the_equation_of_motion(kind):
         static, record, gravity, amplitude, omega, omega_vector, x0, v0, t0, tau = _case(rng, kind)
         solution = solve_ivp(_ode(gravity, amplitude, omega, omega_vector), (t0, t0 + tau), np.concatenate([x0, v0]),
                              method="DOP853", rtol=1e-12, atol=1e-13)
-        velocity = np.array(flown_velocity(*v0, tau, static)) + np.array(oscillating_velocity(t0, tau, record))
+        velocity, (c1, s1) = _velocity(v0, t0, tau, record)
+        assert (c1, s1) == pytest.approx((math.cos(omega * (t0 + tau)), math.sin(omega * (t0 + tau))), abs=1e-12)
         position = (np.array(flown_position(*x0, *v0, tau, static))
-                    + np.array(oscillating_displacement(t0, tau, record)))
+                    + np.array(oscillating_displacement(math.cos(omega * t0), math.sin(omega * t0), tau, record)))
         np.testing.assert_allclose(velocity, solution.y[3:, -1], rtol=0, atol=1e-9 * (1 + tau))
         np.testing.assert_allclose(position, solution.y[:3, -1], rtol=0, atol=1e-9 * (1 + tau) ** 2)
 
@@ -61,7 +69,7 @@ def test_at_resonance_the_perpendicular_response_grows_linearly():
     """omega = Omega, E perpendicular to B, from rest at t0 = 0: |w| = (A/2) t for t >> 1/omega (secular growth)."""
     record = oscillating_field(derived_field(np.zeros(3), np.array([0.0, 2.0, 0.0])), np.array([0.0, 0.0, 1.0]), 2.0)
     tau = 200 * math.pi  # 200 periods
-    speed = np.linalg.norm(oscillating_velocity(0.0, tau, record))
+    speed = np.linalg.norm(_velocity(np.zeros(3), 0.0, tau, record)[0])
     assert speed == pytest.approx(0.5 * tau, rel=1e-3)
 
 
@@ -78,12 +86,14 @@ def test_the_window_bound_is_never_below_the_speed_reached(kind):
     """The bound over [t1, t1 + h] from the exact velocity at t1 covers the largest speed on a fine grid."""
     rng = np.random.default_rng(10 + KINDS.index(kind))
     for _ in range(30):
-        static, record, gravity, amplitude, omega, omega_vector, _, v0, t0, tau = _case(rng, kind)
+        _, record, gravity, amplitude, omega, omega_vector, _, v0, t0, tau = _case(rng, kind)
         accel = np.linalg.norm(gravity) + np.linalg.norm(amplitude)
         grid = np.linspace(0.0, tau, 1201)
-        speeds = [np.linalg.norm(np.array(flown_velocity(*v0, s, static))
-                                 + np.array(oscillating_velocity(t0, s, record))) for s in grid]
-        bound = oscillating_window_speed(*v0, t0, tau, record, accel)
+        speeds = [np.linalg.norm(_velocity(v0, t0, s, record)[0]) for s in grid]
+        bound, *end = oscillating_window(*v0, math.cos(omega * t0), math.sin(omega * t0), omega * t0, tau, record,
+                                         accel)
+        velocity, rotor = _velocity(v0, t0, tau, record)
+        np.testing.assert_allclose(end, [*velocity, *rotor], rtol=0, atol=1e-15 * (1 + np.abs(velocity).max()))
         assert bound >= max(speeds) * (1 - 1e-12)
         assert bound <= (np.linalg.norm(v0) + accel * tau) * (1 + 1e-9)  # never above the work bound
 
@@ -92,8 +102,9 @@ def test_the_window_bound_is_exact_for_a_window_holding_a_peak_of_the_field_with
     """No B, no gravity: the speed's largest value over a window is reached (the bound is tight)."""
     record = oscillating_field(derived_field(np.zeros(3), np.zeros(3)), np.array([0.0, 0.0, 3.0]), 2.0)
     grid = np.linspace(0.0, 2.5, 20001)
-    speeds = [np.linalg.norm(np.array([0.3, 0.0, 1.0]) + np.array(oscillating_velocity(0.4, s, record))) for s in grid]
-    assert oscillating_window_speed(0.3, 0.0, 1.0, 0.4, 2.5, record, 3.0) == pytest.approx(max(speeds), rel=1e-6)
+    speeds = [np.linalg.norm(_velocity(np.array([0.3, 0.0, 1.0]), 0.4, s, record)[0]) for s in grid]
+    bound = oscillating_window(0.3, 0.0, 1.0, math.cos(0.8), math.sin(0.8), 0.8, 2.5, record, 3.0)[0]
+    assert bound == pytest.approx(max(speeds), rel=1e-6)
 
 
 def test_the_static_flight_at_any_angle_solves_the_equation_of_motion():
@@ -109,3 +120,36 @@ def test_the_static_flight_at_any_angle_solves_the_equation_of_motion():
                              np.concatenate([x0, v0]), method="DOP853", rtol=1e-12, atol=1e-13)
         np.testing.assert_allclose(flown_velocity(*v0, tau, field), solution.y[3:, -1], atol=1e-9 * (1 + tau))
         np.testing.assert_allclose(flown_position(*x0, *v0, tau, field), solution.y[:3, -1], atol=1e-9 * (1 + tau) ** 2)
+
+
+def test_sincos_agrees_with_the_library_to_a_few_ulp():
+    from collisionkit._kernels.transport.oscillating import sincos
+
+    rng = np.random.default_rng(7)
+    for x in np.concatenate([rng.uniform(-10, 10, 2000), rng.uniform(-1e5, 1e5, 2000), [0.0, math.pi / 4, 1e-300]]):
+        s, c = sincos(x)
+        assert abs(s - math.sin(x)) <= 4e-16 * max(1.0, abs(x) * 1e-5) + 2e-16 * abs(math.sin(x))
+        assert abs(c - math.cos(x)) <= 4e-16 * max(1.0, abs(x) * 1e-5) + 2e-16 * abs(math.cos(x))
+
+
+def test_the_parallel_displacement_is_free_of_cancellation_for_short_flights():
+    """omega tau from 1e-9 to 10, no B: the closed form against the double integral of cos by quadrature."""
+    from scipy.integrate import quad
+
+    record = oscillating_field(derived_field(np.zeros(3), np.zeros(3)), np.array([0.0, 0.0, 1.0]), 1.0)
+    for tau in (1e-9, 1e-4, 0.3, 0.49, 0.51, 2.0, 10.0):
+        for t0 in (0.0, 1.0, 2.5):
+            # sin(t0 + u) - sin(t0) = 2 cos(t0 + u/2) sin(u/2): an integrand free of cancellation
+            exact = quad(lambda u: 2 * math.cos(t0 + u / 2) * math.sin(u / 2), 0.0, tau, epsabs=0, epsrel=1e-13)[0]
+            value = oscillating_displacement(math.cos(t0), math.sin(t0), tau, record)[2]
+            assert value == pytest.approx(exact, rel=1e-11, abs=1e-13 * tau * tau)
+
+
+def test_the_series_of_phi1_agrees_with_its_closed_form():
+    """Against sin(x)/x + i 2 sin(x/2)^2/x from the library's sine (no cancellation, a few ulp)."""
+    from collisionkit._kernels.transport.oscillating import PHI1_SERIES, _phi1_series, phi1
+
+    for x in np.linspace(-PHI1_SERIES, PHI1_SERIES, 101):
+        exact = 1.0 if x == 0 else complex(math.sin(x) / x, 2 * math.sin(x / 2) ** 2 / x)
+        assert abs(_phi1_series(x) - exact) < 4e-16
+        assert abs(phi1(x) - exact) < 4e-16

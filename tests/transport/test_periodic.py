@@ -63,12 +63,12 @@ def test_maxwell_model_velocity_and_energy_follow_the_exact_cycle(b_over_n, angl
     omega = NU_PRIME
     amplitude, energy = _maxwell_ac(10.0, omega, b_over_n, angle)
     r = simulate_swarm(maxwell_model(RATE, mass=LIGHT_GAS), 10.0, reduced_frequency=omega / REFERENCE_DENSITY,
-                       reduced_magnetic_field=b_over_n, field_angle=angle, gas_temperature=0.0, particles=4000,
-                       seed=3, threads=2, tolerances={"mean_energy": 4e-3})
+                       reduced_magnetic_field=b_over_n, field_angle=angle, gas_temperature=0.0, particles=2000,
+                       seed=3, threads=2, tolerances={"mean_energy": 6e-3})
     assert r.converged and r.extras["bound_violations"] == 0
     assert r.phases.shape == (16,) and np.allclose(np.diff(r.phases), 2 * math.pi / 16)
     expected = np.real(amplitude[None, :] * np.exp(1j * r.phases)[:, None])
-    assert np.abs(expected).max() > 50 * r.drift_velocity_flux_by_phase_error.max()  # a resolved cycle
+    assert np.abs(expected).max() > 30 * r.drift_velocity_flux_by_phase_error.max()  # a resolved cycle
     assert _agree(r.drift_velocity_flux_by_phase, r.drift_velocity_flux_by_phase_error, expected)
     assert _agree(r.mean_energy_by_phase, r.mean_energy_by_phase_error, energy(r.phases))
     # cycle averages: the mean over the phases (zero drift by symmetry)

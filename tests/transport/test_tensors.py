@@ -146,9 +146,9 @@ def test_lucas_saelee_with_b_at_60_degrees_matches_dujko():
     """10 Td, 200 Hx, psi = 60 deg, F = 0, m/M = 1e-3: <e> = 4.818 eV, |W_bulk| = 5.157e4 m/s (Dujko et al.
     2010); tolerance 4 standard errors + the 0.2 % read-off accuracy."""
     r = simulate_swarm(lucas_saelee(0.0, mass=1000 * ME), 10.0, reduced_magnetic_field=200.0, field_angle=60.0,
-                       gas_temperature=0.0, particles=10000, seed=6, threads=2,
-                       tolerances={"mean_energy": 1.5e-3, "drift_velocity_bulk": 2e-3}, collision_budget=2e8)
-    assert r.mean_energy_error < 1.5e-3 * 4.818
+                       gas_temperature=0.0, particles=6000, seed=6, threads=2,
+                       tolerances={"mean_energy": 2e-3, "drift_velocity_bulk": 2e-3}, collision_budget=2e8)
+    assert r.mean_energy_error < 2e-3 * 4.818  # 4 sigma + 0.2 %: 1 %, against 5.56 eV at B = 0, 4.08 eV at 90 deg
     assert _within(r.mean_energy, r.mean_energy_error, 4.818, relative=READ_OFF)
     speed = np.linalg.norm(r.drift_velocity_bulk)
     speed_error = np.linalg.norm(r.drift_velocity_bulk * r.drift_velocity_bulk_error) / speed

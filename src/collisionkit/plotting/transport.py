@@ -111,7 +111,8 @@ def plot_phase_resolved(results, axes=None):
     >>> from collisionkit import plotting
     >>> phases = np.linspace(0, 2 * np.pi, 8, endpoint=False)
     >>> r = SimpleNamespace(reduced_field=10.0, phases=phases, mean_energy_by_phase=1 + 0.1 * np.cos(2 * phases),
-    ...     mean_energy_by_phase_error=np.full(8, 0.01), drift_velocity_flux_by_phase=np.outer(np.cos(phases), [0, 0, 1]),
+    ...     mean_energy_by_phase_error=np.full(8, 0.01),
+    ...     drift_velocity_flux_by_phase=np.outer(np.cos(phases), [0, 0, 1]),
     ...     drift_velocity_flux_by_phase_error=np.full((8, 3), 0.01))
     >>> axes = plotting.plot_phase_resolved([r])
     >>> axes[1].get_ylabel()

@@ -20,7 +20,12 @@ Observables (Robson, Ness, White, Dujko; e.g. Dujko et al., J. Phys. D 41,
   a superelastic inverse is a process of its own (``label (superelastic)``);
 * Townsend coefficients ``alpha/N``, ``eta/N`` of steady-state Townsend
   conditions from the bulk coefficients (:mod:`collisionkit.transport.townsend`);
-* mean energy and the energy distribution.
+* mean energy and the energy distribution;
+* the full 3x3 flux and bulk diffusion tensors (:mod:`._tensors`) in the
+  frame of E along z and B in the y-z plane at ``field_angle`` from E; in an
+  oscillating field E0 cos(omega t), the mean energy and flux drift
+  velocity resolved in phase over the period, and their cycle averages
+  (:mod:`._periodic`).
 
 Statistical errors come from independent groups: particles are dealt into
 ``groups`` groups with their own random streams (``SeedSequence.spawn``),

@@ -73,6 +73,6 @@ __all__ = [
     "ATTACHMENT", "BOUND_COLUMN_OFFSET", "ELASTIC", "EXCITATION", "EXTRA_COLUMNS", "FLIGHT_SIZE", "FORWARD",
     "IONIZATION", "ISOTROPIC", "NULL_COLUMN_OFFSET", "OKHRIMOVSKYY", "SCREENED_COULOMB", "SHARE_EQUAL",
     "SHARE_UNIFORM", "SUPERELASTIC", "TIME_COLUMN_OFFSET", "TRIAL_BUDGET", "VAHEDI_SURENDRA", "WINDOW_COLLISIONS",
-    "WINDOW_GROWTH", "advance_swarm", "derived_field", "energy_histogram", "group_moments", "group_sums", "group_tensor_moments",
-    "oscillating_field", "slab_batch",
+    "WINDOW_GROWTH", "advance_swarm", "derived_field", "energy_histogram", "group_moments", "group_sums",
+    "group_tensor_moments", "oscillating_field", "slab_batch",
 ]
