@@ -65,7 +65,7 @@ class SwarmParameters(Parameters):
     field_angle : float
         Degrees between E and B, in [0, 180] (``--angle``, 90 by default);
         the frame has E along z and B in the y-z plane,
-        B = |B| (0, sin psi, cos psi).
+        ``B = |B| (0, sin psi, cos psi)``.
     reduced_frequency : float
         omega/N in rad m^3/s (``--omega-N``, >= 0; 0 is a static field):
         E(t) = E0 cos(omega t) with the E/N values as the amplitude E0/N.

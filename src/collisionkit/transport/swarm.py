@@ -217,7 +217,7 @@ def simulate_swarm(
     field_angle : float
         Angle psi between E and B in degrees, in [0, 180] (90 by default:
         crossed fields). The frame is right-handed with E along +z and
-        B = |B| (0, sin psi, cos psi) (:func:`magnetic_direction`); the
+        ``B = |B| (0, sin psi, cos psi)`` (:func:`magnetic_direction`); the
         drift velocities and diffusion tensors of the result are in it.
     reduced_frequency : float
         omega/N in rad m^3/s (>= 0; 0, the default, is a static field):

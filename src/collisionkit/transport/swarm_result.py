@@ -35,7 +35,7 @@ class SwarmResult:
     0 for an exact run.
 
     The frame is right-handed with E along +z and B in the y-z plane at
-    ``field_angle`` degrees from E: B = |B| (0, sin psi, cos psi). The
+    ``field_angle`` degrees from E: ``B = |B| (0, sin psi, cos psi)``. The
     drift velocities are 3-vectors in it; ``diffusion_N_flux`` and
     ``diffusion_N_bulk`` are the full 3x3 tensors N D (1/m/s): bulk, half
     the time slope of the position covariance, ``(1/2) d/dt (<r_i r_j> -
