@@ -316,3 +316,54 @@ def test_a_scattering_law_can_be_swept_and_a_refused_one_names_the_point(tmp_pat
     assert laws == ["isotropic", "vahedi-surendra"]
     with pytest.raises(ValueError, match="scattering must be one of"):
         point_tasks(Study("swarm", seed=1, fixed=fixed, vary={"scattering": ["isotropic", "bent"]}), tmp_path)
+
+
+def test_swarm_in_an_oblique_ac_field_prints_cycle_averages_and_plots_the_phases(tmp_path):
+    """--omega-N with --B-N at --angle: the summary keys of issue 20, the component table and phase.png."""
+    summary = tmp_path / "ac.json"
+    result = runner.invoke(app, ["swarm", "--model", "maxwell", "--E-N", "10", "--B-N", "100", "--angle", "30",
+                                 "--omega-N", "1e-13", "--gas-temperature", "0", "--particles", "640",
+                                 "--tolerance", "0.05", "--collision-budget", "2e6", "--summary", str(summary),
+                                 "--out", str(tmp_path / "plots")])
+    assert result.exit_code == 0, result.output
+    text = " ".join(result.output.split())
+    assert "cycle averages" in text and "at 30 deg" in text
+    data = json.loads(summary.read_text())
+    assert data["field_angle"] == 30.0 and data["reduced_frequency"] == 1e-13
+    assert data["parameters"]["field_angle"] == 30.0 and data["parameters"]["reduced_frequency"] == 1e-13
+    assert len(data["phases"]) == 16 and len(data["mean_energy_by_phase"]) == 16
+    assert all(len(row) == 3 for row in data["drift_velocity_flux_by_phase"])
+    for key in ("diffusion_N_flux", "diffusion_N_bulk", "diffusion_N_flux_error", "diffusion_N_bulk_error"):
+        assert [len(row) for row in data[key]] == [3, 3, 3]
+    assert len(data["drift_velocity_flux"]) == 3 and len(data["drift_velocity_bulk_error"]) == 3
+    assert (tmp_path / "plots" / "phase.png").stat().st_size > 1000
+
+
+def test_the_angle_and_frequency_come_from_a_toml_file_resume_and_sweep(tmp_path):
+    config = tmp_path / "swarm.toml"
+    config.write_text('model = "maxwell"\ne-n = [10.0, 20.0]\nb-n = 200.0\nangle = 45.0\nomega-N = 5e-14\n'
+                      'particles = 640\ntolerance = 0.05\ncollision-budget = 1e6\ngas-temperature = 0.0\n')
+    checkpoint = tmp_path / "ck.npz"
+    first = runner.invoke(app, ["swarm", "--config", str(config), "--checkpoint", str(checkpoint)])
+    assert first.exit_code == 0, first.output
+    changed = runner.invoke(app, ["swarm", "--resume", str(checkpoint), "--angle", "30"])
+    assert changed.exit_code == 2 and "differs" in changed.output
+    summary = tmp_path / "s.json"
+    again = runner.invoke(app, ["swarm", "--resume", str(checkpoint), "--angle", "45", "--summary", str(summary)])
+    assert again.exit_code == 0, again.output
+    entries = json.loads(summary.read_text())["results"]
+    assert [entry["field_angle"] for entry in entries] == [45.0, 45.0]
+    assert all(len(entry["phases"]) == 16 for entry in entries)
+
+    from collisionkit.sweep import Study, sweep_command
+    from collisionkit.sweep.tasks import point_tasks
+    from collisionkit.transport import SwarmParameters
+
+    assert {"angle", "omega-N"} <= set(sweep_command("swarm").options())
+    study = Study("swarm", seed=1, fixed={"model": "maxwell", "particles": 640, "B-N": 100.0},
+                  vary={"angle": [0.0, 60.0], "omega-N": [0.0, 1e-13]})
+    points = [SwarmParameters.from_mapping(task.options) for task in point_tasks(study, tmp_path / "study")]
+    assert sorted((p.field_angle, p.reduced_frequency) for p in points) == [(0.0, 0.0), (0.0, 1e-13), (60.0, 0.0),
+                                                                            (60.0, 1e-13)]
+    with pytest.raises(ValueError, match="field_angle"):
+        point_tasks(Study("swarm", seed=1, fixed={"model": "maxwell"}, vary={"angle": [0.0, 270.0]}), tmp_path / "x")

@@ -38,6 +38,8 @@ class SwarmOptions(Options):
     database: str | None = None
     e_n: list[float] = Field(default=[12.0], min_length=1)
     b_n: float = Field(default=0.0, allow_inf_nan=False)
+    angle: float = Field(default=90.0, ge=0, le=180, allow_inf_nan=False)
+    omega_n: float = Field(default=0.0, ge=0, allow_inf_nan=False)
     gas_temperature: float = Field(default=300.0, ge=0, allow_inf_nan=False)
     particles: int = Field(default=20_000, ge=128, le=10_000_000)
     seed: int = Field(default=2026, ge=0)
@@ -86,7 +88,8 @@ class SwarmOptions(Options):
 
         return SwarmParameters(reduced_field=self.e_n, model=self.model, gas=self.gas, cross_sections=self.cross_sections,
                                species=self.species, fractions=self.fractions, database=self.database,
-                               reduced_magnetic_field=self.b_n,
+                               reduced_magnetic_field=self.b_n, field_angle=self.angle,
+                               reduced_frequency=self.omega_n,
                                gas_temperature=self.gas_temperature, particles=self.particles, seed=self.seed,
                                tolerance=self.tolerance, collision_budget=self.collision_budget, sharing=self.sharing,
                                scattering=self.scattering, populations=self.populations)
@@ -173,12 +176,14 @@ def _before_the_work(scan, options: SwarmOptions) -> None:
 
 
 def _library_name(key: str) -> str:
-    return {"e_n": "reduced_field", "b_n": "reduced_magnetic_field"}.get(key, key)
+    return {"e_n": "reduced_field", "b_n": "reduced_magnetic_field", "angle": "field_angle",
+            "omega_n": "reduced_frequency"}.get(key, key)
 
 
 def _options_of(parameters) -> dict:
     """The command's options for library parameters (E/N as e_n ...)."""
-    names = {"reduced_field": "e_n", "reduced_magnetic_field": "b_n"}
+    names = {"reduced_field": "e_n", "reduced_magnetic_field": "b_n", "field_angle": "angle",
+             "reduced_frequency": "omega_n"}
     return {names.get(key, key): value for key, value in parameters.to_dict().items()}
 
 
@@ -196,6 +201,31 @@ def _swarm_row(result):
             f"{result.diffusion_T_N:.4g} ± {result.diffusion_T_N_error:.2g}",
             _with_error(result.alpha_N, result.alpha_N_error), _with_error(result.eta_N, result.eta_N_error),
             f"{result.collisions_per_second:.3g}")
+
+
+def _field_rows(results):
+    """Rows of the drift and diffusion components that matter in a magnetic or oscillating field (frame: E along
+    z, B in the y-z plane); cycle averages for an oscillating field."""
+    rows = []
+    for r in results:
+        w, d = r.drift_velocity_bulk, r.diffusion_N_bulk
+        rows.append((f"{r.reduced_field:g}", f"{r.mean_energy:.5g} ± {r.mean_energy_error:.2g}",
+                     ", ".join(f"{w[k]:.4g}" for k in range(3)),
+                     ", ".join(f"{r.drift_velocity_flux[k]:.4g}" for k in range(3)),
+                     ", ".join(f"{d[k, k]:.4g}" for k in range(3)),
+                     ", ".join(f"{d[i, j]:.4g}" for i, j in ((1, 2), (0, 1), (0, 2)))))
+    return rows
+
+
+def _phase_plots(results, out: Path, deliveries: Deliveries) -> None:
+    """W(phase) and <e>(phase) of an oscillating field, in ``out``/phase.png."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from .. import plotting
+
+    deliveries.write(f"the plot {out / 'phase.png'}",
+                     lambda: plotting.save(plotting.plot_phase_resolved(results)[0], out / "phase.png"))
 
 
 def _swarm_plots(results, out: Path, deliveries: Deliveries, reid_benchmark: bool) -> None:
@@ -226,11 +256,13 @@ def swarm(
     fractions: Annotated[list[float] | None, typer.Option(help="Their number fractions (repeat).")] = None,
     database: Annotated[str | None, typer.Option(help="Database to take a species from when the LXCat files hold it from several (e.g. Biagi).")] = None,
     e_n: Annotated[list[str] | None, typer.Option("--E-N", help="E/N in Td; repeat or comma list for a sweep.  \\[default: 12]")] = None,
-    b_n: Annotated[float | None, typer.Option("--B-N", help="B/N in Hx, B along y (E along z).  \\[default: 0]")] = None,
+    b_n: Annotated[float | None, typer.Option("--B-N", help="B/N in Hx (static), in the y-z plane at --angle from E (E along z).  \\[default: 0]")] = None,
+    angle: Annotated[float | None, typer.Option("--angle", help="Degrees between E and B, 0 to 180 (B = |B| (0, sin, cos)).  \\[default: 90]")] = None,
+    omega_n: Annotated[float | None, typer.Option("--omega-N", help="omega/N in rad m^3/s: E(t) = E0 cos(omega t) with --E-N the amplitude E0/N; results by phase and cycle averages (0: static).  \\[default: 0]")] = None,
     gas_temperature: Annotated[float | None, typer.Option(help="Gas temperature in K (>= 0): targets' Maxwellian and Boltzmann populations of reversible excitations (superelastic collisions); 0 for the model-gas benchmarks.  \\[default: 300]")] = None,
     particles: Annotated[int | None, typer.Option(help="Simulated particles (128 to 1e7).  \\[default: 20000]")] = None,
     seed: Annotated[int | None, typer.Option(help="Random seed (>= 0).  \\[default: 2026]")] = None,
-    tolerance: Annotated[float | None, typer.Option(help="Target relative error of mean energy and drift (of mean energy alone at E/N = 0).  \\[default: 0.002]")] = None,
+    tolerance: Annotated[float | None, typer.Option(help="Target relative error of mean energy and drift (of mean energy alone at E/N = 0 and with --omega-N).  \\[default: 0.002]")] = None,
     collision_budget: Annotated[float | None, typer.Option(help="Stop after this many real collisions per E/N.  \\[default: 5e8]")] = None,
     sharing: Annotated[str | None, typer.Option(help="Ionization energy sharing: equal or uniform.  \\[default: equal]")] = None,
     scattering: Annotated[str | None, typer.Option(help="Angular scattering law of every process: isotropic, okhrimovskyy, vahedi-surendra or forward (elastic tables are momentum transfer, converted; per process kind: a [scattering] table in --config).  \\[default: isotropic]")] = None,
@@ -244,7 +276,7 @@ def swarm(
     """Electron swarm transport coefficients (mean energy, drift, diffusion, rates, SST Townsend alpha/N and eta/N) against E/N."""
     given = dict(model=model, gas=gas, cross_sections=cross_sections, species=species, fractions=fractions,
                  database=database, e_n=_e_n_values(e_n),
-                 b_n=b_n, gas_temperature=gas_temperature, particles=particles, seed=seed, tolerance=tolerance,
+                 b_n=b_n, angle=angle, omega_n=omega_n, gas_temperature=gas_temperature, particles=particles, seed=seed, tolerance=tolerance,
                  collision_budget=collision_budget, sharing=sharing, scattering=scattering, out=out, summary=summary,
                  checkpoint=checkpoint,
                  overwrite=overwrite)
@@ -279,6 +311,13 @@ def swarm(
                 ("E/N (Td)", "mean energy (eV)", "bulk W (m/s)", "N D_L (1/m/s)", "N D_T (1/m/s)",
                  "alpha/N (m^2)", "eta/N (m^2)", "collisions/s"),
                 [_swarm_row(r) for r in results])
+    if options.b_n != 0.0 or options.omega_n > 0.0:
+        what = "cycle averages, " if options.omega_n > 0.0 else ""
+        print_table(f"drift and bulk diffusion components ({what}E along z, B in the y-z plane at "
+                    f"{options.angle:g} deg)",
+                    ("E/N (Td)", "mean energy (eV)", "W bulk x, y, z (m/s)", "W flux x, y, z (m/s)",
+                     "N D bulk xx, yy, zz (1/m/s)", "N D bulk yz, xy, xz (1/m/s)"),
+                    _field_rows(results))
     unconverged = [f"{r.reduced_field:g}" for r in results if not r.converged]
     if unconverged:
         message = (f"E/N = {', '.join(unconverged)} Td stopped at the collision budget "
@@ -290,6 +329,8 @@ def swarm(
         reid = options.model == "reid" and options.gas_temperature == 0.0 and options.b_n == 0.0 and \
             options.scattering is None
         _swarm_plots(results, options.out, deliveries, reid)
+        if options.omega_n > 0.0:
+            _phase_plots(results, options.out, deliveries)
     for path in deliveries.files:
         say(f"wrote {path}")
     deliveries.finish(options.summary, scan.summary(deliveries.files) | {"seed": options.seed})

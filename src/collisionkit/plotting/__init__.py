@@ -44,7 +44,9 @@ from .edmd import (
 from .encounters import plot_encounter, plot_star_encounter
 from .sweep import plot_sweep
 from .tracking import plot_tracking_spectra, plot_tracks
-from .transport import REID_PUBLISHED, plot_energy_distribution, plot_trajectories, plot_transport_coefficients
+from .transport import (
+    REID_PUBLISHED, plot_energy_distribution, plot_phase_resolved, plot_trajectories, plot_transport_coefficients,
+)
 
 __all__ = [
     "ANIMATION_FORMATS",
@@ -64,6 +66,7 @@ __all__ = [
     "plot_energy_loss",
     "plot_equation_of_state",
     "plot_helfand_moments",
+    "plot_phase_resolved",
     "plot_radial_distribution",
     "plot_snapshot",
     "plot_speed_distribution",

@@ -96,3 +96,44 @@ def plot_trajectories(positions, ax=None):
     ax.set_ylabel("z (µm)")
     ax.set_aspect("equal", adjustable="datalim")
     return ax
+
+
+def plot_phase_resolved(results, axes=None):
+    """Flux drift velocity W(phase) (its three components) and mean energy <e>(phase) over one period of an
+    oscillating field, with error bars, for each result that has them (``phases`` not empty).
+
+    Returns the two Axes (W, <e>).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from types import SimpleNamespace
+    >>> from collisionkit import plotting
+    >>> phases = np.linspace(0, 2 * np.pi, 8, endpoint=False)
+    >>> r = SimpleNamespace(reduced_field=10.0, phases=phases, mean_energy_by_phase=1 + 0.1 * np.cos(2 * phases),
+    ...     mean_energy_by_phase_error=np.full(8, 0.01),
+    ...     drift_velocity_flux_by_phase=np.outer(np.cos(phases), [0, 0, 1]),
+    ...     drift_velocity_flux_by_phase_error=np.full((8, 3), 0.01))
+    >>> axes = plotting.plot_phase_resolved([r])
+    >>> axes[1].get_ylabel()
+    'mean energy (eV)'
+    """
+    if axes is None:
+        _, axes = plt.subplots(1, 2, figsize=(10, 4), layout="constrained")
+    for r in results:
+        if len(r.phases) == 0:
+            continue
+        for k, axis in enumerate("xyz"):
+            velocity = r.drift_velocity_flux_by_phase[:, k]
+            if np.any(velocity != 0.0):
+                axes[0].errorbar(r.phases, velocity, r.drift_velocity_flux_by_phase_error[:, k], marker="o",
+                                 ms=3, label=f"W_{axis}, E0/N = {r.reduced_field:g} Td")
+        axes[1].errorbar(r.phases, r.mean_energy_by_phase, r.mean_energy_by_phase_error, marker="o", ms=3,
+                         label=f"E0/N = {r.reduced_field:g} Td")
+    axes[0].set_xlabel("phase omega t (rad)")
+    axes[0].set_ylabel("flux drift velocity (m/s)")
+    axes[1].set_xlabel("phase omega t (rad)")
+    axes[1].set_ylabel("mean energy (eV)")
+    for ax in axes:
+        ax.legend(fontsize="small")
+    return axes

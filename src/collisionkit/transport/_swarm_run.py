@@ -282,18 +282,22 @@ class SwarmRun:
         zero): the series then follow the physical births, deaths and flights
         only.
         """
-        before = self._spatial_moments(swarm)
-        swarm = control_population(swarm, self.groups, self.target, self.rng)
-        self.shift += self._spatial_moments(swarm) - before
-        return swarm
+        controlled = control_population(swarm, self.groups, self.target, self.rng)
+        self._record_jump(swarm, controlled)
+        return controlled
+
+    def _record_jump(self, before, after):
+        """Add the change of each group's centroid and spatial variance from ``before`` to ``after`` to the
+        jumps the bulk estimators take out (a subclass keeping more series records their jumps too)."""
+        self.shift += self._spatial_moments(after) - self._spatial_moments(before)
 
     def _grow(self):
         """Clone the transient's swarm up to the run's size (its jumps of centroid and variance recorded)."""
         if self.final_counts is None:
             return
-        before = self._spatial_moments(self.swarm)
-        self.swarm = grow_swarm(self.swarm, self.final_counts, self.rng)
-        self.shift += self._spatial_moments(self.swarm) - before
+        grown = grow_swarm(self.swarm, self.final_counts, self.rng)
+        self._record_jump(self.swarm, grown)
+        self.swarm = grown
         self.target = max(1, int(round(np.mean(self.final_counts))))
         self.final_counts = None
 

@@ -61,7 +61,14 @@ class SwarmParameters(Parameters):
         The database to take a species from when the files hold it from
         several (:func:`~collisionkit.transport.read_lxcat`).
     reduced_magnetic_field : float
-        B/N in Hx along y (``--B-N``).
+        B/N in Hx (``--B-N``), static, at ``field_angle`` from E.
+    field_angle : float
+        Degrees between E and B, in [0, 180] (``--angle``, 90 by default);
+        the frame has E along z and B in the y-z plane,
+        ``B = |B| (0, sin psi, cos psi)``.
+    reduced_frequency : float
+        omega/N in rad m^3/s (``--omega-N``, >= 0; 0 is a static field):
+        E(t) = E0 cos(omega t) with the E/N values as the amplitude E0/N.
     gas_temperature : float
         In K (>= 0, 300 by default); E/N = 0 needs a warm gas. Above 0 the
         reversible excitations have superelastic inverses
@@ -108,6 +115,8 @@ class SwarmParameters(Parameters):
     fractions: Any = None
     database: str | None = None
     reduced_magnetic_field: float = 0.0
+    field_angle: float = 90.0
+    reduced_frequency: float = 0.0
     gas_temperature: float = 300.0
     particles: int = 20_000
     seed: int = 2026
@@ -117,7 +126,8 @@ class SwarmParameters(Parameters):
     scattering: Any = None
     populations: Any = None
 
-    FLAGS: ClassVar = {"reduced_field": "E-N", "reduced_magnetic_field": "B-N"}
+    FLAGS: ClassVar = {"reduced_field": "E-N", "reduced_magnetic_field": "B-N", "field_angle": "angle",
+                       "reduced_frequency": "omega-N"}
 
     def __post_init__(self):
         fields = _reduced_fields(self.reduced_field)
@@ -143,6 +153,9 @@ class SwarmParameters(Parameters):
         set_(self, "species", None if self.species is None else _strings("species", self.species))
         set_(self, "fractions", None if self.fractions is None else _reals("fractions", self.fractions))
         set_(self, "reduced_magnetic_field", check_real("reduced_magnetic_field (B/N)", self.reduced_magnetic_field))
+        set_(self, "field_angle", check_real("field_angle (degrees between E and B)", self.field_angle, 0.0, 180.0))
+        set_(self, "reduced_frequency", check_real("reduced_frequency (omega/N, rad m^3/s)", self.reduced_frequency,
+                                                   0.0))
         set_(self, "gas_temperature", check_real("gas_temperature", self.gas_temperature, 0.0))
         set_(self, "particles", check_integer("particles", self.particles, 128, 10_000_000))
         set_(self, "seed", check_seed("seed", self.seed))
@@ -329,7 +342,8 @@ class SwarmScan:
         return len(self.results) == len(self.parameters.reduced_field)
 
     def tolerances(self, reduced_field: float) -> dict[str, float]:
-        """The accuracy asked of one point: mean energy and drift; the mean energy alone at E/N = 0.
+        """The accuracy asked of one point: mean energy and drift; the mean energy alone at E/N = 0 and in an
+        oscillating field.
 
         Examples
         --------
@@ -338,7 +352,8 @@ class SwarmScan:
         ({'mean_energy': 0.05, 'drift_velocity_bulk': 0.05}, {'mean_energy': 0.05})
         """
         tolerance = self.parameters.tolerance
-        if reduced_field == 0.0:  # the drift is zero by symmetry: no relative error to reach
+        if reduced_field == 0.0 or self.parameters.reduced_frequency > 0.0:
+            # the drift (averaged over a cycle of an oscillating field) is zero by symmetry: no relative error to reach
             return {"mean_energy": tolerance}
         return {"mean_energy": tolerance, "drift_velocity_bulk": tolerance}
 
@@ -373,7 +388,8 @@ class SwarmScan:
                         progress((done + fraction) / total)
 
                 self.results.append(simulate_swarm(
-                    self.gas, value, reduced_magnetic_field=p.reduced_magnetic_field, gas_temperature=p.gas_temperature,
+                    self.gas, value, reduced_magnetic_field=p.reduced_magnetic_field, field_angle=p.field_angle,
+                    reduced_frequency=p.reduced_frequency, gas_temperature=p.gas_temperature,
                     particles=p.particles, seed=p.seed, sharing=p.sharing, tolerances=self.tolerances(value),
                     collision_budget=p.collision_budget, progress=report))
                 self.save()
@@ -478,8 +494,7 @@ def _saved_result(saved: Checkpoint, index: int, entry) -> SwarmResult:
         elif spec.type == "bool":
             valid = isinstance(value, bool)
         elif spec.type == "np.ndarray":
-            valid = value.ndim == 1 and (value.shape == (3,) if name.startswith("drift") else
-                                         value.shape == np.shape(result.eedf_energy))
+            valid = value.shape == _saved_shape(name, result)
         elif spec.type == "dict" and name != "extras":
             valid = all(isinstance(key, str) and isinstance(item, (int, float)) and not isinstance(item, bool)
                         for key, item in value.items())
@@ -488,6 +503,20 @@ def _saved_result(saved: Checkpoint, index: int, entry) -> SwarmResult:
         if not valid:
             raise saved.damaged(f"result {index} has a {name} of the wrong type or shape: {value!r}")
     return result
+
+
+def _saved_shape(name: str, result: SwarmResult) -> tuple[int, ...]:
+    """The shape a saved result's array field must have."""
+    phases = np.shape(result.phases)
+    if name.startswith("diffusion_N_"):
+        return (3, 3)
+    if name.startswith("drift_velocity_flux_by_phase"):
+        return (*phases, 3)
+    if name.startswith("mean_energy_by_phase") or name == "phases":
+        return phases
+    if name.startswith("drift"):
+        return (3,)
+    return np.shape(result.eedf_energy)
 
 
 def swarm_summary(parameters: SwarmParameters, results: Sequence[SwarmResult], files: Sequence = ()) -> dict[str, Any]:

@@ -20,7 +20,12 @@ Observables (Robson, Ness, White, Dujko; e.g. Dujko et al., J. Phys. D 41,
   a superelastic inverse is a process of its own (``label (superelastic)``);
 * Townsend coefficients ``alpha/N``, ``eta/N`` of steady-state Townsend
   conditions from the bulk coefficients (:mod:`collisionkit.transport.townsend`);
-* mean energy and the energy distribution.
+* mean energy and the energy distribution;
+* the full 3x3 flux and bulk diffusion tensors (:mod:`._tensors`) in the
+  frame of E along z and B in the y-z plane at ``field_angle`` from E; in an
+  oscillating field E0 cos(omega t), the mean energy and flux drift
+  velocity resolved in phase over the period, and their cycle averages
+  (:mod:`._periodic`).
 
 Statistical errors come from independent groups: particles are dealt into
 ``groups`` groups with their own random streams (``SeedSequence.spawn``),
@@ -41,16 +46,18 @@ from scipy import constants
 from .._arrays import seed_value
 from .._kernels import transport as _k
 from ._initial import balanced_energy
+from ._periodic import DEFAULT_PHASES, PeriodicRun
 from ._swarm_run import STEPS_PER_CHUNK, Stepper, SwarmRun, initial_swarm
 from ._tables import SHARING_CODES, build_tables
+from ._tensors import TensorRun
 from ._validation import (
     integer_in_range, reachable_tolerances, real_in_range, validate_swarm_setup, validated_run_settings,
 )
 from .gases import Gas
 from .swarm_result import SwarmResult
 
-__all__ = ["SwarmResult", "simulate_swarm", "trace_trajectories", "diffusion_error_floor", "DEFAULT_TOLERANCES",
-           "TOWNSEND", "HUXLEY", "REFERENCE_DENSITY"]
+__all__ = ["SwarmResult", "simulate_swarm", "trace_trajectories", "diffusion_error_floor", "magnetic_direction",
+           "DEFAULT_TOLERANCES", "TOWNSEND", "HUXLEY", "REFERENCE_DENSITY"]
 
 # The transient runs with 1/TRANSIENT_SHARE of the particles (at least TRANSIENT_PER_GROUP a group), which are then
 # cloned to the full number: relaxing costs per particle, and in argon at low E/N it takes ~M/(2m) = 4e4 collisions
@@ -123,23 +130,68 @@ def _require_collisions(tables):
                          "cross-section file, or a units slip?)")
 
 
-def _field_record(reduced_field, reduced_magnetic_field, density, mass, charge, gravity):
-    """The kernel's field record of E/N (Td, along +z), B/N (Hx, along +y) and gravity, for ``charge / mass``."""
+def magnetic_direction(field_angle: float) -> np.ndarray:
+    """Unit vector of B at ``field_angle`` degrees from E in the swarm frame: ``(0, sin psi, cos psi)``.
+
+    The frame is right-handed with E along +z and B in the y-z plane, so
+    90 degrees puts B along +y (E x B along -x) and 0 along E.
+
+    Examples
+    --------
+    >>> from collisionkit.transport.swarm import magnetic_direction
+    >>> [round(float(c), 12) for c in magnetic_direction(90.0)], [round(float(c), 12) for c in magnetic_direction(60.0)]
+    ([0.0, 1.0, 0.0], [0.0, 0.866025403784, 0.5])
+    """
+    psi = math.radians(field_angle)
+    return np.array([0.0, math.sin(psi), math.cos(psi)])
+
+
+def _field_record(reduced_field, reduced_magnetic_field, density, mass, charge, gravity, field_angle=90.0):
+    """The kernel's field record of E/N (Td, along +z), B/N (Hx, at ``field_angle`` degrees from E in the y-z
+    plane: :func:`magnetic_direction`) and gravity, for ``charge / mass``."""
     electric = np.array([0.0, 0.0, reduced_field * TOWNSEND * density])
-    magnetic = np.array([0.0, reduced_magnetic_field * HUXLEY * density, 0.0])
+    magnetic = reduced_magnetic_field * HUXLEY * density * magnetic_direction(field_angle)
     acceleration = charge * electric / mass + np.asarray(gravity, dtype=float)
     return _k.derived_field(acceleration, charge * magnetic / mass)
 
 
-def _starting_energy(tables, density, mass, charge, reduced_magnetic_field, gravity, reduced_field,
+def _starting_energy(tables, density, mass, charge, reduced_magnetic_field, field_angle, gravity, reduced_field,
                      gas_temperature):
     """The default initial mean energy (eV): the Maxwellian power balance in the run's force and B."""
     electric = np.array([0.0, 0.0, reduced_field * TOWNSEND * density])
     force = charge * electric + mass * np.asarray(gravity, dtype=float)
     magnitude = float(np.linalg.norm(force))
-    omega = np.array([0.0, charge * reduced_magnetic_field * HUXLEY * density / mass, 0.0])
+    omega = charge * reduced_magnetic_field * HUXLEY * density / mass * magnetic_direction(field_angle)
     perpendicular = float(np.linalg.norm(np.cross(omega, force / magnitude))) if magnitude > 0.0 else 0.0
     return balanced_energy(tables, density, magnitude, perpendicular, mass, gas_temperature)
+
+
+def _oscillating_record(reduced_field, reduced_magnetic_field, reduced_frequency, density, mass, charge, gravity,
+                        field_angle):
+    """The kernel's record of E/N cos(omega t) (amplitude in Td, along +z), a static B/N at ``field_angle`` and
+    gravity: the static record of B and gravity extended by the oscillating force (:mod:`collisionkit._kernels.
+    transport.oscillating`); ``omega = reduced_frequency x density``."""
+    static = _field_record(0.0, reduced_magnetic_field, density, mass, charge, gravity, field_angle)
+    amplitude = np.array([0.0, 0.0, charge * reduced_field * TOWNSEND * density / mass])
+    return _k.oscillating_field(static, amplitude, reduced_frequency * density)
+
+
+def _oscillating_tolerances(tolerances, defaults, gravity):
+    """The tolerances an oscillating field can meet: its cycle-averaged drift is zero by symmetry.
+
+    E(t + T/2) = -E(t), and v -> -v maps the motion in -E (with the same B)
+    onto that in E, collisions with an isotropic gas included: W(t + T/2) =
+    -W(t), so a drift averaged over the cycle has no relative error to
+    reach (without gravity, which breaks the symmetry). The default drift
+    tolerance is dropped, an explicit one refused.
+    """
+    if np.any(np.asarray(gravity) != 0.0):
+        return tolerances
+    drift = [name for name in tolerances if name.startswith("drift_velocity")]
+    if drift and not defaults:
+        raise ValueError(f"tolerances[{drift[0]!r}] cannot be met in an oscillating field: the drift averaged over a "
+                         "cycle is zero by symmetry (W(t + T/2) = -W(t)); leave it out")
+    return {name: value for name, value in tolerances.items() if name not in drift}
 
 
 def simulate_swarm(
@@ -147,6 +199,9 @@ def simulate_swarm(
     reduced_field: float,
     *,
     reduced_magnetic_field: float = 0.0,
+    field_angle: float = 90.0,
+    reduced_frequency: float = 0.0,
+    phases: int = DEFAULT_PHASES,
     gas_temperature: float = 300.0,
     particles: int = 20_000,
     groups: int = 16,
@@ -172,9 +227,23 @@ def simulate_swarm(
     gas : Gas
         Target gas (see :mod:`collisionkit.transport.gases`, :mod:`~collisionkit.transport.lxcat`).
     reduced_field : float
-        E/N in Td (>= 0); E points along +z.
+        E/N in Td (>= 0); E points along +z. With ``reduced_frequency`` the
+        amplitude E0/N of E(t) = E0 cos(omega t).
     reduced_magnetic_field : float
-        B/N in Hx; B points along +y.
+        B/N in Hx (static), at ``field_angle`` from E in the y-z plane.
+    field_angle : float
+        Angle psi between E and B in degrees, in [0, 180] (90 by default:
+        crossed fields). The frame is right-handed with E along +z and
+        ``B = |B| (0, sin psi, cos psi)`` (:func:`magnetic_direction`); the
+        drift velocities and diffusion tensors of the result are in it.
+    reduced_frequency : float
+        omega/N in rad m^3/s (>= 0; 0, the default, is a static field):
+        E(t) = E0 cos(omega t), the result resolved in phase (``phases``
+        points over the period) and averaged over the cycle. The motion
+        between collisions is exact (:mod:`collisionkit._kernels.transport.oscillating`),
+        cyclotron resonance included.
+    phases : int
+        Points of the phase grid of an oscillating field (4 to 256).
     gas_temperature : float
         K (>= 0; 300 by default). The targets move with the gas's Maxwellian
         and the reversible excitations' upper levels are populated by
@@ -262,39 +331,61 @@ def simulate_swarm(
     seed = seed_value(seed)
     validate_swarm_setup(gas, reduced_field, reduced_magnetic_field, gas_temperature, seed, mass, charge,
                          initial_energy)
+    real_in_range(field_angle, "field_angle (degrees)", 0.0, 180.0, inclusive=(True, True))
+    real_in_range(reduced_frequency, "reduced_frequency (omega/N, rad m^3/s)", 0.0, inclusive=(True, False))
+    integer_in_range(phases, "phases", 4, 256)
     gravity = validated_run_settings(particles, groups, gravity, sharing, tolerances, collision_budget, max_seconds,
                                      collisions_per_sample, min_samples, energy_bins, threads, progress,
                                      known_tolerances=DEFAULT_TOLERANCES)
     tolerances = reachable_tolerances(tolerances, tolerances is DEFAULT_TOLERANCES, reduced_field, charge, gravity,
                                       gas_temperature)
+    oscillating = reduced_frequency > 0.0 and reduced_field > 0.0 and charge != 0.0
+    if oscillating:
+        tolerances = _oscillating_tolerances(tolerances, defaults, gravity)
     tables = build_tables(gas, mass, gas_temperature)
     _require_collisions(tables)
     _warn_unreachable_diffusion(tolerances, particles, defaults)
     threads = threads or os.cpu_count() or 1
     density = REFERENCE_DENSITY
-    field_record = _field_record(reduced_field, reduced_magnetic_field, density, mass, charge, gravity)
+    if oscillating:
+        field_record = _oscillating_record(reduced_field, reduced_magnetic_field, reduced_frequency, density, mass,
+                                           charge, gravity, field_angle)
+    else:
+        field_record = _field_record(reduced_field, reduced_magnetic_field, density, mass, charge, gravity,
+                                     field_angle)
     if initial_energy is None:
-        initial_energy = _starting_energy(tables, density, mass, charge, reduced_magnetic_field, gravity,
-                                          reduced_field, gas_temperature)
+        # an oscillating field heats as its r.m.s. value does (omega << nu; less above, as the start needs not be exact)
+        effective_field = reduced_field / math.sqrt(2.0) if oscillating else reduced_field
+        initial_energy = _starting_energy(tables, density, mass, charge, reduced_magnetic_field, field_angle, gravity,
+                                          effective_field, gas_temperature)
     counts = np.full(groups, particles // groups)
     counts[: particles % groups] += 1
     copies = max(1, min(TRANSIENT_SHARE, particles // groups // TRANSIENT_PER_GROUP))
     swarm = initial_swarm(groups * max(1, particles // groups // copies), groups, seed, mass, initial_energy)
     rng = np.random.default_rng(np.random.SeedSequence(seed).spawn(groups + 1)[-1])
     stepper = Stepper(tables, field_record, mass, density, SHARING_CODES[sharing], threads, CHECK_BOUND)
-    run = SwarmRun(stepper, swarm, groups, max(1, swarm.size // groups), rng, tables, density)
+    target = max(1, swarm.size // groups)
+    if oscillating:
+        run = PeriodicRun(stepper, swarm, groups, target, rng, tables, density, omega=reduced_frequency * density,
+                          phases=phases)
+    else:
+        run = TensorRun(stepper, swarm, groups, target, rng, tables, density)
     run.final_counts = counts if copies > 1 else None
     try:
         run.calibrate(collisions_per_sample)
-        return run.until_converged(tolerances, collision_budget, max_seconds, min_samples, energy_bins, progress,
-                                   (reduced_field, reduced_magnetic_field, gas_temperature, particles))
+        result = run.until_converged(tolerances, collision_budget, max_seconds, min_samples, energy_bins, progress,
+                                     (reduced_field, reduced_magnetic_field, gas_temperature, particles))
     finally:
         stepper.close()
+    result.field_angle = float(field_angle)
+    result.reduced_frequency = float(reduced_frequency)
+    return result
 
 
 def trace_trajectories(gas: Gas, reduced_field: float, *, particles: int = 5, collisions: float = 200.0,
                        points: int = 2000, reduced_magnetic_field: float = 0.0, seed: int = 0,
-                       initial_energy: float = 1.0, gas_temperature: float = 300.0) -> tuple[np.ndarray, np.ndarray]:
+                       initial_energy: float = 1.0, gas_temperature: float = 300.0,
+                       field_angle: float = 90.0) -> tuple[np.ndarray, np.ndarray]:
     """Positions of a few particles sampled on a uniform time grid (for plots).
 
     Returns ``(times, positions)`` with positions of shape (points, particles, 3);
@@ -316,10 +407,11 @@ def trace_trajectories(gas: Gas, reduced_field: float, *, particles: int = 5, co
     integer_in_range(particles, "particles", 1)
     real_in_range(collisions, "collisions (per particle)", 0.0)
     integer_in_range(points, "points", 1)
+    real_in_range(field_angle, "field_angle (degrees)", 0.0, 180.0, inclusive=(True, True))
     tables = build_tables(gas, constants.m_e, gas_temperature)
     _require_collisions(tables)
     field_record = _field_record(reduced_field, reduced_magnetic_field, REFERENCE_DENSITY, constants.m_e,
-                                 -constants.e, (0.0, 0.0, 0.0))
+                                 -constants.e, (0.0, 0.0, 0.0), field_angle)
     swarm = initial_swarm(particles, 1, seed, constants.m_e, initial_energy)
     stepper = Stepper(tables, field_record, constants.m_e, REFERENCE_DENSITY, SHARING_CODES["equal"], 1, CHECK_BOUND)
     stepper.slots = 0  # children are not followed in a trace

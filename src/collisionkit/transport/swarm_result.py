@@ -10,6 +10,10 @@ import numpy as np
 
 __all__ = ["SwarmResult"]
 
+# the phase-resolved arrays of an oscillating field (empty for a static one)
+PHASE_FIELDS = ("phases", "mean_energy_by_phase", "mean_energy_by_phase_error", "drift_velocity_flux_by_phase",
+                "drift_velocity_flux_by_phase_error")
+
 
 @dataclass
 class SwarmResult:
@@ -29,6 +33,26 @@ class SwarmResult:
     ``collisionkit.transport.swarm.CHECK_BOUND`` is on) counts the trial
     collisions at which the true collision rate exceeded the trial bound:
     0 for an exact run.
+
+    The frame is right-handed with E along +z and B in the y-z plane at
+    ``field_angle`` degrees from E: ``B = |B| (0, sin psi, cos psi)``. The
+    drift velocities are 3-vectors in it; ``diffusion_N_flux`` and
+    ``diffusion_N_bulk`` are the full 3x3 tensors N D (1/m/s): bulk, half
+    the time slope of the position covariance, ``(1/2) d/dt (<r_i r_j> -
+    <r_i><r_j>)``; flux, the symmetrised correlation ``(1/2) (<r_i v_j> +
+    <r_j v_i>) - (1/2) (<r_i><v_j> + <r_j><v_i>)`` (only the symmetric part
+    enters the diffusion equation, ``D : grad grad n``; Robson, Ness, White).
+    The scalar ``diffusion_L_N`` is the zz element and ``diffusion_T_N`` the
+    mean of xx and yy (which differ in a magnetic field: use the tensor).
+
+    An oscillating field E0 cos(omega t) (``reduced_frequency`` = omega/N,
+    rad m^3/s, 0 for a static field) adds the quantities resolved in phase
+    over a period: ``phases`` (omega t mod 2 pi, radians),
+    ``mean_energy_by_phase`` and ``drift_velocity_flux_by_phase`` (one
+    3-vector per phase), each with its error; ``mean_energy`` and
+    ``drift_velocity_flux`` are then their averages over the phases (the
+    cycle averages) and the bulk quantities slopes over whole cycles. Empty
+    for a static field.
 
     Examples
     --------
@@ -78,6 +102,17 @@ class SwarmResult:
     alpha_N_error: float = math.nan
     eta_N: float = math.nan
     eta_N_error: float = math.nan
+    field_angle: float = 90.0
+    reduced_frequency: float = 0.0
+    diffusion_N_flux: np.ndarray = field(default_factory=lambda: np.full((3, 3), math.nan))
+    diffusion_N_flux_error: np.ndarray = field(default_factory=lambda: np.full((3, 3), math.nan))
+    diffusion_N_bulk: np.ndarray = field(default_factory=lambda: np.full((3, 3), math.nan))
+    diffusion_N_bulk_error: np.ndarray = field(default_factory=lambda: np.full((3, 3), math.nan))
+    phases: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    mean_energy_by_phase: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    mean_energy_by_phase_error: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    drift_velocity_flux_by_phase: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
+    drift_velocity_flux_by_phase_error: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
 
     @property
     def collisions_per_second(self) -> float:
@@ -145,11 +180,14 @@ class SwarmResult:
             if name not in data:
                 continue
             values[name] = _from_json(data[name], spec.type)
+            if name.startswith("drift_velocity_flux_by_phase") and values[name].size == 0:
+                values[name] = values[name].reshape(0, 3)  # a static run's empty table of 3-vectors
         return cls(**values)
 
     def to_row(self) -> dict:
         """The scalars as one flat row for a table (CSV, pandas): vectors split into ``_x``, ``_y``, ``_z``,
-        rate coefficients as ``rate_coefficient[label]``; the EEDF arrays and ``extras`` left out.
+        tensors into ``_xx``, ``_xy`` ... ``_zz``, rate coefficients as ``rate_coefficient[label]``; the EEDF
+        arrays, the phase-resolved arrays and ``extras`` left out.
 
         Examples
         --------
@@ -162,9 +200,12 @@ class SwarmResult:
         row = {}
         for name in self.__dataclass_fields__:
             value = getattr(self, name)
-            if name in ("eedf_energy", "eedf", "extras"):
+            if name in ("eedf_energy", "eedf", "extras") or name in PHASE_FIELDS:
                 continue
-            if isinstance(value, np.ndarray):
+            if isinstance(value, np.ndarray) and value.ndim == 2:
+                row |= {f"{name}_{first}{second}": float(value[i, j]) for i, first in enumerate("xyz")
+                        for j, second in enumerate("xyz")}
+            elif isinstance(value, np.ndarray):
                 row |= {f"{name}_{axis}": float(component) for axis, component in zip("xyz", value)}
             elif isinstance(value, dict):
                 prefix = "rate_coefficient" if name == "rate_coefficients" else "rate_coefficient_error"
@@ -175,10 +216,17 @@ class SwarmResult:
         return row
 
 
+def _nan_for_none(value):
+    """A (nested) list with None read as NaN."""
+    if isinstance(value, (list, tuple)):
+        return [_nan_for_none(item) for item in value]
+    return math.nan if value is None else value
+
+
 def _from_json(value, kind: str):
     """A to_dict value of a field of type ``kind`` ("float", "np.ndarray", "dict" ...), None read as NaN."""
     if kind == "np.ndarray":
-        return np.array([math.nan if item is None else item for item in value], dtype=float)
+        return np.array(_nan_for_none(value), dtype=float)
     if kind == "float":
         return math.nan if value is None else float(value)
     if kind == "dict" and isinstance(value, Mapping):

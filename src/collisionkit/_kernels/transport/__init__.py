@@ -38,7 +38,8 @@ and sharing codes, tally columns), :mod:`.rng` (random streams),
 :mod:`.flight` (exact flight, window speed bounds), :mod:`.cross_sections`
 (table lookup, rate bounds), :mod:`.scattering` and :mod:`.collisions`
 (velocities after a collision), :mod:`.advance` (the swarm step),
-:mod:`.moments` (per-group sums) and :mod:`.slab`. The names
+:mod:`.moments` (per-group sums), :mod:`.oscillating` (exact flight in E0 cos(omega t)
+with a static B at any angle) and :mod:`.slab`. The names
 :mod:`collisionkit.transport` uses are importable from here.
 """
 
@@ -65,12 +66,14 @@ from .layout import (
     TIME_COLUMN_OFFSET,
     VAHEDI_SURENDRA,
 )
-from .moments import energy_histogram, group_moments, group_sums
+from .moments import energy_histogram, group_moments, group_sums, group_tensor_moments
+from .oscillating import oscillating_field
 from .slab import FLIGHT_SIZE, slab_batch
 
 __all__ = [
     "ATTACHMENT", "BOUND_COLUMN_OFFSET", "DISPLACEMENT_COLUMN_OFFSET", "ELASTIC", "EXCITATION", "EXTRA_COLUMNS", "FLIGHT_SIZE", "FORWARD",
     "IONIZATION", "ISOTROPIC", "NULL_COLUMN_OFFSET", "OKHRIMOVSKYY", "SCREENED_COULOMB", "SHARE_EQUAL",
     "SHARE_UNIFORM", "SUPERELASTIC", "TIME_COLUMN_OFFSET", "TRIAL_BUDGET", "VAHEDI_SURENDRA", "WINDOW_COLLISIONS",
-    "WINDOW_GROWTH", "advance_swarm", "derived_field", "energy_histogram", "group_moments", "group_sums", "slab_batch",
+    "WINDOW_GROWTH", "advance_swarm", "derived_field", "energy_histogram", "group_moments", "group_sums",
+    "group_tensor_moments", "oscillating_field", "slab_batch",
 ]

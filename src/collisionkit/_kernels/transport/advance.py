@@ -14,6 +14,9 @@ from ..._jit import kernel
 from .collisions import ionized, two_body
 from .cross_sections import node_index, trial_frequencies
 from .flight import flight_envelope, flown_position, flown_velocity, window_growth_speed, window_top_speed
+from .oscillating import (
+    STATIC_SIZE, oscillating_displacement, oscillating_flown_velocity, oscillating_window, sincos,
+)
 from .layout import (
     ATTACHMENT, BOUND_COLUMN_OFFSET, DISPLACEMENT_COLUMN_OFFSET, ELASTIC, EXCITATION, NULL_COLUMN_OFFSET, SUPERELASTIC,
     TIME_COLUMN_OFFSET,
@@ -76,6 +79,14 @@ def advance_swarm(lo, hi, pos, vel, states, alive, t_start, t_end, field, mass, 
     The particle loop is written out in this one function: a numba call
     that is not inlined costs two atomic reference-count operations per
     array argument.
+
+    An oscillating record (:mod:`.oscillating`: the static record extended
+    by E0 cos(omega t) with omega > 0) adds the exact response to the
+    oscillating force to every flight, the flight's start time giving its
+    phase, and bounds each window's speed with
+    :func:`.oscillating.oscillating_window` (the flight's starting phase
+    computed once per flight; each window hands its exact end state to the
+    next).
     """
     n_species = gas.shape[0]
     n_proc = kind.shape[0]
@@ -84,6 +95,10 @@ def advance_swarm(lo, hi, pos, vel, states, alive, t_start, t_end, field, mass, 
     bound_column = n_proc + BOUND_COLUMN_OFFSET
     moved_column = n_proc + DISPLACEMENT_COLUMN_OFFSET
     accel_mag = math.sqrt(field[0] ** 2 + field[1] ** 2 + field[2] ** 2)
+    ac = field.shape[0] > STATIC_SIZE and field[STATIC_SIZE] > 0.0  # an oscillating electric field
+    omega = field[STATIC_SIZE] if ac else 0.0
+    if ac:
+        accel_mag += field[STATIC_SIZE + 12]
     ax, ay, az = field[0], field[1], field[2]
     exact = field[12] == 0.0
     bx, by, bz, ux, uy, uz = field[3], field[4], field[5], field[9], field[10], field[11]
@@ -130,6 +145,10 @@ def advance_swarm(lo, hi, pos, vel, states, alive, t_start, t_end, field, mass, 
             while True:  # one flight, from the last real collision
                 speed0 = math.sqrt(vx * vx + vy * vy + vz * vz)
                 vb, radius, a_par = 0.0, 0.0, 0.0
+                c0, s0 = 1.0, 0.0
+                if ac:  # the phase of the field at the flight's start, and the state at the next window's start
+                    s0, c0 = sincos(omega * t)
+                wvx, wvy, wvz, wc, ws = vx, vy, vz, c0, s0
                 if not exact:
                     vb, radius, a_par = flight_envelope(vx, vy, vz, bx, by, bz, ux, uy, uz, a_par_field)
                 horizon = t_end - t
@@ -141,13 +160,24 @@ def advance_swarm(lo, hi, pos, vel, states, alive, t_start, t_end, field, mass, 
                 while True:  # windows and trials of this flight
                     iterations += 1
                     if iterations > budget:
-                        if exact:
+                        if ac:
+                            fx, fy, fz, _, _ = oscillating_flown_velocity(vx, vy, vz, c0, s0, elapsed, field)
+                        elif exact:
                             fx, fy, fz = vx + ax * elapsed, vy + ay * elapsed, vz + az * elapsed
                         else:
                             fx, fy, fz = flown_velocity(vx, vy, vz, elapsed, field)
                         return i, math.sqrt(fx * fx + fy * fy + fz * fz)
                     if elapsed >= window_end:  # open the next window
-                        if accel_mag > 0.0:
+                        if ac:  # the bound over the window from the exact state at its start; the state at its end
+                            s_start = math.sqrt(wvx * wvx + wvy * wvy + wvz * wvz)
+                            h = window / nu_window if nu_window > 0.0 else fallback
+                            h = min(h, growth * max(s_start, speed_floor) / accel_mag)
+                            s_window, wvx, wvy, wvz, wc, ws = oscillating_window(
+                                wvx, wvy, wvz, wc, ws, omega * (t + window_end), h, field, accel_mag)
+                            nu_window = trial_frequencies(s_window, density, gas, bound, inverse_step, sigma_max,
+                                                          const_max, nu_s)
+                            window_end += h
+                        elif accel_mag > 0.0:
                             h = window / nu_window if nu_window > 0.0 else fallback
                             h = min(h, growth * max(s_low, speed_floor) / accel_mag)
                             s_high = window_top_speed(vx, vy, vz, ax, ay, az, window_end + h, exact, vb, radius,
@@ -173,7 +203,9 @@ def advance_swarm(lo, hi, pos, vel, states, alive, t_start, t_end, field, mass, 
                         continue
                     elapsed = min(stop, elapsed + tau / nu_window)
                     # a trial: the velocity it would have, the target species by its share of the trial frequency
-                    if exact:
+                    if ac:
+                        tvx, tvy, tvz, _, _ = oscillating_flown_velocity(vx, vy, vz, c0, s0, elapsed, field)
+                    elif exact:
                         tvx, tvy, tvz = vx + ax * elapsed, vy + ay * elapsed, vz + az * elapsed
                     else:
                         tvx, tvy, tvz = flown_velocity(vx, vy, vz, elapsed, field)
@@ -237,8 +269,13 @@ def advance_swarm(lo, hi, pos, vel, states, alive, t_start, t_end, field, mass, 
                     x, y, z = x + vx * elapsed + ax * half, y + vy * elapsed + ay * half, z + vz * elapsed + az * half
                 else:
                     x, y, z = flown_position(x, y, z, vx, vy, vz, elapsed, field)
+                if ac:
+                    dx, dy, dz = oscillating_displacement(c0, s0, elapsed, field)
+                    x, y, z = x + dx, y + dy, z + dz
                 if landed:
-                    if exact:
+                    if ac:
+                        vx, vy, vz, _, _ = oscillating_flown_velocity(vx, vy, vz, c0, s0, elapsed, field)
+                    elif exact:
                         vx, vy, vz = vx + ax * elapsed, vy + ay * elapsed, vz + az * elapsed
                     else:
                         vx, vy, vz = flown_velocity(vx, vy, vz, elapsed, field)

@@ -48,3 +48,27 @@ def group_sums(values, group, n_groups):
         for k in range(values.shape[1]):
             out[group[i], k] += values[i, k]
     return out
+
+
+@kernel
+def group_tensor_moments(pos, vel, alive, group, moments):
+    """Add per-group sums of r_i r_j (columns 3 i + j) and r_i v_j (columns 9 + 3 i + j) to ``moments`` (18 columns).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from collisionkit._kernels.transport.moments import group_tensor_moments
+    >>> moments = np.zeros((1, 18))
+    >>> group_tensor_moments(np.array([[1.0, 2.0, 3.0]]), np.array([[0.0, 0.0, 5.0]]), np.array([True]),
+    ...                      np.array([0]), moments)
+    >>> moments[0, 5], moments[0, 9 + 3 * 1 + 2]  # y z and y v_z
+    (np.float64(6.0), np.float64(10.0))
+    """
+    for i in range(pos.shape[0]):
+        if not alive[i]:
+            continue
+        row = moments[group[i]]
+        for a in range(3):
+            for b in range(3):
+                row[3 * a + b] += pos[i, a] * pos[i, b]
+                row[9 + 3 * a + b] += pos[i, a] * vel[i, b]

@@ -1,0 +1,406 @@
+"""Exact free flight in an oscillating electric field E0 cos(omega t) with a static B at any angle.
+
+The equation of motion is dv/dt = a_s + a_c cos(omega t) + v x Omega:
+``a_s`` the static acceleration (gravity) and ``Omega = (q/m) B`` of the
+static field record (:mod:`.flight`), ``a_c = q E0 / m`` the amplitude of
+the oscillating one. It is linear, so the flight is the static flight of
+:func:`.flight.flown_velocity` (which carries the initial velocity) plus the
+response to the oscillating force from rest, computed here.
+
+With b = Omega/|Omega|, the part of ``a_c`` along b (``a_par``) is
+integrated directly; the perpendicular part, of size A along the unit vector
+e1 (e2 = b x e1), drives zeta = w . e1 + i w . e2, which obeys
+d zeta/dt = -i |Omega| zeta + A cos(omega t). From rest at t0, after tau:
+
+* ``zeta = (A/2) tau sum_k e^{i k t0} e^{-i |Omega| tau} phi1(i (|Omega| + k) tau)``
+* ``Z = integral of zeta = (A/2) tau^2 sum_k e^{i k t0} exp[-i |Omega| tau, i k tau, 0]``
+
+with k = +-omega, ``phi1(z) = (e^z - 1)/z`` and ``exp[x, y, 0]`` the second
+divided difference of the exponential (:func:`divided_difference`), which
+stays finite at cyclotron resonance (|Omega| = omega: the response grows
+linearly in time) and at low frequency. Along b (and without B) the same
+formulas with |Omega| = 0: ``v = a_par Re(e^{i omega t0} tau phi1(i omega tau))``
+and ``z = a_par Re(e^{i omega t0} tau^2 exp[0, i omega tau, 0])``.
+
+The three functions the swarm step calls with the record are inlined into
+it (:func:`collisionkit._jit.inline_kernel`): a call that takes an array
+costs two atomic reference-count operations, more than a trial's arithmetic.
+
+The oscillating record (float64, :data:`RECORD_SIZE` entries) extends the
+static one (0:13): omega (13); a_c (14:17); a_c . b (17); e1 (18:21); e2
+(21:24); A (24); |a_c| (25); the direction of the "parallel" part (26:29):
+b, or without B the direction of a_c (all of it is then "parallel").
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ..._jit import inline_kernel, kernel
+
+STATIC_SIZE = 13
+RECORD_SIZE = 29
+# below this |x - y| the divided difference is summed from its Taylor series about the midpoint (error below
+# 1e-17 there); above it the difference quotient loses at most 2e-16 / 1e-3 of |phi1| <= 1
+SERIES_GAP = 1e-3
+# below this |x| the response's phi1(ix) is summed from its series, above it taken as a difference of phases
+PHI1_SERIES = 0.5
+
+
+# sincos: pi/2 in two parts (fdlibm's pio2_1 of 33 bits and its remainder), so n pi/2 is exact for |n| < 2^20
+PIO2_HI = 1.57079632673412561417e+00
+PIO2_LO = 6.07710050650619224932e-11
+
+
+@kernel
+def sincos(x):
+    """``(sin x, cos x)`` at about 1 ulp, for a fraction of the cost of two library calls (|x| <= 1e5).
+
+    The argument is reduced to r in [-pi/4, pi/4] by the nearest multiple n of pi/2 (Cody-Waite, two
+    constants), then the Taylor series of sin r to r^15 and cos r to r^16 (truncation below 5e-17) and the
+    quadrant n mod 4.
+
+    Examples
+    --------
+    >>> import math
+    >>> from collisionkit._kernels.transport.oscillating import sincos
+    >>> all(abs(sincos(x)[0] - math.sin(x)) < 1e-15 and abs(sincos(x)[1] - math.cos(x)) < 1e-15
+    ...     for x in (-3.0, 0.0, 0.5, 2.0, 100.0, 3e5))
+    True
+    """
+    if abs(x) > 1e5:  # beyond the exact reduction: the library's
+        return math.sin(x), math.cos(x)
+    n = math.floor(x * (2.0 / math.pi) + 0.5)
+    r = (x - n * PIO2_HI) - n * PIO2_LO
+    r2 = r * r
+    sin_r = r * (1.0 + r2 * (-1.0 / 6.0 + r2 * (1.0 / 120.0 + r2 * (-1.0 / 5040.0 + r2 * (
+        1.0 / 362880.0 + r2 * (-1.0 / 39916800.0 + r2 * (1.0 / 6227020800.0 + r2 * (-1.0 / 1307674368000.0))))))))
+    cos_r = 1.0 + r2 * (-0.5 + r2 * (1.0 / 24.0 + r2 * (-1.0 / 720.0 + r2 * (1.0 / 40320.0 + r2 * (
+        -1.0 / 3628800.0 + r2 * (1.0 / 479001600.0 + r2 * (-1.0 / 87178291200.0 + r2 / 20922789888000.0)))))))
+    quadrant = int(n) & 3
+    if quadrant == 0:
+        return sin_r, cos_r
+    if quadrant == 1:
+        return cos_r, -sin_r
+    if quadrant == 2:
+        return -sin_r, -cos_r
+    return -cos_r, sin_r
+
+
+@kernel
+def oscillating_field(static_field, amplitude, omega):
+    """The oscillating record (module docstring) of a static record and the amplitude ``a_c`` (m/s^2) at ``omega``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from collisionkit._kernels.transport.flight import derived_field
+    >>> from collisionkit._kernels.transport.oscillating import oscillating_field
+    >>> static = derived_field(np.zeros(3), np.array([0.0, 1.0, 0.0]))
+    >>> record = oscillating_field(static, np.array([0.0, 0.0, 2.0]), 3.0)
+    >>> record.shape, float(record[13]), float(record[17]), float(record[24])  # E perpendicular to B: A = |a_c|
+    ((29,), 3.0, 0.0, 2.0)
+    """
+    record = np.zeros(RECORD_SIZE)
+    record[:STATIC_SIZE] = static_field
+    record[13] = omega
+    record[14:17] = amplitude
+    size = math.sqrt(amplitude[0] ** 2 + amplitude[1] ** 2 + amplitude[2] ** 2)
+    record[25] = size
+    if static_field[12] > 0.0:
+        b = static_field[3:6]
+    elif size > 0.0:
+        b = amplitude / size
+    else:
+        b = np.array([0.0, 0.0, 1.0])
+    along = amplitude[0] * b[0] + amplitude[1] * b[1] + amplitude[2] * b[2]
+    record[17] = along
+    perp = amplitude - along * b
+    a_perp = math.sqrt(perp[0] ** 2 + perp[1] ** 2 + perp[2] ** 2)
+    if static_field[12] == 0.0 or a_perp <= 1e-12 * size:
+        a_perp = 0.0
+        # any unit vector perpendicular to b (unused while A = 0)
+        perp = np.array([1.0, 0.0, 0.0]) if abs(b[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
+        perp = perp - (perp[0] * b[0] + perp[1] * b[1] + perp[2] * b[2]) * b
+    e1 = perp / math.sqrt(perp[0] ** 2 + perp[1] ** 2 + perp[2] ** 2)
+    record[18:21] = e1
+    record[21] = b[1] * e1[2] - b[2] * e1[1]
+    record[22] = b[2] * e1[0] - b[0] * e1[2]
+    record[23] = b[0] * e1[1] - b[1] * e1[0]
+    record[24] = a_perp
+    record[26:29] = b
+    return record
+
+
+@kernel
+def phi1(x):
+    """``(e^{ix} - 1)/(ix)`` for real x, free of cancellation (1 at x = 0).
+
+    Examples
+    --------
+    >>> from collisionkit._kernels.transport.oscillating import phi1
+    >>> import cmath
+    >>> abs(phi1(0.3) - (cmath.exp(0.3j) - 1) / 0.3j) < 1e-15, phi1(0.0)
+    (True, (1+0j))
+    """
+    if x == 0.0:
+        return complex(1.0, 0.0)
+    half, half_cos = sincos(0.5 * x)
+    return complex(2.0 * half * half_cos / x, 2.0 * half * half / x)
+
+
+@kernel
+def exp_moment(n, x):
+    """``integral_0^1 s^n e^{ixs} ds`` for real x and n = 0..3: a series for |x| < 1, else the upward recurrence.
+
+    Examples
+    --------
+    >>> from collisionkit._kernels.transport.oscillating import exp_moment
+    >>> exp_moment(1, 0.0), abs(exp_moment(3, 0.0) - 0.25) < 1e-15
+    ((0.5+0j), True)
+    """
+    if abs(x) < 1.0:
+        total = complex(0.0, 0.0)
+        term = complex(1.0, 0.0)  # (ix)^k / k!
+        for k in range(30):
+            total += term / (n + k + 1)
+            term = term * complex(0.0, x) / (k + 1)
+        return total
+    ix = complex(0.0, x)
+    e = complex(math.cos(x), math.sin(x))
+    value = (e - 1.0) / ix
+    for j in range(1, n + 1):
+        value = (e - j * value) / ix
+    return value
+
+
+@kernel
+def divided_difference(x, y):
+    """The second divided difference ``exp[ix, iy, 0]`` of the exponential for real x, y (1/2 at x = y = 0).
+
+    ``(phi1(ix) - phi1(iy)) / (ix - iy)``; for |x - y| < ``SERIES_GAP`` the
+    Taylor series of that quotient about the midpoint m, h = (x - y)/2:
+    ``J1(m) - J3(m) h^2 / 6`` with ``J_n(m) = integral_0^1 s^n e^{ims} ds``
+    (:func:`exp_moment`), the next term being below h^4/120.
+
+    Examples
+    --------
+    >>> from collisionkit._kernels.transport.oscillating import divided_difference
+    >>> divided_difference(0.0, 0.0), abs(divided_difference(2.0, 2.0 + 1e-9) - divided_difference(2.0, 2.0)) < 1e-9
+    ((0.5+0j), True)
+    """
+    d = x - y
+    if abs(d) >= SERIES_GAP:
+        z = phi1(x) - phi1(y)
+        return complex(z.imag / d, -z.real / d)  # z / (i d)
+    m = 0.5 * (x + y)
+    h = 0.5 * d
+    return exp_moment(1, m) - exp_moment(3, m) * (h * h / 6.0)
+
+
+@kernel
+def _phi1_series(x):
+    """``(e^{ix} - 1)/(ix)`` for |x| <= ``PHI1_SERIES``: the series sum_n (ix)^n/(n + 1)! to n = 13 in real
+    arithmetic (real part: the even terms, sin(x)/x; imaginary: the odd ones, (1 - cos x)/x); error below 5e-17."""
+    x2 = x * x
+    real = 1.0 - x2 * (1.0 / 6.0 - x2 * (1.0 / 120.0 - x2 * (1.0 / 5040.0 - x2 * (1.0 / 362880.0 - x2 * (
+        1.0 / 39916800.0 - x2 / 6227020800.0)))))
+    imag = x * (0.5 - x2 * (1.0 / 24.0 - x2 * (1.0 / 720.0 - x2 * (1.0 / 40320.0 - x2 * (1.0 / 3628800.0 - x2 * (
+        1.0 / 479001600.0 - x2 / 87178291200.0))))))
+    return complex(real, imag)
+
+
+@kernel
+def _response(c0, s0, ew, spin, tau, w, omega):
+    """``e^{-i w tau} tau (e^{i theta0} phi1(i (w + omega) tau) + e^{-i theta0} phi1(i (w - omega) tau))``.
+
+    (c0, s0) = e^{i theta0}, ``ew`` = e^{i omega tau}, ``spin`` = e^{-i w tau}. Each term is
+    ``(e^{i k tau} - e^{-i w tau}) / (i (w + k))``, or, for |(w + k) tau| <= ``PHI1_SERIES`` (near
+    resonance, short flights), ``spin tau phi1`` from its series: no cancellation either way.
+    """
+    x = (w + omega) * tau
+    if abs(x) > PHI1_SERIES:
+        z = ew - spin
+        plus = complex(z.imag, -z.real) / (w + omega)  # z / (i (w + omega))
+    else:
+        plus = spin * tau * _phi1_series(x)
+    x = (w - omega) * tau
+    if abs(x) > PHI1_SERIES:
+        z = ew.conjugate() - spin
+        minus = complex(z.imag, -z.real) / (w - omega)
+    else:
+        minus = spin * tau * _phi1_series(x)
+    return complex(c0, s0) * plus + complex(c0, -s0) * minus
+
+
+@inline_kernel
+def oscillating_flown_velocity(vx, vy, vz, c0, s0, tau, field):
+    """Velocity after an exact flight of ``tau`` from (vx, vy, vz) in the static and oscillating fields, and the
+    phase at its end: ``(vx, vy, vz, cos theta1, sin theta1)``, theta1 = omega (t0 + tau).
+
+    ``(c0, s0) = (cos, sin)(omega t0)`` of the flight's start (computed once per flight). Costs one sine and
+    cosine of omega tau / 2, and of |Omega| tau with B: the static flight of :func:`.flight.flown_velocity`
+    plus the response from rest of the module docstring, along b ``a_par (sin theta1 - sin theta0)/omega``
+    in the cancellation-free form ``a_par (c0 sin(omega tau) - s0 (1 - cos(omega tau)))/omega``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from collisionkit._kernels.transport.flight import derived_field
+    >>> from collisionkit._kernels.transport.oscillating import oscillating_field, oscillating_flown_velocity
+    >>> record = oscillating_field(derived_field(np.zeros(3), np.zeros(3)), np.array([0.0, 0.0, 2.0]), 1.0)
+    >>> [round(value, 12) for value in oscillating_flown_velocity(0.0, 0.0, 0.0, 1.0, 0.0, np.pi / 2, record)]
+    [0.0, 0.0, 2.0, 0.0, 1.0]
+    """
+    omega = field[13]
+    sh, ch = sincos(0.5 * omega * tau)
+    sin_w = 2.0 * sh * ch
+    vers = 2.0 * sh * sh  # 1 - cos(omega tau)
+    c1 = c0 * (1.0 - vers) - s0 * sin_w
+    s1 = s0 * (1.0 - vers) + c0 * sin_w
+    along = field[17] * (c0 * sin_w - s0 * vers) / omega
+    px, py, pz = field[26], field[27], field[28]
+    w = field[12]
+    if w == 0.0:
+        return (vx + field[0] * tau + along * px, vy + field[1] * tau + along * py, vz + field[2] * tau + along * pz,
+                c1, s1)
+    bx, by, bz = field[3], field[4], field[5]
+    vb = vx * bx + vy * by + vz * bz
+    wx = vx - vb * bx - field[9]
+    wy = vy - vb * by - field[10]
+    wz = vz - vb * bz - field[11]
+    cx = wy * bz - wz * by
+    cy = wz * bx - wx * bz
+    cz = wx * by - wy * bx
+    s, c = sincos(w * tau)
+    ox = vb * bx + field[6] * tau + field[9] + wx * c + cx * s + along * px
+    oy = vb * by + field[7] * tau + field[10] + wy * c + cy * s + along * py
+    oz = vb * bz + field[8] * tau + field[11] + wz * c + cz * s + along * pz
+    a_perp = field[24]
+    if a_perp > 0.0:
+        zeta = 0.5 * a_perp * _response(c0, s0, complex(1.0 - vers, sin_w), complex(c, -s), tau, w, omega)
+        ox += zeta.real * field[18] + zeta.imag * field[21]
+        oy += zeta.real * field[19] + zeta.imag * field[22]
+        oz += zeta.real * field[20] + zeta.imag * field[23]
+    return ox, oy, oz, c1, s1
+
+
+@kernel
+def _sine_minus_argument(x):
+    """``sin x - x`` without cancellation (its series for |x| < 0.5, to x^17: error below 1e-22 there)."""
+    if abs(x) >= 0.5:
+        return sincos(x)[0] - x
+    x2 = x * x
+    return -x * x2 * (1.0 / 6.0 - x2 * (1.0 / 120.0 - x2 * (1.0 / 5040.0 - x2 * (1.0 / 362880.0 - x2 * (
+        1.0 / 39916800.0 - x2 * (1.0 / 6227020800.0 - x2 / 1307674368000.0 + x2 * x2 / 355687428096000.0))))))
+
+
+@inline_kernel
+def oscillating_displacement(c0, s0, tau, field):
+    """Displacement from rest in a flight of ``tau`` under the oscillating force, as a tuple; ``(c0, s0) =
+    (cos, sin)(omega t0)`` of the flight's start.
+
+    The time integral of the oscillating part of :func:`oscillating_flown_velocity`: along b
+    ``a_par (c0 (1 - cos(omega tau)) + s0 (sin(omega tau) - omega tau)) / omega^2`` (the double integral of
+    cos(omega t0 + omega s), free of cancellation), across it the divided differences of the module
+    docstring.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from collisionkit._kernels.transport.flight import derived_field
+    >>> from collisionkit._kernels.transport.oscillating import oscillating_field, oscillating_displacement
+    >>> record = oscillating_field(derived_field(np.zeros(3), np.zeros(3)), np.array([0.0, 0.0, 2.0]), 1.0)
+    >>> round(oscillating_displacement(1.0, 0.0, np.pi, record)[2], 12)  # 2 (1 - cos(pi))
+    4.0
+    """
+    omega = field[13]
+    x = omega * tau
+    sh, _ = sincos(0.5 * x)
+    along = field[17] * (c0 * 2.0 * sh * sh + s0 * _sine_minus_argument(x)) / (omega * omega)
+    dx, dy, dz = along * field[26], along * field[27], along * field[28]
+    a_perp = field[24]
+    if a_perp > 0.0:
+        w = field[12]
+        rotor = complex(c0, s0)
+        z = 0.5 * a_perp * tau * tau * (rotor * divided_difference(-w * tau, x)
+                                         + rotor.conjugate() * divided_difference(-w * tau, -x))
+        dx += z.real * field[18] + z.imag * field[21]
+        dy += z.real * field[19] + z.imag * field[22]
+        dz += z.real * field[20] + z.imag * field[23]
+    return dx, dy, dz
+
+
+@kernel
+def _sine_range(theta1, theta2, s1, s2):
+    """The smallest and largest sin(theta) for theta in [theta1, theta2] (theta2 >= theta1; s1, s2 their sines)."""
+    low, high = min(s1, s2), max(s1, s2)
+    quarter = 0.5 * math.pi
+    # the first maximum (pi/2 + 2 pi n) and minimum (-pi/2 + 2 pi n) at or after theta1
+    peak = quarter + 2.0 * math.pi * math.ceil((theta1 - quarter) / (2.0 * math.pi))
+    trough = -quarter + 2.0 * math.pi * math.ceil((theta1 + quarter) / (2.0 * math.pi))
+    if peak <= theta2:
+        high = 1.0
+    if trough <= theta2:
+        low = -1.0
+    return low, high
+
+
+@inline_kernel
+def oscillating_window(vx, vy, vz, c1, s1, theta1, h, field, accel_mag):
+    """An upper bound of the speed over [t1, t1 + h] of a particle with velocity (vx, vy, vz) at time t1, and its
+    exact state at t1 + h: ``(bound, vx, vy, vz, cos theta2, sin theta2)``.
+
+    ``(c1, s1)`` are cos and sin of ``theta1 = omega t1``; the end state is
+    :func:`oscillating_flown_velocity` over h, so a flight's windows chain
+    from one to the next. Always ``|v| + integral |a| <= |v| + (|a_s| +
+    |a_c|) h`` (``accel_mag``; the magnetic force does no work). Without
+    static acceleration the smaller of that and the exact range along b,
+    where v . b + a_par (sin theta - sin theta1)/omega over theta = omega t
+    in the window (its ends, and an extremum of the sine inside), combined in
+    quadrature with a bound of the perpendicular speed: |w(t1)| + A h, or,
+    away from resonance, |w(t1) - P(t1)| + max |P| (the particular solution
+    P, of size at most (A/2)(1/(Omega+omega) + 1/|Omega-omega|), plus the
+    gyration about it). Padded by 1e-10 of the speeds (and 1e-12 of the
+    oscillation amplitude a_par/omega) against rounding.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from collisionkit._kernels.transport.flight import derived_field
+    >>> from collisionkit._kernels.transport.oscillating import oscillating_field, oscillating_window
+    >>> record = oscillating_field(derived_field(np.zeros(3), np.zeros(3)), np.array([0.0, 0.0, 2.0]), 1.0)
+    >>> [round(value, 6) for value in oscillating_window(0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 10.0, record, 2.0)]  # 2 sin(10)
+    [2.0, 0.0, 0.0, -1.088042, -0.839072, -0.544021]
+    """
+    ex, ey, ez, c2, s2 = oscillating_flown_velocity(vx, vy, vz, c1, s1, h, field)
+    speed = math.sqrt(vx * vx + vy * vy + vz * vz)
+    growth = (speed + accel_mag * h) * (1.0 + 1e-10)
+    if field[0] != 0.0 or field[1] != 0.0 or field[2] != 0.0:
+        return growth, ex, ey, ez, c2, s2
+    omega = field[13]
+    px, py, pz = field[26], field[27], field[28]
+    v_par = vx * px + vy * py + vz * pz
+    low, high = _sine_range(theta1, theta1 + omega * h, s1, s2)
+    a_par = field[17]
+    ends = max(abs(v_par), abs(ex * px + ey * py + ez * pz))
+    extremes = max(abs(v_par + a_par * (low - s1) / omega), abs(v_par + a_par * (high - s1) / omega))
+    parallel = max(ends, extremes) + abs(a_par) * 1e-12 / omega
+    wx, wy, wz = vx - v_par * px, vy - v_par * py, vz - v_par * pz
+    w_speed = math.sqrt(wx * wx + wy * wy + wz * wz)
+    a_perp = field[24]
+    perpendicular = w_speed + a_perp * h
+    w = field[12]
+    if a_perp > 0.0 and w != omega:
+        # the particular solution P(t) = (A/2) (e^{i omega t}/(i(w + omega)) + e^{-i omega t}/(i(w - omega)))
+        rotor = complex(c1, s1)
+        z = rotor / (w + omega) + rotor.conjugate() / (w - omega)
+        p = 0.5 * a_perp * complex(z.imag, -z.real)  # (A/2) z / i
+        zeta = complex(wx * field[18] + wy * field[19] + wz * field[20],
+                       wx * field[21] + wy * field[22] + wz * field[23])
+        p_max = 0.5 * a_perp * (1.0 / (w + omega) + 1.0 / abs(w - omega))
+        perpendicular = min(perpendicular, abs(zeta - p) + p_max)
+    bound = min(growth, math.sqrt(parallel * parallel + perpendicular * perpendicular) * (1.0 + 1e-10))
+    return bound, ex, ey, ez, c2, s2
