@@ -64,6 +64,7 @@ class PeriodicRun(TensorRun):
         self.dt = interval
         self.on_grid = True
         self.times, self.moments, self.tallies, self.tensor_moments, self.phase_index = [], [], [], [], []
+        self.shifts, self.covariance_shifts = [], []  # (the jumps so far stay in self.shift: they are cumulative)
         self.seconds = 0.0
         self.collisions = self.nulls = 0
 
