@@ -36,6 +36,7 @@ EV = constants.e
 GRID_POINTS = 300  # mean energies tried between 3/2 kT (or 1 meV) and a tenth of the quadrature's top
 TOP_ENERGY = 1e4  # eV: the quadrature reaches this or the tables' top, whichever is higher
 QUADRATURE_POINTS = 2000  # energies of the Maxwellian averages
+CHUNK = 20  # mean energies averaged at a time
 FALLBACK = 1.0  # eV, when no energy balances (a runaway regime): the old fixed start
 
 
@@ -101,12 +102,14 @@ def balanced_energy(tables, density, force, magnetic, mass, gas_temperature) -> 
     total = frequencies.sum(axis=1)
     # Maxwellians of mean energy eps (kT_e = 2 eps / 3): weights sqrt(e) exp(-e / kT_e) de on the grid
     means = np.geomspace(max(thermal, 1e-3 * EV), top / 10.0, GRID_POINTS)
-    k_t = 2.0 * means[:, None] / 3.0
-    weights = np.sqrt(grid) * np.exp(-grid / k_t) * np.gradient(grid)
-    weights /= weights.sum(axis=1, keepdims=True)
-    nu = weights @ total
+    columns = np.column_stack([total, elastic_weight * (grid - thermal) + inelastic_power])
+    averages = np.empty((means.size, 2))
+    measure = np.sqrt(grid) * np.gradient(grid)
+    for lo in range(0, means.size, CHUNK):  # a few rows at a time: the full table would be 5 MB of temporaries
+        weights = measure * np.exp(-grid / (2.0 * means[lo:lo + CHUNK, None] / 3.0))
+        averages[lo:lo + CHUNK] = (weights @ columns) / weights.sum(axis=1, keepdims=True)
+    nu, loss = averages[:, 0], averages[:, 1]
     heating = force**2 * nu / (mass * (nu**2 + magnetic**2))
-    loss = weights @ (elastic_weight * (grid - thermal)) + weights @ inelastic_power
     cooling = np.nonzero(heating <= loss)[0]
     if cooling.size == 0:
         return FALLBACK
