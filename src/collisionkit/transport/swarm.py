@@ -354,7 +354,7 @@ def simulate_swarm(
         field_record = _field_record(reduced_field, reduced_magnetic_field, density, mass, charge, gravity,
                                      field_angle)
     if initial_energy is None:
-        # an oscillating field heats as its r.m.s. value does (omega << nu; less above, as the start needs not be exact)
+        # an oscillating field heats as its r.m.s. value does (omega << nu; less above: a start need not be exact)
         effective_field = reduced_field / math.sqrt(2.0) if oscillating else reduced_field
         initial_energy = _starting_energy(tables, density, mass, charge, reduced_magnetic_field, field_angle, gravity,
                                           effective_field, gas_temperature)
