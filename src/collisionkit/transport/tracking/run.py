@@ -152,6 +152,9 @@ def _run_batch(plan: _Plan, lo: int, hi: int, points_wanted: bool, report=None) 
     group = ((plan.first_primary + lo + np.arange(n)) % plan.groups).astype(np.int64)
     points = np.zeros((plan.point_capacity if points_wanted else 0, 5))
     kept_records, kept_births = [], []
+    n_species = plan.tables.arrays()[0].shape[0]
+    scratch = (np.zeros((7, 7)), np.zeros(7), np.zeros(7), np.zeros(7), np.zeros(n_species), np.zeros(n_species),
+               np.zeros(4, np.uint64), np.zeros(3))
     s = plan.settings
     while True:
         outcome = track_particles(
@@ -160,7 +163,7 @@ def _run_batch(plan: _Plan, lo: int, hi: int, points_wanted: bool, report=None) 
             plan.sample_times, points, *plan.fields, s["mass"], s["charge"], s["density"], s["method"],
             s["tolerance"], s["depth_tolerance"], s["length"], s["step_length"], s["time_limit"], s["max_steps"],
             CALL_COLLISIONS, plan.ions is not None, s["sharing"], profile_code, profile_par, 0.0, plan.signal_step,
-            *plan.tables.arrays())
+            *plan.tables.arrays(), *scratch)
         kept_records.append(records[: control[1]].copy())
         kept_births.append(births[: control[2]].copy())
         if report is not None and control[3]:

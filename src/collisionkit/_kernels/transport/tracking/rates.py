@@ -14,6 +14,7 @@ import math
 from ...._jit import inline_kernel
 from ..cross_sections import node_index as _node_index
 from ..cross_sections import rate_bound as _rate_bound
+from ..rng import normal_pair, uniform
 
 # the swarm's node lookup and rate bound, inlined here: they run at every stage or every step, and a call that is
 # not inlined costs reference counting on its arrays (measured: 2/3 of the time per collision of the path-length
@@ -99,6 +100,36 @@ def chosen_process(r, s, g_speed, energy, density, species_of, threshold, const_
         if r < cumulative:
             return j
     return -1
+
+
+@inline_kernel
+def trial_collision(vx, vy, vz, nu_trial, trial_s, rng, mass, density, gas, species_of, threshold, const_rate, nodes,
+                    sigma, accelerator, inverse_cell):
+    """A trial collision of a particle of velocity (vx, vy, vz) at the trial frequency ``nu_trial`` (the sum of
+    ``trial_s``): (species, target velocity (3), relative velocity (3), relative speed g, m g^2 / 2, process).
+
+    The species is drawn by its share of the trial frequency, a target from
+    its Maxwellian (``gas[s, 1]``: the thermal speed per component), and the
+    trial is the process whose cumulative rate first exceeds the rest of the
+    uniform draw, or null (process -1) (Skullerud 1968).
+    """
+    r = uniform(rng) * nu_trial
+    species = chosen_species(r, trial_s)
+    for s in range(species):
+        r -= trial_s[s]
+    gas_vx = gas_vy = gas_vz = 0.0
+    if gas[species, 1] > 0.0:
+        gas_vx, gas_vy = normal_pair(rng)
+        gas_vz, _ = normal_pair(rng)
+        gas_vx *= gas[species, 1]
+        gas_vy *= gas[species, 1]
+        gas_vz *= gas[species, 1]
+    gx, gy, gz = vx - gas_vx, vy - gas_vy, vz - gas_vz
+    g_speed = math.sqrt(gx * gx + gy * gy + gz * gz)
+    energy = 0.5 * mass * g_speed * g_speed
+    chosen = chosen_process(r, species, g_speed, energy, density, species_of, threshold, const_rate, nodes, sigma,
+                            accelerator, inverse_cell)
+    return species, gas_vx, gas_vy, gas_vz, gx, gy, gz, g_speed, energy, chosen
 
 
 @inline_kernel

@@ -37,7 +37,7 @@ import math
 
 import numpy as np
 
-from ...._jit import kernel
+from ...._jit import borrowing_kernel, kernel
 from ..collisions import ionized, two_body
 from ..flight import flown_position, flown_velocity
 from ..layout import ATTACHMENT, ELASTIC, EXCITATION, IONIZATION
@@ -55,9 +55,15 @@ from .geometry import lowest_surface, surface_normal
 from .integrator import (
     B5, C, E54, dense_state, depth_crossing, error_norm, hermite_cubic, stage_state, step_factor,
 )
-from .rates import chosen_process, chosen_species, profile_bin, rate_bound, species_rates, trial_rates
+from .rates import (
+    chosen_process, chosen_species, profile_bin, rate_bound, species_rates, trial_collision, trial_rates,
+)
 
 GROWTH = 1.0  # null collisions: a step lasts at most the time in which a|t| reaches GROWTH times the speed
+# ... and trials come in windows of constant trial frequency, each at most WINDOW_COLLISIONS / (the previous window's
+# frequency) long and the time in which a|t| reaches WINDOW_GROWTH times the speed (a tighter bound, fewer null trials)
+WINDOW_COLLISIONS = 1.3
+WINDOW_GROWTH = 0.5
 NEWTON_ITERATIONS = 8  # path length: refinements of the collision time on the integrated optical depth
 GAUSS_NODES = np.array([-0.8611363115940526, -0.3399810435848563, 0.3399810435848563, 0.8611363115940526])
 GAUSS_WEIGHTS = np.array([0.3478548451374538, 0.6521451548625461, 0.6521451548625461, 0.3478548451374538])
@@ -66,7 +72,7 @@ SPEED_FLOOR_EV = 1e-3  # eV: the speed scale of the error control and of the ste
 EV = 1.602176634e-19
 
 
-@kernel
+@borrowing_kernel
 def track_particles(stack_pos, stack_vel, stack_time, stack_birth, stack_state, stack_h, stack_primary, stack_fresh,
                     stack_id, control, tallies, records, births, profiles, signal, moments, group, sample_times,
                     points, e_kind, e_par, e_meta, e_values, e_blocks, e_user, b_kind, b_par, b_meta, b_values, b_user,
@@ -75,7 +81,7 @@ def track_particles(stack_pos, stack_vel, stack_time, stack_birth, stack_state, 
                     max_steps, budget, record_births, sharing, profile_kind, profile_par, signal_start, signal_step,
                     gas, kind, species_of, threshold, const_rate, angular, screening, nodes, sigma, accelerator,
                     accelerator_step, bound, bound_step, sigma_max, const_max, species_sigma, species_const, thermal,
-                    thermal_step):
+                    thermal_step, k, y0, y1, ys, nu_s, trial_s, rng, buffer):
     """Track the particles on the stack (and their secondaries) until they end; see the module docstring.
 
     ``control``: [stack size, end records written, ion births written,
@@ -98,14 +104,6 @@ def track_particles(stack_pos, stack_vel, stack_time, stack_birth, stack_state, 
     e_box = e_kind == E_MAP
     b_box = b_kind == B_MAP
     uniform_accel = math.sqrt(flight[0] ** 2 + flight[1] ** 2 + flight[2] ** 2)
-    k = np.zeros((7, 7))
-    y0 = np.zeros(7)
-    y1 = np.zeros(7)
-    ys = np.zeros(7)
-    nu_s = np.zeros(gas.shape[0])
-    trial_s = np.zeros(gas.shape[0])
-    rng = np.zeros(4, np.uint64)
-    buffer = np.zeros(3)
     collisions = 0
     while control[0] > 0:
         if control[0] >= stack_cap or control[1] >= records.shape[0]:
@@ -118,7 +116,9 @@ def track_particles(stack_pos, stack_vel, stack_time, stack_birth, stack_state, 
         birth = stack_birth[top]
         for c in range(4):
             rng[c] = stack_state[top, c]
-        h = stack_h[top]
+        h_control = stack_h[top]  # the error control's step; a step taken may be shorter (windows, trials, surfaces)
+        h = h_control
+        nu_window = 0.0  # the trial frequency of the last window (null collisions)
         primary = stack_primary[top]
         number = stack_id[top]
         if stack_fresh[top]:
@@ -165,8 +165,7 @@ def track_particles(stack_pos, stack_vel, stack_time, stack_birth, stack_state, 
             reference = max(speed0, speed_floor)
             # far from every surface a step may move up to half the clearance, near one the step length
             clearance = lowest_surface(surfaces, x, y, z)[0]
-            h = min(h, remaining, max(step_length, 0.5 * clearance) / reference)
-            nu_step = 0.0
+            h = min(pending_h if pending != 0 else h_control, remaining, max(step_length, 0.5 * clearance) / reference)
             accel = uniform_accel if exact else math.inf  # a bound of |q E / m| over the step, if known
             if not path:
                 if not exact:
@@ -174,8 +173,6 @@ def track_particles(stack_pos, stack_vel, stack_time, stack_birth, stack_state, 
                     accel = abs(qm) * electric_bound(e_kind, e_par, e_meta, e_blocks, x, y, z, reach)
                 if accel > 0.0:
                     h = min(h, GROWTH * reference / accel)
-                nu_step = trial_rates(speed0 + accel * h, density, gas, bound, inverse_step, sigma_max, const_max,
-                                      trial_s)
             # a step that moves less than the clearance cannot leave the volume: no crossing to look for
             clear = not (e_box or b_box) and speed0 * h + 0.5 * accel * h * h < clearance
             # ---- one step: the state at its end in y1, the end derivative in k[6]
@@ -221,9 +218,12 @@ def track_particles(stack_pos, stack_vel, stack_time, stack_birth, stack_state, 
                     y1[c] = ys[c]
                 error = error_norm(y0, y1, k, h, length, speed_floor, tolerance, depth_tolerance, path)
             if error > 1.0:
-                h *= step_factor(error)
+                h_control = h * step_factor(error)
+                pending = 0
                 tallies[primary, n_proc + TALLY_REJECTED] += 1.0
                 continue
+            # the accepted step is the controller's next one; it grows only after a step that ran to its end
+            h_control = h
             steps += 1
             tallies[primary, n_proc + TALLY_STEPS] += 1.0
             # ---- where the step ends: leaving the volume, a collision, the time limit
@@ -320,42 +320,51 @@ def track_particles(stack_pos, stack_vel, stack_time, stack_birth, stack_state, 
                 else:
                     tau_left -= reached
             else:
-                position = 0.0
-                while True:
-                    if nu_step <= 0.0:
-                        break
-                    wait = tau_left / nu_step
-                    if position + wait >= s_event:
-                        tau_left -= nu_step * (s_event - position)
-                        break
-                    position += wait
-                    if exact:
-                        tvx, tvy, tvz = flown_velocity(vx, vy, vz, position, flight)
+                # windows of constant trial frequency along [0, s_event): in each, the rate bound at the largest
+                # speed reachable in it; trials where the drawn optical depth runs out
+                start = 0.0
+                while start < s_event:
+                    if start == 0.0:
+                        ux, uy, uz = vx, vy, vz
+                    elif exact:
+                        ux, uy, uz = flown_velocity(vx, vy, vz, start, flight)
                     else:
-                        theta = position / h
-                        _, _, _, tvx, tvy, tvz = dense_state(y0, y1, k, h, theta)
-                    r = uniform(rng) * nu_step
-                    species = chosen_species(r, trial_s)
-                    for s in range(species):
-                        r -= trial_s[s]
-                    gas_vx = gas_vy = gas_vz = 0.0
-                    if gas[species, 1] > 0.0:
-                        gas_vx, gas_vy = normal_pair(rng)
-                        gas_vz, _ = normal_pair(rng)
-                        gas_vx *= gas[species, 1]
-                        gas_vy *= gas[species, 1]
-                        gas_vz *= gas[species, 1]
-                    gx, gy, gz = tvx - gas_vx, tvy - gas_vy, tvz - gas_vz
-                    g_speed = math.sqrt(gx * gx + gy * gy + gz * gz)
-                    energy = 0.5 * mass * g_speed * g_speed
-                    chosen = chosen_process(r, species, g_speed, energy, density, species_of, threshold, const_rate,
-                                            nodes, sigma, accelerator, inverse_cell)
+                        _, _, _, ux, uy, uz = dense_state(y0, y1, k, h, start / h)
+                    speed = math.sqrt(ux * ux + uy * uy + uz * uz)
+                    end = s_event
+                    if nu_window > 0.0:
+                        end = min(end, start + WINDOW_COLLISIONS / nu_window)
+                    if accel > 0.0:
+                        end = min(end, start + WINDOW_GROWTH * max(speed, speed_floor) / accel)
+                    if end <= start:  # (a window too short to advance the time in floating point)
+                        end = s_event
+                    if exact and flight[12] == 0.0:  # |v + a t| is convex in t: its largest value is at an end
+                        top_speed = max(speed, math.sqrt((vx + flight[0] * end) ** 2 + (vy + flight[1] * end) ** 2
+                                                         + (vz + flight[2] * end) ** 2))
+                    else:  # the magnetic force does no work: d|v|/dt <= |q E / m|
+                        top_speed = speed + accel * (end - start)
+                    nu_window = trial_rates(top_speed, density, gas, bound, inverse_step, sigma_max, const_max,
+                                            trial_s)
+                    position = start
+                    while nu_window > 0.0 and position + tau_left / nu_window < end:
+                        position += tau_left / nu_window
+                        if exact:
+                            ux, uy, uz = flown_velocity(vx, vy, vz, position, flight)
+                        else:
+                            _, _, _, ux, uy, uz = dense_state(y0, y1, k, h, position / h)
+                        species, gas_vx, gas_vy, gas_vz, gx, gy, gz, g_speed, energy, chosen = trial_collision(
+                            ux, uy, uz, nu_window, trial_s, rng, mass, density, gas, species_of, threshold,
+                            const_rate, nodes, sigma, accelerator, inverse_cell)
+                        if chosen >= 0:
+                            break
+                        tallies[primary, n_proc + TALLY_NULL] += 1.0
+                        tau_left = -math.log(uniform(rng))
                     if chosen >= 0:
                         s_event = position
                         event = 1
                         break
-                    tallies[primary, n_proc + TALLY_NULL] += 1.0
-                    tau_left = -math.log(uniform(rng))
+                    tau_left -= nu_window * (end - position)
+                    start = end
             if event == 0 and h >= remaining:
                 event = 4
             # ---- the state at s_event; samples and the induced current on the way
@@ -437,7 +446,7 @@ def track_particles(stack_pos, stack_vel, stack_time, stack_birth, stack_state, 
                 if path:
                     k[0, 6] = k[6, 6]
                     y0[6] = 0.0
-                h *= step_factor(error)
+                h_control = h * step_factor(error)
                 continue
             if event == 4:
                 status = ENDED_TIME
@@ -499,7 +508,7 @@ def track_particles(stack_pos, stack_vel, stack_time, stack_birth, stack_state, 
                 stack_time[slot] = t
                 stack_birth[slot] = t
                 seed_state(next_u64(rng), stack_state[slot])
-                stack_h[slot] = h
+                stack_h[slot] = h_control
                 stack_primary[slot] = primary
                 stack_fresh[slot] = True
                 stack_id[slot] = control[5]
@@ -531,7 +540,7 @@ def track_particles(stack_pos, stack_vel, stack_time, stack_birth, stack_state, 
                 stack_birth[slot] = birth
                 for c in range(4):
                     stack_state[slot, c] = rng[c]
-                stack_h[slot] = h
+                stack_h[slot] = h_control
                 stack_primary[slot] = primary
                 stack_fresh[slot] = False
                 stack_id[slot] = number
