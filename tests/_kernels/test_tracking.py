@@ -238,23 +238,32 @@ def test_ions_drift_along_the_field_of_a_counter_in_the_analytic_time():
     assert induced[0] == pytest.approx(2 * 1.602176634e-19 * math.log(b / r0) / math.log(b / a), rel=1e-6)
 
 
-def test_the_local_bound_of_a_map_covers_the_field_within_the_reach():
-    """electric_bound of a map: at random points and reaches up to a block's width, never below |E| at random
-    points within the reach (the interpolated field there); beyond a block's width, the grid's largest value."""
+@pytest.mark.parametrize("shape, spacing", [((40, 30), (1.0, 2.0)), ((12, 9, 10), (1.0, 0.5, 2.0))])
+def test_the_local_bound_of_a_map_covers_the_field_within_the_reach_and_is_local(shape, spacing):
+    """electric_bound of a map: at random points and reaches, never below |E| at random points within the reach
+    (the interpolated field there); for a reach below one cell, no more than the largest |value| of the grid points
+    within two cells (the first level: a cell and its neighbours); beyond the grid's size, the grid's largest value."""
     from collisionkit.transport.tracking import FieldMap
     from collisionkit._kernels.transport.tracking.fields import electric_bound
 
     rng = np.random.default_rng(7)
-    values = rng.normal(size=(40, 30, 3)) * np.exp(rng.normal(size=(40, 30, 1)) * 2)
-    fieldmap = FieldMap((0.0, 0.0), (1.0, 2.0), values)
+    values = rng.normal(size=(*shape, 3)) * np.exp(rng.normal(size=(*shape, 1)) * 2)
+    fieldmap = FieldMap((0.0,) * len(shape), spacing, values)
     kind, parameters, meta, grid, user = fieldmap.arrays()
     blocks = fieldmap.blocks()
+    top = (np.array(shape) - 1) * spacing
+    magnitude = np.linalg.norm(values, axis=-1)
     for _ in range(300):
-        centre = rng.uniform([0, 0, 0], [39, 58, 1])
-        reach = rng.uniform(0, 8.0)
+        centre = np.zeros(3)
+        centre[: len(shape)] = rng.uniform(0, top)
+        reach = rng.uniform(0, 8.0) * 10.0 ** rng.uniform(-2, 1)
         bound = electric_bound(kind, parameters, meta, blocks, *centre, reach)
         offsets = rng.normal(size=(50, 3))
         offsets *= reach * rng.uniform(0, 1, (50, 1)) / np.linalg.norm(offsets, axis=1, keepdims=True)
         nearby = fieldmap.at(centre + offsets)
         assert np.linalg.norm(nearby, axis=1).max() <= bound * (1 + 1e-12)
-    assert electric_bound(kind, parameters, meta, blocks, 5.0, 5.0, 0.0, 100.0) == meta[10]
+        if reach < min(spacing):
+            cell = (centre[: len(shape)] / spacing).astype(int)
+            window = tuple(slice(max(c - 1, 0), c + 3) for c in cell)
+            assert bound <= magnitude[window].max()
+    assert electric_bound(kind, parameters, meta, blocks, 5.0, 5.0, 0.0, 1000.0) == meta[10]

@@ -38,7 +38,6 @@ LENGTH_UNITS = {"m": 1.0, "cm": 1e-2, "mm": 1e-3, "um": 1e-6, "µm": 1e-6}
 ELECTRIC_UNITS = {"V/m": 1.0, "V/cm": 1e2, "kV/cm": 1e5, "V/mm": 1e3, "kV/mm": 1e6, "MV/m": 1e6, "kV/m": 1e3}
 MAGNETIC_UNITS = {"T": 1.0, "mT": 1e-3, "G": 1e-4, "kG": 0.1}
 RELATIVE_SPACING_TOLERANCE = 1e-6  # a grid axis is regular if every spacing is within this of the mean
-BLOCK_CELLS = 8  # cells per block (along each axis) of a map's local field bounds
 
 
 def _shifted(array: np.ndarray, axis: int, step: int) -> np.ndarray:
@@ -106,14 +105,14 @@ class FieldMap(Field):
         return tuple(self.values.shape[: self.dimensions])
 
     def meta(self) -> np.ndarray:
-        """The kernel's description of the grid (origin, spacing, points, dimensions, largest |value|, cells per
-        block of the local bounds).
+        """The kernel's description of the grid (origin, spacing, points, dimensions, largest |value|, levels of
+        the local bounds of :meth:`blocks`).
 
         Examples
         --------
         >>> import numpy as np
         >>> FieldMap((0, 0), (1.0, 1.0), np.ones((2, 2, 3))).meta()[6:].tolist()
-        [2.0, 2.0, 1.0, 2.0, 1.7320508075688772, 8.0]
+        [2.0, 2.0, 1.0, 2.0, 1.7320508075688772, 1.0]
         """
         meta = np.zeros(_c.MAP_META)
         meta[: self.dimensions] = self.origin
@@ -123,33 +122,53 @@ class FieldMap(Field):
         meta[6:9] = self.values.shape[:3]
         meta[9] = self.dimensions
         meta[10] = float(np.sqrt((self.values**2).sum(axis=-1)).max())
-        meta[11] = BLOCK_CELLS
+        meta[11] = len(self._levels())
         return meta
 
+    def _levels(self) -> list[np.ndarray]:
+        """The local bounds, level by level: at level L, per block of 2^L cells along each axis, the largest
+        |value| over the corners of the block's cells and of its neighbouring blocks (bilinear and trilinear
+        interpolation never exceed the largest |value| of a cell's corners). Levels go on until one block
+        covers the grid."""
+        magnitude = np.sqrt((self.values**2).sum(axis=-1))
+        cells = magnitude
+        for axis in range(3):  # each cell's largest corner (an axis of one point is its own neighbour)
+            if cells.shape[axis] > 1:
+                cells = np.maximum(np.take(cells, range(cells.shape[axis] - 1), axis=axis),
+                                   np.take(cells, range(1, cells.shape[axis]), axis=axis))
+        levels = []
+        while True:
+            dilated = cells
+            for axis in range(3):
+                if cells.shape[axis] > 1:
+                    dilated = np.maximum(dilated, np.maximum(_shifted(dilated, axis, 1), _shifted(dilated, axis, -1)))
+            levels.append(np.ascontiguousarray(dilated))
+            if max(cells.shape) == 1:
+                return levels
+            padded = np.pad(cells, [(0, n % 2) for n in cells.shape], mode="edge")  # whole pairs of blocks
+            cells = padded.reshape(-1, 2 if padded.shape[0] > 1 else 1, padded.shape[1] // 2 or 1,
+                                   2 if padded.shape[1] > 1 else 1, padded.shape[2] // 2 or 1,
+                                   2 if padded.shape[2] > 1 else 1).max(axis=(1, 3, 5))
+
     def blocks(self) -> np.ndarray:
-        """The largest |value| over each block of ``BLOCK_CELLS`` cells per axis and its neighbouring blocks (the
-        null-collision method's local field bound, see :func:`collisionkit._kernels.transport.tracking.fields.
-        electric_bound`).
+        """The null-collision method's local bounds of |field| (see :func:`collisionkit._kernels.transport.
+        tracking.fields.electric_bound`), all levels in one array: the levels' offsets first, then level by level
+        the bounds per block (2^L cells along each axis at level L, blocks in C order).
 
         Examples
         --------
         >>> import numpy as np
         >>> values = np.zeros((20, 3, 3)); values[19, 0] = (3.0, 4.0, 0.0)  # one large value at the far end
-        >>> FieldMap((0, 0), (1.0, 1.0), values).blocks()[:, 0, 0].tolist()  # blocks of 8 cells: 0-8, 8-16, 16-19
-        [0.0, 5.0, 5.0]
+        >>> blocks = FieldMap((0, 0), (1.0, 1.0), values).blocks()
+        >>> levels = FieldMap((0, 0), (1.0, 1.0), values)._levels()
+        >>> [level.shape for level in levels], levels[2][:, 0, 0].tolist()  # blocks of 4 cells: 0-4, ..., 16-19
+        ([(19, 2, 1), (10, 1, 1), (5, 1, 1), (3, 1, 1), (2, 1, 1), (1, 1, 1)], [0.0, 0.0, 0.0, 5.0, 5.0])
+        >>> blocks[:6].tolist(), blocks.size  # the offsets of the levels, then 38 + 10 + 5 + 3 + 2 + 1 bounds
+        ([6.0, 44.0, 54.0, 59.0, 62.0, 64.0], 65)
         """
-        magnitude = np.sqrt((self.values**2).sum(axis=-1))
-        counts = [max(1, math.ceil((n - 1) / BLOCK_CELLS)) for n in magnitude.shape]
-        blocks = np.zeros(counts)
-        for index in np.ndindex(*counts):
-            window = tuple(slice(b * BLOCK_CELLS, min((b + 1) * BLOCK_CELLS + 1, n))
-                           for b, n in zip(index, magnitude.shape))
-            blocks[index] = magnitude[window].max()
-        dilated = blocks.copy()
-        for axis in range(3):
-            if counts[axis] > 1:
-                dilated = np.maximum(dilated, np.maximum(_shifted(dilated, axis, 1), _shifted(dilated, axis, -1)))
-        return np.ascontiguousarray(dilated)
+        levels = self._levels()
+        offsets = len(levels) + np.cumsum([0] + [level.size for level in levels[:-1]])
+        return np.concatenate([offsets.astype(float)] + [level.ravel() for level in levels])
 
     def arrays(self):
         """The kernel's arguments (see :meth:`Field.arrays`).

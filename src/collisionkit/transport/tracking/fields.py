@@ -111,9 +111,9 @@ class Field:
         --------
         >>> from collisionkit.transport.tracking import UniformField
         >>> UniformField((0, 0, 1.0)).blocks().shape
-        (1, 1, 1)
+        (1,)
         """
-        return np.zeros((1, 1, 1))
+        return np.zeros(1)
 
     def at(self, points) -> np.ndarray:
         """The field at ``points`` (n x 3, m): an (n x 3) array of V/m (electric) or T (magnetic).

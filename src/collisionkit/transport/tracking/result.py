@@ -64,10 +64,11 @@ class TrackingResult:
     (the primary and its secondaries), ``collected`` at the collecting
     electrode, ``collisions`` per process (``primaries x processes``, columns
     in ``process_labels`` order), ``induced_charge`` (the integral of the
-    electrons' induced current on the readout electrode, C) and
-    ``weighting_charge`` (the same from the weighting potential at the ends
-    of every path, -q (phi_w(end) - phi_w(start)), C), and the same two for
-    the ions.
+    electrons' induced current on the readout electrode, C, when the run
+    records the current; otherwise the next) and ``weighting_charge`` (the
+    same from the weighting potential at the ends of every path,
+    -q (phi_w(end) - phi_w(start)), C, exact for a static weighting field),
+    and the same two for the ions.
 
     ``records``: one row per electron that ended (see
     :mod:`collisionkit._kernels.transport.tracking.codes`: primary, status,

@@ -99,6 +99,16 @@ def inside_map(meta, x, y, z):
 
 
 @inline_kernel
+def map_clearance(meta, x, y, z):
+    """The distance from (x, y, z), inside the map's box, to the box's nearest face (2D maps: in x and y)."""
+    distance = min(x - meta[0], meta[0] + (meta[6] - 1.0) * meta[3] - x, y - meta[1],
+                   meta[1] + (meta[7] - 1.0) * meta[4] - y)
+    if meta[9] == 2.0:
+        return distance
+    return min(distance, z - meta[2], meta[2] + (meta[8] - 1.0) * meta[5] - z)
+
+
+@inline_kernel
 def electric_at(kind, p, meta, values, user, buffer, x, y, z):
     """The electric field (V/m) of a field of ``kind`` with parameters ``p`` at (x, y, z), a tuple."""
     if kind == E_UNIFORM:
@@ -108,10 +118,13 @@ def electric_at(kind, p, meta, values, user, buffer, x, y, z):
     if kind == E_COAXIAL:
         dx = x - p[0]
         dy = y - p[1]
-        r = math.sqrt(dx * dx + dy * dy)
-        if r == 0.0:
+        r2 = dx * dx + dy * dy
+        if r2 == 0.0:
             return 0.0, 0.0, 0.0
-        scale = p[4] / (max(r, p[2]) * p[5] * r)
+        if r2 >= p[2] * p[2]:  # outside the wire: V / (ln(b/a) r^2) times (dx, dy), no square root
+            scale = p[4] / (p[5] * r2)
+        else:
+            scale = p[4] / (p[2] * p[5] * math.sqrt(r2))
         return scale * dx, scale * dy, 0.0
     if kind == E_POINT:
         dx = x - p[0]
@@ -164,21 +177,35 @@ def electric_bound(kind, p, meta, blocks, x, y, z, reach):
 
     Plates: V/d; coaxial: V / (ln(b/a) max(a, r - reach)); point charge:
     k / max(r_min, r - reach)^2; user functions: the bound given with them
-    (parameter 0, 0: unknown). Maps: bilinear and trilinear interpolation
-    never exceed the largest |value| of the cell's corners, so ``blocks``
-    holds, per block of ``meta[11]`` cells along each axis, the largest
-    |value| over the block and its neighbours: within one block's width of
-    the point the block's entry bounds the field; farther, the largest value
-    of the whole grid (``meta[10]``).
+    (parameter 0, 0: unknown).
+
+    Maps: bilinear and trilinear interpolation never exceed the largest
+    |value| of a cell's corners, so ``blocks`` (see
+    :meth:`collisionkit.transport.tracking.FieldMap.blocks`) holds, level by
+    level, the largest such value per block of 2^L cells along each axis
+    and its neighbouring blocks: a point within ``reach`` of (x, y, z) lies
+    in the block of (x, y, z) or a neighbour at the first level whose
+    blocks are at least ``reach`` wide, whose entry is then the bound (one
+    lookup). Beyond the last level, the largest value of the grid
+    (``meta[10]``).
     """
     if kind == E_MAP:
-        size = meta[11]
-        if reach > size * min(meta[3], meta[4] if meta[9] == 2.0 else min(meta[4], meta[5])):
+        smallest = min(meta[3], meta[4]) if meta[9] == 2.0 else min(meta[3], meta[4], meta[5])
+        level = 0
+        cells = 1
+        while cells * smallest < reach:
+            cells *= 2
+            level += 1
+        if level >= meta[11]:
             return meta[10]
-        i = min(max(int((x - meta[0]) / (meta[3] * size)), 0), blocks.shape[0] - 1)
-        j = min(max(int((y - meta[1]) / (meta[4] * size)), 0), blocks.shape[1] - 1)
-        k = 0 if meta[9] == 2.0 else min(max(int((z - meta[2]) / (meta[5] * size)), 0), blocks.shape[2] - 1)
-        return blocks[i, j, k]
+        # blocks along each axis at this level: ceil((points - 1) / cells)
+        counts_x = (int(meta[6]) - 2) // cells + 1
+        counts_y = (int(meta[7]) - 2) // cells + 1
+        counts_z = 1 if meta[9] == 2.0 else (int(meta[8]) - 2) // cells + 1
+        i = min(max(int((x - meta[0]) / (meta[3] * cells)), 0), counts_x - 1)
+        j = min(max(int((y - meta[1]) / (meta[4] * cells)), 0), counts_y - 1)
+        k = 0 if meta[9] == 2.0 else min(max(int((z - meta[2]) / (meta[5] * cells)), 0), counts_z - 1)
+        return blocks[int(blocks[level]) + (i * counts_y + j) * counts_z + k]
     if kind == E_UNIFORM:
         return math.sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2])
     if kind == E_PLATES:

@@ -16,6 +16,8 @@ a = dv/dt at both ends (local error O(h^6)), the velocity its derivative
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from ...._jit import inline_kernel
@@ -45,34 +47,43 @@ E1, E3, E4, E5, E6, E7 = (71.0 / 57600.0, -71.0 / 16695.0, 71.0 / 1920.0, -17253
 SAFETY = 0.9
 SHRINK = 0.2  # a step shrinks at most this much, and grows at most GROW times, per try
 GROW = 5.0
+LOWEST_ERROR = (GROW / SAFETY) ** -5.0  # error norms beyond these give the limits of the step factor
+HIGHEST_ERROR = (SHRINK / SAFETY) ** -5.0
 
 
 @inline_kernel
 def step_factor(error):
     """The factor of the next step size for an error norm (1 = on tolerance): 0.9 error^(-1/5), in [0.2, 5]."""
-    if error <= 0.0:
+    if error <= LOWEST_ERROR:
         return GROW
-    return min(GROW, max(SHRINK, SAFETY * error ** -0.2))
+    if error >= HIGHEST_ERROR:
+        return SHRINK
+    return SAFETY * math.exp(-0.2 * math.log(error))  # (pow() costs as much as the rest of a step's bookkeeping)
 
 
 @inline_kernel
 def stage_state(y0, k, stage, h, out, components=7):
     """The state at which stage ``stage`` (1..6) evaluates the derivative: y0 + h sum_j A[stage, j] k[j] (its first
     ``components`` components: 6 without the optical depth)."""
-    for c in range(components):  # written out: a loop over the tableau costs more than the arithmetic
-        if stage == 1:
-            total = A21 * k[0, c]
-        elif stage == 2:
-            total = A31 * k[0, c] + A32 * k[1, c]
-        elif stage == 3:
-            total = A41 * k[0, c] + A42 * k[1, c] + A43 * k[2, c]
-        elif stage == 4:
-            total = A51 * k[0, c] + A52 * k[1, c] + A53 * k[2, c] + A54 * k[3, c]
-        elif stage == 5:
-            total = A61 * k[0, c] + A62 * k[1, c] + A63 * k[2, c] + A64 * k[3, c] + A65 * k[4, c]
-        else:
-            total = A71 * k[0, c] + A73 * k[2, c] + A74 * k[3, c] + A75 * k[4, c] + A76 * k[5, c]
-        out[c] = y0[c] + h * total
+    # written out, the stage chosen once outside the loop: a loop over the tableau costs more than the arithmetic
+    if stage == 1:
+        for c in range(components):
+            out[c] = y0[c] + h * (A21 * k[0, c])
+    elif stage == 2:
+        for c in range(components):
+            out[c] = y0[c] + h * (A31 * k[0, c] + A32 * k[1, c])
+    elif stage == 3:
+        for c in range(components):
+            out[c] = y0[c] + h * (A41 * k[0, c] + A42 * k[1, c] + A43 * k[2, c])
+    elif stage == 4:
+        for c in range(components):
+            out[c] = y0[c] + h * (A51 * k[0, c] + A52 * k[1, c] + A53 * k[2, c] + A54 * k[3, c])
+    elif stage == 5:
+        for c in range(components):
+            out[c] = y0[c] + h * (A61 * k[0, c] + A62 * k[1, c] + A63 * k[2, c] + A64 * k[3, c] + A65 * k[4, c])
+    else:
+        for c in range(components):
+            out[c] = y0[c] + h * (A71 * k[0, c] + A73 * k[2, c] + A74 * k[3, c] + A75 * k[4, c] + A76 * k[5, c])
 
 
 @inline_kernel
@@ -93,8 +104,8 @@ def error_norm(y0, y1, k, h, position_scale, speed_floor, tolerance, depth_toler
     ones against ``tolerance * max(|v0|, |v1|, speed_floor)``, the optical
     depth against ``depth_tolerance`` (absolute).
     """
-    speed = max(speed_floor, max((y0[3] ** 2 + y0[4] ** 2 + y0[5] ** 2) ** 0.5,
-                                 (y1[3] ** 2 + y1[4] ** 2 + y1[5] ** 2) ** 0.5))
+    speed = max(speed_floor, math.sqrt(max(y0[3] * y0[3] + y0[4] * y0[4] + y0[5] * y0[5],
+                                           y1[3] * y1[3] + y1[4] * y1[4] + y1[5] * y1[5])))
     worst = 0.0
     last = 7 if with_tau else 6
     for c in range(last):

@@ -49,7 +49,7 @@ from .codes import (
     TALLY_TIME, TALLY_WEIGHTING,
 )
 from .fields import (
-    electric_at, electric_bound, inside_map, magnetic_at, weighting_field, weighting_potential,
+    electric_at, electric_bound, inside_map, magnetic_at, map_clearance, weighting_field, weighting_potential,
 )
 from .geometry import lowest_surface, surface_normal
 from .integrator import (
@@ -174,7 +174,11 @@ def track_particles(stack_pos, stack_vel, stack_time, stack_birth, stack_state, 
                 if accel > 0.0:
                     h = min(h, GROWTH * reference / accel)
             # a step that moves less than the clearance cannot leave the volume: no crossing to look for
-            clear = not (e_box or b_box) and speed0 * h + 0.5 * accel * h * h < clearance
+            if e_box:
+                clearance = min(clearance, map_clearance(e_meta, x, y, z))
+            if b_box:
+                clearance = min(clearance, map_clearance(b_meta, x, y, z))
+            clear = speed0 * h + 0.5 * accel * h * h < clearance
             # ---- one step: the state at its end in y1, the end derivative in k[6]
             if exact:
                 px, py, pz = flown_position(x, y, z, vx, vy, vz, h, flight)
@@ -324,25 +328,30 @@ def track_particles(stack_pos, stack_vel, stack_time, stack_birth, stack_state, 
                 # speed reachable in it; trials where the drawn optical depth runs out
                 start = 0.0
                 while start < s_event:
-                    if start == 0.0:
-                        ux, uy, uz = vx, vy, vz
-                    elif exact:
+                    wx, wy, wz, ux, uy, uz = x, y, z, vx, vy, vz
+                    if start > 0.0 and exact:
                         ux, uy, uz = flown_velocity(vx, vy, vz, start, flight)
-                    else:
-                        _, _, _, ux, uy, uz = dense_state(y0, y1, k, h, start / h)
+                    elif start > 0.0:
+                        wx, wy, wz, ux, uy, uz = dense_state(y0, y1, k, h, start / h)
                     speed = math.sqrt(ux * ux + uy * uy + uz * uz)
+                    window_reference = max(speed, speed_floor)
                     end = s_event
                     if nu_window > 0.0:
                         end = min(end, start + WINDOW_COLLISIONS / nu_window)
-                    if accel > 0.0:
-                        end = min(end, start + WINDOW_GROWTH * max(speed, speed_floor) / accel)
+                    window_accel = accel  # the step's bound, or a tighter one over the window's own reach
+                    if not exact:
+                        window_accel = min(accel, abs(qm) * electric_bound(
+                            e_kind, e_par, e_meta, e_blocks, wx, wy, wz,
+                            (1.0 + WINDOW_GROWTH) * window_reference * (end - start)))
+                    if window_accel > 0.0:
+                        end = min(end, start + WINDOW_GROWTH * window_reference / window_accel)
                     if end <= start:  # (a window too short to advance the time in floating point)
-                        end = s_event
+                        end, window_accel = s_event, accel
                     if exact and flight[12] == 0.0:  # |v + a t| is convex in t: its largest value is at an end
                         top_speed = max(speed, math.sqrt((vx + flight[0] * end) ** 2 + (vy + flight[1] * end) ** 2
                                                          + (vz + flight[2] * end) ** 2))
                     else:  # the magnetic force does no work: d|v|/dt <= |q E / m|
-                        top_speed = speed + accel * (end - start)
+                        top_speed = speed + window_accel * (end - start)
                     nu_window = trial_rates(top_speed, density, gas, bound, inverse_step, sigma_max, const_max,
                                             trial_s)
                     position = start
@@ -400,7 +409,7 @@ def track_particles(stack_pos, stack_vel, stack_time, stack_birth, stack_state, 
                 row[12] += sy * uy
                 row[13] += sz * uz
                 next_sample += 1
-            if w_kind != 0 and s_event > 0.0:
+            if n_signal > 0 and s_event > 0.0:
                 # Simpson's rule for the integral of q E_w . v over [0, s_event]
                 half = 0.5 * s_event
                 if exact:
@@ -545,8 +554,10 @@ def track_particles(stack_pos, stack_vel, stack_time, stack_birth, stack_state, 
                 stack_fresh[slot] = False
                 stack_id[slot] = number
                 control[0] = slot + 1
-                tallies[primary, n_proc + TALLY_WEIGHTING] -= charge * (weighting_potential(w_kind, w_par, x, y, z)
-                                                                        - phi_start)
+                moved = -charge * (weighting_potential(w_kind, w_par, x, y, z) - phi_start)
+                tallies[primary, n_proc + TALLY_WEIGHTING] += moved
+                if n_signal == 0:
+                    tallies[primary, n_proc + TALLY_INDUCED] += moved
                 return SUSPENDED
             tau_left = -math.log(uniform(rng))  # (a suspended particle draws it when taken again)
             if control[4] < points.shape[0]:
@@ -559,7 +570,10 @@ def track_particles(stack_pos, stack_vel, stack_time, stack_birth, stack_state, 
         row[4], row[5], row[6], row[7], row[8], row[9] = x, y, z, vx, vy, vz
         row[10] = birth
         control[1] += 1
-        tallies[primary, n_proc + TALLY_WEIGHTING] -= charge * (weighting_potential(w_kind, w_par, x, y, z) - phi_start)
+        moved = -charge * (weighting_potential(w_kind, w_par, x, y, z) - phi_start)
+        tallies[primary, n_proc + TALLY_WEIGHTING] += moved
+        if n_signal == 0:  # no current recorded: the induced charge is Shockley-Ramo's, exact in a static field
+            tallies[primary, n_proc + TALLY_INDUCED] += moved
     return DONE
 
 
