@@ -164,7 +164,7 @@ def test_map_interpolation_is_exact_for_linear_fields_and_clamps_outside_the_box
     gradient = np.array([[1.0, 2.0, -3.0], [0.5, -1.0, 2.0], [4.0, 0.0, 1.0]]) * 1e6
     values = np.ascontiguousarray(np.stack([x, y, z], axis=-1) @ gradient.T + np.array([1.0, 2.0, 3.0]))
     meta = np.zeros(C.MAP_META)
-    meta[0:3], meta[3:6], meta[6:9], meta[9] = origin, spacing, shape, 3
+    meta[0:3], meta[3:6], meta[6:9], meta[9], meta[12:15] = origin, spacing, shape, 3, 1.0 / spacing
     point = np.array([0.3e-3, 1.1e-3, 4.5e-3])
     exact = gradient @ point + np.array([1.0, 2.0, 3.0])
     assert np.allclose(electric_at(C.E_MAP, np.zeros(8), meta, values, no_field(), BUFFER, *point), exact)

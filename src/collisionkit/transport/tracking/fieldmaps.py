@@ -106,12 +106,12 @@ class FieldMap(Field):
 
     def meta(self) -> np.ndarray:
         """The kernel's description of the grid (origin, spacing, points, dimensions, largest |value|, levels of
-        the local bounds of :meth:`blocks`).
+        the local bounds of :meth:`blocks`, inverse spacing).
 
         Examples
         --------
         >>> import numpy as np
-        >>> FieldMap((0, 0), (1.0, 1.0), np.ones((2, 2, 3))).meta()[6:].tolist()
+        >>> FieldMap((0, 0), (1.0, 1.0), np.ones((2, 2, 3))).meta()[6:12].tolist()
         [2.0, 2.0, 1.0, 2.0, 1.7320508075688772, 1.0]
         """
         meta = np.zeros(_c.MAP_META)
@@ -123,6 +123,7 @@ class FieldMap(Field):
         meta[9] = self.dimensions
         meta[10] = float(np.sqrt((self.values**2).sum(axis=-1)).max())
         meta[11] = len(self._levels())
+        meta[12:15] = 1.0 / meta[3:6]
         return meta
 
     def _levels(self) -> list[np.ndarray]:

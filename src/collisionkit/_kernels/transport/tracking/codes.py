@@ -22,8 +22,8 @@ B_USER = 5
 FIELD_PARAMETERS = 8  # length of a field's parameter array
 
 # a field map's meta array: origin (3), spacing (3), points per axis (3), dimensions (2 or 3), largest |value|,
-# cells per block of its local bounds (see fields.electric_bound)
-MAP_META = 12
+# levels of its local bounds (see fields.electric_bound), 1 / spacing (3: a multiplication costs less than a division)
+MAP_META = 15
 
 # collision methods
 NULL_COLLISION = 0  # trial collisions at a piecewise-constant bound of the rate (Skullerud)

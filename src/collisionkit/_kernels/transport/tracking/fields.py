@@ -48,41 +48,40 @@ def map_value(meta, values, x, y, z):
     """The map's field at (x, y, z): trilinear (3D) or bilinear in x, y (2D) interpolation, a tuple.
 
     ``meta``: origin (0:3), spacing (3:6), points per axis (6:9), dimensions
-    (9). Points outside the box take the value at the nearest point of it.
+    (9), inverse spacing (12:15). Points outside the box take the value at
+    the nearest point of it.
     """
-    fx = (x - meta[0]) / meta[3]
-    fy = (y - meta[1]) / meta[4]
     nx, ny, nz = int(meta[6]), int(meta[7]), int(meta[8])
-    fx = min(max(fx, 0.0), nx - 1.0)
-    fy = min(max(fy, 0.0), ny - 1.0)
+    fx = min(max((x - meta[0]) * meta[12], 0.0), nx - 1.0)
+    fy = min(max((y - meta[1]) * meta[13], 0.0), ny - 1.0)
     i = min(int(fx), nx - 2)
     j = min(int(fy), ny - 2)
     u = fx - i
     w = fy - j
+    w00 = (1.0 - u) * (1.0 - w)
+    w10 = u * (1.0 - w)
+    w01 = (1.0 - u) * w
+    w11 = u * w
     if meta[9] == 2.0:
-        k = 0
-        s = 0.0
-    else:
-        fz = min(max((z - meta[2]) / meta[5], 0.0), nz - 1.0)
-        k = min(int(fz), nz - 2)
-        s = fz - k
-    out0 = 0.0
-    out1 = 0.0
-    out2 = 0.0
-    for c in range(3):
-        a00 = values[i, j, k, c] + u * (values[i + 1, j, k, c] - values[i, j, k, c])
-        a10 = values[i, j + 1, k, c] + u * (values[i + 1, j + 1, k, c] - values[i, j + 1, k, c])
-        value = a00 + w * (a10 - a00)
-        if meta[9] != 2.0:
-            b00 = values[i, j, k + 1, c] + u * (values[i + 1, j, k + 1, c] - values[i, j, k + 1, c])
-            b10 = values[i, j + 1, k + 1, c] + u * (values[i + 1, j + 1, k + 1, c] - values[i, j + 1, k + 1, c])
-            value += s * (b00 + w * (b10 - b00) - value)
-        if c == 0:
-            out0 = value
-        elif c == 1:
-            out1 = value
-        else:
-            out2 = value
+        a = values[i, j, 0]
+        b = values[i + 1, j, 0]
+        c = values[i, j + 1, 0]
+        d = values[i + 1, j + 1, 0]
+        return (w00 * a[0] + w10 * b[0] + w01 * c[0] + w11 * d[0], w00 * a[1] + w10 * b[1] + w01 * c[1] + w11 * d[1],
+                w00 * a[2] + w10 * b[2] + w01 * c[2] + w11 * d[2])
+    fz = min(max((z - meta[2]) * meta[14], 0.0), nz - 1.0)
+    k = min(int(fz), nz - 2)
+    s = fz - k
+    out0 = out1 = out2 = 0.0
+    for layer in range(2):
+        weight = s if layer == 1 else 1.0 - s
+        a = values[i, j, k + layer]
+        b = values[i + 1, j, k + layer]
+        c = values[i, j + 1, k + layer]
+        d = values[i + 1, j + 1, k + layer]
+        out0 += weight * (w00 * a[0] + w10 * b[0] + w01 * c[0] + w11 * d[0])
+        out1 += weight * (w00 * a[1] + w10 * b[1] + w01 * c[1] + w11 * d[1])
+        out2 += weight * (w00 * a[2] + w10 * b[2] + w01 * c[2] + w11 * d[2])
     return out0, out1, out2
 
 
