@@ -174,6 +174,7 @@ BAD_INPUTS = [
     ("track", ["--config", "{study}"], "unknown table [vary]"),
     ("track", ["--electrons", "0"], "electrons"),
     ("track", ["--electrons", "many"], "invalid value for '--electrons'"),
+    ("track", ["--max-electrons", "0"], "max_electrons"),
     ("track", ["--voltage", "nan"], "voltage: Input should be a finite number"),
     ("track", ["--method", "leapfrog"], "method"),
     ("track", ["--seed", "-1"], "seed"),

@@ -4,6 +4,7 @@ collisionless motion, Larmor motion, Shockley-Ramo, surfaces and field maps.
 
 Reference values: /work/shared/reference/validation-data.md (LoKI-MC benchmark, Lucas-Saelee at 10 Td)."""
 
+import functools
 import math
 
 import numpy as np
@@ -14,7 +15,7 @@ from collisionkit._kernels.transport.tracking import codes as C
 from collisionkit.transport import Gas, Process, Species, lucas_saelee, maxwell_model, reid_ramp, simulate_swarm
 from collisionkit.transport.tracking import (
     Cylinder, Device, FieldMap, Geometry, IonDrift, MagneticMirror, ParallelPlateField, Plane, PointChargeField,
-    Sphere, UniformField, UniformMagneticField, UserField, track,
+    Sphere, TrackParameters, TrackRun, UniformField, UniformMagneticField, UserField, track,
 )
 
 ME, E = constants.m_e, constants.e
@@ -392,6 +393,41 @@ def test_results_do_not_depend_on_threads_or_batches():
     resumed = track(device, primaries=7, position=(0, 0, 1e-5), energy=5.0, seed=3, threads=1, first_primary=5,
                     signal_window=1e-8)
     assert np.array_equal(resumed.collected, one.collected[5:])
+
+
+def test_an_avalanche_beyond_max_electrons_is_refused_after_the_pilot_or_stopped():
+    """A gap of 4/alpha (Lucas-Saelee, 10 Td; ~26 electrons a primary): 800 primaries would follow ~2e4 electrons.
+    The pilot's 8 primaries project it and the run is refused before the rest with max_electrons = 1000; a run of 8
+    primaries (no pilot) stops once it has followed more than 200; with room enough it runs."""
+    gas = lucas_saelee(1.0, mass=ME / 1e-3)
+    alpha = ALPHA_N_LOKI * DENSITY
+    gap = 5.0 / alpha
+    device = Device.parallel_plate(gas, gap, 10e-21 * DENSITY * gap, density=DENSITY, temperature=0.0)
+    run = functools.partial(track, device, position=(0, 0, 1.0 / alpha), energy=5.0, seed=3, signal_window=None,
+                            threads=1)
+    with pytest.raises(ValueError, match=r"the pilot's 8 primaries made .* electrons each: 800 primaries would "
+                                         r"follow about .* more than max_electrons = 1000"):
+        run(primaries=800, max_electrons=1000)
+    with pytest.raises(ValueError, match="have followed .* more than max_electrons = 200"):
+        run(primaries=8, max_electrons=200)
+    result = run(primaries=8, max_electrons=10_000)
+    assert 200 < result.electrons.sum() <= 10_000
+
+
+def test_a_track_run_in_chunks_stops_when_its_avalanches_would_exceed_max_electrons(tmp_path):
+    """TrackRun projects the whole run from the chunks done: the first chunk (16 primaries, ~26 electrons each) is
+    saved, then the run stops before the next with the projection for all 200; resumed with a higher limit it ends."""
+    parameters = TrackParameters(model="lucas_saelee", gap=5.0 / ALPHA_N_LOKI / DENSITY,
+                                 voltage=10e-21 * 5.0 / ALPHA_N_LOKI, density=DENSITY, temperature=0.0,
+                                 electrons=200, position=[0, 0, 1.0 / ALPHA_N_LOKI / DENSITY], energy=5.0, seed=2,
+                                 max_electrons=3000)
+    run = TrackRun(parameters, checkpoint=tmp_path / "run.npz", threads=1)
+    with pytest.raises(ValueError, match="the first 16 primaries made .* 200 primaries would follow about"):
+        run.run()
+    resumed = TrackRun.resume(tmp_path / "run.npz", threads=1)
+    assert resumed.done == 16
+    resumed.parameters = resumed.parameters.replace(max_electrons=100_000)
+    assert resumed.run().primaries == 200
 
 
 def test_bad_arguments_are_refused_with_the_argument_named():

@@ -55,6 +55,7 @@ class TrackOptions(Options):
     ion_mobility: float | None = Field(default=None, gt=0, allow_inf_nan=False)
     seed: int = Field(default=2026, ge=0)
     tolerance: float = Field(default=1e-6, gt=0, le=0.1)
+    max_electrons: int = Field(default=10_000_000, ge=1, le=10**12)
     sharing: Literal["equal", "uniform"] = "equal"
     threads: int | None = Field(default=None, ge=1, le=1024)
     out: Path | None = None
@@ -124,10 +125,12 @@ def _resumed_run(resume: Path, given: dict):
     from ..transport.tracking import TrackRun
 
     refuse_folder(resume, "--resume")
-    physics = {key: value for key, value in given.items() if key not in TRACK_OUTPUTS}
+    physics = {key: value for key, value in given.items() if key not in TRACK_OUTPUTS and key != "max_electrons"}
     try:
         run = TrackRun.resume(resume, checkpoint=given.get("checkpoint", resume), threads=given.get("threads"),
                               **physics)
+        if "max_electrons" in given:  # a limit of the machine's memory, not physics: a resumed run may raise it
+            run.parameters = run.parameters.replace(max_electrons=given["max_electrons"])
     except ValueError as error:
         raise fail(str(error)) from None
     outputs = {key: value for key, value in given.items() if key in TRACK_OUTPUTS} | {"checkpoint": run.checkpoint}
@@ -172,6 +175,7 @@ def track(
     voltage: Annotated[float | None, typer.Option(help="Voltage of the anode (plates) or the wire (coaxial), V.")] = None,
     method: Annotated[str | None, typer.Option(help="Collisions by null-collision or path-length.  \\[default: null-collision]")] = None,
     seed: Annotated[int | None, typer.Option(help="Random seed (>= 0).  \\[default: 2026]")] = None,
+    max_electrons: Annotated[int | None, typer.Option(help="Electrons the run may follow, primaries and secondaries (1 to 1e12; about 130 B each): a bigger avalanche is refused after a pilot of 8 primaries or stopped.  \\[default: 1e7]")] = None,
     threads: Annotated[int | None, typer.Option(help="Worker threads (results do not depend on them).  \\[default: all cores]")] = None,
     out: Annotated[Path | None, typer.Option(help="Folder for the plots of sample tracks and of the spectra (none if not given).")] = None,
     summary: Annotated[Path | None, typer.Option("--summary", help="Write the results as JSON to this file.")] = None,
@@ -180,7 +184,8 @@ def track(
     overwrite: OverwriteOption = None,
 ):
     """Electrons and their avalanches through a device: gain, drift time, spectra, profiles, induced current."""
-    given = dict(electrons=electrons, voltage=voltage, method=method, seed=seed, threads=threads, out=out,
+    given = dict(electrons=electrons, voltage=voltage, method=method, seed=seed, max_electrons=max_electrons,
+                 threads=threads, out=out,
                  summary=summary, checkpoint=checkpoint, overwrite=overwrite)
     given = {key: value for key, value in given.items() if value is not None}
     validate_options(TrackOptions, MINIMAL_DEVICE | given)  # the command line's own values first, whatever the file
@@ -206,7 +211,9 @@ def track(
         raise fail(f"{locked}: another collisionkit run is writing it; wait for it or name another --checkpoint") \
             from None
     except ValueError as refused:
-        raise fail(str(refused)) from None
+        saved = (f" ({run.done} of {options.electrons} primaries are saved in {options.checkpoint}: --resume it)"
+                 if options.checkpoint is not None and run.done else "")
+        raise fail(f"{refused}{saved}") from None
     except (KeyboardInterrupt, OSError) as stop:
         where = (f"{run.done} of {options.electrons} primaries are saved in {options.checkpoint}; continue with "
                  f"--resume {options.checkpoint}" if options.checkpoint is not None else

@@ -27,7 +27,7 @@ from ..gases import Gas
 from ..scan import gas_files_digest
 from .parameters import TrackParameters
 from .result import TrackingResult
-from .run import IonDrift, track
+from .run import IonDrift, too_many_electrons, track
 
 __all__ = ["TrackRun", "track_summary"]
 
@@ -106,11 +106,17 @@ class TrackRun:
                     if progress is not None:
                         progress((done + fraction * count) / p.electrons)
 
+                followed = 0 if self.result is None else int(self.result.records.shape[0])
+                if done and followed / done * p.electrons > p.max_electrons:
+                    raise too_many_electrons(p.max_electrons, followed / done * p.electrons,
+                                             f"the first {done} primaries made {followed / done:.3g} electrons each: "
+                                             f"{p.electrons} primaries would follow about")
                 part = track(self.device, primaries=count, position=p.positions()[0], energy=p.energy,
                              direction=p.direction, method=p.method, seed=p.seed, sharing=p.sharing,
                              ions=None if p.ion_mobility is None else IonDrift(p.ion_mobility),
                              tolerance=p.tolerance, signal_window=self.signal_window or "auto",
                              first_primary=done, threads=self.threads, progress=report,
+                             max_electrons=max(1, p.max_electrons - followed),
                              record_points=2000 if done == 0 else 0)
                 if self.signal_window is None:
                     self.signal_window = part.signal_step * part.signal.size if part.signal.size else None

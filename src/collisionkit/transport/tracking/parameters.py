@@ -33,7 +33,7 @@ from ..gases import Gas
 from ..scan import SwarmParameters
 from .device import Device
 from .magnetic import UniformMagneticField
-from .run import METHODS
+from .run import MAX_ELECTRONS, METHODS
 
 __all__ = ["GEOMETRIES", "SECTIONS", "TrackParameters", "flatten_sections"]
 
@@ -101,6 +101,8 @@ class TrackParameters(Parameters):
     tolerance : float
         The integrator's relative tolerance, in (0, 0.1].
     sharing : {"equal", "uniform"}
+    max_electrons : int
+        Electrons the run may follow, 1 to 1e12 (see :func:`track`; default 1e7).
 
     Examples
     --------
@@ -140,6 +142,7 @@ class TrackParameters(Parameters):
     seed: int = 2026
     tolerance: float = 1e-6
     sharing: str = "equal"
+    max_electrons: int = MAX_ELECTRONS
 
     FLAGS: ClassVar = {}
 
@@ -195,6 +198,7 @@ class TrackParameters(Parameters):
         set_(self, "seed", check_seed("seed", self.seed))
         set_(self, "tolerance", check_real("tolerance", self.tolerance, 0.0, 0.1, low_open=True))
         check_choice("sharing", self.sharing, ("equal", "uniform"))
+        set_(self, "max_electrons", check_integer("max_electrons", self.max_electrons, 1, 10**12))
         self.positions()  # inside the device
 
     @classmethod

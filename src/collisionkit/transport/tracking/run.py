@@ -15,7 +15,8 @@ import math
 import os
 import time
 from concurrent.futures import ThreadPoolExecutor
-from dataclasses import dataclass
+import threading
+from dataclasses import dataclass, field
 
 import numpy as np
 from scipy import constants
@@ -36,8 +37,13 @@ __all__ = ["METHODS", "IonDrift", "track"]
 METHODS = {"null-collision": _c.NULL_COLLISION, "path-length": _c.PATH_LENGTH}
 EV = constants.e
 CALL_COLLISIONS = 1 << 18  # real collisions per kernel call at most: a call lasts a fraction of a second
-PILOT_PRIMARIES = 8  # primaries of the pilot run that sizes the signal's time window
+PILOT_PRIMARIES = 8  # primaries of the pilot run that sizes the signal's time window and the avalanches
+PILOT_SHARE = 100  # a pilot for the size alone runs before at least this many times its primaries (1 % more work)
 SIGNAL_MARGIN = 2.0  # the signal window: this times the latest end seen in the pilot run
+# electrons a run may follow by default (the primaries and every secondary): their end records take 88 B each
+# and ion births 40 B (about 1.3 GB at the limit); an avalanche beyond it stops with a message, not a full memory
+MAX_ELECTRONS = 10_000_000
+RECORD_BYTES = 8 * (_c.RECORD_COLUMNS + _c.BIRTH_COLUMNS)
 ON_SURFACE = 1e-12  # a start this close to a surface (relative to the length scale) is on it: emitted inward
 
 
@@ -112,6 +118,9 @@ class _Plan:
     mass: float
     charge: float
     point_capacity: int
+    max_electrons: int = MAX_ELECTRONS
+    followed: list = field(default_factory=lambda: [0])  # electrons ended so far, over all batches
+    lock: object = field(default_factory=threading.Lock)
 
 
 def _states(seed: int, indices) -> np.ndarray:
@@ -165,6 +174,7 @@ def _run_batch(plan: _Plan, lo: int, hi: int, points_wanted: bool, report=None) 
             CALL_COLLISIONS, plan.ions is not None, s["sharing"], profile_code, profile_par, 0.0, plan.signal_step,
             *plan.tables.arrays(), *scratch)
         kept_records.append(records[: control[1]].copy())
+        _count_followed(plan, int(control[1]), lo, hi)
         kept_births.append(births[: control[2]].copy())
         if report is not None and control[3]:
             report(int(control[3]))
@@ -252,7 +262,7 @@ def track(device: Device, *, primaries: int = 100, position=(0.0, 0.0, 0.0), ene
           step_length: float | None = None, signal_window="auto", signal_bins: int = 200, profile=None,
           profile_bins: int = 100, groups: int = 16, threads: int | None = None, progress=None,
           record_points: int = 0, max_steps: int = 10_000_000, first_primary: int = 0,
-          batch_size: int | None = None) -> TrackingResult:
+          batch_size: int | None = None, max_electrons: int = MAX_ELECTRONS) -> TrackingResult:
     r"""Release ``primaries`` particles in ``device`` and follow them and their avalanches to the end.
 
     Krasov's algorithm (sec. 5.5) with numerical motion: see
@@ -312,6 +322,12 @@ def track(device: Device, *, primaries: int = 100, position=(0.0, 0.0, 0.0), ene
         Steps a particle may take at most (a guard against particles trapped for ever).
     first_primary : int
         Index of the first primary (a run continued from a checkpoint).
+    max_electrons : int
+        Electrons (primaries and secondaries) the run may follow, >= 1: a run
+        whose avalanches would exceed it is refused after a pilot of a few
+        primaries (ValueError; a pilot runs before 800 primaries or more, or
+        for the signal's window), or stopped when it gets there; each
+        electron's record takes about 130 B.
     batch_size : int, optional
         Primaries per kernel batch (default: the primaries spread over the threads).
 
@@ -347,6 +363,7 @@ def track(device: Device, *, primaries: int = 100, position=(0.0, 0.0, 0.0), ene
     max_steps = _integer("max_steps", max_steps, 1)
     record_points = _integer("record_points", record_points, 0)
     first_primary = _integer("first_primary", first_primary, 0)
+    max_electrons = _integer("max_electrons", max_electrons, 1)
     if ions is not None and not isinstance(ions, IonDrift):
         raise TypeError(f"ions must be an IonDrift; got {type(ions).__name__}")
     if direction is None:
@@ -388,11 +405,18 @@ def track(device: Device, *, primaries: int = 100, position=(0.0, 0.0, 0.0), ene
     plan = _Plan(device, tables, fields, settings, positions, math.sqrt(2.0 * energy * EV / mass), direction, seed,
                  first_primary, groups, np.ascontiguousarray(sample_times), 0, 1.0,
                  _profile(device, profile, _integer("profile_bins", profile_bins, 1)), ions, mass, charge,
-                 record_points)
+                 record_points, max_electrons)
+    pilot = None
+    auto_window = device.weighting is not None and signal_window == "auto"
+    if auto_window or primaries >= PILOT_SHARE * PILOT_PRIMARIES:  # a few primaries first: the signal's span, and
+        # the avalanches' size projected to the run (a smaller run is stopped by the count as it goes)
+        pilot = _run_batch(plan, 0, min(PILOT_PRIMARIES, primaries), False)
+        _check_projected_size(plan, pilot, primaries)
+        plan.followed[0] = 0
     if device.weighting is not None and signal_window is not None:
         bins = _integer("signal_bins", signal_bins, 1)
         if signal_window == "auto":
-            signal_window = _pilot_window(plan, primaries)
+            signal_window = _pilot_window(plan, primaries, pilot)
         window = _finite("signal_window (s)", signal_window, 0.0, low_open=True)
         plan.signal_bins, plan.signal_step = bins, window / bins
     threads = threads or os.cpu_count() or 1
@@ -415,9 +439,8 @@ def track(device: Device, *, primaries: int = 100, position=(0.0, 0.0, 0.0), ene
     return TrackingResult.combine(parts)
 
 
-def _pilot_window(plan: _Plan, primaries: int) -> float:
+def _pilot_window(plan: _Plan, primaries: int, pilot: TrackingResult) -> float:
     """The signal window from a pilot run of a few primaries: SIGNAL_MARGIN times the latest end (electrons, ions)."""
-    pilot = _run_batch(plan, 0, min(PILOT_PRIMARIES, primaries), False)
     latest = 0.0
     for records in (pilot.records, pilot.ion_records):
         finished = records[np.isfinite(records[:, _c.RECORD_TIME]), _c.RECORD_TIME] if records.size else []
@@ -426,6 +449,32 @@ def _pilot_window(plan: _Plan, primaries: int) -> float:
     if not latest > 0.0:
         latest = plan.settings["time_limit"] if math.isfinite(plan.settings["time_limit"]) else 1e-6
     return SIGNAL_MARGIN * latest
+
+
+def too_many_electrons(max_electrons: int, electrons: float, what: str) -> ValueError:
+    """The error of a run that follows (or would follow) more electrons than ``max_electrons``."""
+    return ValueError(f"{what} {electrons:.3g} electrons, more than max_electrons = {max_electrons} (their records "
+                      f"take about {RECORD_BYTES} B each): follow fewer primaries, lower the gain (voltage, pressure), "
+                      f"or raise max_electrons if the memory allows")
+
+
+def _check_projected_size(plan: _Plan, pilot: TrackingResult, primaries: int) -> None:
+    """Refuse, before the work, a run whose avalanches (as the pilot's primaries made them) exceed the limit."""
+    projected = float(pilot.electrons.mean()) * primaries
+    if projected > plan.max_electrons:
+        raise too_many_electrons(plan.max_electrons, projected, f"the pilot's {pilot.primaries} primaries made "
+                                         f"{pilot.electrons.mean():.3g} electrons each: {primaries} primaries would "
+                                         f"follow about")
+
+
+def _count_followed(plan: _Plan, ended: int, lo: int, hi: int) -> None:
+    """Add the electrons that ended in a kernel call to the run's count; stop the run past the limit."""
+    with plan.lock:
+        plan.followed[0] += ended
+        total = plan.followed[0]
+    if total > plan.max_electrons:
+        raise too_many_electrons(plan.max_electrons, total, f"primaries {plan.first_primary + lo} to {plan.first_primary + hi - 1} "
+                                     f"(with the batches beside them) have followed")
 
 
 def _integer(name, value, low, high=None):
