@@ -5,6 +5,7 @@ import math
 
 import numpy as np
 import pytest
+from scipy import constants
 
 from collisionkit._kernels.transport.tracking import codes as C
 from collisionkit._kernels.transport.tracking.fields import (
@@ -70,6 +71,40 @@ def test_the_step_is_fifth_order_and_the_error_norm_scales_as_h5():
             y1 = ys
         norms.append(error_norm(y0, y1, k, h, 1.0, 1e-30, 1.0, 1.0, False))
     assert 2**5 * 0.7 < norms[0] / norms[1] < 2**6 * 1.4  # local error estimate O(h^5) to O(h^6)
+
+
+def test_the_scalar_step_of_the_null_collision_method_is_the_array_step():
+    """motion.field_step (registers) against the array stages of the integrator (the path-length method's form) in a
+    counter's field with an oblique uniform B: the same end state and error norm to rounding."""
+    from collisionkit._kernels.transport.tracking.fields import electric_at, magnetic_at
+    from collisionkit._kernels.transport.tracking.motion import field_step
+
+    e_par = _parameters(0.0, 0.0, 25e-6, 0.01, 1500.0, math.log(0.01 / 25e-6))
+    b_par = _parameters(0.01, -0.02, 0.03)
+    qm = -constants.e / constants.m_e
+    fields = (C.E_COAXIAL, e_par, NO_META, NO_VALUES, no_field(), C.B_UNIFORM, b_par, NO_META, NO_VALUES, no_field())
+
+    def accel(p, v):
+        e = electric_at(*fields[:5], BUFFER, *p)
+        b = magnetic_at(*fields[5:], BUFFER, *p)
+        return qm * (np.array(e) + np.cross(v, b))
+
+    rng = np.random.default_rng(5)
+    for _ in range(5):
+        p0, v0, h = rng.normal(size=3) * 1e-3, rng.normal(size=3) * 1e6, 10.0 ** rng.uniform(-11, -9)
+        k, y0, ys = np.zeros((7, 7)), np.zeros(7), np.zeros(7)
+        y0[:3], y0[3:6] = p0, v0
+        k[0, :3], k[0, 3:6] = v0, accel(p0, v0)
+        for stage in range(1, 7):
+            stage_state(y0, k, stage, h, ys, 6)
+            k[stage, :3], k[stage, 3:6] = ys[3:6], accel(ys[:3], ys[3:6])
+        norm = error_norm(y0, ys, k, h, 0.01, 1e3, 1e-6, 1e-5, False)
+        position, velocity, end_accel, error = field_step(tuple(p0), tuple(v0), tuple(k[0, 3:6]), h, qm, *fields[:5],
+                                                          *fields[5:], BUFFER, 0.01, 1e3, 1e-6)
+        assert np.allclose(position, ys[:3], rtol=1e-13, atol=1e-18)
+        assert np.allclose(velocity, ys[3:6], rtol=1e-13, atol=1e-6)
+        assert np.allclose(end_accel, k[6, 3:6], rtol=1e-12)
+        assert error == pytest.approx(norm, rel=1e-6, abs=1e-9)
 
 
 def test_the_quintic_hermite_interpolant_is_exact_for_quintics_and_its_derivative_is_the_velocity():

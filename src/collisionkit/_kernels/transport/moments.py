@@ -4,25 +4,34 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..._jit import kernel
+from ..._jit import inline_kernel, kernel
+
+
+@inline_kernel
+def add_particle(row, mass, x, y, z, vx, vy, vz):
+    """Add one particle to a row of sums of 1, r (3), r_k^2 (3), v (3), energy, r_k v_k (3): 14 columns."""
+    row[0] += 1.0
+    row[1] += x
+    row[2] += y
+    row[3] += z
+    row[4] += x * x
+    row[5] += y * y
+    row[6] += z * z
+    row[7] += vx
+    row[8] += vy
+    row[9] += vz
+    row[10] += 0.5 * mass * (vx * vx + vy * vy + vz * vz)
+    row[11] += x * vx
+    row[12] += y * vy
+    row[13] += z * vz
 
 
 @kernel
 def group_moments(pos, vel, alive, group, n_groups, mass, moments):
-    """Add per-group sums of 1, r, r^2, v, energy, r_k v_k (14 columns) to ``moments``."""
+    """Add per-group sums of 1, r, r^2, v, energy, r_k v_k (14 columns, :func:`add_particle`) to ``moments``."""
     for i in range(pos.shape[0]):
-        if not alive[i]:
-            continue
-        row = moments[group[i]]
-        row[0] += 1.0
-        v2 = 0.0
-        for k in range(3):
-            row[1 + k] += pos[i, k]
-            row[4 + k] += pos[i, k] * pos[i, k]
-            row[7 + k] += vel[i, k]
-            row[11 + k] += pos[i, k] * vel[i, k]
-            v2 += vel[i, k] * vel[i, k]
-        row[10] += 0.5 * mass * v2
+        if alive[i]:
+            add_particle(moments[group[i]], mass, pos[i, 0], pos[i, 1], pos[i, 2], vel[i, 0], vel[i, 1], vel[i, 2])
 
 
 @kernel

@@ -10,11 +10,16 @@ both fields are uniform); collisions come
   gathered step by step until it reaches it (the energy-dependent form of
   the drawn free path s = -ln(xi) / (N sigma)); the crossing is found on the
   step's dense output; or
-* by null collisions (``NULL_COLLISION``): trial collisions at a rate
-  constant over each step, the trial-frequency bound of the swarm tables at
-  |v0| + a h (a an upper bound of |qE/m| within the step's reach; the
-  magnetic force does no work), each trial real with probability true rate
-  / trial rate (Skullerud 1968).
+* by null collisions (``NULL_COLLISION``): trial collisions along the
+  step's dense output at a rate constant over windows of the step (each at
+  most ``WINDOW_COLLISIONS`` / the previous window's rate long, and as long
+  as |a| t stays below ``WINDOW_GROWTH`` times the speed), the trial
+  frequency of the swarm tables at the largest speed reachable in the
+  window: |v(t0)| + a (t1 - t0), with a an upper bound of |qE/m| within the
+  window's reach (the magnetic force does no work), or exactly the larger
+  end of |v + a t| in a uniform E; each trial real with probability true
+  rate / trial rate (Skullerud 1968). The motion is the scalar step of
+  :mod:`.motion`.
 
 A step that leaves the volume (some surface's signed distance < 0 at its
 middle or end) is cut at the crossing, found by bisection on the dense
@@ -41,6 +46,7 @@ from ...._jit import borrowing_kernel, kernel
 from ..collisions import ionized, two_body
 from ..flight import flown_position, flown_velocity
 from ..layout import ATTACHMENT, ELASTIC, EXCITATION, IONIZATION
+from ..moments import add_particle
 from ..rng import next_u64, normal_pair, seed_state, uniform
 from ..scattering import isotropic_direction
 from .codes import (
@@ -52,6 +58,7 @@ from .fields import (
     electric_at, electric_bound, inside_map, magnetic_at, map_clearance, weighting_field, weighting_potential,
 )
 from .geometry import lowest_surface, surface_normal
+from .motion import field_step
 from .integrator import (
     B5, C, E54, dense_state, depth_crossing, error_norm, hermite_cubic, stage_state, step_factor,
 )
@@ -203,6 +210,15 @@ def track_particles(stack_pos, stack_vel, stack_time, stack_birth, stack_state, 
                     y1[6] = h * tau
                     error = abs(h * estimate) / depth_tolerance
                     k[6, 6] = k[5, 6]
+            elif not path:
+                end_position, end_velocity, end_accel, error = field_step(
+                    (x, y, z), (vx, vy, vz), (k[0, 3], k[0, 4], k[0, 5]), h, qm, e_kind, e_par, e_meta, e_values,
+                    e_user, b_kind, b_par, b_meta, b_values, b_user, buffer, length, speed_floor, tolerance)
+                for c in range(3):
+                    y1[c] = end_position[c]
+                    y1[3 + c] = end_velocity[c]
+                    k[6, c] = end_velocity[c]
+                    k[6, 3 + c] = end_accel[c]
             else:
                 for stage in range(1, 7):
                     stage_state(y0, k, stage, h, ys, components)
@@ -393,21 +409,7 @@ def track_particles(stack_pos, stack_vel, stack_time, stack_birth, stack_state, 
                 else:
                     theta = s_sample / h
                     sx, sy, sz, ux, uy, uz = dense_state(y0, y1, k, h, theta)
-                row = moments[g_row, next_sample]
-                row[0] += 1.0
-                row[1] += sx
-                row[2] += sy
-                row[3] += sz
-                row[4] += sx * sx
-                row[5] += sy * sy
-                row[6] += sz * sz
-                row[7] += ux
-                row[8] += uy
-                row[9] += uz
-                row[10] += 0.5 * mass * (ux * ux + uy * uy + uz * uz)
-                row[11] += sx * ux
-                row[12] += sy * uy
-                row[13] += sz * uz
+                add_particle(moments[g_row, next_sample], mass, sx, sy, sz, ux, uy, uz)
                 next_sample += 1
             if n_signal > 0 and s_event > 0.0:
                 # Simpson's rule for the integral of q E_w . v over [0, s_event]
