@@ -452,7 +452,13 @@ def _pilot_window(plan: _Plan, primaries: int, pilot: TrackingResult) -> float:
 
 
 def too_many_electrons(max_electrons: int, electrons: float, what: str) -> ValueError:
-    """The error of a run that follows (or would follow) more electrons than ``max_electrons``."""
+    """The error of a run that follows (or would follow) more electrons than ``max_electrons``.
+
+    Examples
+    --------
+    >>> str(too_many_electrons(100, 250.0, "the run has followed")).split(":")[0]
+    'the run has followed 250 electrons, more than max_electrons = 100 (their records take about 128 B each)'
+    """
     return ValueError(f"{what} {electrons:.3g} electrons, more than max_electrons = {max_electrons} (their records "
                       f"take about {RECORD_BYTES} B each): follow fewer primaries, lower the gain (voltage, pressure), "
                       f"or raise max_electrons if the memory allows")
