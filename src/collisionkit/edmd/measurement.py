@@ -48,7 +48,10 @@ class Measurement:
     ``shear_stress`` (the block mean of P_xy, kinetic plus collisional),
     ``collisional_shear_stress`` (its collisional part) and
     ``shear_viscosity`` = -P_xy / G, each with its error; the diffusion
-    coefficient is NaN there (the flow carries the particles along x).
+    coefficient is then the transverse one, from the displacements along y
+    (the gradient) and z (the vorticity) alone, (D_yy + D_zz) / 2 in 3D and
+    D_yy in 2D: along x the flow carries the particles (Taylor dispersion,
+    the displacement grows as t^3).
 
     Examples
     --------
@@ -188,7 +191,7 @@ class Sampler:
         self.start_positions = system.positions(unwrapped=True)
         self.start_time = system.elapsed
         lags = min(_msd.MSD_MAX_LAGS, max(1, self.blocks // 2))
-        self.lag_msd = _msd.LagMSD(lags, self.start_positions, self.start_time)
+        self.lag_msd = _msd.LagMSD(lags, self.start_positions[:, self._diffusion_axes()], self.start_time)
         self.start_lost = system.energy_lost
         self.wall_seconds = 0.0
         self.records = {name: [] for name in RECORDS + (SHEAR_RECORDS if system.shear_rate != 0.0 else ())}
@@ -199,6 +202,11 @@ class Sampler:
             raise ValueError("transport cannot be measured under shear (the Einstein-Helfand relations hold in "
                              "equilibrium); the sheared system's shear viscosity comes from its stress")
         self.transport = TransportSampler(system) if transport else None
+
+    def _diffusion_axes(self) -> list[int]:
+        """The axes whose displacements give D: all of them, or those across the flow under shear (y, z)."""
+        dim = self.system.dim
+        return list(range(dim)) if self.system.shear_rate == 0.0 else list(range(1, dim))
 
     @property
     def done(self) -> int:
@@ -281,7 +289,8 @@ class Sampler:
         record["frequency"].append(2.0 * (system.collisions - collisions0) / (count * duration))
         record["time"].append(system.elapsed - self.start_time)
         unwrapped = system.positions(unwrapped=True)
-        squared = np.sum((unwrapped - self.start_positions) ** 2, axis=1)
+        axes = self._diffusion_axes()
+        squared = np.sum((unwrapped[:, axes] - self.start_positions[:, axes]) ** 2, axis=1)
         record["msd"].append(float(np.mean(squared)))
         record["msd_groups"].append(_msd.group_means(squared))
         if system.shear_rate != 0.0:
@@ -289,7 +298,7 @@ class Sampler:
             record["shear_stress"].append(stress)
             record["collisional_shear_stress"].append(collisional)
         if self.lag_msd is not None:
-            self.lag_msd.add(unwrapped, system.elapsed)
+            self.lag_msd.add(unwrapped[:, axes], system.elapsed)
         self.speeds.append(np.linalg.norm(system.velocities(), axis=1))
         self.histogram += _pair_distribution.pair_histogram(system, self.r_max, self.histogram.size)
         self.wall_seconds += perf_counter() - tick
@@ -353,6 +362,11 @@ class Sampler:
         sampler.records.setdefault("msd_groups", [np.full(_msd.MSD_GROUPS, math.nan)] * len(sampler.records["msd"]))
         sampler.speeds = [row for row in np.array(state["sampler_speeds"])]
         sampler.lag_msd = _msd.LagMSD.from_state_dict(state)
+        if sampler.lag_msd is not None and len(sampler.lag_msd.positions[0]) and \
+                np.shape(sampler.lag_msd.positions[0])[-1] != len(sampler._diffusion_axes()):
+            # a sheared run saved before the transverse D: its displacements count x too, so it has none
+            sampler.lag_msd = None
+            sampler.records["msd"] = [math.nan] * len(sampler.records["msd"])
         has_transport = "transport_scalars" in state
         sampler.transport = TransportSampler.from_state_dict(system, state) if has_transport else None
         return sampler
@@ -386,10 +400,9 @@ class Sampler:
         mean_speed = float(np.mean(speeds))
         msd_time = np.concatenate([[0.0], record["time"]])
         msd = np.concatenate([[0.0], record["msd"]])
-        from_lags = self.lag_msd.diffusion(dim) if self.lag_msd is not None else None
-        diffusion, diffusion_error = from_lags or _msd.diffusion_from_msd(msd_time, msd, record["msd_groups"], dim)
-        if system.shear_rate != 0.0:  # the flow carries the particles along x: no diffusion from the MSD
-            diffusion = diffusion_error = math.nan
+        axes = len(self._diffusion_axes())
+        from_lags = self.lag_msd.diffusion(axes) if self.lag_msd is not None else None
+        diffusion, diffusion_error = from_lags or _msd.diffusion_from_msd(msd_time, msd, record["msd_groups"], axes)
         omega_error = _msd.block_error(record["frequency"])
         diameter = 2.0 * float(np.max(system.radius))
         contact, contact_error = _pair_distribution.contact_value(centres, rdf, self.histogram, diameter)
