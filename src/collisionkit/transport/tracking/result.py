@@ -360,7 +360,8 @@ class TrackingResult:
         4
         """
         parts = list(parts)
-        first = parts[0]
+        if not parts:
+            raise ValueError("combine needs at least one result")
         offsets = np.cumsum([0] + [p.primaries for p in parts[:-1]])
 
         def shifted(name):

@@ -25,7 +25,6 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from scipy import constants
 
 from .._tables import KernelTables, build_tables
 from ..gases import Gas

@@ -103,6 +103,17 @@ def chosen_process(r, s, g_speed, energy, density, species_of, threshold, const_
 
 
 @inline_kernel
+def target_velocity(gas, species, rng):
+    """A target's velocity from the Maxwellian of ``species`` (``gas[s, 1]``: the thermal speed per component;
+    at rest in a cold gas), a tuple."""
+    if gas[species, 1] <= 0.0:
+        return 0.0, 0.0, 0.0
+    gas_vx, gas_vy = normal_pair(rng)
+    gas_vz, _ = normal_pair(rng)
+    return gas_vx * gas[species, 1], gas_vy * gas[species, 1], gas_vz * gas[species, 1]
+
+
+@inline_kernel
 def trial_collision(vx, vy, vz, nu_trial, trial_s, rng, mass, density, gas, species_of, threshold, const_rate, nodes,
                     sigma, accelerator, inverse_cell):
     """A trial collision of a particle of velocity (vx, vy, vz) at the trial frequency ``nu_trial`` (the sum of
@@ -117,13 +128,7 @@ def trial_collision(vx, vy, vz, nu_trial, trial_s, rng, mass, density, gas, spec
     species = chosen_species(r, trial_s)
     for s in range(species):
         r -= trial_s[s]
-    gas_vx = gas_vy = gas_vz = 0.0
-    if gas[species, 1] > 0.0:
-        gas_vx, gas_vy = normal_pair(rng)
-        gas_vz, _ = normal_pair(rng)
-        gas_vx *= gas[species, 1]
-        gas_vy *= gas[species, 1]
-        gas_vz *= gas[species, 1]
+    gas_vx, gas_vy, gas_vz = target_velocity(gas, species, rng)
     gx, gy, gz = vx - gas_vx, vy - gas_vy, vz - gas_vz
     g_speed = math.sqrt(gx * gx + gy * gy + gz * gz)
     energy = 0.5 * mass * g_speed * g_speed

@@ -47,10 +47,10 @@ from ..collisions import ionized, two_body
 from ..flight import flown_position, flown_velocity
 from ..layout import ATTACHMENT, ELASTIC, EXCITATION, IONIZATION
 from ..moments import add_particle
-from ..rng import next_u64, normal_pair, seed_state, uniform
+from ..rng import next_u64, seed_state, uniform
 from ..scattering import isotropic_direction
 from .codes import (
-    ABSORB, DONE, E_MAP, B_MAP, ENDED_ATTACHED, ENDED_OUTSIDE_FIELD, ENDED_STEPS, ENDED_SURFACE, ENDED_TIME,
+    DONE, E_MAP, B_MAP, ENDED_ATTACHED, ENDED_OUTSIDE_FIELD, ENDED_STEPS, ENDED_SURFACE, ENDED_TIME,
     NULL_COLLISION, REFLECT, SUSPENDED, TALLY_ELECTRONS, TALLY_INDUCED, TALLY_NULL, TALLY_REJECTED, TALLY_STEPS,
     TALLY_TIME, TALLY_WEIGHTING,
 )
@@ -63,7 +63,8 @@ from .integrator import (
     B5, C, E54, dense_state, depth_crossing, error_norm, hermite_cubic, stage_state, step_factor,
 )
 from .rates import (
-    chosen_process, chosen_species, profile_bin, rate_bound, species_rates, trial_collision, trial_rates,
+    chosen_process, chosen_species, profile_bin, rate_bound, species_rates, target_velocity, trial_collision,
+    trial_rates,
 )
 
 GROWTH = 1.0  # null collisions: a step lasts at most the time in which a|t| reaches GROWTH times the speed
@@ -483,13 +484,8 @@ def track_particles(stack_pos, stack_vel, stack_time, stack_birth, stack_state, 
                                       species_const, thermal, thermal_step, nu_s)
                 species = chosen_species(uniform(rng) * total, nu_s)
                 while True:  # the target's velocity and the process: rejection against the species' bound
-                    gas_vx = gas_vy = gas_vz = 0.0
+                    gas_vx, gas_vy, gas_vz = target_velocity(gas, species, rng)
                     if gas[species, 1] > 0.0:
-                        gas_vx, gas_vy = normal_pair(rng)
-                        gas_vz, _ = normal_pair(rng)
-                        gas_vx *= gas[species, 1]
-                        gas_vy *= gas[species, 1]
-                        gas_vz *= gas[species, 1]
                         ceiling = density * rate_bound(species, speed + gas[species, 2], bound, inverse_step,
                                                        sigma_max, const_max)
                     else:
