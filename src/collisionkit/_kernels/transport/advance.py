@@ -15,7 +15,8 @@ from .collisions import ionized, two_body
 from .cross_sections import node_index, trial_frequencies
 from .flight import flight_envelope, flown_position, flown_velocity, window_growth_speed, window_top_speed
 from .oscillating import (
-    STATIC_SIZE, oscillating_displacement, oscillating_flown_velocity, oscillating_window, sincos,
+    STATIC_SIZE, displacement_with_phases, flight_with_phases, oscillating_flown_velocity, oscillating_window,
+    record_values, sincos,
 )
 from .layout import (
     ATTACHMENT, BOUND_COLUMN_OFFSET, DISPLACEMENT_COLUMN_OFFSET, ELASTIC, EXCITATION, NULL_COLUMN_OFFSET, SUPERELASTIC,
@@ -84,9 +85,11 @@ def advance_swarm(lo, hi, pos, vel, states, alive, t_start, t_end, field, mass, 
     by E0 cos(omega t) with omega > 0) adds the exact response to the
     oscillating force to every flight, the flight's start time giving its
     phase, and bounds each window's speed with
-    :func:`.oscillating.oscillating_window` (the flight's starting phase
-    computed once per flight; each window hands its exact end state to the
-    next).
+    :func:`.oscillating.oscillating_window` (each window hands its exact end
+    state to the next). The field's phase is computed once per particle and
+    step, then carried from flight to flight: a trial's flight returns the
+    phase at its end and its half-angle sines, which give a real collision's
+    displacement and the next flight's phase without a sine of their own.
     """
     n_species = gas.shape[0]
     n_proc = kind.shape[0]
@@ -99,12 +102,14 @@ def advance_swarm(lo, hi, pos, vel, states, alive, t_start, t_end, field, mass, 
     omega = field[STATIC_SIZE] if ac else 0.0
     if ac:
         accel_mag += field[STATIC_SIZE + 12]
+    record = record_values(field)  # a tuple: the inlined flight functions then take no array (no reference counts)
     ax, ay, az = field[0], field[1], field[2]
     exact = field[12] == 0.0
     bx, by, bz, ux, uy, uz = field[3], field[4], field[5], field[9], field[10], field[11]
     a_par_field = field[6] * bx + field[7] * by + field[8] * bz
     inverse_step = (1.0 / bound_step) * (1.0 + 1e-12)
     inverse_cell = (1.0 / accelerator_step) * (1.0 - 1e-12)
+    inverse_accel = 1.0 / accel_mag if accel_mag > 0.0 else math.inf
     fallback = 0.01 * bound.shape[1] * bound_step / accel_mag if accel_mag > 0.0 else math.inf
     speed_floor = 16.0 * bound_step
     last_node = nodes.shape[0] - 1
@@ -135,6 +140,8 @@ def advance_swarm(lo, hi, pos, vel, states, alive, t_start, t_end, field, mass, 
                     rng[k] = child_state[i, member, k]
                 t = child_time[member]
             t_begin = t
+            # the field's phase at t: computed here, then carried from flight to flight by the trials' rotations
+            phase_sin, phase_cos = sincos(omega * t) if ac else (0.0, 1.0)
             x0, y0, z0 = x, y, z
             survives = True
             # a thermal target's velocity takes three normal numbers, drawn in pairs: the third of one pair is kept
@@ -145,10 +152,9 @@ def advance_swarm(lo, hi, pos, vel, states, alive, t_start, t_end, field, mass, 
             while True:  # one flight, from the last real collision
                 speed0 = math.sqrt(vx * vx + vy * vy + vz * vz)
                 vb, radius, a_par = 0.0, 0.0, 0.0
-                c0, s0 = 1.0, 0.0
-                if ac:  # the phase of the field at the flight's start, and the state at the next window's start
-                    s0, c0 = sincos(omega * t)
-                wvx, wvy, wvz, wc, ws = vx, vy, vz, c0, s0
+                c0, s0 = phase_cos, phase_sin  # the phase of the field at the flight's start
+                wvx, wvy, wvz, wc, ws = vx, vy, vz, c0, s0  # the state at the next window's start
+                sh = ch = gs = gc = 0.0  # the half-angle sines of the last trial (oscillating field)
                 if not exact:
                     vb, radius, a_par = flight_envelope(vx, vy, vz, bx, by, bz, ux, uy, uz, a_par_field)
                 horizon = t_end - t
@@ -161,7 +167,7 @@ def advance_swarm(lo, hi, pos, vel, states, alive, t_start, t_end, field, mass, 
                     iterations += 1
                     if iterations > budget:
                         if ac:
-                            fx, fy, fz, _, _ = oscillating_flown_velocity(vx, vy, vz, c0, s0, elapsed, field)
+                            fx, fy, fz, _, _ = oscillating_flown_velocity(vx, vy, vz, c0, s0, elapsed, record)
                         elif exact:
                             fx, fy, fz = vx + ax * elapsed, vy + ay * elapsed, vz + az * elapsed
                         else:
@@ -171,9 +177,9 @@ def advance_swarm(lo, hi, pos, vel, states, alive, t_start, t_end, field, mass, 
                         if ac:  # the bound over the window from the exact state at its start; the state at its end
                             s_start = math.sqrt(wvx * wvx + wvy * wvy + wvz * wvz)
                             h = window / nu_window if nu_window > 0.0 else fallback
-                            h = min(h, growth * max(s_start, speed_floor) / accel_mag)
+                            h = min(h, growth * max(s_start, speed_floor) * inverse_accel)
                             s_window, wvx, wvy, wvz, wc, ws = oscillating_window(
-                                wvx, wvy, wvz, wc, ws, omega * (t + window_end), h, field, accel_mag)
+                                wvx, wvy, wvz, wc, ws, omega * (t + window_end), h, record, accel_mag)
                             nu_window = trial_frequencies(s_window, density, gas, bound, inverse_step, sigma_max,
                                                           const_max, nu_s)
                             window_end += h
@@ -204,7 +210,8 @@ def advance_swarm(lo, hi, pos, vel, states, alive, t_start, t_end, field, mass, 
                     elapsed = min(stop, elapsed + tau / nu_window)
                     # a trial: the velocity it would have, the target species by its share of the trial frequency
                     if ac:
-                        tvx, tvy, tvz, _, _ = oscillating_flown_velocity(vx, vy, vz, c0, s0, elapsed, field)
+                        tvx, tvy, tvz, phase_cos, phase_sin, sh, ch, gs, gc = flight_with_phases(
+                            vx, vy, vz, c0, s0, elapsed, record)
                     elif exact:
                         tvx, tvy, tvz = vx + ax * elapsed, vy + ay * elapsed, vz + az * elapsed
                     else:
@@ -270,14 +277,15 @@ def advance_swarm(lo, hi, pos, vel, states, alive, t_start, t_end, field, mass, 
                 else:
                     x, y, z = flown_position(x, y, z, vx, vy, vz, elapsed, field)
                 if ac:
-                    dx, dy, dz = oscillating_displacement(c0, s0, elapsed, field)
+                    if landed:  # the flight to t_end (a real collision's reuses its trial's sines)
+                        vx, vy, vz, phase_cos, phase_sin, sh, ch, gs, gc = flight_with_phases(
+                            vx, vy, vz, c0, s0, elapsed, record)
+                    dx, dy, dz = displacement_with_phases(c0, s0, elapsed, sh, ch, gs, gc, record)
                     x, y, z = x + dx, y + dy, z + dz
                 if landed:
-                    if ac:
-                        vx, vy, vz, _, _ = oscillating_flown_velocity(vx, vy, vz, c0, s0, elapsed, field)
-                    elif exact:
+                    if exact and not ac:
                         vx, vy, vz = vx + ax * elapsed, vy + ay * elapsed, vz + az * elapsed
-                    else:
+                    elif not ac:
                         vx, vy, vz = flown_velocity(vx, vy, vz, elapsed, field)
                     t = t_end
                     break
