@@ -30,7 +30,11 @@ The oscillating record (float64, :data:`RECORD_SIZE` entries) extends the
 static one (0:13): omega (13); a_c (14:17); a_c . b (17); e1 (18:21); e2
 (21:24); A (24); |a_c| (25); the direction of the "parallel" part (26:29):
 b, or without B the direction of a_c (all of it is then "parallel"); 1/omega
-(29); a_c . b / omega (30) (multiplications in the flights, not divisions).
+(29); a_c . b / omega (30) (multiplications in the flights, not divisions);
+1/(|Omega| + omega) (31), 1/(|Omega| - omega) (32) and the largest size of
+the particular solution, (A/2)(|31| + |32|) (33): see :mod:`.ac_window`.
+
+The speed bound of a flight window is in :mod:`.ac_window`.
 """
 
 from __future__ import annotations
@@ -42,7 +46,7 @@ import numpy as np
 from ..._jit import inline_kernel, kernel
 
 STATIC_SIZE = 13
-RECORD_SIZE = 31
+RECORD_SIZE = 34
 # below this |x - y| the divided difference is summed from its Taylor series about the midpoint (error below
 # 1e-17 there); above it the difference quotient loses at most 2e-16 / 1e-3 of |phi1| <= 1
 SERIES_GAP = 1e-3
@@ -119,7 +123,7 @@ def oscillating_field(static_field, amplitude, omega):
     >>> static = derived_field(np.zeros(3), np.array([0.0, 1.0, 0.0]))
     >>> record = oscillating_field(static, np.array([0.0, 0.0, 2.0]), 3.0)
     >>> record.shape, float(record[13]), float(record[17]), float(record[24])  # E perpendicular to B: A = |a_c|
-    ((31,), 3.0, 0.0, 2.0)
+    ((34,), 3.0, 0.0, 2.0)
     """
     record = np.zeros(RECORD_SIZE)
     record[:STATIC_SIZE] = static_field
@@ -151,12 +155,16 @@ def oscillating_field(static_field, amplitude, omega):
     record[26:29] = b
     record[29] = 1.0 / omega
     record[30] = along / omega
+    w = static_field[12]
+    record[31] = 1.0 / (w + omega)
+    record[32] = 1.0 / (w - omega) if w != omega else math.inf
+    record[33] = 0.5 * a_perp * (abs(record[31]) + abs(record[32])) if a_perp > 0.0 else 0.0
     return record
 
 
 @kernel
 def record_values(field):
-    """The record's 31 entries as a tuple (a static record padded with zeros: omega = 0).
+    """The record's 34 entries as a tuple (a static record padded with zeros: omega = 0).
 
     The swarm step hands the tuple, not the array, to the inlined flight
     functions: an inlined function that takes an array still costs an atomic
@@ -169,16 +177,16 @@ def record_values(field):
     >>> from collisionkit._kernels.transport.oscillating import record_values
     >>> values = record_values(derived_field(np.array([0.0, 0.0, 1.0]), np.zeros(3)))
     >>> len(values), values[2], values[13]
-    (31, 1.0, 0.0)
+    (34, 1.0, 0.0)
     """
     if field.shape[0] >= RECORD_SIZE:
         return (field[0], field[1], field[2], field[3], field[4], field[5], field[6], field[7], field[8], field[9],
                 field[10], field[11], field[12], field[13], field[14], field[15], field[16], field[17], field[18],
                 field[19], field[20], field[21], field[22], field[23], field[24], field[25], field[26], field[27],
-                field[28], field[29], field[30])
+                field[28], field[29], field[30], field[31], field[32], field[33])
     return (field[0], field[1], field[2], field[3], field[4], field[5], field[6], field[7], field[8], field[9],
             field[10], field[11], field[12], 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0,
-            0.0, 0.0, 0.0, 0.0, 0.0)
+            0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
 
 
 @kernel
@@ -255,24 +263,25 @@ def _phi1_series(x):
     return complex(real, imag)
 
 
-@kernel
-def _response(c0, s0, ew, spin, tau, w, omega):
+@inline_kernel
+def _response(c0, s0, ew, spin, tau, w, omega, inverse_plus, inverse_minus):
     """``e^{-i w tau} tau (e^{i theta0} phi1(i (w + omega) tau) + e^{-i theta0} phi1(i (w - omega) tau))``.
 
-    (c0, s0) = e^{i theta0}, ``ew`` = e^{i omega tau}, ``spin`` = e^{-i w tau}. Each term is
+    (c0, s0) = e^{i theta0}, ``ew`` = e^{i omega tau}, ``spin`` = e^{-i w tau}; ``inverse_plus`` and
+    ``inverse_minus`` are 1/(w + omega) and 1/(w - omega). Each term is
     ``(e^{i k tau} - e^{-i w tau}) / (i (w + k))``, or, for |(w + k) tau| <= ``PHI1_SERIES`` (near
     resonance, short flights), ``spin tau phi1`` from its series: no cancellation either way.
     """
     x = (w + omega) * tau
     if abs(x) > PHI1_SERIES:
         z = ew - spin
-        plus = complex(z.imag, -z.real) / (w + omega)  # z / (i (w + omega))
+        plus = complex(z.imag * inverse_plus, -z.real * inverse_plus)  # z / (i (w + omega))
     else:
         plus = spin * tau * _phi1_series(x)
     x = (w - omega) * tau
     if abs(x) > PHI1_SERIES:
         z = ew.conjugate() - spin
-        minus = complex(z.imag, -z.real) / (w - omega)
+        minus = complex(z.imag * inverse_minus, -z.real * inverse_minus)
     else:
         minus = spin * tau * _phi1_series(x)
     return complex(c0, s0) * plus + complex(c0, -s0) * minus
@@ -316,7 +325,8 @@ def flight_with_phases(vx, vy, vz, c0, s0, tau, field):
     oz = vb * bz + field[8] * tau + field[11] + wz * c + cz * s + along * pz
     a_perp = field[24]
     if a_perp > 0.0:
-        zeta = 0.5 * a_perp * _response(c0, s0, complex(1.0 - vers, sin_w), complex(c, -s), tau, w, omega)
+        zeta = 0.5 * a_perp * _response(c0, s0, complex(1.0 - vers, sin_w), complex(c, -s), tau, w, omega,
+                                       field[31], field[32])
         ox += zeta.real * field[18] + zeta.imag * field[21]
         oy += zeta.real * field[19] + zeta.imag * field[22]
         oz += zeta.real * field[20] + zeta.imag * field[23]
@@ -422,89 +432,3 @@ def oscillating_displacement(c0, s0, tau, field):
     sh, ch = sincos(0.5 * field[13] * tau)
     gs, gc = sincos(0.5 * field[12] * tau)
     return displacement_with_phases(c0, s0, tau, sh, ch, gs, gc, field)
-
-
-@kernel
-def _sine_range(theta1, theta2, s1, s2, c1, c2):
-    """The smallest and largest sin(theta) for theta in [theta1, theta2] (theta2 >= theta1; s1, s2 their sines,
-    c1, c2 their cosines).
-
-    Over less than pi the sine has at most one extremum inside, a maximum
-    where the cosine goes from + to -, a minimum where it goes from - to +:
-    the signs of c1 and c2 tell (no floor, no division); over more, the
-    first maximum and minimum at or after theta1 are placed on the line.
-    """
-    low, high = min(s1, s2), max(s1, s2)
-    if theta2 - theta1 < math.pi:
-        if c1 >= 0.0 and c2 <= 0.0:
-            high = 1.0
-        if c1 <= 0.0 and c2 >= 0.0:
-            low = -1.0
-        return low, high
-    quarter = 0.5 * math.pi
-    # the first maximum (pi/2 + 2 pi n) and minimum (-pi/2 + 2 pi n) at or after theta1
-    peak = quarter + 2.0 * math.pi * math.ceil((theta1 - quarter) / (2.0 * math.pi))
-    trough = -quarter + 2.0 * math.pi * math.ceil((theta1 + quarter) / (2.0 * math.pi))
-    if peak <= theta2:
-        high = 1.0
-    if trough <= theta2:
-        low = -1.0
-    return low, high
-
-
-@inline_kernel
-def oscillating_window(vx, vy, vz, c1, s1, theta1, h, field, accel_mag):
-    """An upper bound of the speed over [t1, t1 + h] of a particle with velocity (vx, vy, vz) at time t1, and its
-    exact state at t1 + h: ``(bound, vx, vy, vz, cos theta2, sin theta2)``.
-
-    ``(c1, s1)`` are cos and sin of ``theta1 = omega t1``; the end state is
-    :func:`oscillating_flown_velocity` over h, so a flight's windows chain
-    from one to the next. Always ``|v| + integral |a| <= |v| + (|a_s| +
-    |a_c|) h`` (``accel_mag``; the magnetic force does no work). Without
-    static acceleration the smaller of that and the exact range along b,
-    where v . b + a_par (sin theta - sin theta1)/omega over theta = omega t
-    in the window (its ends, and an extremum of the sine inside), combined in
-    quadrature with a bound of the perpendicular speed: |w(t1)| + A h, or,
-    away from resonance, |w(t1) - P(t1)| + max |P| (the particular solution
-    P, of size at most (A/2)(1/(Omega+omega) + 1/|Omega-omega|), plus the
-    gyration about it). Padded by 1e-10 of the speeds (and 1e-12 of the
-    oscillation amplitude a_par/omega) against rounding.
-
-    Examples
-    --------
-    >>> import numpy as np
-    >>> from collisionkit._kernels.transport.flight import derived_field
-    >>> from collisionkit._kernels.transport.oscillating import oscillating_field, oscillating_window
-    >>> record = oscillating_field(derived_field(np.zeros(3), np.zeros(3)), np.array([0.0, 0.0, 2.0]), 1.0)
-    >>> [round(value, 6) for value in oscillating_window(0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 10.0, record, 2.0)]  # 2 sin(10)
-    [2.0, 0.0, 0.0, -1.088042, -0.839072, -0.544021]
-    """
-    ex, ey, ez, c2, s2 = oscillating_flown_velocity(vx, vy, vz, c1, s1, h, field)
-    speed = math.sqrt(vx * vx + vy * vy + vz * vz)
-    growth = (speed + accel_mag * h) * (1.0 + 1e-10)
-    if field[0] != 0.0 or field[1] != 0.0 or field[2] != 0.0:
-        return growth, ex, ey, ez, c2, s2
-    omega = field[13]
-    px, py, pz = field[26], field[27], field[28]
-    v_par = vx * px + vy * py + vz * pz
-    low, high = _sine_range(theta1, theta1 + omega * h, s1, s2, c1, c2)
-    a_over_omega = field[30]
-    ends = max(abs(v_par), abs(ex * px + ey * py + ez * pz))
-    extremes = max(abs(v_par + a_over_omega * (low - s1)), abs(v_par + a_over_omega * (high - s1)))
-    parallel = max(ends, extremes) + abs(a_over_omega) * 1e-12
-    wx, wy, wz = vx - v_par * px, vy - v_par * py, vz - v_par * pz
-    w_speed = math.sqrt(wx * wx + wy * wy + wz * wz)
-    a_perp = field[24]
-    perpendicular = w_speed + a_perp * h
-    w = field[12]
-    if a_perp > 0.0 and w != omega:
-        # the particular solution P(t) = (A/2) (e^{i omega t}/(i(w + omega)) + e^{-i omega t}/(i(w - omega)))
-        rotor = complex(c1, s1)
-        z = rotor / (w + omega) + rotor.conjugate() / (w - omega)
-        p = 0.5 * a_perp * complex(z.imag, -z.real)  # (A/2) z / i
-        zeta = complex(wx * field[18] + wy * field[19] + wz * field[20],
-                       wx * field[21] + wy * field[22] + wz * field[23])
-        p_max = 0.5 * a_perp * (1.0 / (w + omega) + 1.0 / abs(w - omega))
-        perpendicular = min(perpendicular, abs(zeta - p) + p_max)
-    bound = min(growth, math.sqrt(parallel * parallel + perpendicular * perpendicular) * (1.0 + 1e-10))
-    return bound, ex, ey, ez, c2, s2
