@@ -16,8 +16,10 @@ from .cross_sections import node_index, trial_frequencies
 from .flight import flight_envelope, flown_position, flown_velocity, window_growth_speed, window_top_speed
 from .ac_window import flight_envelope_ac, oscillating_window, parallel_window
 from .oscillating import (
-    STATIC_SIZE, displacement_with_phases, flight_with_phases, oscillating_flown_velocity, record_values, sincos,
+    RECORD_SIZE, STATIC_SIZE, displacement_with_phases, flight_with_phases, oscillating_flown_velocity, record_values,
+    sincos,
 )
+from .waveform import waveform_integrals, waveform_velocity, waveform_window
 from .layout import (
     ATTACHMENT, BOUND_COLUMN_OFFSET, DISPLACEMENT_COLUMN_OFFSET, ELASTIC, EXCITATION, NULL_COLUMN_OFFSET, SUPERELASTIC,
     TIME_COLUMN_OFFSET,
@@ -81,6 +83,11 @@ def advance_swarm(lo, hi, pos, vel, states, alive, t_start, t_end, field, mass, 
     that is not inlined costs two atomic reference-count operations per
     array argument.
 
+    A waveform record (:mod:`.waveform`: a periodic E of any shape, given
+    as samples, without B) adds the exact integrals of the field over the
+    flight to the static flight, and bounds each window from the exact
+    velocity at its start (:func:`.waveform.waveform_window`).
+
     An oscillating record (:mod:`.oscillating`: the static record extended
     by E0 cos(omega t) with omega > 0) adds the exact response to the
     oscillating force to every flight, the flight's start time giving its
@@ -100,7 +107,8 @@ def advance_swarm(lo, hi, pos, vel, states, alive, t_start, t_end, field, mass, 
     accel_mag = math.sqrt(field[0] ** 2 + field[1] ** 2 + field[2] ** 2)
     ac = field.shape[0] > STATIC_SIZE and field[STATIC_SIZE] > 0.0  # an oscillating electric field
     omega = field[STATIC_SIZE] if ac else 0.0
-    if ac:
+    shaped = field.shape[0] > RECORD_SIZE  # a periodic waveform given as samples (:mod:`.waveform`; no B)
+    if ac or shaped:
         accel_mag += field[STATIC_SIZE + 12]
     record = record_values(field)  # a tuple: the inlined flight functions then take no array (no reference counts)
     ax, ay, az = field[0], field[1], field[2]
@@ -175,6 +183,8 @@ def advance_swarm(lo, hi, pos, vel, states, alive, t_start, t_end, field, mass, 
                     if iterations > budget:
                         if ac:
                             fx, fy, fz, _, _ = oscillating_flown_velocity(vx, vy, vz, c0, s0, elapsed, record)
+                        elif shaped:
+                            fx, fy, fz = waveform_velocity(vx, vy, vz, t, elapsed, field)
                         elif exact:
                             fx, fy, fz = vx + ax * elapsed, vy + ay * elapsed, vz + az * elapsed
                         else:
@@ -188,6 +198,13 @@ def advance_swarm(lo, hi, pos, vel, states, alive, t_start, t_end, field, mass, 
                             s_window, w_par, wc, ws = parallel_window(
                                 w_par, wc, ws, omega * (t + window_end), h, window_end + h, radius_ac, w_speed,
                                 speed0, accel_mag, record)
+                            nu_window = trial_frequencies(s_window, density, gas, bound, inverse_step, sigma_max,
+                                                          const_max, nu_s)
+                            window_end += h
+                        elif shaped:  # the bound from the exact velocity at the window's start
+                            h = window / nu_window if nu_window > 0.0 else fallback
+                            h = min(h, growth * max(s_window, speed_floor) * inverse_accel)
+                            s_window = waveform_window(vx, vy, vz, t, window_end, h, field, accel_mag)
                             nu_window = trial_frequencies(s_window, density, gas, bound, inverse_step, sigma_max,
                                                           const_max, nu_s)
                             window_end += h
@@ -229,6 +246,8 @@ def advance_swarm(lo, hi, pos, vel, states, alive, t_start, t_end, field, mass, 
                     if ac:
                         tvx, tvy, tvz, phase_cos, phase_sin, sh, ch, gs, gc = flight_with_phases(
                             vx, vy, vz, c0, s0, elapsed, record)
+                    elif shaped:
+                        tvx, tvy, tvz = waveform_velocity(vx, vy, vz, t, elapsed, field)
                     elif exact:
                         tvx, tvy, tvz = vx + ax * elapsed, vy + ay * elapsed, vz + az * elapsed
                     else:
@@ -299,8 +318,13 @@ def advance_swarm(lo, hi, pos, vel, states, alive, t_start, t_end, field, mass, 
                             vx, vy, vz, c0, s0, elapsed, record)
                     dx, dy, dz = displacement_with_phases(c0, s0, elapsed, sh, ch, gs, gc, record)
                     x, y, z = x + dx, y + dy, z + dz
+                if shaped:
+                    _, moved = waveform_integrals(t, elapsed, field)
+                    x, y, z = x + field[14] * moved, y + field[15] * moved, z + field[16] * moved
                 if landed:
-                    if exact and not ac:
+                    if shaped:
+                        vx, vy, vz = waveform_velocity(vx, vy, vz, t, elapsed, field)
+                    elif exact and not ac:
                         vx, vy, vz = vx + ax * elapsed, vy + ay * elapsed, vz + az * elapsed
                     elif not ac:
                         vx, vy, vz = flown_velocity(vx, vy, vz, elapsed, field)
