@@ -106,7 +106,7 @@ class SwarmOptions(Options):
 
 
 def read_waveform(path: Path) -> list[list[float]]:
-    """The samples of a waveform file: two columns, the fraction of the period (0 to 1) and E/E0 (``#`` comments).
+    r"""The samples of a waveform file: two columns, the fraction of the period (0 to 1) and E/E0 (``#`` comments).
 
     ValueError (one line, naming the file) if it cannot be read or is not two columns of numbers.
 
