@@ -372,7 +372,8 @@ def _phi1_of_half(x, half_sin, half_cos):
     """:func:`phi1` of x from sin(x/2) and cos(x/2)."""
     if x == 0.0:
         return complex(1.0, 0.0)
-    return complex(2.0 * half_sin * half_cos / x, 2.0 * half_sin * half_sin / x)
+    twice = 2.0 * half_sin / x
+    return complex(twice * half_cos, twice * half_sin)
 
 
 @kernel
@@ -381,7 +382,8 @@ def _divided_difference_of(x, y, phi1_x, phi1_y):
     d = x - y
     if abs(d) >= SERIES_GAP:
         z = phi1_x - phi1_y
-        return complex(z.imag / d, -z.real / d)  # z / (i d)
+        inverse = 1.0 / d
+        return complex(z.imag * inverse, -z.real * inverse)  # z / (i d)
     m = 0.5 * (x + y)
     h = 0.5 * d
     return exp_moment(1, m) - exp_moment(3, m) * (h * h / 6.0)
