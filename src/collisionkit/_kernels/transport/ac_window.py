@@ -9,12 +9,9 @@ to bound over a window; across p, the part zeta = w . e1 + i w . e2 obeys
 d zeta/dt = -i |Omega| zeta + A cos(omega t), whose solution is a gyration
 of fixed radius about the particular solution ``P(t) = (A/2)(e^{i omega
 t}/(i(|Omega| + omega)) + e^{-i omega t}/(i(|Omega| - omega)))``: so
-``|zeta(t)| <= |zeta(t0) - P(t0)| + |P(t)|`` over the whole flight (off
+``|zeta(t)| <= |zeta(t0) - P(t0)| + max |P|`` over the whole flight (off
 cyclotron resonance), and always ``|zeta(t)| <= |zeta(t0)| + A (t - t0)``.
-With alpha = 1/(|Omega| + omega) and beta = 1/(|Omega| - omega),
-``|P|^2 = (A/2)^2 ((alpha + beta)^2 - 4 alpha beta sin^2 theta)``, so the
-range of sin theta over a window bounds |P| in it. Without B, A = 0 and
-|zeta| is constant.
+Without B, A = 0 and |zeta| is constant.
 
 :func:`flight_envelope_ac` takes those constants once per flight and
 :func:`parallel_window` bounds each window from the parallel velocity and
@@ -45,8 +42,7 @@ def _gyration_radius(wx, wy, wz, c1, s1, field):
 @inline_kernel
 def flight_envelope_ac(vx, vy, vz, c0, s0, field):
     """The constants of a flight's speed bound without static acceleration: ``(v . p, R, |zeta(t0)|)`` with R
-    the radius |zeta(t0) - P(t0)| of the gyration about P (module docstring; inf at cyclotron resonance,
-    |zeta(t0)| if A = 0).
+    the bound of |zeta| over the flight (module docstring; inf at cyclotron resonance, |zeta(t0)| if A = 0).
 
     Examples
     --------
@@ -66,7 +62,7 @@ def flight_envelope_ac(vx, vy, vz, c0, s0, field):
         return v_par, w_speed, w_speed
     if field[12] == field[13]:
         return v_par, math.inf, w_speed
-    return v_par, _gyration_radius(wx, wy, wz, c0, s0, field), w_speed
+    return v_par, _gyration_radius(wx, wy, wz, c0, s0, field) + field[33], w_speed
 
 
 @inline_kernel
@@ -79,10 +75,7 @@ def parallel_window(v_par, c1, s1, theta1, h, reach, radius, w_speed, speed0, ac
     at its end; ``radius``, ``w_speed`` (:func:`flight_envelope_ac`) and
     ``speed0`` the flight's constants. The parallel speed's range is exact
     over the window (its ends, and an extremum of the sine inside); across,
-    min(R + max |P|, |zeta(t0)| + A reach), max |P| over the window from the
-    range of sin^2 theta in it (padded by 1e-7 of the largest |P| against
-    the cancellation in (alpha + beta)^2 - 4 alpha beta sin^2); with
-    ``|v(t0)| + |a| reach`` as a cap (the
+    min(R, |zeta(t0)| + A reach); with ``|v(t0)| + |a| reach`` as a cap (the
     magnetic force does no work). Padded by 1e-10 of the speeds (and 1e-12
     of the oscillation amplitude a_par/omega) against rounding.
 
@@ -107,16 +100,7 @@ def parallel_window(v_par, c1, s1, theta1, h, reach, radius, w_speed, speed0, ac
     low, high = _sine_range(theta1, theta1 + omega * h, s1, s2, c1, c2)
     extremes = max(abs(v_par + a_over_omega * (low - s1)), abs(v_par + a_over_omega * (high - s1)))
     parallel = max(abs(v_par), abs(v_end), extremes) + abs(a_over_omega) * 1e-12
-    perpendicular = w_speed + field[24] * reach
-    if radius < math.inf:
-        alpha, beta = field[31], field[32]
-        if alpha * beta > 0.0:  # |P| largest where sin^2 is smallest
-            sine2 = 0.0 if low <= 0.0 <= high else min(low * low, high * high)
-        else:
-            sine2 = max(low * low, high * high)
-        size2 = (alpha + beta) * (alpha + beta) - 4.0 * alpha * beta * sine2
-        p_window = 0.5 * field[24] * math.sqrt(max(size2, 0.0)) + 1e-7 * field[33]
-        perpendicular = min(perpendicular, radius + p_window)
+    perpendicular = min(radius, w_speed + field[24] * reach)
     bound = min(speed0 + accel_mag * reach, math.sqrt(parallel * parallel + perpendicular * perpendicular))
     return bound * (1.0 + 1e-10), v_end, c2, s2
 
