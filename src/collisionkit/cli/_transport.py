@@ -68,6 +68,8 @@ class SwarmOptions(Options):
         """``--waveform FILE`` (and ``waveform = "FILE"`` in a TOML file): two columns, the phase fraction and E/E0,
         read into the samples; a TOML list of pairs is taken as it is."""
         if isinstance(value, (str, Path)):
+            from ..transport import read_waveform
+
             return read_waveform(Path(value))
         return value
 
@@ -103,35 +105,6 @@ class SwarmOptions(Options):
                                gas_temperature=self.gas_temperature, particles=self.particles, seed=self.seed,
                                tolerance=self.tolerance, collision_budget=self.collision_budget, sharing=self.sharing,
                                scattering=self.scattering, populations=self.populations)
-
-
-def read_waveform(path: Path) -> list[list[float]]:
-    r"""The samples of a waveform file: two columns, the fraction of the period (0 to 1) and E/E0 (``#`` comments).
-
-    ValueError (one line, naming the file) if it cannot be read or is not two columns of numbers.
-
-    Examples
-    --------
-    >>> import tempfile
-    >>> with tempfile.TemporaryDirectory() as folder:
-    ...     path = Path(folder) / "square.txt"
-    ...     _ = path.write_text("# u  E/E0\n0 1\n0.5 1\n0.5 -1\n1 -1\n")
-    ...     read_waveform(path)
-    [[0.0, 1.0], [0.5, 1.0], [0.5, -1.0], [1.0, -1.0]]
-    """
-    import numpy as np
-
-    if path.is_dir():
-        raise ValueError(f"{path} is a folder, not a waveform file")
-    try:
-        table = np.loadtxt(path, comments="#", ndmin=2)
-    except FileNotFoundError:
-        raise ValueError(f"waveform file not found: {path}") from None
-    except (OSError, ValueError) as failure:
-        raise ValueError(f"waveform file {path} is not two columns of numbers: {failure}") from None
-    if table.shape[1] != 2:
-        raise ValueError(f"waveform file {path} must have two columns (phase fraction, E/E0); it has {table.shape[1]}")
-    return table.tolist()
 
 
 def _e_n_values(raw: list[str] | None) -> list[float] | None:

@@ -11,6 +11,7 @@ one at u = 0 is a jump at the period's start. The motion in it is exact
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import numpy as np
 
@@ -111,6 +112,36 @@ def half_wave_antisymmetric(samples) -> bool:
 
     scale = float(np.abs(values).max())
     return bool(np.all(np.abs(at(points) + at((points + 0.5) % 1.0)) <= 1e-12 * scale))
+
+
+def read_waveform(path) -> list[list[float]]:
+    r"""The samples of a waveform file: two columns, the fraction of the period (0 to 1) and E/E0 (``#`` comments).
+
+    ValueError (one line, naming the file) if it cannot be read or is not two columns of numbers.
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> from pathlib import Path
+    >>> from collisionkit.transport import read_waveform
+    >>> with tempfile.TemporaryDirectory() as folder:
+    ...     path = Path(folder) / "square.txt"
+    ...     _ = path.write_text("# u  E/E0\n0 1\n0.5 1\n0.5 -1\n1 -1\n")
+    ...     read_waveform(path)
+    [[0.0, 1.0], [0.5, 1.0], [0.5, -1.0], [1.0, -1.0]]
+    """
+    path = Path(path)
+    if path.is_dir():
+        raise ValueError(f"{path} is a folder, not a waveform file")
+    try:
+        table = np.loadtxt(path, comments="#", ndmin=2)
+    except FileNotFoundError:
+        raise ValueError(f"waveform file not found: {path}") from None
+    except (OSError, ValueError) as failure:
+        raise ValueError(f"waveform file {path} is not two columns of numbers: {failure}") from None
+    if table.shape[1] != 2:
+        raise ValueError(f"waveform file {path} must have two columns (phase fraction, E/E0); it has {table.shape[1]}")
+    return table.tolist()
 
 
 def shaped_record(static_record, amplitude, period, samples) -> np.ndarray:
