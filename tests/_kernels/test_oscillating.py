@@ -11,9 +11,9 @@ import pytest
 from scipy.integrate import solve_ivp
 
 from collisionkit._kernels.transport.flight import derived_field, flown_position, flown_velocity
+from collisionkit._kernels.transport.ac_window import oscillating_window
 from collisionkit._kernels.transport.oscillating import (
     SERIES_GAP, divided_difference, oscillating_displacement, oscillating_field, oscillating_flown_velocity,
-    oscillating_window,
 )
 
 

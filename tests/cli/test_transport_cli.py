@@ -367,3 +367,33 @@ def test_the_angle_and_frequency_come_from_a_toml_file_resume_and_sweep(tmp_path
                                                                             (60.0, 1e-13)]
     with pytest.raises(ValueError, match="field_angle"):
         point_tasks(Study("swarm", seed=1, fixed={"model": "maxwell"}, vary={"angle": [0.0, 270.0]}), tmp_path / "x")
+
+
+def test_a_waveform_file_or_toml_samples_drive_the_swarm_and_resume(tmp_path):
+    """--waveform FILE (two columns) and waveform = [[u, f], ...] in TOML: the same samples in the parameters, the
+    summary and the checkpoint; a resumed run keeps them; bad samples exit 2 naming the option."""
+    wave = tmp_path / "square.txt"
+    wave.write_text("# phase fraction, E/E0\n0 1\n0.5 1\n0.5 -1\n1 -1\n")
+    summary = tmp_path / "w.json"
+    checkpoint = tmp_path / "ck.npz"
+    quick = ["--model", "maxwell", "--E-N", "10", "--omega-N", "1e-13", "--gas-temperature", "0", "--particles",
+             "640", "--tolerance", "0.05", "--collision-budget", "1e6"]
+    result = runner.invoke(app, ["swarm", *quick, "--waveform", str(wave), "--summary", str(summary),
+                                 "--checkpoint", str(checkpoint)])
+    assert result.exit_code == 0, result.output
+    square = [[0.0, 1.0], [0.5, 1.0], [0.5, -1.0], [1.0, -1.0]]
+    data = json.loads(summary.read_text())
+    assert data["parameters"]["waveform"] == square and len(data["phases"]) == 16
+    resumed = runner.invoke(app, ["swarm", "--resume", str(checkpoint), "--summary", str(tmp_path / "again.json")])
+    assert resumed.exit_code == 0, resumed.output
+    assert json.loads((tmp_path / "again.json").read_text())["parameters"]["waveform"] == square
+    config = tmp_path / "swarm.toml"
+    config.write_text('model = "maxwell"\ne-n = 10.0\nomega-N = 1e-13\nwaveform = [[0.0, 1.0], [0.5, 1.0], [0.5, -1.0], '
+                      '[1.0, -1.0]]\nparticles = 640\ntolerance = 0.05\ncollision-budget = 1e6\ngas-temperature = 0.0\n')
+    toml_summary = tmp_path / "t.json"
+    result = runner.invoke(app, ["swarm", "--config", str(config), "--summary", str(toml_summary)])
+    assert result.exit_code == 0, result.output
+    assert json.loads(toml_summary.read_text())["parameters"]["waveform"] == square
+    config.write_text('model = "maxwell"\nomega-N = 1e-13\nwaveform = [[0.5, 1.0], [0.2, 1.0]]\n')
+    refused = runner.invoke(app, ["swarm", "--config", str(config)])
+    assert refused.exit_code == 2 and "non-decreasing" in " ".join(refused.output.split())

@@ -126,3 +126,22 @@ def test_a_static_result_has_empty_phase_tables():
                        threads=1, tolerances={"mean_energy": 0.05})
     assert r.phases.shape == (0,) and r.drift_velocity_flux_by_phase.shape == (0, 3)
     assert r.reduced_frequency == 0.0
+
+
+def test_reids_ramp_at_high_frequency_cyclotron_resonance_tends_to_the_static_field_of_half_the_amplitude():
+    """E perpendicular to B with Omega = omega >> nu_m: the co-rotating half of E0 cos(omega t) is static in the
+    gyrating frame and the counter-rotating half averages out, so the cycle-averaged <e> tends to the static one at
+    E0/2 without B (Dias et al., PSST 32, 095003 (2023), sec. 3.2). At omega/N = 1.42e-13 ((omega/N)/k_m = 8.3)
+    benchmarks/bench_ac_limits.py measured -0.07 +- 0.1 % (and +0.7 % at half the frequency: the residual of the
+    counter-rotating half falls with omega); allowed: 4 combined standard errors + 0.5 %."""
+    e0 = 10.0 * math.sqrt(2.0)  # 10 Td r.m.s.
+    omega_n = 1.42e-13
+    b_n = omega_n * ME / E / HUXLEY
+    ac = simulate_swarm(reid_ramp(), e0, reduced_frequency=omega_n, reduced_magnetic_field=b_n, gas_temperature=0.0,
+                        particles=1000, seed=21, threads=2, tolerances={"mean_energy": 3e-3})
+    dc = simulate_swarm(reid_ramp(), e0 / 2, gas_temperature=0.0, particles=1000, seed=22, threads=2,
+                        tolerances={"mean_energy": 2e-3})
+    assert ac.converged and dc.converged
+    allowed = 4 * math.hypot(ac.mean_energy_error, dc.mean_energy_error) + 5e-3 * dc.mean_energy
+    assert abs(ac.mean_energy - dc.mean_energy) < allowed
+    assert allowed < 0.02 * dc.mean_energy  # tight enough to tell E0/2 from E0/sqrt(2) (0.24 against 0.20 eV)

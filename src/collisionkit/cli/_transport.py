@@ -40,6 +40,7 @@ class SwarmOptions(Options):
     b_n: float = Field(default=0.0, allow_inf_nan=False)
     angle: float = Field(default=90.0, ge=0, le=180, allow_inf_nan=False)
     omega_n: float = Field(default=0.0, ge=0, allow_inf_nan=False)
+    waveform: list[tuple[float, float]] | None = None
     gas_temperature: float = Field(default=300.0, ge=0, allow_inf_nan=False)
     particles: int = Field(default=20_000, ge=128, le=10_000_000)
     seed: int = Field(default=2026, ge=0)
@@ -61,6 +62,17 @@ class SwarmOptions(Options):
     def _one_file_is_a_list(cls, value: Any) -> Any:
         """``cross-sections = "ar.txt"`` in a TOML file (and a saved checkpoint's single path) is a list of one."""
         return [value] if isinstance(value, (str, Path)) else value
+    @field_validator("waveform", mode="before")
+    @classmethod
+    def _samples_or_file(cls, value: Any) -> Any:
+        """``--waveform FILE`` (and ``waveform = "FILE"`` in a TOML file): two columns, the phase fraction and E/E0,
+        read into the samples; a TOML list of pairs is taken as it is."""
+        if isinstance(value, (str, Path)):
+            from ..transport import read_waveform
+
+            return read_waveform(Path(value))
+        return value
+
     @field_validator("scattering", mode="before")
     @classmethod
     def _law_or_table(cls, value: Any) -> Any:
@@ -89,7 +101,7 @@ class SwarmOptions(Options):
         return SwarmParameters(reduced_field=self.e_n, model=self.model, gas=self.gas, cross_sections=self.cross_sections,
                                species=self.species, fractions=self.fractions, database=self.database,
                                reduced_magnetic_field=self.b_n, field_angle=self.angle,
-                               reduced_frequency=self.omega_n,
+                               reduced_frequency=self.omega_n, waveform=self.waveform,
                                gas_temperature=self.gas_temperature, particles=self.particles, seed=self.seed,
                                tolerance=self.tolerance, collision_budget=self.collision_budget, sharing=self.sharing,
                                scattering=self.scattering, populations=self.populations)
@@ -259,6 +271,7 @@ def swarm(
     b_n: Annotated[float | None, typer.Option("--B-N", help="B/N in Hx (static), in the y-z plane at --angle from E (E along z).  \\[default: 0]")] = None,
     angle: Annotated[float | None, typer.Option("--angle", help="Degrees between E and B, 0 to 180 (B = |B| (0, sin, cos)).  \\[default: 90]")] = None,
     omega_n: Annotated[float | None, typer.Option("--omega-N", help="omega/N in rad m^3/s: E(t) = E0 cos(omega t) with --E-N the amplitude E0/N; results by phase and cycle averages (0: static).  \\[default: 0]")] = None,
+    waveform: Annotated[Path | None, typer.Option("--waveform", help="A periodic field of any shape instead of the cosine, with --omega-N and no B: a file of two columns, the fraction of the period (0 to 1) and E/E0, linear between samples (the same fraction twice: a jump).")] = None,
     gas_temperature: Annotated[float | None, typer.Option(help="Gas temperature in K (>= 0): targets' Maxwellian and Boltzmann populations of reversible excitations (superelastic collisions); 0 for the model-gas benchmarks.  \\[default: 300]")] = None,
     particles: Annotated[int | None, typer.Option(help="Simulated particles (128 to 1e7).  \\[default: 20000]")] = None,
     seed: Annotated[int | None, typer.Option(help="Random seed (>= 0).  \\[default: 2026]")] = None,
@@ -276,7 +289,7 @@ def swarm(
     """Electron swarm transport coefficients (mean energy, drift, diffusion, rates, SST Townsend alpha/N and eta/N) against E/N."""
     given = dict(model=model, gas=gas, cross_sections=cross_sections, species=species, fractions=fractions,
                  database=database, e_n=_e_n_values(e_n),
-                 b_n=b_n, angle=angle, omega_n=omega_n, gas_temperature=gas_temperature, particles=particles, seed=seed, tolerance=tolerance,
+                 b_n=b_n, angle=angle, omega_n=omega_n, waveform=waveform, gas_temperature=gas_temperature, particles=particles, seed=seed, tolerance=tolerance,
                  collision_budget=collision_budget, sharing=sharing, scattering=scattering, out=out, summary=summary,
                  checkpoint=checkpoint,
                  overwrite=overwrite)

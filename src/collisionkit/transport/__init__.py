@@ -134,3 +134,8 @@ __all__ += [
     "UniformField", "UniformMagneticField", "UserField", "WeightingField", "coaxial_geometry", "gas_density",
     "parallel_plate_geometry", "read_field_map", "track", "track_summary",
 ]
+
+# a periodic field of any shape given as samples (issue 20)
+from ._waveform import read_waveform  # noqa: E402
+
+__all__ += ["read_waveform"]

@@ -26,6 +26,7 @@ import numpy as np
 
 from .._io import Checkpoint, CheckpointError, exclusive, file_digest, read_checkpoint, write_checkpoint
 from .._params import Parameters, check_choice, check_unchanged, check_integer, check_real, check_seed
+from ._waveform import waveform_knots
 from .angular import SCATTERING_LAWS
 from .catalogue import catalogue_files, catalogue_gas
 from .gases import MODEL_GASES, SCATTERING_KINDS, Gas, model_gas
@@ -69,6 +70,11 @@ class SwarmParameters(Parameters):
     reduced_frequency : float
         omega/N in rad m^3/s (``--omega-N``, >= 0; 0 is a static field):
         E(t) = E0 cos(omega t) with the E/N values as the amplitude E0/N.
+    waveform : sequence of (u, E/E0) pairs, optional
+        A periodic field of any shape instead of the cosine (``--waveform``;
+        needs ``reduced_frequency`` > 0 and no B): E(t) = E0 f(omega t / 2 pi),
+        f linear between the samples, u the fraction of the period
+        (:func:`~collisionkit.transport.simulate_swarm`); stored as the pairs.
     gas_temperature : float
         In K (>= 0, 300 by default); E/N = 0 needs a warm gas. Above 0 the
         reversible excitations have superelastic inverses
@@ -117,6 +123,7 @@ class SwarmParameters(Parameters):
     reduced_magnetic_field: float = 0.0
     field_angle: float = 90.0
     reduced_frequency: float = 0.0
+    waveform: Any = None
     gas_temperature: float = 300.0
     particles: int = 20_000
     seed: int = 2026
@@ -156,6 +163,7 @@ class SwarmParameters(Parameters):
         set_(self, "field_angle", check_real("field_angle (degrees between E and B)", self.field_angle, 0.0, 180.0))
         set_(self, "reduced_frequency", check_real("reduced_frequency (omega/N, rad m^3/s)", self.reduced_frequency,
                                                    0.0))
+        set_(self, "waveform", _waveform(self.waveform, self.reduced_frequency, self.reduced_magnetic_field))
         set_(self, "gas_temperature", check_real("gas_temperature", self.gas_temperature, 0.0))
         set_(self, "particles", check_integer("particles", self.particles, 128, 10_000_000))
         set_(self, "seed", check_seed("seed", self.seed))
@@ -233,6 +241,18 @@ class SwarmParameters(Parameters):
         if self.cross_sections is not None:
             return ", ".join(str(path) for path in self.cross_sections)
         return str(self.model or self.gas)
+
+
+def _waveform(value, reduced_frequency, reduced_magnetic_field):
+    """The samples of a waveform as a tuple of (u, E/E0) pairs, checked (None stays None)."""
+    if value is None:
+        return None
+    waveform_knots(value)
+    if reduced_frequency <= 0.0:
+        raise ValueError("waveform needs reduced_frequency > 0 (--omega-N: the period is 2 pi / omega)")
+    if reduced_magnetic_field != 0.0:
+        raise ValueError("waveform takes no magnetic field: reduced_magnetic_field (--B-N) must be 0 with it")
+    return tuple((float(u), float(f)) for u, f in value)
 
 
 def _reduced_fields(value) -> tuple[float, ...]:
@@ -389,7 +409,7 @@ class SwarmScan:
 
                 self.results.append(simulate_swarm(
                     self.gas, value, reduced_magnetic_field=p.reduced_magnetic_field, field_angle=p.field_angle,
-                    reduced_frequency=p.reduced_frequency, gas_temperature=p.gas_temperature,
+                    reduced_frequency=p.reduced_frequency, waveform=p.waveform, gas_temperature=p.gas_temperature,
                     particles=p.particles, seed=p.seed, sharing=p.sharing, tolerances=self.tolerances(value),
                     collision_budget=p.collision_budget, progress=report))
                 self.save()

@@ -50,6 +50,7 @@ from ._periodic import DEFAULT_PHASES, PeriodicRun
 from ._swarm_run import STEPS_PER_CHUNK, Stepper, SwarmRun, initial_swarm
 from ._tables import SHARING_CODES, build_tables
 from ._tensors import TensorRun
+from ._waveform import half_wave_antisymmetric, shaped_record, waveform_knots, waveform_rms
 from ._validation import (
     integer_in_range, reachable_tolerances, real_in_range, validate_swarm_setup, validated_run_settings,
 )
@@ -176,18 +177,31 @@ def _oscillating_record(reduced_field, reduced_magnetic_field, reduced_frequency
     return _k.oscillating_field(static, amplitude, reduced_frequency * density)
 
 
-def _oscillating_tolerances(tolerances, defaults, gravity):
+def _shaped_setup(waveform, reduced_magnetic_field):
+    """ValueError unless a waveform's samples are valid (:func:`._waveform.waveform_knots`) and B is zero."""
+    waveform_knots(waveform)
+    if reduced_magnetic_field != 0.0:
+        raise ValueError("waveform takes no magnetic field: reduced_magnetic_field must be 0 with a waveform (a "
+                         "cosine field, reduced_frequency alone, takes one)")
+
+
+def _oscillating_tolerances(tolerances, defaults, gravity, symmetric=True):
     """The tolerances an oscillating field can meet: its cycle-averaged drift is zero by symmetry.
 
     E(t + T/2) = -E(t), and v -> -v maps the motion in -E (with the same B)
     onto that in E, collisions with an isotropic gas included: W(t + T/2) =
     -W(t), so a drift averaged over the cycle has no relative error to
     reach (without gravity, which breaks the symmetry). The default drift
-    tolerance is dropped, an explicit one refused.
+    tolerance is dropped, an explicit one refused. A waveform that is not
+    half-wave antisymmetric (``symmetric`` False) may drift on average: an
+    explicit drift tolerance stands, the default one is dropped (the average
+    may be near zero all the same).
     """
     if np.any(np.asarray(gravity) != 0.0):
         return tolerances
     drift = [name for name in tolerances if name.startswith("drift_velocity")]
+    if not symmetric:
+        return {name: value for name, value in tolerances.items() if not (defaults and name in drift)}
     if drift and not defaults:
         raise ValueError(f"tolerances[{drift[0]!r}] cannot be met in an oscillating field: the drift averaged over a "
                          "cycle is zero by symmetry (W(t + T/2) = -W(t)); leave it out")
@@ -202,6 +216,7 @@ def simulate_swarm(
     field_angle: float = 90.0,
     reduced_frequency: float = 0.0,
     phases: int = DEFAULT_PHASES,
+    waveform=None,
     gas_temperature: float = 300.0,
     particles: int = 20_000,
     groups: int = 16,
@@ -244,6 +259,15 @@ def simulate_swarm(
         cyclotron resonance included.
     phases : int
         Points of the phase grid of an oscillating field (4 to 256).
+    waveform : sequence of (u, f) pairs or None
+        A periodic field of any shape instead of the cosine:
+        E(t) = E0 f(omega t / 2 pi), with ``reduced_field`` E0/N and
+        ``reduced_frequency`` omega/N (> 0); f is linear between the samples
+        (u the fraction of the period, 0 to 1, non-decreasing, the same u
+        twice a jump; f = E/E0) and periodic
+        (:mod:`collisionkit.transport._waveform`). The motion is exact; no
+        magnetic field. The cycle-averaged drift's default tolerance is
+        dropped.
     gas_temperature : float
         K (>= 0; 300 by default). The targets move with the gas's Maxwellian
         and the reversible excitations' upper levels are populated by
@@ -339,15 +363,24 @@ def simulate_swarm(
                                      known_tolerances=DEFAULT_TOLERANCES)
     tolerances = reachable_tolerances(tolerances, tolerances is DEFAULT_TOLERANCES, reduced_field, charge, gravity,
                                       gas_temperature)
+    if waveform is not None:
+        if reduced_frequency <= 0.0:
+            raise ValueError("waveform needs reduced_frequency > 0 (omega/N, rad m^3/s: the period is 2 pi / omega)")
+        _shaped_setup(waveform, reduced_magnetic_field)
     oscillating = reduced_frequency > 0.0 and reduced_field > 0.0 and charge != 0.0
     if oscillating:
-        tolerances = _oscillating_tolerances(tolerances, defaults, gravity)
+        symmetric = waveform is None or half_wave_antisymmetric(waveform)
+        tolerances = _oscillating_tolerances(tolerances, defaults, gravity, symmetric)
     tables = build_tables(gas, mass, gas_temperature)
     _require_collisions(tables)
     _warn_unreachable_diffusion(tolerances, particles, defaults)
     threads = threads or os.cpu_count() or 1
     density = REFERENCE_DENSITY
-    if oscillating:
+    if oscillating and waveform is not None:
+        amplitude = np.array([0.0, 0.0, charge * reduced_field * TOWNSEND * density / mass])
+        field_record = shaped_record(_field_record(0.0, 0.0, density, mass, charge, gravity), amplitude,
+                                     2.0 * math.pi / (reduced_frequency * density), waveform)
+    elif oscillating:
         field_record = _oscillating_record(reduced_field, reduced_magnetic_field, reduced_frequency, density, mass,
                                            charge, gravity, field_angle)
     else:
@@ -356,6 +389,8 @@ def simulate_swarm(
     if initial_energy is None:
         # an oscillating field heats as its r.m.s. value does (omega << nu; less above: a start need not be exact)
         effective_field = reduced_field / math.sqrt(2.0) if oscillating else reduced_field
+        if oscillating and waveform is not None:
+            effective_field = reduced_field * waveform_rms(waveform)
         initial_energy = _starting_energy(tables, density, mass, charge, reduced_magnetic_field, field_angle, gravity,
                                           effective_field, gas_temperature)
     counts = np.full(groups, particles // groups)
@@ -379,6 +414,8 @@ def simulate_swarm(
         stepper.close()
     result.field_angle = float(field_angle)
     result.reduced_frequency = float(reduced_frequency)
+    if waveform is not None:
+        result.extras["waveform"] = np.asarray(waveform, dtype=float).tolist()
     return result
 
 

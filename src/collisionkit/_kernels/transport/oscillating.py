@@ -29,7 +29,12 @@ costs two atomic reference-count operations, more than a trial's arithmetic.
 The oscillating record (float64, :data:`RECORD_SIZE` entries) extends the
 static one (0:13): omega (13); a_c (14:17); a_c . b (17); e1 (18:21); e2
 (21:24); A (24); |a_c| (25); the direction of the "parallel" part (26:29):
-b, or without B the direction of a_c (all of it is then "parallel").
+b, or without B the direction of a_c (all of it is then "parallel"); 1/omega
+(29); a_c . b / omega (30) (multiplications in the flights, not divisions);
+1/(|Omega| + omega) (31), 1/(|Omega| - omega) (32) and the largest size of
+the particular solution, (A/2)(|31| + |32|) (33): see :mod:`.ac_window`.
+
+The speed bound of a flight window is in :mod:`.ac_window`.
 """
 
 from __future__ import annotations
@@ -41,7 +46,7 @@ import numpy as np
 from ..._jit import inline_kernel, kernel
 
 STATIC_SIZE = 13
-RECORD_SIZE = 29
+RECORD_SIZE = 34
 # below this |x - y| the divided difference is summed from its Taylor series about the midpoint (error below
 # 1e-17 there); above it the difference quotient loses at most 2e-16 / 1e-3 of |phi1| <= 1
 SERIES_GAP = 1e-3
@@ -52,15 +57,35 @@ PHI1_SERIES = 0.5
 # sincos: pi/2 in two parts (fdlibm's pio2_1 of 33 bits and its remainder), so n pi/2 is exact for |n| < 2^20
 PIO2_HI = 1.57079632673412561417e+00
 PIO2_LO = 6.07710050650619224932e-11
+# (y + ROUNDER) - ROUNDER is y rounded to the nearest whole number for |y| < 2^51 (IEEE arithmetic, no fast-math)
+ROUNDER = 6755399441055744.0
 
 
-@kernel
+@inline_kernel
+def _sincos_reduced(r):
+    """``(sin r, cos r)`` for |r| <= pi/4: Taylor series of sin to r^15 and cos to r^16 (truncation below 5e-17),
+    the corrections beyond r and 1 - r^2/2 summed by Estrin's scheme (products of r^2, r^4, r^8: a chain of
+    dependent operations half as long as Horner's)."""
+    r2 = r * r
+    r4 = r2 * r2
+    r8 = r4 * r4
+    sin_tail = ((-1.0 / 6.0 + r2 * (1.0 / 120.0)) + r4 * (-1.0 / 5040.0 + r2 * (1.0 / 362880.0))
+                + r8 * ((-1.0 / 39916800.0 + r2 * (1.0 / 6227020800.0)) + r4 * (-1.0 / 1307674368000.0)))
+    cos_tail = ((1.0 / 24.0 + r2 * (-1.0 / 720.0)) + r4 * (1.0 / 40320.0 + r2 * (-1.0 / 3628800.0))
+                + r8 * ((1.0 / 479001600.0 + r2 * (-1.0 / 87178291200.0)) + r4 * (1.0 / 20922789888000.0)))
+    return r + (r * r2) * sin_tail, (1.0 - 0.5 * r2) + r4 * cos_tail
+
+
+@inline_kernel
 def sincos(x):
     """``(sin x, cos x)`` at about 1 ulp, for a fraction of the cost of two library calls (|x| <= 1e5).
 
-    The argument is reduced to r in [-pi/4, pi/4] by the nearest multiple n of pi/2 (Cody-Waite, two
-    constants), then the Taylor series of sin r to r^15 and cos r to r^16 (truncation below 5e-17) and the
-    quadrant n mod 4.
+    For |x| <= pi/4 the series of :func:`_sincos_reduced` directly (the
+    flights' phase steps omega tau / 2 mostly are); otherwise the argument is
+    reduced to r in [-pi/4, pi/4] by the nearest multiple n of pi/2
+    (Cody-Waite, two constants) and the quadrant n mod 4 applied. Inlined
+    into its callers: a call and its tuple in memory cost about as much as
+    the arithmetic.
 
     Examples
     --------
@@ -70,15 +95,12 @@ def sincos(x):
     ...     for x in (-3.0, 0.0, 0.5, 2.0, 100.0, 3e5))
     True
     """
+    if abs(x) <= 0.25 * math.pi:
+        return _sincos_reduced(x)
     if abs(x) > 1e5:  # beyond the exact reduction: the library's
         return math.sin(x), math.cos(x)
-    n = math.floor(x * (2.0 / math.pi) + 0.5)
-    r = (x - n * PIO2_HI) - n * PIO2_LO
-    r2 = r * r
-    sin_r = r * (1.0 + r2 * (-1.0 / 6.0 + r2 * (1.0 / 120.0 + r2 * (-1.0 / 5040.0 + r2 * (
-        1.0 / 362880.0 + r2 * (-1.0 / 39916800.0 + r2 * (1.0 / 6227020800.0 + r2 * (-1.0 / 1307674368000.0))))))))
-    cos_r = 1.0 + r2 * (-0.5 + r2 * (1.0 / 24.0 + r2 * (-1.0 / 720.0 + r2 * (1.0 / 40320.0 + r2 * (
-        -1.0 / 3628800.0 + r2 * (1.0 / 479001600.0 + r2 * (-1.0 / 87178291200.0 + r2 / 20922789888000.0)))))))
+    n = (x * (2.0 / math.pi) + ROUNDER) - ROUNDER
+    sin_r, cos_r = _sincos_reduced((x - n * PIO2_HI) - n * PIO2_LO)
     quadrant = int(n) & 3
     if quadrant == 0:
         return sin_r, cos_r
@@ -101,7 +123,7 @@ def oscillating_field(static_field, amplitude, omega):
     >>> static = derived_field(np.zeros(3), np.array([0.0, 1.0, 0.0]))
     >>> record = oscillating_field(static, np.array([0.0, 0.0, 2.0]), 3.0)
     >>> record.shape, float(record[13]), float(record[17]), float(record[24])  # E perpendicular to B: A = |a_c|
-    ((29,), 3.0, 0.0, 2.0)
+    ((34,), 3.0, 0.0, 2.0)
     """
     record = np.zeros(RECORD_SIZE)
     record[:STATIC_SIZE] = static_field
@@ -131,7 +153,40 @@ def oscillating_field(static_field, amplitude, omega):
     record[23] = b[0] * e1[1] - b[1] * e1[0]
     record[24] = a_perp
     record[26:29] = b
+    record[29] = 1.0 / omega
+    record[30] = along / omega
+    w = static_field[12]
+    record[31] = 1.0 / (w + omega)
+    record[32] = 1.0 / (w - omega) if w != omega else math.inf
+    record[33] = 0.5 * a_perp * (abs(record[31]) + abs(record[32])) if a_perp > 0.0 else 0.0
     return record
+
+
+@kernel
+def record_values(field):
+    """The record's 34 entries as a tuple (a static record padded with zeros: omega = 0).
+
+    The swarm step hands the tuple, not the array, to the inlined flight
+    functions: an inlined function that takes an array still costs an atomic
+    reference-count increment and decrement per call.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from collisionkit._kernels.transport.flight import derived_field
+    >>> from collisionkit._kernels.transport.oscillating import record_values
+    >>> values = record_values(derived_field(np.array([0.0, 0.0, 1.0]), np.zeros(3)))
+    >>> len(values), values[2], values[13]
+    (34, 1.0, 0.0)
+    """
+    if field.shape[0] >= RECORD_SIZE:
+        return (field[0], field[1], field[2], field[3], field[4], field[5], field[6], field[7], field[8], field[9],
+                field[10], field[11], field[12], field[13], field[14], field[15], field[16], field[17], field[18],
+                field[19], field[20], field[21], field[22], field[23], field[24], field[25], field[26], field[27],
+                field[28], field[29], field[30], field[31], field[32], field[33])
+    return (field[0], field[1], field[2], field[3], field[4], field[5], field[6], field[7], field[8], field[9],
+            field[10], field[11], field[12], 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0,
+            0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
 
 
 @kernel
@@ -191,13 +246,9 @@ def divided_difference(x, y):
     >>> divided_difference(0.0, 0.0), abs(divided_difference(2.0, 2.0 + 1e-9) - divided_difference(2.0, 2.0)) < 1e-9
     ((0.5+0j), True)
     """
-    d = x - y
-    if abs(d) >= SERIES_GAP:
-        z = phi1(x) - phi1(y)
-        return complex(z.imag / d, -z.real / d)  # z / (i d)
-    m = 0.5 * (x + y)
-    h = 0.5 * d
-    return exp_moment(1, m) - exp_moment(3, m) * (h * h / 6.0)
+    if abs(x - y) >= SERIES_GAP:
+        return _divided_difference_of(x, y, phi1(x), phi1(y))
+    return _divided_difference_of(x, y, 0.0j, 0.0j)
 
 
 @kernel
@@ -212,27 +263,74 @@ def _phi1_series(x):
     return complex(real, imag)
 
 
-@kernel
-def _response(c0, s0, ew, spin, tau, w, omega):
+@inline_kernel
+def _response(c0, s0, ew, spin, tau, w, omega, inverse_plus, inverse_minus):
     """``e^{-i w tau} tau (e^{i theta0} phi1(i (w + omega) tau) + e^{-i theta0} phi1(i (w - omega) tau))``.
 
-    (c0, s0) = e^{i theta0}, ``ew`` = e^{i omega tau}, ``spin`` = e^{-i w tau}. Each term is
+    (c0, s0) = e^{i theta0}, ``ew`` = e^{i omega tau}, ``spin`` = e^{-i w tau}; ``inverse_plus`` and
+    ``inverse_minus`` are 1/(w + omega) and 1/(w - omega). Each term is
     ``(e^{i k tau} - e^{-i w tau}) / (i (w + k))``, or, for |(w + k) tau| <= ``PHI1_SERIES`` (near
     resonance, short flights), ``spin tau phi1`` from its series: no cancellation either way.
     """
     x = (w + omega) * tau
     if abs(x) > PHI1_SERIES:
         z = ew - spin
-        plus = complex(z.imag, -z.real) / (w + omega)  # z / (i (w + omega))
+        plus = complex(z.imag * inverse_plus, -z.real * inverse_plus)  # z / (i (w + omega))
     else:
         plus = spin * tau * _phi1_series(x)
     x = (w - omega) * tau
     if abs(x) > PHI1_SERIES:
         z = ew.conjugate() - spin
-        minus = complex(z.imag, -z.real) / (w - omega)
+        minus = complex(z.imag * inverse_minus, -z.real * inverse_minus)
     else:
         minus = spin * tau * _phi1_series(x)
     return complex(c0, s0) * plus + complex(c0, -s0) * minus
+
+
+@inline_kernel
+def flight_with_phases(vx, vy, vz, c0, s0, tau, field):
+    """:func:`oscillating_flown_velocity` and the half-angle sines and cosines it took: ``(vx, vy, vz, cos theta1,
+    sin theta1, sin(omega tau/2), cos(omega tau/2), sin(|Omega| tau/2), cos(|Omega| tau/2))``.
+
+    The displacement of the same flight (:func:`displacement_with_phases`)
+    and the phase of the next flight then take no sine of their own: a
+    real collision costs the trial's sines alone. The gyration by |Omega|
+    tau comes from its half angle (sin = 2 s c, cos = 1 - 2 s^2).
+    """
+    omega = field[13]
+    sh, ch = sincos(0.5 * omega * tau)
+    sin_w = 2.0 * sh * ch
+    vers = 2.0 * sh * sh  # 1 - cos(omega tau)
+    c1 = c0 * (1.0 - vers) - s0 * sin_w
+    s1 = s0 * (1.0 - vers) + c0 * sin_w
+    along = field[30] * (c0 * sin_w - s0 * vers)
+    px, py, pz = field[26], field[27], field[28]
+    w = field[12]
+    if w == 0.0:
+        return (vx + field[0] * tau + along * px, vy + field[1] * tau + along * py, vz + field[2] * tau + along * pz,
+                c1, s1, sh, ch, 0.0, 1.0)
+    bx, by, bz = field[3], field[4], field[5]
+    vb = vx * bx + vy * by + vz * bz
+    wx = vx - vb * bx - field[9]
+    wy = vy - vb * by - field[10]
+    wz = vz - vb * bz - field[11]
+    cx = wy * bz - wz * by
+    cy = wz * bx - wx * bz
+    cz = wx * by - wy * bx
+    gs, gc = sincos(0.5 * w * tau)
+    s = 2.0 * gs * gc
+    c = 1.0 - 2.0 * gs * gs
+    ox = vb * bx + field[6] * tau + field[9] + wx * c + cx * s + along * px
+    oy = vb * by + field[7] * tau + field[10] + wy * c + cy * s + along * py
+    oz = vb * bz + field[8] * tau + field[11] + wz * c + cz * s + along * pz
+    a_perp = field[24]
+    if a_perp > 0.0:
+        zeta = 0.5 * a_perp * _response(c0, s0, complex(1.0 - vers, sin_w), complex(c, -s), tau, w, omega,
+                                       field[31], field[32])
+        ox += zeta.real * field[18] + zeta.imag * field[21]
+        oy += zeta.real * field[19] + zeta.imag * field[22]
+        oz += zeta.real * field[20] + zeta.imag * field[23]
+    return ox, oy, oz, c1, s1, sh, ch, gs, gc
 
 
 @inline_kernel
@@ -241,7 +339,7 @@ def oscillating_flown_velocity(vx, vy, vz, c0, s0, tau, field):
     phase at its end: ``(vx, vy, vz, cos theta1, sin theta1)``, theta1 = omega (t0 + tau).
 
     ``(c0, s0) = (cos, sin)(omega t0)`` of the flight's start (computed once per flight). Costs one sine and
-    cosine of omega tau / 2, and of |Omega| tau with B: the static flight of :func:`.flight.flown_velocity`
+    cosine of omega tau / 2, and of |Omega| tau / 2 with B: the static flight of :func:`.flight.flown_velocity`
     plus the response from rest of the module docstring, along b ``a_par (sin theta1 - sin theta0)/omega``
     in the cancellation-free form ``a_par (c0 sin(omega tau) - s0 (1 - cos(omega tau)))/omega``.
 
@@ -254,47 +352,64 @@ def oscillating_flown_velocity(vx, vy, vz, c0, s0, tau, field):
     >>> [round(value, 12) for value in oscillating_flown_velocity(0.0, 0.0, 0.0, 1.0, 0.0, np.pi / 2, record)]
     [0.0, 0.0, 2.0, 0.0, 1.0]
     """
-    omega = field[13]
-    sh, ch = sincos(0.5 * omega * tau)
-    sin_w = 2.0 * sh * ch
-    vers = 2.0 * sh * sh  # 1 - cos(omega tau)
-    c1 = c0 * (1.0 - vers) - s0 * sin_w
-    s1 = s0 * (1.0 - vers) + c0 * sin_w
-    along = field[17] * (c0 * sin_w - s0 * vers) / omega
-    px, py, pz = field[26], field[27], field[28]
-    w = field[12]
-    if w == 0.0:
-        return (vx + field[0] * tau + along * px, vy + field[1] * tau + along * py, vz + field[2] * tau + along * pz,
-                c1, s1)
-    bx, by, bz = field[3], field[4], field[5]
-    vb = vx * bx + vy * by + vz * bz
-    wx = vx - vb * bx - field[9]
-    wy = vy - vb * by - field[10]
-    wz = vz - vb * bz - field[11]
-    cx = wy * bz - wz * by
-    cy = wz * bx - wx * bz
-    cz = wx * by - wy * bx
-    s, c = sincos(w * tau)
-    ox = vb * bx + field[6] * tau + field[9] + wx * c + cx * s + along * px
-    oy = vb * by + field[7] * tau + field[10] + wy * c + cy * s + along * py
-    oz = vb * bz + field[8] * tau + field[11] + wz * c + cz * s + along * pz
-    a_perp = field[24]
-    if a_perp > 0.0:
-        zeta = 0.5 * a_perp * _response(c0, s0, complex(1.0 - vers, sin_w), complex(c, -s), tau, w, omega)
-        ox += zeta.real * field[18] + zeta.imag * field[21]
-        oy += zeta.real * field[19] + zeta.imag * field[22]
-        oz += zeta.real * field[20] + zeta.imag * field[23]
+    ox, oy, oz, c1, s1, _, _, _, _ = flight_with_phases(vx, vy, vz, c0, s0, tau, field)
     return ox, oy, oz, c1, s1
 
 
 @kernel
-def _sine_minus_argument(x):
-    """``sin x - x`` without cancellation (its series for |x| < 0.5, to x^17: error below 1e-22 there)."""
+def _sine_minus_argument(x, sin_x):
+    """``sin x - x`` without cancellation (``sin_x`` given; its series for |x| < 0.5, to x^17: error below 1e-22
+    there)."""
     if abs(x) >= 0.5:
-        return sincos(x)[0] - x
+        return sin_x - x
     x2 = x * x
     return -x * x2 * (1.0 / 6.0 - x2 * (1.0 / 120.0 - x2 * (1.0 / 5040.0 - x2 * (1.0 / 362880.0 - x2 * (
         1.0 / 39916800.0 - x2 * (1.0 / 6227020800.0 - x2 / 1307674368000.0 + x2 * x2 / 355687428096000.0))))))
+
+
+@kernel
+def _phi1_of_half(x, half_sin, half_cos):
+    """:func:`phi1` of x from sin(x/2) and cos(x/2)."""
+    if x == 0.0:
+        return complex(1.0, 0.0)
+    twice = 2.0 * half_sin / x
+    return complex(twice * half_cos, twice * half_sin)
+
+
+@kernel
+def _divided_difference_of(x, y, phi1_x, phi1_y):
+    """:func:`divided_difference` with phi1(ix) and phi1(iy) given."""
+    d = x - y
+    if abs(d) >= SERIES_GAP:
+        z = phi1_x - phi1_y
+        inverse = 1.0 / d
+        return complex(z.imag * inverse, -z.real * inverse)  # z / (i d)
+    m = 0.5 * (x + y)
+    h = 0.5 * d
+    return exp_moment(1, m) - exp_moment(3, m) * (h * h / 6.0)
+
+
+@inline_kernel
+def displacement_with_phases(c0, s0, tau, sh, ch, gs, gc, field):
+    """:func:`oscillating_displacement` from the half-angle sines and cosines of :func:`flight_with_phases`:
+    ``(sh, ch) = (sin, cos)(omega tau/2)``, ``(gs, gc) = (sin, cos)(|Omega| tau/2)``; phi1(+-i omega tau) are
+    complex conjugates, so both divided differences take the same two values of phi1."""
+    omega = field[13]
+    x = omega * tau
+    along = field[30] * field[29] * (c0 * 2.0 * sh * sh + s0 * _sine_minus_argument(x, 2.0 * sh * ch))
+    dx, dy, dz = along * field[26], along * field[27], along * field[28]
+    a_perp = field[24]
+    if a_perp > 0.0:
+        u = -field[12] * tau
+        phi_u = _phi1_of_half(u, -gs, gc)
+        phi_x = _phi1_of_half(x, sh, ch)
+        rotor = complex(c0, s0)
+        z = 0.5 * a_perp * tau * tau * (rotor * _divided_difference_of(u, x, phi_u, phi_x)
+                                         + rotor.conjugate() * _divided_difference_of(u, -x, phi_u, phi_x.conjugate()))
+        dx += z.real * field[18] + z.imag * field[21]
+        dy += z.real * field[19] + z.imag * field[22]
+        dz += z.real * field[20] + z.imag * field[23]
+    return dx, dy, dz
 
 
 @inline_kernel
@@ -305,7 +420,7 @@ def oscillating_displacement(c0, s0, tau, field):
     The time integral of the oscillating part of :func:`oscillating_flown_velocity`: along b
     ``a_par (c0 (1 - cos(omega tau)) + s0 (sin(omega tau) - omega tau)) / omega^2`` (the double integral of
     cos(omega t0 + omega s), free of cancellation), across it the divided differences of the module
-    docstring.
+    docstring (:func:`displacement_with_phases`).
 
     Examples
     --------
@@ -316,91 +431,6 @@ def oscillating_displacement(c0, s0, tau, field):
     >>> round(oscillating_displacement(1.0, 0.0, np.pi, record)[2], 12)  # 2 (1 - cos(pi))
     4.0
     """
-    omega = field[13]
-    x = omega * tau
-    sh, _ = sincos(0.5 * x)
-    along = field[17] * (c0 * 2.0 * sh * sh + s0 * _sine_minus_argument(x)) / (omega * omega)
-    dx, dy, dz = along * field[26], along * field[27], along * field[28]
-    a_perp = field[24]
-    if a_perp > 0.0:
-        w = field[12]
-        rotor = complex(c0, s0)
-        z = 0.5 * a_perp * tau * tau * (rotor * divided_difference(-w * tau, x)
-                                         + rotor.conjugate() * divided_difference(-w * tau, -x))
-        dx += z.real * field[18] + z.imag * field[21]
-        dy += z.real * field[19] + z.imag * field[22]
-        dz += z.real * field[20] + z.imag * field[23]
-    return dx, dy, dz
-
-
-@kernel
-def _sine_range(theta1, theta2, s1, s2):
-    """The smallest and largest sin(theta) for theta in [theta1, theta2] (theta2 >= theta1; s1, s2 their sines)."""
-    low, high = min(s1, s2), max(s1, s2)
-    quarter = 0.5 * math.pi
-    # the first maximum (pi/2 + 2 pi n) and minimum (-pi/2 + 2 pi n) at or after theta1
-    peak = quarter + 2.0 * math.pi * math.ceil((theta1 - quarter) / (2.0 * math.pi))
-    trough = -quarter + 2.0 * math.pi * math.ceil((theta1 + quarter) / (2.0 * math.pi))
-    if peak <= theta2:
-        high = 1.0
-    if trough <= theta2:
-        low = -1.0
-    return low, high
-
-
-@inline_kernel
-def oscillating_window(vx, vy, vz, c1, s1, theta1, h, field, accel_mag):
-    """An upper bound of the speed over [t1, t1 + h] of a particle with velocity (vx, vy, vz) at time t1, and its
-    exact state at t1 + h: ``(bound, vx, vy, vz, cos theta2, sin theta2)``.
-
-    ``(c1, s1)`` are cos and sin of ``theta1 = omega t1``; the end state is
-    :func:`oscillating_flown_velocity` over h, so a flight's windows chain
-    from one to the next. Always ``|v| + integral |a| <= |v| + (|a_s| +
-    |a_c|) h`` (``accel_mag``; the magnetic force does no work). Without
-    static acceleration the smaller of that and the exact range along b,
-    where v . b + a_par (sin theta - sin theta1)/omega over theta = omega t
-    in the window (its ends, and an extremum of the sine inside), combined in
-    quadrature with a bound of the perpendicular speed: |w(t1)| + A h, or,
-    away from resonance, |w(t1) - P(t1)| + max |P| (the particular solution
-    P, of size at most (A/2)(1/(Omega+omega) + 1/|Omega-omega|), plus the
-    gyration about it). Padded by 1e-10 of the speeds (and 1e-12 of the
-    oscillation amplitude a_par/omega) against rounding.
-
-    Examples
-    --------
-    >>> import numpy as np
-    >>> from collisionkit._kernels.transport.flight import derived_field
-    >>> from collisionkit._kernels.transport.oscillating import oscillating_field, oscillating_window
-    >>> record = oscillating_field(derived_field(np.zeros(3), np.zeros(3)), np.array([0.0, 0.0, 2.0]), 1.0)
-    >>> [round(value, 6) for value in oscillating_window(0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 10.0, record, 2.0)]  # 2 sin(10)
-    [2.0, 0.0, 0.0, -1.088042, -0.839072, -0.544021]
-    """
-    ex, ey, ez, c2, s2 = oscillating_flown_velocity(vx, vy, vz, c1, s1, h, field)
-    speed = math.sqrt(vx * vx + vy * vy + vz * vz)
-    growth = (speed + accel_mag * h) * (1.0 + 1e-10)
-    if field[0] != 0.0 or field[1] != 0.0 or field[2] != 0.0:
-        return growth, ex, ey, ez, c2, s2
-    omega = field[13]
-    px, py, pz = field[26], field[27], field[28]
-    v_par = vx * px + vy * py + vz * pz
-    low, high = _sine_range(theta1, theta1 + omega * h, s1, s2)
-    a_par = field[17]
-    ends = max(abs(v_par), abs(ex * px + ey * py + ez * pz))
-    extremes = max(abs(v_par + a_par * (low - s1) / omega), abs(v_par + a_par * (high - s1) / omega))
-    parallel = max(ends, extremes) + abs(a_par) * 1e-12 / omega
-    wx, wy, wz = vx - v_par * px, vy - v_par * py, vz - v_par * pz
-    w_speed = math.sqrt(wx * wx + wy * wy + wz * wz)
-    a_perp = field[24]
-    perpendicular = w_speed + a_perp * h
-    w = field[12]
-    if a_perp > 0.0 and w != omega:
-        # the particular solution P(t) = (A/2) (e^{i omega t}/(i(w + omega)) + e^{-i omega t}/(i(w - omega)))
-        rotor = complex(c1, s1)
-        z = rotor / (w + omega) + rotor.conjugate() / (w - omega)
-        p = 0.5 * a_perp * complex(z.imag, -z.real)  # (A/2) z / i
-        zeta = complex(wx * field[18] + wy * field[19] + wz * field[20],
-                       wx * field[21] + wy * field[22] + wz * field[23])
-        p_max = 0.5 * a_perp * (1.0 / (w + omega) + 1.0 / abs(w - omega))
-        perpendicular = min(perpendicular, abs(zeta - p) + p_max)
-    bound = min(growth, math.sqrt(parallel * parallel + perpendicular * perpendicular) * (1.0 + 1e-10))
-    return bound, ex, ey, ez, c2, s2
+    sh, ch = sincos(0.5 * field[13] * tau)
+    gs, gc = sincos(0.5 * field[12] * tau)
+    return displacement_with_phases(c0, s0, tau, sh, ch, gs, gc, field)

@@ -1,0 +1,205 @@
+"""Exact free flight in a periodic electric field of any shape given as samples, without B.
+
+E(t) = E0 f(t / T) with f periodic of period 1 in the phase fraction u and
+piecewise linear between knots ``u_0 = 0 <= u_1 <= ... <= u_n = 1`` (two
+equal knots make a jump). With the acceleration ``a = q E0 / m`` and a
+static one ``g``, a flight of ``tau`` from t0 (phase u0) gives exactly
+
+* ``v = v0 + g tau + a T J1`` and ``x = x0 + v0 tau + g tau^2 / 2 + a T^2 J2``,
+* ``J1 = integral_{u0}^{u0 + s} f``, ``J2 = integral_{u0}^{u0 + s} (integral_{u0}^{u} f) du``, s = tau / T.
+
+Within one piece f = f_a + sigma (u - u_a), so J1 and J2 are the
+polynomials ``f(u0) s + sigma s^2 / 2`` and ``f(u0) s^2 / 2 + sigma s^3 / 6``
+(no cancellation: the common case of a flight short beside a piece). A
+flight that leaves its piece takes the rest from the antiderivatives at
+the knots, ``G1(U) = integral_0^U f = m M + g1(r)`` and ``G2(U) =
+integral_0^U G1 = M m(m - 1)/2 + m g2(1) + m M r + g2(r)`` (U = m + r, M =
+g1(1) the integral over a period, g1 and g2 tabulated at the knots and
+polynomial between them): their differences carry a rounding error of
+about 1e-16 of a period's integral, below 1e-16 (nu T) of the flight's own
+(nu the collision frequency).
+
+The record extends the oscillating one (:mod:`.oscillating`, with omega =
+0 there, so the cosine is off): the acceleration ``a`` (14:17); ``|a|
+max |f|`` (25); the unit vector of ``a`` (26:29); from :data:`WAVE_START`:
+T, the number n + 1 of knots, then the knots, f at them (the value on the
+right of a jump), the slopes of the pieces, g1 and g2 at the knots.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ..._jit import kernel
+
+WAVE_START = 34  # the oscillating record's size: the waveform's entries follow
+
+
+def waveform_record(static_field, amplitude, period, knots, values):
+    """The record (module docstring) of a static record, the acceleration amplitude ``a`` (m/s^2), the period T
+    (s) and f at the knots (``knots`` from 0 to 1, non-decreasing; ``values`` f there, right of a jump).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from collisionkit._kernels.transport.flight import derived_field
+    >>> from collisionkit._kernels.transport.waveform import waveform_record
+    >>> record = waveform_record(derived_field(np.zeros(3), np.zeros(3)), np.array([0.0, 0.0, 2.0]), 1.0,
+    ...                          np.array([0.0, 0.5, 0.5, 1.0]), np.array([1.0, 1.0, -1.0, -1.0]))  # a square wave
+    >>> float(record[25]), int(record[35]), float(record[36 + 3 * 4 + 3])  # |a| max|f|, knots, g1(1) = 0
+    (2.0, 4, 0.0)
+    """
+    knots = np.asarray(knots, dtype=float)
+    values = np.asarray(values, dtype=float)
+    n = knots.size
+    lengths = np.diff(knots)
+    slopes = np.zeros(n)
+    long = lengths > 0.0
+    slopes[:-1][long] = (values[1:][long] - values[:-1][long]) / lengths[long]
+    g1 = np.zeros(n)
+    g2 = np.zeros(n)
+    for k in range(n - 1):
+        length = lengths[k]
+        g1[k + 1] = g1[k] + values[k] * length + 0.5 * slopes[k] * length**2
+        g2[k + 1] = g2[k] + g1[k] * length + 0.5 * values[k] * length**2 + slopes[k] * length**3 / 6.0
+    record = np.zeros(WAVE_START + 2 + 5 * n)
+    record[:static_field.size] = static_field
+    size = float(np.linalg.norm(amplitude))
+    record[14:17] = amplitude
+    # f's largest size: at a knot (linear pieces; a jump's left value is the previous piece's end)
+    ends = values[:-1] + slopes[:-1] * lengths
+    record[25] = size * max(float(np.abs(values).max()), float(np.abs(ends).max()) if n > 1 else 0.0)
+    record[26:29] = np.asarray(amplitude) / size if size > 0.0 else np.array([0.0, 0.0, 1.0])
+    record[WAVE_START] = period
+    record[WAVE_START + 1] = n
+    start = WAVE_START + 2
+    for table in (knots, values, slopes, g1, g2):
+        record[start:start + n] = table
+        start += n
+    return record
+
+
+@kernel
+def _piece(u, field, n):
+    """The piece k holding phase u in [0, 1]: the last k <= n - 2 with knot k <= u (the right side of a jump)."""
+    first = WAVE_START + 2
+    low, high = 0, n - 2
+    while low < high:
+        middle = (low + high + 1) // 2
+        if field[first + middle] <= u:
+            low = middle
+        else:
+            high = middle - 1
+    return low
+
+
+@kernel
+def _antiderivatives(big_u, field, n):
+    """``(G1(U), G2(U))`` for U >= 0 (module docstring)."""
+    m = math.floor(big_u)
+    r = big_u - m
+    if r >= 1.0:  # rounding of a U just below a whole number
+        m, r = m + 1.0, 0.0
+    k = _piece(r, field, n)
+    knots, values, slopes, g1, g2 = (WAVE_START + 2, WAVE_START + 2 + n, WAVE_START + 2 + 2 * n,
+                                      WAVE_START + 2 + 3 * n, WAVE_START + 2 + 4 * n)
+    d = r - field[knots + k]
+    f_a, sigma = field[values + k], field[slopes + k]
+    local1 = field[g1 + k] + f_a * d + 0.5 * sigma * d * d
+    local2 = field[g2 + k] + field[g1 + k] * d + 0.5 * f_a * d * d + sigma * d * d * d / 6.0
+    period_integral = field[g1 + n - 1]
+    return (m * period_integral + local1,
+            period_integral * m * (m - 1.0) / 2.0 + m * field[g2 + n - 1] + m * period_integral * r + local2)
+
+
+@kernel
+def waveform_integrals(t0, tau, field):
+    """``(T J1, T^2 J2)`` of a flight of ``tau`` from time ``t0`` (module docstring): the velocity gained is
+    ``a T J1``, the displacement from rest ``a T^2 J2``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from collisionkit._kernels.transport.flight import derived_field
+    >>> from collisionkit._kernels.transport.waveform import waveform_integrals, waveform_record
+    >>> record = waveform_record(derived_field(np.zeros(3), np.zeros(3)), np.array([0.0, 0.0, 1.0]), 2.0,
+    ...                          np.array([0.0, 0.5, 0.5, 1.0]), np.array([1.0, 1.0, -1.0, -1.0]))
+    >>> [round(value, 12) for value in waveform_integrals(0.5, 1.0, record)]  # +1 for 0.5 s, then -1 for 0.5 s
+    [0.0, 0.25]
+    """
+    period = field[WAVE_START]
+    n = int(field[WAVE_START + 1])
+    phase = t0 / period
+    u0 = phase - math.floor(phase)
+    if u0 >= 1.0:
+        u0 = 0.0
+    s = tau / period
+    k = _piece(u0, field, n)
+    knots, values, slopes = WAVE_START + 2, WAVE_START + 2 + n, WAVE_START + 2 + 2 * n
+    f0 = field[values + k] + field[slopes + k] * (u0 - field[knots + k])
+    sigma = field[slopes + k]
+    end = field[knots + k + 1]
+    if u0 + s <= end:  # within the piece: the polynomials
+        return period * (f0 * s + 0.5 * sigma * s * s), period * period * s * s * (0.5 * f0 + sigma * s / 6.0)
+    length = end - u0
+    first1 = f0 * length + 0.5 * sigma * length * length
+    first2 = length * length * (0.5 * f0 + sigma * length / 6.0)
+    rest = u0 + s - end
+    a1, a2 = _antiderivatives(end, field, n)
+    b1, b2 = _antiderivatives(u0 + s, field, n)
+    j1 = first1 + (b1 - a1)
+    j2 = first2 + first1 * rest + (b2 - a2 - a1 * rest)
+    return period * j1, period * period * j2
+
+
+@kernel
+def waveform_velocity(vx, vy, vz, t0, tau, field):
+    """Velocity after an exact flight of ``tau`` from (vx, vy, vz) at time ``t0``, as a tuple: ``v0 + g tau +
+    a T J1`` (no B).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from collisionkit._kernels.transport.flight import derived_field
+    >>> from collisionkit._kernels.transport.waveform import waveform_record, waveform_velocity
+    >>> record = waveform_record(derived_field(np.zeros(3), np.zeros(3)), np.array([0.0, 0.0, 1.0]), 1.0,
+    ...                          np.array([0.0, 1.0]), np.array([-1.0, 1.0]))  # a sawtooth from -1 to 1
+    >>> [round(value, 12) for value in waveform_velocity(0.0, 0.0, 0.0, 0.0, 0.5, record)]  # integral of 2u - 1
+    [0.0, 0.0, -0.25]
+    """
+    j1, _ = waveform_integrals(t0, tau, field)
+    return (vx + field[0] * tau + field[14] * j1, vy + field[1] * tau + field[15] * j1,
+            vz + field[2] * tau + field[16] * j1)
+
+
+@kernel
+def waveform_window(vx, vy, vz, t0, start, h, field, accel_mag):
+    """An upper bound of the speed over the window [start, start + h] of a flight from (vx, vy, vz) at ``t0``.
+
+    From the exact velocity at the window's start: ``|v| + (|g| + |a| max|f|) h`` (``accel_mag``), and
+    without static acceleration (the speed across ``a`` is then fixed) the smaller
+    ``sqrt((|v . p| + |a| max|f| h)^2 + |v - (v . p) p|^2)``, p the direction of a. Padded by 1e-10.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from collisionkit._kernels.transport.flight import derived_field
+    >>> from collisionkit._kernels.transport.waveform import waveform_record, waveform_window
+    >>> record = waveform_record(derived_field(np.zeros(3), np.zeros(3)), np.array([0.0, 0.0, 1.0]), 1.0,
+    ...                          np.array([0.0, 1.0]), np.array([-1.0, 1.0]))
+    >>> round(waveform_window(3.0, 0.0, 0.0, 0.0, 0.0, 4.0, record, 1.0), 6)  # sqrt(4^2 + 3^2)
+    5.0
+    """
+    if start > 0.0:
+        vx, vy, vz = waveform_velocity(vx, vy, vz, t0, start, field)
+    speed = math.sqrt(vx * vx + vy * vy + vz * vz)
+    bound = speed + accel_mag * h
+    if field[0] == 0.0 and field[1] == 0.0 and field[2] == 0.0:
+        px, py, pz = field[26], field[27], field[28]
+        v_par = vx * px + vy * py + vz * pz
+        wx, wy, wz = vx - v_par * px, vy - v_par * py, vz - v_par * pz
+        along = abs(v_par) + field[25] * h
+        bound = min(bound, math.sqrt(along * along + wx * wx + wy * wy + wz * wz))
+    return bound * (1.0 + 1e-10)

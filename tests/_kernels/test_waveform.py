@@ -1,0 +1,74 @@
+"""Exact flight in a periodic field of any shape given as samples (piecewise linear), without B.
+
+Independent check: the integrals J1 = integral of f and J2 = its double integral by adaptive quadrature
+(scipy quad, split at the knots and jumps), over flights inside one piece, across pieces and over many periods.
+"""
+
+import math
+
+import numpy as np
+import pytest
+from scipy.integrate import quad
+
+from collisionkit._kernels.transport.flight import derived_field
+from collisionkit._kernels.transport.waveform import waveform_integrals, waveform_velocity, waveform_window
+from collisionkit.transport._waveform import waveform_knots, shaped_record
+
+SHAPES = {
+    "square": [(0.0, 1.0), (0.5, 1.0), (0.5, -1.0), (1.0, -1.0)],
+    "sawtooth": [(0.0, -1.0), (1.0, 1.0)],
+    "irregular": [(0.1, 0.3), (0.2, -2.0), (0.2, 1.5), (0.65, 0.4), (0.9, 2.5)],
+}
+
+
+def _f(samples):
+    """f(u) for any real u, by numpy interpolation of the periodic extension (the value right of a jump)."""
+    knots, values = waveform_knots(samples)
+
+    def f(u):
+        r = u - math.floor(u)
+        k = min(int(np.searchsorted(knots, r, side="right")) - 1, len(knots) - 2)
+        return values[k] + (values[k + 1] - values[k]) * (r - knots[k]) / (knots[k + 1] - knots[k]) \
+            if knots[k + 1] > knots[k] else values[k]
+    return f, knots
+
+
+def _quadrature(samples, period, t0, tau):
+    f, knots = _f(samples)
+    u0, u1 = t0 / period, (t0 + tau) / period
+    points = [k + n for n in range(math.floor(u0) - 1, math.ceil(u1) + 1) for k in knots if u0 < k + n < u1]
+    edges = [u0, *sorted(points), u1]
+    j1 = lambda u: sum(quad(f, a, min(b, u), epsabs=1e-14, epsrel=1e-12, limit=200)[0]
+                       for a, b in zip(edges, edges[1:]) if a < u)
+    j2 = sum(quad(j1, a, b, epsabs=1e-15, epsrel=1e-12, limit=200)[0] for a, b in zip(edges, edges[1:]))
+    return period * j1(u1), period * period * j2
+
+
+@pytest.mark.parametrize("shape", SHAPES)
+def test_the_integrals_are_those_of_the_piecewise_linear_field(shape):
+    rng = np.random.default_rng(list(SHAPES).index(shape))
+    period = 0.7
+    record = shaped_record(derived_field(np.zeros(3), np.zeros(3)), np.array([0.0, 0.0, 1.0]), period, SHAPES[shape])
+    for tau in (1e-4, 0.03, 0.2, 0.7, 2.3):
+        for t0 in rng.uniform(0.0, 30.0, 3):
+            exact = _quadrature(SHAPES[shape], period, t0, tau)
+            value = waveform_integrals(t0, tau, record)
+            assert value[0] == pytest.approx(exact[0], rel=1e-9, abs=1e-12 * tau)
+            assert value[1] == pytest.approx(exact[1], rel=1e-8, abs=1e-12 * tau * tau)
+
+
+def test_the_velocity_and_window_bound_with_gravity_and_across_the_field():
+    """v = v0 + g tau + a T J1; the window bound covers the exact speed on a fine grid (with and without g)."""
+    rng = np.random.default_rng(9)
+    for gravity in (np.zeros(3), np.array([0.3, -0.2, 0.5])):
+        record = shaped_record(derived_field(gravity, np.zeros(3)), np.array([0.0, 0.0, 2.0]), 0.5,
+                               SHAPES["irregular"])
+        accel = np.linalg.norm(gravity) + record[25]
+        for _ in range(20):
+            v0, t0, start, h = rng.normal(size=3), rng.uniform(0, 5), rng.uniform(0, 1), rng.uniform(0.01, 1)
+            bound = waveform_window(*v0, t0, start, h, record, accel)
+            speeds = [np.linalg.norm(waveform_velocity(*v0, t0, start + u, record)) for u in np.linspace(0, h, 401)]
+            assert bound >= max(speeds) * (1 - 1e-12)
+            j1 = _quadrature(SHAPES["irregular"], 0.5, t0, start)[0]
+            np.testing.assert_allclose(waveform_velocity(*v0, t0, start, record),
+                                       v0 + gravity * start + np.array([0.0, 0.0, 2.0]) * j1, atol=1e-9)
