@@ -22,7 +22,9 @@ once and the fastest is kept; then the fastest variant and collisionkit
 alternate in ``--pairs`` pairs, and the table reports the median ratio of
 the rates (collisions per CPU second) with its range, since this machine is
 shared and noisy. CPU time is the child's own (``os.wait4``), as is its
-peak memory.
+peak memory; but Linux keeps a process's peak resident size across exec, so
+every child's peak includes this script's at the fork (about 160 MB here):
+peaks near that are floors, not the program's own.
 
 With ``--dynamo DIR`` (the folder holding ``dynamod`` and ``dynarun`` of a
 build of DynamO, https://github.com/dynamomd/DynamO: Bannerman, Sargant &
@@ -222,7 +224,7 @@ def table(rows: list[dict], pairs: int, load_before: float, load_after: float) -
         "# EDMD speed against Smallenburg's C code (one core, CPU time)",
         "",
         f"Machine: {bench_edmd.machine()}; load average {load_before:.2f} before, {load_after:.2f} after "
-        "(2 cores shared with other jobs). C code built with gcc "
+        "(2 cores shared with other jobs). Peak memory includes this script's at the fork (~160 MB). C code built with gcc "
         f"{' '.join(FLAGS)}; at each point every variant ran once and the fastest was kept; then {pairs} "
         "alternating pairs over the same simulated-time window [L, 2 L] from an FCC start.",
         "",
