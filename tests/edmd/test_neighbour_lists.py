@@ -114,3 +114,13 @@ def test_cells_are_sized_by_the_grid_they_hold_not_by_every_grid_before(eta):
     energy = system.kinetic_energy()
     assert system.run(collisions=4 * system.count) == 4 * system.count  # the capped grid runs as before
     assert system.kinetic_energy() == pytest.approx(energy, rel=1e-12)
+
+
+def test_dense_spheres_get_the_dense_shell_by_default():
+    """The default shell is DENSE_SHELL from a packing fraction of DENSE_PACKING in 3D, DEFAULT_SHELL below and in 2D."""
+    assert fcc_system(cells=3, eta=0.45).neighbour_shell_width == pytest.approx(edmd.DENSE_SHELL, rel=1e-12)
+    assert fcc_system(cells=3, eta=edmd.DENSE_PACKING * 0.99).neighbour_shell_width == pytest.approx(
+        edmd.DEFAULT_SHELL, rel=1e-12)
+    positions, box = edmd.lattice("hexagonal", 12, 0.6)
+    discs = edmd.HardSphereSystem(positions, edmd.maxwell_boltzmann(np.ones(len(positions)), 2, seed=1), 0.5, box)
+    assert discs.neighbour_shell_width == pytest.approx(edmd.DEFAULT_SHELL, rel=1e-12)

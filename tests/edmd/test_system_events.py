@@ -219,3 +219,23 @@ def test_the_stall_messages_name_their_causes():
     assert _system_events.stall_message(system, kernels.LIST_TARGET).startswith("the event loop stalled")
     assert "locked in contact" in _system_events.stall_message(system, 1)
     assert _system_events.mean_free_time(parallel_discs()) == pytest.approx(1 / (2 * math.sqrt(2) * 0.02), rel=1e-12)
+
+
+def test_a_fixed_seed_trajectory_keeps_momentum_and_energy_to_round_off():
+    """500 spheres at eta = 0.45 (the dense shell; 5 cells an axis, so rebuilds take each cell's image once).
+
+    A collision changes two velocities by opposite impulses, each rounded to
+    half a unit in the last place: the total momentum takes a random walk
+    of at most eps max|v| a step and axis, so after n collisions it stays
+    within 4 sqrt(n) eps max|v|; the energy within the floor of the test
+    above.
+    """
+    system = _compiled(fcc_system(cells=5, eta=0.45, seed=7))
+    assert system.ncell.min() >= 3 and system.neighbour_shell_width == pytest.approx(edmd.DENSE_SHELL)
+    start = system.velocities()
+    system.run(collisions=100_000)
+    velocities = system.velocities()
+    bound = 4.0 * math.sqrt(system.collisions) * np.finfo(float).eps * np.abs(velocities).max()
+    assert np.all(np.abs(velocities.sum(axis=0) - start.sum(axis=0)) < bound)
+    assert abs((velocities**2).sum() / (start**2).sum() - 1.0) < 2e-14
+    system.check()

@@ -35,7 +35,9 @@ from ._transport import TransportMeasurement, TransportSampler
 from .measurement import RECORDS, Measurement, Sampler, measure
 from .run import EdmdParameters, EdmdRun
 from ._shear import THERMOSTAT_INTERVAL
-from .system import DEFAULT_SHELL, RESTITUTION_LAWS, SHEAR_SHELL, SORT_INTERVAL, HardSphereSystem, OverlapError
+from .system import (
+    DEFAULT_SHELL, DENSE_PACKING, DENSE_SHELL, RESTITUTION_LAWS, SHEAR_SHELL, SORT_INTERVAL, HardSphereSystem, OverlapError,
+)
 from .theory import (
     MAX_PACKING_FRACTION,
     YEH_HUMMER_XI,
@@ -54,6 +56,8 @@ __all__ = [
     "EdmdParameters",
     "EdmdRun",
     "DEFAULT_SHELL",
+    "DENSE_PACKING",
+    "DENSE_SHELL",
     "EinsteinFit",
     "FIT_END",
     "FIT_NOISE",

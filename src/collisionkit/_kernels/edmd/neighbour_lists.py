@@ -33,37 +33,47 @@ def gather_neighbours(p, i, b, cell_of, neighbours, neighbour_count, cell_member
     yl, yh = cell_offsets(ncell[1], geom[G_PERIODIC, 1] != 0.0)
     xl, xh = cell_offsets(ncell[0], geom[G_PERIODIC, 0] != 0.0)
     lx, ly, lz = geom[G_BOX, 0], geom[G_BOX, 1], geom[G_BOX, 2]
+    # with 3 cells or more along every periodic axis each neighbouring cell is seen through one image, so its
+    # periodic shift is taken once per cell; with fewer a cell is its own neighbour on both sides: minimum images
+    per_cell = True
+    for k in range(dim):
+        per_cell = per_cell and (ncell[k] >= 3 or geom[G_PERIODIC, k] == 0.0)
     hx, hy, hz = half_box(geom, 0), half_box(geom, 1), half_box(geom, 2)
+    if per_cell:
+        hx, hy, hz = math.inf, math.inf, math.inf
     ax, ay, az = b[i, ANCHOR], b[i, ANCHOR + 1], b[i, ANCHOR + 2]
     # anchors are stored in float32 in the cells: widen the test by their round-off
     slack = ANCHOR_ROUNDING * (max(lx, ly, lz) + 1.0)
     reach_i = p[i, R] * params[P_LIST_SCALE] + params[P_SHELL] + slack
     list_scale = params[P_LIST_SCALE]
+    last = width - 1
     for oz in range(zl, zh + 1):
-        nz, _ = neighbour_coordinate(cz, oz, ncell[2], geom[G_PERIODIC, 2] != 0.0, 0.0)
+        nz, sz = neighbour_coordinate(cz, oz, ncell[2], geom[G_PERIODIC, 2] != 0.0, lz)
         if nz < 0:
             continue
         for oy in range(yl, yh + 1):
-            ny, _ = neighbour_coordinate(cy, oy, ncell[1], geom[G_PERIODIC, 1] != 0.0, 0.0)
+            ny, sy = neighbour_coordinate(cy, oy, ncell[1], geom[G_PERIODIC, 1] != 0.0, ly)
             if ny < 0:
                 continue
             for ox in range(xl, xh + 1):
-                nx, _ = neighbour_coordinate(cx, ox, ncell[0], geom[G_PERIODIC, 0] != 0.0, 0.0)
+                nx, sx = neighbour_coordinate(cx, ox, ncell[0], geom[G_PERIODIC, 0] != 0.0, lx)
                 if nx < 0:
                     continue
                 cell = cell_index(nx, ny, nz, ncell)
+                # the anchors seen from i's: the periodic image of the cell (the shift is 0 or a box length)
+                shift_x, shift_y, shift_z = ax - sx, ay - sy, az - sz
+                if not per_cell:
+                    shift_x, shift_y, shift_z = ax, ay, az
                 for slot in range(cell_count[cell]):
-                    dx = minimum_image(cell_points[cell, slot, 0] - ax, lx, hx)
-                    dy = minimum_image(cell_points[cell, slot, 1] - ay, ly, hy)
-                    dz = minimum_image(cell_points[cell, slot, 2] - az, lz, hz)
+                    dx = minimum_image(cell_points[cell, slot, 0] - shift_x, lx, hx)
+                    dy = minimum_image(cell_points[cell, slot, 1] - shift_y, ly, hy)
+                    dz = minimum_image(cell_points[cell, slot, 2] - shift_z, lz, hz)
                     reach = reach_i + cell_points[cell, slot, 3] * list_scale
-                    if dx * dx + dy * dy + dz * dz <= reach * reach:
-                        j = cell_members[cell, slot]
-                        if j == i:
-                            continue
-                        if count < width:
-                            neighbours[i, count] = j
-                        count += 1
+                    j = cell_members[cell, slot]
+                    # written at the end of the list whether kept or not (no branch to mispredict); a list that
+                    # outgrows its row is rebuilt anyway, so the last slot may take the excess
+                    neighbours[i, min(count, last)] = j
+                    count += (dx * dx + dy * dy + dz * dz <= reach * reach) & (j != i)
     neighbour_count[i] = min(count, width)
     return count
 
