@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from collisionkit import edmd
 from collisionkit._io import CheckpointError, read_checkpoint
 from collisionkit.edmd import EdmdParameters, EdmdRun, HardSphereSystem, TransportSampler
 
@@ -230,6 +231,17 @@ def test_a_transport_run_reports_the_coefficients_with_errors_and_enskogs_values
     low, high = summary["transport_fit_window_free_times"]
     assert low < high and np.shape(summary["pressure_tensor"]) == (3, 3)
     assert EdmdParameters(particles=100, transport=True).resolved(seed=1).collisions == 200_000  # 2000 a particle
+
+
+def test_a_disc_transport_run_reports_enskogs_values_for_discs():
+    """2D: the summary's Enskog values are the hard-disc ones (Gass 1971) at the run's packing fraction."""
+    run = EdmdRun(EdmdParameters(**(TRANSPORT | {"dim": 2, "particles": 100, "initial": "random"}))).run()
+    summary = run.summary()
+    enskog = edmd.enskog_transport(summary["packing_fraction"], kT=summary["temperature"], dim=2)
+    for key in ("shear_viscosity", "bulk_viscosity", "thermal_conductivity", "self_diffusion"):
+        assert summary[key + "_enskog"] == pytest.approx(enskog[key], rel=1e-12), key
+    assert summary["shear_viscosity_enskog"] != edmd.enskog_transport(summary["packing_fraction"],
+                                                                      kT=summary["temperature"])["shear_viscosity"]
 
 
 def test_a_study_can_set_transport_as_it_sets_any_parameter():

@@ -117,3 +117,79 @@ def test_granular_shear_flow_limits_and_balances():
         assert 0.2 * flow["viscosity"] * 0.2 == pytest.approx(zeta * n * T * dim / 2, rel=1e-12)
         # the temperature scales as the square of the shear rate at fixed alpha and density
         assert granular_shear_flow(0.7, 0.4, 0.02, dim)["temperature"] == pytest.approx(4 * T, rel=1e-12)
+
+
+def _enskog_coefficients(dim, eta):
+    """The y^2 chi coefficients of eta_E / eta_0, lambda_E / lambda_0 and zeta_E / eta_0, y = b n, after
+    subtracting 1/chi and the linear terms (0.8 y, 1.2 y for spheres; y, 1.5 y for discs)."""
+    enskog = edmd.enskog_transport(eta, dim=dim)
+    chi, y = enskog["contact_value"], (4.0 if dim == 3 else 2.0) * eta
+    density = eta / (math.pi ** (dim / 2) / math.gamma(dim / 2 + 1) / 2**dim)
+    dilute = edmd.chapman_enskog_transport(density, dim=dim)
+    linear = {3: (0.8, 1.2), 2: (1.0, 1.5)}[dim]
+    viscosity = (enskog["shear_viscosity"] / dilute["shear_viscosity"] - 1 / chi - linear[0] * y) / (y * y * chi)
+    conductivity = (enskog["thermal_conductivity"] / dilute["thermal_conductivity"] - 1 / chi - linear[1] * y) / (
+        y * y * chi)
+    return viscosity, conductivity, enskog["bulk_viscosity"] / dilute["shear_viscosity"] / (y * y * chi)
+
+
+@pytest.mark.parametrize("eta", [0.05, 0.2, 0.4])
+def test_enskog_transport_of_spheres_has_chapman_and_cowlings_coefficients(eta):
+    """Chapman & Cowling sec. 16.5: 0.761 and 0.757 (their rounding) and 1.002 for the bulk viscosity."""
+    viscosity, conductivity, bulk = _enskog_coefficients(3, eta)
+    assert viscosity == pytest.approx(0.761, abs=6e-4)
+    assert conductivity == pytest.approx(0.757, abs=6e-4)
+    assert bulk == pytest.approx(1.002, abs=6e-4)
+
+
+@pytest.mark.parametrize("eta", [0.05, 0.3, 0.6])
+def test_enskog_transport_of_discs_has_gass_coefficients(eta):
+    """Gass, J. Chem. Phys. 54, 1898 (1971): 1/chi + y + 0.8729 y^2 chi and 1/chi + 1.5 y + 0.8718 y^2 chi."""
+    viscosity, conductivity, _ = _enskog_coefficients(2, eta)
+    assert viscosity == pytest.approx(0.8729, abs=6e-5)
+    assert conductivity == pytest.approx(0.8718, abs=6e-5)
+
+
+def test_enskogs_bulk_viscosity_is_its_closed_form():
+    """zeta_E = (4/9) n^2 sigma^4 chi sqrt(pi m kT) for spheres (Chapman & Cowling sec. 16.41), exact (no
+    Sonine order); in d dimensions the collisional integral gives, for discs,
+    zeta_E = (1/2) sqrt(pi) n^2 sigma^3 chi sqrt(m kT)."""
+    for dim, eta, diameter, mass, kT in ((3, 0.3, 1.3, 2.0, 0.7), (2, 0.4, 0.8, 0.5, 3.0)):
+        enskog = edmd.enskog_transport(eta, diameter=diameter, mass=mass, kT=kT, dim=dim)
+        ball = math.pi ** (dim / 2) / math.gamma(dim / 2 + 1) * (diameter / 2) ** dim
+        n, chi = eta / ball, enskog["contact_value"]
+        prefactor = 4 / 9 * math.sqrt(math.pi) * diameter**4 if dim == 3 else 0.5 * math.sqrt(math.pi) * diameter**3
+        assert enskog["bulk_viscosity"] == pytest.approx(prefactor * n * n * chi * math.sqrt(mass * kT), rel=1e-12)
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+def test_enskog_transport_tends_to_the_dilute_gas_and_scales_with_the_units(dim):
+    """eta -> 0: chi -> 1 and the collisional transfer vanishes; viscosity ~ sqrt(m kT) / sigma^(d-1),
+    conductivity ~ sqrt(kT / m) / sigma^(d-1), D ~ sqrt(kT / m) sigma (at fixed packing fraction)."""
+    eta = 1e-9
+    density = eta / (math.pi ** (dim / 2) / math.gamma(dim / 2 + 1) / 2**dim)
+    enskog, dilute = edmd.enskog_transport(eta, dim=dim), edmd.chapman_enskog_transport(density, dim=dim)
+    for key in ("shear_viscosity", "thermal_conductivity", "self_diffusion"):
+        assert enskog[key] == pytest.approx(dilute[key], rel=1e-7), key
+    scaled = edmd.enskog_transport(0.3, diameter=2.0, mass=3.0, kT=5.0, dim=dim)
+    unit = edmd.enskog_transport(0.3, dim=dim)
+    assert scaled["shear_viscosity"] == pytest.approx(unit["shear_viscosity"] * math.sqrt(15) / 2 ** (dim - 1))
+    assert scaled["thermal_conductivity"] == pytest.approx(
+        unit["thermal_conductivity"] * math.sqrt(5 / 3) / 2 ** (dim - 1))
+    assert scaled["self_diffusion"] == pytest.approx(unit["self_diffusion"] * math.sqrt(5 / 3) * 2)
+
+
+def test_chapman_enskog_for_discs_is_gass_first_sonine_times_his_factors():
+    """eta_0 = 1.022 / (2 sigma) sqrt(m kT / pi), lambda_0 = 1.029 (2 / sigma) sqrt(kT / (pi m)),
+    D_0 = 1 / (2 n sigma) sqrt(kT / (pi m))."""
+    dilute = edmd.chapman_enskog_transport(0.2, diameter=1.5, mass=2.0, kT=3.0, dim=2)
+    assert dilute["shear_viscosity"] == pytest.approx(1.022 / 3.0 * math.sqrt(6.0 / math.pi), rel=1e-12)
+    assert dilute["thermal_conductivity"] == pytest.approx(1.029 * 2 / 1.5 * math.sqrt(1.5 / math.pi), rel=1e-12)
+    assert dilute["self_diffusion"] == pytest.approx(1 / (0.6) * math.sqrt(1.5 / math.pi), rel=1e-12)
+
+
+@pytest.mark.parametrize(("arguments", "name"), [({"eta": 0.6, "dim": 3}, "eta"), ({"eta": 0.8, "dim": 2}, "eta"),
+                                                 ({"eta": 0.3, "dim": 4}, "dim"), ({"eta": 0.3, "kT": 0.0}, "kT")])
+def test_enskog_transport_checks_its_arguments(arguments, name):
+    with pytest.raises(ValueError, match=name):
+        edmd.enskog_transport(**arguments)

@@ -65,9 +65,8 @@ def edmd_summary(run, measurement, files: Sequence = ()) -> dict[str, Any]:
         result |= _transport_summary(run, measurement)
     if p.shear_rate != 0.0:
         result["thermostat"] = p.thermostat
-        if p.dim == 3:  # the zero-rate limit of the sheared fluid's viscosity, at the measured temperature
-            enskog = enskog_transport(measurement.packing_fraction, kT=measurement.temperature)
-            result["shear_viscosity_enskog"] = enskog["shear_viscosity"]
+        # the zero-rate limit of the sheared fluid's viscosity, at the measured temperature
+        result["shear_viscosity_enskog"] = _enskog(run, measurement)["shear_viscosity"]
     if run.trajectory is not None:
         result["trajectory_frames"] = run.frames
     result["files"] = [str(path) for path in files]
@@ -75,13 +74,18 @@ def edmd_summary(run, measurement, files: Sequence = ()) -> dict[str, Any]:
     return result
 
 
+def _enskog(run, measurement) -> dict[str, float]:
+    """Enskog's coefficients of equal spheres or discs (unit diameter and mass) at the run's packing fraction
+    and measured temperature."""
+    return enskog_transport(measurement.packing_fraction, kT=measurement.temperature, dim=run.parameters.dim)
+
+
 def _transport_summary(run, measurement) -> dict[str, Any]:
-    """Enskog's transport coefficients (spheres) and, asked for, D corrected to the infinite system (Yeh-Hummer)."""
-    p, transport, result = run.parameters, measurement.transport, {}
-    if p.dim == 3:
-        enskog = enskog_transport(measurement.packing_fraction, kT=measurement.temperature)
-        result |= {f"{key}_enskog": enskog[key] for key in
-                   ("shear_viscosity", "bulk_viscosity", "thermal_conductivity", "self_diffusion")}
+    """Enskog's transport coefficients and, asked for, D corrected to the infinite system (Yeh-Hummer)."""
+    p, transport = run.parameters, measurement.transport
+    enskog = _enskog(run, measurement)
+    result = {f"{key}_enskog": enskog[key] for key in
+              ("shear_viscosity", "bulk_viscosity", "thermal_conductivity", "self_diffusion")}
     eta, eta_error = transport.shear_viscosity, transport.shear_viscosity_error
     if p.yeh_hummer:
         correction = error = math.nan  # a viscosity measured <= 0 (noise) gives no correction

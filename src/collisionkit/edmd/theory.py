@@ -189,30 +189,53 @@ def packing_fraction(radii, box):
     return float(np.sum(_ball_volume(radii, box.size)) / np.prod(box))
 
 
-# Chapman-Enskog for hard spheres: the first Sonine approximation times the factor of the higher orders
-# (Chapman & Cowling, The Mathematical Theory of Non-uniform Gases, 3rd ed., sec. 10.21 and 16.5)
-_SONINE_VISCOSITY = 1.016
-_SONINE_CONDUCTIVITY = 1.025
+# The dilute gas's first Sonine approximations times the factors of the higher orders (viscosity,
+# conductivity): spheres, Chapman & Cowling, The Mathematical Theory of Non-uniform Gases, 3rd ed., sec.
+# 10.21 and 16.5; discs, Gass, J. Chem. Phys. 54, 1898 (1971).
+_SONINE_FACTORS = {3: (1.016, 1.025), 2: (1.022, 1.029)}
+
+#: Largest packing fraction Enskog's formulas are evaluated at, per dimension (beyond freezing, as users
+#: compare glassy or metastable fluids with them; the contact values diverge at 1).
+_ENSKOG_PACKING_LIMIT = {2: 0.8, 3: 0.6}
 
 
-def chapman_enskog_transport(density, diameter=1.0, mass=1.0, kT=1.0):
-    r"""Transport coefficients of the dilute hard-sphere gas (Chapman-Enskog), as a dict.
+def _first_sonine(dim, diameter, mass, kT):
+    r"""Dilute shear viscosity, thermal conductivity and n D of d-dimensional hard spheres, first Sonine order.
 
-    Shear viscosity :math:`\eta_0 = 1.016\,\frac{5}{16\sigma^2}\sqrt{mkT/\pi}`,
+    :math:`\eta_0 = \frac{d+2}{8}\frac{\Gamma(d/2)}{\pi^{(d-1)/2}}\frac{\sqrt{mkT}}{\sigma^{d-1}}`,
+    :math:`\lambda_0 = \frac{d(d+2)}{2(d-1)}\frac{\eta_0}{m}` (k = 1),
+    :math:`nD_0 = \frac{d\,\Gamma(d/2)}{4\pi^{(d-1)/2}}\frac{1}{\sigma^{d-1}}\sqrt{kT/m}` (Garzó & Dufty,
+    Phys. Rev. E 59, 5895 (1999) at e = 1; 5/16, 75/64 and 3/8 over sqrt(pi) for spheres).
+    """
+    geometric = math.gamma(dim / 2) / (math.pi ** ((dim - 1) / 2) * diameter ** (dim - 1))
+    viscosity = (dim + 2) / 8 * geometric * math.sqrt(mass * kT)
+    conductivity = dim * (dim + 2) / (2 * (dim - 1)) * viscosity / mass
+    return viscosity, conductivity, dim / 4 * geometric * math.sqrt(kT / mass)
+
+
+def chapman_enskog_transport(density, diameter=1.0, mass=1.0, kT=1.0, dim=3):
+    r"""Transport coefficients of the dilute gas of hard spheres or discs (Chapman-Enskog), as a dict.
+
+    Spheres: shear viscosity :math:`\eta_0 = 1.016\,\frac{5}{16\sigma^2}\sqrt{mkT/\pi}`,
     thermal conductivity :math:`\lambda_0 = 1.025\,\frac{75}{64\sigma^2}\sqrt{kT/(\pi m)}`
     (k = 1), self-diffusion :math:`D_0 = \frac{3}{8 n\sigma^2}\sqrt{kT/(\pi m)}`:
     the first Sonine approximations, the first two times the factors of
     the higher orders (Chapman & Cowling, The Mathematical Theory of
     Non-uniform Gases, 3rd ed., sec. 10.21 and 16.5); D0 in the first
     approximation, as Alder, Gass & Wainwright (J. Chem. Phys. 53, 3813
-    (1970)) normalise it. The bulk viscosity of the dilute gas is 0.
+    (1970)) normalise it. Discs: :math:`\eta_0 = 1.022\,\frac{1}{2\sigma}\sqrt{mkT/\pi}`,
+    :math:`\lambda_0 = 1.029\,\frac{2}{\sigma}\sqrt{kT/(\pi m)}`,
+    :math:`D_0 = \frac{1}{2n\sigma}\sqrt{kT/(\pi m)}` (Gass, J. Chem. Phys.
+    54, 1898 (1971)). The bulk viscosity of the dilute gas is 0.
 
     Parameters
     ----------
     density : float
-        Number density n, finite and > 0.
+        Number density n (per volume, or per area for discs), finite and > 0.
     diameter, mass, kT : float, optional
         Finite and > 0.
+    dim : {3, 2}, optional
+        Spheres (3) or discs (2).
 
     Returns
     -------
@@ -224,44 +247,62 @@ def chapman_enskog_transport(density, diameter=1.0, mass=1.0, kT=1.0):
     >>> from collisionkit.edmd import chapman_enskog_transport
     >>> {key: round(value, 5) for key, value in chapman_enskog_transport(0.1).items()}
     {'shear_viscosity': 0.17913, 'bulk_viscosity': 0.0, 'thermal_conductivity': 0.67769, 'self_diffusion': 2.11571}
+    >>> round(chapman_enskog_transport(0.1, dim=2)["shear_viscosity"], 5)  # 1.022 / (2 sqrt(pi))
+    0.2883
     """
     density = _checks.positive(density, "density")
     diameter, mass, kT = (_checks.positive(value, name) for value, name in
                           ((diameter, "diameter"), (mass, "mass"), (kT, "kT")))
-    thermal_speed = np.sqrt(kT / (np.pi * mass))
+    dim = _checks.dimension(dim)
+    viscosity, conductivity, density_diffusion = _first_sonine(dim, diameter, mass, kT)
+    viscosity_factor, conductivity_factor = _SONINE_FACTORS[dim]
     return {
-        "shear_viscosity": float(_SONINE_VISCOSITY * 5.0 / (16.0 * diameter**2) * mass * thermal_speed),
+        "shear_viscosity": viscosity_factor * viscosity,
         "bulk_viscosity": 0.0,
-        "thermal_conductivity": float(_SONINE_CONDUCTIVITY * 75.0 / (64.0 * diameter**2) * thermal_speed),
-        "self_diffusion": float(3.0 / (8.0 * density * diameter**2) * thermal_speed),
+        "thermal_conductivity": conductivity_factor * conductivity,
+        "self_diffusion": density_diffusion / density,
     }
 
 
-def enskog_transport(eta, diameter=1.0, mass=1.0, kT=1.0):
-    r"""Transport coefficients of hard spheres in Enskog's dense-gas theory, as a dict.
+def enskog_transport(eta, diameter=1.0, mass=1.0, kT=1.0, dim=3):
+    r"""Transport coefficients of hard spheres or discs in Enskog's dense-gas theory, as a dict.
 
-    With :math:`y = b n = \tfrac{2\pi}{3} n\sigma^3 = 4\eta` and the
-    contact value g of Carnahan-Starling, :math:`g = (1 - \eta/2)/(1 - \eta)^3`
-    (Chapman & Cowling, 3rd ed., sec. 16.5 and 16.51)::
+    Enskog's solution in d dimensions (Garzó & Dufty, Phys. Rev. E 59,
+    5895 (1999), at restitution 1), with the contact value :math:`\chi`,
+    the first-Sonine dilute values :math:`\eta_0^{(1)}, \lambda_0^{(1)}`
+    and the higher-order factors :math:`s_\eta, s_\lambda` applied to the
+    kinetic parts (as Chapman & Cowling do)::
 
-        eta_E    = eta_0    (1/g + 0.8 y + 0.761 y^2 g)
-        zeta_E   = 1.002 eta_0 y^2 g
-        lambda_E = lambda_0 (1/g + 1.2 y + 0.755 y^2 g)
-        D_E      = D_0 / g
+        eta_E    = s_eta eta0 / chi (1 + 2^d/(d+2) eta chi)^2 + d/(d+2) zeta_E
+        zeta_E   = 2^(2d+2)/(pi (d+2)) eta^2 chi eta0                (exact)
+        lambda_E = s_lambda lambda0 / chi (1 + 3 2^(d-1)/(d+2) eta chi)^2
+                   + 2^(2d+2) (d-1)/(pi (d+2)^2) eta^2 chi lambda0
+        D_E      = D0 / chi
 
-    (:func:`chapman_enskog_transport` gives the dilute values). Enskog's
-    theory neglects correlated collisions: molecular dynamics finds D up to
-    about 1.3 D_E and the viscosity within a few per cent of eta_E up to
-    n sigma^3 = 0.5, then above it (Alder, Gass & Wainwright, J. Chem. Phys.
-    53, 3813 (1970); Sigurgeirsson & Heyes, Mol. Phys. 101, 469 (2003);
-    Pieprzyk et al., Phys. Chem. Chem. Phys. 21, 6886 (2019)).
+    With :math:`y = bn` (4 eta for spheres, 2 eta for discs) these are
+    Chapman & Cowling's :math:`\eta_E/\eta_0 = 1/\chi + 0.8y + 0.761y^2\chi`,
+    :math:`\zeta_E = 1.002\eta_0 y^2\chi`, :math:`\lambda_E/\lambda_0 = 1/\chi
+    + 1.2y + 0.757y^2\chi` (sec. 16.5) and Gass's hard-disc
+    :math:`\eta_E/\eta_0 = 1/\chi + y + 0.8729y^2\chi`, :math:`\lambda_E/\lambda_0
+    = 1/\chi + 1.5y + 0.8718y^2\chi` (J. Chem. Phys. 54, 1898 (1971)). The
+    contact values are Carnahan-Starling's :math:`\chi = (1 - \eta/2)/(1 -
+    \eta)^3` and Henderson's :math:`\chi = (1 - 7\eta/16)/(1 - \eta)^2`.
+    Enskog's theory neglects correlated collisions: molecular dynamics of
+    spheres finds D up to about 1.3 D_E and the viscosity within a few per
+    cent of eta_E up to n sigma^3 = 0.5, then above it (Alder, Gass &
+    Wainwright, J. Chem. Phys. 53, 3813 (1970); Sigurgeirsson & Heyes, Mol.
+    Phys. 101, 469 (2003); Pieprzyk et al., Phys. Chem. Chem. Phys. 21, 6886
+    (2019)); in two dimensions the long-time tails make the coefficients grow
+    slowly with the observation time and the system size.
 
     Parameters
     ----------
     eta : float
-        Packing fraction of the spheres, in (0, 0.6).
+        Packing fraction, in (0, 0.6) for spheres and (0, 0.8) for discs.
     diameter, mass, kT : float, optional
         Finite and > 0.
+    dim : {3, 2}, optional
+        Spheres (3) or discs (2).
 
     Returns
     -------
@@ -275,21 +316,29 @@ def enskog_transport(eta, diameter=1.0, mass=1.0, kT=1.0):
     >>> from collisionkit.edmd import enskog_transport
     >>> enskog = enskog_transport(math.pi / 12)  # n sigma^3 = 0.5
     >>> {key: round(value, 4) for key, value in enskog.items()}  # doctest: +NORMALIZE_WHITESPACE
-    {'shear_viscosity': 0.5559, 'bulk_viscosity': 0.4252, 'thermal_conductivity': 2.3775,
+    {'shear_viscosity': 0.5562, 'bulk_viscosity': 0.4255, 'thermal_conductivity': 2.3815,
      'self_diffusion': 0.1959, 'contact_value': 2.1605}
+    >>> round(enskog_transport(0.3, dim=2)["shear_viscosity"], 4)
+    0.4962
     """
-    eta = _checks.bounded(eta, "eta", 0.0, 0.6, closed=(False, False))
-    diameter = _checks.positive(diameter, "diameter")
-    density = 6.0 * eta / (np.pi * diameter**3)
-    dilute = chapman_enskog_transport(density, diameter, mass, kT)
-    g = (1.0 - 0.5 * eta) / (1.0 - eta) ** 3
-    y = 4.0 * eta
+    dim = _checks.dimension(dim)
+    eta = _checks.bounded(eta, "eta", 0.0, _ENSKOG_PACKING_LIMIT[dim], closed=(False, False))
+    diameter, mass, kT = (_checks.positive(value, name) for value, name in
+                          ((diameter, "diameter"), (mass, "mass"), (kT, "kT")))
+    viscosity, conductivity, density_diffusion = _first_sonine(dim, diameter, mass, kT)
+    viscosity_factor, conductivity_factor = _SONINE_FACTORS[dim]
+    chi = (1.0 - 0.5 * eta) / (1.0 - eta) ** 3 if dim == 3 else (1.0 - 7.0 * eta / 16.0) / (1.0 - eta) ** 2
+    transfer = 2.0**dim / (dim + 2) * eta * chi
+    collisional = 2.0 ** (2 * dim + 2) / (math.pi * (dim + 2)) * eta * eta * chi
+    bulk = collisional * viscosity
+    ball = math.pi ** (dim / 2) / math.gamma(dim / 2 + 1) * (diameter / 2) ** dim
     return {
-        "shear_viscosity": dilute["shear_viscosity"] * (1.0 / g + 0.8 * y + 0.761 * y * y * g),
-        "bulk_viscosity": 1.002 * dilute["shear_viscosity"] * y * y * g,
-        "thermal_conductivity": dilute["thermal_conductivity"] * (1.0 / g + 1.2 * y + 0.755 * y * y * g),
-        "self_diffusion": dilute["self_diffusion"] / g,
-        "contact_value": float(g),
+        "shear_viscosity": viscosity_factor * viscosity / chi * (1.0 + transfer) ** 2 + dim / (dim + 2) * bulk,
+        "bulk_viscosity": bulk,
+        "thermal_conductivity": conductivity_factor * conductivity / chi * (1.0 + 1.5 * transfer) ** 2
+        + (dim - 1) / (dim + 2) * collisional * conductivity,
+        "self_diffusion": density_diffusion * ball / (eta * chi),
+        "contact_value": chi,
     }
 
 
