@@ -181,6 +181,18 @@ def test_older_checkpoint_formats_read_as_unsheared():
     assert restored.run(collisions=100) == 100
 
 
+def test_format_4_checkpoints_load_only_unsheared():
+    """Format 4 kept the sheared lists and cells otherwise: a sheared state of it is refused, an unsheared one runs."""
+    sheared = _sheared(2, 0.5).state_dict()
+    sheared["format"] = np.asarray(4)
+    with pytest.raises(ValueError, match="engine format 4 with Lees-Edwards shear"):
+        edmd.HardSphereSystem.from_state_dict(sheared)
+    positions, box = edmd.lattice("square", 8, 0.3)
+    plain = edmd.HardSphereSystem(positions, edmd.maxwell_boltzmann(np.ones(64), 2, seed=1), 0.5, box).state_dict()
+    plain["format"] = np.asarray(4)
+    assert edmd.HardSphereSystem.from_state_dict(plain).run(collisions=100) == 100
+
+
 def test_pair_histogram_counts_pairs_across_the_sliding_faces():
     """g(r) under shear: the same ordered pairs as a brute-force count over the nearest sliding images."""
     from collisionkit.edmd import _pair_distribution
@@ -225,3 +237,40 @@ def test_refusals(kwargs, message):
 def test_too_small_box_is_refused():
     with pytest.raises(ValueError, match="too small to shear"):
         edmd.HardSphereSystem([[0.5, 0.5], [2.0, 2.0]], np.zeros((2, 2)), 0.5, 3.02, shear_rate=1.0)
+
+
+@pytest.mark.parametrize(("dim", "rate", "cells"), [(2, 0.9, 14), (3, 0.6, 5)])
+def test_lists_hold_every_pair_whose_sliding_images_anchors_are_within_the_list_radius(dim, rate, cells):
+    """After a run of list events and sweeps: every pair whose anchors, as the nearest sliding images at the offset
+    of now, lie within the list radius is listed, both ways; none beyond it by more than twice the shear margin.
+
+    A brute force over all pairs and their images written here (y shifts of n L_y with x shifts of n offsets).
+    Kills: a sweep that misses pairs sliding into range, a wrong offset sign, lists not symmetric.
+    """
+    system = _sheared(dim, rate, thermostat=1.0, cells=cells, eta=0.35)
+    sweeps = 0
+    for _ in range(6):
+        sweep = system.params[_k.P_SHEAR_SWEEP]
+        system.run(collisions=3 * system.count)
+        sweeps += system.params[_k.P_SHEAR_SWEEP] != sweep
+        anchors = system.anchor[:, :dim]
+        box = system.box[:dim]
+        offset = system._offset_at(system.time) % box[0]
+        shell, margin = system.neighbour_shell_width, system.params[_k.P_SHEAR_MARGIN]
+        reach = 2 * 0.5 * system.neighbour_list_scale + shell
+        slack = system.neighbour_list_slack
+        listed = {(i, int(j)) for i in range(system.count) for j in system.neighbours[i, : system.neighbour_count[i]]}
+        within, allowed = set(), set()
+        for i in range(system.count):
+            d = anchors - anchors[i]
+            n = np.round(d[:, 1] / box[1])
+            d[:, 1] -= n * box[1]
+            d[:, 0] -= n * offset
+            d -= box * np.round(d / box)
+            distance = np.sqrt(np.sum(d**2, axis=1))
+            within |= {(i, int(j)) for j in np.flatnonzero(distance <= reach) if j != i}
+            allowed |= {(i, int(j)) for j in np.flatnonzero(distance <= reach + 2 * margin + 2 * slack) if j != i}
+        assert within <= listed <= allowed
+        assert all((j, i) in listed for i, j in listed)
+        assert any(abs(anchors[i, 1] - anchors[j, 1]) > 0.5 * box[1] for i, j in within)  # pairs across the faces
+    assert sweeps >= 3

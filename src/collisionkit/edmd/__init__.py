@@ -36,7 +36,7 @@ from .measurement import RECORDS, Measurement, Sampler, measure
 from .run import EdmdParameters, EdmdRun
 from ._shear import THERMOSTAT_INTERVAL
 from .system import (
-    DEFAULT_SHELL, DENSE_PACKING, DENSE_SHELL, RESTITUTION_LAWS, SHEAR_SHELL, SORT_INTERVAL, HardSphereSystem, OverlapError,
+    DEFAULT_SHELL, DENSE_PACKING, DENSE_SHELL, RESTITUTION_LAWS, SORT_INTERVAL, HardSphereSystem, OverlapError,
 )
 from .theory import (
     MAX_PACKING_FRACTION,
@@ -71,7 +71,6 @@ __all__ = [
     "MSD_MAX_LAGS",
     "RECORDS",
     "RESTITUTION_LAWS",
-    "SHEAR_SHELL",
     "SORT_INTERVAL",
     "THERMOSTAT_INTERVAL",
     "TransportMeasurement",

@@ -22,8 +22,9 @@ from ._system_setup import copy_masses_and_species
 LIST_SCALE_MARGIN = 0.05
 # slots per cell a new system starts with (grown when a cell needs more)
 INITIAL_CELL_SLOTS = 8
-# the shear margin (the extra list radius of pairs across the y faces) in units of the shell: wider means rarer
-# sweeps but larger cells (benchmarks/bench_edmd_shear.py)
+# the shear margin (how much further along x the pairs across the y faces are listed) in units of the shell: wider
+# means rarer sweeps but longer lists at the faces; a sweep costs some 2 % of a sheared run at eta = 0.3, 1.0
+# instead of 0.5 ran as fast within the noise (benchmarks/bench_edmd_shear.py; issue 19)
 SHEAR_MARGIN = 0.5
 # the most cells a particle, on average (per axis: (CELLS_PER_PARTICLE N)^(1/dim))
 CELLS_PER_PARTICLE = 2
@@ -85,8 +86,9 @@ class NeighbourLists:
             # the minimum image must be unique within the list radius: 2 (largest + shell) < L
             shell = min(shell, 0.98 * (0.5 * periodic_sides.min() - largest))
         if sheared:
-            # pairs across the y faces are listed to a shear margin further, and at least 3 rows of cells, each as
-            # high as that radius, keep the first and last rows apart (see _kernels.edmd.loop)
+            # at least 3 rows of cells, each as high as the list radius, keep the first and last rows apart, and
+            # pairs across the y faces are listed to a shear margin further along x, still within a third of the
+            # box (see _kernels.edmd.neighbour_lists.refresh_across_faces)
             shell = min(shell, 0.98 / (1.0 + SHEAR_MARGIN) * (periodic_sides.min() / 3.0 - largest))
             if shell < 0.01 * largest:
                 raise ValueError(
@@ -94,7 +96,7 @@ class NeighbourLists:
                     f"the largest diameter ({largest:.6g})"
                 )
         self.params[_k.P_SHEAR_MARGIN] = SHEAR_MARGIN * shell if sheared else 0.0
-        reach = largest + shell + self.params[_k.P_SHEAR_MARGIN]
+        reach = largest + shell
         ncell = np.ones(3, dtype=np.int64)
         widths = np.ones(3)
         # cells wider than the reach are as valid: at most about CELLS_PER_PARTICLE a particle (small radii of a

@@ -35,11 +35,13 @@ class Checkpoints:
     _SCALARS = ("dim", "time", "elapsed", "leaves", "last_sort", "_shell_request")
     # layout of the engine's arrays in a checkpoint; raise it when they change (2: bookkeeping records, block queue;
     # 3: the transport sums in the accumulator; 4: Lees-Edwards shear and its thermostat in the parameters and the
-    # accumulator)
-    STATE_FORMAT = 4
+    # accumulator; 5: under shear, cells as high as the list radius and the pairs across the y faces listed within
+    # a capsule)
+    STATE_FORMAT = 5
     # older formats a restore still reads: format 2 lacks the transport sums, which start at 0 (only their changes
-    # over a measurement have a meaning, and a format-2 run measured none); formats 2 and 3 were never sheared
-    READABLE_FORMATS = (2, 3, 4)
+    # over a measurement have a meaning, and a format-2 run measured none); formats 2 and 3 were never sheared, and
+    # format 4 is read only unsheared (its sheared lists and cells are those of format 4)
+    READABLE_FORMATS = (2, 3, 4, 5)
 
     def state_dict(self):
         """Every array and number needed to continue the run bit for bit.
@@ -86,6 +88,9 @@ class Checkpoints:
         if missing:
             raise CheckpointError(f"the state has no array {', '.join(map(repr, missing))}")
         arrays = {name: np.array(state[name], order="C") for name in cls._ARRAYS}  # copies: checked, then kept
+        if written == 4 and arrays["params"].size > _k.P_SHEAR_RATE and arrays["params"][_k.P_SHEAR_RATE] != 0.0:
+            raise CheckpointError("state has engine format 4 with Lees-Edwards shear, whose neighbour lists this "
+                                  "collisionkit keeps differently (format 5): restart the sheared run")
         if written < cls.STATE_FORMAT:
             arrays["acc"] = _padded(arrays["acc"], (_k.ACC_SIZE_WITHOUT_TRANSPORT, _k.ACC_SIZE_WITHOUT_THERMOSTAT),
                                     _k.ACC_SIZE)
@@ -373,7 +378,7 @@ def _check_cells(arrays, p, dim, geom, params, rebuilt):
     count = p.shape[0]
     ncell = _array(arrays, "ncell", (3,))
     box = geom[_k.G_BOX, :dim]
-    reach = 2.0 * float(np.max(p[:, _k.R])) * params[_k.P_LIST_SCALE] + params[_k.P_SHELL] + params[_k.P_SHEAR_MARGIN]
+    reach = 2.0 * float(np.max(p[:, _k.R])) * params[_k.P_LIST_SCALE] + params[_k.P_SHELL]
     # at most about CELLS_PER_PARTICLE cells a particle (at least 3 per axis under shear), as the lists make them
     most = max(3 if params[_k.P_SHEAR_RATE] != 0.0 else 1, int((CELLS_PER_PARTICLE * count) ** (1.0 / dim)))
     grid = np.minimum(np.maximum(np.floor(box / reach * (1 - 1e-12)), 1), most).astype(np.int64)

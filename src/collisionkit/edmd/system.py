@@ -30,7 +30,7 @@ from ._system_state import Checkpoints
 from .theory import packing_fraction
 
 __all__ = [
-    "DEFAULT_SHELL", "DENSE_PACKING", "DENSE_SHELL", "RESTITUTION_LAWS", "SHEAR_SHELL", "SORT_INTERVAL", "HardSphereSystem",
+    "DEFAULT_SHELL", "DENSE_PACKING", "DENSE_SHELL", "RESTITUTION_LAWS", "SORT_INTERVAL", "HardSphereSystem",
     "OverlapError",
 ]
 
@@ -40,11 +40,10 @@ SORT_INTERVAL = 20
 DEFAULT_SHELL = 0.7
 # the shell's default for 3D systems that start at a packing fraction of DENSE_PACKING or more, where a list holds
 # more partners per width of shell: 0.6 ran 5-12 % faster than 0.7 at eta = 0.35-0.45 (N = 864-108000), 0.7 faster
-# at eta = 0.26 (collisions per CPU second, alternating runs; issue 21)
+# at eta = 0.26 (collisions per CPU second, alternating runs; issue 21). The same defaults serve under shear, whose
+# cells no longer grow by the shear margin (benchmarks/bench_edmd_shear.py; issue 19)
 DENSE_SHELL = 0.6
 DENSE_PACKING = 0.35
-# the shell's default under shear, where the cells grow by the shear margin too (benchmarks/bench_edmd_shear.py)
-SHEAR_SHELL = 0.45
 
 
 class OverlapError(ValueError, RuntimeError):
@@ -113,8 +112,7 @@ class HardSphereSystem(SystemParameters, ParticleState, NeighbourLists, Checkpoi
         Skin of the neighbour lists in units of the largest diameter, > 0
         (default 0.7, :data:`DEFAULT_SHELL`; 0.6, :data:`DENSE_SHELL`, for
         spheres starting at a packing fraction of 0.35 or more, the fastest
-        at eta = 0.45 in benchmarks/bench_edmd.py; 0.45 under shear,
-        :data:`SHEAR_SHELL`).
+        at eta = 0.45 in benchmarks/bench_edmd.py; the same under shear).
         A wider shell means longer lists but fewer rebuilds. Only speed
         depends on it; in small periodic boxes it is narrowed so that twice
         the list radius stays below the box.
@@ -181,7 +179,7 @@ class HardSphereSystem(SystemParameters, ParticleState, NeighbourLists, Checkpoi
         gravity = _system_setup.gravity_vector(gravity, dim)
         if neighbour_shell is None:
             dense = dim == 3 and packing_fraction(radius * float(_scale), box) >= DENSE_PACKING
-            neighbour_shell = SHEAR_SHELL if shear_rate != 0.0 else (DENSE_SHELL if dense else DEFAULT_SHELL)
+            neighbour_shell = DENSE_SHELL if dense else DEFAULT_SHELL
         self._shell_request = _checks.positive(neighbour_shell, "neighbour_shell")
 
         self.geom = _system_setup.geometry(box, periodic, gravity)

@@ -8,14 +8,15 @@ import math
 from ..._jit import borrowing_inline_kernel as inline_kernel
 from ..._jit import borrowing_kernel as kernel
 from .._memory import prefetch
+from .cells import cell_index
 from .contacts import bounce_off_wall, collide_pair
 from .layout import (
-    ACC_EVENTS, ACC_LIST_REBUILDS, ACC_STALE_EVENTS, ANCHOR, CHANGED_AT, G_BOX, G_CELL, LIST_TARGET, P_GROWTH,
+    ACC_EVENTS, ACC_LIST_OVERFLOW, ACC_LIST_REBUILDS, ACC_STALE_EVENTS, CHANGED_AT, G_BOX, LIST_TARGET, P_GROWTH,
     P_SCALE0, P_SHEAR_MARGIN, P_SHEAR_RATE, P_SHEAR_SWEEP, PREDICTED_AT, QUEUE_BLOCK, STOP_COLLISIONS, STOP_EVENTS, STOP_NO_EVENT, STOP_OVERFLOW, STOP_STALLED, STOP_TIME,
     TARGET, TREE_LEVELS_PREFETCHED, wall_target,
 )
 from .motion import advance
-from .neighbour_lists import rebuild_list
+from .neighbour_lists import rebuild_list, refresh_across_faces
 from .prediction import predict
 from .queue import queue_update, tree_build
 
@@ -69,28 +70,33 @@ def _repredict(p, i, b, neighbours, neighbour_count, geom, dim, params, queue, t
 
 
 @kernel
-def _sweep_faces(t, p, b, image, cell_of, neighbours, neighbour_count, cell_members, cell_count, cell_points, ncell,
-                 geom, dim, params, queue, tree, leaves, acc, event):
-    """Lees-Edwards sweep at time t: every particle anchored in the first or last row of cells along y rebuilds.
+def _sweep_faces(t, p, b, cell_of, neighbours, neighbour_count, cell_members, cell_count, cell_points, ncell, geom,
+                 dim, params, queue, tree, leaves, acc, event):
+    """Lees-Edwards sweep at time t: the pairs across the y faces are listed anew, their particles re-predicted.
 
-    Only those can meet a partner's image across a y face before their
-    own list event (a row is at least the list radius high), and the images
-    there drift along x relative to the anchors; after the sweep every such
-    pair was last listed at most one sweep interval ago, within the shear
-    margin of drift (see :func:`.neighbour_lists._gather_sheared`). Returns
-    False if a list or a cell outgrew its row (see :func:`run_events`).
+    Only particles anchored in the first or last row of cells along y can
+    meet a partner's image across a face before their own list event (a
+    row is at least the list radius high), and the images there drift along
+    x relative to the anchors; after the sweep every such pair was last
+    listed at most one sweep interval ago, within the shear margin of drift
+    (see :func:`.neighbour_lists.refresh_across_faces`). The anchors stay,
+    so only those particles' next events change: each is moved to t and
+    predicted again. Returns False, with ``acc[ACC_LIST_OVERFLOW]`` set, if
+    a list outgrew its row (see :func:`run_events`).
     """
-    height = geom[G_CELL, 1]
-    top = geom[G_BOX, 1] - height
-    for i in range(p.shape[0]):
-        y = b[i, ANCHOR + 1]
-        if y < height or y >= top:
-            advance(p, i, t, geom, dim)
-            acc[ACC_LIST_REBUILDS] += 1.0
-            if not rebuild_list(p, i, b, cell_of, neighbours, neighbour_count, cell_members, cell_count, cell_points,
-                                ncell, geom, dim, params, image, acc):
-                return False
-            _repredict(p, i, b, neighbours, neighbour_count, geom, dim, params, queue, tree, leaves, event)
+    needed = refresh_across_faces(p, b, cell_of, neighbours, neighbour_count, cell_members, cell_count, cell_points,
+                                  ncell, geom, dim, params, t)
+    if needed > neighbours.shape[1]:
+        acc[ACC_LIST_OVERFLOW] = needed
+        return False
+    for row in (0, ncell[1] - 1):
+        for cz in range(ncell[2]):
+            for cx in range(ncell[0]):
+                cell = cell_index(cx, row, cz, ncell)
+                for slot in range(cell_count[cell]):
+                    i = cell_members[cell, slot]
+                    advance(p, i, t, geom, dim)
+                    _repredict(p, i, b, neighbours, neighbour_count, geom, dim, params, queue, tree, leaves, event)
     return True
 
 
@@ -133,14 +139,14 @@ def run_events(t, still, max_pair_collisions, max_events, t_stop, stall_limit, p
         event_time = tree[1, 0]
         i = int(tree[1, 1])
         if params[P_SHEAR_RATE] != 0.0 and event_time < math.inf and min(event_time, t_stop) >= params[P_SHEAR_SWEEP]:
-            # Lees-Edwards: the lists at the y faces are rebuilt before the images drift past the margin
+            # Lees-Edwards: the pairs across the y faces are listed anew before the images drift past the margin
             sweep = params[P_SHEAR_SWEEP]
             still = still + 1 if sweep == t else 0
             t = sweep
             event += 1
             events += 1
-            if not _sweep_faces(t, p, b, image, cell_of, neighbours, neighbour_count, cell_members, cell_count,
-                                cell_points, ncell, geom, dim, params, queue, tree, leaves, acc, event):
+            if not _sweep_faces(t, p, b, cell_of, neighbours, neighbour_count, cell_members, cell_count, cell_points,
+                                ncell, geom, dim, params, queue, tree, leaves, acc, event):
                 stop = STOP_OVERFLOW
                 break
             params[P_SHEAR_SWEEP] = sweep + params[P_SHEAR_MARGIN] / abs(params[P_SHEAR_RATE] * geom[G_BOX, 1])

@@ -15,7 +15,7 @@ from .layout import (
     ACC_CELL_OVERFLOW, ACC_LIST_OVERFLOW, ANCHOR, ANCHOR_ROUNDING, CELL_SLOTS_PER_LINE, G_BOX, G_CELL, G_PERIODIC,
     P_LIST_SCALE, P_SHEAR_MARGIN, P_SHEAR_RATE, P_SHELL, R, T, X,
 )
-from .motion import half_box, minimum_image, shear_offset, sheared_image, wrap_into_box
+from .motion import half_box, minimum_image, shear_offset, wrap_into_box
 
 
 @inline_kernel
@@ -46,7 +46,6 @@ def gather_neighbours(p, i, b, cell_of, neighbours, neighbour_count, cell_member
     slack = ANCHOR_ROUNDING * (max(lx, ly, lz) + 1.0)
     reach_i = p[i, R] * params[P_LIST_SCALE] + params[P_SHELL] + slack
     list_scale = params[P_LIST_SCALE]
-    last = width - 1
     for oz in range(zl, zh + 1):
         nz, sz = neighbour_coordinate(cz, oz, ncell[2], geom[G_PERIODIC, 2] != 0.0, lz)
         if nz < 0:
@@ -70,11 +69,80 @@ def gather_neighbours(p, i, b, cell_of, neighbours, neighbour_count, cell_member
                     dz = minimum_image(cell_points[cell, slot, 2] - shift_z, lz, hz)
                     reach = reach_i + cell_points[cell, slot, 3] * list_scale
                     j = cell_members[cell, slot]
-                    # written at the end of the list whether kept or not (no branch to mispredict); a list that
-                    # outgrows its row is rebuilt anyway, so the last slot may take the excess
-                    neighbours[i, min(count, last)] = j
+                    # written at the end of the list whether kept or not (no branch on the distance to mispredict),
+                    # only while the row has room: a full row's last entry stays (a list that outgrows its row is
+                    # rebuilt anyway)
+                    if count < width:
+                        neighbours[i, count] = j
                     count += (dx * dx + dy * dy + dz * dz <= reach * reach) & (j != i)
     neighbour_count[i] = min(count, width)
+    return count
+
+
+@inline_kernel
+def _row_columns(column, centre, across, reach, ncell, geom):
+    """Columns of cells to scan in a row for anchors within ``reach`` along x of ``centre``: (first, last, half).
+
+    ``first`` and ``last`` are unwrapped column numbers, at most one row
+    length outside it (``centre`` in [0, L_x), ``reach`` below 1.5 cell
+    widths); if they would cover the row, every column once, seen through
+    the minimum image (``half`` = L_x / 2; else inf, no image to take per
+    anchor). Rows within the box (``across`` = 0) scan the three columns
+    around ``column``, the anchor's.
+    """
+    first, last = column - 1, column + 1
+    if across != 0.0:
+        width = geom[G_CELL, 0]
+        first = int(math.floor((centre - reach) / width))
+        last = int(math.floor((centre + reach) / width))
+    if last - first + 1 >= ncell[0]:
+        return 0, ncell[0] - 1, 0.5 * geom[G_BOX, 0]
+    return first, last, math.inf
+
+
+@inline_kernel
+def _scan_row(i, cx, ny, nz, across, shift_y, shift_z, ax, offset, hz, reach_i, margin, list_scale, neighbours, count,
+              cell_members, cell_count, cell_points, ncell, geom):
+    """Append to i's list the anchors of one row of cells (y row ``ny``, z layer ``nz``) near i's anchor (column cx).
+
+    The row lies across a y face if ``across`` is -1 or 1: its anchors are
+    then seen as their sliding images, shifted by ``across`` box heights
+    and ``across`` offsets along x, and kept within the list radius plus
+    the shear margin along x only: (max(|dx| - margin, 0))^2 + dy^2 + dz^2
+    <= reach^2, a capsule that holds every anchor the images bring within
+    the list radius while the offset moves by less than the margin (the
+    faces' y and z separations do not slide). Written at the end of the
+    list whether kept or not while the row has room, as in
+    :func:`gather_neighbours`. Returns the count so far.
+    """
+    width = neighbours.shape[1]
+    lx = geom[G_BOX, 0]
+    lz = geom[G_BOX, 2]
+    centre = ax
+    extra = 0.0
+    if across != 0.0:
+        centre = ax - across * offset
+        centre -= lx * math.floor(centre / lx)
+        extra = margin
+    first, last, hx = _row_columns(cx, centre, across, geom[G_CELL, 0] + extra, ncell, geom)
+    for column in range(first, last + 1):
+        # the column's cell, and the whole box lengths it is seen shifted by (none if every column is scanned once)
+        nx, shift_x = column, centre
+        if column < 0:
+            nx, shift_x = column + ncell[0], centre + lx
+        elif column >= ncell[0]:
+            nx, shift_x = column - ncell[0], centre - lx
+        cell = cell_index(nx, ny, nz, ncell)
+        for slot in range(cell_count[cell]):
+            dx = minimum_image(cell_points[cell, slot, 0] - shift_x, lx, hx)
+            dy = cell_points[cell, slot, 1] - shift_y
+            dz = minimum_image(cell_points[cell, slot, 2] - shift_z, lz, hz)
+            ex = max(abs(dx) - extra, 0.0)
+            reach = reach_i + cell_points[cell, slot, 3] * list_scale
+            j = cell_members[cell, slot]
+            if count < width:
+                neighbours[i, count] = j
+            count += (ex * ex + dy * dy + dz * dz <= reach * reach) & (j != i)
     return count
 
 
@@ -84,61 +152,111 @@ def _gather_sheared(p, i, b, cell_of, neighbours, neighbour_count, cell_members,
     """:func:`gather_neighbours` under Lees-Edwards shear (at least 3 rows of cells along y).
 
     Across a y face the neighbouring row of cells is the one at the other
-    face, seen shifted by the box offset at i's time: the cells scanned
-    there are those within a cell width of i's anchor minus that offset
-    (three, as elsewhere). Pairs whose nearest image lies across a y face
-    are listed out to the list radius plus the shear margin: between two
-    sweeps (every margin / (G L_y) in time) the images drift by less than
-    the margin relative to the anchors, and every particle anchored in the
-    first or last row of cells (all that could meet a partner across a face
-    before rebuilding) rebuilds its list at each sweep.
+    face, seen shifted by the box offset at i's time (see :func:`_scan_row`).
+    Pairs whose anchors face each other across a y face are listed out to
+    the list radius plus the shear margin along x: between two sweeps
+    (every margin / (G L_y) in time) the images drift by less than the
+    margin along x relative to the anchors, and every particle anchored in
+    the first or last row of cells (all that could meet a partner across a
+    face before rebuilding, the rows being as high as the list radius)
+    renews its partners across the faces at each sweep
+    (:func:`refresh_across_faces`).
     """
-    width = neighbours.shape[1]
-    count = 0
     cx, cy, cz = cell_coordinates(cell_of[i], ncell)
     zl, zh = cell_offsets(ncell[2], geom[G_PERIODIC, 2] != 0.0) if dim == 3 else (0, 0)
-    lz = geom[G_BOX, 2]
-    hz = half_box(geom, 2)
+    ly, lz = geom[G_BOX, 1], geom[G_BOX, 2]
+    # with fewer than 3 layers along z a layer is its own neighbour on both sides: minimum images per anchor
+    hz = half_box(geom, 2) if ncell[2] < 3 else math.inf
     ax, ay, az = b[i, ANCHOR], b[i, ANCHOR + 1], b[i, ANCHOR + 2]
-    slack = ANCHOR_ROUNDING * (max(geom[G_BOX, 0], geom[G_BOX, 1], lz) + 1.0)
+    slack = ANCHOR_ROUNDING * (max(geom[G_BOX, 0], ly, lz) + 1.0)
     reach_i = p[i, R] * params[P_LIST_SCALE] + params[P_SHELL] + slack
     margin = params[P_SHEAR_MARGIN]
-    list_scale = params[P_LIST_SCALE]
     offset = shear_offset(params, geom, p[i, T])
-    cell_width = geom[G_CELL, 0]
+    count = 0
     for oz in range(zl, zh + 1):
-        nz, _ = neighbour_coordinate(cz, oz, ncell[2], geom[G_PERIODIC, 2] != 0.0, 0.0)
+        nz, sz = neighbour_coordinate(cz, oz, ncell[2], geom[G_PERIODIC, 2] != 0.0, lz)
         if nz < 0:
             continue
+        shift_z = az - sz if hz == math.inf else az
         for oy in range(-1, 2):
             row = cy + oy
-            # the row seen across a face: its cells' images are shifted by -+ the offset, so look there
             across = -1.0 if row < 0 else (1.0 if row >= ncell[1] else 0.0)
             ny = row - int(across) * ncell[1]
-            centre = ax - across * offset
-            first = int(math.floor((centre - cell_width) / cell_width))
-            last = int(math.floor((centre + cell_width) / cell_width))
-            if across == 0.0:
-                first, last = cx - 1, cx + 1
-            if last - first + 1 >= ncell[0]:
-                first, last = 0, ncell[0] - 1
-            for column in range(first, last + 1):
-                nx = column % ncell[0]
-                cell = cell_index(nx, ny, nz, ncell)
-                for slot in range(cell_count[cell]):
-                    dx, dy, n = sheared_image(cell_points[cell, slot, 0] - ax, cell_points[cell, slot, 1] - ay, geom,
-                                              offset)
-                    dz = minimum_image(cell_points[cell, slot, 2] - az, lz, hz)
-                    reach = reach_i + cell_points[cell, slot, 3] * list_scale + (margin if n != 0.0 else 0.0)
-                    if dx * dx + dy * dy + dz * dz <= reach * reach:
-                        j = cell_members[cell, slot]
-                        if j == i:
-                            continue
-                        if count < width:
-                            neighbours[i, count] = j
-                        count += 1
-    neighbour_count[i] = min(count, width)
+            count = _scan_row(i, cx, ny, nz, across, ay - across * ly, shift_z, ax, offset, hz, reach_i, margin,
+                              params[P_LIST_SCALE], neighbours, count, cell_members, cell_count, cell_points, ncell,
+                              geom)
+    neighbour_count[i] = min(count, neighbours.shape[1])
     return count
+
+
+@inline_kernel
+def _row_of(i, cell_of, ncell):
+    """Row of cells along y of particle i's anchor."""
+    return (cell_of[i] // ncell[0]) % ncell[1]
+
+
+@kernel
+def refresh_across_faces(p, b, cell_of, neighbours, neighbour_count, cell_members, cell_count, cell_points, ncell,
+                         geom, dim, params, t):
+    """Lees-Edwards sweep at time t: renew the listed pairs across the y faces, from the anchors and the offset at t.
+
+    Only particles anchored in the first and the last row of cells have
+    partners across a face (a row is as high as the list radius), and a
+    pair listed across a face is one of each: every such pair is dropped
+    from both lists, then the first row's particles list their partners in
+    the last row anew, both ways, as :func:`_gather_sheared` would at t
+    (their anchors stay, so their other partners and list events stay as
+    they are). Returns the length a list would need, more than the rows
+    hold if one outgrew its row (the lists are then incomplete: grow the
+    rows and rebuild them all).
+    """
+    top = ncell[1] - 1
+    zl, zh = cell_offsets(ncell[2], geom[G_PERIODIC, 2] != 0.0) if dim == 3 else (0, 0)
+    for row in (0, top):
+        for cz in range(ncell[2]):
+            for cx in range(ncell[0]):
+                cell = cell_index(cx, row, cz, ncell)
+                for slot in range(cell_count[cell]):
+                    i = cell_members[cell, slot]
+                    kept = 0
+                    for m in range(neighbour_count[i]):
+                        j = neighbours[i, m]
+                        neighbours[i, kept] = j
+                        kept += _row_of(j, cell_of, ncell) + row != top
+                    neighbour_count[i] = kept
+    ly, lz = geom[G_BOX, 1], geom[G_BOX, 2]
+    hz = half_box(geom, 2) if ncell[2] < 3 else math.inf
+    slack = ANCHOR_ROUNDING * (max(geom[G_BOX, 0], ly, lz) + 1.0)
+    margin = params[P_SHEAR_MARGIN]
+    offset = shear_offset(params, geom, t)
+    width = neighbours.shape[1]
+    needed = 0
+    for cz in range(ncell[2]):
+        for cx in range(ncell[0]):
+            cell = cell_index(cx, 0, cz, ncell)
+            for slot in range(cell_count[cell]):
+                i = cell_members[cell, slot]
+                ax, ay, az = b[i, ANCHOR], b[i, ANCHOR + 1], b[i, ANCHOR + 2]
+                reach_i = p[i, R] * params[P_LIST_SCALE] + params[P_SHELL] + slack
+                start = neighbour_count[i]
+                count = start
+                for oz in range(zl, zh + 1):
+                    nz, sz = neighbour_coordinate(cz, oz, ncell[2], geom[G_PERIODIC, 2] != 0.0, lz)
+                    if nz < 0:
+                        continue
+                    count = _scan_row(i, cx, top, nz, -1.0, ay + ly, az - sz if hz == math.inf else az, ax, offset, hz,
+                                      reach_i, margin, params[P_LIST_SCALE], neighbours, count,
+                                      cell_members, cell_count, cell_points, ncell, geom)
+                neighbour_count[i] = min(count, width)
+                needed = max(needed, count)
+                for m in range(start, neighbour_count[i]):
+                    j = neighbours[i, m]
+                    other = neighbour_count[j]
+                    if other < width:
+                        neighbours[j, other] = i
+                        neighbour_count[j] = other + 1
+                    needed = max(needed, other + 1)
+    return needed
 
 
 @inline_kernel
