@@ -36,7 +36,8 @@ from .measurement import RECORDS, Measurement, Sampler, measure
 from .run import EdmdParameters, EdmdRun
 from ._shear import THERMOSTAT_INTERVAL
 from .system import (
-    DEFAULT_SHELL, DENSE_PACKING, DENSE_SHELL, RESTITUTION_LAWS, SORT_INTERVAL, HardSphereSystem, OverlapError,
+    DEFAULT_SHELL, DENSE_PACKING, DENSE_SHELL, DILUTE_PACKING, LIST_NEIGHBOURS, RESTITUTION_LAWS, SORT_INTERVAL,
+    HardSphereSystem, OverlapError, default_shell,
 )
 from .theory import (
     MAX_PACKING_FRACTION,
@@ -58,12 +59,14 @@ __all__ = [
     "DEFAULT_SHELL",
     "DENSE_PACKING",
     "DENSE_SHELL",
+    "DILUTE_PACKING",
     "EinsteinFit",
     "FIT_END",
     "FIT_NOISE",
     "FIT_START",
     "LATTICE_BASIS",
     "LATTICE_DIM",
+    "LIST_NEIGHBOURS",
     "LIST_SCALE_MARGIN",
     "MAX_PACKING_FRACTION",
     "MSD_FIT_FROM",
@@ -82,6 +85,7 @@ __all__ = [
     "Sampler",
     "carnahan_starling",
     "chapman_enskog_transport",
+    "default_shell",
     "enskog_collision_frequency",
     "enskog_transport",
     "granular_shear_flow",
