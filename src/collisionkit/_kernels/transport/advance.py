@@ -19,7 +19,7 @@ from .oscillating import (
     RECORD_SIZE, STATIC_SIZE, displacement_with_phases, flight_with_phases, oscillating_flown_velocity, record_values,
     sincos,
 )
-from .waveform import waveform_integrals, waveform_velocity, waveform_window
+from .waveform_magnetic import shaped_displacement, shaped_velocity, shaped_window
 from .layout import (
     ATTACHMENT, BOUND_COLUMN_OFFSET, DISPLACEMENT_COLUMN_OFFSET, ELASTIC, EXCITATION, NULL_COLUMN_OFFSET, SUPERELASTIC,
     TIME_COLUMN_OFFSET,
@@ -84,9 +84,10 @@ def advance_swarm(lo, hi, pos, vel, states, alive, t_start, t_end, field, mass, 
     array argument.
 
     A waveform record (:mod:`.waveform`: a periodic E of any shape, given
-    as samples, without B) adds the exact integrals of the field over the
-    flight to the static flight, and bounds each window from the exact
-    velocity at its start (:func:`.waveform.waveform_window`).
+    as samples, with or without a static B: :mod:`.waveform_magnetic`) adds
+    the exact response to the field over the flight to the static flight,
+    and bounds each window from the exact velocity at its start
+    (:func:`.waveform_magnetic.shaped_window`).
 
     An oscillating record (:mod:`.oscillating`: the static record extended
     by E0 cos(omega t) with omega > 0) adds the exact response to the
@@ -108,7 +109,7 @@ def advance_swarm(lo, hi, pos, vel, states, alive, t_start, t_end, field, mass, 
     accel_mag = math.sqrt(field[0] ** 2 + field[1] ** 2 + field[2] ** 2)
     ac = field.shape[0] > STATIC_SIZE and field[STATIC_SIZE] > 0.0  # an oscillating electric field
     omega = field[STATIC_SIZE] if ac else 0.0
-    shaped = field.shape[0] > RECORD_SIZE  # a periodic waveform given as samples (:mod:`.waveform`; no B)
+    shaped = field.shape[0] > RECORD_SIZE  # a periodic waveform given as samples (:mod:`.waveform`)
     if ac or shaped:
         accel_mag += field[STATIC_SIZE + 12]
     record = record_values(field)  # a tuple: the inlined flight functions then take no array (no reference counts)
@@ -185,7 +186,7 @@ def advance_swarm(lo, hi, pos, vel, states, alive, t_start, t_end, field, mass, 
                         if ac:
                             fx, fy, fz, _, _ = oscillating_flown_velocity(vx, vy, vz, c0, s0, elapsed, record)
                         elif shaped:
-                            fx, fy, fz = waveform_velocity(vx, vy, vz, t, elapsed, field)
+                            fx, fy, fz = shaped_velocity(vx, vy, vz, t, elapsed, field)
                         elif exact:
                             fx, fy, fz = vx + ax * elapsed, vy + ay * elapsed, vz + az * elapsed
                         else:
@@ -205,7 +206,7 @@ def advance_swarm(lo, hi, pos, vel, states, alive, t_start, t_end, field, mass, 
                         elif shaped:  # the bound from the exact velocity at the window's start
                             h = window / nu_window if nu_window > 0.0 else fallback
                             h = min(h, growth * max(s_window, speed_floor) * inverse_accel)
-                            s_window = waveform_window(vx, vy, vz, t, window_end, h, field, accel_mag)
+                            s_window = shaped_window(vx, vy, vz, t, window_end, h, field, accel_mag)
                             nu_window = trial_frequencies(s_window, density, gas, bound, inverse_step, sigma_max,
                                                           const_max, nu_s)
                             window_end += h
@@ -248,7 +249,7 @@ def advance_swarm(lo, hi, pos, vel, states, alive, t_start, t_end, field, mass, 
                         tvx, tvy, tvz, phase_cos, phase_sin, sh, ch, gs, gc = flight_with_phases(
                             vx, vy, vz, c0, s0, elapsed, record)
                     elif shaped:
-                        tvx, tvy, tvz = waveform_velocity(vx, vy, vz, t, elapsed, field)
+                        tvx, tvy, tvz = shaped_velocity(vx, vy, vz, t, elapsed, field)
                     elif exact:
                         tvx, tvy, tvz = vx + ax * elapsed, vy + ay * elapsed, vz + az * elapsed
                     else:
@@ -320,11 +321,11 @@ def advance_swarm(lo, hi, pos, vel, states, alive, t_start, t_end, field, mass, 
                     dx, dy, dz = displacement_with_phases(c0, s0, elapsed, sh, ch, gs, gc, record)
                     x, y, z = x + dx, y + dy, z + dz
                 if shaped:
-                    _, moved = waveform_integrals(t, elapsed, field)
-                    x, y, z = x + field[14] * moved, y + field[15] * moved, z + field[16] * moved
+                    dx, dy, dz = shaped_displacement(t, elapsed, field)
+                    x, y, z = x + dx, y + dy, z + dz
                 if landed:
                     if shaped:
-                        vx, vy, vz = waveform_velocity(vx, vy, vz, t, elapsed, field)
+                        vx, vy, vz = shaped_velocity(vx, vy, vz, t, elapsed, field)
                     elif exact and not ac:
                         vx, vy, vz = vx + ax * elapsed, vy + ay * elapsed, vz + az * elapsed
                     elif not ac:
