@@ -11,7 +11,8 @@ import pytest
 from scipy.integrate import quad
 
 from collisionkit._kernels.transport.flight import derived_field
-from collisionkit._kernels.transport.waveform import waveform_integrals, waveform_velocity, waveform_window
+from collisionkit._kernels.transport.waveform import waveform_integrals
+from collisionkit._kernels.transport.waveform_magnetic import shaped_velocity, shaped_window
 from collisionkit.transport._waveform import waveform_knots, shaped_record
 
 SHAPES = {
@@ -66,9 +67,9 @@ def test_the_velocity_and_window_bound_with_gravity_and_across_the_field():
         accel = np.linalg.norm(gravity) + record[25]
         for _ in range(20):
             v0, t0, start, h = rng.normal(size=3), rng.uniform(0, 5), rng.uniform(0, 1), rng.uniform(0.01, 1)
-            bound = waveform_window(*v0, t0, start, h, record, accel)
-            speeds = [np.linalg.norm(waveform_velocity(*v0, t0, start + u, record)) for u in np.linspace(0, h, 401)]
+            bound = shaped_window(*v0, t0, start, h, record, accel)
+            speeds = [np.linalg.norm(shaped_velocity(*v0, t0, start + u, record)) for u in np.linspace(0, h, 401)]
             assert bound >= max(speeds) * (1 - 1e-12)
             j1 = _quadrature(SHAPES["irregular"], 0.5, t0, start)[0]
-            np.testing.assert_allclose(waveform_velocity(*v0, t0, start, record),
+            np.testing.assert_allclose(shaped_velocity(*v0, t0, start, record),
                                        v0 + gravity * start + np.array([0.0, 0.0, 2.0]) * j1, atol=1e-9)

@@ -397,3 +397,51 @@ def test_a_waveform_file_or_toml_samples_drive_the_swarm_and_resume(tmp_path):
     config.write_text('model = "maxwell"\nomega-N = 1e-13\nwaveform = [[0.5, 1.0], [0.2, 1.0]]\n')
     refused = runner.invoke(app, ["swarm", "--config", str(config)])
     assert refused.exit_code == 2 and "non-decreasing" in " ".join(refused.output.split())
+
+
+def test_a_waveform_with_oblique_b_runs_from_options_and_toml_and_resumes_as_if_never_stopped(tmp_path, monkeypatch):
+    """--waveform FILE with --B-N and --angle: the field in the parameters and in each result; a two-point sweep
+    killed at its second point resumes to the straight run's results (the same seeds, the same field); a TOML file
+    gives the first point's run."""
+    wave = tmp_path / "square.txt"
+    wave.write_text("0 1\n0.5 1\n0.5 -1\n1 -1\n")
+    options = ["swarm", "--model", "maxwell", "--E-N", "10,12", "--omega-N", "1e-13", "--waveform", str(wave),
+               "--B-N", "300", "--angle", "60", "--gas-temperature", "0", "--particles", "640", "--seed", "5",
+               "--tolerance", "0.05", "--collision-budget", "1e6"]
+    straight = tmp_path / "straight.json"
+    result = runner.invoke(app, [*options, "--summary", str(straight)])
+    assert result.exit_code == 0, result.output
+    summary = json.loads(straight.read_text())
+    square = [[0.0, 1.0], [0.5, 1.0], [0.5, -1.0], [1.0, -1.0]]
+    assert summary["parameters"]["waveform"] == square and summary["parameters"]["reduced_magnetic_field"] == 300.0
+    expected = [_physics(entry) for entry in summary["results"]]
+    assert [(entry["reduced_magnetic_field"], entry["field_angle"]) for entry in expected] == [(300.0, 60.0)] * 2
+    assert all(entry["extras"]["waveform"] == square and len(entry["phases"]) == 16 for entry in expected)
+
+    import collisionkit.transport.scan as scan
+
+    real = scan.simulate_swarm
+
+    def killed_at_12_td(gas, reduced_field, **settings):
+        if reduced_field == 12.0:
+            raise KeyboardInterrupt
+        return real(gas, reduced_field, **settings)
+
+    checkpoint = tmp_path / "sweep.npz"
+    monkeypatch.setattr(scan, "simulate_swarm", killed_at_12_td)
+    assert runner.invoke(app, [*options, "--checkpoint", str(checkpoint)]).exit_code == 130
+    monkeypatch.setattr(scan, "simulate_swarm", real)
+    resumed = tmp_path / "resumed.json"
+    result = runner.invoke(app, ["swarm", "--resume", str(checkpoint), "--summary", str(resumed)])
+    assert result.exit_code == 0, result.output
+    assert [_physics(entry) for entry in json.loads(resumed.read_text())["results"]] == expected
+    config = tmp_path / "swarm.toml"
+    config.write_text(f'model = "maxwell"\ne-n = 10.0\nomega-N = 1e-13\nwaveform = "{wave}"\nB-N = 300.0\n'
+                      'angle = 60.0\ngas-temperature = 0.0\nparticles = 640\nseed = 5\ntolerance = 0.05\n'
+                      'collision-budget = 1e6\n')
+    from_toml = tmp_path / "toml.json"
+    result = runner.invoke(app, ["swarm", "--config", str(config), "--summary", str(from_toml)])
+    assert result.exit_code == 0, result.output
+    single = json.loads(from_toml.read_text())
+    assert single["parameters"]["waveform"] == square and single["parameters"]["field_angle"] == 60.0
+    assert _physics(single["results"][0]) == expected[0]

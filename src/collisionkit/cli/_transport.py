@@ -271,7 +271,7 @@ def swarm(
     b_n: Annotated[float | None, typer.Option("--B-N", help="B/N in Hx (static), in the y-z plane at --angle from E (E along z).  \\[default: 0]")] = None,
     angle: Annotated[float | None, typer.Option("--angle", help="Degrees between E and B, 0 to 180 (B = |B| (0, sin, cos)).  \\[default: 90]")] = None,
     omega_n: Annotated[float | None, typer.Option("--omega-N", help="omega/N in rad m^3/s: E(t) = E0 cos(omega t) with --E-N the amplitude E0/N; results by phase and cycle averages (0: static).  \\[default: 0]")] = None,
-    waveform: Annotated[Path | None, typer.Option("--waveform", help="A periodic field of any shape instead of the cosine, with --omega-N and no B: a file of two columns, the fraction of the period (0 to 1) and E/E0, linear between samples (the same fraction twice: a jump).")] = None,
+    waveform: Annotated[Path | None, typer.Option("--waveform", help="A periodic field of any shape instead of the cosine, with --omega-N (and --B-N, --angle if wanted): a file of two columns, the fraction of the period (0 to 1) and E/E0, linear between samples (the same fraction twice: a jump).")] = None,
     gas_temperature: Annotated[float | None, typer.Option(help="Gas temperature in K (>= 0): targets' Maxwellian and Boltzmann populations of reversible excitations (superelastic collisions); 0 for the model-gas benchmarks.  \\[default: 300]")] = None,
     particles: Annotated[int | None, typer.Option(help="Simulated particles (128 to 1e7).  \\[default: 20000]")] = None,
     seed: Annotated[int | None, typer.Option(help="Random seed (>= 0).  \\[default: 2026]")] = None,

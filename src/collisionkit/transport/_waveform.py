@@ -4,8 +4,9 @@ The samples are pairs (u, f): u the fraction of the period (0 to 1,
 non-decreasing; the same u twice makes a jump) and f = E/E0 there. f is
 linear between consecutive samples and periodic: the last sample joins the
 first one period later, so a sample at u = 1 with another value than the
-one at u = 0 is a jump at the period's start. The motion in it is exact
-(:mod:`collisionkit._kernels.transport.waveform`).
+one at u = 0 is a jump at the period's start. The motion in it, with a
+static B at any angle or without, is exact
+(:mod:`collisionkit._kernels.transport.waveform_magnetic`).
 """
 
 from __future__ import annotations
@@ -15,7 +16,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .._kernels.transport.waveform import waveform_record
+from .._kernels.transport.waveform_magnetic import shaped_field_record
 
 MAX_SAMPLES = 100_000
 
@@ -145,6 +146,7 @@ def read_waveform(path) -> list[list[float]]:
 
 
 def shaped_record(static_record, amplitude, period, samples) -> np.ndarray:
-    """The kernel's record of the waveform (:func:`collisionkit._kernels.transport.waveform.waveform_record`)."""
+    """The kernel's record of the waveform in the static field of ``static_record`` (gravity, B at any angle):
+    :func:`collisionkit._kernels.transport.waveform_magnetic.shaped_field_record`."""
     knots, values = waveform_knots(samples)
-    return waveform_record(static_record, amplitude, period, knots, values)
+    return shaped_field_record(static_record, amplitude, period, knots, values)

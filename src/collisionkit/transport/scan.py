@@ -72,7 +72,7 @@ class SwarmParameters(Parameters):
         E(t) = E0 cos(omega t) with the E/N values as the amplitude E0/N.
     waveform : sequence of (u, E/E0) pairs, optional
         A periodic field of any shape instead of the cosine (``--waveform``;
-        needs ``reduced_frequency`` > 0 and no B): E(t) = E0 f(omega t / 2 pi),
+        needs ``reduced_frequency`` > 0; B as with the cosine): E(t) = E0 f(omega t / 2 pi),
         f linear between the samples, u the fraction of the period
         (:func:`~collisionkit.transport.simulate_swarm`); stored as the pairs.
     gas_temperature : float
@@ -163,7 +163,7 @@ class SwarmParameters(Parameters):
         set_(self, "field_angle", check_real("field_angle (degrees between E and B)", self.field_angle, 0.0, 180.0))
         set_(self, "reduced_frequency", check_real("reduced_frequency (omega/N, rad m^3/s)", self.reduced_frequency,
                                                    0.0))
-        set_(self, "waveform", _waveform(self.waveform, self.reduced_frequency, self.reduced_magnetic_field))
+        set_(self, "waveform", _waveform(self.waveform, self.reduced_frequency))
         set_(self, "gas_temperature", check_real("gas_temperature", self.gas_temperature, 0.0))
         set_(self, "particles", check_integer("particles", self.particles, 128, 10_000_000))
         set_(self, "seed", check_seed("seed", self.seed))
@@ -243,15 +243,13 @@ class SwarmParameters(Parameters):
         return str(self.model or self.gas)
 
 
-def _waveform(value, reduced_frequency, reduced_magnetic_field):
+def _waveform(value, reduced_frequency):
     """The samples of a waveform as a tuple of (u, E/E0) pairs, checked (None stays None)."""
     if value is None:
         return None
     waveform_knots(value)
     if reduced_frequency <= 0.0:
         raise ValueError("waveform needs reduced_frequency > 0 (--omega-N: the period is 2 pi / omega)")
-    if reduced_magnetic_field != 0.0:
-        raise ValueError("waveform takes no magnetic field: reduced_magnetic_field (--B-N) must be 0 with it")
     return tuple((float(u), float(f)) for u, f in value)
 
 

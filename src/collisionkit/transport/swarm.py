@@ -177,14 +177,6 @@ def _oscillating_record(reduced_field, reduced_magnetic_field, reduced_frequency
     return _k.oscillating_field(static, amplitude, reduced_frequency * density)
 
 
-def _shaped_setup(waveform, reduced_magnetic_field):
-    """ValueError unless a waveform's samples are valid (:func:`._waveform.waveform_knots`) and B is zero."""
-    waveform_knots(waveform)
-    if reduced_magnetic_field != 0.0:
-        raise ValueError("waveform takes no magnetic field: reduced_magnetic_field must be 0 with a waveform (a "
-                         "cosine field, reduced_frequency alone, takes one)")
-
-
 def _oscillating_tolerances(tolerances, defaults, gravity, symmetric=True):
     """The tolerances an oscillating field can meet: its cycle-averaged drift is zero by symmetry.
 
@@ -265,9 +257,10 @@ def simulate_swarm(
         ``reduced_frequency`` omega/N (> 0); f is linear between the samples
         (u the fraction of the period, 0 to 1, non-decreasing, the same u
         twice a jump; f = E/E0) and periodic
-        (:mod:`collisionkit.transport._waveform`). The motion is exact; no
-        magnetic field. The cycle-averaged drift's default tolerance is
-        dropped.
+        (:mod:`collisionkit.transport._waveform`). The motion is exact,
+        with a static B at ``field_angle`` or without
+        (:mod:`collisionkit._kernels.transport.waveform_magnetic`). The
+        cycle-averaged drift's default tolerance is dropped.
     gas_temperature : float
         K (>= 0; 300 by default). The targets move with the gas's Maxwellian
         and the reversible excitations' upper levels are populated by
@@ -366,7 +359,7 @@ def simulate_swarm(
     if waveform is not None:
         if reduced_frequency <= 0.0:
             raise ValueError("waveform needs reduced_frequency > 0 (omega/N, rad m^3/s: the period is 2 pi / omega)")
-        _shaped_setup(waveform, reduced_magnetic_field)
+        waveform_knots(waveform)
     oscillating = reduced_frequency > 0.0 and reduced_field > 0.0 and charge != 0.0
     if oscillating:
         symmetric = waveform is None or half_wave_antisymmetric(waveform)
@@ -378,7 +371,8 @@ def simulate_swarm(
     density = REFERENCE_DENSITY
     if oscillating and waveform is not None:
         amplitude = np.array([0.0, 0.0, charge * reduced_field * TOWNSEND * density / mass])
-        field_record = shaped_record(_field_record(0.0, 0.0, density, mass, charge, gravity), amplitude,
+        field_record = shaped_record(_field_record(0.0, reduced_magnetic_field, density, mass, charge, gravity,
+                                                   field_angle), amplitude,
                                      2.0 * math.pi / (reduced_frequency * density), waveform)
     elif oscillating:
         field_record = _oscillating_record(reduced_field, reduced_magnetic_field, reduced_frequency, density, mass,

@@ -10,16 +10,17 @@ import math
 
 import numpy as np
 
-from ..._jit import kernel
+from ..._jit import borrowing_kernel, inline_kernel, kernel
 from .collisions import ionized, two_body
-from .cross_sections import node_index, trial_frequencies
+from .cross_sections import node_index as _node_index
+from .cross_sections import trial_frequencies as _trial_frequencies
 from .flight import flight_envelope, flown_position, flown_velocity, window_growth_speed, window_top_speed
 from .ac_window import flight_envelope_ac, oscillating_window, parallel_window
 from .oscillating import (
     RECORD_SIZE, STATIC_SIZE, displacement_with_phases, flight_with_phases, oscillating_flown_velocity, record_values,
     sincos,
 )
-from .waveform import waveform_integrals, waveform_velocity, waveform_window
+from .waveform_magnetic import shaped_displacement, shaped_velocity, shaped_window
 from .layout import (
     ATTACHMENT, BOUND_COLUMN_OFFSET, DISPLACEMENT_COLUMN_OFFSET, ELASTIC, EXCITATION, NULL_COLUMN_OFFSET, SUPERELASTIC,
     TIME_COLUMN_OFFSET,
@@ -42,63 +43,21 @@ TRIAL_BUDGET = 1 << 20
 # on the plain scan, which measured 7 % faster on Reid's ramp)
 EARLY_REJECTION = 5
 
+# the table lookups, inlined into the borrowing particle loop: a call that is not inlined costs reference counting
+# on its arrays (perf: trial_frequencies alone took 15-18 % of a static run)
+node_index = inline_kernel(_node_index.py_func)
+trial_frequencies = inline_kernel(_trial_frequencies.py_func)
 
-@kernel
-def advance_swarm(lo, hi, pos, vel, states, alive, t_start, t_end, field, mass, density, gas, kind, species_of,
-                  threshold, const_rate, angular, screening, sharing, nodes, sigma, accelerator, accelerator_step,
-                  bound, bound_step, sigma_max, const_max, sigma_total, tallies, child_pos, child_vel, child_state,
-                  child_alive, child_count, check=False, window=WINDOW_COLLISIONS, growth=WINDOW_GROWTH,
-                  budget=TRIAL_BUDGET):
-    """Advance particles lo..hi-1 (and their descendants) from t_start to t_end.
 
-    Returns ``(-1, 0.0)``, or ``(i, speed)`` if particle i (with its
-    children) used up ``budget`` windows and trials before ``t_end``: the
-    call gives up at once (the step is incomplete), with the speed the
-    particle had reached. A particle whose collision rate stays far below
-    the step's plan (zero or tiny cross sections) runs away in a field and
-    would otherwise never end its step.
-
-    ``tallies[i]`` receives the collisions per process, the null collisions,
-    the particle time of particle i and its children, their displacement
-    (the time integral of their velocity over the step) and (with ``check``)
-    the trials at which the true collision rate exceeded the trial bound
-    (never, if the method is exact; checked runs evaluate every process at
-    every trial instead of first testing the trial, for a species of
-    ``EARLY_REJECTION`` processes or more, against the species' total
-    ``const_max[s] + sigma_total[:, s] g``, which can only exceed the sum of
-    the processes' rates); children are stored in ``child_*[i]``
-    (``child_count[i]`` of them, more than the slots means overflow and the
-    step must be repeated with more slots).
-
-    A flight runs from one real collision to the next. Trial collisions
-    along it form a Poisson process whose rate is piecewise constant over
-    windows of the flight (each ``window`` / its previous rate long): in a
-    window, the table bound at the largest speed the particle can reach in
-    it (:mod:`.flight`). An exponential optical depth is drawn
-    per trial and used up window after window (the integrated hazard of a
-    piecewise-constant rate: exact). A null trial leaves the flight as it
-    is: particles move only at real collisions and at ``t_end``.
-
-    The particle loop is written out in this one function: a numba call
-    that is not inlined costs two atomic reference-count operations per
-    array argument.
-
-    A waveform record (:mod:`.waveform`: a periodic E of any shape, given
-    as samples, without B) adds the exact integrals of the field over the
-    flight to the static flight, and bounds each window from the exact
-    velocity at its start (:func:`.waveform.waveform_window`).
-
-    An oscillating record (:mod:`.oscillating`: the static record extended
-    by E0 cos(omega t) with omega > 0) adds the exact response to the
-    oscillating force to every flight, the flight's start time giving its
-    phase, and bounds each window's speed with
-    :func:`.ac_window.parallel_window` (without static acceleration: each
-    window hands the parallel velocity and the phase at its end to the next)
-    or :func:`.ac_window.oscillating_window` (the exact state). The field's phase is computed once per particle and
-    step, then carried from flight to flight: a trial's flight returns the
-    phase at its end and its half-angle sines, which give a real collision's
-    displacement and the next flight's phase without a sine of their own.
-    """
+@borrowing_kernel
+def _advance_particles(lo, hi, pos, vel, states, alive, t_start, t_end, field, mass, density, gas, kind, species_of,
+                       threshold, const_rate, angular, screening, sharing, nodes, sigma, accelerator, accelerator_step,
+                       bound, bound_step, sigma_max, const_max, sigma_total, tallies, child_pos, child_vel,
+                       child_state, child_alive, child_count, check, window, growth, budget, child_time, rng, nu_s,
+                       channels):
+    """:func:`advance_swarm`'s particle loop, compiled without reference counting (:func:`collisionkit._jit.
+    borrowing_kernel`): it allocates nothing, its scratch arrays (``child_time``: slots; ``rng``: 4 uint64;
+    ``nu_s``, ``channels``: one per species) come from the caller."""
     n_species = gas.shape[0]
     n_proc = kind.shape[0]
     null_column = n_proc + NULL_COLUMN_OFFSET
@@ -108,7 +67,7 @@ def advance_swarm(lo, hi, pos, vel, states, alive, t_start, t_end, field, mass, 
     accel_mag = math.sqrt(field[0] ** 2 + field[1] ** 2 + field[2] ** 2)
     ac = field.shape[0] > STATIC_SIZE and field[STATIC_SIZE] > 0.0  # an oscillating electric field
     omega = field[STATIC_SIZE] if ac else 0.0
-    shaped = field.shape[0] > RECORD_SIZE  # a periodic waveform given as samples (:mod:`.waveform`; no B)
+    shaped = field.shape[0] > RECORD_SIZE  # a periodic waveform given as samples (:mod:`.waveform`)
     if ac or shaped:
         accel_mag += field[STATIC_SIZE + 12]
     record = record_values(field)  # a tuple: the inlined flight functions then take no array (no reference counts)
@@ -127,10 +86,7 @@ def advance_swarm(lo, hi, pos, vel, states, alive, t_start, t_end, field, mass, 
     speed_floor = 16.0 * bound_step
     last_node = nodes.shape[0] - 1
     slots = child_pos.shape[1]
-    child_time = np.empty(slots)
-    rng = np.empty(4, np.uint64)
-    nu_s = np.empty(n_species)
-    channels = np.zeros(n_species, np.int64)  # processes per species
+    channels[:] = 0  # processes per species
     for j in range(n_proc):
         channels[species_of[j]] += 1
     for i in range(lo, hi):
@@ -185,7 +141,7 @@ def advance_swarm(lo, hi, pos, vel, states, alive, t_start, t_end, field, mass, 
                         if ac:
                             fx, fy, fz, _, _ = oscillating_flown_velocity(vx, vy, vz, c0, s0, elapsed, record)
                         elif shaped:
-                            fx, fy, fz = waveform_velocity(vx, vy, vz, t, elapsed, field)
+                            fx, fy, fz = shaped_velocity(vx, vy, vz, t, elapsed, field)
                         elif exact:
                             fx, fy, fz = vx + ax * elapsed, vy + ay * elapsed, vz + az * elapsed
                         else:
@@ -205,7 +161,7 @@ def advance_swarm(lo, hi, pos, vel, states, alive, t_start, t_end, field, mass, 
                         elif shaped:  # the bound from the exact velocity at the window's start
                             h = window / nu_window if nu_window > 0.0 else fallback
                             h = min(h, growth * max(s_window, speed_floor) * inverse_accel)
-                            s_window = waveform_window(vx, vy, vz, t, window_end, h, field, accel_mag)
+                            s_window = shaped_window(vx, vy, vz, t, window_end, h, field, accel_mag)
                             nu_window = trial_frequencies(s_window, density, gas, bound, inverse_step, sigma_max,
                                                           const_max, nu_s)
                             window_end += h
@@ -248,7 +204,7 @@ def advance_swarm(lo, hi, pos, vel, states, alive, t_start, t_end, field, mass, 
                         tvx, tvy, tvz, phase_cos, phase_sin, sh, ch, gs, gc = flight_with_phases(
                             vx, vy, vz, c0, s0, elapsed, record)
                     elif shaped:
-                        tvx, tvy, tvz = waveform_velocity(vx, vy, vz, t, elapsed, field)
+                        tvx, tvy, tvz = shaped_velocity(vx, vy, vz, t, elapsed, field)
                     elif exact:
                         tvx, tvy, tvz = vx + ax * elapsed, vy + ay * elapsed, vz + az * elapsed
                     else:
@@ -320,11 +276,11 @@ def advance_swarm(lo, hi, pos, vel, states, alive, t_start, t_end, field, mass, 
                     dx, dy, dz = displacement_with_phases(c0, s0, elapsed, sh, ch, gs, gc, record)
                     x, y, z = x + dx, y + dy, z + dz
                 if shaped:
-                    _, moved = waveform_integrals(t, elapsed, field)
-                    x, y, z = x + field[14] * moved, y + field[15] * moved, z + field[16] * moved
+                    dx, dy, dz = shaped_displacement(t, elapsed, field)
+                    x, y, z = x + dx, y + dy, z + dz
                 if landed:
                     if shaped:
-                        vx, vy, vz = waveform_velocity(vx, vy, vz, t, elapsed, field)
+                        vx, vy, vz = shaped_velocity(vx, vy, vz, t, elapsed, field)
                     elif exact and not ac:
                         vx, vy, vz = vx + ax * elapsed, vy + ay * elapsed, vz + az * elapsed
                     elif not ac:
@@ -383,3 +339,71 @@ def advance_swarm(lo, hi, pos, vel, states, alive, t_start, t_end, field, mass, 
                 break
         child_count[i] = n_children
     return -1, 0.0
+
+
+@kernel
+def advance_swarm(lo, hi, pos, vel, states, alive, t_start, t_end, field, mass, density, gas, kind, species_of,
+                  threshold, const_rate, angular, screening, sharing, nodes, sigma, accelerator, accelerator_step,
+                  bound, bound_step, sigma_max, const_max, sigma_total, tallies, child_pos, child_vel, child_state,
+                  child_alive, child_count, check=False, window=WINDOW_COLLISIONS, growth=WINDOW_GROWTH,
+                  budget=TRIAL_BUDGET):
+    """Advance particles lo..hi-1 (and their descendants) from t_start to t_end.
+
+    Returns ``(-1, 0.0)``, or ``(i, speed)`` if particle i (with its
+    children) used up ``budget`` windows and trials before ``t_end``: the
+    call gives up at once (the step is incomplete), with the speed the
+    particle had reached. A particle whose collision rate stays far below
+    the step's plan (zero or tiny cross sections) runs away in a field and
+    would otherwise never end its step.
+
+    ``tallies[i]`` receives the collisions per process, the null collisions,
+    the particle time of particle i and its children, their displacement
+    (the time integral of their velocity over the step) and (with ``check``)
+    the trials at which the true collision rate exceeded the trial bound
+    (never, if the method is exact; checked runs evaluate every process at
+    every trial instead of first testing the trial, for a species of
+    ``EARLY_REJECTION`` processes or more, against the species' total
+    ``const_max[s] + sigma_total[:, s] g``, which can only exceed the sum of
+    the processes' rates); children are stored in ``child_*[i]``
+    (``child_count[i]`` of them, more than the slots means overflow and the
+    step must be repeated with more slots).
+
+    A flight runs from one real collision to the next. Trial collisions
+    along it form a Poisson process whose rate is piecewise constant over
+    windows of the flight (each ``window`` / its previous rate long): in a
+    window, the table bound at the largest speed the particle can reach in
+    it (:mod:`.flight`). An exponential optical depth is drawn
+    per trial and used up window after window (the integrated hazard of a
+    piecewise-constant rate: exact). A null trial leaves the flight as it
+    is: particles move only at real collisions and at ``t_end``.
+
+    The particle loop is written out in one function, compiled without
+    reference counting (:func:`_advance_particles`, a borrowing kernel fed
+    scratch arrays allocated here), its table lookups inlined: a numba call
+    that is not inlined, or any call in a reference-counting function, costs
+    two atomic reference-count operations per array argument.
+
+    A waveform record (:mod:`.waveform`: a periodic E of any shape, given
+    as samples, with or without a static B: :mod:`.waveform_magnetic`) adds
+    the exact response to the field over the flight to the static flight,
+    and bounds each window from the exact velocity at its start
+    (:func:`.waveform_magnetic.shaped_window`).
+
+    An oscillating record (:mod:`.oscillating`: the static record extended
+    by E0 cos(omega t) with omega > 0) adds the exact response to the
+    oscillating force to every flight, the flight's start time giving its
+    phase, and bounds each window's speed with
+    :func:`.ac_window.parallel_window` (without static acceleration: each
+    window hands the parallel velocity and the phase at its end to the next)
+    or :func:`.ac_window.oscillating_window` (the exact state). The field's phase is computed once per particle and
+    step, then carried from flight to flight: a trial's flight returns the
+    phase at its end and its half-angle sines, which give a real collision's
+    displacement and the next flight's phase without a sine of their own.
+    """
+    n_species = gas.shape[0]
+    return _advance_particles(lo, hi, pos, vel, states, alive, t_start, t_end, field, mass, density, gas, kind,
+                              species_of, threshold, const_rate, angular, screening, sharing, nodes, sigma,
+                              accelerator, accelerator_step, bound, bound_step, sigma_max, const_max, sigma_total,
+                              tallies, child_pos, child_vel, child_state, child_alive, child_count, check, window,
+                              growth, budget, np.empty(child_pos.shape[1]), np.empty(4, np.uint64),
+                              np.empty(n_species), np.zeros(n_species, np.int64))

@@ -1,4 +1,4 @@
-"""Exact free flight in a periodic electric field of any shape given as samples, without B.
+"""The record of a periodic electric field of any shape given as samples, and its exact integrals.
 
 E(t) = E0 f(t / T) with f periodic of period 1 in the phase fraction u and
 piecewise linear between knots ``u_0 = 0 <= u_1 <= ... <= u_n = 1`` (two
@@ -23,7 +23,9 @@ The record extends the oscillating one (:mod:`.oscillating`, with omega =
 0 there, so the cosine is off): the acceleration ``a`` (14:17); ``|a|
 max |f|`` (25); the unit vector of ``a`` (26:29); from :data:`WAVE_START`:
 T, the number n + 1 of knots, then the knots, f at them (the value on the
-right of a jump), the slopes of the pieces, g1 and g2 at the knots.
+right of a jump), the slopes of the pieces, g1 and g2 at the knots. The
+flights that use it, with a static B or without, are in
+:mod:`.waveform_magnetic`.
 """
 
 from __future__ import annotations
@@ -152,54 +154,3 @@ def waveform_integrals(t0, tau, field):
     j1 = first1 + (b1 - a1)
     j2 = first2 + first1 * rest + (b2 - a2 - a1 * rest)
     return period * j1, period * period * j2
-
-
-@kernel
-def waveform_velocity(vx, vy, vz, t0, tau, field):
-    """Velocity after an exact flight of ``tau`` from (vx, vy, vz) at time ``t0``, as a tuple: ``v0 + g tau +
-    a T J1`` (no B).
-
-    Examples
-    --------
-    >>> import numpy as np
-    >>> from collisionkit._kernels.transport.flight import derived_field
-    >>> from collisionkit._kernels.transport.waveform import waveform_record, waveform_velocity
-    >>> record = waveform_record(derived_field(np.zeros(3), np.zeros(3)), np.array([0.0, 0.0, 1.0]), 1.0,
-    ...                          np.array([0.0, 1.0]), np.array([-1.0, 1.0]))  # a sawtooth from -1 to 1
-    >>> [round(value, 12) for value in waveform_velocity(0.0, 0.0, 0.0, 0.0, 0.5, record)]  # integral of 2u - 1
-    [0.0, 0.0, -0.25]
-    """
-    j1, _ = waveform_integrals(t0, tau, field)
-    return (vx + field[0] * tau + field[14] * j1, vy + field[1] * tau + field[15] * j1,
-            vz + field[2] * tau + field[16] * j1)
-
-
-@kernel
-def waveform_window(vx, vy, vz, t0, start, h, field, accel_mag):
-    """An upper bound of the speed over the window [start, start + h] of a flight from (vx, vy, vz) at ``t0``.
-
-    From the exact velocity at the window's start: ``|v| + (|g| + |a| max|f|) h`` (``accel_mag``), and
-    without static acceleration (the speed across ``a`` is then fixed) the smaller
-    ``sqrt((|v . p| + |a| max|f| h)^2 + |v - (v . p) p|^2)``, p the direction of a. Padded by 1e-10.
-
-    Examples
-    --------
-    >>> import numpy as np
-    >>> from collisionkit._kernels.transport.flight import derived_field
-    >>> from collisionkit._kernels.transport.waveform import waveform_record, waveform_window
-    >>> record = waveform_record(derived_field(np.zeros(3), np.zeros(3)), np.array([0.0, 0.0, 1.0]), 1.0,
-    ...                          np.array([0.0, 1.0]), np.array([-1.0, 1.0]))
-    >>> round(waveform_window(3.0, 0.0, 0.0, 0.0, 0.0, 4.0, record, 1.0), 6)  # sqrt(4^2 + 3^2)
-    5.0
-    """
-    if start > 0.0:
-        vx, vy, vz = waveform_velocity(vx, vy, vz, t0, start, field)
-    speed = math.sqrt(vx * vx + vy * vy + vz * vz)
-    bound = speed + accel_mag * h
-    if field[0] == 0.0 and field[1] == 0.0 and field[2] == 0.0:
-        px, py, pz = field[26], field[27], field[28]
-        v_par = vx * px + vy * py + vz * pz
-        wx, wy, wz = vx - v_par * px, vy - v_par * py, vz - v_par * pz
-        along = abs(v_par) + field[25] * h
-        bound = min(bound, math.sqrt(along * along + wx * wx + wy * wy + wz * wz))
-    return bound * (1.0 + 1e-10)
