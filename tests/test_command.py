@@ -43,3 +43,19 @@ def test_the_script_says_a_usage_error_in_one_line(capsys):
     error = capsys.readouterr().err
     assert error.strip().splitlines() == ["error: no such option: --particle (Possible options: --particles) "
                                           "(see collisionkit edmd --help)"]
+
+
+def test_python_m_collisionkit_runs_the_same_command_line():
+    import os
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    source = str(Path(_command.__file__).resolve().parents[1])
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join(filter(None, [source, os.environ.get("PYTHONPATH")])))
+    done = subprocess.run([sys.executable, "-m", "collisionkit", "edmd", "--particles", "1"],
+                          capture_output=True, text=True, env=env, timeout=120)
+    assert done.returncode == 2
+    assert "Traceback" not in done.stderr
+    assert done.stderr.strip().splitlines() == [
+        "error: invalid options: particles: Input should be greater than or equal to 2 (got 1)"]

@@ -8,6 +8,7 @@ import pytest
 from typer.testing import CliRunner
 
 from collisionkit.cli import app
+from collisionkit.cli._edmd_report import rows
 from collisionkit.edmd import EdmdParameters, EdmdRun
 
 runner = CliRunner()
@@ -50,3 +51,16 @@ def test_resumed_sheared_run_keeps_offset_clock_and_results(tmp_path):
     summary = resumed.run().summary()
     for key in ("shear_viscosity", "shear_viscosity_error", "shear_stress", "compressibility_factor", "temperature"):
         assert summary[key] == whole[key]
+
+
+@pytest.mark.parametrize("thermostat, reference", [("--thermostat", "1 at each rescaling (thermostat)"),
+                                                   ("--no-thermostat", "rises (viscous heating)")])
+def test_the_table_does_not_promise_an_elastic_sheared_run_kT_1(tmp_path, thermostat, reference):
+    arguments = [a for a in SHEARED if a != "--thermostat"]
+    result = invoke(*arguments, thermostat, "--summary", tmp_path / "run.json")
+    assert result.exit_code == 0, result.output
+    summary = json.loads((tmp_path / "run.json").read_text())
+    table = {quantity: theory for quantity, _, theory in rows(summary)}  # the cells, whatever the terminal's width
+    assert table["temperature kT (final)"] == reference
+    if thermostat == "--no-thermostat":  # the flow's work heats it: nothing is lost, the total is minus the heating
+        assert summary["temperature"] > 1.0 and summary["energy_lost_total"] < 0.0

@@ -274,3 +274,14 @@ def test_lists_hold_every_pair_whose_sliding_images_anchors_are_within_the_list_
         assert all((j, i) in listed for i, j in listed)
         assert any(abs(anchors[i, 1] - anchors[j, 1]) > 0.5 * box[1] for i, j in within)  # pairs across the faces
     assert sweeps >= 3
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+def test_sampled_speeds_and_mean_free_path_are_relative_to_the_flow(dim):
+    # speeds are sampled at the block ends, where kT (peculiar) is recorded: sum c^2 / N = d kT exactly,
+    # whereas lab-frame speeds add G^2 <(y - L/2)^2> (about G^2 L^2 / 12: 0.5 here)
+    system = _sheared(dim, 0.5, thermostat=1.0, cells=10 if dim == 2 else 3)
+    m = edmd.measure(system, collisions=4000, blocks=4)
+    per_block = m.speeds.reshape(4, -1)
+    assert np.allclose(np.mean(per_block**2, axis=1), dim * m.block_temperature, rtol=1e-12)
+    assert m.mean_free_path == pytest.approx(np.mean(m.speeds) / m.collision_frequency, rel=1e-12)

@@ -8,11 +8,18 @@ from ._common import Deliveries, print_table, say, warn
 
 
 def _theory_column(result: dict) -> tuple[str, str, str, str]:
-    """Reference values for Z, omega, kT and the energy lost: theory if elastic, trends if not."""
+    """Reference values for Z, omega, kT and the energy lost: theory if elastic, trends if not.
+
+    Under shear the flow's work heats an elastic fluid (the total "lost" is minus that heating): kT
+    rises, or the thermostat brings it back to 1 every 4 N pair collisions.
+    """
     if not result["elastic"]:
         return "no equilibrium (inelastic)", "", "cools (Haff)", "> 0"
     z = f"{result['compressibility_factor_theory']:.5g} ({result['theory']})"
     omega = f"{result['collision_frequency_from_pressure']:.5g} (Enskog, from Z)"
+    if result.get("shear_rate"):
+        kT = "1 at each rescaling (thermostat)" if result["thermostat"] else "rises (viscous heating)"
+        return z, omega, kT, "0 (elastic); total: - heating"
     return z, omega, "1 (elastic)", "0 (elastic)"
 
 

@@ -299,7 +299,8 @@ class Sampler:
             record["collisional_shear_stress"].append(collisional)
         if self.lag_msd is not None:
             self.lag_msd.add(unwrapped[:, axes], system.elapsed)
-        self.speeds.append(np.linalg.norm(system.velocities(), axis=1))
+        # relative to the flow under shear (as kT is): lab-frame speeds grow with the box and the rate
+        self.speeds.append(np.linalg.norm(system.peculiar_velocities(), axis=1))
         self.histogram += _pair_distribution.pair_histogram(system, self.r_max, self.histogram.size)
         self.wall_seconds += perf_counter() - tick
 
