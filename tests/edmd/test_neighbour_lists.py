@@ -172,3 +172,18 @@ def test_a_wide_dilute_shell_gives_the_trajectory_of_the_narrow_one(dim):
     assert wide.elapsed + wide.time == pytest.approx(narrow.elapsed + narrow.time, rel=1e-6)
     np.testing.assert_allclose(wide.positions(), narrow.positions(), rtol=0, atol=1e-4)
     np.testing.assert_allclose(wide.velocities(), narrow.velocities(), rtol=0, atol=1e-4)
+
+
+def test_a_dilute_random_fluid_ends_its_compression_with_the_dilute_shell():
+    """The compression runs with the narrow shell (the density changes); the finished dilute fluid gets
+    default_shell's, unless a shell was asked for, and runs on it without overlaps, conserving energy."""
+    system = edmd.random_fluid(2, 400, 0.01, seed=1)
+    side = np.sqrt(400 * np.pi / 4 / 0.01)
+    expected = edmd.default_shell(np.full(400, 0.5), np.full(2, side))
+    assert expected > 3 * edmd.DEFAULT_SHELL
+    assert system.neighbour_shell_width == pytest.approx(min(expected, 0.98 * (0.5 * side - 1)), rel=1e-9)
+    energy = system.kinetic_energy()
+    system.run(collisions=20 * 400)
+    assert system.check() > -1e-9 and system.kinetic_energy() == pytest.approx(energy, rel=1e-12)
+    asked = edmd.random_fluid(2, 400, 0.01, seed=1, neighbour_shell=0.5)
+    assert asked.neighbour_shell_width == pytest.approx(0.5, rel=1e-12)

@@ -7,7 +7,7 @@ import math
 import numpy as np
 
 from . import _checks
-from .system import HardSphereSystem
+from .system import HardSphereSystem, default_shell
 from .theory import MAX_PACKING_FRACTION, _ball_volume
 
 __all__ = ["LATTICE_BASIS", "LATTICE_DIM", "lattice", "lattice_cells", "maxwell_boltzmann", "random_fluid"]
@@ -214,7 +214,8 @@ def random_fluid(
         done, in [0, 1].
     **system_options
         Passed to :class:`HardSphereSystem` (restitution, ...); the box is
-        periodic.
+        periodic. Without ``neighbour_shell`` the compressed fluid gets
+        :func:`~collisionkit.edmd.default_shell`'s (wider when dilute).
 
     Examples
     --------
@@ -256,6 +257,8 @@ def random_fluid(
         system.rescale_temperature(kT)
         if progress is not None:
             progress(min(done / total_time, 1.0))
+    if system_options.get("neighbour_shell") is None:  # the compression's shell, now the dilute default's if wider
+        system._shell_request = default_shell(radii, np.full(dim, side), system_options.get("gravity") is None)
     system._stop_growing(1.0)
     system.check(tolerance=1e-7)
     system.set_velocities(maxwell_boltzmann(masses, dim, kT, generator))
