@@ -214,8 +214,9 @@ def random_fluid(
         done, in [0, 1].
     **system_options
         Passed to :class:`HardSphereSystem` (restitution, ...); the box is
-        periodic. Without ``neighbour_shell`` the compressed fluid gets
-        :func:`~collisionkit.edmd.default_shell`'s (wider when dilute).
+        periodic. Without ``neighbour_shell`` the compressed fluid keeps the
+        compression's shell or, where wider (dilute fluids),
+        :func:`~collisionkit.edmd.default_shell`'s.
 
     Examples
     --------
@@ -258,7 +259,8 @@ def random_fluid(
         if progress is not None:
             progress(min(done / total_time, 1.0))
     if system_options.get("neighbour_shell") is None:  # the compression's shell, now the dilute default's if wider
-        system._shell_request = default_shell(radii, np.full(dim, side), system_options.get("gravity") is None)
+        dilute = default_shell(radii, np.full(dim, side), system_options.get("gravity") is None)
+        system._shell_request = max(float(system._shell_request), dilute)
     system._stop_growing(1.0)
     system.check(tolerance=1e-7)
     system.set_velocities(maxwell_boltzmann(masses, dim, kT, generator))
