@@ -46,6 +46,14 @@ particle rebuilds its list, so they may lie up to ``shell / 2`` outside
 [0, L); separations use the minimum image, valid because every periodic box
 length exceeds twice the largest list radius.
 
+Under Lees-Edwards shear (:mod:`.motion`) the anchors move with the flow at
+their heights and the cells hold them in the flow's frame, where the sliding
+images stand still (:func:`.neighbour_lists._gather_sheared`); a list then
+expires on the motion relative to the flow plus a term growing with the
+list's age, or when x strays a quarter box outside [0, L_x)
+(:func:`.prediction.sheared_list_expiry`), and a sweep at every strain of
+0.25 moves the frame on and refills the cells (:func:`.neighbour_lists.sweep_frame`).
+
 Growing particles (Lubachevsky-Stillinger compression) use radii
 ``radius * (scale0 + growth * t)``; lists cover radii up to ``list_scale``
 and the caller stops the run when the scale reaches it. With growth 0 the
