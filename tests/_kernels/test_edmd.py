@@ -137,3 +137,76 @@ def test_sheared_wrap_moves_a_particle_to_its_sliding_image():
         assert p[0, kernels.V] == velocity and tuple(image[0]) == images
         # its velocity relative to the flow G (y - L_y / 2) is unchanged
         assert velocity - 0.5 * (wrapped_y - 4.0) == pytest.approx(1.5 - 0.5 * (y - 4.0), abs=1e-12)
+
+
+def test_shear_map_moves_two_points_together_by_at_most_half_the_strain():
+    """The bound behind the sheared lists: |(dx + s dy, dy, dz)| >= (1 - |s| / 2) |(dx, dy, dz)|.
+
+    The smallest singular value of [[1, s], [0, 1]] is sqrt(1 + s^2 / 4) - |s| / 2; checked here over
+    directions on a fine grid (an independent minimisation), and that the bound is nearly reached.
+    """
+    angles = np.linspace(0.0, 2.0 * np.pi, 200001)
+    for s in (-1.5, -0.25, 0.01, 0.25, 0.5, 1.0):
+        stretched = np.hypot(np.cos(angles) + s * np.sin(angles), np.sin(angles))
+        assert stretched.min() >= 1.0 - abs(s) / 2.0 - 1e-12
+        assert stretched.min() == pytest.approx(math.sqrt(1.0 + s * s / 4.0) - abs(s) / 2.0, abs=1e-9)
+
+
+def _sheared_particle(rng, dim):
+    """One particle's records under shear, its anchor a little off (as after some flight), and the parameters."""
+    p = np.zeros((1, 8))
+    b = np.zeros((1, 8))
+    geom = np.array([[12.0, 9.0, 10.0 if dim == 3 else 1.0], [1.5, 1.5, 1.5], [0.0] * 3, [1.0, 1.0, 1.0 if dim == 3 else 0.0]])
+    params = np.zeros(kernels.P_SIZE)
+    params[kernels.P_SHEAR_RATE] = rng.choice([-1.0, 1.0]) * rng.uniform(0.05, 1.0)
+    params[kernels.P_SHELL] = 0.6
+    params[kernels.P_SHEAR_REACH] = 1.6
+    params[kernels.P_SHEAR_FRAME] = -rng.uniform(0.0, 0.2)
+    t = 0.3
+    p[0, kernels.T] = t
+    p[0, kernels.V : kernels.V + dim] = rng.normal(size=dim)
+    b[0, kernels.ANCHOR : kernels.ANCHOR + dim] = rng.uniform(0.0, 1.0, size=dim) * geom[0, :dim]
+    flow = params[kernels.P_SHEAR_RATE] * (b[0, kernels.ANCHOR + 1] - 0.5 * geom[0, 1])
+    if rng.uniform() < 0.5:
+        # carried by the flow to near the x limit (a quarter box outside): the other cause of expiry
+        lx = geom[0, 0]
+        edge = 1.25 * lx - 0.3 if flow > 0 else -0.25 * lx + 0.3
+        params[kernels.P_SHEAR_FRAME] = t - (edge - b[0, kernels.ANCHOR]) / flow
+    anchor_time = np.array([t - rng.uniform(0.0, 0.2)])
+    offset = rng.normal(size=dim) * 0.05
+    p[0, kernels.X : kernels.X + dim] = b[0, kernels.ANCHOR : kernels.ANCHOR + dim] + offset
+    p[0, kernels.X] += flow * (t - params[kernels.P_SHEAR_FRAME])
+    return p, b, anchor_time, geom, params, flow
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+def test_sheared_list_expiry_spends_the_budget_exactly(dim):
+    """The sheared list's expiry is the first time |x - x_a(t)| + |G| R / 4 (t - t_a) reaches shell / 2, or the time x
+    strays a quarter box out, whichever is first: brute-force root finding on a fine grid of the same function,
+    written here from the definitions (the anchor carried by the flow at its height)."""
+    from collisionkit._kernels.edmd.prediction import sheared_list_expiry
+
+    rng = np.random.default_rng(11)
+    taus = np.linspace(0.0, 3.0, 300001)
+    checked = strays = 0
+    for _ in range(300):
+        p, b, anchor_time, geom, params, flow = _sheared_particle(rng, dim)
+        tau = sheared_list_expiry(p, 0, b, anchor_time, geom, dim, params)
+        x = p[0, kernels.X : kernels.X + dim] + np.multiply.outer(taus, p[0, kernels.V : kernels.V + dim])
+        anchor = np.tile(b[0, kernels.ANCHOR : kernels.ANCHOR + dim], (taus.size, 1))
+        anchor[:, 0] += flow * (p[0, kernels.T] + taus - params[kernels.P_SHEAR_FRAME])
+        ageing = abs(params[kernels.P_SHEAR_RATE]) * params[kernels.P_SHEAR_REACH] / 4.0
+        away = x - anchor
+        away[:, 0] -= geom[0, 0] * np.round(away[:, 0] / geom[0, 0])  # the anchor's frame x is kept in the box
+        spent = np.linalg.norm(away, axis=1) + ageing * (p[0, kernels.T] - anchor_time[0] + taus)
+        lx = geom[0, 0]
+        out = (x[:, 0] < -0.25 * lx) | (x[:, 0] > 1.25 * lx)
+        over = np.flatnonzero((spent >= 0.5 * params[kernels.P_SHELL]) | out)
+        if over.size == 0:
+            assert tau > taus[-1]
+            continue
+        expected = taus[over[0]]
+        assert expected - 2e-5 <= tau <= expected + 1e-12
+        checked += 1
+        strays += bool(out[over[0]])
+    assert checked > 200 and 0 < strays < checked  # both causes of expiry seen

@@ -99,7 +99,7 @@ def test_an_interrupt_lands_within_a_second_of_a_run_without_collisions():
 
 def test_a_kernel_call_stops_at_its_event_allowance_and_at_a_stalled_instant():
     system = parallel_discs()
-    arrays = (system.p, system.book, system._image, system.cell_of, system.neighbours, system.neighbour_count,
+    arrays = (system.p, system.book, system.anchor_time, system._image, system.cell_of, system.neighbours, system.neighbour_count,
               system.cell_members, system.cell_count, system.cell_points, system.ncell, system.geom, system.dim,
               system.restitution, system.params, system.queue, system.tree, system.leaves, system.acc)
     t, still, longest, stop, target = kernels.run_events(0.0, 0, 100, 1000, math.inf, kernels.STALLED_EVENTS, *arrays)
@@ -107,7 +107,7 @@ def test_a_kernel_call_stops_at_its_event_allowance_and_at_a_stalled_instant():
     # a ball resting on the floor under gravity: a bounce at once, that changes nothing, for ever
     resting = edmd.HardSphereSystem([[2.0, 0.5], [7.0, 5.0]], np.zeros((2, 2)), 0.5, 10.0, periodic=[True, False],
                                     gravity=[0.0, -1.0])
-    arrays = (resting.p, resting.book, resting._image, resting.cell_of, resting.neighbours, resting.neighbour_count,
+    arrays = (resting.p, resting.book, resting.anchor_time, resting._image, resting.cell_of, resting.neighbours, resting.neighbour_count,
               resting.cell_members, resting.cell_count, resting.cell_points, resting.ncell, resting.geom,
               resting.dim, resting.restitution, resting.params, resting.queue, resting.tree, resting.leaves,
               resting.acc)
@@ -120,7 +120,7 @@ def test_events_in_a_row_at_one_instant_are_counted_across_calls():
     # a collapse split over calls of fewer events than STALLED_EVENTS is still caught
     resting = edmd.HardSphereSystem([[2.0, 0.5], [7.0, 5.0]], np.zeros((2, 2)), 0.5, 10.0, periodic=[True, False],
                                     gravity=[0.0, -1.0])
-    arrays = (resting.p, resting.book, resting._image, resting.cell_of, resting.neighbours, resting.neighbour_count,
+    arrays = (resting.p, resting.book, resting.anchor_time, resting._image, resting.cell_of, resting.neighbours, resting.neighbour_count,
               resting.cell_members, resting.cell_count, resting.cell_points, resting.ncell, resting.geom,
               resting.dim, resting.restitution, resting.params, resting.queue, resting.tree, resting.leaves,
               resting.acc)

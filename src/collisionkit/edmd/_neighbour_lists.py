@@ -22,10 +22,6 @@ from ._system_setup import copy_masses_and_species
 LIST_SCALE_MARGIN = 0.05
 # slots per cell a new system starts with (grown when a cell needs more)
 INITIAL_CELL_SLOTS = 8
-# the shear margin (how much further along x the pairs across the y faces are listed) in units of the shell: wider
-# means rarer sweeps but longer lists at the faces; a sweep costs some 2 % of a sheared run at eta = 0.3, 1.0
-# instead of 0.5 ran as fast within the noise (benchmarks/bench_edmd_shear.py; issue 19)
-SHEAR_MARGIN = 0.5
 # the most cells a particle, on average (per axis: (CELLS_PER_PARTICLE N)^(1/dim))
 CELLS_PER_PARTICLE = 2
 
@@ -86,16 +82,15 @@ class NeighbourLists:
             # the minimum image must be unique within the list radius: 2 (largest + shell) < L
             shell = min(shell, 0.98 * (0.5 * periodic_sides.min() - largest))
         if sheared:
-            # at least 3 rows of cells, each as high as the list radius, keep the first and last rows apart, and
-            # pairs across the y faces are listed to a shear margin further along x, still within a third of the
-            # box (see _kernels.edmd.neighbour_lists.refresh_across_faces)
-            shell = min(shell, 0.98 / (1.0 + SHEAR_MARGIN) * (periodic_sides.min() / 3.0 - largest))
+            # at least 3 rows of cells, each as high as the list radius, keep the first and last rows apart (the
+            # cells are then scanned (1 + strain) list radii along x, within half the box: see
+            # _kernels.edmd.neighbour_lists._gather_sheared)
+            shell = min(shell, 0.98 * (periodic_sides.min() / 3.0 - largest))
             if shell < 0.01 * largest:
                 raise ValueError(
                     f"box {self.box[: self.dim].tolist()} is too small to shear: every axis needs at least 3.1 times "
                     f"the largest diameter ({largest:.6g})"
                 )
-        self.params[_k.P_SHEAR_MARGIN] = SHEAR_MARGIN * shell if sheared else 0.0
         reach = largest + shell
         ncell = np.ones(3, dtype=np.int64)
         widths = np.ones(3)
@@ -122,9 +117,10 @@ class NeighbourLists:
             self.ncell = ncell
             self._grow_cells(max(INITIAL_CELL_SLOTS, self._fullest_cell(ncell, widths)))
         self.geom[_k.G_CELL] = widths
+        self._start_shear_frame()
         while True:
             needed, fullest = _k.build_all_lists(
-                self.p, self.book, self.cell_of, self.neighbours, self.neighbour_count, self.cell_members,
+                self.p, self.book, self.anchor_time, self.cell_of, self.neighbours, self.neighbour_count, self.cell_members,
                 self.cell_count, self.cell_points, self.ncell, self.geom, self.dim, self.params, self._image, self.acc,
             )
             if fullest > self.cell_members.shape[1]:
@@ -133,7 +129,6 @@ class NeighbourLists:
                 self._grow_lists(needed)
             else:
                 break
-        self._schedule_sweep()
         self._predict_all()
 
     def _fullest_cell(self, ncell, widths) -> int:
@@ -208,7 +203,7 @@ class NeighbourLists:
 
     def _check_anchor_drift(self, tolerance):
         """RuntimeError if a particle is further than half a shell from its anchor (its list could miss a collision)."""
-        drift = _k.largest_anchor_drift(self.p, self.book, self.dim)
+        drift = _k.largest_anchor_drift(self.p, self.book, self.anchor_time, self.geom, self.dim, self.params)
         allowed = 0.5 * self.params[_k.P_SHELL] + tolerance * float(np.max(self.box[: self.dim]))
         if drift > allowed:
             # the lists would miss collisions: an engine bug, never a user error

@@ -116,16 +116,26 @@ class ShearFlow:
         return self.params[_k.P_SHEAR_OFFSET] + self.params[_k.P_SHEAR_RATE] * self.box[1] * t
 
     def _shear_clock(self, shift):
-        """The clock restarts ``shift`` later (see ``synchronise``): carry the offset and the next sweep over."""
+        """The clock restarts ``shift`` later (see ``synchronise``): carry the offset, the frame and the lists' times."""
         if self.params[_k.P_SHEAR_RATE] != 0.0:
             self.params[_k.P_SHEAR_OFFSET] = float(self._offset_at(shift) % self.box[0])
             self.params[_k.P_SHEAR_SWEEP] -= shift
+            self.params[_k.P_SHEAR_FRAME] -= shift
+            self.anchor_time -= shift
 
-    def _schedule_sweep(self):
-        """After all lists were rebuilt (clock at 0): the next sweep of the y faces, a margin's drift from now."""
-        if self.params[_k.P_SHEAR_RATE] != 0.0:
-            drift = abs(self.params[_k.P_SHEAR_RATE]) * self.box[1]
-            self.params[_k.P_SHEAR_SWEEP] = self.time + self.params[_k.P_SHEAR_MARGIN] / drift
+    def _start_shear_frame(self):
+        """Before all lists are built anew (shell set): the flow's frame starts now, its first sweep a strain later.
+
+        The anchors are kept in the frame that moves with the flow (see
+        :mod:`collisionkit._kernels.edmd.neighbour_lists`); the largest list
+        radius R sets how fast a list's age spends its shell.
+        """
+        rate = self.params[_k.P_SHEAR_RATE]
+        if rate != 0.0:
+            self.params[_k.P_SHEAR_FRAME] = self.time
+            self.params[_k.P_SHEAR_SWEEP] = self.time + _k.SHEAR_SWEEP_STRAIN / abs(rate)
+            largest = 2.0 * float(np.max(self.p[:, _k.R])) * self.params[_k.P_LIST_SCALE]
+            self.params[_k.P_SHEAR_REACH] = largest + self.params[_k.P_SHELL] + self.neighbour_list_slack
 
     def _streaming(self, y):
         """Streaming velocity along x at heights y (stored, any image): G (y - L_y / 2)."""

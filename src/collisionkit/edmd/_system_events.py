@@ -206,7 +206,7 @@ def run_event_loop(system, collisions, t_stop):
         made, events = system.collisions, system.acc[_k.ACC_EVENTS]
         system.time, system._still, longest, stop, target = _k.run_events(
             system.time, system._still, left, EVENTS_PER_CALL, t_stop, stall_limit(system.count), system.p,
-            system.book, system._image, system.cell_of, system.neighbours, system.neighbour_count, system.cell_members, system.cell_count,
+            system.book, system.anchor_time, system._image, system.cell_of, system.neighbours, system.neighbour_count, system.cell_members, system.cell_count,
             system.cell_points, system.ncell, system.geom, system.dim, system.restitution, system.params,
             system.queue, system.tree, system.leaves, system.acc,
         )

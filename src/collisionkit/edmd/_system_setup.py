@@ -140,6 +140,8 @@ def allocate_engine_arrays(system):
     system.book[:, _k.TARGET] = _k.LIST_TARGET
     copy_masses_and_species(system)
     system.cell_of = np.zeros(count, dtype=np.int32)
+    # under Lees-Edwards shear the clock time each list was built at (its age spends the list's shell budget)
+    system.anchor_time = np.zeros(count if system.params[_k.P_SHEAR_RATE] != 0.0 else 1)
     system.neighbours = np.zeros((count, INITIAL_LIST_WIDTH), dtype=np.uint32)
     system.neighbour_count = np.zeros(count, dtype=np.int32)
     blocks = -(-count // _k.QUEUE_BLOCK)

@@ -30,18 +30,19 @@ CHECKPOINT_KIND = "hard-sphere-system"
 class Checkpoints:
     """Saving and restoring the full state of :class:`~collisionkit.edmd.HardSphereSystem` (a mixin)."""
 
-    _ARRAYS = ("p", "_mass", "_species", "_image", "ids", "acc", "geom", "params", "restitution", "book", "cell_of",
-               "ncell", "queue", "tree", "neighbours", "neighbour_count", "cell_members", "cell_count", "cell_points")
+    _ARRAYS = ("p", "_mass", "_species", "_image", "ids", "acc", "geom", "params", "restitution", "book", "anchor_time",
+               "cell_of", "ncell", "queue", "tree", "neighbours", "neighbour_count", "cell_members", "cell_count",
+               "cell_points")
     _SCALARS = ("dim", "time", "elapsed", "leaves", "last_sort", "_shell_request")
     # layout of the engine's arrays in a checkpoint; raise it when they change (2: bookkeeping records, block queue;
     # 3: the transport sums in the accumulator; 4: Lees-Edwards shear and its thermostat in the parameters and the
     # accumulator; 5: under shear, cells as high as the list radius and the pairs across the y faces listed within
-    # a capsule)
-    STATE_FORMAT = 5
+    # a capsule; 6: under shear, anchors carried by the flow, the cells in its frame, the lists' times)
+    STATE_FORMAT = 6
     # older formats a restore still reads: format 2 lacks the transport sums, which start at 0 (only their changes
     # over a measurement have a meaning, and a format-2 run measured none); formats 2 and 3 were never sheared, and
-    # format 4 is read only unsheared (its sheared lists and cells are those of format 4)
-    READABLE_FORMATS = (2, 3, 4, 5)
+    # formats 4 and 5 are read only unsheared (their sheared lists and cells are kept differently)
+    READABLE_FORMATS = (2, 3, 4, 5, 6)
 
     def state_dict(self):
         """Every array and number needed to continue the run bit for bit.
@@ -84,17 +85,21 @@ class Checkpoints:
                 f"{' and '.join(map(str, cls.READABLE_FORMATS))} "
                 "(checkpoints do not carry over between engine versions: restart the run)"
             )
+        if written < cls.STATE_FORMAT:
+            state = dict(state) | {"anchor_time": np.zeros(1)}  # never sheared (refused below if it was)
         missing = [name for name in (*cls._ARRAYS, *cls._SCALARS, "restitution_law") if name not in state]
         if missing:
             raise CheckpointError(f"the state has no array {', '.join(map(repr, missing))}")
         arrays = {name: np.array(state[name], order="C") for name in cls._ARRAYS}  # copies: checked, then kept
-        if written == 4 and arrays["params"].size > _k.P_SHEAR_RATE and arrays["params"][_k.P_SHEAR_RATE] != 0.0:
-            raise CheckpointError("state has engine format 4 with Lees-Edwards shear, whose neighbour lists this "
-                                  "collisionkit keeps differently (format 5): restart the sheared run")
+        sheared = arrays["params"].size > _k.P_SHEAR_RATE and arrays["params"][_k.P_SHEAR_RATE] != 0.0
+        if written in (4, 5) and sheared:
+            raise CheckpointError(f"state has engine format {written} with Lees-Edwards shear, whose neighbour lists "
+                                  f"this collisionkit keeps differently (format {cls.STATE_FORMAT}): restart the "
+                                  "sheared run")
         if written < cls.STATE_FORMAT:
             arrays["acc"] = _padded(arrays["acc"], (_k.ACC_SIZE_WITHOUT_TRANSPORT, _k.ACC_SIZE_WITHOUT_THERMOSTAT),
                                     _k.ACC_SIZE)
-            arrays["params"] = _padded(arrays["params"], (_k.P_SIZE_WITHOUT_SHEAR,), _k.P_SIZE)
+            arrays["params"] = _padded(arrays["params"], (_k.P_SIZE_WITHOUT_SHEAR, _k.P_SIZE_WITHOUT_FRAME), _k.P_SIZE)
         check_state(arrays, {name: state[name] for name in (*cls._SCALARS, "restitution_law")})
         system = cls.__new__(cls)
         for name, array in arrays.items():
@@ -159,14 +164,14 @@ class Checkpoints:
 # dtype of every engine array (the kernels are compiled for these)
 _DTYPES = {"p": np.float64, "_mass": np.float64, "_species": np.int64, "_image": np.int64, "ids": np.int64,
            "acc": np.float64, "geom": np.float64, "params": np.float64, "restitution": np.float64, "book": np.float64,
-           "cell_of": np.int32, "ncell": np.int64, "queue": np.float64, "tree": np.float64, "neighbours": np.uint32,
+           "anchor_time": np.float64, "cell_of": np.int32, "ncell": np.int64, "queue": np.float64, "tree": np.float64, "neighbours": np.uint32,
            "neighbour_count": np.int32, "cell_members": np.int32, "cell_count": np.int32, "cell_points": np.float32}
 # accumulator slots that count (whole numbers), and those sized by a run that stopped to grow a row (<= N + 1)
 _COUNTERS = (_k.ACC_PAIR_COLLISIONS, _k.ACC_WALL_COLLISIONS, _k.ACC_LIST_REBUILDS, _k.ACC_STALE_EVENTS, _k.ACC_EVENTS)
 _OVERFLOWS = (_k.ACC_LIST_OVERFLOW, _k.ACC_CELL_OVERFLOW)
 _PARAMETERS = (_k.P_SCALE0, _k.P_GROWTH, _k.P_LAW, _k.P_LAW_SPEED, _k.P_LAW_EXPONENT, _k.P_ELASTIC_BELOW,
                _k.P_WALL_RESTITUTION, _k.P_SHELL, _k.P_LIST_SCALE, _k.P_SHEAR_RATE, _k.P_SHEAR_OFFSET, _k.P_SHEAR_SWEEP,
-               _k.P_SHEAR_MARGIN, _k.P_THERMOSTAT)
+               _k.P_SHEAR_REACH, _k.P_THERMOSTAT, _k.P_SHEAR_FRAME)
 _TRANSPORT_SUMS = tuple(range(_k.ACC_STRESS, _k.ACC_SIZE))
 _TOTALS = (_k.ACC_VIRIAL, _k.ACC_ENERGY_LOST, _k.ACC_WALL_IMPULSE, *_COUNTERS, *_OVERFLOWS, *_TRANSPORT_SUMS)
 
@@ -305,15 +310,17 @@ def _check_shear(params, geom, dim):
     rate = params[_k.P_SHEAR_RATE]
     _require(params[_k.P_THERMOSTAT] >= 0, "params", "must hold a thermostat kT >= 0")
     if rate == 0.0:
-        shear = params[[_k.P_SHEAR_OFFSET, _k.P_SHEAR_SWEEP, _k.P_SHEAR_MARGIN, _k.P_THERMOSTAT]]
-        _require(shear == 0.0, "params", "must hold no shear offset, sweep, margin or thermostat without a shear rate")
+        shear = params[[_k.P_SHEAR_OFFSET, _k.P_SHEAR_SWEEP, _k.P_SHEAR_REACH, _k.P_THERMOSTAT, _k.P_SHEAR_FRAME]]
+        _require(shear == 0.0, "params",
+                 "must hold no shear offset, sweep, list radius, thermostat or frame time without a shear rate")
         return
     _require(np.all(geom[_k.G_PERIODIC, :dim] != 0) & np.all(geom[_k.G_GRAVITY] == 0), "params",
              "must hold a shear rate only for a periodic box without gravity")
     _require(params[_k.P_GROWTH] == 0.0, "params", "must hold no growth under shear")
     _require(0.0 <= params[_k.P_SHEAR_OFFSET] < geom[_k.G_BOX, 0], "params", "must hold a shear offset in [0, L_x)")
-    _require(0.0 < params[_k.P_SHEAR_MARGIN] <= params[_k.P_SHELL], "params",
-             "must hold a shear margin in (0, shell] under shear")
+    _require(params[_k.P_SHEAR_REACH] > params[_k.P_SHELL], "params", "must hold a list radius > the shell under shear")
+    _require(params[_k.P_SHEAR_FRAME] <= params[_k.P_SHEAR_SWEEP], "params",
+             "must hold a frame time no later than the next sweep under shear")
 
 
 def _check_particles(arrays, p, dim, geom, params, time):
@@ -325,7 +332,15 @@ def _check_particles(arrays, p, dim, geom, params, time):
     _require(p[:, _k.V + dim : _k.T].size == 0 or not np.any(p[:, _k.V + dim : _k.T]), "p",
              f"must hold zero velocities beyond axis {dim}")
     _require(p[:, _k.T] <= time, "p", f"must hold own times <= the clock ({time:g})")
-    _check_in_box(p[:, _k.X : _k.X + dim], "p", geom, dim, params[_k.P_SHELL])
+    margin = np.full(dim, params[_k.P_SHELL])
+    if params[_k.P_SHEAR_RATE] != 0.0:
+        # a sheared particle is carried along x by the flow until it rebuilds its list
+        margin[0] = max(margin[0], _k.SHEAR_X_EXCURSION * geom[_k.G_BOX, 0])
+    _check_in_box(p[:, _k.X : _k.X + dim], "p", geom, dim, margin)
+    anchor_time = _array(arrays, "anchor_time", (count if params[_k.P_SHEAR_RATE] != 0.0 else 1,))
+    _require(np.isfinite(anchor_time), "anchor_time", "must hold finite times")
+    if params[_k.P_SHEAR_RATE] != 0.0:
+        _require(anchor_time <= p[:, _k.T], "anchor_time", "must hold list times <= the particles' own times")
     mass = _array(arrays, "_mass", (count,))
     _require(np.isfinite(mass) & (mass > 0), "_mass", "must hold finite masses > 0")
     species = _array(arrays, "_species", (count,))
@@ -342,7 +357,10 @@ def _check_particles(arrays, p, dim, geom, params, time):
 
 
 def _check_in_box(points, name, geom, dim, shell):
-    """Points inside the walls, and within a shell of [0, L] on periodic axes (positions are wrapped lazily)."""
+    """Points inside the walls, and within ``shell`` (per axis, or one for all) of [0, L] on periodic axes.
+
+    Positions are wrapped lazily.
+    """
     box = geom[_k.G_BOX, :dim]
     margin = np.where(geom[_k.G_PERIODIC, :dim] != 0, shell, 1e-9 * box)
     _require((points >= -margin) & (points <= box + margin), name, "must hold points inside the box")

@@ -331,7 +331,7 @@ class HardSphereSystem(SystemParameters, ParticleState, NeighbourLists, Checkpoi
 
     def _predict_all(self):
         _k.predict_all(
-            self.p, self.book, self.neighbours, self.neighbour_count, self.geom, self.dim, self.params, self.queue,
+            self.p, self.book, self.anchor_time, self.neighbours, self.neighbour_count, self.geom, self.dim, self.params, self.queue,
             self.tree, self.leaves, self.acc,
         )
 

@@ -46,6 +46,14 @@ particle rebuilds its list, so they may lie up to ``shell / 2`` outside
 [0, L); separations use the minimum image, valid because every periodic box
 length exceeds twice the largest list radius.
 
+Under Lees-Edwards shear (:mod:`.motion`) the anchors move with the flow at
+their heights and the cells hold them in the flow's frame, where the sliding
+images stand still (:func:`.neighbour_lists._gather_sheared`); a list then
+expires on the motion relative to the flow plus a term growing with the
+list's age, or when x strays a quarter box outside [0, L_x)
+(:func:`.prediction.sheared_list_expiry`), and a sweep at every strain of
+0.25 moves the frame on and refills the cells (:func:`.neighbour_lists.sweep_frame`).
+
 Growing particles (Lubachevsky-Stillinger compression) use radii
 ``radius * (scale0 + growth * t)``; lists cover radii up to ``list_scale``
 and the caller stops the run when the scale reaches it. With growth 0 the
@@ -107,12 +115,16 @@ from .layout import (
     P_LIST_SCALE,
     P_SCALE0,
     P_SHELL,
-    P_SHEAR_MARGIN,
+    P_SHEAR_REACH,
+    P_SHEAR_FRAME,
     P_SHEAR_OFFSET,
     P_SHEAR_RATE,
     P_SHEAR_SWEEP,
     P_SIZE,
+    P_SIZE_WITHOUT_FRAME,
     P_SIZE_WITHOUT_SHEAR,
+    SHEAR_SWEEP_STRAIN,
+    SHEAR_X_EXCURSION,
     P_THERMOSTAT,
     P_WALL_RESTITUTION,
     PREDICTED_AT,
@@ -148,8 +160,8 @@ __all__ = [
     "ACC_STALE_EVENTS", "ACC_STRESS", "ACC_THERMOSTAT", "ACC_VIRIAL", "ACC_WALL_COLLISIONS", "ACC_WALL_IMPULSE",
     "ANCHOR", "ANCHOR_ROUNDING", "CELL_SLOTS_PER_LINE", "CHANGED_AT", "G_BOX", "G_CELL", "G_GRAVITY", "G_PERIODIC",
     "LAW_BRIDGES", "LAW_CONSTANT", "LIST_TARGET", "MASS", "P_ELASTIC_BELOW", "P_GROWTH", "P_LAW", "P_LAW_EXPONENT",
-    "P_LAW_SPEED", "P_LIST_SCALE", "P_SCALE0", "P_SHEAR_MARGIN", "P_SHEAR_OFFSET", "P_SHEAR_RATE", "P_SHEAR_SWEEP",
-    "P_SHELL", "P_SIZE", "P_SIZE_WITHOUT_SHEAR", "P_THERMOSTAT", "P_WALL_RESTITUTION", "PREDICTED_AT",
+    "P_LAW_SPEED", "P_LIST_SCALE", "P_SCALE0", "P_SHEAR_REACH", "P_SHEAR_FRAME", "P_SHEAR_OFFSET", "P_SHEAR_RATE", "P_SHEAR_SWEEP",
+    "P_SHELL", "P_SIZE", "P_SIZE_WITHOUT_FRAME", "P_SIZE_WITHOUT_SHEAR", "SHEAR_SWEEP_STRAIN", "SHEAR_X_EXCURSION", "P_THERMOSTAT", "P_WALL_RESTITUTION", "PREDICTED_AT",
     "QUEUE_BLOCK", "R", "SPECIES", "STALLED_EVENTS", "STOP_COLLISIONS", "STOP_EVENTS", "STOP_NO_EVENT",
     "STOP_OVERFLOW", "STOP_STALLED", "STOP_TIME", "STRESS_PAIRS", "T", "TARGET", "TREE_LEVELS_PREFETCHED", "V", "X",
     "build_all_lists", "first_root_from_below", "largest_anchor_drift", "min_gap", "pair_contact_time",

@@ -7,7 +7,7 @@ import math
 # no EDMD kernel allocates or returns an array: all of them borrow, without reference counting
 from ..._jit import borrowing_inline_kernel as inline_kernel
 from ..._jit import borrowing_kernel as kernel
-from .layout import ANCHOR, G_CELL, X
+from .layout import ANCHOR, G_CELL
 
 
 @inline_kernel
@@ -82,11 +82,11 @@ def cell_insert(i, cell, b, radius, cell_of, cell_members, cell_count, cell_poin
 
 
 @inline_kernel
-def cell_of_position(p, i, ncell, geom, dim):
-    """Number of the cell holding particle i's position (clamped into the grid)."""
+def cell_of_anchor(b, i, ncell, geom, dim):
+    """Number of the cell holding particle i's anchor (clamped into the grid)."""
     c0 = c1 = c2 = 0
     for k in range(dim):
-        c = int(math.floor(p[i, X + k] / geom[G_CELL, k]))
+        c = int(math.floor(b[i, ANCHOR + k] / geom[G_CELL, k]))
         c = min(max(c, 0), ncell[k] - 1)
         if k == 0:
             c0 = c

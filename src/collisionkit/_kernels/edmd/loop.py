@@ -8,15 +8,14 @@ import math
 from ..._jit import borrowing_inline_kernel as inline_kernel
 from ..._jit import borrowing_kernel as kernel
 from .._memory import prefetch
-from .cells import cell_index
 from .contacts import bounce_off_wall, collide_pair
 from .layout import (
-    ACC_EVENTS, ACC_LIST_OVERFLOW, ACC_LIST_REBUILDS, ACC_STALE_EVENTS, CHANGED_AT, G_BOX, LIST_TARGET, P_GROWTH,
-    P_SCALE0, P_SHEAR_MARGIN, P_SHEAR_RATE, P_SHEAR_SWEEP, PREDICTED_AT, QUEUE_BLOCK, STOP_COLLISIONS, STOP_EVENTS, STOP_NO_EVENT, STOP_OVERFLOW, STOP_STALLED, STOP_TIME,
-    TARGET, TREE_LEVELS_PREFETCHED, wall_target,
+    ACC_CELL_OVERFLOW, ACC_EVENTS, ACC_LIST_REBUILDS, ACC_STALE_EVENTS, CHANGED_AT, LIST_TARGET, P_GROWTH, P_SCALE0,
+    P_SHEAR_RATE, P_SHEAR_SWEEP, PREDICTED_AT, QUEUE_BLOCK, SHEAR_SWEEP_STRAIN, STOP_COLLISIONS, STOP_EVENTS,
+    STOP_NO_EVENT, STOP_OVERFLOW, STOP_STALLED, STOP_TIME, TARGET, TREE_LEVELS_PREFETCHED, wall_target,
 )
 from .motion import advance
-from .neighbour_lists import rebuild_list, refresh_across_faces
+from .neighbour_lists import rebuild_list, sweep_frame
 from .prediction import predict
 from .queue import queue_update, tree_build
 
@@ -64,45 +63,16 @@ def _prefetch_neighbours(i, p, neighbours, neighbour_count):
 
 
 @inline_kernel
-def _repredict(p, i, b, neighbours, neighbour_count, geom, dim, params, queue, tree, leaves, event):
+def _repredict(p, i, b, anchor_time, neighbours, neighbour_count, geom, dim, params, queue, tree, leaves, event):
     """Predict i's next event (i at its own time) and queue it."""
-    queue_update(i, predict(p, i, b, neighbours, neighbour_count, geom, dim, params, event), queue, tree, leaves)
+    queue_update(i, predict(p, i, b, anchor_time, neighbours, neighbour_count, geom, dim, params, event), queue, tree,
+                 leaves)
 
 
 @kernel
-def _sweep_faces(t, p, b, cell_of, neighbours, neighbour_count, cell_members, cell_count, cell_points, ncell, geom,
-                 dim, params, queue, tree, leaves, acc, event):
-    """Lees-Edwards sweep at time t: the pairs across the y faces are listed anew, their particles re-predicted.
-
-    Only particles anchored in the first or last row of cells along y can
-    meet a partner's image across a face before their own list event (a
-    row is at least the list radius high), and the images there drift along
-    x relative to the anchors; after the sweep every such pair was last
-    listed at most one sweep interval ago, within the shear margin of drift
-    (see :func:`.neighbour_lists.refresh_across_faces`). The anchors stay,
-    so only those particles' next events change: each is moved to t and
-    predicted again. Returns False, with ``acc[ACC_LIST_OVERFLOW]`` set, if
-    a list outgrew its row (see :func:`run_events`).
-    """
-    needed = refresh_across_faces(p, b, cell_of, neighbours, neighbour_count, cell_members, cell_count, cell_points,
-                                  ncell, geom, dim, params, t)
-    if needed > neighbours.shape[1]:
-        acc[ACC_LIST_OVERFLOW] = needed
-        return False
-    for row in (0, ncell[1] - 1):
-        for cz in range(ncell[2]):
-            for cx in range(ncell[0]):
-                cell = cell_index(cx, row, cz, ncell)
-                for slot in range(cell_count[cell]):
-                    i = cell_members[cell, slot]
-                    advance(p, i, t, geom, dim)
-                    _repredict(p, i, b, neighbours, neighbour_count, geom, dim, params, queue, tree, leaves, event)
-    return True
-
-
-@kernel
-def run_events(t, still, max_pair_collisions, max_events, t_stop, stall_limit, p, b, image, cell_of, neighbours,
-               neighbour_count, cell_members, cell_count, cell_points, ncell, geom, dim, restitution, params, queue, tree, leaves, acc):
+def run_events(t, still, max_pair_collisions, max_events, t_stop, stall_limit, p, b, anchor_time, image, cell_of,
+               neighbours, neighbour_count, cell_members, cell_count, cell_points, ncell, geom, dim, restitution, params,
+               queue, tree, leaves, acc):
     """Process events until ``max_pair_collisions`` collisions, ``max_events`` events or time ``t_stop``.
 
     ``still`` is the number of events in a row at time ``t`` so far (the
@@ -139,17 +109,17 @@ def run_events(t, still, max_pair_collisions, max_events, t_stop, stall_limit, p
         event_time = tree[1, 0]
         i = int(tree[1, 1])
         if params[P_SHEAR_RATE] != 0.0 and event_time < math.inf and min(event_time, t_stop) >= params[P_SHEAR_SWEEP]:
-            # Lees-Edwards: the pairs across the y faces are listed anew before the images drift past the margin
+            # Lees-Edwards: the flow's frame moves on before the cells would have to be scanned too far along x
             sweep = params[P_SHEAR_SWEEP]
             still = still + 1 if sweep == t else 0
             t = sweep
-            event += 1
             events += 1
-            if not _sweep_faces(t, p, b, cell_of, neighbours, neighbour_count, cell_members, cell_count, cell_points,
-                                ncell, geom, dim, params, queue, tree, leaves, acc, event):
+            fullest = sweep_frame(p, b, cell_of, cell_members, cell_count, cell_points, ncell, geom, dim, params, t)
+            params[P_SHEAR_SWEEP] = sweep + SHEAR_SWEEP_STRAIN / abs(params[P_SHEAR_RATE])
+            if fullest > cell_members.shape[1]:
+                acc[ACC_CELL_OVERFLOW] = fullest
                 stop = STOP_OVERFLOW
                 break
-            params[P_SHEAR_SWEEP] = sweep + params[P_SHEAR_MARGIN] / abs(params[P_SHEAR_RATE] * geom[G_BOX, 1])
             continue
         if event_time > t_stop:
             if t_stop > t:
@@ -194,8 +164,8 @@ def run_events(t, still, max_pair_collisions, max_events, t_stop, stall_limit, p
                 partner = j
         elif target == LIST_TARGET:
             acc[ACC_LIST_REBUILDS] += 1.0
-            if not rebuild_list(p, i, b, cell_of, neighbours, neighbour_count, cell_members, cell_count, cell_points,
-                                ncell, geom, dim, params, image, acc):
+            if not rebuild_list(p, i, b, anchor_time, cell_of, neighbours, neighbour_count, cell_members, cell_count,
+                                cell_points, ncell, geom, dim, params, image, acc):
                 stop = STOP_OVERFLOW
                 break
         else:
@@ -208,18 +178,18 @@ def run_events(t, still, max_pair_collisions, max_events, t_stop, stall_limit, p
                 _prefetch_particle(upcoming_target, p, b, queue, neighbours, neighbour_count, tree, leaves)
         # one call site, so the inlined prediction is compiled once
         for q in range(1 if partner < 0 else 2):
-            _repredict(p, i if q == 0 else partner, b, neighbours, neighbour_count, geom, dim, params, queue, tree,
-                       leaves, event)
+            _repredict(p, i if q == 0 else partner, b, anchor_time, neighbours, neighbour_count, geom, dim, params,
+                       queue, tree, leaves, event)
     acc[ACC_EVENTS] = event
     return t, still, longest, stop, target
 
 
 @kernel
-def predict_all(p, b, neighbours, neighbour_count, geom, dim, params, queue, tree, leaves, acc):
+def predict_all(p, b, anchor_time, neighbours, neighbour_count, geom, dim, params, queue, tree, leaves, acc):
     """Predict every particle's next event (all at their own times) and rebuild the tree."""
     event = int(acc[ACC_EVENTS])
     for i in range(p.shape[0]):
-        queue[i] = predict(p, i, b, neighbours, neighbour_count, geom, dim, params, event)
+        queue[i] = predict(p, i, b, anchor_time, neighbours, neighbour_count, geom, dim, params, event)
     for padding in range(p.shape[0], queue.shape[0]):
         queue[padding] = math.inf
     tree_build(tree, queue, leaves)

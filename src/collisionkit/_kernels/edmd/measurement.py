@@ -8,20 +8,34 @@ import math
 from ..._jit import borrowing_inline_kernel as inline_kernel
 from ..._jit import borrowing_kernel as kernel
 from .cells import cell_coordinates, cell_index, cell_offsets, neighbour_coordinate
-from .layout import ANCHOR, G_BOX, G_PERIODIC, MASS, R, T, V, X
-from .motion import advance
+from .layout import ANCHOR, G_BOX, G_PERIODIC, MASS, P_SHEAR_FRAME, P_SHEAR_RATE, P_SHEAR_REACH, R, T, V, X
+from .motion import advance, streaming_velocity
 
 
 @kernel
-def largest_anchor_drift(p, b, dim):
-    """Largest distance of a particle (synchronised) from its anchor: at most shell / 2."""
+def largest_anchor_drift(p, b, anchor_time, geom, dim, params):
+    """Largest distance of a particle (synchronised) from its anchor: at most shell / 2 while its list holds.
+
+    Under Lees-Edwards shear the distance from the anchor carried by the
+    flow, plus |G| R / 4 times the list's age (the budget its expiry
+    spends, see :func:`.prediction.sheared_list_expiry`).
+    """
+    sheared = params[P_SHEAR_RATE] != 0.0
+    lx = geom[G_BOX, 0]
+    ageing = 0.25 * abs(params[P_SHEAR_RATE]) * params[P_SHEAR_REACH]
     worst = 0.0
     for i in range(p.shape[0]):
         norm2 = 0.0
         for k in range(dim):
             d = p[i, X + k] - b[i, ANCHOR + k]
+            if sheared and k == 0:
+                d -= streaming_velocity(params, geom, b[i, ANCHOR + 1]) * (p[i, T] - params[P_SHEAR_FRAME])
+                d -= lx * math.floor(d / lx + 0.5)
             norm2 += d * d
-        worst = max(worst, math.sqrt(norm2))
+        spent = math.sqrt(norm2)
+        if sheared:
+            spent += ageing * (p[i, T] - anchor_time[i])
+        worst = max(worst, spent)
     return worst
 
 

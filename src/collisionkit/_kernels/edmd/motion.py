@@ -18,7 +18,8 @@ import math
 from ..._jit import borrowing_inline_kernel as inline_kernel
 from ..._jit import borrowing_kernel as kernel
 from .layout import (
-    ACC_ENERGY_IMAGE, ACC_MOMENTUM_IMAGE, G_BOX, G_GRAVITY, G_PERIODIC, MASS, P_SHEAR_OFFSET, P_SHEAR_RATE, T, V, X,
+    ACC_ENERGY_IMAGE, ACC_MOMENTUM_IMAGE, G_BOX, G_GRAVITY, G_PERIODIC, MASS, P_SHEAR_FRAME, P_SHEAR_OFFSET,
+    P_SHEAR_RATE, T, V, X,
 )
 
 
@@ -56,6 +57,33 @@ def shear_offset(params, geom, t):
     offset = params[P_SHEAR_OFFSET] + params[P_SHEAR_RATE] * geom[G_BOX, 1] * t
     lx = geom[G_BOX, 0]
     return offset - lx * math.floor(offset / lx)  # cheaper than a modulo (fmod); at most L_x by round-off
+
+
+@inline_kernel
+def streaming_velocity(params, geom, y):
+    """Velocity of the shear flow along x at height y (stored, any image): u_x = G (y - L_y / 2)."""
+    return params[P_SHEAR_RATE] * (y - 0.5 * geom[G_BOX, 1])
+
+
+@inline_kernel
+def wrapped(x, length):
+    """x brought into [0, length) (a value that rounds to ``length`` becomes 0)."""
+    x -= length * math.floor(x / length)
+    return x if x < length else 0.0
+
+
+@inline_kernel
+def frame_x(params, geom, x, y, t):
+    """x of the co-moving frame of the flow, at clock time t, of lab position (x, y): x - u_x(y) (t - t_f), in [0, L_x).
+
+    The frame moves with the flow at every height and coincides with the
+    lab's at the frame time t_f: a point carried by the flow keeps its frame
+    x. The sliding images are fixed in it: the image above is shifted by the
+    offset at t_f, o(t) - G L_y (t - t_f) = o(t_f), so the frame is a
+    periodic box with a constant offset (the frame of Lagrangian
+    coordinates; see :mod:`.neighbour_lists`).
+    """
+    return wrapped(x - streaming_velocity(params, geom, y) * (t - params[P_SHEAR_FRAME]), geom[G_BOX, 0])
 
 
 @inline_kernel

@@ -9,13 +9,13 @@ from ..._jit import borrowing_inline_kernel as inline_kernel
 from ..._jit import borrowing_kernel as kernel
 from .._memory import prefetch, prefetch_at
 from .cells import (
-    cell_coordinates, cell_index, cell_insert, cell_of_position, cell_offsets, cell_remove, neighbour_coordinate,
+    cell_coordinates, cell_index, cell_insert, cell_of_anchor, cell_offsets, cell_remove, neighbour_coordinate,
 )
 from .layout import (
     ACC_CELL_OVERFLOW, ACC_LIST_OVERFLOW, ANCHOR, ANCHOR_ROUNDING, CELL_SLOTS_PER_LINE, G_BOX, G_CELL, G_PERIODIC,
-    P_LIST_SCALE, P_SHEAR_MARGIN, P_SHEAR_RATE, P_SHELL, R, T, X,
+    P_LIST_SCALE, P_SHEAR_FRAME, P_SHEAR_RATE, P_SHEAR_REACH, P_SHELL, R, T, X,
 )
-from .motion import half_box, minimum_image, shear_offset, wrap_into_box
+from .motion import frame_x, half_box, minimum_image, shear_offset, streaming_velocity, wrap_into_box, wrapped
 
 
 @inline_kernel
@@ -80,51 +80,42 @@ def gather_neighbours(p, i, b, cell_of, neighbours, neighbour_count, cell_member
 
 
 @inline_kernel
-def _row_columns(column, centre, across, reach, ncell, geom):
+def _row_columns(centre, reach, ncell, geom):
     """Columns of cells to scan in a row for anchors within ``reach`` along x of ``centre``: (first, last, half).
 
     ``first`` and ``last`` are unwrapped column numbers, at most one row
-    length outside it (``centre`` in [0, L_x), ``reach`` below 1.5 cell
-    widths); if they would cover the row, every column once, seen through
-    the minimum image (``half`` = L_x / 2; else inf, no image to take per
-    anchor). Rows within the box (``across`` = 0) scan the three columns
-    around ``column``, the anchor's.
+    length outside it (``centre`` in [0, L_x), ``reach`` below L_x); if they
+    would cover the row, every column once, seen through the minimum image
+    (``half`` = L_x / 2; else inf, no image to take per anchor).
     """
-    first, last = column - 1, column + 1
-    if across != 0.0:
-        width = geom[G_CELL, 0]
-        first = int(math.floor((centre - reach) / width))
-        last = int(math.floor((centre + reach) / width))
+    width = geom[G_CELL, 0]
+    first = int(math.floor((centre - reach) / width))
+    last = int(math.floor((centre + reach) / width))
     if last - first + 1 >= ncell[0]:
         return 0, ncell[0] - 1, 0.5 * geom[G_BOX, 0]
     return first, last, math.inf
 
 
 @inline_kernel
-def _scan_row(i, cx, ny, nz, across, shift_y, shift_z, ax, offset, hz, reach_i, margin, list_scale, neighbours, count,
-              cell_members, cell_count, cell_points, ncell, geom):
-    """Append to i's list the anchors of one row of cells (y row ``ny``, z layer ``nz``) near i's anchor (column cx).
+def _scan_row(i, ny, nz, across, shift_y, shift_z, centre, strain, hz, reach_i, largest, list_scale, neighbours,
+              count, cell_members, cell_count, cell_points, ncell, geom):
+    """Append to i's list the anchors of one row of cells (y row ``ny``, z layer ``nz``) near i's (sheared frame).
 
-    The row lies across a y face if ``across`` is -1 or 1: its anchors are
-    then seen as their sliding images, shifted by ``across`` box heights
-    and ``across`` offsets along x, and kept within the list radius plus
-    the shear margin along x only: (max(|dx| - margin, 0))^2 + dy^2 + dz^2
-    <= reach^2, a capsule that holds every anchor the images bring within
-    the list radius while the offset moves by less than the margin (the
-    faces' y and z separations do not slide). Written at the end of the
+    The cells hold the anchors' frame x (:func:`.motion.frame_x`); at a
+    strain ``strain`` = G (t - t_f) from the frame time, two anchors' lab
+    separation along x is their frame separation plus ``strain`` times
+    their y separation. ``centre`` is i's frame x seen from the row (shifted
+    back by the frame's offset if the row lies across a y face:
+    ``across`` = -1 or 1, its anchors seen ``across`` box heights away), so
+    the row's anchors within ``largest`` of i's lie within
+    ``largest (1 + |strain|)`` of it along x. Written at the end of the
     list whether kept or not while the row has room, as in
     :func:`gather_neighbours`. Returns the count so far.
     """
     width = neighbours.shape[1]
     lx = geom[G_BOX, 0]
     lz = geom[G_BOX, 2]
-    centre = ax
-    extra = 0.0
-    if across != 0.0:
-        centre = ax - across * offset
-        centre -= lx * math.floor(centre / lx)
-        extra = margin
-    first, last, hx = _row_columns(cx, centre, across, geom[G_CELL, 0] + extra, ncell, geom)
+    first, last, hx = _row_columns(centre, largest * (1.0 + abs(strain)), ncell, geom)
     for column in range(first, last + 1):
         # the column's cell, and the whole box lengths it is seen shifted by (none if every column is scanned once)
         nx, shift_x = column, centre
@@ -134,15 +125,14 @@ def _scan_row(i, cx, ny, nz, across, shift_y, shift_z, ax, offset, hz, reach_i, 
             nx, shift_x = column - ncell[0], centre - lx
         cell = cell_index(nx, ny, nz, ncell)
         for slot in range(cell_count[cell]):
-            dx = minimum_image(cell_points[cell, slot, 0] - shift_x, lx, hx)
             dy = cell_points[cell, slot, 1] - shift_y
+            dx = minimum_image(cell_points[cell, slot, 0] - shift_x, lx, hx) + strain * dy
             dz = minimum_image(cell_points[cell, slot, 2] - shift_z, lz, hz)
-            ex = max(abs(dx) - extra, 0.0)
             reach = reach_i + cell_points[cell, slot, 3] * list_scale
             j = cell_members[cell, slot]
             if count < width:
                 neighbours[i, count] = j
-            count += (ex * ex + dy * dy + dz * dz <= reach * reach) & (j != i)
+            count += (dx * dx + dy * dy + dz * dz <= reach * reach) & (j != i)
     return count
 
 
@@ -151,27 +141,31 @@ def _gather_sheared(p, i, b, cell_of, neighbours, neighbour_count, cell_members,
                     dim, params):
     """:func:`gather_neighbours` under Lees-Edwards shear (at least 3 rows of cells along y).
 
-    Across a y face the neighbouring row of cells is the one at the other
-    face, seen shifted by the box offset at i's time (see :func:`_scan_row`).
-    Pairs whose anchors face each other across a y face are listed out to
-    the list radius plus the shear margin along x: between two sweeps
-    (every margin / (G L_y) in time) the images drift by less than the
-    margin along x relative to the anchors, and every particle anchored in
-    the first or last row of cells (all that could meet a partner across a
-    face before rebuilding, the rows being as high as the list radius)
-    renews its partners across the faces at each sweep
-    (:func:`refresh_across_faces`).
+    The anchors move with the flow at their heights and the cells hold them
+    in the flow's frame (:func:`.motion.frame_x`), where the sliding images
+    stand still: across a y face the neighbouring row of cells is the one at
+    the other face, shifted by the offset at the frame time t_f. The lab
+    separation of two anchors now, at strain G (t - t_f), follows exactly
+    from their frame separation (see :func:`_scan_row`), and i lists those
+    within the list radius, as in a periodic box. Two anchors then move
+    apart or together along x at G times their y separation: an unlisted
+    pair's anchors, more than R = sigma + shell apart at the later of their
+    rebuilds t_b, stay at least R (1 - |G| (t - t_b) / 2) apart (the
+    smallest singular value of the shear map [[1, s], [0, 1]] is
+    sqrt(1 + s^2 / 4) - |s| / 2 >= 1 - |s| / 2), so each particle's list
+    stays valid while its distance from its moving anchor plus |G| R / 4
+    times the list's age is below shell / 2 (:func:`.prediction.list_expiry`).
     """
     cx, cy, cz = cell_coordinates(cell_of[i], ncell)
     zl, zh = cell_offsets(ncell[2], geom[G_PERIODIC, 2] != 0.0) if dim == 3 else (0, 0)
-    ly, lz = geom[G_BOX, 1], geom[G_BOX, 2]
+    lx, ly, lz = geom[G_BOX, 0], geom[G_BOX, 1], geom[G_BOX, 2]
     # with fewer than 3 layers along z a layer is its own neighbour on both sides: minimum images per anchor
     hz = half_box(geom, 2) if ncell[2] < 3 else math.inf
     ax, ay, az = b[i, ANCHOR], b[i, ANCHOR + 1], b[i, ANCHOR + 2]
-    slack = ANCHOR_ROUNDING * (max(geom[G_BOX, 0], ly, lz) + 1.0)
+    slack = ANCHOR_ROUNDING * (max(lx, ly, lz) + 1.0)
     reach_i = p[i, R] * params[P_LIST_SCALE] + params[P_SHELL] + slack
-    margin = params[P_SHEAR_MARGIN]
-    offset = shear_offset(params, geom, p[i, T])
+    offset = shear_offset(params, geom, params[P_SHEAR_FRAME])
+    strain = params[P_SHEAR_RATE] * (p[i, T] - params[P_SHEAR_FRAME])
     count = 0
     for oz in range(zl, zh + 1):
         nz, sz = neighbour_coordinate(cz, oz, ncell[2], geom[G_PERIODIC, 2] != 0.0, lz)
@@ -182,81 +176,48 @@ def _gather_sheared(p, i, b, cell_of, neighbours, neighbour_count, cell_members,
             row = cy + oy
             across = -1.0 if row < 0 else (1.0 if row >= ncell[1] else 0.0)
             ny = row - int(across) * ncell[1]
-            count = _scan_row(i, cx, ny, nz, across, ay - across * ly, shift_z, ax, offset, hz, reach_i, margin,
-                              params[P_LIST_SCALE], neighbours, count, cell_members, cell_count, cell_points, ncell,
-                              geom)
+            centre = wrapped(ax - across * offset, lx)
+            count = _scan_row(i, ny, nz, across, ay - across * ly, shift_z, centre, strain, hz, reach_i,
+                              params[P_SHEAR_REACH], params[P_LIST_SCALE], neighbours, count, cell_members, cell_count,
+                              cell_points, ncell, geom)
     neighbour_count[i] = min(count, neighbours.shape[1])
     return count
 
 
 @inline_kernel
-def _row_of(i, cell_of, ncell):
-    """Row of cells along y of particle i's anchor."""
-    return (cell_of[i] // ncell[0]) % ncell[1]
+def _anchor(p, i, b, geom, params, anchor_time):
+    """Anchor particle i at its position (at its own time): in the flow's frame and timed under shear."""
+    for k in range(3):
+        b[i, ANCHOR + k] = p[i, X + k]
+    if params[P_SHEAR_RATE] != 0.0:
+        b[i, ANCHOR] = frame_x(params, geom, p[i, X], p[i, X + 1], p[i, T])
+        anchor_time[i] = p[i, T]
 
 
 @kernel
-def refresh_across_faces(p, b, cell_of, neighbours, neighbour_count, cell_members, cell_count, cell_points, ncell,
-                         geom, dim, params, t):
-    """Lees-Edwards sweep at time t: renew the listed pairs across the y faces, from the anchors and the offset at t.
+def sweep_frame(p, b, cell_of, cell_members, cell_count, cell_points, ncell, geom, dim, params, t):
+    """Lees-Edwards sweep: the flow's frame is moved on to time t, every anchor's frame x with it, the cells refilled.
 
-    Only particles anchored in the first and the last row of cells have
-    partners across a face (a row is as high as the list radius), and a
-    pair listed across a face is one of each: every such pair is dropped
-    from both lists, then the first row's particles list their partners in
-    the last row anew, both ways, as :func:`_gather_sheared` would at t
-    (their anchors stay, so their other partners and list events stay as
-    they are). Returns the length a list would need, more than the rows
-    hold if one outgrew its row (the lists are then incomplete: grow the
-    rows and rebuild them all).
+    A point carried by the flow at height y has frame x
+    ``xi + u_x(y) (t - t_f)`` at the new frame time (:func:`.motion.frame_x`):
+    the anchors stay where they are in the lab, and so do the lists and
+    every predicted event; only the cells change, so that the strain of the
+    frame (how far the cells must be scanned along x, :func:`_scan_row`)
+    starts again from 0. Returns the fullest cell's count (more than its
+    slots hold: the cells are incomplete, grow them and rebuild all).
     """
-    top = ncell[1] - 1
-    zl, zh = cell_offsets(ncell[2], geom[G_PERIODIC, 2] != 0.0) if dim == 3 else (0, 0)
-    for row in (0, top):
-        for cz in range(ncell[2]):
-            for cx in range(ncell[0]):
-                cell = cell_index(cx, row, cz, ncell)
-                for slot in range(cell_count[cell]):
-                    i = cell_members[cell, slot]
-                    kept = 0
-                    for m in range(neighbour_count[i]):
-                        j = neighbours[i, m]
-                        neighbours[i, kept] = j
-                        kept += _row_of(j, cell_of, ncell) + row != top
-                    neighbour_count[i] = kept
-    ly, lz = geom[G_BOX, 1], geom[G_BOX, 2]
-    hz = half_box(geom, 2) if ncell[2] < 3 else math.inf
-    slack = ANCHOR_ROUNDING * (max(geom[G_BOX, 0], ly, lz) + 1.0)
-    margin = params[P_SHEAR_MARGIN]
-    offset = shear_offset(params, geom, t)
-    width = neighbours.shape[1]
-    needed = 0
-    for cz in range(ncell[2]):
-        for cx in range(ncell[0]):
-            cell = cell_index(cx, 0, cz, ncell)
-            for slot in range(cell_count[cell]):
-                i = cell_members[cell, slot]
-                ax, ay, az = b[i, ANCHOR], b[i, ANCHOR + 1], b[i, ANCHOR + 2]
-                reach_i = p[i, R] * params[P_LIST_SCALE] + params[P_SHELL] + slack
-                start = neighbour_count[i]
-                count = start
-                for oz in range(zl, zh + 1):
-                    nz, sz = neighbour_coordinate(cz, oz, ncell[2], geom[G_PERIODIC, 2] != 0.0, lz)
-                    if nz < 0:
-                        continue
-                    count = _scan_row(i, cx, top, nz, -1.0, ay + ly, az - sz if hz == math.inf else az, ax, offset, hz,
-                                      reach_i, margin, params[P_LIST_SCALE], neighbours, count,
-                                      cell_members, cell_count, cell_points, ncell, geom)
-                neighbour_count[i] = min(count, width)
-                needed = max(needed, count)
-                for m in range(start, neighbour_count[i]):
-                    j = neighbours[i, m]
-                    other = neighbour_count[j]
-                    if other < width:
-                        neighbours[j, other] = i
-                        neighbour_count[j] = other + 1
-                    needed = max(needed, other + 1)
-    return needed
+    lx = geom[G_BOX, 0]
+    elapsed = t - params[P_SHEAR_FRAME]
+    cell_count[:] = 0
+    most = 0
+    for i in range(p.shape[0]):
+        b[i, ANCHOR] = wrapped(b[i, ANCHOR] + streaming_velocity(params, geom, b[i, ANCHOR + 1]) * elapsed, lx)
+        cell = cell_of_anchor(b, i, ncell, geom, dim)
+        if not cell_insert(i, cell, b, p[i, R], cell_of, cell_members, cell_count, cell_points):
+            cell_count[cell] += 1  # count what would not fit, to report the size needed
+        most = max(most, cell_count[cell])
+    params[P_SHEAR_FRAME] = t
+    return most
 
 
 @inline_kernel
@@ -322,8 +283,8 @@ def _drop_from_list(j, i, neighbours, neighbour_count):
 
 
 @inline_kernel
-def rebuild_list(p, i, b, cell_of, neighbours, neighbour_count, cell_members, cell_count, cell_points, ncell, geom,
-                 dim, params, image, acc):
+def rebuild_list(p, i, b, anchor_time, cell_of, neighbours, neighbour_count, cell_members, cell_count, cell_points,
+                 ncell, geom, dim, params, image, acc):
     """Re-anchor particle i at its position (at its own time) and rebuild its list.
 
     Returns False, with ``acc[ACC_LIST_OVERFLOW]`` or ``acc[ACC_CELL_OVERFLOW]``
@@ -331,15 +292,14 @@ def rebuild_list(p, i, b, cell_of, neighbours, neighbour_count, cell_members, ce
     are then incomplete and must all be rebuilt.
     """
     wrap_into_box(p, i, geom, dim, image, b, acc, params)
-    cell = cell_of_position(p, i, ncell, geom, dim)
+    _anchor(p, i, b, geom, params, anchor_time)
+    cell = cell_of_anchor(b, i, ncell, geom, dim)
     _prefetch_cells(cell, cell_members, cell_count, cell_points, ncell, geom, dim)
     for m in range(neighbour_count[i]):
         prefetch(neighbours, neighbours[i, m])
         prefetch(neighbour_count, neighbours[i, m])
     for m in range(neighbour_count[i]):
         _drop_from_list(neighbours[i, m], i, neighbours, neighbour_count)
-    for k in range(3):
-        b[i, ANCHOR + k] = p[i, X + k]
     cell_remove(i, cell_of, cell_members, cell_count, cell_points)
     if not cell_insert(i, cell, b, p[i, R], cell_of, cell_members, cell_count, cell_points):
         acc[ACC_CELL_OVERFLOW] = cell_count[cell] + 1
@@ -354,8 +314,8 @@ def rebuild_list(p, i, b, cell_of, neighbours, neighbour_count, cell_members, ce
 
 
 @kernel
-def build_all_lists(p, b, cell_of, neighbours, neighbour_count, cell_members, cell_count, cell_points, ncell, geom,
-                    dim, params, image, acc):
+def build_all_lists(p, b, anchor_time, cell_of, neighbours, neighbour_count, cell_members, cell_count, cell_points,
+                    ncell, geom, dim, params, image, acc):
     """Anchor every particle at its position (all synchronised) and build every list.
 
     Returns the longest list and the fullest cell needed; if either exceeds
@@ -366,9 +326,8 @@ def build_all_lists(p, b, cell_of, neighbours, neighbour_count, cell_members, ce
     most = 0
     for i in range(p.shape[0]):
         wrap_into_box(p, i, geom, dim, image, b, acc, params)
-        for k in range(3):
-            b[i, ANCHOR + k] = p[i, X + k]
-        cell = cell_of_position(p, i, ncell, geom, dim)
+        _anchor(p, i, b, geom, params, anchor_time)
+        cell = cell_of_anchor(b, i, ncell, geom, dim)
         if not cell_insert(i, cell, b, p[i, R], cell_of, cell_members, cell_count, cell_points):
             cell_count[cell] += 1  # count what would not fit, to report the size needed
         most = max(most, cell_count[cell])

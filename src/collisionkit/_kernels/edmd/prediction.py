@@ -13,11 +13,11 @@ import math
 from ..._jit import borrowing_inline_kernel as inline_kernel
 from ..._jit import borrowing_kernel as kernel
 from .layout import (
-    ANCHOR, G_BOX, G_GRAVITY, G_PERIODIC, LIST_TARGET, P_GROWTH, P_SCALE0, P_SHEAR_RATE, P_SHELL, PREDICTED_AT, R, T,
-    TARGET, V, X, wall_target,
+    ANCHOR, G_BOX, G_GRAVITY, G_PERIODIC, LIST_TARGET, P_GROWTH, P_SCALE0, P_SHEAR_FRAME, P_SHEAR_RATE, P_SHEAR_REACH,
+    P_SHELL, PREDICTED_AT, R, SHEAR_X_EXCURSION, T, TARGET, V, X, wall_target,
 )
 from .exact import sure_approach
-from .motion import half_box, minimum_image, shear_offset, sheared_image
+from .motion import half_box, minimum_image, shear_offset, sheared_image, streaming_velocity
 
 
 @kernel
@@ -293,14 +293,63 @@ def list_expiry(p, i, b, geom, dim, reach):
 
 
 @inline_kernel
-def predict_boundary(p, i, b, geom, dim, params):
+def sheared_list_expiry(p, i, b, anchor_time, geom, dim, params):
+    """Time (from i's own time) until particle i's list expires under Lees-Edwards shear.
+
+    The anchor moves with the flow at its height, x_a(t) = xi + u_x(y_a)
+    (t - t_f) (:func:`.motion.frame_x`), and the list holds while
+    |x - x_a| + k (t - t_a) <= shell / 2, with k = |G| R / 4 and t_a the
+    anchor's time (why: :func:`.neighbour_lists._gather_sheared`). With
+    d = x - x_a now, w = v - u_x(y_a) e_x its rate and H = shell / 2 - k
+    (t - t_a) the budget left, the first tau with |d + w tau| = H - k tau
+    is the first root of (|w|^2 - k^2) tau^2 + 2 (d.w + k H) tau + |d|^2 -
+    H^2 (tau <= H / k keeps the right side >= 0, and the budget is spent
+    by then anyway). The list also expires when x strays
+    ``SHEAR_X_EXCURSION`` L_x outside [0, L_x) (the anchor no longer bounds
+    it; the minimum image of :func:`.motion.sheared_image` needs it).
+    """
+    t = p[i, T]
+    lx = geom[G_BOX, 0]
+    drift = streaming_velocity(params, geom, b[i, ANCHOR + 1])
+    d = p[i, X] - b[i, ANCHOR] - drift * (t - params[P_SHEAR_FRAME])
+    d -= lx * math.floor(d / lx + 0.5)  # the anchor's frame x is kept in [0, L_x), the position is not
+    w = p[i, V] - drift
+    ageing = 0.25 * abs(params[P_SHEAR_RATE]) * params[P_SHEAR_REACH]
+    budget = 0.5 * params[P_SHELL] - ageing * (t - anchor_time[i])
+    if budget <= 0.0:
+        return 0.0
+    quadratic = w * w - ageing * ageing
+    linear = 2.0 * (d * w + ageing * budget)
+    constant = d * d - budget * budget
+    for k in range(1, dim):
+        d = p[i, X + k] - b[i, ANCHOR + k]
+        v = p[i, V + k]
+        quadratic += v * v
+        linear += 2.0 * d * v
+        constant += d * d
+    vx = p[i, V]
+    stray = SHEAR_X_EXCURSION * lx
+    excursion = math.inf
+    if vx > 0.0:
+        excursion = max(lx + stray - p[i, X], 0.0) / vx
+    elif vx < 0.0:
+        excursion = max(p[i, X] + stray, 0.0) / -vx
+    spent = budget / ageing if ageing > 0.0 else math.inf
+    return min(first_root_from_below(quadratic, linear, constant), spent, excursion)
+
+
+@inline_kernel
+def predict_boundary(p, i, b, anchor_time, geom, dim, params):
     """When particle i (at its own time) must next rebuild its list or hits a wall.
 
     Returns (time from i's time, target: LIST_TARGET or the wall's target).
     """
     growth = params[P_GROWTH]
     scale = params[P_SCALE0] + growth * p[i, T]
-    best = list_expiry(p, i, b, geom, dim, 0.5 * params[P_SHELL])
+    if params[P_SHEAR_RATE] != 0.0:
+        best = sheared_list_expiry(p, i, b, anchor_time, geom, dim, params)
+    else:
+        best = list_expiry(p, i, b, geom, dim, 0.5 * params[P_SHELL])
     target = LIST_TARGET
     r = p[i, R]
     for k in range(dim):
@@ -319,12 +368,12 @@ def predict_boundary(p, i, b, geom, dim, params):
 
 
 @inline_kernel
-def predict(p, i, b, neighbours, neighbour_count, geom, dim, params, event):
+def predict(p, i, b, anchor_time, neighbours, neighbour_count, geom, dim, params, event):
     """Predict particle i's next event (i at its own time): its boundary event, then the collisions before it.
 
     Records the event's target in ``b`` and returns its absolute time.
     """
-    boundary, target = predict_boundary(p, i, b, geom, dim, params)
+    boundary, target = predict_boundary(p, i, b, anchor_time, geom, dim, params)
     if params[P_SHEAR_RATE] != 0.0:
         pair, partner = _first_contact_sheared(p, i, neighbours, neighbour_count, geom, params, boundary)
     else:
