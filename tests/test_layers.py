@@ -52,3 +52,29 @@ def test_the_import_contracts_hold():
                             env=os.environ | {"PYTHONPATH": str(ROOT / "src")})
     assert result.returncode == 0, result.stdout[-3000:]
     assert "0 broken" in result.stdout
+
+
+def test_one_domain_does_not_import_the_others():
+    """`import collisionkit.edmd` loads the collision core and the EDMD domain only; the other domains and tools load
+    on first use through the package's attributes, and a misspelt attribute is still an AttributeError."""
+    script = textwrap.dedent(
+        """
+        import sys
+        import collisionkit.edmd
+        loaded = {name for name in ("encounters", "transport", "sweep", "compat", "plotting", "scattering")
+                  if f"collisionkit.{name}" in sys.modules}
+        assert not loaded, loaded
+        import collisionkit as ck
+        assert ck.transport.simulate_swarm is sys.modules["collisionkit.transport"].simulate_swarm
+        assert "encounters" in dir(ck) and "encounters" not in vars(ck)
+        try:
+            ck.transpot
+        except AttributeError as error:
+            assert "transpot" in str(error)
+        else:
+            raise AssertionError("no AttributeError")
+        """
+    )
+    env = {**os.environ, "PYTHONPATH": str(ROOT / "src")}
+    done = subprocess.run([sys.executable, "-c", script], env=env, capture_output=True, text=True, timeout=120)
+    assert done.returncode == 0, done.stderr

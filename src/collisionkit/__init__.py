@@ -11,7 +11,9 @@ Modules: :mod:`collisionkit.collisions` (contact resolution and detection),
 :mod:`collisionkit.compat.irfpy` (irfpy's collision API).
 """
 
-from . import compat, encounters, kinematics, scattering, sweep, transport
+import importlib
+
+from . import kinematics
 from .collisions import RESTITUTION_MODELS, Contact, collide, resolve_contact, time_to_contact
 from .kinematics import (
     centre_of_mass_velocity,
@@ -32,6 +34,24 @@ from .kinematics import (
 )
 
 __version__ = "0.1.0"
+
+# the domains and tools load on first use (``collisionkit.transport``, ``import collisionkit.edmd``): a run of one
+# domain does not import the others (nor scipy's integrators through them): `import collisionkit` took 1.06 s and
+# 161 MB, most of it the encounters, sweep and compat modules (python -X importtime; issue 21's memory point)
+_SUBMODULES = ("compat", "edmd", "encounters", "plotting", "scattering", "sweep", "trajectory", "transport")
+
+
+def __getattr__(name):
+    """Import a domain or tool module the first time it is used (PEP 562)."""
+    if name in _SUBMODULES:
+        module = importlib.import_module(f".{name}", __name__)
+        globals()[name] = module
+        return module
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+def __dir__():
+    return sorted(set(globals()) | set(_SUBMODULES))
 
 __all__ = [
     "Contact",
