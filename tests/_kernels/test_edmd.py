@@ -156,7 +156,8 @@ def _sheared_particle(rng, dim):
     """One particle's records under shear, its anchor a little off (as after some flight), and the parameters."""
     p = np.zeros((1, 8))
     b = np.zeros((1, 8))
-    geom = np.array([[12.0, 9.0, 10.0 if dim == 3 else 1.0], [1.5, 1.5, 1.5], [0.0] * 3, [1.0, 1.0, 1.0 if dim == 3 else 0.0]])
+    third = 1.0 if dim == 3 else 0.0
+    geom = np.array([[12.0, 9.0, 10.0 if dim == 3 else 1.0], [1.5, 1.5, 1.5], [0.0] * 3, [1.0, 1.0, third]])
     params = np.zeros(kernels.P_SIZE)
     params[kernels.P_SHEAR_RATE] = rng.choice([-1.0, 1.0]) * rng.uniform(0.05, 1.0)
     params[kernels.P_SHELL] = 0.6

@@ -312,3 +312,40 @@ def test_list_events_do_not_follow_the_streaming_motion(dim, lattice, cells, rat
         system.check()
     assert rate * box[1] > 20.0
     assert per_collision[1] < 2.0 * per_collision[0]
+
+
+@pytest.mark.parametrize("slots_short", [False, True])
+def test_a_sweep_moves_every_anchor_with_the_flow_and_refills_the_cells(slots_short):
+    """sweep_frame against numpy: each anchor's frame x advanced by G (y - L_y / 2) (t - t_f) and wrapped, each
+    particle in the cell of its new anchor, the frame time moved on; the lists untouched. With cells one slot short
+    it returns the fullest cell's true count (more than the slots: the caller grows them and rebuilds).
+    """
+    from collisionkit._kernels.edmd.neighbour_lists import sweep_frame
+
+    system = _sheared(2, 0.7, thermostat=1.0, cells=14, eta=0.35)
+    system.run(collisions=2 * system.count)
+    rate, box, widths = 0.7, system.box, system.geom[_k.G_CELL]
+    later = system.params[_k.P_SHEAR_FRAME] + 0.3 / rate
+    carried = rate * (system.anchor[:, 1] - 0.5 * box[1]) * (later - system.params[_k.P_SHEAR_FRAME])
+    expected_x = (system.anchor[:, 0] + carried) % box[0]
+    columns = np.minimum(np.floor(expected_x / widths[0]).astype(int), system.ncell[0] - 1)
+    rows = np.minimum(np.floor(system.anchor[:, 1] / widths[1]).astype(int), system.ncell[1] - 1)
+    home = columns + system.ncell[0] * rows
+    fullest = int(np.bincount(home).max())
+    slots = fullest - 1 if slots_short else fullest
+    members = np.zeros((system.cell_members.shape[0], slots), dtype=np.int32)
+    points = np.zeros((system.cell_points.shape[0], slots, 4), dtype=np.float32)
+    lists = system.neighbours.copy(), system.neighbour_count.copy()
+    most = sweep_frame(system.p, system.book, system.cell_of, members, system.cell_count, points, system.ncell,
+                       system.geom, system.dim, system.params, later)
+    assert most == fullest
+    assert system.params[_k.P_SHEAR_FRAME] == later
+    assert np.allclose(system.anchor[:, 0], expected_x, rtol=0, atol=1e-12 * box[0])
+    assert np.array_equal(lists[0], system.neighbours) and np.array_equal(lists[1], system.neighbour_count)
+    if not slots_short:
+        assert np.array_equal(system.cell_of, home)
+        for cell in range(members.shape[0]):
+            held = np.sort(members[cell, : system.cell_count[cell]])
+            assert np.array_equal(held, np.flatnonzero(home == cell))
+            held_x = system.anchor[members[cell, : system.cell_count[cell]], 0].astype(np.float32)
+            assert np.array_equal(points[cell, : system.cell_count[cell], 0], held_x)

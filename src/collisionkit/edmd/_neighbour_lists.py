@@ -120,8 +120,9 @@ class NeighbourLists:
         self._start_shear_frame()
         while True:
             needed, fullest = _k.build_all_lists(
-                self.p, self.book, self.anchor_time, self.cell_of, self.neighbours, self.neighbour_count, self.cell_members,
-                self.cell_count, self.cell_points, self.ncell, self.geom, self.dim, self.params, self._image, self.acc,
+                self.p, self.book, self.anchor_time, self.cell_of, self.neighbours, self.neighbour_count,
+                self.cell_members, self.cell_count, self.cell_points, self.ncell, self.geom, self.dim, self.params,
+                self._image, self.acc,
             )
             if fullest > self.cell_members.shape[1]:
                 self._grow_cells(fullest)

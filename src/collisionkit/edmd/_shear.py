@@ -116,7 +116,7 @@ class ShearFlow:
         return self.params[_k.P_SHEAR_OFFSET] + self.params[_k.P_SHEAR_RATE] * self.box[1] * t
 
     def _shear_clock(self, shift):
-        """The clock restarts ``shift`` later (see ``synchronise``): carry the offset, the frame and the lists' times."""
+        """The clock restarts ``shift`` later (see ``synchronise``): carry over the offset, frame and lists' times."""
         if self.params[_k.P_SHEAR_RATE] != 0.0:
             self.params[_k.P_SHEAR_OFFSET] = float(self._offset_at(shift) % self.box[0])
             self.params[_k.P_SHEAR_SWEEP] -= shift

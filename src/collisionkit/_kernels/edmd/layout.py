@@ -50,7 +50,9 @@ P_SHEAR_OFFSET = 10  # x offset of the image box above at clock time 0, in [0, L
 # under shear the anchors move with the flow at their height, u_x = G (y - L_y / 2), and the cells hold them in the
 # co-moving (Lagrangian) frame: xi = x - G (y - L_y / 2) (t - t_f), their x at the frame time t_f (see .neighbour_lists)
 P_SHEAR_SWEEP = 11  # clock time of the next sweep: the frame time moves there and the anchors are re-binned
-P_SHEAR_REACH = 12  # R, the largest list radius (2 r_max list_scale + shell + slack): a list's shell budget shrinks by |G| R / 4 per unit of its age
+# R, the largest list radius (2 r_max list_scale + shell + slack): a list's shell budget shrinks by |G| R / 4 per unit
+# of its age
+P_SHEAR_REACH = 12
 P_THERMOSTAT = 13  # kT the peculiar velocities are rescaled to under shear (0: no thermostat)
 P_SHEAR_FRAME = 14  # the frame time t_f: clock time at which the co-moving frame coincides with the lab frame
 P_SIZE = 15
@@ -61,8 +63,9 @@ P_SIZE_WITHOUT_FRAME = 14
 # the strain G (t - t_f) at which the frame time moves on (a sweep): the cells are scanned (1 + strain) list radii
 # along x around a particle's anchor
 SHEAR_SWEEP_STRAIN = 0.25
-# how far (in box lengths) a sheared particle's x may stray outside [0, L_x) before it rebuilds its list (and is wrapped):
-# its anchor moves with the flow, so the list alone would not bound it, and the Lees-Edwards minimum image needs it
+# how far (in box lengths) a sheared particle's x may stray outside [0, L_x) before it rebuilds its list (and is
+# wrapped): its anchor moves with the flow, so the list alone would not bound it, and the Lees-Edwards minimum image
+# needs it
 SHEAR_X_EXCURSION = 0.25
 
 # accumulator slots (acc array)

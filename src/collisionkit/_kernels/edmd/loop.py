@@ -71,8 +71,8 @@ def _repredict(p, i, b, anchor_time, neighbours, neighbour_count, geom, dim, par
 
 @kernel
 def run_events(t, still, max_pair_collisions, max_events, t_stop, stall_limit, p, b, anchor_time, image, cell_of,
-               neighbours, neighbour_count, cell_members, cell_count, cell_points, ncell, geom, dim, restitution, params,
-               queue, tree, leaves, acc):
+               neighbours, neighbour_count, cell_members, cell_count, cell_points, ncell, geom, dim, restitution,
+               params, queue, tree, leaves, acc):
     """Process events until ``max_pair_collisions`` collisions, ``max_events`` events or time ``t_stop``.
 
     ``still`` is the number of events in a row at time ``t`` so far (the
