@@ -79,9 +79,9 @@ def test_mean_temperature_of_a_strongly_heated_thermostatted_run_matches_fine_sa
     """Discs at eta = 0.3, G = 0.5: kT climbs from 1 to about 2 between rescalings (4 N pair collisions).
 
     The measurement's ``temperature_mean`` (samples every half interval, quadratics) against the fine trapezoid of
-    the same trajectory: within 0.5 % (measured 0.08-0.26 % for seeds 1-3: the quadratics' error; the fine trapezoid's is some
-    (0.01 / 1.4)^2 of the coarse one's). The trapezoid of the values just after and just before each rescaling
-    is 3.7-3.8 % off: the test tells them apart. The rise per interval is checked to be large.
+    the same trajectory: within 0.5 % (measured 0.08-0.26 % for seeds 1-3: the quadratics' error; the fine
+    trapezoid's is some (0.01 / 1.4)^2 of the coarse one's). The trapezoid of the values just after and just
+    before each rescaling is 3.7-3.8 % off: the test tells them apart. The rise per interval is checked to be large.
     """
     system = _discs()
     system.run(collisions=40 * system.count)
