@@ -141,3 +141,22 @@ def test_energy_budget_of_a_sheared_run_closes():
     assert summary["thermostat_energy"] == pytest.approx(removed, rel=1e-12)
     assert summary["energy_lost"] == pytest.approx(lost, rel=1e-12)
     assert summary["viscous_heating"] == pytest.approx(change + lost + removed, rel=1e-10)
+
+
+def test_a_sampler_saved_before_the_mean_temperature_was_recorded_resumes_without_it():
+    """A checkpoint without the records of the mean kT and the thermostat's energy (written by an earlier
+    version): the blocks done before have them unknown (NaN, so the totals are NaN), the blocks after record
+    them."""
+    system = _discs()
+    sampler = edmd.Sampler(system, collisions=4000, blocks=4)
+    for _ in range(2):
+        sampler.run_block()
+    state = sampler.state_dict()
+    del state["sampler_temperature_mean"], state["sampler_thermostat_energy"]
+    resumed = edmd.Sampler.from_state_dict(edmd.HardSphereSystem.from_state_dict(system.state_dict()), state)
+    while not resumed.finished:
+        resumed.run_block()
+    m = resumed.result()
+    assert math.isnan(m.temperature_mean) and math.isnan(m.thermostat_energy)
+    assert np.all(np.isnan(m.block_temperature_mean[:2])) and np.all(m.block_temperature_mean[2:] > 1.0)
+    assert math.isfinite(m.shear_viscosity) and math.isfinite(m.viscous_heating)

@@ -387,10 +387,10 @@ class Sampler:
         # a checkpoint written before the groups were recorded: their blocks are unknown (no D error)
         sampler.records.setdefault("msd_groups", [np.full(_msd.MSD_GROUPS, math.nan)] * len(sampler.records["msd"]))
         # ... or before the mean kT and the thermostat's energy were: unknown for the blocks done
-        missing = [math.nan] * len(sampler.records["msd"])
-        sampler.records.setdefault("temperature_mean", missing)
+        done = len(sampler.records["msd"])
+        sampler.records.setdefault("temperature_mean", [math.nan] * done)
         if "shear_stress" in sampler.records:
-            sampler.records.setdefault("thermostat_energy", missing)
+            sampler.records.setdefault("thermostat_energy", [math.nan] * done)
         sampler.speeds = [row for row in np.array(state["sampler_speeds"])]
         sampler.lag_msd = _msd.LagMSD.from_state_dict(state)
         if sampler.lag_msd is not None and len(sampler.lag_msd.positions[0]) and \
