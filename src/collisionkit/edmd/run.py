@@ -90,7 +90,9 @@ class EdmdParameters(Parameters):
         not with ``transport``.
     thermostat : bool
         Under shear: hold kT = 1 by rescaling the peculiar velocities after
-        every 4 N pair collisions (elastic spheres heat up under shear).
+        every 4 N pair collisions (elastic spheres heat up under shear; in
+        between kT rises, and the summary's ``temperature_mean`` is its time
+        average, at which ``shear_viscosity_enskog`` is given).
 
     Examples
     --------
