@@ -11,25 +11,46 @@ Modules: :mod:`collisionkit.collisions` (contact resolution and detection),
 :mod:`collisionkit.compat.irfpy` (irfpy's collision API).
 """
 
-from . import compat, encounters, kinematics, scattering, sweep, transport
-from .collisions import RESTITUTION_MODELS, Contact, collide, resolve_contact, time_to_contact
-from .kinematics import (
-    centre_of_mass_velocity,
-    energy_transfer_fraction,
-    from_centre_of_mass_frame,
-    impact_angle_2d,
-    impact_angles_3d,
-    impact_parameter,
-    kinetic_energy,
-    lab_scattering_angle,
-    normal_from_impact_angles,
-    recoil_angle,
-    reduced_mass,
-    resolve_impact_angles,
-    sample_impact,
-    scattering_angle_cm,
-    to_centre_of_mass_frame,
-)
+from __future__ import annotations
+
+import importlib
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:  # the names below, imported on first use (PEP 562)
+    from . import compat, encounters, kinematics, scattering, sweep, transport
+    from .collisions import RESTITUTION_MODELS, Contact, collide, resolve_contact, time_to_contact
+    from .kinematics import (
+        centre_of_mass_velocity, energy_transfer_fraction, from_centre_of_mass_frame, impact_angle_2d,
+        impact_angles_3d, impact_parameter, kinetic_energy, lab_scattering_angle, normal_from_impact_angles,
+        recoil_angle, reduced_mass, resolve_impact_angles, sample_impact, scattering_angle_cm, to_centre_of_mass_frame,
+    )
+
+# `import collisionkit` imports nothing heavy (numpy, numba, scipy take a second or two): the submodules and the
+# names below load on first use, so the `collisionkit` script starts at once and answers a Ctrl-C during its
+# imports with one line instead of a traceback (collisionkit._command)
+_SUBMODULES = ("compat", "encounters", "kinematics", "scattering", "sweep", "transport")
+_NAMES = dict.fromkeys(("RESTITUTION_MODELS", "Contact", "collide", "resolve_contact", "time_to_contact"),
+                       "collisions") | dict.fromkeys((
+    "centre_of_mass_velocity", "energy_transfer_fraction", "from_centre_of_mass_frame", "impact_angle_2d",
+    "impact_angles_3d", "impact_parameter", "kinetic_energy", "lab_scattering_angle", "normal_from_impact_angles",
+    "recoil_angle", "reduced_mass", "resolve_impact_angles", "sample_impact", "scattering_angle_cm",
+    "to_centre_of_mass_frame"), "kinematics")
+
+
+def __getattr__(name: str):
+    """A submodule or a name of the collision core, imported the first time it is asked for."""
+    if name in _SUBMODULES:
+        return importlib.import_module(f"{__name__}.{name}")
+    if name in _NAMES:
+        value = getattr(importlib.import_module(f"{__name__}.{_NAMES[name]}"), name)
+        globals()[name] = value
+        return value
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(__all__))
+
 
 __version__ = "0.1.0"
 
