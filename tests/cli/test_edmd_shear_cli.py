@@ -36,6 +36,10 @@ def test_sheared_run_reports_the_shear_viscosity(tmp_path):
     output = " ".join(result.output.split())
     assert "shear viscosity -P_xy/G" in output and "temperature kT (time average)" in output
     assert "energy: collisions / thermostat / heating" in output
+    assert summary["reduced_shear_rate"] == pytest.approx(0.2 / summary["collision_frequency"], rel=1e-12)
+    # heated by more than 5 % on average: the note says what the temperature means
+    assert (summary["temperature_mean"] > 1.05) == ("the flow heats the fluid between the thermostat's rescalings"
+                                                     in output)
 
 
 def test_resumed_sheared_run_keeps_offset_clock_and_results(tmp_path):

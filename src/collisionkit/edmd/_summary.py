@@ -107,6 +107,8 @@ def _shear_summary(run, measurement, kT: float, lost_total: float) -> dict[str, 
         "thermostat": run.parameters.thermostat,
         # the zero-rate limit of the sheared fluid's viscosity, at the time-averaged temperature
         "shear_viscosity_enskog": _enskog(run, measurement, kT)["shear_viscosity"],
+        # G in units of the measured collision frequency per particle: shear thinning sets in beyond about 0.1
+        "reduced_shear_rate": run.parameters.shear_rate / measurement.collision_frequency,
         "energy_lost_collisions_total": collisions,
         "thermostat_energy_total": thermostat,
         "viscous_heating_total": collisions + thermostat - lost_total,
