@@ -59,3 +59,66 @@ def test_python_m_collisionkit_runs_the_same_command_line():
     assert "Traceback" not in done.stderr
     assert done.stderr.strip().splitlines() == [
         "error: invalid options: particles: Input should be greater than or equal to 2 (got 1)"]
+
+
+def test_import_collisionkit_loads_nothing_heavy():
+    """The script's first import, collisionkit._command, brings no numpy: the window in which a Ctrl-C could
+    interrupt an import outside the script's handler is that of the interpreter's own start."""
+    import os
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    source = str(Path(_command.__file__).resolve().parents[1])
+    check = "import sys, collisionkit._command; print(sorted({'numpy', 'numba', 'scipy'} & set(sys.modules)))"
+    done = subprocess.run([sys.executable, "-c", check], capture_output=True, text=True, timeout=120,
+                          env=dict(os.environ, PYTHONPATH=source))
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.strip() == "[]"
+
+
+def test_a_ctrl_c_while_the_command_line_loads_is_one_line_and_exit_130(monkeypatch, capsys):
+    import sys
+
+    class Interrupting:
+        def find_spec(self, name, path=None, target=None):
+            if name == "collisionkit.cli":
+                raise KeyboardInterrupt
+            return None
+
+    monkeypatch.delitem(sys.modules, "collisionkit.cli", raising=False)
+    monkeypatch.setattr(sys, "meta_path", [Interrupting(), *sys.meta_path])
+    try:
+        _command.main(["--version"])
+    except KeyboardInterrupt:  # caught here: escaping, it would stop the test session
+        pytest.fail("the Ctrl-C escaped the script (a traceback)")
+    except SystemExit as stop:
+        assert stop.code == 130
+    else:
+        pytest.fail("the script went on after the Ctrl-C")
+    assert capsys.readouterr().err == "collisionkit: interrupted while starting\n"
+
+
+def test_a_real_ctrl_c_during_the_imports_prints_no_traceback():
+    """SIGINT sent to ``python -m collisionkit`` as soon as numpy has loaded (its -X importtime line), while
+    numba, scipy, typer and rich still load: exit code 130 and one line, no traceback."""
+    import os
+    import signal
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    source = str(Path(_command.__file__).resolve().parents[1])
+    child = subprocess.Popen([sys.executable, "-X", "importtime", "-m", "collisionkit", "edmd", "--help"],
+                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                             env=dict(os.environ, PYTHONPATH=source))
+    lines = []
+    for line in child.stderr:
+        lines.append(line)
+        if line.split("|")[-1].strip() == "numpy":
+            child.send_signal(signal.SIGINT)
+            break
+    _, rest = child.communicate(timeout=120)
+    said = [line.strip() for line in lines + rest.splitlines() if not line.startswith("import time:")]
+    assert child.returncode == 130, (child.returncode, said)
+    assert said == ["collisionkit: interrupted while starting"]

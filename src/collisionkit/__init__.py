@@ -11,47 +11,50 @@ Modules: :mod:`collisionkit.collisions` (contact resolution and detection),
 :mod:`collisionkit.compat.irfpy` (irfpy's collision API).
 """
 
+from __future__ import annotations
+
 import importlib
+from typing import TYPE_CHECKING
 
-from . import kinematics
-from .collisions import RESTITUTION_MODELS, Contact, collide, resolve_contact, time_to_contact
-from .kinematics import (
-    centre_of_mass_velocity,
-    energy_transfer_fraction,
-    from_centre_of_mass_frame,
-    impact_angle_2d,
-    impact_angles_3d,
-    impact_parameter,
-    kinetic_energy,
-    lab_scattering_angle,
-    normal_from_impact_angles,
-    recoil_angle,
-    reduced_mass,
-    resolve_impact_angles,
-    sample_impact,
-    scattering_angle_cm,
-    to_centre_of_mass_frame,
-)
+if TYPE_CHECKING:  # the names below, imported on first use (PEP 562)
+    from . import compat, encounters, kinematics, scattering, sweep, transport
+    from .collisions import RESTITUTION_MODELS, Contact, collide, resolve_contact, time_to_contact
+    from .kinematics import (
+        centre_of_mass_velocity, energy_transfer_fraction, from_centre_of_mass_frame, impact_angle_2d,
+        impact_angles_3d, impact_parameter, kinetic_energy, lab_scattering_angle, normal_from_impact_angles,
+        recoil_angle, reduced_mass, resolve_impact_angles, sample_impact, scattering_angle_cm, to_centre_of_mass_frame,
+    )
 
-__version__ = "0.1.0"
-
-# the domains and tools load on first use (``collisionkit.transport``, ``import collisionkit.edmd``): a run of one
-# domain does not import the others (nor scipy's integrators through them): `import collisionkit` took 1.06 s and
-# 161 MB, most of it the encounters, sweep and compat modules (python -X importtime; issue 21's memory point)
-_SUBMODULES = ("compat", "edmd", "encounters", "plotting", "scattering", "sweep", "trajectory", "transport")
+# `import collisionkit` imports nothing heavy (numpy, numba, scipy take a second or two): the submodules and the
+# names below load on first use, so the `collisionkit` script starts at once and answers a Ctrl-C during its
+# imports with one line instead of a traceback (collisionkit._command)
+# (python -X importtime: the eager imports took 1.06 s and 161 MB, so a run of one domain also paid for the others)
+_SUBMODULES = ("compat", "edmd", "encounters", "kinematics", "plotting", "scattering", "sweep", "trajectory",
+               "transport")
+_NAMES = dict.fromkeys(("RESTITUTION_MODELS", "Contact", "collide", "resolve_contact", "time_to_contact"),
+                       "collisions") | dict.fromkeys((
+    "centre_of_mass_velocity", "energy_transfer_fraction", "from_centre_of_mass_frame", "impact_angle_2d",
+    "impact_angles_3d", "impact_parameter", "kinetic_energy", "lab_scattering_angle", "normal_from_impact_angles",
+    "recoil_angle", "reduced_mass", "resolve_impact_angles", "sample_impact", "scattering_angle_cm",
+    "to_centre_of_mass_frame"), "kinematics")
 
 
-def __getattr__(name):
-    """Import a domain or tool module the first time it is used (PEP 562)."""
+def __getattr__(name: str):
+    """A submodule or a name of the collision core, imported the first time it is asked for."""
     if name in _SUBMODULES:
-        module = importlib.import_module(f".{name}", __name__)
-        globals()[name] = module
-        return module
+        return importlib.import_module(f"{__name__}.{name}")
+    if name in _NAMES:
+        value = getattr(importlib.import_module(f"{__name__}.{_NAMES[name]}"), name)
+        globals()[name] = value
+        return value
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
-def __dir__():
-    return sorted(set(globals()) | set(_SUBMODULES))
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(__all__))
+
+
+__version__ = "0.1.0"
 
 __all__ = [
     "Contact",

@@ -2,6 +2,8 @@
 
 The core (numpy, numba, scipy) installs without them; importing
 :mod:`collisionkit.cli` would then fail with a bare ``ModuleNotFoundError``.
+A Ctrl-C while the command line loads (``import collisionkit`` itself
+loads nothing heavy) is one line and exit code 130, not a traceback.
 """
 
 from __future__ import annotations
@@ -11,6 +13,7 @@ import sys
 
 COMMAND_LINE_PACKAGES = ("typer", "rich", "pydantic")
 MISSING_EXIT_CODE = 2
+INTERRUPTED_EXIT_CODE = 130  # 128 + SIGINT, as the commands exit when interrupted
 
 
 def main(argv: list[str] | None = None) -> None:
@@ -22,6 +25,9 @@ def main(argv: list[str] | None = None) -> None:
             "pip install 'collisionkit[cli]' (or 'collisionkit[all]' for plots and trajectories too)\n"
         )
         raise SystemExit(MISSING_EXIT_CODE)
-    from .cli import main as command_line
-
+    try:  # numpy, numba, scipy, typer and rich load here, for a second or two
+        from .cli import main as command_line
+    except KeyboardInterrupt:
+        sys.stderr.write("collisionkit: interrupted while starting\n")
+        raise SystemExit(INTERRUPTED_EXIT_CODE) from None
     command_line(argv)

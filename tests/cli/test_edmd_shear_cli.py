@@ -9,7 +9,7 @@ from typer.testing import CliRunner
 
 from collisionkit.cli import app
 from collisionkit.cli._edmd_report import rows
-from collisionkit.edmd import EdmdParameters, EdmdRun
+from collisionkit.edmd import EdmdParameters, EdmdRun, enskog_transport
 
 runner = CliRunner()
 
@@ -29,7 +29,17 @@ def test_sheared_run_reports_the_shear_viscosity(tmp_path):
     assert summary["shear_viscosity"] > 0 and 0 < summary["shear_viscosity_error"] < summary["shear_viscosity"]
     assert summary["shear_viscosity"] == pytest.approx(-summary["shear_stress"] / 0.2, rel=1e-12)
     assert summary["temperature"] == pytest.approx(1.0, abs=0.2)
-    assert "shear viscosity -P_xy/G" in " ".join(result.output.split())
+    # heated between the rescalings: the mean kT, at which Enskog's viscosity is given, lies above the final 1
+    assert summary["temperature_mean"] > 1.0 + 3 * summary["temperature_mean_error"]
+    assert summary["shear_viscosity_enskog"] == pytest.approx(float(enskog_transport(
+        summary["packing_fraction"], kT=summary["temperature_mean"], dim=2)["shear_viscosity"]), rel=1e-12)
+    output = " ".join(result.output.split())
+    assert "shear viscosity -P_xy/G" in output and "temperature kT (time average)" in output
+    assert "energy: collisions / thermostat / heating" in output
+    assert summary["reduced_shear_rate"] == pytest.approx(0.2 / summary["collision_frequency"], rel=1e-12)
+    # heated by more than 5 % on average: the note says what the temperature means
+    assert (summary["temperature_mean"] > 1.05) == ("the flow heats the fluid between the thermostat's rescalings"
+                                                     in output)
 
 
 def test_resumed_sheared_run_keeps_offset_clock_and_results(tmp_path):
@@ -49,8 +59,10 @@ def test_resumed_sheared_run_keeps_offset_clock_and_results(tmp_path):
     assert resumed.system.shear_rate == 0.2 and resumed.system.thermostat == 1.0
     assert resumed.system.shear_offset > 0.0 and 0 < resumed.measured < 8000
     summary = resumed.run().summary()
-    for key in ("shear_viscosity", "shear_viscosity_error", "shear_stress", "compressibility_factor", "temperature"):
-        assert summary[key] == whole[key]
+    for key in ("shear_viscosity", "shear_viscosity_error", "shear_stress", "compressibility_factor", "temperature",
+                "temperature_mean", "temperature_mean_error", "shear_viscosity_enskog", "thermostat_energy",
+                "viscous_heating", "viscous_heating_total", "thermostat_energy_total"):
+        assert summary[key] == whole[key], key
 
 
 @pytest.mark.parametrize("thermostat, reference", [("--thermostat", "1 at each rescaling (thermostat)"),

@@ -10,8 +10,8 @@ from ._common import Deliveries, print_table, say, warn
 def _theory_column(result: dict) -> tuple[str, str, str, str]:
     """Reference values for Z, omega, kT and the energy lost: theory if elastic, trends if not.
 
-    Under shear the flow's work heats an elastic fluid (the total "lost" is minus that heating): kT
-    rises, or the thermostat brings it back to 1 every 4 N pair collisions.
+    Under shear the flow's work heats an elastic fluid (the total "lost" is what the thermostat removed minus
+    that heating): kT rises, or the thermostat brings it back to 1 every 4 N pair collisions.
     """
     if not result["elastic"]:
         return "no equilibrium (inelastic)", "", "cools (Haff)", "> 0"
@@ -19,7 +19,7 @@ def _theory_column(result: dict) -> tuple[str, str, str, str]:
     omega = f"{result['collision_frequency_from_pressure']:.5g} (Enskog, from Z)"
     if result.get("shear_rate"):
         kT = "1 at each rescaling (thermostat)" if result["thermostat"] else "rises (viscous heating)"
-        return z, omega, kT, "0 (elastic); total: - heating"
+        return z, omega, kT, "0 (elastic); total: " + ("thermostat - heating" if result["thermostat"] else "- heating")
     return z, omega, "1 (elastic)", "0 (elastic)"
 
 
@@ -55,11 +55,16 @@ def _shear_rows(result: dict, pm) -> list[tuple[str, str, str]]:
     if "shear_rate" not in result:
         return []
     enskog = result.get("shear_viscosity_enskog")
+    budget = " / ".join(f"{result[key]:.5g}" for key in
+                        ("energy_lost_collisions_total", "thermostat_energy_total", "viscous_heating_total"))
     return [
         ("shear viscosity -P_xy/G", pm("shear_viscosity"),
-         f"{enskog:.4g} (Enskog, G -> 0)" if enskog is not None else f"shear rate G = {result['shear_rate']:g}"),
+         f"{enskog:.4g} (Enskog, G -> 0, at the mean kT)" if enskog is not None
+         else f"shear rate G = {result['shear_rate']:g}"),
         ("shear stress P_xy (collisional part)", f"{pm('shear_stress')} ({pm('collisional_shear_stress')})",
          f"shear rate G = {result['shear_rate']:g}"),
+        ("temperature kT (time average)", pm("temperature_mean"), "what the stress was measured at"),
+        ("energy: collisions / thermostat / heating", budget, "total = collisions + thermostat - heating"),
     ]
 
 

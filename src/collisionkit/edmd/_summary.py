@@ -1,9 +1,19 @@
-"""The summary of an EDMD run (:meth:`~collisionkit.edmd.EdmdRun.summary`): measurement, theory, parameters.
+r"""The summary of an EDMD run (:meth:`~collisionkit.edmd.EdmdRun.summary`): measurement, theory, parameters.
 
 The measurement's values with their errors, the equation of state and
 Enskog's collision rate of an elastic run, Enskog's transport coefficients
 and the Yeh-Hummer correction of a transport run, and the parameters that
 rerun it.
+
+A sheared run's theory is taken at ``temperature_mean``, the time average
+of kT over the measurement (the viscous heating raises kT between the
+thermostat's rescalings: the final kT is not what the stress was measured
+at), and its energy budget since the start is given in parts:
+``energy_lost_total`` (the kinetic energy at the start minus now) =
+``energy_lost_collisions_total`` (inelastic collisions) +
+``thermostat_energy_total`` (removed by the thermostat) -
+``viscous_heating_total`` (the flow's work, :math:`-G V \int P_{xy} dt`;
+:mod:`._shear`).
 """
 
 from __future__ import annotations
@@ -47,6 +57,11 @@ def edmd_summary(run, measurement, files: Sequence = ()) -> dict[str, Any]:
         "elastic": p.restitution == 1.0,
         "elastic_below": system.elastic_below,
     }
+    sheared = p.shear_rate != 0.0
+    # kT of the theory: the measurement's time average under shear (unknown if resumed from a checkpoint written
+    # before it was recorded), else (elastic: constant) the final kT
+    kT = measurement.temperature_mean if sheared else math.nan
+    kT = kT if math.isfinite(kT) else measurement.temperature
     if p.restitution == 1.0:
         name, equation = equation_of_state(p.dim)
         eta, Z = measurement.packing_fraction, measurement.compressibility_factor
@@ -56,17 +71,15 @@ def edmd_summary(run, measurement, files: Sequence = ()) -> dict[str, Any]:
             "compressibility_factor_theory": theory,
             "compressibility_factor_relative_deviation": Z / theory - 1.0,
             "compressibility_factor_deviation_sigmas": _in_sigmas(Z - theory, measurement.compressibility_factor_error),
-            "collision_frequency_from_pressure": float(enskog_collision_frequency(Z, p.dim, kT=measurement.temperature)),
-            "collision_frequency_theory": float(enskog_collision_frequency(theory, p.dim, kT=1.0)),
+            "collision_frequency_from_pressure": float(enskog_collision_frequency(Z, p.dim, kT=kT)),
+            "collision_frequency_theory": float(enskog_collision_frequency(theory, p.dim, kT=kT if sheared else 1.0)),
         }
         if p.dim == 3:
             result["compressibility_factor_carnahan_starling"] = float(carnahan_starling(eta))
     if measurement.transport is not None:
         result |= _transport_summary(run, measurement)
-    if p.shear_rate != 0.0:
-        result["thermostat"] = p.thermostat
-        # the zero-rate limit of the sheared fluid's viscosity, at the measured temperature
-        result["shear_viscosity_enskog"] = _enskog(run, measurement)["shear_viscosity"]
+    if sheared:
+        result |= _shear_summary(run, measurement, kT, result["energy_lost_total"])
     if run.trajectory is not None:
         result["trajectory_frames"] = run.frames
     result["files"] = [str(path) for path in files]
@@ -74,10 +87,32 @@ def edmd_summary(run, measurement, files: Sequence = ()) -> dict[str, Any]:
     return result
 
 
-def _enskog(run, measurement) -> dict[str, float]:
+def _enskog(run, measurement, kT=None) -> dict[str, float]:
     """Enskog's coefficients of equal spheres or discs (unit diameter and mass) at the run's packing fraction
-    and measured temperature."""
-    return enskog_transport(measurement.packing_fraction, kT=measurement.temperature, dim=run.parameters.dim)
+    and ``kT`` (default: the measured final temperature)."""
+    kT = measurement.temperature if kT is None else kT
+    return enskog_transport(measurement.packing_fraction, kT=kT, dim=run.parameters.dim)
+
+
+def _shear_summary(run, measurement, kT: float, lost_total: float) -> dict[str, Any]:
+    r"""The thermostat, Enskog's viscosity at ``kT`` (the mean) and the energy budget of a sheared run since its start.
+
+    The budget is exact (:mod:`._shear`): the loss in collisions and the
+    thermostat's energy are the engine's sums, the heating is what closes
+    :math:`\Delta E + E_{lost} + E_{thermostat} = -G V \int P_{xy} dt`.
+    """
+    system = run.system
+    collisions, thermostat = system.energy_lost, system.thermostat_energy
+    return {
+        "thermostat": run.parameters.thermostat,
+        # the zero-rate limit of the sheared fluid's viscosity, at the time-averaged temperature
+        "shear_viscosity_enskog": _enskog(run, measurement, kT)["shear_viscosity"],
+        # G in units of the measured collision frequency per particle: shear thinning sets in beyond about 0.1
+        "reduced_shear_rate": run.parameters.shear_rate / measurement.collision_frequency,
+        "energy_lost_collisions_total": collisions,
+        "thermostat_energy_total": thermostat,
+        "viscous_heating_total": collisions + thermostat - lost_total,
+    }
 
 
 def _transport_summary(run, measurement) -> dict[str, Any]:

@@ -15,24 +15,28 @@ import numpy as np
 
 from .._repr import html_table, measurement_rows
 from . import _checks, _msd, _pair_distribution
+from ._shear import run_sheared
 from ._transport import TransportMeasurement, TransportSampler, transport_measurement
 from .system import HardSphereSystem
 from .theory import _ball_volume
 
 __all__ = ["RECORDS", "SHEAR_RECORDS", "Measurement", "Sampler", "measure"]
 
-# what the sampler records at the end of each block
-RECORDS = ("temperature", "compressibility", "pressure", "frequency", "time", "msd", "msd_groups")
-# and, under shear, the xy element of the pressure tensor (kinetic plus collisional) and its collisional part
-SHEAR_RECORDS = ("shear_stress", "collisional_shear_stress")
+# what the sampler records at the end of each block (temperature: kT at the end; temperature_mean: its time average)
+RECORDS = ("temperature", "temperature_mean", "compressibility", "pressure", "frequency", "time", "msd", "msd_groups")
+# and, under shear, the xy element of the pressure tensor (kinetic plus collisional), its collisional part and the
+# energy the thermostat removed
+SHEAR_RECORDS = ("shear_stress", "collisional_shear_stress", "thermostat_energy")
 
 
 @dataclass
 class Measurement:
-    """Observables of an EDMD run, block averaged; each ``*_error`` is one standard error.
+    r"""Observables of an EDMD run, block averaged; each ``*_error`` is one standard error.
 
     Attributes: ``compressibility_factor``, ``pressure``, ``temperature``
-    (final kT), ``collision_frequency`` (per particle, each pair collision
+    (final kT), ``temperature_mean`` (the time average of kT over the
+    measurement, with its error: what the pressure, Z and, under shear, the
+    stress were measured at; see below), ``collision_frequency`` (per particle, each pair collision
     counting for both), ``mean_free_time``, ``mean_free_path``,
     ``diffusion_coefficient`` (from the mean squared displacement with
     every block end as a time origin, lags up to ``blocks // 2`` blocks, at
@@ -51,7 +55,15 @@ class Measurement:
     coefficient is then the transverse one, from the displacements along y
     (the gradient) and z (the vorticity) alone, (D_yy + D_zz) / 2 in 3D and
     D_yy in 2D: along x the flow carries the particles (Taylor dispersion,
-    the displacement grows as t^3).
+    the displacement grows as t^3). Under shear ``temperature_mean`` is the
+    time integral of the kinetic energy sampled every half thermostat
+    interval (:func:`~collisionkit.edmd._shear.run_sheared`: the viscous
+    heating raises kT between the thermostat's rescalings, so the final kT
+    is not the one the stress was measured at), ``thermostat_energy`` the
+    energy the thermostat removed and ``viscous_heating`` the work of the
+    flow, :math:`-G V \int P_{xy} dt`, over the measurement; without shear
+    each block's mean kT is the mean of its first and last (exact when
+    elastic).
 
     Examples
     --------
@@ -100,6 +112,11 @@ class Measurement:
     collisional_shear_stress_error: float = math.nan
     shear_viscosity: float = math.nan
     shear_viscosity_error: float = math.nan
+    temperature_mean: float = math.nan
+    temperature_mean_error: float = math.nan
+    block_temperature_mean: np.ndarray | None = field(default=None, repr=False)
+    thermostat_energy: float = math.nan
+    viscous_heating: float = math.nan
 
     @property
     def collisions_per_second(self) -> float:
@@ -126,7 +143,8 @@ class Measurement:
         if self.shear_rate != 0.0:
             result |= {key: getattr(self, key) for key in (
                 "shear_rate", "shear_stress", "shear_stress_error", "collisional_shear_stress",
-                "collisional_shear_stress_error", "shear_viscosity", "shear_viscosity_error")}
+                "collisional_shear_stress_error", "shear_viscosity", "shear_viscosity_error", "temperature_mean",
+                "temperature_mean_error", "thermostat_energy", "viscous_heating")}
         if self.transport is not None:
             result |= {"self_diffusion": self.diffusion_coefficient,
                        "self_diffusion_error": self.diffusion_coefficient_error} | self.transport.summary()
@@ -263,18 +281,23 @@ class Sampler:
         kT_before = system.temperature()
         virial0, collisions0, time0 = system.virial, system.collisions, system.elapsed
         shear0 = _shear_totals(system)
+        thermostat0 = system.thermostat_energy
         # numba compiles at the first call (seconds on a cold cache): not a part of the timed run
         system.compile_event_loop()
         _pair_distribution.pair_distance_histogram(np.zeros((1, dim)), system.box[:dim], system.periodic, 1.0, 1)
         # the measurement's wall clock: the events and the sampling of this block
         tick = perf_counter()
-        if self.transport is None:
+        area = None
+        if system.shear_rate != 0.0:
+            area = run_sheared(system, self.per_block, progress)
+        elif self.transport is None:
             system.run(collisions=self.per_block, progress=progress)
         else:
             self.transport.run_block(self.per_block, progress)
         kT_after = system.temperature()
-        kT = 0.5 * (kT_before + kT_after)
         duration = system.elapsed - time0
+        # the time average of kT: under shear from the sampled energy, else the mean of the block's ends
+        kT = 0.5 * (kT_before + kT_after) if area is None or not duration > 0 else 2.0 * area / (dim * count * duration)
         if not (duration > 0.0 and kT > 0.0):
             raise RuntimeError(
                 f"a block of {self.per_block} pair collisions took no time (duration {duration:g}, kT {kT:g}): the "
@@ -284,6 +307,7 @@ class Sampler:
         virial = system.virial - virial0
         record = self.records
         record["temperature"].append(kT_after)
+        record["temperature_mean"].append(kT)
         record["compressibility"].append(1.0 + virial / (dim * count * kT * duration))
         record["pressure"].append((count * kT + virial / (dim * duration)) / system.volume)
         record["frequency"].append(2.0 * (system.collisions - collisions0) / (count * duration))
@@ -297,6 +321,7 @@ class Sampler:
             stress, collisional = _shear_stresses(system, shear0, duration)
             record["shear_stress"].append(stress)
             record["collisional_shear_stress"].append(collisional)
+            record["thermostat_energy"].append(system.thermostat_energy - thermostat0)
         if self.lag_msd is not None:
             self.lag_msd.add(unwrapped[:, axes], system.elapsed)
         # relative to the flow under shear (as kT is): lab-frame speeds grow with the box and the rate
@@ -361,6 +386,11 @@ class Sampler:
                            if f"sampler_{name}" in state}
         # a checkpoint written before the groups were recorded: their blocks are unknown (no D error)
         sampler.records.setdefault("msd_groups", [np.full(_msd.MSD_GROUPS, math.nan)] * len(sampler.records["msd"]))
+        # ... or before the mean kT and the thermostat's energy were: unknown for the blocks done
+        done = len(sampler.records["msd"])
+        sampler.records.setdefault("temperature_mean", [math.nan] * done)
+        if "shear_stress" in sampler.records:
+            sampler.records.setdefault("thermostat_energy", [math.nan] * done)
         sampler.speeds = [row for row in np.array(state["sampler_speeds"])]
         sampler.lag_msd = _msd.LagMSD.from_state_dict(state)
         if sampler.lag_msd is not None and len(sampler.lag_msd.positions[0]) and \
@@ -407,6 +437,8 @@ class Sampler:
         omega_error = _msd.block_error(record["frequency"])
         diameter = 2.0 * float(np.max(system.radius))
         contact, contact_error = _pair_distribution.contact_value(centres, rdf, self.histogram, diameter)
+        durations = np.diff(msd_time)
+        block_kT = np.asarray(record["temperature_mean"], dtype=float)
         return Measurement(
             dim=dim,
             particles=count,
@@ -439,9 +471,12 @@ class Sampler:
             block_temperature=np.asarray(record["temperature"]),
             block_compressibility=np.asarray(record["compressibility"]),
             block_frequency=np.asarray(record["frequency"]),
+            temperature_mean=float(np.sum(block_kT * durations) / np.sum(durations)),
+            temperature_mean_error=_msd.block_error(block_kT),
+            block_temperature_mean=block_kT,
             transport=None if self.transport is None else transport_measurement(
                 self.transport, self.done, 1.0 / omega, system.volume, count),
-            **_shear_results(system.shear_rate, record),
+            **_shear_results(system.shear_rate, record, system.volume * durations),
         )
 
 
@@ -502,12 +537,13 @@ def _shear_stresses(system, before, duration):
             (float(system.collisional_stress[0, 1]) - stress) / volume_time)
 
 
-def _shear_results(rate, record):
-    """The Measurement's shear fields from the block records (none without shear)."""
+def _shear_results(rate, record, volume_times):
+    """The Measurement's shear fields from the block records (none without shear); V t of each block given."""
     if rate == 0.0:
         return {}
     stress, collisional = np.asarray(record["shear_stress"]), np.asarray(record["collisional_shear_stress"])
-    return {"shear_rate": rate,
+    return {"shear_rate": rate, "thermostat_energy": float(np.sum(record["thermostat_energy"])),
+            "viscous_heating": -rate * float(np.sum(stress * volume_times)),
             "shear_stress": float(np.mean(stress)), "shear_stress_error": _msd.block_error(stress),
             "collisional_shear_stress": float(np.mean(collisional)),
             "collisional_shear_stress_error": _msd.block_error(collisional),

@@ -90,7 +90,9 @@ class EdmdParameters(Parameters):
         not with ``transport``.
     thermostat : bool
         Under shear: hold kT = 1 by rescaling the peculiar velocities after
-        every 4 N pair collisions (elastic spheres heat up under shear).
+        every 4 N pair collisions (elastic spheres heat up under shear; in
+        between kT rises, and the summary's ``temperature_mean`` is its time
+        average, at which ``shear_viscosity_enskog`` is given).
 
     Examples
     --------
@@ -537,7 +539,8 @@ class EdmdRun:
         return edmd_summary(self, self.measurement(), files)
 
     def cooling_note(self) -> str | None:
-        """What an inelastic run's averages mean (it cooled, maybe to the elastic floor); None if elastic.
+        """What an inelastic run's averages mean (it cooled, maybe to the elastic floor), or an elastic sheared run's
+        temperature (the flow heated it by more than 5 % on average); else None.
 
         Examples
         --------
@@ -546,9 +549,13 @@ class EdmdRun:
         >>> sheared = EdmdRun(EdmdParameters(dim=2, particles=64, initial="square", restitution=0.9, shear_rate=0.1))
         >>> sheared.cooling_note().split(":")[0]
         'restitution < 1 under shear'
+        >>> heated = EdmdRun(EdmdParameters(dim=2, particles=64, initial="square", shear_rate=0.5, thermostat=True,
+        ...                                 collisions=2560, blocks=2, seed=1))
+        >>> heated.run().cooling_note().split(":")[0]
+        "the flow heats the fluid between the thermostat's rescalings (every 4 N pair collisions)"
         """
         if self.parameters.restitution == 1.0:
-            return None
+            return None if self.sampler is None or self.sampler.done < 2 else _heating_note(self)
         system = self.system
         kT = system.temperature()
         if self.parameters.shear_rate != 0.0:
@@ -560,6 +567,21 @@ class EdmdRun:
             note += (f". It reached the elastic floor: contacts slower than --elastic-below {system.elastic_below:.3g} "
                      "are elastic (against inelastic collapse), so fewer --collisions follow the cooling itself")
         return note
+
+
+def _heating_note(run) -> str | None:
+    """What the temperature of an elastic sheared run means, if the flow heated it by more than 5 % on average."""
+    p, m = run.parameters, run.measurement()
+    if p.shear_rate == 0.0 or p.restitution != 1.0 or not m.temperature_mean > 1.05:
+        return None
+    reduced = p.shear_rate / m.collision_frequency
+    where = "between the thermostat's rescalings (every 4 N pair collisions)" if p.thermostat else "(no thermostat)"
+    note = (f"the flow heats the fluid {where}: kT averaged {m.temperature_mean:.3g}, the temperature the viscosity "
+            f"and Enskog's value are taken at; reduced shear rate G / collision frequency {reduced:.2g}")
+    if reduced > 0.1:
+        note += (": beyond about 0.1 the fluid shear-thins, its viscosity below Enskog's G -> 0 value (0.97 of it at "
+                 "0.09 for spheres at eta 0.3, 0.9 at 0.18 for discs)")
+    return note
 
 
 def _check_sampler(saved, sampler: Sampler | None, parameters: EdmdParameters, system: HardSphereSystem) -> None:
