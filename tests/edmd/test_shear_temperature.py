@@ -99,15 +99,32 @@ def test_mean_temperature_of_a_strongly_heated_thermostatted_run_matches_fine_sa
                                                                                               rel=1e-12)
 
 
+def _standard_error_of_time_average(t, e):
+    """Standard error of the time average of a sampled E(t): fluctuations about a quadratic trend, 2 tau / T."""
+    deviation = e - np.polyval(np.polyfit(t, e, 2), t)
+    correlation = np.correlate(deviation, deviation, "full")[len(deviation) - 1 :]
+    correlation /= correlation[0] * np.arange(len(deviation), 0, -1) / len(deviation)
+    cut = int(np.argmax(correlation < 0)) or len(correlation)
+    tau = (t[1] - t[0]) * (0.5 + correlation[1:cut].sum())
+    return deviation.std() * math.sqrt(2.0 * tau / (t[-1] - t[0]))
+
+
 def test_mean_temperature_without_a_thermostat_follows_the_heating():
     """Elastic discs sheared without a thermostat heat up steadily: the mean kT of run_sheared against fine sampling
-    (here E(t) is smooth: agreement to 0.1 %)."""
+    of the same trajectory. E(t) of 64 discs fluctuates by some 5 % about its trend; the samples every 2 N collisions
+    miss those wiggles (0.03-0.2 % for seeds 1-4), which must stay below a quarter of the time average's own
+    statistical error (0.9-2.5 % here: then it adds at most 3 % to the error), while the trapezoid of the ends is
+    14-28 % off."""
     system = _discs(rate=0.3, thermostat=None)
     sampling = FineSampling(system, dt=0.01)
     start = system.elapsed
     area = run_sheared(system, 6000)
-    fine, _ = sampling.mean_energy()
-    assert area / (system.elapsed - start) == pytest.approx(fine, rel=0.001)
+    fine, ends = sampling.mean_energy()
+    t, e = np.array(sampling.pieces[0]).T
+    tolerance = 0.25 * _standard_error_of_time_average(t, e) / fine
+    assert tolerance < 0.01
+    assert area / (system.elapsed - start) == pytest.approx(fine, rel=tolerance)
+    assert abs(ends / fine - 1) > 0.1
     assert system.temperature() > 1.2
 
 
