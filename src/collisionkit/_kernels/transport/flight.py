@@ -20,7 +20,7 @@ import math
 
 import numpy as np
 
-from ..._jit import kernel
+from ..._jit import borrowing_kernel, kernel
 from .oscillating import sincos
 
 
@@ -46,7 +46,7 @@ def derived_field(acceleration, omega_vector):
     return field
 
 
-@kernel
+@borrowing_kernel
 def flown_velocity(vx, vy, vz, dt, field):
     """Velocity after an exact free flight of ``dt`` from (vx, vy, vz), as a tuple.
 
@@ -74,7 +74,7 @@ def flown_velocity(vx, vy, vz, dt, field):
             vb * bz + field[8] * dt + field[11] + wz * c + cz * s)
 
 
-@kernel
+@borrowing_kernel
 def flown_position(x, y, z, vx, vy, vz, dt, field):
     """Position after an exact free flight of ``dt`` from (x, y, z) with velocity (vx, vy, vz), as a tuple.
 
