@@ -10,17 +10,23 @@ Each AC case is compared with its static counterpart (the same B). Run it
 also with ``PYTHONPATH`` pointing at an older checkout to time that code
 (the cases it cannot run are skipped). Writes benchmarks/results/fields.md
 and fields.json (``--tag`` names the rows of another checkout, written to
-fields_<tag>.json).
+fields_<tag>.json). ``--compare OLD_SRC`` times this checkout and the one
+whose ``src`` is OLD_SRC in alternating child processes (one round each,
+``--repeats`` times) and writes benchmarks/results/fields_compare.md: each
+case's median and range before and after, and of its ratio to E alone.
 
     NUMBA_CACHE_DIR=.numba_cache .venv/bin/python benchmarks/bench_fields.py
+    NUMBA_CACHE_DIR=.numba_cache .venv/bin/python benchmarks/bench_fields.py --compare /tmp/old/src --repeats 5
 """
 
 from __future__ import annotations
 
 import inspect
+import json
 import math
 import os
 import statistics
+import subprocess
 import sys
 import time
 from pathlib import Path
@@ -57,7 +63,55 @@ def cost(options: dict) -> dict:
             "ns_per_collision": 1e9 * cpu / result.collisions, "mean_energy": result.mean_energy}
 
 
+def compare(old_src: str, repeats: int) -> None:
+    """Alternate child processes of the old and this checkout, one round each, and tabulate both."""
+    here = str(Path(__file__).resolve().parents[1] / "src")
+    rounds = {"before": [], "after": []}
+    loads = [os.getloadavg()]
+    for k in range(repeats):
+        for label, src in (("before", old_src), ("after", here)):
+            tag = f"compare_{label}_{k}"
+            environment = {**os.environ, "PYTHONPATH": src}
+            subprocess.run([sys.executable, __file__, "--repeats", "1", "--tag", tag], check=True, env=environment)
+            path = RESULTS / f"fields_{tag}.json"
+            rounds[label].append(json.loads(path.read_text()))
+            path.unlink()
+    loads.append(os.getloadavg())
+    lines = ["# Fields benchmark: before and after", "",
+             f"benchmarks/bench_fields.py --compare {old_src} --repeats {repeats}: {repeats} rounds, the old and this "
+             f"checkout in alternating child processes, one run of each case a round (CPU time per real collision, "
+             f"2e7 collisions a run); load average {loads[0][0]:.1f} at the start, {loads[1][0]:.1f} at the end. "
+             "Medians (range) over the rounds; the ratio is each round's ratio to that round's E alone.", "",
+             "| case | ns before | ns after | null / real before -> after | ratio to E alone before "
+             "| ratio to E alone after |", "|---|---|---|---|---|---|"]
+
+    def spread(values, digits):
+        return f"{statistics.median(values):.{digits}f} ({min(values):.{digits}f}-{max(values):.{digits}f})"
+
+    for name in rounds["after"][0]:
+        if not isinstance(rounds["after"][0][name], dict):
+            continue
+        cells = {}
+        for label in ("before", "after"):
+            found = [found[name] for found in rounds[label] if name in found]
+            if not found:
+                cells[label] = ("", "", "")
+                continue
+            ns = [run["ns_per_collision"] for run in found]
+            ratio = [run["ns_per_collision"] / each["E alone"]["ns_per_collision"]
+                     for run, each in zip(found, rounds[label])]
+            cells[label] = (spread(ns, 0), f"{found[0]['null_collisions'] / found[0]['collisions']:.2f}",
+                            spread(ratio, 2))
+        lines.append(f"| {name} | {cells['before'][0]} | {cells['after'][0]} | {cells['before'][1]} -> "
+                     f"{cells['after'][1]} | {cells['before'][2]} | {cells['after'][2]} |")
+    atomic_write_text(RESULTS / "fields_compare.md", "\n".join(lines) + "\n")
+
+
 def main() -> None:
+    if "--compare" in sys.argv:
+        repeats = int(sys.argv[sys.argv.index("--repeats") + 1]) if "--repeats" in sys.argv else 3
+        compare(sys.argv[sys.argv.index("--compare") + 1], repeats)
+        return
     tag = sys.argv[sys.argv.index("--tag") + 1] if "--tag" in sys.argv else ""
     repeats = int(sys.argv[sys.argv.index("--repeats") + 1]) if "--repeats" in sys.argv else 3
     accepted = inspect.signature(simulate_swarm).parameters
