@@ -10,16 +10,23 @@ Each AC case is compared with its static counterpart (the same B). Run it
 also with ``PYTHONPATH`` pointing at an older checkout to time that code
 (the cases it cannot run are skipped). Writes benchmarks/results/fields.md
 and fields.json (``--tag`` names the rows of another checkout, written to
-fields_<tag>.json).
+fields_<tag>.json). ``--compare OLD_SRC`` times this checkout and the one
+whose ``src`` is OLD_SRC in alternating child processes (one round each,
+``--repeats`` times) and writes benchmarks/results/fields_compare.md: each
+case's median and range before and after, and of its ratio to E alone.
 
     NUMBA_CACHE_DIR=.numba_cache .venv/bin/python benchmarks/bench_fields.py
+    NUMBA_CACHE_DIR=.numba_cache .venv/bin/python benchmarks/bench_fields.py --compare /tmp/old/src --repeats 5
 """
 
 from __future__ import annotations
 
 import inspect
+import json
+import math
 import os
 import statistics
+import subprocess
 import sys
 import time
 from pathlib import Path
@@ -29,15 +36,22 @@ from collisionkit.transport import reid_ramp, simulate_swarm
 
 RESULTS = Path(__file__).parent / "results"
 COLLISIONS = 2e7
+# a cosine sampled at 16 points a period (linear between them): the waveform cases run the sampled-field kernels
+# (:mod:`collisionkit._kernels.transport.waveform_magnetic`) on nearly the AC cases' field
+SAMPLED_COSINE = [(k / 16, math.cos(2.0 * math.pi * k / 16)) for k in range(17)]
 CASES = {
     "E alone": {},
     "E perpendicular to B (200 Hx)": {"reduced_magnetic_field": 200.0},
     "B at 60 deg (200 Hx)": {"reduced_magnetic_field": 200.0, "field_angle": 60.0},
     "AC, omega/N = 2e-14": {"reduced_frequency": 2e-14},
     "AC + B at 60 deg (200 Hx)": {"reduced_frequency": 2e-14, "reduced_magnetic_field": 200.0, "field_angle": 60.0},
+    "waveform (sampled cosine)": {"reduced_frequency": 2e-14, "waveform": SAMPLED_COSINE},
+    "waveform + B at 60 deg (200 Hx)": {"reduced_frequency": 2e-14, "waveform": SAMPLED_COSINE,
+                                        "reduced_magnetic_field": 200.0, "field_angle": 60.0},
 }
 # each AC case against the static case of the same B
-STATIC_OF = {"AC, omega/N = 2e-14": "E alone", "AC + B at 60 deg (200 Hx)": "B at 60 deg (200 Hx)"}
+STATIC_OF = {"AC, omega/N = 2e-14": "E alone", "AC + B at 60 deg (200 Hx)": "B at 60 deg (200 Hx)",
+             "waveform (sampled cosine)": "E alone", "waveform + B at 60 deg (200 Hx)": "B at 60 deg (200 Hx)"}
 
 
 def cost(options: dict) -> dict:
@@ -49,7 +63,55 @@ def cost(options: dict) -> dict:
             "ns_per_collision": 1e9 * cpu / result.collisions, "mean_energy": result.mean_energy}
 
 
+def compare(old_src: str, repeats: int) -> None:
+    """Alternate child processes of the old and this checkout, one round each, and tabulate both."""
+    here = str(Path(__file__).resolve().parents[1] / "src")
+    rounds = {"before": [], "after": []}
+    loads = [os.getloadavg()]
+    for k in range(repeats):
+        for label, src in (("before", old_src), ("after", here)):
+            tag = f"compare_{label}_{k}"
+            environment = {**os.environ, "PYTHONPATH": src}
+            subprocess.run([sys.executable, __file__, "--repeats", "1", "--tag", tag], check=True, env=environment)
+            path = RESULTS / f"fields_{tag}.json"
+            rounds[label].append(json.loads(path.read_text()))
+            path.unlink()
+    loads.append(os.getloadavg())
+    lines = ["# Fields benchmark: before and after", "",
+             f"benchmarks/bench_fields.py --compare {old_src} --repeats {repeats}: {repeats} rounds, the old and this "
+             f"checkout in alternating child processes, one run of each case a round (CPU time per real collision, "
+             f"2e7 collisions a run); load average {loads[0][0]:.1f} at the start, {loads[1][0]:.1f} at the end. "
+             "Medians (range) over the rounds; the ratio is each round's ratio to that round's E alone.", "",
+             "| case | ns before | ns after | null / real before -> after | ratio to E alone before "
+             "| ratio to E alone after |", "|---|---|---|---|---|---|"]
+
+    def spread(values, digits):
+        return f"{statistics.median(values):.{digits}f} ({min(values):.{digits}f}-{max(values):.{digits}f})"
+
+    for name in rounds["after"][0]:
+        if not isinstance(rounds["after"][0][name], dict):
+            continue
+        cells = {}
+        for label in ("before", "after"):
+            found = [found[name] for found in rounds[label] if name in found]
+            if not found:
+                cells[label] = ("", "", "")
+                continue
+            ns = [run["ns_per_collision"] for run in found]
+            ratio = [run["ns_per_collision"] / each["E alone"]["ns_per_collision"]
+                     for run, each in zip(found, rounds[label])]
+            cells[label] = (spread(ns, 0), f"{found[0]['null_collisions'] / found[0]['collisions']:.2f}",
+                            spread(ratio, 2))
+        lines.append(f"| {name} | {cells['before'][0]} | {cells['after'][0]} | {cells['before'][1]} -> "
+                     f"{cells['after'][1]} | {cells['before'][2]} | {cells['after'][2]} |")
+    atomic_write_text(RESULTS / "fields_compare.md", "\n".join(lines) + "\n")
+
+
 def main() -> None:
+    if "--compare" in sys.argv:
+        repeats = int(sys.argv[sys.argv.index("--repeats") + 1]) if "--repeats" in sys.argv else 3
+        compare(sys.argv[sys.argv.index("--compare") + 1], repeats)
+        return
     tag = sys.argv[sys.argv.index("--tag") + 1] if "--tag" in sys.argv else ""
     repeats = int(sys.argv[sys.argv.index("--repeats") + 1]) if "--repeats" in sys.argv else 3
     accepted = inspect.signature(simulate_swarm).parameters
@@ -75,17 +137,21 @@ def main() -> None:
              f"Reid's ramp, 12 Td (amplitude), 0 K, 10 000 particles, one thread, 2e7 collisions a run, "
              f"benchmarks/bench_fields.py: the median of {repeats} runs of each case, the cases in turn, on the "
              f"shared 2-core machine (load average {load_start[0]:.1f} at the start, "
-             f"{rows['load_average_at_end'][0]:.1f} at the end: other jobs running).", "",
-             "| case | ns per real collision (runs) | null / real | ratio to E perpendicular to B "
-             "| ratio to the static case of the same B |", "|---|---|---|---|---|"]
+             f"{rows['load_average_at_end'][0]:.1f} at the end: other jobs running). The ratio to E alone is the "
+             f"median (and range) of each round's ratio to that round's E alone run.", "",
+             "| case | ns per real collision (runs) | null / real | ratio to E alone (range) "
+             "| ratio to E perpendicular to B | ratio to the static case of the same B |", "|---|---|---|---|---|---|"]
     for name in cases:
         row = rows[name]
         runs_text = ", ".join(f"{value:.0f}" for value in row["ns_per_collision_runs"])
         static = STATIC_OF.get(name)
         ratio = f"{row['ns_per_collision'] / rows[static]['ns_per_collision']:.2f}" if static in rows else ""
+        firsts = rows["E alone"]["ns_per_collision_runs"]
+        alone = [run / first for run, first in zip(row["ns_per_collision_runs"], firsts)]
         lines.append(f"| {name} | {row['ns_per_collision']:.0f} ({runs_text}) "
-                     f"| {row['null_collisions'] / row['collisions']:.2f} | {row['ns_per_collision'] / base:.2f} "
-                     f"| {ratio} |")
+                     f"| {row['null_collisions'] / row['collisions']:.2f} "
+                     f"| {statistics.median(alone):.2f} ({min(alone):.2f}-{max(alone):.2f}) "
+                     f"| {row['ns_per_collision'] / base:.2f} | {ratio} |")
     atomic_write_text(RESULTS / "fields.md", "\n".join(lines) + "\n")
 
 

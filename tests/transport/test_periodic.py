@@ -109,6 +109,22 @@ def test_reids_ramp_in_an_ac_field_with_oblique_b_never_exceeds_the_trial_bound(
     assert np.ptp(r.drift_velocity_flux_by_phase[:, 2]) > 10 * r.drift_velocity_flux_by_phase_error[:, 2].max()
 
 
+@pytest.mark.parametrize("detuning", [1.0, 1.3])
+def test_reids_ramp_at_and_near_cyclotron_resonance_with_oblique_b_never_exceeds_the_trial_bound(detuning,
+                                                                                               monkeypatch):
+    """The windows' bound follows the gyration about the particular solution (ac_window): at omega = |Omega| (B/N
+    = 200 Hx, where that solution is singular, to rounding) and off it, no trial finds the true rate above it."""
+    from collisionkit.transport import swarm
+
+    monkeypatch.setattr(swarm, "CHECK_BOUND", True)
+    gyro_n = constants.e / constants.m_e * 200e-27  # |Omega|/N, rad m^3/s
+    r = simulate_swarm(reid_ramp(), 12.0, reduced_frequency=detuning * gyro_n, reduced_magnetic_field=200.0,
+                       field_angle=60.0, gas_temperature=0.0, particles=640, seed=6, threads=2,
+                       tolerances={"mean_energy": 0.05}, collision_budget=2e6)
+    assert r.extras["bound_violations"] == 0
+    assert r.null_collisions > 0.01 * r.collisions
+
+
 def test_an_oscillating_field_refuses_a_drift_tolerance_and_bad_settings():
     gas = maxwell_model(RATE, mass=LIGHT_GAS)
     with pytest.raises(ValueError, match="cycle is zero by symmetry"):

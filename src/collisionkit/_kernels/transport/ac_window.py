@@ -13,6 +13,18 @@ t}/(i(|Omega| + omega)) + e^{-i omega t}/(i(|Omega| - omega)))``: so
 cyclotron resonance), and always ``|zeta(t)| <= |zeta(t0)| + A (t - t0)``.
 Without B, A = 0 and |zeta| is constant.
 
+Window by window the gyration is followed instead of bounded: with D =
+zeta(t0) - P(t0), ``zeta(t) e^{i theta} = D e^{i theta0} e^{-i (|Omega| -
+omega) s} + (A/2i) beta + (A/2i) alpha e^{2 i theta}`` (s = t - t0, alpha =
+1/(|Omega| + omega), beta = 1/(|Omega| - omega)). The first term turns
+slowly near resonance (where beta is large) and the second is fixed, so
+``|zeta| <= |X(s) + Y| + (A/2)|alpha|`` with X the turning term and Y =
+(A/2i) beta, and the largest |X + Y| over a window is that of its ends,
+or |D| + |Y| if X lines up with Y inside it: the bound R above, reached
+only where the two line up. X is carried as ``U = X conj(Y)/|Y|`` (Y along
+the positive real axis), taken at each window's end from its value at the
+flight's start (no error builds up over the windows).
+
 :func:`flight_envelope_ac` takes those constants once per flight and
 :func:`parallel_window` bounds each window from the parallel velocity and
 the phase at its start alone (one sine and cosine, of omega h / 2): the
@@ -30,19 +42,27 @@ from .oscillating import oscillating_flown_velocity, sincos
 
 
 @inline_kernel
-def _gyration_radius(wx, wy, wz, c1, s1, field):
-    """|zeta - P| at phase (c1, s1) of the perpendicular velocity (wx, wy, wz) (module docstring)."""
+def _gyration_offset(wx, wy, wz, c1, s1, field):
+    """D = zeta - P at phase (c1, s1) of the perpendicular velocity (wx, wy, wz) (module docstring)."""
     rotor = complex(c1, s1)
     z = rotor * field[31] + rotor.conjugate() * field[32]
     p = 0.5 * field[24] * complex(z.imag, -z.real)  # (A/2) z / i
     zeta = complex(wx * field[18] + wy * field[19] + wz * field[20], wx * field[21] + wy * field[22] + wz * field[23])
-    return abs(zeta - p)
+    return zeta - p
+
+
+@inline_kernel
+def _gyration_radius(wx, wy, wz, c1, s1, field):
+    """|zeta - P| at phase (c1, s1) of the perpendicular velocity (wx, wy, wz) (module docstring)."""
+    d = _gyration_offset(wx, wy, wz, c1, s1, field)
+    return math.sqrt(d.real * d.real + d.imag * d.imag)  # not abs(): the library hypot took 5 % of a run (perf)
 
 
 @inline_kernel
 def flight_envelope_ac(vx, vy, vz, c0, s0, field):
-    """The constants of a flight's speed bound without static acceleration: ``(v . p, R, |zeta(t0)|)`` with R
-    the bound of |zeta| over the flight (module docstring; inf at cyclotron resonance, |zeta(t0)| if A = 0).
+    """The constants of a flight's speed bound without static acceleration: ``(v . p, R, |zeta(t0)|, U0)`` with R
+    the bound of |zeta| over the flight (module docstring; inf at cyclotron resonance, |zeta(t0)| if A = 0) and
+    U0 the turning term at the flight's start, ``i sign(beta) D e^{i theta0}`` (0 at resonance or if A = 0).
 
     Examples
     --------
@@ -51,32 +71,55 @@ def flight_envelope_ac(vx, vy, vz, c0, s0, field):
     >>> from collisionkit._kernels.transport.oscillating import oscillating_field
     >>> from collisionkit._kernels.transport.ac_window import flight_envelope_ac
     >>> record = oscillating_field(derived_field(np.zeros(3), np.zeros(3)), np.array([0.0, 0.0, 2.0]), 1.0)
-    >>> [float(value) for value in flight_envelope_ac(3.0, 0.0, 4.0, 1.0, 0.0, record)]  # no B: |zeta| stays 3
-    [4.0, 3.0, 3.0]
+    >>> [complex(value) for value in flight_envelope_ac(3.0, 0.0, 4.0, 1.0, 0.0, record)]  # no B: |zeta| stays 3
+    [(4+0j), (3+0j), (3+0j), 0j]
     """
     px, py, pz = field[26], field[27], field[28]
     v_par = vx * px + vy * py + vz * pz
     wx, wy, wz = vx - v_par * px, vy - v_par * py, vz - v_par * pz
     w_speed = math.sqrt(wx * wx + wy * wy + wz * wz)
     if field[24] == 0.0:
-        return v_par, w_speed, w_speed
+        return v_par, w_speed, w_speed, 0.0j
     if field[12] == field[13]:
-        return v_par, math.inf, w_speed
-    return v_par, _gyration_radius(wx, wy, wz, c0, s0, field) + field[33], w_speed
+        return v_par, math.inf, w_speed, 0.0j
+    d = _gyration_offset(wx, wy, wz, c0, s0, field)
+    turning = d * complex(c0, s0) * complex(0.0, math.copysign(1.0, field[32]))
+    return v_par, math.sqrt(d.real * d.real + d.imag * d.imag) + field[33], w_speed, turning
 
 
 @inline_kernel
-def parallel_window(v_par, c1, s1, theta1, h, reach, radius, w_speed, speed0, accel_mag, field):
+def _tracked_perpendicular(turning, first, reach, h, field):
+    """The largest |X + Y| + (A/2)|alpha| over the window [reach - h, reach] of the flight (module docstring),
+    padded by 1e-14 of the sizes it adds (the rounding of D and of the ends), and U at the window's end:
+    ``turning`` is U0, ``first`` U at the window's start."""
+    delta = field[12] - field[13]
+    y = 0.5 * field[24] * abs(field[32])
+    size = math.sqrt(turning.real * turning.real + turning.imag * turning.imag)
+    hs, hc = sincos(-0.5 * delta * reach)
+    last = turning * complex(1.0 - 2.0 * hs * hs, 2.0 * hs * hc)  # U0 e^{-i delta reach}
+    turn = delta * h  # U turns by -delta h: clockwise for delta > 0
+    if abs(turn) >= math.pi or (turn >= 0.0 and first.imag >= 0.0 and last.imag <= 0.0) or (
+            turn <= 0.0 and first.imag <= 0.0 and last.imag >= 0.0):
+        top = size + y  # X lines up with Y inside the window
+    else:
+        top = max(math.sqrt((first.real + y) ** 2 + first.imag ** 2), math.sqrt((last.real + y) ** 2 + last.imag ** 2))
+    return top + 0.5 * field[24] * field[31] + 1e-14 * (size + y), last
+
+
+@inline_kernel
+def parallel_window(v_par, c1, s1, theta1, h, reach, radius, w_speed, turning, turned, speed0, accel_mag,
+                    field):
     """An upper bound of the speed over a window [t1, t1 + h] of a flight without static acceleration, and the
-    parallel velocity and phase at its end: ``(bound, v_par, cos theta2, sin theta2)``.
+    parallel velocity, phase and turning term U at its end: ``(bound, v_par, cos theta2, sin theta2, U)``.
 
     ``v_par`` and ``(c1, s1)`` are v . p and the phase (cos, sin of
     ``theta1 = omega t1``) at the window's start, ``reach`` the flight time
-    at its end; ``radius``, ``w_speed`` (:func:`flight_envelope_ac`) and
-    ``speed0`` the flight's constants. The parallel speed's range is exact
-    over the window (its ends, and an extremum of the sine inside); across,
-    min(R, |zeta(t0)| + A reach); with ``|v(t0)| + |a| reach`` as a cap (the
-    magnetic force does no work). Padded by 1e-10 of the speeds (and 1e-12
+    at its end; ``radius``, ``w_speed``, ``turning`` (:func:`flight_envelope_ac`)
+    and ``speed0`` the flight's constants, ``turned`` U at the window's start (``turning`` in the first window). The parallel speed's range is
+    exact over the window (its ends, and an extremum of the sine inside);
+    across, the smallest of R, |zeta(t0)| + A reach and, off resonance, the
+    gyration followed over the window (module docstring); with ``|v(t0)| +
+    |a| reach`` as a cap (the magnetic force does no work). Padded by 1e-10 of the speeds (and 1e-12
     of the oscillation amplitude a_par/omega) against rounding.
 
     Examples
@@ -86,7 +129,7 @@ def parallel_window(v_par, c1, s1, theta1, h, reach, radius, w_speed, speed0, ac
     >>> from collisionkit._kernels.transport.oscillating import oscillating_field
     >>> from collisionkit._kernels.transport.ac_window import parallel_window
     >>> record = oscillating_field(derived_field(np.zeros(3), np.zeros(3)), np.array([0.0, 0.0, 2.0]), 1.0)
-    >>> [round(value, 6) for value in parallel_window(0.0, 1.0, 0.0, 0.0, 10.0, 10.0, 0.0, 0.0, 0.0, 2.0, record)]
+    >>> [round(value, 6) for value in parallel_window(0.0, 1.0, 0.0, 0.0, 10.0, 10.0, 0.0, 0.0, 0j, 0j, 0.0, 2.0, record)[:4]]
     [2.0, -1.088042, -0.839072, -0.544021]
     """
     omega = field[13]
@@ -101,8 +144,11 @@ def parallel_window(v_par, c1, s1, theta1, h, reach, radius, w_speed, speed0, ac
     extremes = max(abs(v_par + a_over_omega * (low - s1)), abs(v_par + a_over_omega * (high - s1)))
     parallel = max(abs(v_par), abs(v_end), extremes) + abs(a_over_omega) * 1e-12
     perpendicular = min(radius, w_speed + field[24] * reach)
+    if field[24] > 0.0 and field[12] != omega:
+        tracked, turned = _tracked_perpendicular(turning, turned, reach, h, field)
+        perpendicular = min(perpendicular, tracked)
     bound = min(speed0 + accel_mag * reach, math.sqrt(parallel * parallel + perpendicular * perpendicular))
-    return bound * (1.0 + 1e-10), v_end, c2, s2
+    return bound * (1.0 + 1e-10), v_end, c2, s2, turned
 
 
 @kernel

@@ -14,7 +14,11 @@ from ..._jit import borrowing_kernel, inline_kernel, kernel
 from .collisions import ionized, two_body
 from .cross_sections import node_index as _node_index
 from .cross_sections import trial_frequencies as _trial_frequencies
-from .flight import flight_envelope, flown_position, flown_velocity, window_growth_speed, window_top_speed
+from .flight import flight_envelope as _flight_envelope
+from .flight import flown_position as _flown_position
+from .flight import flown_velocity as _flown_velocity
+from .flight import window_growth_speed as _window_growth_speed
+from .flight import window_top_speed as _window_top_speed
 from .ac_window import flight_envelope_ac, oscillating_window, parallel_window
 from .oscillating import (
     RECORD_SIZE, STATIC_SIZE, displacement_with_phases, flight_with_phases, oscillating_flown_velocity, record_values,
@@ -47,6 +51,12 @@ EARLY_REJECTION = 5
 # on its arrays (perf: trial_frequencies alone took 15-18 % of a static run)
 node_index = inline_kernel(_node_index.py_func)
 trial_frequencies = inline_kernel(_trial_frequencies.py_func)
+# ... and the static flight and its window bounds, the flights fed the record's tuple (no array: no reference counts)
+flown_velocity = inline_kernel(_flown_velocity.py_func)
+flown_position = inline_kernel(_flown_position.py_func)
+flight_envelope = inline_kernel(_flight_envelope.py_func)
+window_top_speed = inline_kernel(_window_top_speed.py_func)
+window_growth_speed = inline_kernel(_window_growth_speed.py_func)
 
 
 @borrowing_kernel
@@ -123,9 +133,10 @@ def _advance_particles(lo, hi, pos, vel, states, alive, t_start, t_end, field, m
                 vb, radius, a_par = 0.0, 0.0, 0.0
                 c0, s0 = phase_cos, phase_sin  # the phase of the field at the flight's start
                 wvx, wvy, wvz, wc, ws = vx, vy, vz, c0, s0  # the state at the next window's start
-                w_par, radius_ac, w_speed, s_window = 0.0, 0.0, 0.0, speed0
+                w_par, radius_ac, w_speed, s_window, turning, turned = 0.0, 0.0, 0.0, speed0, 0.0j, 0.0j
                 if envelope:
-                    w_par, radius_ac, w_speed = flight_envelope_ac(vx, vy, vz, c0, s0, record)
+                    w_par, radius_ac, w_speed, turning = flight_envelope_ac(vx, vy, vz, c0, s0, record)
+                    turned = turning  # U at the next window's start
                 sh = ch = gs = gc = 0.0  # the half-angle sines of the last trial (oscillating field)
                 if not exact:
                     vb, radius, a_par = flight_envelope(vx, vy, vz, bx, by, bz, ux, uy, uz, a_par_field)
@@ -145,16 +156,16 @@ def _advance_particles(lo, hi, pos, vel, states, alive, t_start, t_end, field, m
                         elif exact:
                             fx, fy, fz = vx + ax * elapsed, vy + ay * elapsed, vz + az * elapsed
                         else:
-                            fx, fy, fz = flown_velocity(vx, vy, vz, elapsed, field)
+                            fx, fy, fz = flown_velocity(vx, vy, vz, elapsed, record)
                         return i, math.sqrt(fx * fx + fy * fy + fz * fz)
                     if elapsed >= window_end:  # open the next window
                         if envelope:  # the bound from the parallel velocity and phase at the window's start
                             # (the previous window's bound stands in for the speed at the start)
                             h = window / nu_window if nu_window > 0.0 else fallback
                             h = min(h, growth * max(s_window, speed_floor) * inverse_accel)
-                            s_window, w_par, wc, ws = parallel_window(
+                            s_window, w_par, wc, ws, turned = parallel_window(
                                 w_par, wc, ws, omega * (t + window_end), h, window_end + h, radius_ac, w_speed,
-                                speed0, accel_mag, record)
+                                turning, turned, speed0, accel_mag, record)
                             nu_window = trial_frequencies(s_window, density, gas, bound, inverse_step, sigma_max,
                                                           const_max, nu_s)
                             window_end += h
@@ -208,7 +219,7 @@ def _advance_particles(lo, hi, pos, vel, states, alive, t_start, t_end, field, m
                     elif exact:
                         tvx, tvy, tvz = vx + ax * elapsed, vy + ay * elapsed, vz + az * elapsed
                     else:
-                        tvx, tvy, tvz = flown_velocity(vx, vy, vz, elapsed, field)
+                        tvx, tvy, tvz = flown_velocity(vx, vy, vz, elapsed, record)
                     r = uniform(rng) * nu_window
                     s = 0
                     while s < n_species - 1 and r >= nu_s[s]:
@@ -268,7 +279,7 @@ def _advance_particles(lo, hi, pos, vel, states, alive, t_start, t_end, field, m
                     half = 0.5 * elapsed * elapsed
                     x, y, z = x + vx * elapsed + ax * half, y + vy * elapsed + ay * half, z + vz * elapsed + az * half
                 else:
-                    x, y, z = flown_position(x, y, z, vx, vy, vz, elapsed, field)
+                    x, y, z = flown_position(x, y, z, vx, vy, vz, elapsed, record)
                 if ac:
                     if landed:  # the flight to t_end (a real collision's reuses its trial's sines)
                         vx, vy, vz, phase_cos, phase_sin, sh, ch, gs, gc = flight_with_phases(
@@ -284,7 +295,7 @@ def _advance_particles(lo, hi, pos, vel, states, alive, t_start, t_end, field, m
                     elif exact and not ac:
                         vx, vy, vz = vx + ax * elapsed, vy + ay * elapsed, vz + az * elapsed
                     elif not ac:
-                        vx, vy, vz = flown_velocity(vx, vy, vz, elapsed, field)
+                        vx, vy, vz = flown_velocity(vx, vy, vz, elapsed, record)
                     t = t_end
                     break
                 # a real collision, where the particle now is

@@ -20,7 +20,8 @@ import math
 
 import numpy as np
 
-from ..._jit import kernel
+from ..._jit import borrowing_kernel, kernel
+from .oscillating import sincos
 
 
 @kernel
@@ -45,12 +46,14 @@ def derived_field(acceleration, omega_vector):
     return field
 
 
-@kernel
+@borrowing_kernel
 def flown_velocity(vx, vy, vz, dt, field):
     """Velocity after an exact free flight of ``dt`` from (vx, vy, vz), as a tuple.
 
     Constant acceleration, or gyration about B plus the E x B drift: the
-    closed-form solution of dv/dt = a + v x Omega.
+    closed-form solution of dv/dt = a + v x Omega. The gyration's sine and
+    cosine come from one :func:`.oscillating.sincos` of the half angle (sin =
+    2 s c, cos = 1 - 2 s^2; a tenth of the cost of the library's sin and cos).
     """
     w = field[12]
     if w == 0.0:
@@ -63,18 +66,19 @@ def flown_velocity(vx, vy, vz, dt, field):
     cx = wy * bz - wz * by
     cy = wz * bx - wx * bz
     cz = wx * by - wy * bx
-    c = math.cos(w * dt)
-    s = math.sin(w * dt)
+    half_sin, half_cos = sincos(0.5 * w * dt)
+    s = 2.0 * half_sin * half_cos
+    c = 1.0 - 2.0 * half_sin * half_sin
     return (vb * bx + field[6] * dt + field[9] + wx * c + cx * s,
             vb * by + field[7] * dt + field[10] + wy * c + cy * s,
             vb * bz + field[8] * dt + field[11] + wz * c + cz * s)
 
 
-@kernel
+@borrowing_kernel
 def flown_position(x, y, z, vx, vy, vz, dt, field):
     """Position after an exact free flight of ``dt`` from (x, y, z) with velocity (vx, vy, vz), as a tuple.
 
-    The time integral of :func:`flown_velocity`.
+    The time integral of :func:`flown_velocity` (its sines from the half angle too).
     """
     w = field[12]
     if w == 0.0:
@@ -88,8 +92,9 @@ def flown_position(x, y, z, vx, vy, vz, dt, field):
     cx = wy * bz - wz * by
     cy = wz * bx - wx * bz
     cz = wx * by - wy * bx
-    s = math.sin(w * dt)
-    one_minus_c = 2.0 * math.sin(0.5 * w * dt) ** 2
+    half_sin, half_cos = sincos(0.5 * w * dt)
+    s = 2.0 * half_sin * half_cos
+    one_minus_c = 2.0 * half_sin * half_sin
     return (x + (vb * bx + field[9]) * dt + 0.5 * field[6] * dt * dt + (wx * s + cx * one_minus_c) / w,
             y + (vb * by + field[10]) * dt + 0.5 * field[7] * dt * dt + (wy * s + cy * one_minus_c) / w,
             z + (vb * bz + field[11]) * dt + 0.5 * field[8] * dt * dt + (wz * s + cz * one_minus_c) / w)

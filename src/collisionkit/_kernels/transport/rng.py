@@ -2,6 +2,12 @@
 
 Every particle carries its own stream (a state of four uint64 words), so
 the result does not depend on how particles are split over threads.
+
+The per-trial functions (:func:`next_u64`, :func:`uniform`,
+:func:`normal_pair`) are inlined into their callers: a numba call that is
+not inlined increments and decrements the reference count of the state
+array it takes (two atomic operations, about as much as the generator
+itself), even from a caller compiled without reference counting.
 """
 
 from __future__ import annotations
@@ -10,7 +16,7 @@ import math
 
 import numpy as np
 
-from ..._jit import kernel
+from ..._jit import inline_kernel, kernel
 
 _SM1 = np.uint64(0x9E3779B97F4A7C15)
 _SM2 = np.uint64(0xBF58476D1CE4E5B9)
@@ -18,12 +24,12 @@ _SM3 = np.uint64(0x94D049BB133111EB)
 _TWO_M53 = 1.0 / 9007199254740992.0
 
 
-@kernel
+@inline_kernel
 def _rotl(x, k):
     return (x << np.uint64(k)) | (x >> np.uint64(64 - k))
 
 
-@kernel
+@inline_kernel
 def next_u64(state):
     """xoshiro256+ step on a length-4 uint64 state (Blackman & Vigna 2018)."""
     result = state[0] + state[3]
@@ -37,7 +43,7 @@ def next_u64(state):
     return result
 
 
-@kernel
+@inline_kernel
 def uniform(state):
     """A double in the open interval (0, 1) (never 0: safe for log)."""
     return (float(next_u64(state) >> np.uint64(11)) + 0.5) * _TWO_M53
@@ -61,7 +67,7 @@ def seed_state(seed, out):
         out[k] = z
 
 
-@kernel
+@inline_kernel
 def normal_pair(state):
     """Two independent standard normal numbers (Marsaglia's polar method: no trigonometry)."""
     while True:

@@ -34,7 +34,7 @@ import math
 
 import numpy as np
 
-from ..._jit import kernel
+from ..._jit import borrowing_kernel
 
 WAVE_START = 34  # the oscillating record's size: the waveform's entries follow
 
@@ -83,7 +83,7 @@ def waveform_record(static_field, amplitude, period, knots, values):
     return record
 
 
-@kernel
+@borrowing_kernel
 def _piece(u, field, n):
     """The piece k holding phase u in [0, 1]: the last k <= n - 2 with knot k <= u (the right side of a jump)."""
     first = WAVE_START + 2
@@ -97,7 +97,7 @@ def _piece(u, field, n):
     return low
 
 
-@kernel
+@borrowing_kernel
 def _antiderivatives(big_u, field, n):
     """``(G1(U), G2(U))`` for U >= 0 (module docstring)."""
     m = math.floor(big_u)
@@ -116,7 +116,7 @@ def _antiderivatives(big_u, field, n):
             period_integral * m * (m - 1.0) / 2.0 + m * field[g2 + n - 1] + m * period_integral * r + local2)
 
 
-@kernel
+@borrowing_kernel
 def waveform_integrals(t0, tau, field):
     """``(T J1, T^2 J2)`` of a flight of ``tau`` from time ``t0`` (module docstring): the velocity gained is
     ``a T J1``, the displacement from rest ``a T^2 J2``.

@@ -47,7 +47,7 @@ import math
 
 import numpy as np
 
-from ..._jit import kernel
+from ..._jit import borrowing_kernel, kernel
 from .flight import flown_velocity
 from .oscillating import oscillating_field, sincos
 from .waveform import WAVE_START, _piece, waveform_integrals, waveform_record
@@ -61,7 +61,7 @@ def phi_functions(x):
     """``(e^{ix}, phi1(ix), phi2(ix), phi3(ix))`` for real x: ``phi1 = (e^z - 1)/z``, ``phi2 = (phi1 - 1)/z``,
     ``phi3 = (phi2 - 1/2)/z`` (z = ix; 1, 1/2, 1/6 at 0).
 
-    For |x| < ``PHI_SERIES`` phi3 from its series sum_n (ix)^n/(n + 3)!,
+    For |x| < ``PHI_SERIES`` phi3 from its series sum_n (ix)^n/(n + 3)! (to n = 16, by Horner's rule),
     then phi2, phi1 and e^z upwards (``phi_{j-1} = 1/(j-1)! + z phi_j``:
     no cancellation); above, the recurrence downwards from e^z, which loses
     at most a few ulps there.
@@ -76,19 +76,13 @@ def phi_functions(x):
     """
     z = complex(0.0, x)
     if abs(x) < PHI_SERIES:
-        real, imag = 0.0, 0.0
-        term = 1.0 / 6.0  # x^n / (n + 3)!
-        for n in range(17):
-            quarter = n & 3
-            if quarter == 0:
-                real += term
-            elif quarter == 1:
-                imag += term
-            elif quarter == 2:
-                real -= term
-            else:
-                imag -= term
-            term *= x / (n + 4)
+        x2 = x * x  # the even terms are the real part, the odd ones the imaginary part (Horner in x^2)
+        real = 1.0 / 6.0 - x2 * (1.0 / 120.0 - x2 * (1.0 / 5040.0 - x2 * (1.0 / 362880.0 - x2 * (
+            1.0 / 39916800.0 - x2 * (1.0 / 6227020800.0 - x2 * (1.0 / 1307674368000.0 - x2 * (
+                1.0 / 355687428096000.0 - x2 / 121645100408832000.0)))))))
+        imag = x * (1.0 / 24.0 - x2 * (1.0 / 720.0 - x2 * (1.0 / 40320.0 - x2 * (1.0 / 3628800.0 - x2 * (
+            1.0 / 479001600.0 - x2 * (1.0 / 87178291200.0 - x2 * (1.0 / 20922789888000.0
+                                                                  - x2 / 6402373705728000.0)))))))
         p3 = complex(real, imag)
         p2 = 0.5 + z * p3
         p1 = 1.0 + z * p2
@@ -148,7 +142,7 @@ def shaped_field_record(static_field, amplitude, period, knots, values):
     return np.concatenate([record, tables])
 
 
-@kernel
+@borrowing_kernel
 def _within_period(time, field, n, w):
     """``(R, P)`` at ``time`` in [0, T] from the knot before it (module docstring)."""
     period = field[WAVE_START]
@@ -163,7 +157,7 @@ def _within_period(time, field, n, w):
     return e * r_k + d * (f_k * p1 + rise * p2), p_k + r_k * d * p1 + d * d * (f_k * p2 + rise * p3)
 
 
-@kernel
+@borrowing_kernel
 def _responses_at(time, field, n, w):
     """``(R, P)`` at any ``time`` >= 0 from the period's start: m whole periods by the affine map's powers."""
     period = field[WAVE_START]
@@ -192,7 +186,7 @@ def _responses_at(time, field, n, w):
     return e * big_r + r_rest, big_p + big_r * rest * p1 + p_rest
 
 
-@kernel
+@borrowing_kernel
 def magnetic_response(t0, tau, field):
     """``(zeta, Z)``: the perpendicular velocity (as e1 + i e2 components) and displacement gained from rest in a
     flight of ``tau`` from time ``t0``, per unit A (module docstring).
@@ -228,7 +222,7 @@ def magnetic_response(t0, tau, field):
     return r1 - e * r0, q1 - q0 - r0 * tau * p1
 
 
-@kernel
+@borrowing_kernel
 def shaped_velocity(vx, vy, vz, t0, tau, field):
     """Velocity after an exact flight of ``tau`` from (vx, vy, vz) at time ``t0`` in the waveform (and B), as a
     tuple: the static flight plus the response from rest (module docstring; without B ``v0 + g tau + a T J1``).
@@ -259,7 +253,7 @@ def shaped_velocity(vx, vy, vz, t0, tau, field):
     return ox, oy, oz
 
 
-@kernel
+@borrowing_kernel
 def shaped_displacement(t0, tau, field):
     """Displacement from rest in a flight of ``tau`` from ``t0`` under the waveform's force, as a tuple (to add
     to the static flight's :func:`.flight.flown_position`): ``a T^2 J2`` without B, the module docstring's with.
@@ -288,7 +282,7 @@ def shaped_displacement(t0, tau, field):
     return dx, dy, dz
 
 
-@kernel
+@borrowing_kernel
 def shaped_window(vx, vy, vz, t0, start, h, field, accel_mag):
     """An upper bound of the speed over the window [start, start + h] of a flight from (vx, vy, vz) at ``t0``.
 
