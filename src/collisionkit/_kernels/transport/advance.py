@@ -24,7 +24,7 @@ from .flight import window_top_speed as _window_top_speed
 from .ac_window import flight_envelope_ac, oscillating_window, parallel_window
 from .oscillating import (
     RECORD_SIZE, STATIC_SIZE, displacement_with_phases, flight_with_phases, oscillating_flown_velocity, record_values,
-    sincos,
+    sincos, sincos_spread,
 )
 from .particular import particular_flight, particular_position, particular_terms
 from .waveform_magnetic import shaped_displacement, shaped_velocity, shaped_window
@@ -241,7 +241,7 @@ def _advance_particles(lo, hi, pos, vel, states, alive, t_start, t_end, field, m
                     elif exact:
                         tvx, tvy, tvz = vx + ax * elapsed, vy + ay * elapsed, vz + az * elapsed
                     else:  # the half-angle sines kept for the position at a real collision
-                        gs, gc = sincos(half_gyration * elapsed)
+                        gs, gc = sincos_spread(half_gyration * elapsed)
                         tvx, tvy, tvz = gyrated_velocity(vx, vy, vz, elapsed, gs, gc, record)
                     r = uniform(rng) * nu_window
                     s = 0

@@ -21,7 +21,7 @@ import math
 import numpy as np
 
 from ..._jit import borrowing_inline_kernel, borrowing_kernel, kernel
-from .oscillating import sincos
+from .oscillating import sincos_spread
 
 
 @kernel
@@ -58,7 +58,7 @@ def flown_velocity(vx, vy, vz, dt, field):
     w = field[12]
     if w == 0.0:
         return vx + field[0] * dt, vy + field[1] * dt, vz + field[2] * dt
-    half_sin, half_cos = sincos(0.5 * w * dt)
+    half_sin, half_cos = sincos_spread(0.5 * w * dt)
     return gyrated_velocity(vx, vy, vz, dt, half_sin, half_cos, field)
 
 
@@ -102,7 +102,7 @@ def flown_position(x, y, z, vx, vy, vz, dt, field):
     if w == 0.0:
         half = 0.5 * dt * dt
         return x + vx * dt + field[0] * half, y + vy * dt + field[1] * half, z + vz * dt + field[2] * half
-    half_sin, half_cos = sincos(0.5 * w * dt)
+    half_sin, half_cos = sincos_spread(0.5 * w * dt)
     return gyrated_position(x, y, z, vx, vy, vz, dt, half_sin, half_cos, field)
 
 

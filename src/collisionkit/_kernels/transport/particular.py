@@ -33,7 +33,7 @@ from __future__ import annotations
 
 from ..._jit import inline_kernel, kernel
 from .flight import gyrated_position, gyrated_velocity
-from .oscillating import sincos
+from .oscillating import sincos, sincos_spread
 
 # the particular solution is used when | |Omega| - omega | >= this fraction of omega: its size is then at most
 # (A/2)(alpha + |beta|) <= (1/2 + 1/(2 x 0.01)) |a_c|/omega, about 50 quiver amplitudes
@@ -84,7 +84,7 @@ def particular_flight(ux, uy, uz, c0, s0, tau, k_s, k_c, field):
     vers = 2.0 * sh * sh
     c1 = c0 * (1.0 - vers) - s0 * sin_w
     s1 = s0 * (1.0 - vers) + c0 * sin_w
-    gs, gc = sincos(0.5 * field[12] * tau)
+    gs, gc = sincos_spread(0.5 * field[12] * tau)
     ox, oy, oz = gyrated_velocity(ux, uy, uz, tau, gs, gc, field)
     return (ox + s1 * k_s[0] + c1 * k_c[0], oy + s1 * k_s[1] + c1 * k_c[1], oz + s1 * k_s[2] + c1 * k_c[2],
             c1, s1, sh, ch, gs, gc)
