@@ -71,7 +71,9 @@ def compare(old_src: str, repeats: int) -> None:
     for k in range(repeats):
         for label, src in (("before", old_src), ("after", here)):
             tag = f"compare_{label}_{k}"
-            environment = {**os.environ, "PYTHONPATH": src}
+            # each checkout its own numba cache: one shared would be recompiled at every switch (its stamp differs)
+            cache = Path(os.environ.get("NUMBA_CACHE_DIR", ".numba_cache")) / f"compare_{label}"
+            environment = {**os.environ, "PYTHONPATH": src, "NUMBA_CACHE_DIR": str(cache)}
             subprocess.run([sys.executable, __file__, "--repeats", "1", "--tag", tag], check=True, env=environment)
             path = RESULTS / f"fields_{tag}.json"
             rounds[label].append(json.loads(path.read_text()))

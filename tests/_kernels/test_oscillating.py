@@ -122,11 +122,13 @@ def test_the_static_flight_at_any_angle_solves_the_equation_of_motion():
         np.testing.assert_allclose(flown_position(*x0, *v0, tau, field), solution.y[:3, -1], atol=1e-9 * (1 + tau) ** 2)
 
 
-def test_sincos_agrees_with_the_library_to_a_few_ulp():
-    from collisionkit._kernels.transport.oscillating import sincos
+@pytest.mark.parametrize("name", ["sincos", "sincos_spread"])
+def test_sincos_agrees_with_the_library_to_a_few_ulp(name):
+    from collisionkit._kernels.transport import oscillating
 
+    sincos = getattr(oscillating, name)
     rng = np.random.default_rng(7)
-    for x in np.concatenate([rng.uniform(-10, 10, 2000), rng.uniform(-1e5, 1e5, 2000), [0.0, math.pi / 4, 1e-300]]):
+    for x in np.concatenate([rng.uniform(-10, 10, 2000), rng.uniform(-1e5, 1e5, 2000), [0.0, -0.0, math.pi / 4, -math.pi / 4, 1e-300, -1e-300]]):
         s, c = sincos(x)
         assert abs(s - math.sin(x)) <= 4e-16 * max(1.0, abs(x) * 1e-5) + 2e-16 * abs(math.sin(x))
         assert abs(c - math.cos(x)) <= 4e-16 * max(1.0, abs(x) * 1e-5) + 2e-16 * abs(math.cos(x))

@@ -31,7 +31,7 @@ def _main_kernels(domain: str) -> list:
     if domain == "swarm":
         from .._kernels.transport import advance
 
-        return [advance.advance_swarm]
+        return [advance.PARTICLE_LOOPS[advance.STATIC]]
     if domain == "slab":
         from .._kernels.transport import slab
 

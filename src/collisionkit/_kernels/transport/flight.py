@@ -20,8 +20,8 @@ import math
 
 import numpy as np
 
-from ..._jit import borrowing_kernel, kernel
-from .oscillating import sincos
+from ..._jit import borrowing_inline_kernel, borrowing_kernel, kernel
+from .oscillating import sincos_spread
 
 
 @kernel
@@ -58,6 +58,25 @@ def flown_velocity(vx, vy, vz, dt, field):
     w = field[12]
     if w == 0.0:
         return vx + field[0] * dt, vy + field[1] * dt, vz + field[2] * dt
+    half_sin, half_cos = sincos_spread(0.5 * w * dt)
+    return gyrated_velocity(vx, vy, vz, dt, half_sin, half_cos, field)
+
+
+@borrowing_inline_kernel
+def gyrated_velocity(vx, vy, vz, dt, half_sin, half_cos, field):
+    """:func:`flown_velocity` in a magnetic field given ``(sin, cos)(|Omega| dt / 2)``: a trial that becomes a
+    real collision hands its sines on to :func:`gyrated_position` (one sine series a collision, not two).
+
+    Examples
+    --------
+    >>> import math
+    >>> import numpy as np
+    >>> from collisionkit._kernels.transport.flight import derived_field, gyrated_velocity
+    >>> field = derived_field(np.zeros(3), np.array([0.0, 0.0, 2.0]))  # |Omega| = 2 along z
+    >>> [round(value, 12) for value in gyrated_velocity(1.0, 0.0, 0.0, math.pi / 4, math.sin(math.pi / 4),
+    ...                                                  math.cos(math.pi / 4), field)]  # a quarter turn
+    [0.0, -1.0, 0.0]
+    """
     bx, by, bz = field[3], field[4], field[5]
     vb = vx * bx + vy * by + vz * bz
     wx = vx - vb * bx - field[9]
@@ -66,7 +85,6 @@ def flown_velocity(vx, vy, vz, dt, field):
     cx = wy * bz - wz * by
     cy = wz * bx - wx * bz
     cz = wx * by - wy * bx
-    half_sin, half_cos = sincos(0.5 * w * dt)
     s = 2.0 * half_sin * half_cos
     c = 1.0 - 2.0 * half_sin * half_sin
     return (vb * bx + field[6] * dt + field[9] + wx * c + cx * s,
@@ -84,6 +102,24 @@ def flown_position(x, y, z, vx, vy, vz, dt, field):
     if w == 0.0:
         half = 0.5 * dt * dt
         return x + vx * dt + field[0] * half, y + vy * dt + field[1] * half, z + vz * dt + field[2] * half
+    half_sin, half_cos = sincos_spread(0.5 * w * dt)
+    return gyrated_position(x, y, z, vx, vy, vz, dt, half_sin, half_cos, field)
+
+
+@borrowing_inline_kernel
+def gyrated_position(x, y, z, vx, vy, vz, dt, half_sin, half_cos, field):
+    """:func:`flown_position` in a magnetic field given ``(sin, cos)(|Omega| dt / 2)`` (see :func:`gyrated_velocity`).
+
+    Examples
+    --------
+    >>> import math
+    >>> import numpy as np
+    >>> from collisionkit._kernels.transport.flight import derived_field, gyrated_position
+    >>> field = derived_field(np.zeros(3), np.array([0.0, 0.0, 2.0]))  # a circle of radius 1/2 about (0, -1/2)
+    >>> [round(value, 12) for value in gyrated_position(0.0, 0.0, 0.0, 1.0, 0.0, 0.0, math.pi / 2, 1.0, 0.0, field)]
+    [0.0, -1.0, 0.0]
+    """
+    w = field[12]
     bx, by, bz = field[3], field[4], field[5]
     vb = vx * bx + vy * by + vz * bz
     wx = vx - vb * bx - field[9]
@@ -92,7 +128,6 @@ def flown_position(x, y, z, vx, vy, vz, dt, field):
     cx = wy * bz - wz * by
     cy = wz * bx - wx * bz
     cz = wx * by - wy * bx
-    half_sin, half_cos = sincos(0.5 * w * dt)
     s = 2.0 * half_sin * half_cos
     one_minus_c = 2.0 * half_sin * half_sin
     return (x + (vb * bx + field[9]) * dt + 0.5 * field[6] * dt * dt + (wx * s + cx * one_minus_c) / w,

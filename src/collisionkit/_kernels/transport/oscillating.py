@@ -77,15 +77,47 @@ def _sincos_reduced(r):
 
 
 @inline_kernel
+def sincos_spread(x):
+    """:func:`sincos` without a branch on the size of x, for arguments spread over several quadrants (the
+    gyration's |Omega| tau / 2), where that branch is a coin toss.
+
+    The argument is reduced to r in [-pi/4, pi/4] by the nearest multiple n
+    of pi/2 (Cody-Waite, two constants; exact, and r = x for |x| <= pi/4),
+    the series of :func:`_sincos_reduced` taken at r and the quadrant n mod 4
+    applied by selects (no branch to mispredict). Inlined
+    into its callers: a call and its tuple in memory cost about as much as
+    the arithmetic.
+
+    Examples
+    --------
+    >>> import math
+    >>> from collisionkit._kernels.transport.oscillating import sincos_spread
+    >>> all(abs(sincos_spread(x)[0] - math.sin(x)) < 1e-15 and abs(sincos_spread(x)[1] - math.cos(x)) < 1e-15
+    ...     for x in (-3.0, 0.0, 0.5, 2.0, 100.0, 3e5))
+    True
+    """
+    if abs(x) > 1e5:  # beyond the exact reduction: the library's
+        return math.sin(x), math.cos(x)
+    n = (x * (2.0 / math.pi) + ROUNDER) - ROUNDER  # 0 for |x| <= pi/4, where the reduction leaves x as it is
+    sin_r, cos_r = _sincos_reduced((x - n * PIO2_HI) - n * PIO2_LO)
+    quadrant = int(n)
+    # the quadrant by selects, not branches: whether |x| passes pi/4 is a coin toss in the flights (a mispredicted
+    # branch made a call 1.7 times as long on arguments spread over 0-5 rad: 12.9 vs 7.4 ns, measured)
+    odd = (quadrant & 1) != 0
+    first = cos_r if odd else sin_r
+    second = sin_r if odd else cos_r
+    return (-first if (quadrant & 2) != 0 else first), (-second if ((quadrant + 1) & 2) != 0 else second)
+
+
+@inline_kernel
 def sincos(x):
     """``(sin x, cos x)`` at about 1 ulp, for a fraction of the cost of two library calls (|x| <= 1e5).
 
     For |x| <= pi/4 the series of :func:`_sincos_reduced` directly (the
-    flights' phase steps omega tau / 2 mostly are); otherwise the argument is
-    reduced to r in [-pi/4, pi/4] by the nearest multiple n of pi/2
-    (Cody-Waite, two constants) and the quadrant n mod 4 applied. Inlined
-    into its callers: a call and its tuple in memory cost about as much as
-    the arithmetic.
+    oscillating field's phase steps omega tau / 2 mostly are: a branch
+    predicted right is cheaper than the reduction); otherwise
+    :func:`sincos_spread`. Inlined into its callers: a call and its tuple in
+    memory cost about as much as the arithmetic.
 
     Examples
     --------
@@ -97,18 +129,7 @@ def sincos(x):
     """
     if abs(x) <= 0.25 * math.pi:
         return _sincos_reduced(x)
-    if abs(x) > 1e5:  # beyond the exact reduction: the library's
-        return math.sin(x), math.cos(x)
-    n = (x * (2.0 / math.pi) + ROUNDER) - ROUNDER
-    sin_r, cos_r = _sincos_reduced((x - n * PIO2_HI) - n * PIO2_LO)
-    quadrant = int(n) & 3
-    if quadrant == 0:
-        return sin_r, cos_r
-    if quadrant == 1:
-        return cos_r, -sin_r
-    if quadrant == 2:
-        return -sin_r, -cos_r
-    return -cos_r, sin_r
+    return sincos_spread(x)
 
 
 @kernel
@@ -317,7 +338,7 @@ def flight_with_phases(vx, vy, vz, c0, s0, tau, field):
     cx = wy * bz - wz * by
     cy = wz * bx - wx * bz
     cz = wx * by - wy * bx
-    gs, gc = sincos(0.5 * w * tau)
+    gs, gc = sincos_spread(0.5 * w * tau)
     s = 2.0 * gs * gc
     c = 1.0 - 2.0 * gs * gs
     ox = vb * bx + field[6] * tau + field[9] + wx * c + cx * s + along * px
@@ -432,5 +453,5 @@ def oscillating_displacement(c0, s0, tau, field):
     4.0
     """
     sh, ch = sincos(0.5 * field[13] * tau)
-    gs, gc = sincos(0.5 * field[12] * tau)
+    gs, gc = sincos_spread(0.5 * field[12] * tau)
     return displacement_with_phases(c0, s0, tau, sh, ch, gs, gc, field)
