@@ -25,6 +25,7 @@ from .oscillating import (
     sincos,
 )
 from .waveform_magnetic import shaped_displacement, shaped_velocity, shaped_window
+from .waveform_window import shaped_flight_constants, shaped_tight_window
 from .layout import (
     ATTACHMENT, BOUND_COLUMN_OFFSET, DISPLACEMENT_COLUMN_OFFSET, ELASTIC, EXCITATION, NULL_COLUMN_OFFSET, SUPERELASTIC,
     TIME_COLUMN_OFFSET,
@@ -84,6 +85,8 @@ def _advance_particles(lo, hi, pos, vel, states, alive, t_start, t_end, field, m
     ax, ay, az = field[0], field[1], field[2]
     # an oscillating field without static acceleration: the windows chain the parallel velocity and the phase
     envelope = ac and ax == 0.0 and ay == 0.0 and az == 0.0
+    # a waveform without static acceleration: the windows are bounded from constants of the flight (.waveform_window)
+    tight = shaped and ax == 0.0 and ay == 0.0 and az == 0.0
     exact = field[12] == 0.0
     bx, by, bz, ux, uy, uz = field[3], field[4], field[5], field[9], field[10], field[11]
     a_par_field = field[6] * bx + field[7] * by + field[8] * bz
@@ -137,6 +140,9 @@ def _advance_particles(lo, hi, pos, vel, states, alive, t_start, t_end, field, m
                 if envelope:
                     w_par, radius_ac, w_speed, turning = flight_envelope_ac(vx, vy, vz, c0, s0, record)
                     turned = turning  # U at the next window's start
+                su0 = sg0 = s_along = s_across = s_offset = 0.0
+                if tight:
+                    su0, sg0, s_along, s_across, s_offset = shaped_flight_constants(vx, vy, vz, t, field)
                 sh = ch = gs = gc = 0.0  # the half-angle sines of the last trial (oscillating field)
                 if not exact:
                     vb, radius, a_par = flight_envelope(vx, vy, vz, bx, by, bz, ux, uy, uz, a_par_field)
@@ -172,7 +178,11 @@ def _advance_particles(lo, hi, pos, vel, states, alive, t_start, t_end, field, m
                         elif shaped:  # the bound from the exact velocity at the window's start
                             h = window / nu_window if nu_window > 0.0 else fallback
                             h = min(h, growth * max(s_window, speed_floor) * inverse_accel)
-                            s_window = shaped_window(vx, vy, vz, t, window_end, h, field, accel_mag)
+                            if tight:
+                                s_window = shaped_tight_window(su0, sg0, s_along, s_across, s_offset, window_end, h,
+                                                               field)
+                            else:
+                                s_window = shaped_window(vx, vy, vz, t, window_end, h, field, accel_mag)
                             nu_window = trial_frequencies(s_window, density, gas, bound, inverse_step, sigma_max,
                                                           const_max, nu_s)
                             window_end += h

@@ -38,7 +38,8 @@ the oscillating record's decomposition along and across b (17: a . b;
 18:21 e1; 21:24 e2; 24: A; 26:29 b; :func:`.oscillating.oscillating_field`),
 then ``|a . b| max|f|`` (29) and ``A max|f|`` (30); after the waveform's
 tables, R and P at the knots (real and imaginary parts, 4 n entries) and
-q, c (4 entries).
+q, c (4 entries); then the periodic solution's tables of the window bound
+(:mod:`.waveform_window`, :func:`periodic_tables`: 3 n + 1 entries).
 """
 
 from __future__ import annotations
@@ -52,6 +53,9 @@ from .flight import flown_velocity
 from .oscillating import oscillating_field, sincos
 from .waveform import WAVE_START, _piece, waveform_integrals, waveform_record
 
+# below this |1 - q| the periodic solution is not tabulated (cyclotron resonance): the window bound then grows with
+# the flight (:mod:`.waveform_window`)
+RESONANCE = 1e-9
 # below this |x| the phi functions come from the series of phi3 (17 terms: truncation below 1e-17)
 PHI_SERIES = 1.0
 
@@ -110,6 +114,39 @@ def _response_tables(knots, values, slopes, period, w):
     return big_r, big_p, q, period * c
 
 
+def periodic_tables(knots, values, slopes, period, w, big_r, q):
+    """The periodic solution's tables (module docstring of :mod:`.waveform_window`): P at the knots, the pieces' bounds of |P|, their
+    largest, from the knots, f and its slopes, the period, W, R at the knots and q = e^{-i W T}.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from collisionkit._kernels.transport.waveform_magnetic import periodic_tables
+    >>> w = 1.0  # f = 1: P = 1 / (i W) = -i at every time
+    >>> r = np.array([0.0, (1.0 - np.exp(-2j)) / 1j])
+    >>> tables = periodic_tables(np.array([0.0, 1.0]), np.array([1.0, 1.0]), np.zeros(2), 2.0, w, r, np.exp(-2j))
+    >>> [round(float(value), 12) for value in tables]  # Re P, Im P at both knots, the bound (1 + 1 + 2) / 2, top
+    [0.0, 0.0, -1.0, -1.0, 2.0, 0.0, 2.0]
+    """
+    n = knots.size
+    gap = 1.0 - q
+    pieces = np.zeros(n)
+    if abs(gap) < RESONANCE:  # no periodic solution: P = 0 and no bound of it
+        return np.concatenate([np.zeros(2 * n), np.full(n, math.inf), [math.inf]])
+    start = big_r[-1] / gap
+    big_p = big_r + np.exp(-1j * w * knots * period) * start
+    size = np.abs(big_p)
+    for k in range(n - 1):
+        length = knots[k + 1] - knots[k]
+        f_a, f_b = values[k], values[k] + slopes[k] * length
+        if f_a * f_b >= 0.0:
+            integral = 0.5 * length * (abs(f_a) + abs(f_b))
+        else:  # f changes sign inside the piece: two triangles
+            integral = 0.5 * length * (f_a * f_a + f_b * f_b) / (abs(f_a) + abs(f_b))
+        pieces[k] = 0.5 * (size[k] + size[k + 1] + integral * period)
+    return np.concatenate([big_p.real, big_p.imag, pieces, [pieces[:-1].max() if n > 1 else 0.0]])
+
+
 def shaped_field_record(static_field, amplitude, period, knots, values):
     """The flight record of a waveform (:func:`.waveform.waveform_record`) in the static field ``static_field``,
     with the entries and tables of the module docstring if it has a magnetic field.
@@ -122,8 +159,8 @@ def shaped_field_record(static_field, amplitude, period, knots, values):
     >>> square = np.array([0.0, 0.5, 0.5, 1.0]), np.array([1.0, 1.0, -1.0, -1.0])
     >>> record = shaped_field_record(derived_field(np.zeros(3), np.array([0.0, 1.0, 0.0])), np.array([0.0, 0.0, 2.0]),
     ...                              1.0, *square)
-    >>> record.size - (34 + 2 + 5 * 4), float(record[24]), float(record[30])  # 4 n + 4 more; A = 2, A max|f| = 2
-    (20, 2.0, 2.0)
+    >>> record.size - (34 + 2 + 5 * 4), float(record[24]), float(record[30])  # 7 n + 5 more; A = 2, A max|f| = 2
+    (33, 2.0, 2.0)
     """
     record = waveform_record(static_field, amplitude, period, knots, values)
     w = float(static_field[12])
@@ -138,7 +175,10 @@ def shaped_field_record(static_field, amplitude, period, knots, values):
     n = len(knots)
     big_r, big_p, q, c = _response_tables(np.asarray(knots, dtype=float), np.asarray(values, dtype=float),
                                           record[WAVE_START + 2 + 2 * n:WAVE_START + 2 + 3 * n].copy(), period, w)
-    tables = np.concatenate([big_r.real, big_r.imag, big_p.real, big_p.imag, [q.real, q.imag, c.real, c.imag]])
+    slopes = record[WAVE_START + 2 + 2 * n:WAVE_START + 2 + 3 * n].copy()
+    tables = np.concatenate([big_r.real, big_r.imag, big_p.real, big_p.imag, [q.real, q.imag, c.real, c.imag],
+                             periodic_tables(np.asarray(knots, dtype=float), np.asarray(values, dtype=float), slopes,
+                                             period, w, big_r, q)])
     return np.concatenate([record, tables])
 
 
