@@ -55,7 +55,7 @@ def test_the_extremes_of_g1_over_a_window_are_those_of_its_quadrature(shape):
             g1 += quad(f, a, b, epsabs=1e-14, limit=200)[0] if b > a else 0.0
             if b >= u0:
                 values.append(g1)
-        low, high, _ = window_extremes(u0, u0 + length, record, n, 0)
+        low, high, _ = window_extremes(u0, u0 + length, record, n, 0, 0)
         step = length / 2000 * np.abs(record[36 + n:36 + 2 * n]).max()  # G1 moves at most this between grid points
         assert low <= min(values) + 1e-12 and high >= max(values) - 1e-12
         if length < 1.0:  # exact below a period: reached within the grid's resolution
@@ -119,9 +119,9 @@ def test_the_gyration_offset_is_fixed_along_a_flight():
     rng = np.random.default_rng(3)
     for _ in range(10):
         v0, t0, tau = rng.normal(size=3), rng.uniform(0, 5), rng.uniform(0, 2)
-        offset = shaped_flight_constants(*v0, t0, record)[4]
+        offset = shaped_flight_constants(*v0, t0, record)[5]
         assert offset == pytest.approx(shaped_flight_constants(*shaped_velocity(*v0, t0, tau, record), t0 + tau,
-                                                               record)[4], rel=1e-10)
+                                                               record)[5], rel=1e-10)
 
 
 @pytest.mark.parametrize("shape", ["square", "irregular", "cosine"])

@@ -25,6 +25,7 @@ from .oscillating import (
     sincos,
 )
 from .waveform_magnetic import shaped_displacement, shaped_velocity, shaped_window
+from .waveform import piece_integrals
 from .waveform_window import shaped_flight_constants, shaped_tight_window
 from .layout import (
     ATTACHMENT, BOUND_COLUMN_OFFSET, DISPLACEMENT_COLUMN_OFFSET, ELASTIC, EXCITATION, NULL_COLUMN_OFFSET, SUPERELASTIC,
@@ -140,9 +141,10 @@ def _advance_particles(lo, hi, pos, vel, states, alive, t_start, t_end, field, m
                 if envelope:
                     w_par, radius_ac, w_speed, turning = flight_envelope_ac(vx, vy, vz, c0, s0, record)
                     turned = turning  # U at the next window's start
-                su0 = sg0 = s_along = s_across = s_offset = 0.0
-                if tight:
-                    su0, sg0, s_along, s_across, s_offset = shaped_flight_constants(vx, vy, vz, t, field)
+                su0 = sg0 = s_along = s_across = s_offset = sj1 = sj2 = 0.0
+                sk0 = 0
+                if tight or (shaped and exact):  # without B the trials take the integrals from the start's piece
+                    su0, sk0, sg0, s_along, s_across, s_offset = shaped_flight_constants(vx, vy, vz, t, field)
                 sh = ch = gs = gc = 0.0  # the half-angle sines of the last trial (oscillating field)
                 if not exact:
                     vb, radius, a_par = flight_envelope(vx, vy, vz, bx, by, bz, ux, uy, uz, a_par_field)
@@ -179,8 +181,8 @@ def _advance_particles(lo, hi, pos, vel, states, alive, t_start, t_end, field, m
                             h = window / nu_window if nu_window > 0.0 else fallback
                             h = min(h, growth * max(s_window, speed_floor) * inverse_accel)
                             if tight:
-                                s_window = shaped_tight_window(su0, sg0, s_along, s_across, s_offset, window_end, h,
-                                                               field)
+                                s_window = shaped_tight_window(su0, sk0, sg0, s_along, s_across, s_offset,
+                                                               window_end, h, field)
                             else:
                                 s_window = shaped_window(vx, vy, vz, t, window_end, h, field, accel_mag)
                             nu_window = trial_frequencies(s_window, density, gas, bound, inverse_step, sigma_max,
@@ -224,6 +226,11 @@ def _advance_particles(lo, hi, pos, vel, states, alive, t_start, t_end, field, m
                     if ac:
                         tvx, tvy, tvz, phase_cos, phase_sin, sh, ch, gs, gc = flight_with_phases(
                             vx, vy, vz, c0, s0, elapsed, record)
+                    elif shaped and exact:
+                        sj1, sj2 = piece_integrals(su0, sk0, elapsed, field)
+                        tvx = vx + ax * elapsed + field[14] * sj1
+                        tvy = vy + ay * elapsed + field[15] * sj1
+                        tvz = vz + az * elapsed + field[16] * sj1
                     elif shaped:
                         tvx, tvy, tvz = shaped_velocity(vx, vy, vz, t, elapsed, field)
                     elif exact:
@@ -296,11 +303,18 @@ def _advance_particles(lo, hi, pos, vel, states, alive, t_start, t_end, field, m
                             vx, vy, vz, c0, s0, elapsed, record)
                     dx, dy, dz = displacement_with_phases(c0, s0, elapsed, sh, ch, gs, gc, record)
                     x, y, z = x + dx, y + dy, z + dz
-                if shaped:
+                if shaped and exact:  # a real collision's reuses its trial's integrals
+                    if landed:
+                        sj1, sj2 = piece_integrals(su0, sk0, elapsed, field)
+                    x, y, z = x + field[14] * sj2, y + field[15] * sj2, z + field[16] * sj2
+                elif shaped:
                     dx, dy, dz = shaped_displacement(t, elapsed, field)
                     x, y, z = x + dx, y + dy, z + dz
                 if landed:
-                    if shaped:
+                    if shaped and exact:
+                        vx, vy, vz = (vx + ax * elapsed + field[14] * sj1, vy + ay * elapsed + field[15] * sj1,
+                                      vz + az * elapsed + field[16] * sj1)
+                    elif shaped:
                         vx, vy, vz = shaped_velocity(vx, vy, vz, t, elapsed, field)
                     elif exact and not ac:
                         vx, vy, vz = vx + ax * elapsed, vy + ay * elapsed, vz + az * elapsed

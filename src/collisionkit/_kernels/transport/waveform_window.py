@@ -76,9 +76,11 @@ def antiderivative(u, field, n):
 
 
 @borrowing_kernel
-def window_extremes(u_start, u_end, field, n, table):
+def window_extremes(u_start, u_end, field, n, table, hint):
     """``(min G1, max G1, max_k table[k])`` over the phases [u_start, u_end] (0 <= u_start <= u_end), k the
-    pieces the window touches (``table`` a record index; 0 for none: the third value is then 0).
+    pieces the window touches (``table`` a record index; 0 for none: the third value is then 0). ``hint``: a
+    piece at or before u_start's if u_start < 1 (the flight's first: the walk to u_start's piece then replaces
+    the search), else anything.
 
     G1 at the window's ends, the knots inside and the vertices of its
     parabolas inside (module docstring). A window of a period or more takes
@@ -92,7 +94,7 @@ def window_extremes(u_start, u_end, field, n, table):
     >>> from collisionkit._kernels.transport.waveform_window import window_extremes
     >>> record = waveform_record(derived_field(np.zeros(3), np.zeros(3)), np.array([0.0, 0.0, 1.0]), 1.0,
     ...                          np.array([0.0, 1.0]), np.array([1.0, -1.0]))  # f = 1 - 2u: G1 = u - u^2
-    >>> [round(value, 12) for value in window_extremes(0.1, 0.8, record, 2, 0)]  # min at 0.1, max at the vertex
+    >>> [round(value, 12) for value in window_extremes(0.1, 0.8, record, 2, 0, 0)]  # min at 0.1, max at the vertex
     [0.09, 0.25, 0.0]
     """
     knots, values, slopes, g1 = WAVE_START + 2, WAVE_START + 2 + n, WAVE_START + 2 + 2 * n, WAVE_START + 2 + 3 * n
@@ -116,7 +118,12 @@ def window_extremes(u_start, u_end, field, n, table):
                 top = max(top, field[table + k])
         shifts = (m * period_integral, math.floor(u_end) * period_integral)
         return low + min(shifts), high + max(shifts), top
-    k = _piece(r, field, n)
+    if m == 0.0 and field[knots + hint] <= r:
+        k = hint
+        while k < n - 2 and field[knots + k + 1] <= r:
+            k += 1
+    else:
+        k = _piece(r, field, n)
     base = m * period_integral
     d = r - field[knots + k]
     low = high = base + field[g1 + k] + d * (field[values + k] + 0.5 * field[slopes + k] * d)
@@ -146,8 +153,8 @@ def window_extremes(u_start, u_end, field, n, table):
 
 @borrowing_kernel
 def shaped_flight_constants(vx, vy, vz, t0, field):
-    """``(u0, G1(u0), v . p, |v across p|, |D|)`` of a flight from (vx, vy, vz) at time ``t0`` (module docstring;
-    u0 the phase in [0, 1); |D| = |v across p| without B or A = 0).
+    """``(u0, k, G1(u0), v . p, |v across p|, |D|)`` of a flight from (vx, vy, vz) at time ``t0`` (module
+    docstring; u0 the phase in [0, 1), k its piece; |D| = |v across p| without B or A = 0).
 
     Examples
     --------
@@ -158,7 +165,7 @@ def shaped_flight_constants(vx, vy, vz, t0, field):
     >>> record = shaped_field_record(derived_field(np.zeros(3), np.array([0.0, 1.0, 0.0])), np.array([0.0, 0.0, 1.0]),
     ...                              2.0, np.array([0.0, 1.0]), np.array([1.0, 1.0]))  # f = 1, W = 1: P = -i
     >>> [round(value, 12) for value in shaped_flight_constants(0.0, 0.0, 0.0, 5.0, record)]  # at rest: |D| = 1
-    [0.5, 0.5, 0.0, 0.0, 1.0]
+    [0.5, 0, 0.5, 0.0, 0.0, 1.0]
     """
     period = field[WAVE_START]
     n = int(field[WAVE_START + 1])
@@ -172,8 +179,11 @@ def shaped_flight_constants(vx, vy, vz, t0, field):
     across = math.sqrt(wx * wx + wy * wy + wz * wz)
     offset = across
     w = field[12]
+    k = _piece(u0, field, n)
+    d = u0 - field[WAVE_START + 2 + k]
+    g0 = field[WAVE_START + 2 + 3 * n + k] + d * (field[WAVE_START + 2 + n + k]
+                                                  + 0.5 * field[WAVE_START + 2 + 2 * n + k] * d)
     if w != 0.0 and field[24] > 0.0:
-        k = _piece(u0, field, n)
         tables = periodic_start(n)
         d = (u0 - field[WAVE_START + 2 + k]) * period
         e, p1, p2, _ = phi_functions(-w * d)
@@ -184,11 +194,11 @@ def shaped_flight_constants(vx, vy, vz, t0, field):
                        + vz * field[23])
         gap = zeta - field[24] * big_p
         offset = math.sqrt(gap.real * gap.real + gap.imag * gap.imag)
-    return u0, antiderivative(u0, field, n), along, across, offset
+    return u0, k, g0, along, across, offset
 
 
 @borrowing_kernel
-def shaped_tight_window(u0, g0, along, across, offset, start, h, field):
+def shaped_tight_window(u0, k0, g0, along, across, offset, start, h, field):
     """An upper bound of the speed over the window [start, start + h] of a flight with the constants of
     :func:`shaped_flight_constants`, without static acceleration (module docstring), padded by 1e-10.
 
@@ -200,7 +210,7 @@ def shaped_tight_window(u0, g0, along, across, offset, start, h, field):
     >>> from collisionkit._kernels.transport.waveform_window import shaped_tight_window
     >>> record = waveform_record(derived_field(np.zeros(3), np.zeros(3)), np.array([0.0, 0.0, 2.0]), 1.0,
     ...                          np.array([0.0, 1.0]), np.array([1.0, -1.0]))  # v_z = 2 (u - u^2) from rest at 0
-    >>> round(shaped_tight_window(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.9, record), 9)  # at u = 1/2
+    >>> round(shaped_tight_window(0.0, 0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.9, record), 9)  # at u = 1/2
     0.5
     """
     period = field[WAVE_START]
@@ -208,7 +218,7 @@ def shaped_tight_window(u0, g0, along, across, offset, start, h, field):
     w = field[12]
     magnetic = w != 0.0 and field[24] > 0.0
     low, high, top = window_extremes(u0 + start / period, u0 + (start + h) / period, field, n,
-                                     periodic_start(n) + 2 * n if magnetic else 0)
+                                     periodic_start(n) + 2 * n if magnetic else 0, k0)
     if w != 0.0:
         scale = field[17] * period
     else:
