@@ -24,8 +24,7 @@ from .oscillating import (
     RECORD_SIZE, STATIC_SIZE, displacement_with_phases, flight_with_phases, oscillating_flown_velocity, record_values,
     sincos,
 )
-from .waveform_magnetic import shaped_displacement, shaped_velocity, shaped_window
-from .waveform import piece_integrals
+from .waveform_magnetic import shaped_flight, shaped_velocity, shaped_window
 from .waveform_window import shaped_flight_constants, shaped_tight_window
 from .layout import (
     ATTACHMENT, BOUND_COLUMN_OFFSET, DISPLACEMENT_COLUMN_OFFSET, ELASTIC, EXCITATION, NULL_COLUMN_OFFSET, SUPERELASTIC,
@@ -141,9 +140,9 @@ def _advance_particles(lo, hi, pos, vel, states, alive, t_start, t_end, field, m
                 if envelope:
                     w_par, radius_ac, w_speed, turning = flight_envelope_ac(vx, vy, vz, c0, s0, record)
                     turned = turning  # U at the next window's start
-                su0 = sg0 = s_along = s_across = s_offset = sj1 = sj2 = 0.0
+                su0 = sg0 = s_along = s_across = s_offset = sdx = sdy = sdz = sfx = sfy = sfz = 0.0
                 sk0 = 0
-                if tight or (shaped and exact):  # without B the trials take the integrals from the start's piece
+                if shaped:  # the phase and its piece: the trials' flights start there
                     su0, sk0, sg0, s_along, s_across, s_offset = shaped_flight_constants(vx, vy, vz, t, field)
                 sh = ch = gs = gc = 0.0  # the half-angle sines of the last trial (oscillating field)
                 if not exact:
@@ -226,13 +225,8 @@ def _advance_particles(lo, hi, pos, vel, states, alive, t_start, t_end, field, m
                     if ac:
                         tvx, tvy, tvz, phase_cos, phase_sin, sh, ch, gs, gc = flight_with_phases(
                             vx, vy, vz, c0, s0, elapsed, record)
-                    elif shaped and exact:
-                        sj1, sj2 = piece_integrals(su0, sk0, elapsed, field)
-                        tvx = vx + ax * elapsed + field[14] * sj1
-                        tvy = vy + ay * elapsed + field[15] * sj1
-                        tvz = vz + az * elapsed + field[16] * sj1
-                    elif shaped:
-                        tvx, tvy, tvz = shaped_velocity(vx, vy, vz, t, elapsed, field)
+                    elif shaped:  # a real collision's displacement comes with its velocity
+                        tvx, tvy, tvz, sdx, sdy, sdz = shaped_flight(vx, vy, vz, su0, sk0, elapsed, field)
                     elif exact:
                         tvx, tvy, tvz = vx + ax * elapsed, vy + ay * elapsed, vz + az * elapsed
                     else:
@@ -303,19 +297,13 @@ def _advance_particles(lo, hi, pos, vel, states, alive, t_start, t_end, field, m
                             vx, vy, vz, c0, s0, elapsed, record)
                     dx, dy, dz = displacement_with_phases(c0, s0, elapsed, sh, ch, gs, gc, record)
                     x, y, z = x + dx, y + dy, z + dz
-                if shaped and exact:  # a real collision's reuses its trial's integrals
+                if shaped:  # a real collision's from its trial
                     if landed:
-                        sj1, sj2 = piece_integrals(su0, sk0, elapsed, field)
-                    x, y, z = x + field[14] * sj2, y + field[15] * sj2, z + field[16] * sj2
-                elif shaped:
-                    dx, dy, dz = shaped_displacement(t, elapsed, field)
-                    x, y, z = x + dx, y + dy, z + dz
+                        sfx, sfy, sfz, sdx, sdy, sdz = shaped_flight(vx, vy, vz, su0, sk0, elapsed, field)
+                    x, y, z = x + sdx, y + sdy, z + sdz
                 if landed:
-                    if shaped and exact:
-                        vx, vy, vz = (vx + ax * elapsed + field[14] * sj1, vy + ay * elapsed + field[15] * sj1,
-                                      vz + az * elapsed + field[16] * sj1)
-                    elif shaped:
-                        vx, vy, vz = shaped_velocity(vx, vy, vz, t, elapsed, field)
+                    if shaped:
+                        vx, vy, vz = sfx, sfy, sfz
                     elif exact and not ac:
                         vx, vy, vz = vx + ax * elapsed, vy + ay * elapsed, vz + az * elapsed
                     elif not ac:
