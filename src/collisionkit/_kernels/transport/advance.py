@@ -176,7 +176,7 @@ def _advance_particles(lo, hi, pos, vel, states, alive, t_start, t_end, field, m
                             nu_window = trial_frequencies(s_window, density, gas, bound, inverse_step, sigma_max,
                                                           const_max, nu_s)
                             window_end += h
-                        elif shaped:  # the bound from the exact velocity at the window's start
+                        elif shaped:  # the bound from the flight's constants, or the velocity at the window's start
                             h = window / nu_window if nu_window > 0.0 else fallback
                             h = min(h, growth * max(s_window, speed_floor) * inverse_accel)
                             if tight:
@@ -408,8 +408,14 @@ def advance_swarm(lo, hi, pos, vel, states, alive, t_start, t_end, field, mass, 
 
     A waveform record (:mod:`.waveform`: a periodic E of any shape, given
     as samples, with or without a static B: :mod:`.waveform_magnetic`) adds
-    the exact response to the field over the flight to the static flight,
-    and bounds each window from the exact velocity at its start
+    the exact response to the field over the flight to the static flight
+    (:func:`.waveform_magnetic.shaped_flight`: from the phase's piece at the
+    flight's start, found once a flight; a real collision's displacement
+    comes with its trial's velocity). Without static acceleration each window
+    is bounded from constants of the flight
+    (:func:`.waveform_window.shaped_tight_window`: the exact extremes along
+    the field or B, the gyration about the periodic solution across B);
+    with it, from the exact velocity at the window's start
     (:func:`.waveform_magnetic.shaped_window`).
 
     An oscillating record (:mod:`.oscillating`: the static record extended

@@ -115,8 +115,9 @@ def _response_tables(knots, values, slopes, period, w):
 
 
 def periodic_tables(knots, values, slopes, period, w, big_r, q):
-    """The periodic solution's tables (module docstring of :mod:`.waveform_window`): P at the knots, the pieces' bounds of |P|, their
-    largest, from the knots, f and its slopes, the period, W, R at the knots and q = e^{-i W T}.
+    """The periodic solution's tables (module docstring of :mod:`.waveform_window`): P at the knots, the pieces'
+    bounds of |P|, their largest, from the knots, f and its slopes, the period, W, R at the knots and q = e^{-i W
+    T}.
 
     Examples
     --------

@@ -51,31 +51,6 @@ def periodic_start(n):
 
 
 @borrowing_kernel
-def antiderivative(u, field, n):
-    """``G1(u) = integral_0^u f`` for u >= 0 (:mod:`.waveform`), from the tables of the piece holding u.
-
-    Examples
-    --------
-    >>> import numpy as np
-    >>> from collisionkit._kernels.transport.flight import derived_field
-    >>> from collisionkit._kernels.transport.waveform import waveform_record
-    >>> from collisionkit._kernels.transport.waveform_window import antiderivative
-    >>> record = waveform_record(derived_field(np.zeros(3), np.zeros(3)), np.array([0.0, 0.0, 1.0]), 1.0,
-    ...                          np.array([0.0, 1.0]), np.array([0.0, 2.0]))  # f = 2u: G1 = u^2 within a period
-    >>> round(antiderivative(0.5, record, 2), 12), round(antiderivative(2.5, record, 2), 12)  # 2 periods: + 2
-    (0.25, 2.25)
-    """
-    m = math.floor(u)
-    r = u - m
-    if r >= 1.0:
-        m, r = m + 1.0, 0.0
-    k = _piece(r, field, n)
-    knots, values, slopes, g1 = WAVE_START + 2, WAVE_START + 2 + n, WAVE_START + 2 + 2 * n, WAVE_START + 2 + 3 * n
-    d = r - field[knots + k]
-    return m * field[g1 + n - 1] + field[g1 + k] + d * (field[values + k] + 0.5 * field[slopes + k] * d)
-
-
-@borrowing_kernel
 def window_extremes(u_start, u_end, field, n, table, hint):
     """``(min G1, max G1, max_k table[k])`` over the phases [u_start, u_end] (0 <= u_start <= u_end), k the
     pieces the window touches (``table`` a record index; 0 for none: the third value is then 0). ``hint``: a
