@@ -73,3 +73,22 @@ def test_the_velocity_and_window_bound_with_gravity_and_across_the_field():
             j1 = _quadrature(SHAPES["irregular"], 0.5, t0, start)[0]
             np.testing.assert_allclose(shaped_velocity(*v0, t0, start, record),
                                        v0 + gravity * start + np.array([0.0, 0.0, 2.0]) * j1, atol=1e-9)
+
+
+@pytest.mark.parametrize("shape", SHAPES)
+def test_the_piecewise_integrals_from_a_known_piece_are_those_of_the_piecewise_linear_field(shape):
+    """piece_integrals (from the phase's piece, piece by piece) against the quadrature, over flights inside one
+    piece, across knots and jumps, over a period's end and longer than a period."""
+    from collisionkit._kernels.transport.waveform import _piece, piece_integrals
+
+    rng = np.random.default_rng(5 + list(SHAPES).index(shape))
+    period = 0.7
+    record = shaped_record(derived_field(np.zeros(3), np.zeros(3)), np.array([0.0, 0.0, 1.0]), period, SHAPES[shape])
+    n = int(record[35])
+    for tau in (1e-4, 0.03, 0.2, 0.6, 2.3):
+        for t0 in rng.uniform(0.0, 30.0, 4):
+            u0 = t0 / period - math.floor(t0 / period)
+            exact = _quadrature(SHAPES[shape], period, t0, tau)
+            value = piece_integrals(u0, _piece(u0, record, n), tau, record)
+            assert value[0] == pytest.approx(exact[0], rel=1e-9, abs=1e-12 * tau)
+            assert value[1] == pytest.approx(exact[1], rel=1e-8, abs=1e-12 * tau * tau)

@@ -96,3 +96,28 @@ def test_the_window_bound_covers_the_exact_speed():
                 assert bound >= max(speeds) * (1 - 1e-12)
                 if not gravity.any():  # tighter than |v| + |a| max|f| h across B
                     assert angle == 0.0 or bound < np.linalg.norm(speeds[0]) + accel * h
+
+
+@pytest.mark.parametrize("shape", SHAPES)
+@pytest.mark.parametrize("angle, w", [(90.0, 3.0), (60.0, 40.0), (0.0, 2 * math.pi / PERIOD), (30.0, 0.05)])
+def test_the_flight_from_a_known_piece_solves_the_equation_of_motion(shape, angle, w):
+    """shaped_flight (piece by piece from the phase's piece) against solve_ivp: inside a piece, across knots and
+    jumps, over a period's end and longer than a period; without B too."""
+    from collisionkit._kernels.transport.waveform import _piece
+    from collisionkit._kernels.transport.waveform_magnetic import shaped_flight
+
+    rng = np.random.default_rng(int(angle) + int(10 * w) + 1)
+    theta = math.radians(angle)
+    for omega in (w * np.array([0.0, math.sin(theta), math.cos(theta)]), np.zeros(3)):
+        for gravity in (np.zeros(3), np.array([0.1, -0.2, 0.05])):
+            record = shaped_record(derived_field(gravity, omega), AMPLITUDE, PERIOD, SHAPES[shape])
+            for tau in (1e-3, 0.05, 0.4, 0.69, 2.3):
+                t0 = rng.uniform(0.0, 5.0)
+                v0 = rng.normal(size=3)
+                u0 = t0 / PERIOD - math.floor(t0 / PERIOD)
+                x, v = _integrated(SHAPES[shape], gravity, omega, t0, tau, v0)
+                scale = np.linalg.norm(v0) + 3.0 * np.linalg.norm(AMPLITUDE) * tau
+                flight = shaped_flight(*v0, u0, _piece(u0, record, int(record[35])), tau, record)
+                np.testing.assert_allclose(flight[:3], v, rtol=0, atol=2e-11 * scale)
+                flown = np.array(flown_position(0.0, 0.0, 0.0, *v0, tau, record))
+                np.testing.assert_allclose(flown + flight[3:], x, rtol=0, atol=2e-11 * scale * tau)

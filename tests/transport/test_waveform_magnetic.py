@@ -103,3 +103,17 @@ def test_a_sampled_cosine_with_oblique_b_reproduces_the_cosine_swarm_on_reids_ra
         assert _agree(a, errors, b), name
     assert abs(sampled.mean_energy - cosine.mean_energy) < 4 * math.hypot(sampled.mean_energy_error,
                                                                           cosine.mean_energy_error)
+
+
+@pytest.mark.parametrize("b_over_n, angle", [(0.0, 90.0), (200.0, 60.0), (1000.0, 90.0)])
+def test_the_window_bound_holds_on_reids_ramp_with_jumps(b_over_n, angle, monkeypatch):
+    """A speed-dependent rate (Reid's ramp) in a waveform with jumps, without and with B (the windows' bound from the
+    flight's constants, waveform_window): no trial finds the true rate above the trial frequency."""
+    from collisionkit.transport import swarm
+
+    shape = [(0.1, 0.3), (0.2, -2.0), (0.2, 1.5), (0.65, 0.4), (0.9, 2.5)]
+    monkeypatch.setattr(swarm, "CHECK_BOUND", True)
+    r = simulate_swarm(reid_ramp(), 12.0, reduced_frequency=2e-14, waveform=shape, reduced_magnetic_field=b_over_n,
+                       field_angle=angle, gas_temperature=0.0, particles=1000, seed=5, threads=2, collision_budget=2e6,
+                       tolerances={"mean_energy": 1e-9})
+    assert r.collisions >= 2e6 and r.extras["bound_violations"] == 0

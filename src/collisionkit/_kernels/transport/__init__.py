@@ -40,7 +40,8 @@ and sharing codes, tally columns), :mod:`.rng` (random streams),
 (velocities after a collision), :mod:`.advance` (the swarm step),
 :mod:`.moments` (per-group sums), :mod:`.oscillating` (exact flight in E0 cos(omega t)
 with a static B at any angle), :mod:`.waveform` and :mod:`.waveform_magnetic` (a periodic
-field given as samples, with or without a static B) and :mod:`.slab`. The names
+field given as samples, with or without a static B; :mod:`.waveform_window` its window
+bounds) and :mod:`.slab`. The names
 :mod:`collisionkit.transport` uses are importable from here.
 """
 

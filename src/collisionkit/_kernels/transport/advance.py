@@ -27,7 +27,8 @@ from .oscillating import (
     sincos, sincos_spread,
 )
 from .particular import particular_flight, particular_position, particular_terms
-from .waveform_magnetic import shaped_displacement, shaped_velocity, shaped_window
+from .waveform_magnetic import shaped_flight, shaped_velocity, shaped_window
+from .waveform_window import shaped_flight_constants, shaped_tight_window
 from .layout import (
     ATTACHMENT, BOUND_COLUMN_OFFSET, DISPLACEMENT_COLUMN_OFFSET, ELASTIC, EXCITATION, NULL_COLUMN_OFFSET, SUPERELASTIC,
     TIME_COLUMN_OFFSET,
@@ -93,6 +94,8 @@ def _advance_particles(lo, hi, pos, vel, states, alive, t_start, t_end, field, m
     ax, ay, az = field[0], field[1], field[2]
     # an oscillating field without static acceleration: the windows chain the parallel velocity and the phase
     envelope = ac and ax == 0.0 and ay == 0.0 and az == 0.0
+    # a waveform without static acceleration: the windows are bounded from constants of the flight (.waveform_window)
+    tight = shaped and ax == 0.0 and ay == 0.0 and az == 0.0
     exact = variant == STATIC or variant == OSCILLATING or (variant == WAVEFORM and field[12] == 0.0)
     half_gyration = 0.5 * field[12]
     # off cyclotron resonance, an oscillating flight with B about the particular solution v_p (:mod:`.particular`)
@@ -156,6 +159,10 @@ def _advance_particles(lo, hi, pos, vel, states, alive, t_start, t_end, field, m
                 if envelope:
                     w_par, radius_ac, w_speed, turning = flight_envelope_ac(vx, vy, vz, c0, s0, record)
                     turned = turning  # U at the next window's start
+                su0 = sg0 = s_along = s_across = s_offset = sdx = sdy = sdz = sfx = sfy = sfz = 0.0
+                sk0 = 0
+                if shaped:  # the phase and its piece: the trials' flights start there
+                    su0, sk0, sg0, s_along, s_across, s_offset = shaped_flight_constants(vx, vy, vz, t, field)
                 sh = ch = gs = gc = 0.0  # the half-angle sines of the last trial (oscillating field)
                 if not exact:
                     vb, radius, a_par = flight_envelope(vx, vy, vz, bx, by, bz, ux, uy, uz, a_par_field)
@@ -188,10 +195,14 @@ def _advance_particles(lo, hi, pos, vel, states, alive, t_start, t_end, field, m
                             nu_window = trial_frequencies(s_window, density, gas, bound, inverse_step, sigma_max,
                                                           const_max, nu_s)
                             window_end += h
-                        elif shaped:  # the bound from the exact velocity at the window's start
+                        elif shaped:  # the bound from the flight's constants, or the velocity at the window's start
                             h = window / nu_window if nu_window > 0.0 else fallback
                             h = min(h, growth * max(s_window, speed_floor) * inverse_accel)
-                            s_window = shaped_window(vx, vy, vz, t, window_end, h, field, accel_mag)
+                            if tight:
+                                s_window = shaped_tight_window(su0, sk0, sg0, s_along, s_across, s_offset,
+                                                               window_end, h, field)
+                            else:
+                                s_window = shaped_window(vx, vy, vz, t, window_end, h, field, accel_mag)
                             nu_window = trial_frequencies(s_window, density, gas, bound, inverse_step, sigma_max,
                                                           const_max, nu_s)
                             window_end += h
@@ -236,8 +247,8 @@ def _advance_particles(lo, hi, pos, vel, states, alive, t_start, t_end, field, m
                     elif ac:
                         tvx, tvy, tvz, phase_cos, phase_sin, sh, ch, gs, gc = flight_with_phases(
                             vx, vy, vz, c0, s0, elapsed, record)
-                    elif shaped:
-                        tvx, tvy, tvz = shaped_velocity(vx, vy, vz, t, elapsed, field)
+                    elif shaped:  # a real collision's displacement comes with its velocity
+                        tvx, tvy, tvz, sdx, sdy, sdz = shaped_flight(vx, vy, vz, su0, sk0, elapsed, field)
                     elif exact:
                         tvx, tvy, tvz = vx + ax * elapsed, vy + ay * elapsed, vz + az * elapsed
                     else:  # the half-angle sines kept for the position at a real collision
@@ -321,12 +332,13 @@ def _advance_particles(lo, hi, pos, vel, states, alive, t_start, t_end, field, m
                             vx, vy, vz, c0, s0, elapsed, record)
                     dx, dy, dz = displacement_with_phases(c0, s0, elapsed, sh, ch, gs, gc, record)
                     x, y, z = x + dx, y + dy, z + dz
-                if shaped:
-                    dx, dy, dz = shaped_displacement(t, elapsed, field)
-                    x, y, z = x + dx, y + dy, z + dz
+                if shaped:  # a real collision's from its trial
+                    if landed:
+                        sfx, sfy, sfz, sdx, sdy, sdz = shaped_flight(vx, vy, vz, su0, sk0, elapsed, field)
+                    x, y, z = x + sdx, y + sdy, z + sdz
                 if landed:
                     if shaped:
-                        vx, vy, vz = shaped_velocity(vx, vy, vz, t, elapsed, field)
+                        vx, vy, vz = sfx, sfy, sfz
                     elif exact and not ac:
                         vx, vy, vz = vx + ax * elapsed, vy + ay * elapsed, vz + az * elapsed
                     elif not ac:
@@ -430,8 +442,14 @@ def advance_swarm(lo, hi, pos, vel, states, alive, t_start, t_end, field, mass, 
 
     A waveform record (:mod:`.waveform`: a periodic E of any shape, given
     as samples, with or without a static B: :mod:`.waveform_magnetic`) adds
-    the exact response to the field over the flight to the static flight,
-    and bounds each window from the exact velocity at its start
+    the exact response to the field over the flight to the static flight
+    (:func:`.waveform_magnetic.shaped_flight`: from the phase's piece at the
+    flight's start, found once a flight; a real collision's displacement
+    comes with its trial's velocity). Without static acceleration each window
+    is bounded from constants of the flight
+    (:func:`.waveform_window.shaped_tight_window`: the exact extremes along
+    the field or B, the gyration about the periodic solution across B);
+    with it, from the exact velocity at the window's start
     (:func:`.waveform_magnetic.shaped_window`).
 
     An oscillating record (:mod:`.oscillating`: the static record extended

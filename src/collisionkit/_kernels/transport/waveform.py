@@ -154,3 +154,45 @@ def waveform_integrals(t0, tau, field):
     j1 = first1 + (b1 - a1)
     j2 = first2 + first1 * rest + (b2 - a2 - a1 * rest)
     return period * j1, period * period * j2
+
+
+@borrowing_kernel
+def piece_integrals(u0, k, tau, field):
+    """``(T J1, T^2 J2)`` of a flight of ``tau`` from the phase ``u0`` in [0, 1), which piece ``k`` holds: as
+    :func:`waveform_integrals`, without the phase's reduction and the search for its piece, and across knots
+    piece by piece (each piece's polynomials, accumulated: no difference of antiderivatives). A flight of a
+    period or more takes :func:`waveform_integrals`.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from collisionkit._kernels.transport.flight import derived_field
+    >>> from collisionkit._kernels.transport.waveform import piece_integrals, waveform_record
+    >>> record = waveform_record(derived_field(np.zeros(3), np.zeros(3)), np.array([0.0, 0.0, 1.0]), 2.0,
+    ...                          np.array([0.0, 0.5, 0.5, 1.0]), np.array([1.0, 1.0, -1.0, -1.0]))
+    >>> [round(value, 12) for value in piece_integrals(0.25, 1, 1.0, record)]  # +1 for 0.5 s, then -1 for 0.5 s
+    [0.0, 0.25]
+    """
+    period = field[WAVE_START]
+    s = tau / period
+    if s >= 1.0:
+        return waveform_integrals(u0 * period, tau, field)
+    n = int(field[WAVE_START + 1])
+    knots, values, slopes = WAVE_START + 2, WAVE_START + 2 + n, WAVE_START + 2 + 2 * n
+    sigma = field[slopes + k]
+    f = field[values + k] + sigma * (u0 - field[knots + k])
+    end = field[knots + k + 1]
+    target = u0 + s
+    if target <= end:  # within the piece: the polynomials
+        return period * s * (f + 0.5 * sigma * s), period * period * s * s * (0.5 * f + sigma * s / 6.0)
+    left, j1, j2 = u0, 0.0, 0.0
+    while True:
+        length = min(end, target) - left
+        j2 += length * (j1 + length * (0.5 * f + sigma * length / 6.0))
+        j1 += length * (f + 0.5 * sigma * length)
+        if target <= end:
+            return period * j1, period * period * j2
+        k += 1
+        if k >= n - 1:  # the next period
+            k, target = 0, target - 1.0
+        left, f, sigma, end = field[knots + k], field[values + k], field[slopes + k], field[knots + k + 1]

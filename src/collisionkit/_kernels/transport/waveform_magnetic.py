@@ -38,7 +38,8 @@ the oscillating record's decomposition along and across b (17: a . b;
 18:21 e1; 21:24 e2; 24: A; 26:29 b; :func:`.oscillating.oscillating_field`),
 then ``|a . b| max|f|`` (29) and ``A max|f|`` (30); after the waveform's
 tables, R and P at the knots (real and imaginary parts, 4 n entries) and
-q, c (4 entries).
+q, c (4 entries); then the periodic solution's tables of the window bound
+(:mod:`.waveform_window`, :func:`periodic_tables`: 3 n + 1 entries).
 """
 
 from __future__ import annotations
@@ -50,8 +51,11 @@ import numpy as np
 from ..._jit import borrowing_kernel, kernel
 from .flight import flown_velocity
 from .oscillating import oscillating_field, sincos
-from .waveform import WAVE_START, _piece, waveform_integrals, waveform_record
+from .waveform import WAVE_START, _piece, piece_integrals, waveform_integrals, waveform_record
 
+# below this |1 - q| the periodic solution is not tabulated (cyclotron resonance): the window bound then grows with
+# the flight (:mod:`.waveform_window`)
+RESONANCE = 1e-9
 # below this |x| the phi functions come from the series of phi3 (17 terms: truncation below 1e-17)
 PHI_SERIES = 1.0
 
@@ -110,6 +114,40 @@ def _response_tables(knots, values, slopes, period, w):
     return big_r, big_p, q, period * c
 
 
+def periodic_tables(knots, values, slopes, period, w, big_r, q):
+    """The periodic solution's tables (module docstring of :mod:`.waveform_window`): P at the knots, the pieces'
+    bounds of |P|, their largest, from the knots, f and its slopes, the period, W, R at the knots and q = e^{-i W
+    T}.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from collisionkit._kernels.transport.waveform_magnetic import periodic_tables
+    >>> w = 1.0  # f = 1: P = 1 / (i W) = -i at every time
+    >>> r = np.array([0.0, (1.0 - np.exp(-2j)) / 1j])
+    >>> tables = periodic_tables(np.array([0.0, 1.0]), np.array([1.0, 1.0]), np.zeros(2), 2.0, w, r, np.exp(-2j))
+    >>> [round(float(value), 12) for value in tables]  # Re P, Im P at both knots, the bound (1 + 1 + 2) / 2, top
+    [0.0, 0.0, -1.0, -1.0, 2.0, 0.0, 2.0]
+    """
+    n = knots.size
+    gap = 1.0 - q
+    pieces = np.zeros(n)
+    if abs(gap) < RESONANCE:  # no periodic solution: P = 0 and no bound of it
+        return np.concatenate([np.zeros(2 * n), np.full(n, math.inf), [math.inf]])
+    start = big_r[-1] / gap
+    big_p = big_r + np.exp(-1j * w * knots * period) * start
+    size = np.abs(big_p)
+    for k in range(n - 1):
+        length = knots[k + 1] - knots[k]
+        f_a, f_b = values[k], values[k] + slopes[k] * length
+        if f_a * f_b >= 0.0:
+            integral = 0.5 * length * (abs(f_a) + abs(f_b))
+        else:  # f changes sign inside the piece: two triangles
+            integral = 0.5 * length * (f_a * f_a + f_b * f_b) / (abs(f_a) + abs(f_b))
+        pieces[k] = 0.5 * (size[k] + size[k + 1] + integral * period)
+    return np.concatenate([big_p.real, big_p.imag, pieces, [pieces[:-1].max() if n > 1 else 0.0]])
+
+
 def shaped_field_record(static_field, amplitude, period, knots, values):
     """The flight record of a waveform (:func:`.waveform.waveform_record`) in the static field ``static_field``,
     with the entries and tables of the module docstring if it has a magnetic field.
@@ -122,8 +160,8 @@ def shaped_field_record(static_field, amplitude, period, knots, values):
     >>> square = np.array([0.0, 0.5, 0.5, 1.0]), np.array([1.0, 1.0, -1.0, -1.0])
     >>> record = shaped_field_record(derived_field(np.zeros(3), np.array([0.0, 1.0, 0.0])), np.array([0.0, 0.0, 2.0]),
     ...                              1.0, *square)
-    >>> record.size - (34 + 2 + 5 * 4), float(record[24]), float(record[30])  # 4 n + 4 more; A = 2, A max|f| = 2
-    (20, 2.0, 2.0)
+    >>> record.size - (34 + 2 + 5 * 4), float(record[24]), float(record[30])  # 7 n + 5 more; A = 2, A max|f| = 2
+    (33, 2.0, 2.0)
     """
     record = waveform_record(static_field, amplitude, period, knots, values)
     w = float(static_field[12])
@@ -138,7 +176,10 @@ def shaped_field_record(static_field, amplitude, period, knots, values):
     n = len(knots)
     big_r, big_p, q, c = _response_tables(np.asarray(knots, dtype=float), np.asarray(values, dtype=float),
                                           record[WAVE_START + 2 + 2 * n:WAVE_START + 2 + 3 * n].copy(), period, w)
-    tables = np.concatenate([big_r.real, big_r.imag, big_p.real, big_p.imag, [q.real, q.imag, c.real, c.imag]])
+    slopes = record[WAVE_START + 2 + 2 * n:WAVE_START + 2 + 3 * n].copy()
+    tables = np.concatenate([big_r.real, big_r.imag, big_p.real, big_p.imag, [q.real, q.imag, c.real, c.imag],
+                             periodic_tables(np.asarray(knots, dtype=float), np.asarray(values, dtype=float), slopes,
+                                             period, w, big_r, q)])
     return np.concatenate([record, tables])
 
 
@@ -220,6 +261,87 @@ def magnetic_response(t0, tau, field):
     r0, q0 = _within_period(start, field, n, w)
     r1, q1 = _responses_at(start + tau, field, n, w)
     return r1 - e * r0, q1 - q0 - r0 * tau * p1
+
+
+@borrowing_kernel
+def piece_response(u0, k, tau, field):
+    """``(zeta, Z)`` of :func:`magnetic_response` for a flight from the phase ``u0`` in [0, 1), which piece ``k``
+    holds: the pieces' formulas chained piece by piece from rest (no search, no difference of responses); a
+    flight of a period or more takes :func:`magnetic_response`.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from collisionkit._kernels.transport.flight import derived_field
+    >>> from collisionkit._kernels.transport.waveform_magnetic import piece_response, shaped_field_record
+    >>> record = shaped_field_record(derived_field(np.zeros(3), np.array([0.0, 1.0, 0.0])), np.array([0.0, 0.0, 1.0]),
+    ...                              8.0, np.array([0.0, 0.5, 1.0]), np.array([1.0, 1.0, 1.0]))  # constant, W = 1
+    >>> zeta, _ = piece_response(0.25, 0, np.pi, record)  # across the knot at 4: (1 - e^{-i pi}) / i = -2i
+    >>> round(zeta.real, 12), round(zeta.imag, 12)
+    (0.0, -2.0)
+    """
+    period = field[WAVE_START]
+    if tau >= period:
+        return magnetic_response(u0 * period, tau, field)
+    n = int(field[WAVE_START + 1])
+    w = field[12]
+    knots, values, slopes = WAVE_START + 2, WAVE_START + 2 + n, WAVE_START + 2 + 2 * n
+    rate = field[slopes + k] / period  # f's slope in time
+    f = field[values + k] + field[slopes + k] * (u0 - field[knots + k])
+    now, end = u0 * period, field[knots + k + 1] * period
+    target = now + tau
+    if target <= end:  # within the piece
+        _, p1, p2, p3 = phi_functions(-w * tau)
+        return tau * (f * p1 + rate * tau * p2), tau * tau * (f * p2 + rate * tau * p3)
+    zeta, big_z = 0.0j, 0.0j
+    while True:
+        d = min(end, target) - now
+        e, p1, p2, p3 = phi_functions(-w * d)
+        big_z = big_z + zeta * (d * p1) + d * d * (f * p2 + rate * d * p3)
+        zeta = e * zeta + d * (f * p1 + rate * d * p2)
+        if target <= end:
+            return zeta, big_z
+        k += 1
+        if k >= n - 1:  # the next period
+            k, target = 0, target - period
+        now, end = field[knots + k] * period, field[knots + k + 1] * period
+        f, rate = field[values + k], field[slopes + k] / period
+
+
+@borrowing_kernel
+def shaped_flight(vx, vy, vz, u0, k, tau, field):
+    """``(vx', vy', vz', dx, dy, dz)``: :func:`shaped_velocity` and :func:`shaped_displacement` together, for a
+    flight from the phase ``u0`` in [0, 1) (piece ``k``) of the field: from :func:`.waveform.piece_integrals`
+    and :func:`piece_response` (the swarm's trials: a real collision's displacement comes with its velocity).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from collisionkit._kernels.transport.flight import derived_field
+    >>> from collisionkit._kernels.transport.waveform_magnetic import shaped_field_record, shaped_flight
+    >>> record = shaped_field_record(derived_field(np.zeros(3), np.array([0.0, 1.0, 0.0])), np.array([0.0, 0.0, 1.0]),
+    ...                              20.0, np.array([0.0, 1.0]), np.array([1.0, 1.0]))  # E along z, B along y
+    >>> [round(value, 12) + 0.0 for value in shaped_flight(0.0, 0.0, 0.0, 0.0, 0, 2.0 * np.pi, record)]  # one turn
+    [0.0, 0.0, 0.0, -6.28318530718, 0.0, 0.0]
+    """
+    j1, j2 = piece_integrals(u0, k, tau, field)
+    if field[12] == 0.0:
+        return (vx + field[0] * tau + field[14] * j1, vy + field[1] * tau + field[15] * j1,
+                vz + field[2] * tau + field[16] * j1, field[14] * j2, field[15] * j2, field[16] * j2)
+    ox, oy, oz = flown_velocity(vx, vy, vz, tau, field)
+    along, moved = field[17] * j1, field[17] * j2
+    ox, oy, oz = ox + along * field[26], oy + along * field[27], oz + along * field[28]
+    dx, dy, dz = moved * field[26], moved * field[27], moved * field[28]
+    if field[24] > 0.0:
+        zeta, big_z = piece_response(u0, k, tau, field)
+        zeta, big_z = zeta * field[24], big_z * field[24]
+        ox += zeta.real * field[18] + zeta.imag * field[21]
+        oy += zeta.real * field[19] + zeta.imag * field[22]
+        oz += zeta.real * field[20] + zeta.imag * field[23]
+        dx += big_z.real * field[18] + big_z.imag * field[21]
+        dy += big_z.real * field[19] + big_z.imag * field[22]
+        dz += big_z.real * field[20] + big_z.imag * field[23]
+    return ox, oy, oz, dx, dy, dz
 
 
 @borrowing_kernel

@@ -1,0 +1,204 @@
+"""The speed bound of a flight window in a periodic waveform (:mod:`.waveform`), with or without a static B.
+
+Without static acceleration the motion of :mod:`.waveform_magnetic` splits
+along the record's direction p (b, or without B the unit vector of a) and
+across it. Along p, ``v . p = v0 . p + a_p T (G1(u) - G1(u0))`` exactly (a_p
+= a . b, or |a| without B; u = t / T the phase, u0 the flight's start, G1
+the antiderivative of f): its extremes over a window are those of G1, found
+at the window's ends, the knots inside it and the zeros of f inside a piece
+(f linear there, so G1 is a parabola with its vertex where f = 0):
+:func:`window_extremes`, exact.
+
+Across p, without B the velocity is constant. With B its complex
+components zeta (as in :mod:`.waveform_magnetic`) obey ``d zeta/dt = -i W
+zeta + A f(t/T)``, whose periodic solution (per unit A) is ``P(t) = R(t) +
+e^{-i W t} P(0)``, ``P(0) = R(T) / (1 - q)`` (R the response from rest at
+the period's start, q = e^{-i W T}). Then ``zeta - A P`` only turns, so
+``|zeta(t)| <= |D| + A max |P|`` over the window, D = zeta(t0) - A P(t0)
+fixed over the flight. On a piece |P| changes at most as fast as |f|
+(``d|P|/dt <= |f|``), so over piece k ``|P| <= (|P_k| + |P_{k+1}| +
+integral_k |f| dt) / 2`` (the smaller of the bounds from its two ends,
+at its largest where they meet): a table of the record, with its largest
+value over the period. Near cyclotron resonance (|1 - q| small) P is
+large and the bound ``|zeta(t)| <= |zeta(t0)| + A max|f| (t - t0)`` (d|zeta|/dt
+<= A |f|) is the smaller one: the window takes the smaller of the two.
+
+The tables follow those of :mod:`.waveform_magnetic` in the record (after
+q and c, from :func:`periodic_start` on): P at the knots (real and
+imaginary parts, 2 n entries), the pieces' bounds of |P| (n - 1 entries,
+padded to n) and their largest (1 entry).
+"""
+
+from __future__ import annotations
+
+import math
+
+from ..._jit import borrowing_kernel, inline_kernel
+from .waveform import WAVE_START, _piece
+from .waveform_magnetic import phi_functions
+
+@inline_kernel
+def periodic_start(n):
+    """The record index at which the periodic solution's tables start, for n knots (module docstring).
+
+    Examples
+    --------
+    >>> from collisionkit._kernels.transport.waveform_window import periodic_start
+    >>> periodic_start(4)  # 34 + 2 + 5 n + 4 n + 4
+    76
+    """
+    return WAVE_START + 2 + 9 * n + 4
+
+
+@borrowing_kernel
+def window_extremes(u_start, u_end, field, n, table, hint):
+    """``(min G1, max G1, max_k table[k])`` over the phases [u_start, u_end] (0 <= u_start <= u_end), k the
+    pieces the window touches (``table`` a record index; 0 for none: the third value is then 0). ``hint``: a
+    piece at or before u_start's if u_start < 1 (the flight's first: the walk to u_start's piece then replaces
+    the search), else anything.
+
+    G1 at the window's ends, the knots inside and the vertices of its
+    parabolas inside (module docstring). A window of a period or more takes
+    the period's extremes, shifted by the whole periods' integrals.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from collisionkit._kernels.transport.flight import derived_field
+    >>> from collisionkit._kernels.transport.waveform import waveform_record
+    >>> from collisionkit._kernels.transport.waveform_window import window_extremes
+    >>> record = waveform_record(derived_field(np.zeros(3), np.zeros(3)), np.array([0.0, 0.0, 1.0]), 1.0,
+    ...                          np.array([0.0, 1.0]), np.array([1.0, -1.0]))  # f = 1 - 2u: G1 = u - u^2
+    >>> [round(value, 12) for value in window_extremes(0.1, 0.8, record, 2, 0, 0)]  # min at 0.1, max at the vertex
+    [0.09, 0.25, 0.0]
+    """
+    knots, values, slopes, g1 = WAVE_START + 2, WAVE_START + 2 + n, WAVE_START + 2 + 2 * n, WAVE_START + 2 + 3 * n
+    period_integral = field[g1 + n - 1]
+    m = math.floor(u_start)
+    r = u_start - m
+    if r >= 1.0:
+        m, r = m + 1.0, 0.0
+    top = 0.0
+    if u_end - u_start >= 1.0:  # every piece: the period's extremes in the periods the window meets
+        low = high = 0.0
+        for k in range(n - 1):
+            low, high = min(low, field[g1 + k + 1]), max(high, field[g1 + k + 1])
+            f_a, sigma = field[values + k], field[slopes + k]
+            if sigma != 0.0:
+                d = -f_a / sigma
+                if 0.0 < d < field[knots + k + 1] - field[knots + k]:
+                    vertex = field[g1 + k] + 0.5 * f_a * d
+                    low, high = min(low, vertex), max(high, vertex)
+            if table > 0:
+                top = max(top, field[table + k])
+        shifts = (m * period_integral, math.floor(u_end) * period_integral)
+        return low + min(shifts), high + max(shifts), top
+    if m == 0.0 and field[knots + hint] <= r:
+        k = hint
+        while k < n - 2 and field[knots + k + 1] <= r:
+            k += 1
+    else:
+        k = _piece(r, field, n)
+    base = m * period_integral
+    d = r - field[knots + k]
+    low = high = base + field[g1 + k] + d * (field[values + k] + 0.5 * field[slopes + k] * d)
+    left = r  # the window's part in period m starts here
+    while True:
+        f_a, sigma, knot, end = field[values + k], field[slopes + k], field[knots + k], field[knots + k + 1]
+        if table > 0:
+            top = max(top, field[table + k])
+        right = u_end - m
+        if sigma != 0.0:  # the parabola's vertex, if inside the window's part of the piece
+            d = -f_a / sigma
+            if left < knot + d < min(end, right):
+                vertex = base + field[g1 + k] + 0.5 * f_a * d
+                low, high = min(low, vertex), max(high, vertex)
+        if right <= end:
+            d = right - knot
+            value = base + field[g1 + k] + d * (f_a + 0.5 * sigma * d)
+            return min(low, value), max(high, value), top
+        value = base + field[g1 + k + 1]
+        low, high = min(low, value), max(high, value)
+        k += 1
+        left = end
+        if k >= n - 1:
+            k, m, left = 0, m + 1.0, 0.0
+            base = m * period_integral
+
+
+@borrowing_kernel
+def shaped_flight_constants(vx, vy, vz, t0, field):
+    """``(u0, k, G1(u0), v . p, |v across p|, |D|)`` of a flight from (vx, vy, vz) at time ``t0`` (module
+    docstring; u0 the phase in [0, 1), k its piece; |D| = |v across p| without B or A = 0).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from collisionkit._kernels.transport.flight import derived_field
+    >>> from collisionkit._kernels.transport.waveform_magnetic import shaped_field_record
+    >>> from collisionkit._kernels.transport.waveform_window import shaped_flight_constants
+    >>> record = shaped_field_record(derived_field(np.zeros(3), np.array([0.0, 1.0, 0.0])), np.array([0.0, 0.0, 1.0]),
+    ...                              2.0, np.array([0.0, 1.0]), np.array([1.0, 1.0]))  # f = 1, W = 1: P = -i
+    >>> [round(value, 12) for value in shaped_flight_constants(0.0, 0.0, 0.0, 5.0, record)]  # at rest: |D| = 1
+    [0.5, 0, 0.5, 0.0, 0.0, 1.0]
+    """
+    period = field[WAVE_START]
+    n = int(field[WAVE_START + 1])
+    phase = t0 / period
+    u0 = phase - math.floor(phase)
+    if u0 >= 1.0:
+        u0 = 0.0
+    px, py, pz = field[26], field[27], field[28]
+    along = vx * px + vy * py + vz * pz
+    wx, wy, wz = vx - along * px, vy - along * py, vz - along * pz
+    across = math.sqrt(wx * wx + wy * wy + wz * wz)
+    offset = across
+    w = field[12]
+    k = _piece(u0, field, n)
+    d = u0 - field[WAVE_START + 2 + k]
+    g0 = field[WAVE_START + 2 + 3 * n + k] + d * (field[WAVE_START + 2 + n + k]
+                                                  + 0.5 * field[WAVE_START + 2 + 2 * n + k] * d)
+    if w != 0.0 and field[24] > 0.0:
+        tables = periodic_start(n)
+        d = (u0 - field[WAVE_START + 2 + k]) * period
+        e, p1, p2, _ = phi_functions(-w * d)
+        rise = field[WAVE_START + 2 + 2 * n + k] / period * d
+        start = complex(field[tables + k], field[tables + n + k])
+        big_p = e * start + d * (field[WAVE_START + 2 + n + k] * p1 + rise * p2)
+        zeta = complex(vx * field[18] + vy * field[19] + vz * field[20], vx * field[21] + vy * field[22]
+                       + vz * field[23])
+        gap = zeta - field[24] * big_p
+        offset = math.sqrt(gap.real * gap.real + gap.imag * gap.imag)
+    return u0, k, g0, along, across, offset
+
+
+@borrowing_kernel
+def shaped_tight_window(u0, k0, g0, along, across, offset, start, h, field):
+    """An upper bound of the speed over the window [start, start + h] of a flight with the constants of
+    :func:`shaped_flight_constants`, without static acceleration (module docstring), padded by 1e-10.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from collisionkit._kernels.transport.flight import derived_field
+    >>> from collisionkit._kernels.transport.waveform import waveform_record
+    >>> from collisionkit._kernels.transport.waveform_window import shaped_tight_window
+    >>> record = waveform_record(derived_field(np.zeros(3), np.zeros(3)), np.array([0.0, 0.0, 2.0]), 1.0,
+    ...                          np.array([0.0, 1.0]), np.array([1.0, -1.0]))  # v_z = 2 (u - u^2) from rest at 0
+    >>> round(shaped_tight_window(0.0, 0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.9, record), 9)  # at u = 1/2
+    0.5
+    """
+    period = field[WAVE_START]
+    n = int(field[WAVE_START + 1])
+    w = field[12]
+    magnetic = w != 0.0 and field[24] > 0.0
+    low, high, top = window_extremes(u0 + start / period, u0 + (start + h) / period, field, n,
+                                     periodic_start(n) + 2 * n if magnetic else 0, k0)
+    if w != 0.0:
+        scale = field[17] * period
+    else:
+        scale = math.sqrt(field[14] * field[14] + field[15] * field[15] + field[16] * field[16]) * period
+    parallel = max(abs(along + scale * (low - g0)), abs(along + scale * (high - g0)))
+    if magnetic:
+        across = min(offset + field[24] * top, across + field[30] * (start + h))
+    return math.sqrt(parallel * parallel + across * across) * (1.0 + 1e-10)

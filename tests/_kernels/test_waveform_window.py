@@ -1,0 +1,143 @@
+"""The window bound of a flight in a periodic waveform, with and without B (waveform_window).
+
+Independent checks: the extremes of G1 against a fine grid of the quadrature of f (scipy quad); the periodic
+solution against the exact flight (itself checked against solve_ivp in test_waveform_magnetic) from P(0) over a
+period; the window bound against the exact speed on a fine grid of random windows (short, across jumps, longer
+than a period), with B at 0 to 90 degrees and at cyclotron resonance (|Omega| T = 2 pi); without B it is reached.
+"""
+
+import math
+
+import numpy as np
+import pytest
+from scipy.integrate import quad
+
+from collisionkit._kernels.transport.flight import derived_field
+from collisionkit._kernels.transport.waveform_magnetic import shaped_velocity
+from collisionkit._kernels.transport.waveform_window import (
+    periodic_start, shaped_flight_constants, shaped_tight_window, window_extremes,
+)
+from collisionkit.transport._waveform import shaped_record, waveform_knots
+
+SHAPES = {
+    "square": [(0.0, 1.0), (0.5, 1.0), (0.5, -1.0), (1.0, -1.0)],
+    "offset sawtooth": [(0.0, -0.4), (1.0, 1.0)],
+    "irregular": [(0.1, 0.3), (0.2, -2.0), (0.2, 1.5), (0.65, 0.4), (0.9, 2.5)],
+    "cosine": [(k / 16, math.cos(2 * math.pi * k / 16)) for k in range(16)],
+}
+PERIOD = 0.7
+AMPLITUDE = np.array([0.0, 0.0, 1.3])
+
+
+def _f(samples):
+    knots, values = waveform_knots(samples)
+
+    def f(u):
+        r = u - math.floor(u)
+        k = min(int(np.searchsorted(knots, r, side="right")) - 1, len(knots) - 2)
+        return values[k] + (values[k + 1] - values[k]) * (r - knots[k]) / (knots[k + 1] - knots[k]) \
+            if knots[k + 1] > knots[k] else values[k]
+    return f, knots
+
+
+@pytest.mark.parametrize("shape", SHAPES)
+def test_the_extremes_of_g1_over_a_window_are_those_of_its_quadrature(shape):
+    f, knots = _f(SHAPES[shape])
+    record = shaped_record(derived_field(np.zeros(3), np.zeros(3)), AMPLITUDE, PERIOD, SHAPES[shape])
+    n = len(knots)
+    rng = np.random.default_rng(len(shape))
+    for length in (0.01, 0.2, 0.7, 1.5, 3.2):
+        u0 = rng.uniform(0.0, 3.0)
+        grid = np.linspace(u0, u0 + length, 2001)
+        points = sorted({*grid, *(k + m for m in range(8) for k in knots if k + m < u0 + length)})
+        g1, values = 0.0, []
+        for a, b in zip([0.0, *points], points):  # integrated piece by piece from 0 (quad across a jump is inexact)
+            g1 += quad(f, a, b, epsabs=1e-14, limit=200)[0] if b > a else 0.0
+            if b >= u0:
+                values.append(g1)
+        low, high, _ = window_extremes(u0, u0 + length, record, n, 0, 0)
+        step = length / 2000 * np.abs(record[36 + n:36 + 2 * n]).max()  # G1 moves at most this between grid points
+        assert low <= min(values) + 1e-12 and high >= max(values) - 1e-12
+        if length < 1.0:  # exact below a period: reached within the grid's resolution
+            assert low >= min(values) - step and high <= max(values) + step
+        whole = math.floor(u0) * record[36 + 4 * n - 1]  # G1 at the flight's start from its phase in [0, 1)
+        assert shaped_flight_constants(0.0, 0.0, 0.0, u0 * PERIOD, record)[2] == pytest.approx(values[0] - whole,
+                                                                                               abs=1e-12)
+
+
+def _exact_speeds(v0, t0, start, h, record, points=401):
+    return [np.linalg.norm(shaped_velocity(*v0, t0, start + u, record)) for u in np.linspace(0.0, h, points)]
+
+
+@pytest.mark.parametrize("shape", SHAPES)
+def test_without_b_the_window_bound_is_the_largest_speed(shape):
+    """Along the field the speed's extremes are G1's; across it constant: the bound is reached (grid of 2001)."""
+    record = shaped_record(derived_field(np.zeros(3), np.zeros(3)), AMPLITUDE, PERIOD, SHAPES[shape])
+    rng = np.random.default_rng(7 + len(shape))
+    for _ in range(25):
+        v0, t0, start, h = rng.normal(size=3), rng.uniform(0, 5), rng.uniform(0, 1), rng.choice([0.02, 0.3, 1.6])
+        constants = shaped_flight_constants(*v0, t0, record)
+        bound = shaped_tight_window(*constants, start, h, record)
+        speeds = _exact_speeds(v0, t0, start, h, record, 2001)
+        assert bound >= max(speeds) * (1 - 1e-12)
+        if h < PERIOD:
+            assert bound <= max(speeds) + np.linalg.norm(AMPLITUDE) * 2.5 * h / 2000 + 1e-9
+
+
+@pytest.mark.parametrize("shape", ["square", "irregular", "cosine"])
+def test_the_periodic_solution_is_the_flight_of_its_start_over_the_period(shape):
+    """A velocity A P(0) across B at t = 0 flies to A P at every knot and back to A P(0) after a period; the pieces'
+    tabulated bounds cover |P| on a fine grid."""
+    knots, _ = waveform_knots(SHAPES[shape])
+    n = len(knots)
+    for w, angle in ((9.0, 90.0), (25.0, 60.0), (0.3, 30.0)):
+        theta = math.radians(angle)
+        record = shaped_record(derived_field(np.zeros(3), w * np.array([0.0, math.sin(theta), math.cos(theta)])),
+                               AMPLITUDE, PERIOD, SHAPES[shape])
+        tables = periodic_start(n)
+        big_p = record[tables:tables + n] + 1j * record[tables + n:tables + 2 * n]
+        big_a, e1, e2 = record[24], record[18:21], record[21:24]
+
+        def velocity(p):
+            return big_a * (p.real * e1 + p.imag * e2)
+
+        def flown(time):
+            v = np.array(shaped_velocity(*velocity(big_p[0]), 0.0, time, record)) / big_a
+            return complex(v @ e1, v @ e2)
+
+        for k in range(n):
+            assert flown(knots[k] * PERIOD) == pytest.approx(big_p[k], abs=1e-11 * (1 + abs(big_p).max()))
+        for k in range(n - 1):
+            if knots[k + 1] > knots[k]:
+                sizes = [abs(flown(t)) for t in np.linspace(knots[k], knots[k + 1], 201) * PERIOD]
+                assert record[tables + 2 * n + k] >= max(sizes) * (1 - 1e-12)
+        assert record[tables + 3 * n] == pytest.approx(record[tables + 2 * n:tables + 3 * n - 1].max())
+
+
+def test_the_gyration_offset_is_fixed_along_a_flight():
+    """|zeta - A P| at the flight's start (shaped_flight_constants) equals its value after any flight."""
+    record = shaped_record(derived_field(np.zeros(3), 9.0 * np.array([0.0, 0.5, math.sqrt(0.75)])), AMPLITUDE,
+                           PERIOD, SHAPES["irregular"])
+    rng = np.random.default_rng(3)
+    for _ in range(10):
+        v0, t0, tau = rng.normal(size=3), rng.uniform(0, 5), rng.uniform(0, 2)
+        offset = shaped_flight_constants(*v0, t0, record)[5]
+        assert offset == pytest.approx(shaped_flight_constants(*shaped_velocity(*v0, t0, tau, record), t0 + tau,
+                                                               record)[5], rel=1e-10)
+
+
+@pytest.mark.parametrize("shape", ["square", "irregular", "cosine"])
+def test_with_b_the_window_bound_covers_the_exact_speed(shape):
+    """Random windows (short, across jumps, longer than a period) late in a flight, B at 0 to 90 degrees, off and at
+    cyclotron resonance, and slow gyration: the bound covers the exact speed on a grid of 401 points."""
+    rng = np.random.default_rng(11)
+    for angle in (0.0, 45.0, 60.0, 90.0):
+        theta = math.radians(angle)
+        for w in (25.0, 2 * math.pi / PERIOD, 0.05):
+            record = shaped_record(derived_field(np.zeros(3), w * np.array([0.0, math.sin(theta), math.cos(theta)])),
+                                   AMPLITUDE, PERIOD, SHAPES[shape])
+            for _ in range(12):
+                v0, t0 = rng.normal(size=3), rng.uniform(0, 5)
+                start, h = rng.uniform(0, 2), rng.choice([0.01, 0.2, 1.5])
+                bound = shaped_tight_window(*shaped_flight_constants(*v0, t0, record), start, h, record)
+                assert bound >= max(_exact_speeds(v0, t0, start, h, record)) * (1 - 1e-12)
