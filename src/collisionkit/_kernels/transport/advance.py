@@ -466,9 +466,8 @@ def advance_swarm(lo, hi, pos, vel, states, alive, t_start, t_end, field, mass, 
     particular solution (:mod:`.particular`: no complex arithmetic).
 
     Each kind of field (:func:`field_variant`) runs its own machine code of
-    the particle loop, compiled on first use: the loop of one kind carries
-    none of the others' variables (measured: the AC + B code in the static-B
-    loop cost it 20 %).
+    the particle loop (:data:`PARTICLE_LOOPS`), compiled on first use: the
+    loop of one kind carries none of the others' code and variables.
     """
     scratch = (np.empty(child_pos.shape[1]), np.empty(4, np.uint64), np.empty(gas.shape[0]),
                np.zeros(gas.shape[0], np.int64))
