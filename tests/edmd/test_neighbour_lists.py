@@ -187,3 +187,29 @@ def test_a_dilute_random_fluid_ends_its_compression_with_the_dilute_shell():
     assert system.check() > -1e-9 and system.kinetic_energy() == pytest.approx(energy, rel=1e-12)
     asked = edmd.random_fluid(2, 400, 0.01, seed=1, neighbour_shell=0.5)
     assert asked.neighbour_shell_width == pytest.approx(0.5, rel=1e-12)
+
+
+def test_sorting_by_cell_builds_the_lists_once_and_keeps_every_particle(monkeypatch):
+    """The renumbering follows the cells of the positions at the sort: one list build; particles and momentum kept."""
+    from collisionkit._kernels import edmd as kernels
+
+    system = fcc_system(3, 0.45, seed=5)
+    system.run(collisions=5 * system.count)
+    system._refresh_lists()  # rows grown to the fluid's lists: a build now needs no second try
+    before = system.p[np.argsort(system.ids)].copy()
+    builds = []
+    build_all_lists = kernels.build_all_lists
+    monkeypatch.setattr(kernels, "build_all_lists", lambda *args: builds.append(1) or build_all_lists(*args))
+    system._sort_by_cell()
+    assert len(builds) == 1
+    assert np.all(np.diff(system.cell_of) >= 0)  # memory in the order of the cells of the (new) anchors
+    assert np.array_equal(np.sort(system.ids), np.arange(system.count))
+    after = system.p[np.argsort(system.ids)]
+    # positions wrapped into the box at the sort: the same points of the periodic box
+    shift = (after[:, :3] - before[:, :3]) / system.box[:3]
+    assert np.allclose(shift, np.round(shift), atol=1e-12)
+    assert np.array_equal(after[:, 3:6], before[:, 3:6])
+    momentum = system.p[:, 3:6].sum(axis=0)
+    system.run(collisions=5 * system.count)
+    assert np.allclose(system.p[:, 3:6].sum(axis=0), momentum, atol=1e-12 * system.count)
+    system.check()

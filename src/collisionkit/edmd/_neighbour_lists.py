@@ -102,11 +102,14 @@ class NeighbourLists:
             widths[k] = self.box[k] / ncell[k]
         return shell, ncell, widths
 
-    def _refresh_lists(self):
+    def _refresh_lists(self, anchors_only=False):
         """Re-anchor every particle, rebuild every neighbour list and re-predict every event.
 
         Lists cover the radius scale of now (plus a margin while growing);
-        cells and list rows are enlarged when needed.
+        cells and list rows are enlarged when needed. With ``anchors_only``
+        it stops once the anchors are in the cells (``cell_of`` current),
+        the lists and events left stale: for :meth:`_sort_by_cell`, which
+        refreshes everything after renumbering.
         """
         self.synchronise()
         list_scale = self.scale0 + LIST_SCALE_MARGIN if self.growth > 0 else self.scale0
@@ -118,6 +121,14 @@ class NeighbourLists:
             self._grow_cells(max(INITIAL_CELL_SLOTS, self._fullest_cell(ncell, widths)))
         self.geom[_k.G_CELL] = widths
         self._start_shear_frame()
+        while anchors_only:
+            fullest = _k.anchor_all(
+                self.p, self.book, self.anchor_time, self.cell_of, self.cell_members, self.cell_count, self.cell_points,
+                self.ncell, self.geom, self.dim, self.params, self._image, self.acc,
+            )
+            if fullest <= self.cell_members.shape[1]:
+                return
+            self._grow_cells(fullest)
         while True:
             needed, fullest = _k.build_all_lists(
                 self.p, self.book, self.anchor_time, self.cell_of, self.neighbours, self.neighbour_count,
@@ -187,9 +198,11 @@ class NeighbourLists:
         """Renumber the memory slots in cell order so neighbours share cache lines.
 
         Particles keep their identity through ``ids``; all lists are rebuilt
-        and all events re-predicted (the slots changed).
+        and all events re-predicted (the slots changed). The order is that
+        of the cells of the particles' positions now (their anchors, set
+        before renumbering), and the lists are built once, after it.
         """
-        self._refresh_lists()
+        self._refresh_lists(anchors_only=True)
         order = np.argsort(self.cell_of, kind="stable")
         self.p[:] = self.p[order]
         self._mass = self._mass[order]

@@ -150,7 +150,7 @@ from .loop import predict_all, run_events
 from .measurement import (
     largest_anchor_drift, min_gap, pair_distance_counts, stored_helfand_moments, synchronise, wall_gap,
 )
-from .neighbour_lists import build_all_lists
+from .neighbour_lists import anchor_all, build_all_lists
 from .prediction import first_root_from_below, pair_contact_time
 from .queue import queue_update, tree_build
 
@@ -165,7 +165,7 @@ __all__ = [
     "P_WALL_RESTITUTION", "PREDICTED_AT", "SHEAR_SWEEP_STRAIN", "SHEAR_X_EXCURSION",
     "QUEUE_BLOCK", "R", "SPECIES", "STALLED_EVENTS", "STOP_COLLISIONS", "STOP_EVENTS", "STOP_NO_EVENT",
     "STOP_OVERFLOW", "STOP_STALLED", "STOP_TIME", "STRESS_PAIRS", "T", "TARGET", "TREE_LEVELS_PREFETCHED", "V", "X",
-    "build_all_lists", "first_root_from_below", "largest_anchor_drift", "min_gap", "pair_contact_time",
+    "anchor_all", "build_all_lists", "first_root_from_below", "largest_anchor_drift", "min_gap", "pair_contact_time",
     "pair_distance_counts", "predict_all", "queue_update", "run_events", "stored_helfand_moments", "synchronise",
     "tree_build", "wall_gap", "wall_target",
 ]

@@ -314,13 +314,11 @@ def rebuild_list(p, i, b, anchor_time, cell_of, neighbours, neighbour_count, cel
 
 
 @kernel
-def build_all_lists(p, b, anchor_time, cell_of, neighbours, neighbour_count, cell_members, cell_count, cell_points,
-                    ncell, geom, dim, params, image, acc):
-    """Anchor every particle at its position (all synchronised) and build every list.
+def anchor_all(p, b, anchor_time, cell_of, cell_members, cell_count, cell_points, ncell, geom, dim, params, image, acc):
+    """Anchor every particle at its position (all synchronised) and fill the cells with the anchors; no list built.
 
-    Returns the longest list and the fullest cell needed; if either exceeds
-    its row length the structures are incomplete and the caller must grow
-    them and call again.
+    Returns the fullest cell's count (more than its slots hold: the cells
+    are incomplete, grow them and call again).
     """
     cell_count[:] = 0
     most = 0
@@ -331,6 +329,20 @@ def build_all_lists(p, b, anchor_time, cell_of, neighbours, neighbour_count, cel
         if not cell_insert(i, cell, b, p[i, R], cell_of, cell_members, cell_count, cell_points):
             cell_count[cell] += 1  # count what would not fit, to report the size needed
         most = max(most, cell_count[cell])
+    return most
+
+
+@kernel
+def build_all_lists(p, b, anchor_time, cell_of, neighbours, neighbour_count, cell_members, cell_count, cell_points,
+                    ncell, geom, dim, params, image, acc):
+    """Anchor every particle at its position (all synchronised, :func:`anchor_all`) and build every list.
+
+    Returns the longest list and the fullest cell needed; if either exceeds
+    its row length the structures are incomplete and the caller must grow
+    them and call again.
+    """
+    most = anchor_all(p, b, anchor_time, cell_of, cell_members, cell_count, cell_points, ncell, geom, dim, params, image,
+                      acc)
     if most > cell_members.shape[1]:
         return 0, most
     needed = 0
