@@ -165,6 +165,7 @@ def _advance_particles(lo, hi, pos, vel, states, alive, t_start, t_end, field, m
                 sk0 = 0
                 if shaped:  # the phase and its piece: the trials' flights start there
                     su0, sk0, sg0, s_along, s_across, s_offset = shaped_flight_constants(vx, vy, vz, t, field)
+                hint_period, hint = 0.0, sk0  # where the next window's walk over the pieces starts
                 sh = ch = gs = gc = 0.0  # the half-angle sines of the last trial (oscillating field)
                 if not exact:
                     vb, radius, a_par = flight_envelope(vx, vy, vz, bx, by, bz, ux, uy, uz, a_par_field)
@@ -201,8 +202,8 @@ def _advance_particles(lo, hi, pos, vel, states, alive, t_start, t_end, field, m
                             h = window * inverse_nu if nu_window > 0.0 else fallback
                             h = min(h, growth * max(s_window, speed_floor) * inverse_accel)
                             if tight:
-                                s_window = shaped_tight_window(su0, sk0, sg0, s_along, s_across, s_offset,
-                                                               window_end, h, field)
+                                s_window, hint_period, hint = shaped_tight_window(
+                                    su0, sk0, sg0, s_along, s_across, s_offset, window_end, h, field, hint_period, hint)
                             else:
                                 s_window = shaped_window(vx, vy, vz, t, window_end, h, field, accel_mag)
                             nu_window = trial_frequencies(s_window, density, gas, bound, inverse_step, sigma_max,
