@@ -21,7 +21,7 @@ from .flight import flown_velocity as _flown_velocity
 from .flight import gyrated_position, gyrated_velocity
 from .flight import window_growth_speed as _window_growth_speed
 from .flight import window_top_speed as _window_top_speed
-from .ac_window import flight_envelope_ac, oscillating_window, parallel_window
+from .ac_window import flight_envelope_ac, oscillating_window, stepped_window
 from .oscillating import (
     RECORD_SIZE, STATIC_SIZE, displacement_with_phases, flight_with_phases, oscillating_flown_velocity, record_values,
     sincos, sincos_spread,
@@ -161,6 +161,8 @@ def _advance_particles(lo, hi, pos, vel, states, alive, t_start, t_end, field, m
                 if envelope:
                     w_par, radius_ac, w_speed, turning = flight_envelope_ac(vx, vy, vz, c0, s0, record)
                     turned = turning  # U at the next window's start
+                step = step_sin = 0.0
+                step_cos = 1.0
                 su0 = sg0 = s_along = s_across = s_offset = sdx = sdy = sdz = sfx = sfy = sfz = 0.0
                 sk0 = 0
                 if shaped:  # the phase and its piece: the trials' flights start there
@@ -190,11 +192,14 @@ def _advance_particles(lo, hi, pos, vel, states, alive, t_start, t_end, field, m
                     if elapsed >= window_end:  # open the next window
                         if envelope:  # the bound from the parallel velocity and phase at the window's start
                             # (the previous window's bound stands in for the speed at the start)
-                            h = window * inverse_nu if nu_window > 0.0 else fallback
-                            h = min(h, growth * max(s_window, speed_floor) * inverse_accel)
-                            s_window, w_par, wc, ws, turned = parallel_window(
-                                w_par, wc, ws, omega * (t + window_end), h, window_end + h, radius_ac, w_speed,
-                                turning, turned, speed0, accel_mag, record)
+                            if window_end == 0.0:  # the flight's windows all of the first one's length: one sine
+                                step = window * inverse_nu if nu_window > 0.0 else fallback
+                                step = min(step, growth * max(s_window, speed_floor) * inverse_accel)
+                                step_sin, step_cos = sincos(0.5 * omega * step)
+                            h = step
+                            s_window, w_par, wc, ws, turned = stepped_window(
+                                w_par, wc, ws, omega * (t + window_end), step_sin, step_cos, h, window_end + h,
+                                radius_ac, w_speed, turning, turned, speed0, accel_mag, record)
                             nu_window = trial_frequencies(s_window, density, gas, bound, inverse_step, sigma_max,
                                                           const_max, nu_s)
                             window_end += h
