@@ -55,7 +55,7 @@ def test_the_extremes_of_g1_over_a_window_are_those_of_its_quadrature(shape):
             g1 += quad(f, a, b, epsabs=1e-14, limit=200)[0] if b > a else 0.0
             if b >= u0:
                 values.append(g1)
-        low, high, _ = window_extremes(u0, u0 + length, record, n, 0, 0)
+        low, high, _, _, _ = window_extremes(u0, u0 + length, record, n, 0, 0.0, 0)
         step = length / 2000 * np.abs(record[36 + n:36 + 2 * n]).max()  # G1 moves at most this between grid points
         assert low <= min(values) + 1e-12 and high >= max(values) - 1e-12
         if length < 1.0:  # exact below a period: reached within the grid's resolution
@@ -77,11 +77,32 @@ def test_without_b_the_window_bound_is_the_largest_speed(shape):
     for _ in range(25):
         v0, t0, start, h = rng.normal(size=3), rng.uniform(0, 5), rng.uniform(0, 1), rng.choice([0.02, 0.3, 1.6])
         constants = shaped_flight_constants(*v0, t0, record)
-        bound = shaped_tight_window(*constants, start, h, record)
+        bound = shaped_tight_window(*constants, start, h, record, 0.0, constants[1])[0]
         speeds = _exact_speeds(v0, t0, start, h, record, 2001)
         assert bound >= max(speeds) * (1 - 1e-12)
         if h < PERIOD:
             assert bound <= max(speeds) + np.linalg.norm(AMPLITUDE) * 2.5 * h / 2000 + 1e-9
+
+
+@pytest.mark.parametrize("shape", SHAPES)
+@pytest.mark.parametrize("w", [0.0, 0.05, 25.0])
+def test_chained_window_hints_give_the_bounds_of_a_walk_from_the_flight_start(shape, w):
+    """A flight's windows, each starting its walk over the pieces where the previous one ended (the swarm's
+    chaining), bound exactly as windows walked from the flight's start piece; the hints stay at or before each
+    window's start (else the walk would start past it) across several periods."""
+    record = shaped_record(derived_field(np.zeros(3), w * np.array([0.0, 0.6, 0.8])), AMPLITUDE, PERIOD, SHAPES[shape])
+    n = int(record[35])
+    rng = np.random.default_rng(23 + len(shape))
+    for _ in range(10):
+        constants = shaped_flight_constants(*rng.normal(size=3), rng.uniform(0, 5), record)
+        u0, k0 = constants[0], constants[1]
+        start, hint_period, hint = 0.0, 0.0, k0
+        for h in rng.choice([0.013, 0.05, 0.3, 1.2], size=12):
+            chained, hint_period, hint = shaped_tight_window(*constants, start, h, record, hint_period, hint)
+            assert chained == shaped_tight_window(*constants, start, h, record, 0.0, k0)[0]
+            end = u0 + (start + h) / PERIOD
+            assert hint_period + record[36 + hint] <= end + 1e-15 and 0 <= hint < n - 1
+            start += h
 
 
 @pytest.mark.parametrize("shape", ["square", "irregular", "cosine"])
@@ -139,5 +160,6 @@ def test_with_b_the_window_bound_covers_the_exact_speed(shape):
             for _ in range(12):
                 v0, t0 = rng.normal(size=3), rng.uniform(0, 5)
                 start, h = rng.uniform(0, 2), rng.choice([0.01, 0.2, 1.5])
-                bound = shaped_tight_window(*shaped_flight_constants(*v0, t0, record), start, h, record)
+                constants = shaped_flight_constants(*v0, t0, record)
+                bound = shaped_tight_window(*constants, start, h, record, 0.0, constants[1])[0]
                 assert bound >= max(_exact_speeds(v0, t0, start, h, record)) * (1 - 1e-12)

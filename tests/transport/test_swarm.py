@@ -551,7 +551,9 @@ def test_flux_diffusion_coefficients_of_reids_ramp_match_the_published_values():
     """Reid's ramp at 24 Td is conservative, so flux and bulk diffusion coincide; published N D_L = 0.4595e24
     (LoKI-MC) / 0.4601e24 (MultiBolt), N D_T = 1.138e24 / 1.137e24 (Dias et al., CPC 282, 108554 (2023),
     Table 1). D_T / D_L = 2.5 here, so a longitudinal estimator fed a transverse component is off by 150 %.
-    4e7 collisions (~20 s) give the flux estimators to ~10 % (1 sd); tolerance 4 sd + 3 %.
+    4e7 collisions (~20 s) give the flux estimators to ~10 % (1 sd); tolerance 4 sd + 3 %. The flux estimators'
+    error estimates themselves spread: 9-19 % of N D_L over seeds 1-5 and 7 (two builds, 12 runs), so the guard
+    on them is 25 %, which keeps the power against the transverse component (4 x 25 % + 3 % < 150 %).
     Kills: D_L flux from the y component, D_T flux without 1/2, <r_k v_k> summed with v_z only (kernel),
     and the bulk D_L without 1/2, D_T with 1/2 instead of 1/4."""
     r = simulate_swarm(reid_ramp(), 24.0, gas_temperature=0.0, particles=8000, seed=7, threads=2,
@@ -560,7 +562,7 @@ def test_flux_diffusion_coefficients_of_reids_ramp_match_the_published_values():
     for name, references in published.items():
         for estimator in (name, f"{name}_flux"):
             value, error = getattr(r, estimator), getattr(r, f"{estimator}_error")
-            assert error < 0.15 * references[0], estimator
+            assert error < 0.25 * references[0], estimator
             assert min(abs(value - ref) for ref in references) < 4 * error + 0.03 * references[0], (estimator, value)
 
 

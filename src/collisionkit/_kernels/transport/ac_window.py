@@ -132,8 +132,30 @@ def parallel_window(v_par, c1, s1, theta1, h, reach, radius, w_speed, turning, t
     >>> [round(value, 6) for value in parallel_window(0.0, 1.0, 0.0, 0.0, 10.0, 10.0, 0.0, 0.0, 0j, 0j, 0.0, 2.0, record)[:4]]
     [2.0, -1.088042, -0.839072, -0.544021]
     """
+    sh, ch = sincos(0.5 * field[13] * h)
+    return stepped_window(v_par, c1, s1, theta1, sh, ch, h, reach, radius, w_speed, turning, turned, speed0,
+                          accel_mag, field)
+
+
+@inline_kernel
+def stepped_window(v_par, c1, s1, theta1, sh, ch, h, reach, radius, w_speed, turning, turned, speed0, accel_mag,
+                   field):
+    """:func:`parallel_window` given ``(sin, cos)(omega h / 2)``: the windows of a flight, all of one length,
+    take the sines once.
+
+    Examples
+    --------
+    >>> import math
+    >>> import numpy as np
+    >>> from collisionkit._kernels.transport.flight import derived_field
+    >>> from collisionkit._kernels.transport.oscillating import oscillating_field
+    >>> from collisionkit._kernels.transport.ac_window import stepped_window
+    >>> record = oscillating_field(derived_field(np.zeros(3), np.zeros(3)), np.array([0.0, 0.0, 2.0]), 1.0)
+    >>> arguments = (0.0, 1.0, 0.0, 0.0, 10.0, 10.0, 0.0, 0.0, 0j, 0j, 0.0, 2.0, record)  # as parallel_window's
+    >>> [round(value, 6) for value in stepped_window(*arguments[:4], math.sin(5.0), math.cos(5.0), *arguments[4:])[:4]]
+    [2.0, -1.088042, -0.839072, -0.544021]
+    """
     omega = field[13]
-    sh, ch = sincos(0.5 * omega * h)
     sin_w = 2.0 * sh * ch
     vers = 2.0 * sh * sh  # 1 - cos(omega h)
     c2 = c1 * (1.0 - vers) - s1 * sin_w

@@ -21,7 +21,7 @@ from .flight import flown_velocity as _flown_velocity
 from .flight import gyrated_position, gyrated_velocity
 from .flight import window_growth_speed as _window_growth_speed
 from .flight import window_top_speed as _window_top_speed
-from .ac_window import flight_envelope_ac, oscillating_window, parallel_window
+from .ac_window import flight_envelope_ac, oscillating_window, stepped_window
 from .oscillating import (
     RECORD_SIZE, STATIC_SIZE, displacement_with_phases, flight_with_phases, oscillating_flown_velocity, record_values,
     sincos, sincos_spread,
@@ -106,6 +106,7 @@ def _advance_particles(lo, hi, pos, vel, states, alive, t_start, t_end, field, m
     inverse_step = (1.0 / bound_step) * (1.0 + 1e-12)
     inverse_cell = (1.0 / accelerator_step) * (1.0 - 1e-12)
     inverse_accel = 1.0 / accel_mag if accel_mag > 0.0 else math.inf
+    static_inverse_accel = inverse_accel  # (a product, not a division, on the chain of a window's bound)
     if ac:  # |cos| averages 2/pi over a period: the growth limit in the mean acceleration (5 % faster, measured)
         inverse_accel *= 0.5 * math.pi
     fallback = 0.01 * bound.shape[1] * bound_step / accel_mag if accel_mag > 0.0 else math.inf
@@ -144,6 +145,7 @@ def _advance_particles(lo, hi, pos, vel, states, alive, t_start, t_end, field, m
             spare, has_spare = 0.0, False
             speed0 = math.sqrt(vx * vx + vy * vy + vz * vz)
             nu_window = trial_frequencies(speed0, density, gas, bound, inverse_step, sigma_max, const_max, nu_s)
+            inverse_nu = 1.0 / nu_window if nu_window > 0.0 else math.inf
             while True:  # one flight, from the last real collision
                 speed0 = math.sqrt(vx * vx + vy * vy + vz * vz)
                 vb, radius, a_par = 0.0, 0.0, 0.0
@@ -159,10 +161,13 @@ def _advance_particles(lo, hi, pos, vel, states, alive, t_start, t_end, field, m
                 if envelope:
                     w_par, radius_ac, w_speed, turning = flight_envelope_ac(vx, vy, vz, c0, s0, record)
                     turned = turning  # U at the next window's start
+                step = step_sin = 0.0
+                step_cos = 1.0
                 su0 = sg0 = s_along = s_across = s_offset = sdx = sdy = sdz = sfx = sfy = sfz = 0.0
                 sk0 = 0
                 if shaped:  # the phase and its piece: the trials' flights start there
                     su0, sk0, sg0, s_along, s_across, s_offset = shaped_flight_constants(vx, vy, vz, t, field)
+                hint_period, hint = 0.0, sk0  # where the next window's walk over the pieces starts
                 sh = ch = gs = gc = 0.0  # the half-angle sines of the last trial (oscillating field)
                 if not exact:
                     vb, radius, a_par = flight_envelope(vx, vy, vz, bx, by, bz, ux, uy, uz, a_par_field)
@@ -187,20 +192,23 @@ def _advance_particles(lo, hi, pos, vel, states, alive, t_start, t_end, field, m
                     if elapsed >= window_end:  # open the next window
                         if envelope:  # the bound from the parallel velocity and phase at the window's start
                             # (the previous window's bound stands in for the speed at the start)
-                            h = window / nu_window if nu_window > 0.0 else fallback
-                            h = min(h, growth * max(s_window, speed_floor) * inverse_accel)
-                            s_window, w_par, wc, ws, turned = parallel_window(
-                                w_par, wc, ws, omega * (t + window_end), h, window_end + h, radius_ac, w_speed,
-                                turning, turned, speed0, accel_mag, record)
+                            if window_end == 0.0:  # the flight's windows all of the first one's length: one sine
+                                step = window * inverse_nu if nu_window > 0.0 else fallback
+                                step = min(step, growth * max(s_window, speed_floor) * inverse_accel)
+                                step_sin, step_cos = sincos(0.5 * omega * step)
+                            h = step
+                            s_window, w_par, wc, ws, turned = stepped_window(
+                                w_par, wc, ws, omega * (t + window_end), step_sin, step_cos, h, window_end + h,
+                                radius_ac, w_speed, turning, turned, speed0, accel_mag, record)
                             nu_window = trial_frequencies(s_window, density, gas, bound, inverse_step, sigma_max,
                                                           const_max, nu_s)
                             window_end += h
                         elif shaped:  # the bound from the flight's constants, or the velocity at the window's start
-                            h = window / nu_window if nu_window > 0.0 else fallback
+                            h = window * inverse_nu if nu_window > 0.0 else fallback
                             h = min(h, growth * max(s_window, speed_floor) * inverse_accel)
                             if tight:
-                                s_window = shaped_tight_window(su0, sk0, sg0, s_along, s_across, s_offset,
-                                                               window_end, h, field)
+                                s_window, hint_period, hint = shaped_tight_window(
+                                    su0, sk0, sg0, s_along, s_across, s_offset, window_end, h, field, hint_period, hint)
                             else:
                                 s_window = shaped_window(vx, vy, vz, t, window_end, h, field, accel_mag)
                             nu_window = trial_frequencies(s_window, density, gas, bound, inverse_step, sigma_max,
@@ -208,7 +216,7 @@ def _advance_particles(lo, hi, pos, vel, states, alive, t_start, t_end, field, m
                             window_end += h
                         elif ac:  # the bound from the exact state at the window's start; the state at its end
                             s_start = math.sqrt(wvx * wvx + wvy * wvy + wvz * wvz)
-                            h = window / nu_window if nu_window > 0.0 else fallback
+                            h = window * inverse_nu if nu_window > 0.0 else fallback
                             h = min(h, growth * max(s_start, speed_floor) * inverse_accel)
                             s_window, wvx, wvy, wvz, wc, ws = oscillating_window(
                                 wvx, wvy, wvz, wc, ws, omega * (t + window_end), h, record, accel_mag)
@@ -216,8 +224,8 @@ def _advance_particles(lo, hi, pos, vel, states, alive, t_start, t_end, field, m
                                                           const_max, nu_s)
                             window_end += h
                         elif accel_mag > 0.0:
-                            h = window / nu_window if nu_window > 0.0 else fallback
-                            h = min(h, growth * max(s_low, speed_floor) / accel_mag)
+                            h = window * inverse_nu if nu_window > 0.0 else fallback
+                            h = min(h, growth * max(s_low, speed_floor) * static_inverse_accel)
                             s_high = window_top_speed(vx, vy, vz, ax, ay, az, window_end + h, exact, vb, radius,
                                                       a_par)
                             s_window = min(max(s_low, s_high),
@@ -230,6 +238,7 @@ def _advance_particles(lo, hi, pos, vel, states, alive, t_start, t_end, field, m
                             nu_window = trial_frequencies(speed0, density, gas, bound, inverse_step, sigma_max,
                                                           const_max, nu_s)
                             window_end = math.inf
+                        inverse_nu = 1.0 / nu_window if nu_window > 0.0 else math.inf
                     stop = min(window_end, horizon)
                     room = nu_window * (stop - elapsed)
                     if tau >= room:
@@ -239,7 +248,7 @@ def _advance_particles(lo, hi, pos, vel, states, alive, t_start, t_end, field, m
                         tau -= room
                         elapsed = window_end
                         continue
-                    elapsed = min(stop, elapsed + tau / nu_window)
+                    elapsed = min(stop, elapsed + tau * inverse_nu)
                     # a trial: the velocity it would have, the target species by its share of the trial frequency
                     if particular:
                         tvx, tvy, tvz, phase_cos, phase_sin, sh, ch, gs, gc = particular_flight(
@@ -271,8 +280,9 @@ def _advance_particles(lo, hi, pos, vel, states, alive, t_start, t_end, field, m
                         gas_vy *= gas[s, 1]
                         gas_vz *= gas[s, 1]
                     gx, gy, gz = tvx - gas_vx, tvy - gas_vy, tvz - gas_vz
-                    g_speed = math.sqrt(gx * gx + gy * gy + gz * gz)
-                    energy = 0.5 * mass * g_speed * g_speed
+                    g_squared = gx * gx + gy * gy + gz * gz
+                    g_speed = math.sqrt(g_squared)
+                    energy = 0.5 * mass * g_squared  # not from g_speed: the lookup need not wait for the root
                     # linear interpolation in node interval `node` (one division for all processes)
                     node = node_index(energy, nodes, accelerator, inverse_cell)
                     if node < 0:

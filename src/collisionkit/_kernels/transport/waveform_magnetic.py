@@ -92,10 +92,10 @@ def phi_functions(x):
         p1 = 1.0 + z * p2
         return 1.0 + z * p1, p1, p2, p3
     s, c = sincos(x)
-    e = complex(c, s)
-    p1 = (e - 1.0) / z
-    p2 = (p1 - 1.0) / z
-    return e, p1, p2, (p2 - 0.5) / z
+    inverse = 1.0 / x  # w / z = (Im w - i Re w) / x: one real division for the three (numba's complex one is dear)
+    p1 = complex(s * inverse, (1.0 - c) * inverse)
+    p2 = complex(p1.imag * inverse, (1.0 - p1.real) * inverse)
+    return complex(c, s), p1, p2, complex(p2.imag * inverse, (0.5 - p2.real) * inverse)
 
 
 @kernel

@@ -51,11 +51,13 @@ def periodic_start(n):
 
 
 @borrowing_kernel
-def window_extremes(u_start, u_end, field, n, table, hint):
-    """``(min G1, max G1, max_k table[k])`` over the phases [u_start, u_end] (0 <= u_start <= u_end), k the
-    pieces the window touches (``table`` a record index; 0 for none: the third value is then 0). ``hint``: a
-    piece at or before u_start's if u_start < 1 (the flight's first: the walk to u_start's piece then replaces
-    the search), else anything.
+def window_extremes(u_start, u_end, field, n, table, hint_period, hint):
+    """``(min G1, max G1, max_k table[k], period, piece)`` over the phases [u_start, u_end] (0 <= u_start <=
+    u_end), k the pieces the window touches (``table`` a record index; 0 for none: the third value is then 0),
+    and a hint for the window that starts at u_end. ``(hint_period, hint)``: a period (a whole number) and a
+    piece of it at or before u_start's if u_start is in that period (then the walk from it replaces the search),
+    else anything: the flight's start (0, its piece), then the previous window's (u_end's period and piece), so
+    that a flight's windows walk the pieces once.
 
     G1 at the window's ends, the knots inside and the vertices of its
     parabolas inside (module docstring). A window of a period or more takes
@@ -69,8 +71,8 @@ def window_extremes(u_start, u_end, field, n, table, hint):
     >>> from collisionkit._kernels.transport.waveform_window import window_extremes
     >>> record = waveform_record(derived_field(np.zeros(3), np.zeros(3)), np.array([0.0, 0.0, 1.0]), 1.0,
     ...                          np.array([0.0, 1.0]), np.array([1.0, -1.0]))  # f = 1 - 2u: G1 = u - u^2
-    >>> [round(value, 12) for value in window_extremes(0.1, 0.8, record, 2, 0, 0)]  # min at 0.1, max at the vertex
-    [0.09, 0.25, 0.0]
+    >>> [round(value, 12) for value in window_extremes(0.1, 0.8, record, 2, 0, 0.0, 0)]  # min at 0.1, max at vertex
+    [0.09, 0.25, 0.0, 0.0, 0]
     """
     knots, values, slopes, g1 = WAVE_START + 2, WAVE_START + 2 + n, WAVE_START + 2 + 2 * n, WAVE_START + 2 + 3 * n
     period_integral = field[g1 + n - 1]
@@ -92,8 +94,8 @@ def window_extremes(u_start, u_end, field, n, table, hint):
             if table > 0:
                 top = max(top, field[table + k])
         shifts = (m * period_integral, math.floor(u_end) * period_integral)
-        return low + min(shifts), high + max(shifts), top
-    if m == 0.0 and field[knots + hint] <= r:
+        return low + min(shifts), high + max(shifts), top, hint_period, hint
+    if m == hint_period and field[knots + hint] <= r:
         k = hint
         while k < n - 2 and field[knots + k + 1] <= r:
             k += 1
@@ -116,7 +118,7 @@ def window_extremes(u_start, u_end, field, n, table, hint):
         if right <= end:
             d = right - knot
             value = base + field[g1 + k] + d * (f_a + 0.5 * sigma * d)
-            return min(low, value), max(high, value), top
+            return min(low, value), max(high, value), top, m, k
         value = base + field[g1 + k + 1]
         low, high = min(low, value), max(high, value)
         k += 1
@@ -173,9 +175,11 @@ def shaped_flight_constants(vx, vy, vz, t0, field):
 
 
 @borrowing_kernel
-def shaped_tight_window(u0, k0, g0, along, across, offset, start, h, field):
+def shaped_tight_window(u0, k0, g0, along, across, offset, start, h, field, hint_period, hint):
     """An upper bound of the speed over the window [start, start + h] of a flight with the constants of
-    :func:`shaped_flight_constants`, without static acceleration (module docstring), padded by 1e-10.
+    :func:`shaped_flight_constants`, without static acceleration (module docstring), padded by 1e-10, and the
+    hint of :func:`window_extremes` for the flight's next window: ``(bound, period, piece)``. ``(hint_period,
+    hint)``: (0, k0) for the flight's first window, then what the previous window returned.
 
     Examples
     --------
@@ -185,15 +189,16 @@ def shaped_tight_window(u0, k0, g0, along, across, offset, start, h, field):
     >>> from collisionkit._kernels.transport.waveform_window import shaped_tight_window
     >>> record = waveform_record(derived_field(np.zeros(3), np.zeros(3)), np.array([0.0, 0.0, 2.0]), 1.0,
     ...                          np.array([0.0, 1.0]), np.array([1.0, -1.0]))  # v_z = 2 (u - u^2) from rest at 0
-    >>> round(shaped_tight_window(0.0, 0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.9, record), 9)  # at u = 1/2
+    >>> round(shaped_tight_window(0.0, 0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.9, record, 0.0, 0)[0], 9)  # at u = 1/2
     0.5
     """
     period = field[WAVE_START]
     n = int(field[WAVE_START + 1])
     w = field[12]
     magnetic = w != 0.0 and field[24] > 0.0
-    low, high, top = window_extremes(u0 + start / period, u0 + (start + h) / period, field, n,
-                                     periodic_start(n) + 2 * n if magnetic else 0, k0)
+    low, high, top, end_period, end_piece = window_extremes(u0 + start / period, u0 + (start + h) / period, field,
+                                                            n, periodic_start(n) + 2 * n if magnetic else 0,
+                                                            hint_period, hint)
     if w != 0.0:
         scale = field[17] * period
     else:
@@ -201,4 +206,4 @@ def shaped_tight_window(u0, k0, g0, along, across, offset, start, h, field):
     parallel = max(abs(along + scale * (low - g0)), abs(along + scale * (high - g0)))
     if magnetic:
         across = min(offset + field[24] * top, across + field[30] * (start + h))
-    return math.sqrt(parallel * parallel + across * across) * (1.0 + 1e-10)
+    return math.sqrt(parallel * parallel + across * across) * (1.0 + 1e-10), end_period, end_piece
