@@ -28,7 +28,9 @@ flight's start (no error builds up over the windows).
 :func:`flight_envelope_ac` takes those constants once per flight and
 :func:`parallel_window` bounds each window from the parallel velocity and
 the phase at its start alone (one sine and cosine, of omega h / 2): the
-windows chain the parallel velocity and the phase, not the whole state.
+windows chain the parallel velocity and the phase, not the whole state;
+:func:`stepped_window` takes those sines from its caller (the swarm's
+windows of a flight are all of one length: one sine a flight).
 With a static acceleration (gravity) :func:`oscillating_window` bounds a
 window from the exact state at its start.
 """

@@ -466,9 +466,10 @@ def advance_swarm(lo, hi, pos, vel, states, alive, t_start, t_end, field, mass, 
     by E0 cos(omega t) with omega > 0) adds the exact response to the
     oscillating force to every flight, the flight's start time giving its
     phase, and bounds each window's speed with
-    :func:`.ac_window.parallel_window` (without static acceleration: each
-    window hands the parallel velocity and the phase at its end to the next)
-    or :func:`.ac_window.oscillating_window` (the exact state). The field's phase is computed once per particle and
+    :func:`.ac_window.stepped_window` (without static acceleration: each
+    window hands the parallel velocity and the phase at its end to the next;
+    a flight's windows are all as long as its first, so the sines of the
+    phase step are taken once a flight) or :func:`.ac_window.oscillating_window` (the exact state). The field's phase is computed once per particle and
     step, then carried from flight to flight: a trial's flight returns the
     phase at its end and its half-angle sines, which give a real collision's
     displacement and the next flight's phase without a sine of their own;
