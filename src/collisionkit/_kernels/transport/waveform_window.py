@@ -110,11 +110,12 @@ def window_extremes(u_start, u_end, field, n, table, hint_period, hint):
         if table > 0:
             top = max(top, field[table + k])
         right = u_end - m
-        if sigma != 0.0:  # the parabola's vertex, if inside the window's part of the piece
+        # the parabola's vertex, if inside the window's part of the piece: where f (linear) changes sign there
+        # (the division only then: f crosses zero about twice a period)
+        if (f_a + sigma * (left - knot)) * (f_a + sigma * (min(end, right) - knot)) < 0.0:
             d = -f_a / sigma
-            if left < knot + d < min(end, right):
-                vertex = base + field[g1 + k] + 0.5 * f_a * d
-                low, high = min(low, vertex), max(high, vertex)
+            vertex = base + field[g1 + k] + 0.5 * f_a * d
+            low, high = min(low, vertex), max(high, vertex)
         if right <= end:
             d = right - knot
             value = base + field[g1 + k] + d * (f_a + 0.5 * sigma * d)
