@@ -1,8 +1,31 @@
 """Settings for every test, the doctests of src/collisionkit included."""
 
+import fcntl
+import os
 import sys
 
 import pytest
+from numba.core import caching
+
+_save_cache_entry = caching.IndexDataCacheFile.save
+
+
+def _save_cache_entry_under_a_lock(self, key, data):
+    """numba's cache save, one process at a time per cache folder (the tests run in parallel, pytest-xdist).
+
+    numba reads a function's cache index, picks the first free data-file name
+    for a new signature and writes the index back, unlocked: two workers that
+    compile two signatures of one kernel at once could both pick
+    ``name.1.nbc`` (one index entry then points at the other's machine code)
+    or drop each other's index entries. The lock makes that read-pick-write
+    one step; a save takes milliseconds, compiling seconds.
+    """
+    with open(os.path.join(self._cache_path, ".collisionkit-tests.lock"), "a") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        return _save_cache_entry(self, key, data)
+
+
+caching.IndexDataCacheFile.save = _save_cache_entry_under_a_lock
 
 
 @pytest.fixture(autouse=True)
@@ -17,3 +40,4 @@ def _close_figures_after_each_test():
     yield
     if "matplotlib.pyplot" in sys.modules:
         sys.modules["matplotlib.pyplot"].close("all")
+
