@@ -41,3 +41,14 @@ def _close_figures_after_each_test():
     if "matplotlib.pyplot" in sys.modules:
         sys.modules["matplotlib.pyplot"].close("all")
 
+
+def pytest_collection_modifyitems(items):
+    """Run the files that hold ``slow`` tests first, each file's tests in their own order.
+
+    The tests run in parallel one file per worker (``--dist loadfile``), each
+    worker taking the next file as it finishes one: a long file taken last
+    would leave the other cores idle while it runs, the longest first
+    balances the cores. The order of the other files is kept.
+    """
+    slow_files = {item.path for item in items if item.get_closest_marker("slow")}
+    items.sort(key=lambda item: item.path not in slow_files)  # stable: the order within a group is kept
