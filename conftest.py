@@ -1,31 +1,49 @@
 """Settings for every test, the doctests of src/collisionkit included."""
 
 import fcntl
-import os
 import sys
 
 import pytest
-from numba.core import caching
+from numba.core.compiler_lock import global_compiler_lock
+from numba.core.dispatcher import Dispatcher
 
-_save_cache_entry = caching.IndexDataCacheFile.save
+_compile = Dispatcher.compile
+_locked_here = set()  # the kernels whose lock this process holds (compiles nest: a kernel types its callees)
 
 
-def _save_cache_entry_under_a_lock(self, key, data):
-    """numba's cache save, one process at a time per cache folder (the tests run in parallel, pytest-xdist).
+def _compile_one_process_at_a_time(self, sig):
+    """numba's compile of a cached kernel, one process at a time per kernel (the tests run in parallel, pytest-xdist).
 
-    numba reads a function's cache index, picks the first free data-file name
-    for a new signature and writes the index back, unlocked: two workers that
-    compile two signatures of one kernel at once could both pick
-    ``name.1.nbc`` (one index entry then points at the other's machine code)
-    or drop each other's index entries. The lock makes that read-pick-write
-    one step; a save takes milliseconds, compiling seconds.
+    On a cold cache two workers that need one kernel would both compile it
+    (the tracking kernel takes minutes): with the lock, the second waits and
+    then loads the first one's machine code from the on-disk cache (numba
+    looks there before compiling). It also makes numba's cache save safe: it
+    reads a kernel's cache index, picks the first free data-file name for a
+    new signature and writes the index back, unlocked, so two processes
+    saving two signatures of one kernel could both pick ``name.1.nbc`` (one
+    index entry then points at the other's machine code) or drop each
+    other's entries. Locks follow the call graph (a kernel's lock, then its
+    callees'; no kernel calls its callers), so two processes never wait for
+    each other; taken under
+    numba's compiler lock, so one thread of a process at a time.
     """
-    with open(os.path.join(self._cache_path, ".collisionkit-tests.lock"), "a") as lock:
-        fcntl.flock(lock, fcntl.LOCK_EX)
-        return _save_cache_entry(self, key, data)
+    cache_file = getattr(self._cache, "_cache_file", None)
+    if cache_file is None:  # not cached (numba's own functions): nothing to share
+        return _compile(self, sig)
+    with global_compiler_lock:
+        path = cache_file._index_path + ".lock"
+        if path in _locked_here:
+            return _compile(self, sig)
+        with open(path, "a") as lock:
+            fcntl.flock(lock, fcntl.LOCK_EX)
+            _locked_here.add(path)
+            try:
+                return _compile(self, sig)
+            finally:
+                _locked_here.discard(path)
 
 
-caching.IndexDataCacheFile.save = _save_cache_entry_under_a_lock
+Dispatcher.compile = _compile_one_process_at_a_time
 
 
 @pytest.fixture(autouse=True)
