@@ -29,6 +29,11 @@ from .oscillating import (
 from .particular import particular_flight, particular_position, particular_terms
 from .waveform_magnetic import shaped_flight, shaped_velocity, shaped_window
 from .waveform_window import shaped_flight_constants, shaped_tight_window
+from .waveform import WAVE_START
+from .waveform_periodic import periodic_trials
+from .waveform_periodic import periodic_displacement as _periodic_displacement
+from .waveform_periodic import periodic_flight_constants as _periodic_flight_constants
+from .waveform_periodic import periodic_velocity as _periodic_velocity
 from .layout import (
     ATTACHMENT, BOUND_COLUMN_OFFSET, DISPLACEMENT_COLUMN_OFFSET, ELASTIC, EXCITATION, NULL_COLUMN_OFFSET, SUPERELASTIC,
     TIME_COLUMN_OFFSET,
@@ -64,6 +69,10 @@ flown_position = inline_kernel(_flown_position.py_func)
 flight_envelope = inline_kernel(_flight_envelope.py_func)
 window_top_speed = inline_kernel(_window_top_speed.py_func)
 window_growth_speed = inline_kernel(_window_growth_speed.py_func)
+# ... and a waveform's trials with B from the periodic solution (the per-trial state stays in registers)
+periodic_flight_constants = inline_kernel(_periodic_flight_constants.py_func)
+periodic_velocity = inline_kernel(_periodic_velocity.py_func)
+periodic_displacement = inline_kernel(_periodic_displacement.py_func)
 
 
 def _advance_particles(lo, hi, pos, vel, states, alive, t_start, t_end, field, mass, density, gas, kind, species_of,
@@ -96,6 +105,10 @@ def _advance_particles(lo, hi, pos, vel, states, alive, t_start, t_end, field, m
     envelope = ac and ax == 0.0 and ay == 0.0 and az == 0.0
     # a waveform without static acceleration: the windows are bounded from constants of the flight (.waveform_window)
     tight = shaped and ax == 0.0 and ay == 0.0 and az == 0.0
+    # ... and with B: the trials from the periodic solution, one rotation a trial (.waveform_periodic)
+    periodic = tight and periodic_trials(field)
+    inverse_period = 1.0 / field[WAVE_START] if shaped else 0.0
+    inverse_w = 1.0 / field[12] if periodic else 0.0
     exact = variant == STATIC or variant == OSCILLATING or (variant == WAVEFORM and field[12] == 0.0)
     half_gyration = 0.5 * field[12]
     # off cyclotron resonance, an oscillating flight with B about the particular solution v_p (:mod:`.particular`)
@@ -165,8 +178,13 @@ def _advance_particles(lo, hi, pos, vel, states, alive, t_start, t_end, field, m
                 step_cos = 1.0
                 su0 = sg0 = s_along = s_across = s_offset = sdx = sdy = sdz = sfx = sfy = sfz = 0.0
                 sk0 = 0
-                if shaped:  # the phase and its piece: the trials' flights start there
+                s_gap = s_turn = s_zeta = 0.0j
+                if periodic:  # ... and the state of the walk over the pieces that the trials take
+                    su0, sk0, sg0, s_along, s_across, s_offset, s_gap, s_turn = periodic_flight_constants(
+                        vx, vy, vz, t, field)
+                elif shaped:  # the phase and its piece: the trials' flights start there
                     su0, sk0, sg0, s_along, s_across, s_offset = shaped_flight_constants(vx, vy, vz, t, field)
+                s_piece, s_periods = sk0, 0.0
                 hint_period, hint = 0.0, sk0  # where the next window's walk over the pieces starts
                 sh = ch = gs = gc = 0.0  # the half-angle sines of the last trial (oscillating field)
                 if not exact:
@@ -256,6 +274,11 @@ def _advance_particles(lo, hi, pos, vel, states, alive, t_start, t_end, field, m
                     elif ac:
                         tvx, tvy, tvz, phase_cos, phase_sin, sh, ch, gs, gc = flight_with_phases(
                             vx, vy, vz, c0, s0, elapsed, record)
+                    elif periodic:  # the half-angle sines of the gyration give the rotation of the gap
+                        gs, gc = sincos_spread(half_gyration * elapsed)
+                        tvx, tvy, tvz, s_zeta, s_piece, s_periods, s_turn = periodic_velocity(
+                            s_along, sg0, s_gap, su0, elapsed, gs, gc, s_piece, s_periods, s_turn, inverse_period,
+                            inverse_w, field)
                     elif shaped:  # a real collision's displacement comes with its velocity
                         tvx, tvy, tvz, sdx, sdy, sdz = shaped_flight(vx, vy, vz, su0, sk0, elapsed, field)
                     elif exact:
@@ -332,6 +355,8 @@ def _advance_particles(lo, hi, pos, vel, states, alive, t_start, t_end, field, m
                 elif exact:
                     half = 0.5 * elapsed * elapsed
                     x, y, z = x + vx * elapsed + ax * half, y + vy * elapsed + ay * half, z + vz * elapsed + az * half
+                elif periodic and not landed:  # a real collision: its whole displacement below, from its trial
+                    pass
                 elif landed or shaped:
                     x, y, z = flown_position(x, y, z, vx, vy, vz, elapsed, record)
                 else:  # a real collision: the sines of its trial's gyration (static or oscillating flight)
@@ -345,6 +370,8 @@ def _advance_particles(lo, hi, pos, vel, states, alive, t_start, t_end, field, m
                 if shaped:  # a real collision's from its trial
                     if landed:
                         sfx, sfy, sfz, sdx, sdy, sdz = shaped_flight(vx, vy, vz, su0, sk0, elapsed, field)
+                    elif periodic:
+                        sdx, sdy, sdz = periodic_displacement(vx, vy, vz, s_zeta, su0, sk0, elapsed, inverse_w, field)
                     x, y, z = x + sdx, y + sdy, z + sdz
                 if landed:
                     if shaped:

@@ -1,0 +1,209 @@
+"""The trials of a flight in a sampled waveform with a static B, from the periodic solution: one rotation a trial.
+
+The motion is that of :mod:`.waveform_magnetic` without static acceleration:
+along b, ``v . b = v0 . b + a_b T (G1(u) - G1(u0))`` (u = t/T the phase,
+G1 the antiderivative of f, :mod:`.waveform`); across b, zeta = w . e1 + i
+w . e2 obeys ``d zeta/dt = -i W zeta + A f(t/T)``. With P the periodic
+solution per unit A (:mod:`.waveform_window`), ``zeta - A P`` only turns,
+so a flight from t0 has, after tau,
+
+    zeta(t0 + tau) = A P(t0 + tau) + e^{-i W tau} D,    D = zeta(t0) - A P(t0).
+
+On piece j (f = f_j + sigma_j (t - t_j)), ``P(t) = L_j(t) + e^{-i W (t -
+t_j)} K_j`` with the piece's particular solution ``L_j(t) = -i f(t)/W +
+sigma_j/W^2`` and ``K_j = P_j - L_j(t_j)`` tabulated
+(:func:`.waveform_magnetic.trial_tables`). Writing ``e^{-i W (t - t_j)} =
+e^{-i W tau} e^{-i W (t0 - t_j)}``, the second factor (the *turn* of the
+piece) is ``e^{-i W (t0 - t_k0)}`` on the flight's first piece (one sine a
+flight) and gains the tabulated ``e^{i W (t_{j+1} - t_j)}`` at each knot
+the flight passes, so that a trial takes
+
+    zeta = A L_j(t) + e^{-i W tau} (A turn_j K_j + D),
+
+the rotation ``e^{-i W tau}`` from the half-angle sines that the static
+gyration takes anyway: no phi function, no sine of its own. The trials of
+a flight come in time order, so each walks the pieces on from where the
+last one stopped (the piece, the whole periods passed and the turn are
+carried).
+
+A real collision's displacement across b follows from the same equation
+integrated, ``Z = integral zeta dt = i (zeta(t) - zeta(t0) - A T J1)/W``
+(J1 the integral of f over the flight, :func:`.waveform.piece_integrals`);
+along b it is ``(v0 . b) tau + a_b T^2 J2``. The division by W costs
+digits when W tau is small: below ``DISPLACEMENT_TURN`` the displacement
+is the phi functions' (:func:`.waveform_magnetic.shaped_flight`).
+
+Rounding: the terms carry about 1e-16 of max(|L|, |K|, |P|) A, which
+:func:`.waveform_magnetic.trial_tables` keeps within ``PERIODIC_LOSS`` of
+the periodic solution's size (otherwise the trials take the phi
+functions): a few ulps of the velocity the field gives in a period.
+"""
+
+from __future__ import annotations
+
+import math
+
+from ..._jit import borrowing_kernel
+from .flight import flown_position
+from .oscillating import sincos
+from .waveform import WAVE_START, _piece, piece_integrals
+from .waveform_magnetic import shaped_flight
+
+# below this W tau a real collision's displacement comes from the phi functions (the formula divides by W: its
+# rounding grows as 1 / (W tau))
+DISPLACEMENT_TURN = 0.5
+
+
+@borrowing_kernel
+def trial_table_start(n, field):
+    """The record index of the trials' tables' flag (:func:`.waveform_magnetic.trial_tables`, the record's last 5 n
+    + 1 entries), for n knots.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from collisionkit._kernels.transport.flight import derived_field
+    >>> from collisionkit._kernels.transport.waveform_magnetic import shaped_field_record
+    >>> from collisionkit._kernels.transport.waveform_periodic import trial_table_start
+    >>> record = shaped_field_record(derived_field(np.zeros(3), np.array([0.0, 1.0, 0.0])), np.array([0.0, 0.0, 1.0]),
+    ...                              2.0, np.array([0.0, 1.0]), np.array([1.0, 1.0]))
+    >>> float(record[trial_table_start(2, record)])  # f = 1, W T = 2: the trials may use the periodic solution
+    1.0
+    """
+    return field.shape[0] - (5 * n + 1)
+
+
+@borrowing_kernel
+def periodic_trials(field):
+    """Whether the trials of a waveform record may take the periodic solution: a magnetic field with a perpendicular
+    amplitude, and the flag of its tables (:func:`.waveform_magnetic.trial_tables`)."""
+    if field[12] == 0.0 or field[24] == 0.0:
+        return False
+    return field[trial_table_start(int(field[WAVE_START + 1]), field)] > 0.0
+
+
+@borrowing_kernel
+def periodic_flight_constants(vx, vy, vz, t0, field):
+    """``(u0, k, G1(u0), v . b, |v across b|, |D|, D, turn)`` of a flight from (vx, vy, vz) at time ``t0``
+    (module docstring): the constants of :func:`.waveform_window.shaped_flight_constants`, then D = zeta(t0) - A
+    P(t0) and the turn ``e^{-i W (t0 - t_k)}`` of the flight's first piece k. One sine and cosine.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from collisionkit._kernels.transport.flight import derived_field
+    >>> from collisionkit._kernels.transport.waveform_magnetic import shaped_field_record
+    >>> from collisionkit._kernels.transport.waveform_periodic import periodic_flight_constants
+    >>> record = shaped_field_record(derived_field(np.zeros(3), np.array([0.0, 1.0, 0.0])), np.array([0.0, 0.0, 1.0]),
+    ...                              2.0, np.array([0.0, 1.0]), np.array([1.0, 1.0]))  # f = 1, W = 1: P = -i
+    >>> constants = periodic_flight_constants(0.0, 0.0, 0.0, 5.0, record)  # at rest: D = i, |D| = 1
+    >>> [round(value, 12) for value in constants[:6]], round(constants[6].imag, 12)
+    ([0.5, 0, 0.5, 0.0, 0.0, 1.0], 1.0)
+    """
+    period = field[WAVE_START]
+    n = int(field[WAVE_START + 1])
+    phase = t0 / period
+    u0 = phase - math.floor(phase)
+    if u0 >= 1.0:
+        u0 = 0.0
+    k = _piece(u0, field, n)
+    knots, values, slopes, g1 = WAVE_START + 2, WAVE_START + 2 + n, WAVE_START + 2 + 2 * n, WAVE_START + 2 + 3 * n
+    d = u0 - field[knots + k]
+    slope = field[slopes + k]
+    g0 = field[g1 + k] + d * (field[values + k] + 0.5 * slope * d)
+    px, py, pz = field[26], field[27], field[28]
+    along = vx * px + vy * py + vz * pz
+    wx, wy, wz = vx - along * px, vy - along * py, vz - along * pz
+    across = math.sqrt(wx * wx + wy * wy + wz * wz)
+    w = field[12]
+    s, c = sincos(w * d * period)
+    turn = complex(c, -s)
+    tables = trial_table_start(n, field) + 1
+    f = field[values + k] + slope * d
+    start = complex(field[tables + 4 * n + k], -f / w) + turn * complex(field[tables + k], field[tables + n + k])
+    zeta = complex(vx * field[18] + vy * field[19] + vz * field[20], vx * field[21] + vy * field[22] + vz * field[23])
+    gap = zeta - field[24] * start
+    return u0, k, g0, along, across, math.sqrt(gap.real * gap.real + gap.imag * gap.imag), gap, turn
+
+
+@borrowing_kernel
+def periodic_velocity(along, g0, gap, u0, elapsed, half_sin, half_cos, piece, periods, turn, inverse_period,
+                      inverse_w, field):
+    """The velocity after ``elapsed`` of a flight with the constants of :func:`periodic_flight_constants`, given
+    ``(sin, cos)(W elapsed / 2)``: ``(vx, vy, vz, zeta, piece, periods, turn)`` with zeta across b and the walk's
+    state for the next trial (module docstring). ``(piece, periods, turn)``: the piece a trial of the flight
+    reached, the whole periods before it and its turn (``(k, 0, turn)`` of the constants for the first trial);
+    ``elapsed`` not before that trial's. ``inverse_period`` and ``inverse_w`` are 1/T and 1/W.
+
+    Examples
+    --------
+    >>> import math
+    >>> import numpy as np
+    >>> from collisionkit._kernels.transport.flight import derived_field
+    >>> from collisionkit._kernels.transport.waveform_magnetic import shaped_field_record
+    >>> from collisionkit._kernels.transport.waveform_periodic import periodic_flight_constants, periodic_velocity
+    >>> record = shaped_field_record(derived_field(np.zeros(3), np.array([0.0, 1.0, 0.0])), np.array([0.0, 0.0, 1.0]),
+    ...                              20.0, np.array([0.0, 1.0]), np.array([1.0, 1.0]))  # E along z, B along y
+    >>> u0, k, g0, along, _, _, gap, turn = periodic_flight_constants(0.0, 0.0, 0.0, 0.0, record)
+    >>> tau = math.pi  # half a turn from rest: twice the drift a x Omega / W^2
+    >>> velocity = periodic_velocity(along, g0, gap, u0, tau, math.sin(tau / 2), math.cos(tau / 2), k, 0.0, turn,
+    ...                              1 / 20.0, 1.0, record)
+    >>> [round(value, 12) + 0.0 for value in velocity[:3]]
+    [-2.0, 0.0, 0.0]
+    """
+    n = int(field[WAVE_START + 1])
+    knots, values, slopes, g1 = WAVE_START + 2, WAVE_START + 2 + n, WAVE_START + 2 + 2 * n, WAVE_START + 2 + 3 * n
+    tables = trial_table_start(n, field) + 1
+    u = u0 + elapsed * inverse_period - periods  # the phase in the walk's period
+    while field[knots + piece + 1] <= u:  # the knots the flight passed since the last trial
+        turn = turn * complex(field[tables + 2 * n + piece], field[tables + 3 * n + piece])
+        piece += 1
+        if piece >= n - 1:  # the next period
+            piece, periods, u = 0, periods + 1.0, u - 1.0
+    d = u - field[knots + piece]
+    slope = field[slopes + piece]
+    f = field[values + piece] + slope * d
+    g = periods * field[g1 + n - 1] + field[g1 + piece] + d * (field[values + piece] + 0.5 * slope * d)
+    v_par = along + field[17] * field[WAVE_START] * (g - g0)
+    rotation = complex(1.0 - 2.0 * half_sin * half_sin, -2.0 * half_sin * half_cos)  # e^{-i W elapsed}
+    amplitude = field[24]
+    local = complex(field[tables + 4 * n + piece], -f * inverse_w)
+    zeta = amplitude * local + rotation * (amplitude * turn * complex(field[tables + piece], field[tables + n + piece])
+                                           + gap)
+    return (v_par * field[26] + zeta.real * field[18] + zeta.imag * field[21],
+            v_par * field[27] + zeta.real * field[19] + zeta.imag * field[22],
+            v_par * field[28] + zeta.real * field[20] + zeta.imag * field[23], zeta, piece, periods, turn)
+
+
+@borrowing_kernel
+def periodic_displacement(vx, vy, vz, zeta, u0, k, elapsed, inverse_w, field):
+    """The displacement of a flight of ``elapsed`` from (vx, vy, vz) at phase ``u0`` (piece ``k``) that ends with
+    zeta across b (:func:`periodic_velocity`), as a tuple: ``(v0 . b) tau + a_b T^2 J2`` along b and ``i (zeta -
+    zeta0 - A T J1)/W`` across (module docstring); for W tau below ``DISPLACEMENT_TURN`` the static flight's
+    (:func:`.flight.flown_position`) plus the response's (:func:`.waveform_magnetic.shaped_flight`).
+
+    Examples
+    --------
+    >>> import math
+    >>> import numpy as np
+    >>> from collisionkit._kernels.transport.flight import derived_field
+    >>> from collisionkit._kernels.transport.waveform_magnetic import shaped_field_record
+    >>> from collisionkit._kernels.transport.waveform_periodic import periodic_displacement
+    >>> record = shaped_field_record(derived_field(np.zeros(3), np.array([0.0, 1.0, 0.0])), np.array([0.0, 0.0, 1.0]),
+    ...                              20.0, np.array([0.0, 1.0]), np.array([1.0, 1.0]))  # E along z, B along y
+    >>> moved = periodic_displacement(0.0, 0.0, 0.0, 0j, 0.0, 0, 2 * math.pi, 1.0, record)  # a turn: the drift
+    >>> [round(value, 12) + 0.0 for value in moved]
+    [-6.28318530718, 0.0, 0.0]
+    """
+    if field[12] * elapsed < DISPLACEMENT_TURN:
+        sx, sy, sz = flown_position(0.0, 0.0, 0.0, vx, vy, vz, elapsed, field)
+        _, _, _, dx, dy, dz = shaped_flight(vx, vy, vz, u0, k, elapsed, field)
+        return sx + dx, sy + dy, sz + dz
+    integral, double = piece_integrals(u0, k, elapsed, field)
+    along = (vx * field[26] + vy * field[27] + vz * field[28]) * elapsed + field[17] * double
+    start = complex(vx * field[18] + vy * field[19] + vz * field[20], vx * field[21] + vy * field[22] + vz * field[23])
+    change = zeta - start - field[24] * integral
+    across_1, across_2 = -change.imag * inverse_w, change.real * inverse_w  # i change / W
+    return (along * field[26] + across_1 * field[18] + across_2 * field[21],
+            along * field[27] + across_1 * field[19] + across_2 * field[22],
+            along * field[28] + across_1 * field[20] + across_2 * field[23])
