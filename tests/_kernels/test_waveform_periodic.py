@@ -103,3 +103,29 @@ def test_the_periodic_solution_is_refused_near_resonance_and_for_slopes_steep_be
     assert not periodic_trials(_record("cosine", 0.0, 3.0))  # E along B: no perpendicular amplitude
     no_b = shaped_record(derived_field(np.zeros(3), np.zeros(3)), AMPLITUDE, PERIOD, SHAPES["cosine"])
     assert not periodic_trials(no_b)
+
+
+@pytest.mark.parametrize("shape", SHAPES)
+def test_a_flight_chained_from_the_last_trial_has_the_constants_of_its_start_time(shape):
+    """periodic_chained_constants from a trial's walk (its phase, piece and rotation times turn) against
+    periodic_flight_constants from the collision time: the same piece, the rest to rounding."""
+    from collisionkit._kernels.transport.waveform_periodic import periodic_chained_constants
+
+    w = 7.0
+    record = _record(shape, 60.0, w)
+    rng = np.random.default_rng(11)
+    for _ in range(50):
+        v0, t0, tau = rng.normal(size=3), rng.uniform(0.0, 5.0), rng.exponential(0.3)
+        u0, k, g0, along, _, _, gap, turn = periodic_flight_constants(*v0, t0, record)
+        half = 0.5 * w * tau
+        *_, piece, periods, turn = periodic_velocity(along, g0, gap, u0, tau, math.sin(half), math.cos(half), k, 0.0,
+                                                     turn, 1.0 / PERIOD, 1.0 / w, record)
+        rotation = complex(math.cos(w * tau), -math.sin(w * tau))
+        v1 = rng.normal(size=3)  # the velocity after the collision
+        chained = periodic_chained_constants(*v1, u0 + tau / PERIOD - periods, piece, rotation * turn, 1.0 / w, record)
+        direct = periodic_flight_constants(*v1, t0 + tau, record)
+        assert chained[1] == direct[1]
+        assert chained[0] == pytest.approx(direct[0], abs=1e-14)
+        np.testing.assert_allclose([chained[2], *chained[3:6]], [direct[2], *direct[3:6]], rtol=0, atol=1e-13)
+        assert abs(chained[6] - direct[6]) < 1e-13 * (1 + abs(direct[6]))
+        assert abs(chained[7] - direct[7]) < 1e-13

@@ -32,6 +32,7 @@ from .waveform_window import shaped_flight_constants, shaped_tight_window
 from .waveform import WAVE_START
 from .waveform_periodic import periodic_trials
 from .waveform_periodic import periodic_displacement as _periodic_displacement
+from .waveform_periodic import periodic_chained_constants as _periodic_chained_constants
 from .waveform_periodic import periodic_flight_constants as _periodic_flight_constants
 from .waveform_periodic import periodic_velocity as _periodic_velocity
 from .layout import (
@@ -71,6 +72,7 @@ window_top_speed = inline_kernel(_window_top_speed.py_func)
 window_growth_speed = inline_kernel(_window_growth_speed.py_func)
 # ... and a waveform's trials with B from the periodic solution (the per-trial state stays in registers)
 periodic_flight_constants = inline_kernel(_periodic_flight_constants.py_func)
+periodic_chained_constants = inline_kernel(_periodic_chained_constants.py_func)
 periodic_velocity = inline_kernel(_periodic_velocity.py_func)
 periodic_displacement = inline_kernel(_periodic_displacement.py_func)
 
@@ -149,6 +151,8 @@ def _advance_particles(lo, hi, pos, vel, states, alive, t_start, t_end, field, m
                     rng[k] = child_state[i, member, k]
                 t = child_time[member]
             t_begin = t
+            chained = False  # a waveform flight with B from the last flight's trial (.waveform_periodic)
+            s_phase, s_piece, s_turn = 0.0, 0, 0.0j
             # the field's phase at t: computed here, then carried from flight to flight by the trials' rotations
             phase_sin, phase_cos = sincos(omega * t) if ac else (0.0, 1.0)
             x0, y0, z0 = x, y, z
@@ -178,8 +182,11 @@ def _advance_particles(lo, hi, pos, vel, states, alive, t_start, t_end, field, m
                 step_cos = 1.0
                 su0 = sg0 = s_along = s_across = s_offset = sdx = sdy = sdz = sfx = sfy = sfz = 0.0
                 sk0 = 0
-                s_gap = s_turn = s_zeta = 0.0j
-                if periodic:  # ... and the state of the walk over the pieces that the trials take
+                s_gap = s_zeta = 0.0j
+                if periodic and chained:  # ... and the walk's state, from the trial that ended the last flight
+                    su0, sk0, sg0, s_along, s_across, s_offset, s_gap, s_turn = periodic_chained_constants(
+                        vx, vy, vz, s_phase, s_piece, s_turn, inverse_w, field)
+                elif periodic:  # ... from the start time: a sine and a search
                     su0, sk0, sg0, s_along, s_across, s_offset, s_gap, s_turn = periodic_flight_constants(
                         vx, vy, vz, t, field)
                 elif shaped:  # the phase and its piece: the trials' flights start there
@@ -372,6 +379,10 @@ def _advance_particles(lo, hi, pos, vel, states, alive, t_start, t_end, field, m
                         sfx, sfy, sfz, sdx, sdy, sdz = shaped_flight(vx, vy, vz, su0, sk0, elapsed, field)
                     elif periodic:
                         sdx, sdy, sdz = periodic_displacement(vx, vy, vz, s_zeta, su0, sk0, elapsed, inverse_w, field)
+                        # the next flight starts at this trial's phase, piece and turn times rotation
+                        s_phase = su0 + elapsed * inverse_period - s_periods
+                        s_turn = complex(1.0 - 2.0 * gs * gs, -2.0 * gs * gc) * s_turn
+                        chained = True
                     x, y, z = x + sdx, y + sdy, z + sdz
                 if landed:
                     if shaped:

@@ -89,7 +89,8 @@ def periodic_trials(field):
 def periodic_flight_constants(vx, vy, vz, t0, field):
     """``(u0, k, G1(u0), v . b, |v across b|, |D|, D, turn)`` of a flight from (vx, vy, vz) at time ``t0``
     (module docstring): the constants of :func:`.waveform_window.shaped_flight_constants`, then D = zeta(t0) - A
-    P(t0) and the turn ``e^{-i W (t0 - t_k)}`` of the flight's first piece k. One sine and cosine.
+    P(t0) and the turn ``e^{-i W (t0 - t_k)}`` of the flight's first piece k. One sine and cosine; a flight that
+    starts where a trial of the last one ended takes :func:`periodic_chained_constants` instead.
 
     Examples
     --------
@@ -110,6 +111,31 @@ def periodic_flight_constants(vx, vy, vz, t0, field):
     if u0 >= 1.0:
         u0 = 0.0
     k = _piece(u0, field, n)
+    s, c = sincos(field[12] * (u0 - field[WAVE_START + 2 + k]) * period)
+    return periodic_chained_constants(vx, vy, vz, u0, k, complex(c, -s), 1.0 / field[12], field)
+
+
+@borrowing_kernel
+def periodic_chained_constants(vx, vy, vz, u0, k, turn, inverse_w, field):
+    """:func:`periodic_flight_constants` of a flight from phase ``u0`` in [0, 1) of piece ``k`` with the turn
+    ``e^{-i W (t0 - t_k)}`` known: where a trial of the last flight became a real collision, its walk's piece, its
+    phase and its rotation times its turn (no sine, no search). ``inverse_w`` is 1/W.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from collisionkit._kernels.transport.flight import derived_field
+    >>> from collisionkit._kernels.transport.waveform_magnetic import shaped_field_record
+    >>> from collisionkit._kernels.transport.waveform_periodic import (
+    ...     periodic_chained_constants, periodic_flight_constants)
+    >>> record = shaped_field_record(derived_field(np.zeros(3), np.array([0.0, 1.0, 0.0])), np.array([0.0, 0.0, 1.0]),
+    ...                              4.0, np.array([0.0, 0.5, 1.0]), np.array([1.0, -1.0, 0.5]))
+    >>> direct = periodic_flight_constants(0.3, 0.2, -0.1, 3.0, record)  # t0 = 3: phase 0.75, piece 1
+    >>> chained = periodic_chained_constants(0.3, 0.2, -0.1, 0.75, 1, direct[7], 1.0, record)
+    >>> chained == direct
+    True
+    """
+    n = int(field[WAVE_START + 1])
     knots, values, slopes, g1 = WAVE_START + 2, WAVE_START + 2 + n, WAVE_START + 2 + 2 * n, WAVE_START + 2 + 3 * n
     d = u0 - field[knots + k]
     slope = field[slopes + k]
@@ -118,12 +144,10 @@ def periodic_flight_constants(vx, vy, vz, t0, field):
     along = vx * px + vy * py + vz * pz
     wx, wy, wz = vx - along * px, vy - along * py, vz - along * pz
     across = math.sqrt(wx * wx + wy * wy + wz * wz)
-    w = field[12]
-    s, c = sincos(w * d * period)
-    turn = complex(c, -s)
     tables = trial_table_start(n, field) + 1
     f = field[values + k] + slope * d
-    start = complex(field[tables + 4 * n + k], -f / w) + turn * complex(field[tables + k], field[tables + n + k])
+    start = complex(field[tables + 4 * n + k], -f * inverse_w) + turn * complex(field[tables + k],
+                                                                               field[tables + n + k])
     zeta = complex(vx * field[18] + vy * field[19] + vz * field[20], vx * field[21] + vy * field[22] + vz * field[23])
     gap = zeta - field[24] * start
     return u0, k, g0, along, across, math.sqrt(gap.real * gap.real + gap.imag * gap.imag), gap, turn
