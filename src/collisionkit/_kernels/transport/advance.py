@@ -378,7 +378,8 @@ def _advance_particles(lo, hi, pos, vel, states, alive, t_start, t_end, field, m
                     if landed:
                         sfx, sfy, sfz, sdx, sdy, sdz = shaped_flight(vx, vy, vz, su0, sk0, elapsed, field)
                     elif periodic:
-                        sdx, sdy, sdz = periodic_displacement(vx, vy, vz, s_zeta, su0, sk0, elapsed, inverse_w, field)
+                        sdx, sdy, sdz = periodic_displacement(vx, vy, vz, s_zeta, su0, sk0, elapsed, gs, gc, inverse_w,
+                                                              field)
                         # the next flight starts at this trial's phase, piece and turn times rotation
                         s_phase = su0 + elapsed * inverse_period - s_periods
                         s_turn = complex(1.0 - 2.0 * gs * gs, -2.0 * gs * gc) * s_turn

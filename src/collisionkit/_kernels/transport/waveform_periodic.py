@@ -32,8 +32,9 @@ integrated, ``Z = integral zeta dt = i (zeta(t) - zeta(t0) - A T J1)/W``
 along b it is ``(v0 . b) tau + a_b T^2 J2``. The division by W costs
 digits when W tau is small: the rounding is about 1/(W tau) ulps of the
 flight's scale (|v| plus the field's velocity, times tau), and below
-``DISPLACEMENT_TURN`` the displacement is the phi functions'
-(:func:`.waveform_magnetic.shaped_flight`, exact to an ulp of itself).
+``DISPLACEMENT_TURN`` the displacement is the phi functions' (the
+gyration's phi1 from the trial's half-angle sines, the response from rest
+of :func:`.waveform_magnetic.piece_response`: exact to ulps of itself).
 
 Rounding: the terms carry about 1e-16 of max(|L|, |K|, |P|) A, which
 :func:`.waveform_magnetic.trial_tables` keeps within ``PERIODIC_LOSS`` of
@@ -46,10 +47,9 @@ from __future__ import annotations
 import math
 
 from ..._jit import borrowing_kernel
-from .flight import flown_position
 from .oscillating import sincos
 from .waveform import WAVE_START, _piece, piece_integrals
-from .waveform_magnetic import shaped_flight
+from .waveform_magnetic import piece_response
 
 # below this W tau a real collision's displacement comes from the phi functions: the formula divides by W, so its
 # rounding is about 1 / (W tau) ulps of (speed scale x tau), at most 4 here (within 64 ulps in the tests); 0.25
@@ -203,11 +203,13 @@ def periodic_velocity(along, g0, gap, u0, elapsed, half_sin, half_cos, piece, pe
 
 
 @borrowing_kernel
-def periodic_displacement(vx, vy, vz, zeta, u0, k, elapsed, inverse_w, field):
+def periodic_displacement(vx, vy, vz, zeta, u0, k, elapsed, half_sin, half_cos, inverse_w, field):
     """The displacement of a flight of ``elapsed`` from (vx, vy, vz) at phase ``u0`` (piece ``k``) that ends with
-    zeta across b (:func:`periodic_velocity`), as a tuple: ``(v0 . b) tau + a_b T^2 J2`` along b and ``i (zeta -
-    zeta0 - A T J1)/W`` across (module docstring); for W tau below ``DISPLACEMENT_TURN`` the static flight's
-    (:func:`.flight.flown_position`) plus the response's (:func:`.waveform_magnetic.shaped_flight`).
+    zeta across b (:func:`periodic_velocity`, given ``(sin, cos)(W elapsed / 2)`` too), as a tuple: ``(v0 . b) tau
+    + a_b T^2 J2`` along b and ``i (zeta - zeta0 - A T J1)/W`` across (module docstring); for W tau below
+    ``DISPLACEMENT_TURN``, across, the gyration's ``zeta0 tau phi1(-i W tau)`` (phi1 from the half-angle sines:
+    ``(2 sin/(W tau)) (cos - i sin)``, no cancellation) and the response from rest of
+    :func:`.waveform_magnetic.piece_response` (the phi functions' series: no sine).
 
     Examples
     --------
@@ -218,19 +220,22 @@ def periodic_displacement(vx, vy, vz, zeta, u0, k, elapsed, inverse_w, field):
     >>> from collisionkit._kernels.transport.waveform_periodic import periodic_displacement
     >>> record = shaped_field_record(derived_field(np.zeros(3), np.array([0.0, 1.0, 0.0])), np.array([0.0, 0.0, 1.0]),
     ...                              20.0, np.array([0.0, 1.0]), np.array([1.0, 1.0]))  # E along z, B along y
-    >>> moved = periodic_displacement(0.0, 0.0, 0.0, 0j, 0.0, 0, 2 * math.pi, 1.0, record)  # a turn: the drift
-    >>> [round(value, 12) + 0.0 for value in moved]
+    >>> moved = periodic_displacement(0.0, 0.0, 0.0, 0j, 0.0, 0, 2 * math.pi, 0.0, -1.0, 1.0, record)  # a turn
+    >>> [round(value, 12) + 0.0 for value in moved]  # the drift a x Omega / W^2 times 2 pi
     [-6.28318530718, 0.0, 0.0]
     """
-    if field[12] * elapsed < DISPLACEMENT_TURN:
-        sx, sy, sz = flown_position(0.0, 0.0, 0.0, vx, vy, vz, elapsed, field)
-        _, _, _, dx, dy, dz = shaped_flight(vx, vy, vz, u0, k, elapsed, field)
-        return sx + dx, sy + dy, sz + dz
     integral, double = piece_integrals(u0, k, elapsed, field)
     along = (vx * field[26] + vy * field[27] + vz * field[28]) * elapsed + field[17] * double
     start = complex(vx * field[18] + vy * field[19] + vz * field[20], vx * field[21] + vy * field[22] + vz * field[23])
-    change = zeta - start - field[24] * integral
-    across_1, across_2 = -change.imag * inverse_w, change.real * inverse_w  # i change / W
+    theta = field[12] * elapsed
+    if theta < DISPLACEMENT_TURN:
+        _, response = piece_response(u0, k, elapsed, field)
+        ratio = 2.0 * half_sin / theta if theta > 0.0 else 1.0
+        moved = start * complex(ratio * half_cos, -ratio * half_sin) * elapsed + field[24] * response
+        across_1, across_2 = moved.real, moved.imag
+    else:
+        change = zeta - start - field[24] * integral
+        across_1, across_2 = -change.imag * inverse_w, change.real * inverse_w  # i change / W
     return (along * field[26] + across_1 * field[18] + across_2 * field[21],
             along * field[27] + across_1 * field[19] + across_2 * field[22],
             along * field[28] + across_1 * field[20] + across_2 * field[23])
