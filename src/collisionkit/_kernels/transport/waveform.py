@@ -21,11 +21,14 @@ about 1e-16 of a period's integral, below 1e-16 (nu T) of the flight's own
 
 The record extends the oscillating one (:mod:`.oscillating`, with omega =
 0 there, so the cosine is off): the acceleration ``a`` (14:17); ``|a|
-max |f|`` (25); the unit vector of ``a`` (26:29); from :data:`WAVE_START`:
-T, the number n + 1 of knots, then the knots, f at them (the value on the
-right of a jump), the slopes of the pieces, g1 and g2 at the knots. The
-flights that use it, with a static B or without, are in
-:mod:`.waveform_magnetic`.
+max |f|`` (25); the unit vector of ``a`` (26:29); 1/T (31, a product
+instead of a division per trial); the window bound's parallel scale (32,
+:mod:`.waveform_window`: |a| T here); from :data:`WAVE_START`: T, the
+number n + 1 of knots, then the knots, f at them (the value on the right of
+a jump), the slopes of the pieces, g1 and g2 at the knots. The flights that
+use it, with a static B or without, are in :mod:`.waveform_magnetic`, which
+also appends, last, the cell table of :func:`piece_cells` (its size C in
+33): the piece of a phase in O(1) (:func:`cell_piece`), not by bisection.
 """
 
 from __future__ import annotations
@@ -34,9 +37,12 @@ import math
 
 import numpy as np
 
-from ..._jit import borrowing_kernel
+from ..._jit import borrowing_inline_kernel, borrowing_kernel
 
 WAVE_START = 34  # the oscillating record's size: the waveform's entries follow
+# cells of the piece table per piece (:func:`piece_cells`, rounded up to a power of two): a phase's cell then
+# starts at most one knot (of evenly spaced ones) before the phase's piece
+CELLS_PER_PIECE = 4
 
 
 def waveform_record(static_field, amplitude, period, knots, values):
@@ -74,6 +80,8 @@ def waveform_record(static_field, amplitude, period, knots, values):
     ends = values[:-1] + slopes[:-1] * lengths
     record[25] = size * max(float(np.abs(values).max()), float(np.abs(ends).max()) if n > 1 else 0.0)
     record[26:29] = np.asarray(amplitude) / size if size > 0.0 else np.array([0.0, 0.0, 1.0])
+    record[31] = 1.0 / period
+    record[32] = size * period
     record[WAVE_START] = period
     record[WAVE_START + 1] = n
     start = WAVE_START + 2
@@ -81,6 +89,72 @@ def waveform_record(static_field, amplitude, period, knots, values):
         record[start:start + n] = table
         start += n
     return record
+
+
+def piece_cells(knots):
+    """The cell table of the knots (0 to 1, non-decreasing): C cells (a power of two, at least
+    :data:`CELLS_PER_PIECE` per piece), cell c holding the piece of phase c / C (:func:`_piece`'s: the last k <= n -
+    2 with knot k <= c / C). With C a power of two, ``u C`` and ``c / C`` are exact in floating point: the cell
+    ``floor(u C)`` of a phase u starts at or before it, so its piece is at or before u's.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from collisionkit._kernels.transport.waveform import piece_cells
+    >>> cells = piece_cells(np.array([0.0, 0.5, 0.5, 1.0]))  # 3 pieces: 16 cells; a jump at 1/2, piece 2 right of it
+    >>> cells.size, float(cells[7]), float(cells[8])
+    (16, 0.0, 2.0)
+    """
+    knots = np.asarray(knots, dtype=float)
+    n = knots.size
+    cells = 1 << max(int(math.ceil(math.log2(CELLS_PER_PIECE * max(n - 1, 1)))), 0)
+    pieces = np.searchsorted(knots, np.arange(cells) / cells, side="right") - 1
+    return np.minimum(pieces, n - 2).astype(float)
+
+
+def with_piece_cells(record):
+    """A waveform record (module docstring), its tables complete, with :func:`piece_cells` of its knots appended
+    (last: :func:`cell_piece` finds it from the record's end) and their number C in entry 33.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from collisionkit._kernels.transport.flight import derived_field
+    >>> from collisionkit._kernels.transport.waveform import waveform_record, with_piece_cells
+    >>> record = with_piece_cells(waveform_record(derived_field(np.zeros(3), np.zeros(3)), np.array([0.0, 0.0, 2.0]),
+    ...                                           1.0, np.array([0.0, 0.25, 1.0]), np.array([1.0, 0.0, 1.0])))
+    >>> int(record[33]), record[-8:].tolist()  # 8 cells: piece 0 below 1/4, then piece 1
+    (8, [0.0, 0.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0])
+    """
+    n = int(record[WAVE_START + 1])
+    cells = piece_cells(record[WAVE_START + 2:WAVE_START + 2 + n])
+    record = np.concatenate([record, cells])
+    record[33] = cells.size
+    return record
+
+
+@borrowing_inline_kernel
+def cell_piece(u, field, n):
+    """The piece k holding phase u in [0, 1) (as :func:`_piece`) from the record's cell table
+    (:func:`with_piece_cells`): the piece of u's cell, then forward over the knots up to u (none or one for evenly
+    spaced knots).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from collisionkit._kernels.transport.flight import derived_field
+    >>> from collisionkit._kernels.transport.waveform import cell_piece, waveform_record, with_piece_cells
+    >>> record = with_piece_cells(waveform_record(derived_field(np.zeros(3), np.zeros(3)), np.array([0.0, 0.0, 2.0]),
+    ...                                           1.0, np.array([0.0, 0.3, 0.3, 1.0]), np.array([1.0, 0.0, 1.0, 1.0])))
+    >>> cell_piece(0.29, record, 4), cell_piece(0.3, record, 4), cell_piece(0.999, record, 4)
+    (0, 2, 2)
+    """
+    size = int(field[33])
+    k = int(field[field.shape[0] - size + min(int(u * size), size - 1)])
+    first = WAVE_START + 3
+    while k < n - 2 and field[first + k] <= u:
+        k += 1
+    return k
 
 
 @borrowing_kernel
@@ -174,7 +248,7 @@ def piece_integrals(u0, k, tau, field):
     [0.0, 0.25]
     """
     period = field[WAVE_START]
-    s = tau / period
+    s = tau * field[31]
     if s >= 1.0:
         return waveform_integrals(u0 * period, tau, field)
     n = int(field[WAVE_START + 1])

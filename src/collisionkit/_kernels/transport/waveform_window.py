@@ -33,8 +33,8 @@ from __future__ import annotations
 
 import math
 
-from ..._jit import borrowing_kernel, inline_kernel
-from .waveform import WAVE_START, _piece
+from ..._jit import borrowing_inline_kernel, borrowing_kernel, inline_kernel
+from .waveform import WAVE_START, cell_piece
 from .waveform_magnetic import phi_functions
 
 @inline_kernel
@@ -50,7 +50,6 @@ def periodic_start(n):
     return WAVE_START + 2 + 9 * n + 4
 
 
-@borrowing_kernel
 def window_extremes(u_start, u_end, field, n, table, hint_period, hint):
     """``(min G1, max G1, max_k table[k], period, piece)`` over the phases [u_start, u_end] (0 <= u_start <=
     u_end), k the pieces the window touches (``table`` a record index; 0 for none: the third value is then 0),
@@ -67,10 +66,10 @@ def window_extremes(u_start, u_end, field, n, table, hint_period, hint):
     --------
     >>> import numpy as np
     >>> from collisionkit._kernels.transport.flight import derived_field
-    >>> from collisionkit._kernels.transport.waveform import waveform_record
+    >>> from collisionkit._kernels.transport.waveform_magnetic import shaped_field_record
     >>> from collisionkit._kernels.transport.waveform_window import window_extremes
-    >>> record = waveform_record(derived_field(np.zeros(3), np.zeros(3)), np.array([0.0, 0.0, 1.0]), 1.0,
-    ...                          np.array([0.0, 1.0]), np.array([1.0, -1.0]))  # f = 1 - 2u: G1 = u - u^2
+    >>> record = shaped_field_record(derived_field(np.zeros(3), np.zeros(3)), np.array([0.0, 0.0, 1.0]), 1.0,
+    ...                              np.array([0.0, 1.0]), np.array([1.0, -1.0]))  # f = 1 - 2u: G1 = u - u^2
     >>> [round(value, 12) for value in window_extremes(0.1, 0.8, record, 2, 0, 0.0, 0)]  # min at 0.1, max at vertex
     [0.09, 0.25, 0.0, 0.0, 0]
     """
@@ -100,7 +99,7 @@ def window_extremes(u_start, u_end, field, n, table, hint_period, hint):
         while k < n - 2 and field[knots + k + 1] <= r:
             k += 1
     else:
-        k = _piece(r, field, n)
+        k = cell_piece(r, field, n)
     base = m * period_integral
     d = r - field[knots + k]
     low = high = base + field[g1 + k] + d * (field[values + k] + 0.5 * field[slopes + k] * d)
@@ -129,6 +128,11 @@ def window_extremes(u_start, u_end, field, n, table, hint_period, hint):
             base = m * period_integral
 
 
+# inlined into the window bound (no call per window), and a kernel of its own for the tests
+_inline_extremes = borrowing_inline_kernel(window_extremes)
+window_extremes = borrowing_kernel(window_extremes)
+
+
 @borrowing_kernel
 def shaped_flight_constants(vx, vy, vz, t0, field):
     """``(u0, k, G1(u0), v . p, |v across p|, |D|)`` of a flight from (vx, vy, vz) at time ``t0`` (module
@@ -147,7 +151,7 @@ def shaped_flight_constants(vx, vy, vz, t0, field):
     """
     period = field[WAVE_START]
     n = int(field[WAVE_START + 1])
-    phase = t0 / period
+    phase = t0 * field[31]
     u0 = phase - math.floor(phase)
     if u0 >= 1.0:
         u0 = 0.0
@@ -157,7 +161,7 @@ def shaped_flight_constants(vx, vy, vz, t0, field):
     across = math.sqrt(wx * wx + wy * wy + wz * wz)
     offset = across
     w = field[12]
-    k = _piece(u0, field, n)
+    k = cell_piece(u0, field, n)
     d = u0 - field[WAVE_START + 2 + k]
     g0 = field[WAVE_START + 2 + 3 * n + k] + d * (field[WAVE_START + 2 + n + k]
                                                   + 0.5 * field[WAVE_START + 2 + 2 * n + k] * d)
@@ -186,24 +190,20 @@ def shaped_tight_window(u0, k0, g0, along, across, offset, start, h, field, hint
     --------
     >>> import numpy as np
     >>> from collisionkit._kernels.transport.flight import derived_field
-    >>> from collisionkit._kernels.transport.waveform import waveform_record
+    >>> from collisionkit._kernels.transport.waveform_magnetic import shaped_field_record
     >>> from collisionkit._kernels.transport.waveform_window import shaped_tight_window
-    >>> record = waveform_record(derived_field(np.zeros(3), np.zeros(3)), np.array([0.0, 0.0, 2.0]), 1.0,
-    ...                          np.array([0.0, 1.0]), np.array([1.0, -1.0]))  # v_z = 2 (u - u^2) from rest at 0
+    >>> record = shaped_field_record(derived_field(np.zeros(3), np.zeros(3)), np.array([0.0, 0.0, 2.0]), 1.0,
+    ...                              np.array([0.0, 1.0]), np.array([1.0, -1.0]))  # v_z = 2 (u - u^2) from rest at 0
     >>> round(shaped_tight_window(0.0, 0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.9, record, 0.0, 0)[0], 9)  # at u = 1/2
     0.5
     """
-    period = field[WAVE_START]
+    inverse = field[31]  # 1/T
     n = int(field[WAVE_START + 1])
-    w = field[12]
-    magnetic = w != 0.0 and field[24] > 0.0
-    low, high, top, end_period, end_piece = window_extremes(u0 + start / period, u0 + (start + h) / period, field,
-                                                            n, periodic_start(n) + 2 * n if magnetic else 0,
-                                                            hint_period, hint)
-    if w != 0.0:
-        scale = field[17] * period
-    else:
-        scale = math.sqrt(field[14] * field[14] + field[15] * field[15] + field[16] * field[16]) * period
+    magnetic = field[12] != 0.0 and field[24] > 0.0
+    low, high, top, end_period, end_piece = _inline_extremes(u0 + start * inverse, u0 + (start + h) * inverse, field,
+                                                             n, periodic_start(n) + 2 * n if magnetic else 0,
+                                                             hint_period, hint)
+    scale = field[32]  # a_p T
     parallel = max(abs(along + scale * (low - g0)), abs(along + scale * (high - g0)))
     if magnetic:
         across = min(offset + field[24] * top, across + field[30] * (start + h))
