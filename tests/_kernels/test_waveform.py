@@ -101,7 +101,7 @@ def _independent_piece(knots, u):
 
 @pytest.mark.parametrize("shape", [*SHAPES, "many uneven", "jumps at the ends"])
 def test_the_cell_table_gives_the_piece_of_every_phase(shape):
-    """cell_piece (the record's cell table, then forward) against numpy's search and the bisection _piece: random
+    """cell_piece (the record's cells, then forward) against numpy's search and the bisection _piece: random
     phases, every knot, the phases just before and after them, 0 and the largest phase below 1; the table holds
     at least CELLS_PER_PIECE cells per piece, a power of two."""
     from collisionkit._kernels.transport.waveform import CELLS_PER_PIECE, _piece, cell_piece
@@ -120,7 +120,7 @@ def test_the_cell_table_gives_the_piece_of_every_phase(shape):
     record = shaped_record(derived_field(np.zeros(3), np.zeros(3)), np.array([0.0, 0.0, 1.0]), 0.7, samples)
     n = int(record[35])
     assert n == knots.size and np.array_equal(record[36:36 + n], knots)
-    cells = int(record[33])
+    cells = int(record[int(record[33])])
     assert cells >= CELLS_PER_PIECE * (n - 1) and cells & (cells - 1) == 0
     phases = [0.0, np.nextafter(1.0, 0.0), *rng.uniform(0, 1, 2000), *knots[knots < 1.0],
               *np.nextafter(knots[knots > 0.0], 0.0), *np.nextafter(knots[knots < 1.0], 1.0)]

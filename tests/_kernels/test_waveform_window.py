@@ -15,7 +15,7 @@ from scipy.integrate import quad
 from collisionkit._kernels.transport.flight import derived_field
 from collisionkit._kernels.transport.waveform_magnetic import shaped_velocity
 from collisionkit._kernels.transport.waveform_window import (
-    periodic_start, shaped_flight_constants, shaped_tight_window, window_extremes,
+    periodic_start, shaped_flight_constants, shaped_tight_window, window_extremes, window_range,
 )
 from collisionkit.transport._waveform import shaped_record, waveform_knots
 
@@ -63,6 +63,31 @@ def test_the_extremes_of_g1_over_a_window_are_those_of_its_quadrature(shape):
         whole = math.floor(u0) * record[36 + 4 * n - 1]  # G1 at the flight's start from its phase in [0, 1)
         assert shaped_flight_constants(0.0, 0.0, 0.0, u0 * PERIOD, record)[2] == pytest.approx(values[0] - whole,
                                                                                                abs=1e-12)
+
+
+@pytest.mark.parametrize("shape", [*SHAPES, "many uneven"])
+def test_the_table_extremes_of_g1_are_those_of_the_walk_over_the_pieces(shape):
+    """window_range (cells and sparse tables, no walk) against window_extremes (the walk over the pieces, checked
+    against the quadrature above): random windows from inside one piece to over a period, windows from and to
+    knots, to the period's end and across it, and of no length."""
+    rng = np.random.default_rng(41 + len(shape))
+    if shape == "many uneven":  # 300 knots bunched near 0.2 and 0.7, with two jumps
+        u = np.sort(np.concatenate([rng.uniform(0, 1, 100), 0.2 + 1e-3 * rng.uniform(0, 1, 100),
+                                    0.7 + 1e-6 * rng.uniform(0, 1, 98)]))
+        samples = list(zip(np.sort(np.concatenate([u, u[[10, 150]]])), rng.normal(size=u.size + 2)))
+    else:
+        samples = SHAPES[shape]
+    knots, _ = waveform_knots(samples)
+    record = shaped_record(derived_field(np.zeros(3), np.zeros(3)), AMPLITUDE, PERIOD, samples)
+    n = len(knots)
+    size = np.abs(record[36 + 3 * n:36 + 4 * n]).max() + abs(record[36 + 4 * n - 1]) * 4
+    windows = [(u0, u0 + length) for u0 in rng.uniform(0, 3, 300) for length in (0.0, 1e-3, 0.05, 0.3, 0.9, 1.0, 2.5)]
+    windows += [(m + a, m + b) for m in (0.0, 2.0) for a in knots for b in knots if a <= b]
+    windows += [(m + a, m + 1.0 + b) for m in (0.0, 1.0) for a in knots[::7] for b in knots[::5] if b < a]
+    windows += [(u0, math.ceil(u0)) for u0 in rng.uniform(0, 3, 50)]
+    for u_start, u_end in windows:
+        low, high, _, _, _ = window_extremes(u_start, u_end, record, n, 0, 0.0, 0)
+        assert window_range(u_start, u_end, record, n) == pytest.approx((low, high), abs=1e-14 * size)
 
 
 def _exact_speeds(v0, t0, start, h, record, points=401):

@@ -40,8 +40,9 @@ then ``|a . b| max|f|`` (29) and ``A max|f|`` (30); after the waveform's
 tables, R and P at the knots (real and imaginary parts, 4 n entries) and
 q, c (4 entries); then the periodic solution's tables of the window bound
 (:mod:`.waveform_window`, :func:`periodic_tables`: 3 n + 1 entries);
-last, with B or without, the cell table of the pieces
-(:func:`.waveform.with_piece_cells`). Entry 32 holds a . b T.
+last, with B or without, the tables that find a phase's piece and G1's
+extremes over a window (:func:`.waveform.with_window_tables`, their start
+in 33). Entry 32 holds a . b T.
 """
 
 from __future__ import annotations
@@ -53,7 +54,7 @@ import numpy as np
 from ..._jit import borrowing_kernel, kernel
 from .flight import flown_velocity
 from .oscillating import oscillating_field, sincos
-from .waveform import WAVE_START, _piece, piece_integrals, waveform_integrals, waveform_record, with_piece_cells
+from .waveform import WAVE_START, _piece, piece_integrals, waveform_integrals, waveform_record, with_window_tables
 
 # below this |1 - q| the periodic solution is not tabulated (cyclotron resonance): the window bound then grows with
 # the flight (:mod:`.waveform_window`)
@@ -162,13 +163,13 @@ def shaped_field_record(static_field, amplitude, period, knots, values):
     >>> square = np.array([0.0, 0.5, 0.5, 1.0]), np.array([1.0, 1.0, -1.0, -1.0])
     >>> record = shaped_field_record(derived_field(np.zeros(3), np.array([0.0, 1.0, 0.0])), np.array([0.0, 0.0, 2.0]),
     ...                              1.0, *square)
-    >>> record.size - (34 + 2 + 5 * 4) - int(record[33]), float(record[24]), float(record[30])  # 7 n + 5; A max|f| = 2
+    >>> int(record[33]) - (34 + 2 + 5 * 4), float(record[24]), float(record[30])  # 7 n + 5 more; A = 2, A max|f| = 2
     (33, 2.0, 2.0)
     """
     record = waveform_record(static_field, amplitude, period, knots, values)
     w = float(static_field[12])
     if w == 0.0:
-        return with_piece_cells(record)
+        return with_window_tables(record)
     largest = record[25] / float(np.linalg.norm(amplitude))
     decomposed = oscillating_field(np.asarray(static_field, dtype=float), np.asarray(amplitude, dtype=float), 1.0)
     record[17:25] = decomposed[17:25]
@@ -183,7 +184,7 @@ def shaped_field_record(static_field, amplitude, period, knots, values):
     tables = np.concatenate([big_r.real, big_r.imag, big_p.real, big_p.imag, [q.real, q.imag, c.real, c.imag],
                              periodic_tables(np.asarray(knots, dtype=float), np.asarray(values, dtype=float), slopes,
                                              period, w, big_r, q)])
-    return with_piece_cells(np.concatenate([record, tables]))
+    return with_window_tables(np.concatenate([record, tables]))
 
 
 @borrowing_kernel
