@@ -274,9 +274,13 @@ def shaped_tight_window(u0, k0, g0, along, across, offset, start, h, field, hint
     inverse = field[31]  # 1/T
     n = int(field[WAVE_START + 1])
     magnetic = field[12] != 0.0 and field[24] > 0.0
-    low, high, top, end_period, end_piece = _inline_extremes(u0 + start * inverse, u0 + (start + h) * inverse, field,
-                                                             n, periodic_start(n) + 2 * n if magnetic else 0,
-                                                             hint_period, hint)
+    if magnetic:
+        low, high, top, end_period, end_piece = _inline_extremes(u0 + start * inverse, u0 + (start + h) * inverse,
+                                                                 field, n, periodic_start(n) + 2 * n, hint_period,
+                                                                 hint)
+    else:  # G1's extremes alone: from the tables, in a fixed number of steps
+        low, high = _inline_range(u0 + start * inverse, u0 + (start + h) * inverse, field, n)
+        top, end_period, end_piece = 0.0, hint_period, hint
     scale = field[32]  # a_p T
     parallel = max(abs(along + scale * (low - g0)), abs(along + scale * (high - g0)))
     if magnetic:
