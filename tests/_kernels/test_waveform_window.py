@@ -65,11 +65,17 @@ def test_the_extremes_of_g1_over_a_window_are_those_of_its_quadrature(shape):
                                                                                                abs=1e-12)
 
 
+def _independent_piece(knots, u):
+    """The last piece k <= n - 2 whose knot is at or before u (the right side of a jump), by numpy."""
+    return min(int(np.searchsorted(knots, u, side="right")) - 1, len(knots) - 2)
+
+
 @pytest.mark.parametrize("shape", [*SHAPES, "many uneven"])
 def test_the_table_extremes_of_g1_are_those_of_the_walk_over_the_pieces(shape):
     """window_range (cells and sparse tables, no walk) against window_extremes (the walk over the pieces, checked
-    against the quadrature above): random windows from inside one piece to over a period, windows from and to
-    knots, to the period's end and across it, and of no length."""
+    against the quadrature above), without and with the hint of the window's start; the hint it returns is the
+    period and piece of the window's end: random windows from inside one piece to over a period, windows from and
+    to knots, to the period's end and across it, and of no length."""
     rng = np.random.default_rng(41 + len(shape))
     if shape == "many uneven":  # 300 knots bunched near 0.2 and 0.7, with two jumps
         u = np.sort(np.concatenate([rng.uniform(0, 1, 100), 0.2 + 1e-3 * rng.uniform(0, 1, 100),
@@ -87,7 +93,13 @@ def test_the_table_extremes_of_g1_are_those_of_the_walk_over_the_pieces(shape):
     windows += [(u0, math.ceil(u0)) for u0 in rng.uniform(0, 3, 50)]
     for u_start, u_end in windows:
         low, high, _, _, _ = window_extremes(u_start, u_end, record, n, 0, 0.0, 0)
-        assert window_range(u_start, u_end, record, n) == pytest.approx((low, high), abs=1e-14 * size)
+        assert window_range(u_start, u_end, record, n, 0.0, 0)[:2] == pytest.approx((low, high), abs=1e-14 * size)
+        # from the hint of the window's start (its period and piece, as the previous window returns them)
+        m = math.floor(u_start)
+        chained = window_range(u_start, u_end, record, n, float(m), _independent_piece(knots, u_start - m))
+        assert chained[:2] == pytest.approx((low, high), abs=1e-14 * size)
+        if u_end - u_start < 1.0:  # the hint for the next window: u_end's period and piece
+            assert chained[2] == math.floor(u_end) and chained[3] == _independent_piece(knots, u_end - chained[2])
 
 
 def _exact_speeds(v0, t0, start, h, record, points=401):

@@ -34,7 +34,7 @@ from __future__ import annotations
 import math
 
 from ..._jit import borrowing_inline_kernel, borrowing_kernel, inline_kernel
-from .waveform import WAVE_START, cell_piece
+from .waveform import WAVE_START, at, cell_piece
 from .waveform_magnetic import phi_functions
 
 @inline_kernel
@@ -128,20 +128,21 @@ def window_extremes(u_start, u_end, field, n, table, hint_period, hint):
             base = m * period_integral
 
 
-def window_range(u_start, u_end, field, n):
-    """``(min G1, max G1)`` over the phases [u_start, u_end] (0 <= u_start <= u_end), as
-    :func:`window_extremes` gives them, in a fixed number of steps from the record's window tables
+def window_range(u_start, u_end, field, n, hint_period, hint):
+    """``(min G1, max G1, period, piece)`` over the phases [u_start, u_end] (0 <= u_start <= u_end), as
+    :func:`window_extremes` gives them (with its hint), in a fixed number of steps from the record's window tables
     (:func:`.waveform.window_tables`): no walk over the pieces.
 
-    Below a period the window meets the pieces from that of u_start (k_s,
-    from its cell) to that of u_end (k_e, counted on into the next period if
-    u_end is there: the tables hold two periods). On k_s and k_e, the
-    parabola of G1 at the window's end in it and at its vertex clamped into
-    the window's part (an end of it if the vertex is outside), and G1 at the
-    knot after k_s if the window passes it; the pieces between lie wholly
-    inside the window, and their extremes come from the sparse table: two
-    entries per extreme. A window of a period or more takes
-    the period's extremes, shifted by the whole periods' integrals.
+    Below a period the window meets the pieces from that of u_start (k_s:
+    the hint's, or from its cell) to that of u_end (k_e, from its cell,
+    counted on into the next period if u_end is there: the tables hold two
+    periods). On k_s and k_e, the parabola of G1 at the window's end in it
+    and at its vertex clamped into the window's part (an end of it if the
+    vertex is outside), and G1 at the knot after k_s if the window passes
+    it; the pieces between lie wholly inside the window, and their extremes
+    come from the sparse table: two entries per extreme. A window of a
+    period or more takes the period's extremes, shifted by the whole
+    periods' integrals.
 
     Examples
     --------
@@ -151,53 +152,59 @@ def window_range(u_start, u_end, field, n):
     >>> from collisionkit._kernels.transport.waveform_window import window_range
     >>> record = shaped_field_record(derived_field(np.zeros(3), np.zeros(3)), np.array([0.0, 0.0, 1.0]), 1.0,
     ...                              np.array([0.0, 0.25, 0.5, 1.0]), np.array([1.0, 0.5, 0.0, -1.0]))
-    >>> [round(value, 12) for value in window_range(0.1, 0.8, record, 4)]  # f = 1 - 2u, G1 = u - u^2: 0.09, 1/4
-    [0.09, 0.25]
+    >>> [round(value, 12) for value in window_range(0.1, 0.8, record, 4, 0.0, 0)]  # f = 1 - 2u, G1 = u - u^2
+    [0.09, 0.25, 0.0, 2]
     """
-    tables = int(field[33])
-    pieces, levels = int(field[tables + 1]), int(field[tables + 2])
+    tables = int(at(field, 33))
+    pieces, levels = int(at(field, tables + 1)), int(at(field, tables + 2))
     knots, values, slopes, g1 = WAVE_START + 2, WAVE_START + 2 + n, WAVE_START + 2 + 2 * n, WAVE_START + 2 + 3 * n
-    vertices = tables + 5 + 3 * int(field[tables])
+    vertices = tables + 5 + 3 * int(at(field, tables))
     logs = vertices + n - 1
-    period_integral = field[g1 + n - 1]
+    period_integral = at(field, g1 + n - 1)
     m = math.floor(u_start)
     r = u_start - m
     if r >= 1.0:
         m, r = m + 1.0, 0.0
     if u_end - u_start >= 1.0:
         shifts = (m * period_integral, math.floor(u_end) * period_integral)
-        return field[tables + 3] + min(shifts), field[tables + 4] + max(shifts)
+        return at(field, tables + 3) + min(shifts), at(field, tables + 4) + max(shifts), hint_period, hint
     right = u_end - m  # below r + 1 < 2: in this period or the next
     wrap = right >= 1.0
     rest = right - 1.0 if wrap else right  # right's phase in its period
-    first = cell_piece(r, field, n)
+    if m == hint_period and at(field, knots + hint) <= r:
+        first = hint
+        while first < n - 2 and at(field, knots + first + 1) <= r:
+            first += 1
+    else:
+        first = cell_piece(r, field, n)
     last = cell_piece(rest, field, n)
     # the first piece, from r to the piece's end or the window's
-    knot, f, sigma, g = field[knots + first], field[values + first], field[slopes + first], field[g1 + first]
-    low_end, high_end = r - knot, min(right, field[knots + first + 1]) - knot
-    d = min(max(field[vertices + first], low_end), high_end)
+    knot, f, sigma = at(field, knots + first), at(field, values + first), at(field, slopes + first)
+    g = at(field, g1 + first)
+    low_end, high_end = r - knot, min(right, at(field, knots + first + 1)) - knot
+    d = min(max(at(field, vertices + first), low_end), high_end)
     value = g + low_end * (f + 0.5 * sigma * low_end)
     vertex = g + d * (f + 0.5 * sigma * d)
     end = last + n - 1 if wrap else last  # the last piece among the two periods'
-    joint = field[g1 + first + 1] if end > first else value  # the first piece's end, if inside the window
+    joint = at(field, g1 + first + 1) if end > first else value  # the first piece's end, if inside the window
     low, high = min(value, vertex, joint), max(value, vertex, joint)
     # the last piece, from its start or r to right (in its own period: G1 shifted by a period's integral there)
-    knot, f, sigma, g = field[knots + last], field[values + last], field[slopes + last], field[g1 + last]
-    shift = period_integral if wrap else 0.0
+    knot, f, sigma = at(field, knots + last), at(field, values + last), at(field, slopes + last)
+    g = at(field, g1 + last) + (period_integral if wrap else 0.0)
     low_end, high_end = max(r - 1.0 if wrap else r, knot) - knot, rest - knot
-    d = min(max(field[vertices + last], low_end), high_end)
-    value = shift + g + high_end * (f + 0.5 * sigma * high_end)
-    vertex = shift + g + d * (f + 0.5 * sigma * d)
+    d = min(max(at(field, vertices + last), low_end), high_end)
+    value = g + high_end * (f + 0.5 * sigma * high_end)
+    vertex = g + d * (f + 0.5 * sigma * d)
     low, high = min(low, value, vertex), max(high, value, vertex)
     if end - first >= 2:  # the pieces between: two entries of the sparse table
-        level = int(field[logs + end - first - 1])
+        level = int(at(field, logs + end - first - 1))
         lows = logs + pieces + 1 + level * pieces
         highs = lows + levels * pieces
         other = end - (1 << level)
-        low = min(low, field[lows + first + 1], field[lows + other])
-        high = max(high, field[highs + first + 1], field[highs + other])
+        low = min(low, at(field, lows + first + 1), at(field, lows + other))
+        high = max(high, at(field, highs + first + 1), at(field, highs + other))
     base = m * period_integral
-    return base + low, base + high
+    return base + low, base + high, m + 1.0 if wrap else m, last
 
 
 # inlined into the window bound (no call per window), and kernels of their own for the tests
@@ -279,8 +286,9 @@ def shaped_tight_window(u0, k0, g0, along, across, offset, start, h, field, hint
                                                                  field, n, periodic_start(n) + 2 * n, hint_period,
                                                                  hint)
     else:  # G1's extremes alone: from the tables, in a fixed number of steps
-        low, high = _inline_range(u0 + start * inverse, u0 + (start + h) * inverse, field, n)
-        top, end_period, end_piece = 0.0, hint_period, hint
+        top = 0.0
+        low, high, end_period, end_piece = _inline_range(u0 + start * inverse, u0 + (start + h) * inverse, field, n,
+                                                         hint_period, hint)
     scale = field[32]  # a_p T
     parallel = max(abs(along + scale * (low - g0)), abs(along + scale * (high - g0)))
     if magnetic:
