@@ -330,9 +330,9 @@ def piece_integrals(u0, k, tau, field):
         return waveform_integrals(u0 * period, tau, field)
     n = int(field[WAVE_START + 1])
     knots, values, slopes = WAVE_START + 2, WAVE_START + 2 + n, WAVE_START + 2 + 2 * n
-    sigma = field[slopes + k]
-    f = field[values + k] + sigma * (u0 - field[knots + k])
-    end = field[knots + k + 1]
+    sigma = at(field, slopes + k)
+    f = at(field, values + k) + sigma * (u0 - at(field, knots + k))
+    end = at(field, knots + k + 1)
     target = u0 + s
     if target <= end:  # within the piece: the polynomials
         return period * s * (f + 0.5 * sigma * s), period * period * s * s * (0.5 * f + sigma * s * (1.0 / 6.0))
@@ -346,4 +346,5 @@ def piece_integrals(u0, k, tau, field):
         k += 1
         if k >= n - 1:  # the next period
             k, target = 0, target - 1.0
-        left, f, sigma, end = field[knots + k], field[values + k], field[slopes + k], field[knots + k + 1]
+        left, f, sigma = at(field, knots + k), at(field, values + k), at(field, slopes + k)
+        end = at(field, knots + k + 1)

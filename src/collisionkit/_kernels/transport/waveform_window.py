@@ -243,9 +243,9 @@ def shaped_flight_constants(vx, vy, vz, t0, field):
     offset = across
     w = field[12]
     k = cell_piece(u0, field, n)
-    d = u0 - field[WAVE_START + 2 + k]
-    g0 = field[WAVE_START + 2 + 3 * n + k] + d * (field[WAVE_START + 2 + n + k]
-                                                  + 0.5 * field[WAVE_START + 2 + 2 * n + k] * d)
+    d = u0 - at(field, WAVE_START + 2 + k)
+    g0 = at(field, WAVE_START + 2 + 3 * n + k) + d * (at(field, WAVE_START + 2 + n + k)
+                                                      + 0.5 * at(field, WAVE_START + 2 + 2 * n + k) * d)
     if w != 0.0 and field[24] > 0.0:
         tables = periodic_start(n)
         d = (u0 - field[WAVE_START + 2 + k]) * period
