@@ -27,7 +27,8 @@ from .oscillating import (
     sincos, sincos_spread,
 )
 from .particular import particular_flight, particular_position, particular_terms
-from .waveform_magnetic import shaped_flight, shaped_velocity, shaped_window
+from .waveform_magnetic import shaped_flight as _shaped_flight
+from .waveform_magnetic import shaped_velocity, shaped_window
 from .waveform_window import shaped_flight_constants as _shaped_flight_constants
 from .waveform_window import shaped_tight_window as _shaped_tight_window
 from .layout import (
@@ -68,6 +69,7 @@ window_growth_speed = inline_kernel(_window_growth_speed.py_func)
 # ... and the waveform's flight constants and window bound (perf: a call per window took about 5 % of a waveform run)
 shaped_flight_constants = borrowing_inline_kernel(_shaped_flight_constants.py_func)
 shaped_tight_window = borrowing_inline_kernel(_shaped_tight_window.py_func)
+shaped_flight = borrowing_inline_kernel(_shaped_flight.py_func)
 
 
 def _advance_particles(lo, hi, pos, vel, states, alive, t_start, t_end, field, mass, density, gas, kind, species_of,
