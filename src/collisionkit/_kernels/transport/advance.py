@@ -11,7 +11,7 @@ import types
 
 import numpy as np
 
-from ..._jit import borrowing_kernel, inline_kernel
+from ..._jit import borrowing_inline_kernel, borrowing_kernel, inline_kernel
 from .collisions import ionized, two_body
 from .cross_sections import node_index as _node_index
 from .cross_sections import trial_frequencies as _trial_frequencies
@@ -27,14 +27,16 @@ from .oscillating import (
     sincos, sincos_spread,
 )
 from .particular import particular_flight, particular_position, particular_terms
-from .waveform_magnetic import shaped_flight, shaped_velocity, shaped_window
-from .waveform_window import shaped_flight_constants, shaped_tight_window
 from .waveform import WAVE_START
-from .waveform_periodic import periodic_trials
-from .waveform_periodic import periodic_displacement as _periodic_displacement
+from .waveform_magnetic import shaped_flight as _shaped_flight
+from .waveform_magnetic import shaped_velocity, shaped_window
 from .waveform_periodic import periodic_chained_constants as _periodic_chained_constants
+from .waveform_periodic import periodic_displacement as _periodic_displacement
 from .waveform_periodic import periodic_flight_constants as _periodic_flight_constants
+from .waveform_periodic import periodic_trials
 from .waveform_periodic import periodic_velocity as _periodic_velocity
+from .waveform_window import shaped_flight_constants as _shaped_flight_constants
+from .waveform_window import shaped_tight_window as _shaped_tight_window
 from .layout import (
     ATTACHMENT, BOUND_COLUMN_OFFSET, DISPLACEMENT_COLUMN_OFFSET, ELASTIC, EXCITATION, NULL_COLUMN_OFFSET, SUPERELASTIC,
     TIME_COLUMN_OFFSET,
@@ -70,6 +72,10 @@ flown_position = inline_kernel(_flown_position.py_func)
 flight_envelope = inline_kernel(_flight_envelope.py_func)
 window_top_speed = inline_kernel(_window_top_speed.py_func)
 window_growth_speed = inline_kernel(_window_growth_speed.py_func)
+# ... and the waveform's flight constants and window bound (perf: a call per window took about 5 % of a waveform run)
+shaped_flight_constants = borrowing_inline_kernel(_shaped_flight_constants.py_func)
+shaped_tight_window = borrowing_inline_kernel(_shaped_tight_window.py_func)
+shaped_flight = borrowing_inline_kernel(_shaped_flight.py_func)
 # ... and a waveform's trials with B from the periodic solution (the per-trial state stays in registers)
 periodic_flight_constants = inline_kernel(_periodic_flight_constants.py_func)
 periodic_chained_constants = inline_kernel(_periodic_chained_constants.py_func)

@@ -39,8 +39,12 @@ the oscillating record's decomposition along and across b (17: a . b;
 then ``|a . b| max|f|`` (29) and ``A max|f|`` (30); after the waveform's
 tables, R and P at the knots (real and imaginary parts, 4 n entries) and
 q, c (4 entries); then the periodic solution's tables of the window bound
-(:mod:`.waveform_window`, :func:`periodic_tables`: 3 n + 1 entries); last, the trials' tables
-(:mod:`.waveform_periodic`, :func:`trial_tables`: 5 n + 1 entries).
+(:mod:`.waveform_window`, :func:`periodic_tables`: 3 n + 1 entries); then
+the trials' tables (:mod:`.waveform_periodic`, :func:`trial_tables`: 5 n +
+1 entries, ending where the next tables start); last, with B or without,
+the tables that find a phase's piece and G1's extremes over a window
+(:func:`.waveform.with_window_tables`, their start in 33). Entry 32 holds
+a . b T.
 """
 
 from __future__ import annotations
@@ -52,7 +56,7 @@ import numpy as np
 from ..._jit import borrowing_kernel, kernel
 from .flight import flown_velocity
 from .oscillating import oscillating_field, sincos
-from .waveform import WAVE_START, _piece, piece_integrals, waveform_integrals, waveform_record
+from .waveform import WAVE_START, _piece, piece_integrals, waveform_integrals, waveform_record, with_window_tables
 
 # below this |1 - q| the periodic solution is not tabulated (cyclotron resonance): the window bound then grows with
 # the flight (:mod:`.waveform_window`)
@@ -201,19 +205,20 @@ def shaped_field_record(static_field, amplitude, period, knots, values):
     >>> square = np.array([0.0, 0.5, 0.5, 1.0]), np.array([1.0, 1.0, -1.0, -1.0])
     >>> record = shaped_field_record(derived_field(np.zeros(3), np.array([0.0, 1.0, 0.0])), np.array([0.0, 0.0, 2.0]),
     ...                              1.0, *square)
-    >>> record.size - (34 + 2 + 5 * 4), float(record[24]), float(record[30])  # 12 n + 6 more; A = 2, A max|f| = 2
+    >>> int(record[33]) - (34 + 2 + 5 * 4), float(record[24]), float(record[30])  # 12 n + 6 more; A = 2, A max|f| = 2
     (54, 2.0, 2.0)
     """
     record = waveform_record(static_field, amplitude, period, knots, values)
     w = float(static_field[12])
     if w == 0.0:
-        return record
+        return with_window_tables(record)
     largest = record[25] / float(np.linalg.norm(amplitude))
     decomposed = oscillating_field(np.asarray(static_field, dtype=float), np.asarray(amplitude, dtype=float), 1.0)
     record[17:25] = decomposed[17:25]
     record[26:29] = decomposed[26:29]
     record[29] = abs(decomposed[17]) * largest
     record[30] = decomposed[24] * largest
+    record[32] = decomposed[17] * period  # the window bound's parallel scale: a . b T
     n = len(knots)
     big_r, big_p, q, c = _response_tables(np.asarray(knots, dtype=float), np.asarray(values, dtype=float),
                                           record[WAVE_START + 2 + 2 * n:WAVE_START + 2 + 3 * n].copy(), period, w)
@@ -224,7 +229,7 @@ def shaped_field_record(static_field, amplitude, period, knots, values):
                           periodic[:n] + 1j * periodic[n:2 * n], q, largest)
     tables = np.concatenate([big_r.real, big_r.imag, big_p.real, big_p.imag, [q.real, q.imag, c.real, c.imag],
                              periodic, trials])
-    return np.concatenate([record, tables])
+    return with_window_tables(np.concatenate([record, tables]))
 
 
 @borrowing_kernel

@@ -48,7 +48,7 @@ import math
 
 from ..._jit import borrowing_kernel
 from .oscillating import sincos
-from .waveform import WAVE_START, _piece, piece_integrals
+from .waveform import WAVE_START, at, cell_piece, piece_integrals
 from .waveform_magnetic import piece_response
 
 # below this W tau a real collision's displacement comes from the phi functions: the formula divides by W, so its
@@ -59,8 +59,8 @@ DISPLACEMENT_TURN = 0.25
 
 @borrowing_kernel
 def trial_table_start(n, field):
-    """The record index of the trials' tables' flag (:func:`.waveform_magnetic.trial_tables`, the record's last 5 n
-    + 1 entries), for n knots.
+    """The record index of the trials' tables' flag (:func:`.waveform_magnetic.trial_tables`, the 5 n + 1 entries
+    before the window tables, whose start is entry 33: :func:`.waveform.with_window_tables`), for n knots.
 
     Examples
     --------
@@ -73,7 +73,7 @@ def trial_table_start(n, field):
     >>> float(record[trial_table_start(2, record)])  # f = 1, W T = 2: the trials may use the periodic solution
     1.0
     """
-    return field.shape[0] - (5 * n + 1)
+    return int(field[33]) - (5 * n + 1)
 
 
 @borrowing_kernel
@@ -104,14 +104,13 @@ def periodic_flight_constants(vx, vy, vz, t0, field):
     >>> [round(value, 12) for value in constants[:6]], round(constants[6].imag, 12)
     ([0.5, 0, 0.5, 0.0, 0.0, 1.0], 1.0)
     """
-    period = field[WAVE_START]
     n = int(field[WAVE_START + 1])
-    phase = t0 / period
+    phase = t0 * field[31]  # t0 / T
     u0 = phase - math.floor(phase)
     if u0 >= 1.0:
         u0 = 0.0
-    k = _piece(u0, field, n)
-    s, c = sincos(field[12] * (u0 - field[WAVE_START + 2 + k]) * period)
+    k = cell_piece(u0, field, n)
+    s, c = sincos(field[12] * (u0 - field[WAVE_START + 2 + k]) * field[WAVE_START])
     return periodic_chained_constants(vx, vy, vz, u0, k, complex(c, -s), 1.0 / field[12], field)
 
 
@@ -182,21 +181,21 @@ def periodic_velocity(along, g0, gap, u0, elapsed, half_sin, half_cos, piece, pe
     knots, values, slopes, g1 = WAVE_START + 2, WAVE_START + 2 + n, WAVE_START + 2 + 2 * n, WAVE_START + 2 + 3 * n
     tables = trial_table_start(n, field) + 1
     u = u0 + elapsed * inverse_period - periods  # the phase in the walk's period
-    while field[knots + piece + 1] <= u:  # the knots the flight passed since the last trial
-        turn = turn * complex(field[tables + 2 * n + piece], field[tables + 3 * n + piece])
+    while at(field, knots + piece + 1) <= u:  # the knots the flight passed since the last trial
+        turn = turn * complex(at(field, tables + 2 * n + piece), at(field, tables + 3 * n + piece))
         piece += 1
         if piece >= n - 1:  # the next period
             piece, periods, u = 0, periods + 1.0, u - 1.0
-    d = u - field[knots + piece]
-    slope = field[slopes + piece]
-    f = field[values + piece] + slope * d
-    g = periods * field[g1 + n - 1] + field[g1 + piece] + d * (field[values + piece] + 0.5 * slope * d)
-    v_par = along + field[17] * field[WAVE_START] * (g - g0)
+    d = u - at(field, knots + piece)
+    slope = at(field, slopes + piece)
+    f = at(field, values + piece) + slope * d
+    g = periods * field[g1 + n - 1] + at(field, g1 + piece) + d * (at(field, values + piece) + 0.5 * slope * d)
+    v_par = along + field[32] * (g - g0)  # a . b T (G1(u) - G1(u0))
     rotation = complex(1.0 - 2.0 * half_sin * half_sin, -2.0 * half_sin * half_cos)  # e^{-i W elapsed}
     amplitude = field[24]
-    local = complex(field[tables + 4 * n + piece], -f * inverse_w)
-    zeta = amplitude * local + rotation * (amplitude * turn * complex(field[tables + piece], field[tables + n + piece])
-                                           + gap)
+    local = complex(at(field, tables + 4 * n + piece), -f * inverse_w)
+    zeta = amplitude * local + rotation * (amplitude * turn * complex(at(field, tables + piece),
+                                                                      at(field, tables + n + piece)) + gap)
     return (v_par * field[26] + zeta.real * field[18] + zeta.imag * field[21],
             v_par * field[27] + zeta.real * field[19] + zeta.imag * field[22],
             v_par * field[28] + zeta.real * field[20] + zeta.imag * field[23], zeta, piece, periods, turn)
