@@ -37,6 +37,7 @@ from .waveform_periodic import periodic_trials
 from .waveform_periodic import periodic_velocity as _periodic_velocity
 from .waveform_window import shaped_flight_constants as _shaped_flight_constants
 from .waveform_window import shaped_tight_window as _shaped_tight_window
+from .waveform_window import stepped_shaped_window as _stepped_shaped_window
 from .layout import (
     ATTACHMENT, BOUND_COLUMN_OFFSET, DISPLACEMENT_COLUMN_OFFSET, ELASTIC, EXCITATION, NULL_COLUMN_OFFSET, SUPERELASTIC,
     TIME_COLUMN_OFFSET,
@@ -75,6 +76,7 @@ window_growth_speed = inline_kernel(_window_growth_speed.py_func)
 # ... and the waveform's flight constants and window bound (perf: a call per window took about 5 % of a waveform run)
 shaped_flight_constants = borrowing_inline_kernel(_shaped_flight_constants.py_func)
 shaped_tight_window = borrowing_inline_kernel(_shaped_tight_window.py_func)
+stepped_shaped_window = borrowing_inline_kernel(_stepped_shaped_window.py_func)
 shaped_flight = borrowing_inline_kernel(_shaped_flight.py_func)
 # ... and a waveform's trials with B from the periodic solution (the per-trial state stays in registers)
 periodic_flight_constants = inline_kernel(_periodic_flight_constants.py_func)
@@ -199,6 +201,7 @@ def _advance_particles(lo, hi, pos, vel, states, alive, t_start, t_end, field, m
                     su0, sk0, sg0, s_along, s_across, s_offset = shaped_flight_constants(vx, vy, vz, t, field)
                 s_piece, s_periods = sk0, 0.0
                 hint_period, hint = 0.0, sk0  # where the next window's walk over the pieces starts
+                s_gwin = sg0  # G1 at the next window's start
                 sh = ch = gs = gc = 0.0  # the half-angle sines of the last trial (oscillating field)
                 if not exact:
                     vb, radius, a_par = flight_envelope(vx, vy, vz, bx, by, bz, ux, uy, uz, a_par_field)
@@ -238,8 +241,9 @@ def _advance_particles(lo, hi, pos, vel, states, alive, t_start, t_end, field, m
                             h = window * inverse_nu if nu_window > 0.0 else fallback
                             h = min(h, growth * max(s_window, speed_floor) * inverse_accel)
                             if tight:
-                                s_window, hint_period, hint = shaped_tight_window(
-                                    su0, sk0, sg0, s_along, s_across, s_offset, window_end, h, field, hint_period, hint)
+                                s_window, s_gwin, hint_period, hint = stepped_shaped_window(
+                                    su0, sg0, s_along, s_across, s_offset, window_end, h, field, s_gwin, hint_period,
+                                    hint)
                             else:
                                 s_window = shaped_window(vx, vy, vz, t, window_end, h, field, accel_mag)
                             nu_window = trial_frequencies(s_window, density, gas, bound, inverse_step, sigma_max,
