@@ -238,3 +238,66 @@ def periodic_displacement(vx, vy, vz, zeta, u0, k, elapsed, half_sin, half_cos, 
     return (along * field[26] + across_1 * field[18] + across_2 * field[21],
             along * field[27] + across_1 * field[19] + across_2 * field[22],
             along * field[28] + across_1 * field[20] + across_2 * field[23])
+
+
+@borrowing_kernel
+def walked_velocity(vx, vy, vz, g0, u0, elapsed, piece, periods, inverse_period, field):
+    """The velocity after ``elapsed`` of a flight in a waveform without B, from (vx, vy, vz) at phase ``u0`` (G1
+    there ``g0``): ``v + g tau + |a| T (G1(u) - G1(u0)) p`` (:mod:`.waveform`), G1 at the trial's phase from the
+    piece the last trial of the flight reached (the walk of :func:`periodic_velocity`): ``(vx, vy, vz, piece,
+    periods)``. A real collision's displacement comes from :func:`.waveform.piece_integrals` (J2, exact piece by
+    piece), the next flight's constants from :func:`walked_constants`.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from collisionkit._kernels.transport.flight import derived_field
+    >>> from collisionkit._kernels.transport.waveform_magnetic import shaped_field_record
+    >>> from collisionkit._kernels.transport.waveform_periodic import walked_velocity
+    >>> record = shaped_field_record(derived_field(np.zeros(3), np.zeros(3)), np.array([0.0, 0.0, 1.0]), 2.0,
+    ...                              np.array([0.0, 0.5, 0.5, 1.0]), np.array([1.0, 1.0, -1.0, -1.0]))
+    >>> [round(value, 12) for value in walked_velocity(0.0, 0.0, 0.0, 0.25, 0.25, 1.0, 0, 0.0, 0.5, record)]
+    [0.0, 0.0, 0.0, 2, 0.0]
+    """
+    n = int(field[WAVE_START + 1])
+    knots, values, slopes, g1 = WAVE_START + 2, WAVE_START + 2 + n, WAVE_START + 2 + 2 * n, WAVE_START + 2 + 3 * n
+    u = u0 + elapsed * inverse_period - periods
+    while at(field, knots + piece + 1) <= u:
+        piece += 1
+        if piece >= n - 1:  # the next period
+            piece, periods, u = 0, periods + 1.0, u - 1.0
+    d = u - at(field, knots + piece)
+    g = periods * field[g1 + n - 1] + at(field, g1 + piece) + d * (at(field, values + piece)
+                                                                    + 0.5 * at(field, slopes + piece) * d)
+    gained = field[32] * (g - g0)  # |a| T (G1(u) - G1(u0))
+    return (vx + field[0] * elapsed + gained * field[26], vy + field[1] * elapsed + gained * field[27],
+            vz + field[2] * elapsed + gained * field[28], piece, periods)
+
+
+@borrowing_kernel
+def walked_constants(vx, vy, vz, u0, k, field):
+    """:func:`.waveform_window.shaped_flight_constants` without B, for a flight from phase ``u0`` in [0, 1) of
+    piece ``k`` (where a trial of the last flight became a real collision: its walk's phase and piece; no floor,
+    no search).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from collisionkit._kernels.transport.flight import derived_field
+    >>> from collisionkit._kernels.transport.waveform_magnetic import shaped_field_record
+    >>> from collisionkit._kernels.transport.waveform_periodic import walked_constants
+    >>> from collisionkit._kernels.transport.waveform_window import shaped_flight_constants
+    >>> record = shaped_field_record(derived_field(np.zeros(3), np.zeros(3)), np.array([0.0, 0.0, 1.0]), 4.0,
+    ...                              np.array([0.0, 0.5, 1.0]), np.array([1.0, -1.0, 0.5]))
+    >>> walked_constants(0.3, 0.2, -0.1, 0.75, 1, record) == shaped_flight_constants(0.3, 0.2, -0.1, 3.0, record)
+    True
+    """
+    n = int(field[WAVE_START + 1])
+    d = u0 - at(field, WAVE_START + 2 + k)
+    g0 = at(field, WAVE_START + 2 + 3 * n + k) + d * (at(field, WAVE_START + 2 + n + k)
+                                                      + 0.5 * at(field, WAVE_START + 2 + 2 * n + k) * d)
+    px, py, pz = field[26], field[27], field[28]
+    along = vx * px + vy * py + vz * pz
+    wx, wy, wz = vx - along * px, vy - along * py, vz - along * pz
+    across = math.sqrt(wx * wx + wy * wy + wz * wz)
+    return u0, k, g0, along, across, across
