@@ -137,30 +137,3 @@ def test_a_flight_chained_from_the_last_trial_has_the_constants_of_its_start_tim
         np.testing.assert_allclose([chained[2], *chained[3:6]], [direct[2], *direct[3:6]], rtol=0, atol=1e-13)
         assert abs(chained[6] - direct[6]) < 1e-13 * (1 + abs(direct[6]))
         assert abs(chained[7] - direct[7]) < 1e-13
-
-
-@pytest.mark.parametrize("shape", SHAPES)
-def test_walked_trials_without_b_agree_with_the_piece_integrals_and_chain_their_constants(shape):
-    """Without B (and with gravity): walked_velocity over chained trials against shaped_flight (piece by piece
-    polynomials, a different route: G1 at the trial's phase from the knots' table) to a few ulps of the flight's
-    scale, and walked_constants from the last trial's walk against shaped_flight_constants at that time."""
-    from collisionkit._kernels.transport.waveform_periodic import walked_constants, walked_velocity
-    from collisionkit._kernels.transport.waveform_window import shaped_flight_constants
-
-    gravity = np.array([0.1, -0.2, 0.05])
-    record = shaped_record(derived_field(gravity, np.zeros(3)), AMPLITUDE, PERIOD, SHAPES[shape])
-    rng = np.random.default_rng(13)
-    scale = 3.0 + np.linalg.norm(AMPLITUDE) * PERIOD * 2.5
-    for _ in range(60):
-        v0, t0 = rng.normal(size=3), rng.uniform(0.0, 5.0)
-        u0, k, g0 = shaped_flight_constants(*v0, t0, record)[:3]
-        piece, periods = k, 0.0
-        for tau in np.sort(rng.uniform(0.0, 3.0, 4)) * rng.choice([1e-3, 0.1, 1.0]):
-            *v, piece, periods = walked_velocity(*v0, g0, u0, tau, piece, periods, 1.0 / PERIOD, record)
-            reference = shaped_flight(*v0, u0, k, tau, record)
-            assert np.abs(np.array(v) - reference[:3]).max() <= 64 * EPSILON * scale * (1.0 + tau)
-        v1 = rng.normal(size=3)
-        chained = walked_constants(*v1, u0 + tau / PERIOD - periods, piece, record)
-        direct = shaped_flight_constants(*v1, t0 + tau, record)
-        assert chained[1] == direct[1]
-        np.testing.assert_allclose([chained[0], *chained[2:]], [direct[0], *direct[2:]], rtol=0, atol=1e-13)

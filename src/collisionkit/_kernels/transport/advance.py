@@ -35,9 +35,6 @@ from .waveform_periodic import periodic_displacement as _periodic_displacement
 from .waveform_periodic import periodic_flight_constants as _periodic_flight_constants
 from .waveform_periodic import periodic_trials
 from .waveform_periodic import periodic_velocity as _periodic_velocity
-from .waveform_periodic import walked_constants as _walked_constants
-from .waveform_periodic import walked_velocity as _walked_velocity
-from .waveform import piece_integrals as _piece_integrals
 from .waveform_window import shaped_flight_constants as _shaped_flight_constants
 from .waveform_window import shaped_tight_window as _shaped_tight_window
 from .waveform_window import stepped_shaped_window as _stepped_shaped_window
@@ -86,10 +83,6 @@ periodic_flight_constants = inline_kernel(_periodic_flight_constants.py_func)
 periodic_chained_constants = inline_kernel(_periodic_chained_constants.py_func)
 periodic_velocity = inline_kernel(_periodic_velocity.py_func)
 periodic_displacement = inline_kernel(_periodic_displacement.py_func)
-# ... and without B from the same walk over the pieces (a real collision's displacement from the piece integrals)
-walked_velocity = inline_kernel(_walked_velocity.py_func)
-walked_constants = inline_kernel(_walked_constants.py_func)
-piece_integrals = inline_kernel(_piece_integrals.py_func)
 
 
 def _advance_particles(lo, hi, pos, vel, states, alive, t_start, t_end, field, mass, density, gas, kind, species_of,
@@ -124,7 +117,6 @@ def _advance_particles(lo, hi, pos, vel, states, alive, t_start, t_end, field, m
     tight = shaped and ax == 0.0 and ay == 0.0 and az == 0.0
     # ... and with B: the trials from the periodic solution, one rotation a trial (.waveform_periodic)
     periodic = tight and periodic_trials(field)
-    walked = shaped and field[12] == 0.0  # without B: the trials' velocity from the same walk
     inverse_period = 1.0 / field[WAVE_START] if shaped else 0.0
     inverse_w = 1.0 / field[12] if periodic else 0.0
     exact = variant == STATIC or variant == OSCILLATING or (variant == WAVEFORM and field[12] == 0.0)
@@ -167,7 +159,7 @@ def _advance_particles(lo, hi, pos, vel, states, alive, t_start, t_end, field, m
                     rng[k] = child_state[i, member, k]
                 t = child_time[member]
             t_begin = t
-            chained = False  # a waveform flight from the last flight's trial (.waveform_periodic)
+            chained = False  # a waveform flight with B from the last flight's trial (.waveform_periodic)
             s_phase, s_piece, s_turn = 0.0, 0, 0.0j
             # the field's phase at t: computed here, then carried from flight to flight by the trials' rotations
             phase_sin, phase_cos = sincos(omega * t) if ac else (0.0, 1.0)
@@ -205,8 +197,6 @@ def _advance_particles(lo, hi, pos, vel, states, alive, t_start, t_end, field, m
                 elif periodic:  # ... from the start time: a sine and a search
                     su0, sk0, sg0, s_along, s_across, s_offset, s_gap, s_turn = periodic_flight_constants(
                         vx, vy, vz, t, field)
-                elif walked and chained:
-                    su0, sk0, sg0, s_along, s_across, s_offset = walked_constants(vx, vy, vz, s_phase, s_piece, field)
                 elif shaped:  # the phase and its piece: the trials' flights start there
                     su0, sk0, sg0, s_along, s_across, s_offset = shaped_flight_constants(vx, vy, vz, t, field)
                 s_piece, s_periods = sk0, 0.0
@@ -306,9 +296,6 @@ def _advance_particles(lo, hi, pos, vel, states, alive, t_start, t_end, field, m
                         tvx, tvy, tvz, s_zeta, s_piece, s_periods, s_turn = periodic_velocity(
                             s_along, sg0, s_gap, su0, elapsed, gs, gc, s_piece, s_periods, s_turn, inverse_period,
                             inverse_w, field)
-                    elif walked:
-                        tvx, tvy, tvz, s_piece, s_periods = walked_velocity(vx, vy, vz, sg0, su0, elapsed, s_piece,
-                                                                            s_periods, inverse_period, field)
                     elif shaped:  # a real collision's displacement comes with its velocity
                         tvx, tvy, tvz, sdx, sdy, sdz = shaped_flight(vx, vy, vz, su0, sk0, elapsed, field)
                     elif exact:
@@ -406,11 +393,6 @@ def _advance_particles(lo, hi, pos, vel, states, alive, t_start, t_end, field, m
                         # the next flight starts at this trial's phase, piece and turn times rotation
                         s_phase = su0 + elapsed * inverse_period - s_periods
                         s_turn = complex(1.0 - 2.0 * gs * gs, -2.0 * gs * gc) * s_turn
-                        chained = True
-                    elif walked:  # the displacement by the piece integrals; the next flight from this trial's walk
-                        _, moved = piece_integrals(su0, sk0, elapsed, field)
-                        sdx, sdy, sdz = field[14] * moved, field[15] * moved, field[16] * moved
-                        s_phase = su0 + elapsed * inverse_period - s_periods
                         chained = True
                     x, y, z = x + sdx, y + sdy, z + sdz
                 if landed:
