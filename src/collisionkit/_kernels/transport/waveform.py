@@ -307,12 +307,12 @@ def waveform_integrals(t0, tau, field):
     return period * j1, period * period * j2
 
 
-@borrowing_kernel
+@borrowing_inline_kernel
 def piece_integrals(u0, k, tau, field):
     """``(T J1, T^2 J2)`` of a flight of ``tau`` from the phase ``u0`` in [0, 1), which piece ``k`` holds: as
     :func:`waveform_integrals`, without the phase's reduction and the search for its piece, and across knots
     piece by piece (each piece's polynomials, accumulated: no difference of antiderivatives). A flight of a
-    period or more takes :func:`waveform_integrals`.
+    period or more takes :func:`waveform_integrals`. Inlined into its callers (the swarm's trials: no call).
 
     Examples
     --------

@@ -7,7 +7,13 @@ across it. Along p, ``v . p = v0 . p + a_p T (G1(u) - G1(u0))`` exactly (a_p
 the antiderivative of f): its extremes over a window are those of G1, found
 at the window's ends, the knots inside it and the zeros of f inside a piece
 (f linear there, so G1 is a parabola with its vertex where f = 0):
-:func:`window_extremes`, exact.
+:func:`window_extremes`, exact, walks over the pieces (with B, where it
+also gathers the pieces' bounds of |P|); :func:`window_range` (without B)
+takes the same extremes in a fixed number of steps from tables of the
+record (:func:`.waveform.window_tables`: the pieces' extremes in a sparse
+table, the piece of a phase from cells). The window bound
+(:func:`shaped_tight_window`) takes 1/T and a_p T from the record (31,
+32): products, no division or root of its own but the bound's.
 
 Across p, without B the velocity is constant. With B its complex
 components zeta (as in :mod:`.waveform_magnetic`) obey ``d zeta/dt = -i W
