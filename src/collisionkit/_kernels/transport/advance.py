@@ -36,7 +36,6 @@ from .waveform_periodic import periodic_flight_constants as _periodic_flight_con
 from .waveform_periodic import periodic_trials
 from .waveform_periodic import periodic_velocity as _periodic_velocity
 from .waveform_window import shaped_flight_constants as _shaped_flight_constants
-from .waveform_window import shaped_tight_window as _shaped_tight_window
 from .waveform_window import stepped_shaped_window as _stepped_shaped_window
 from .layout import (
     ATTACHMENT, BOUND_COLUMN_OFFSET, DISPLACEMENT_COLUMN_OFFSET, ELASTIC, EXCITATION, NULL_COLUMN_OFFSET, SUPERELASTIC,
@@ -76,7 +75,6 @@ window_growth_speed = inline_kernel(_window_growth_speed.py_func)
 # ... and the waveform's flight constants, window bound and trial flight (a call with stack arguments per flight,
 # window and trial before; inlining the trial flight measured 0.91x the waveform's cost per collision)
 shaped_flight_constants = borrowing_inline_kernel(_shaped_flight_constants.py_func)
-shaped_tight_window = borrowing_inline_kernel(_shaped_tight_window.py_func)
 stepped_shaped_window = borrowing_inline_kernel(_stepped_shaped_window.py_func)
 shaped_flight = borrowing_inline_kernel(_shaped_flight.py_func)
 # ... and a waveform's trials with B from the periodic solution (the per-trial state stays in registers)
@@ -505,11 +503,14 @@ def advance_swarm(lo, hi, pos, vel, states, alive, t_start, t_end, field, mass, 
     the exact response to the field over the flight to the static flight
     (:func:`.waveform_magnetic.shaped_flight`: from the phase's piece at the
     flight's start, found once a flight; a real collision's displacement
-    comes with its trial's velocity). Without static acceleration each window
-    is bounded from constants of the flight
-    (:func:`.waveform_window.shaped_tight_window`: the exact extremes along
-    the field or B, the gyration about the periodic solution across B);
-    with it, from the exact velocity at the window's start
+    comes with its trial's velocity). With B and without static
+    acceleration the trials take the periodic solution instead
+    (:mod:`.waveform_periodic`: one rotation a trial, the next flight's
+    constants from the trial that ended the last one). Without static
+    acceleration each window is bounded from G1 at its ends and the
+    constants of the flight (:func:`.waveform_window.stepped_shaped_window`:
+    G1, its period and piece handed from window to window); with it, from
+    the exact velocity at the window's start
     (:func:`.waveform_magnetic.shaped_window`).
 
     An oscillating record (:mod:`.oscillating`: the static record extended
