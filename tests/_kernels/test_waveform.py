@@ -92,3 +92,53 @@ def test_the_piecewise_integrals_from_a_known_piece_are_those_of_the_piecewise_l
             value = piece_integrals(u0, _piece(u0, record, n), tau, record)
             assert value[0] == pytest.approx(exact[0], rel=1e-9, abs=1e-12 * tau)
             assert value[1] == pytest.approx(exact[1], rel=1e-8, abs=1e-12 * tau * tau)
+
+
+def _independent_piece(knots, u):
+    """The last piece k <= n - 2 whose knot is at or before u (the right side of a jump), by numpy."""
+    return min(int(np.searchsorted(knots, u, side="right")) - 1, len(knots) - 2)
+
+
+@pytest.mark.parametrize("shape", [*SHAPES, "many uneven", "jumps at the ends"])
+def test_the_cell_table_gives_the_piece_of_every_phase(shape):
+    """cell_piece (the record's cells, then forward) against numpy's search and the bisection _piece: random
+    phases, every knot, the phases just before and after them, 0 and the largest phase below 1; the table holds
+    at least CELLS_PER_PIECE cells per piece, a power of two."""
+    from collisionkit._kernels.transport.waveform import CELLS_PER_PIECE, _piece, cell_piece
+
+    rng = np.random.default_rng(31)
+    if shape == "many uneven":  # 300 knots bunched near 0.2 and 0.7, with jumps
+        u = np.sort(np.concatenate([rng.uniform(0, 1, 100), 0.2 + 1e-3 * rng.uniform(0, 1, 100),
+                                    0.7 + 1e-6 * rng.uniform(0, 1, 98)]))
+        u = np.sort(np.concatenate([u, u[[10, 150]]]))  # two jumps
+        samples = list(zip(u, rng.normal(size=u.size)))
+    elif shape == "jumps at the ends":
+        samples = [(0.0, 1.0), (0.0, -1.0), (0.5, 2.0), (1.0, 0.5), (1.0, 3.0)]
+    else:
+        samples = SHAPES[shape]
+    knots, _ = waveform_knots(samples)
+    record = shaped_record(derived_field(np.zeros(3), np.zeros(3)), np.array([0.0, 0.0, 1.0]), 0.7, samples)
+    n = int(record[35])
+    assert n == knots.size and np.array_equal(record[36:36 + n], knots)
+    cells = int(record[int(record[33])])
+    assert cells >= CELLS_PER_PIECE * (n - 1) and cells & (cells - 1) == 0
+    phases = [0.0, np.nextafter(1.0, 0.0), *rng.uniform(0, 1, 2000), *knots[knots < 1.0],
+              *np.nextafter(knots[knots > 0.0], 0.0), *np.nextafter(knots[knots < 1.0], 1.0)]
+    for u in phases:
+        if 0.0 <= u < 1.0:
+            assert cell_piece(u, record, n) == _independent_piece(knots, u) == _piece(u, record, n)
+
+
+def test_the_record_holds_the_inverse_period_and_the_parallel_scale():
+    """Entry 31 is 1/T, entry 32 |a| T without B and (a . b) T with B (the window bound's scale)."""
+    from collisionkit._kernels.transport.oscillating import oscillating_field
+
+    amplitude, period = np.array([0.3, 0.0, 1.2]), 0.7
+    record = shaped_record(derived_field(np.zeros(3), np.zeros(3)), amplitude, period, SHAPES["irregular"])
+    assert record[31] == pytest.approx(1.0 / period, rel=1e-15)
+    assert record[32] == pytest.approx(np.linalg.norm(amplitude) * period, rel=1e-15)
+    b = np.array([0.0, 0.6, 0.8])
+    magnetic = shaped_record(derived_field(np.zeros(3), 5.0 * b), amplitude, period, SHAPES["irregular"])
+    assert magnetic[31] == pytest.approx(1.0 / period, rel=1e-15)
+    assert magnetic[32] == pytest.approx(float(amplitude @ b) * period, rel=1e-15)
+    assert oscillating_field(derived_field(np.zeros(3), 5.0 * b), amplitude, 1.0)[17] == pytest.approx(amplitude @ b)

@@ -15,7 +15,7 @@ from scipy.integrate import quad
 from collisionkit._kernels.transport.flight import derived_field
 from collisionkit._kernels.transport.waveform_magnetic import shaped_velocity
 from collisionkit._kernels.transport.waveform_window import (
-    periodic_start, shaped_flight_constants, shaped_tight_window, window_extremes,
+    periodic_start, shaped_flight_constants, shaped_tight_window, window_extremes, window_range,
 )
 from collisionkit.transport._waveform import shaped_record, waveform_knots
 
@@ -63,6 +63,43 @@ def test_the_extremes_of_g1_over_a_window_are_those_of_its_quadrature(shape):
         whole = math.floor(u0) * record[36 + 4 * n - 1]  # G1 at the flight's start from its phase in [0, 1)
         assert shaped_flight_constants(0.0, 0.0, 0.0, u0 * PERIOD, record)[2] == pytest.approx(values[0] - whole,
                                                                                                abs=1e-12)
+
+
+def _independent_piece(knots, u):
+    """The last piece k <= n - 2 whose knot is at or before u (the right side of a jump), by numpy."""
+    return min(int(np.searchsorted(knots, u, side="right")) - 1, len(knots) - 2)
+
+
+@pytest.mark.parametrize("shape", [*SHAPES, "many uneven"])
+def test_the_table_extremes_of_g1_are_those_of_the_walk_over_the_pieces(shape):
+    """window_range (cells and sparse tables, no walk) against window_extremes (the walk over the pieces, checked
+    against the quadrature above), without and with the hint of the window's start; the hint it returns is the
+    period and piece of the window's end: random windows from inside one piece to over a period, windows from and
+    to knots, to the period's end and across it, and of no length."""
+    rng = np.random.default_rng(41 + len(shape))
+    if shape == "many uneven":  # 300 knots bunched near 0.2 and 0.7, with two jumps
+        u = np.sort(np.concatenate([rng.uniform(0, 1, 100), 0.2 + 1e-3 * rng.uniform(0, 1, 100),
+                                    0.7 + 1e-6 * rng.uniform(0, 1, 98)]))
+        samples = list(zip(np.sort(np.concatenate([u, u[[10, 150]]])), rng.normal(size=u.size + 2)))
+    else:
+        samples = SHAPES[shape]
+    knots, _ = waveform_knots(samples)
+    record = shaped_record(derived_field(np.zeros(3), np.zeros(3)), AMPLITUDE, PERIOD, samples)
+    n = len(knots)
+    size = np.abs(record[36 + 3 * n:36 + 4 * n]).max() + abs(record[36 + 4 * n - 1]) * 4
+    windows = [(u0, u0 + length) for u0 in rng.uniform(0, 3, 300) for length in (0.0, 1e-3, 0.05, 0.3, 0.9, 1.0, 2.5)]
+    windows += [(m + a, m + b) for m in (0.0, 2.0) for a in knots for b in knots if a <= b]
+    windows += [(m + a, m + 1.0 + b) for m in (0.0, 1.0) for a in knots[::7] for b in knots[::5] if b < a]
+    windows += [(u0, math.ceil(u0)) for u0 in rng.uniform(0, 3, 50)]
+    for u_start, u_end in windows:
+        low, high, _, _, _ = window_extremes(u_start, u_end, record, n, 0, 0.0, 0)
+        assert window_range(u_start, u_end, record, n, 0.0, 0)[:2] == pytest.approx((low, high), abs=1e-14 * size)
+        # from the hint of the window's start (its period and piece, as the previous window returns them)
+        m = math.floor(u_start)
+        chained = window_range(u_start, u_end, record, n, float(m), _independent_piece(knots, u_start - m))
+        assert chained[:2] == pytest.approx((low, high), abs=1e-14 * size)
+        if u_end - u_start < 1.0:  # the hint for the next window: u_end's period and piece
+            assert chained[2] == math.floor(u_end) and chained[3] == _independent_piece(knots, u_end - chained[2])
 
 
 def _exact_speeds(v0, t0, start, h, record, points=401):
@@ -163,3 +200,37 @@ def test_with_b_the_window_bound_covers_the_exact_speed(shape):
                 constants = shaped_flight_constants(*v0, t0, record)
                 bound = shaped_tight_window(*constants, start, h, record, 0.0, constants[1])[0]
                 assert bound >= max(_exact_speeds(v0, t0, start, h, record)) * (1 - 1e-12)
+
+
+@pytest.mark.parametrize("shape", SHAPES)
+def test_stepped_windows_chained_over_a_flight_cover_the_exact_speed(shape):
+    """The swarm's window bound (stepped_shaped_window), chained window after window over a flight as the particle
+    loop does (G1, periods and piece handed on), with and without B (off and at cyclotron resonance): it covers the
+    exact speed on a grid of each window, its G1 at each end is the quadrature's, and it is at most the padding
+    |a_p| max|f| h / 2 above the exact extremes' bound without B."""
+    from collisionkit._kernels.transport.waveform_window import stepped_shaped_window
+
+    f, knots = _f(SHAPES[shape])
+    rng = np.random.default_rng(17)
+    for w, angle in ((0.0, 0.0), (25.0, 60.0), (2 * math.pi / PERIOD, 90.0)):
+        theta = math.radians(angle)
+        record = shaped_record(derived_field(np.zeros(3), w * np.array([0.0, math.sin(theta), math.cos(theta)])),
+                               AMPLITUDE, PERIOD, SHAPES[shape])
+        for _ in range(6):
+            v0, t0 = rng.normal(size=3), rng.uniform(0, 5)
+            constants = shaped_flight_constants(*v0, t0, record)
+            u0, k0, g0 = constants[:3]
+            g, periods, piece, start = g0, 0.0, k0, 0.0
+            for h in rng.choice([0.01, 0.05, 0.3, 1.5], size=8):
+                bound, g, periods, piece = stepped_shaped_window(u0, g0, *constants[3:], start, h, record, g,
+                                                                 periods, piece)
+                assert bound >= max(_exact_speeds(v0, t0, start, h, record)) * (1 - 1e-12)
+                u_end = u0 + (start + h) / PERIOD
+                edges = sorted({u0, u_end, *(k + m for m in range(12) for k in knots if u0 < k + m < u_end)})
+                # piece by piece (quad across a jump is inexact)
+                integral = sum(quad(f, a, b, epsabs=1e-14, limit=200)[0] for a, b in zip(edges, edges[1:]))
+                assert g - g0 == pytest.approx(integral, abs=1e-12)
+                if w == 0.0:
+                    exact = shaped_tight_window(*constants, start, h, record, 0.0, k0)[0]
+                    assert bound <= exact + 0.5 * h * record[25] * (1 + 1e-9)
+                start += h

@@ -11,7 +11,7 @@ import types
 
 import numpy as np
 
-from ..._jit import borrowing_kernel, inline_kernel
+from ..._jit import borrowing_inline_kernel, borrowing_kernel, inline_kernel
 from .collisions import ionized, two_body
 from .cross_sections import node_index as _node_index
 from .cross_sections import trial_frequencies as _trial_frequencies
@@ -27,8 +27,16 @@ from .oscillating import (
     sincos, sincos_spread,
 )
 from .particular import particular_flight, particular_position, particular_terms
-from .waveform_magnetic import shaped_flight, shaped_velocity, shaped_window
-from .waveform_window import shaped_flight_constants, shaped_tight_window
+from .waveform import WAVE_START
+from .waveform_magnetic import shaped_flight as _shaped_flight
+from .waveform_magnetic import shaped_velocity, shaped_window
+from .waveform_periodic import periodic_chained_constants as _periodic_chained_constants
+from .waveform_periodic import periodic_displacement as _periodic_displacement
+from .waveform_periodic import periodic_flight_constants as _periodic_flight_constants
+from .waveform_periodic import periodic_trials
+from .waveform_periodic import periodic_velocity as _periodic_velocity
+from .waveform_window import shaped_flight_constants as _shaped_flight_constants
+from .waveform_window import stepped_shaped_window as _stepped_shaped_window
 from .layout import (
     ATTACHMENT, BOUND_COLUMN_OFFSET, DISPLACEMENT_COLUMN_OFFSET, ELASTIC, EXCITATION, NULL_COLUMN_OFFSET, SUPERELASTIC,
     TIME_COLUMN_OFFSET,
@@ -64,6 +72,16 @@ flown_position = inline_kernel(_flown_position.py_func)
 flight_envelope = inline_kernel(_flight_envelope.py_func)
 window_top_speed = inline_kernel(_window_top_speed.py_func)
 window_growth_speed = inline_kernel(_window_growth_speed.py_func)
+# ... and the waveform's flight constants, window bound and trial flight (a call with stack arguments per flight,
+# window and trial before; inlining the trial flight measured 0.91x the waveform's cost per collision)
+shaped_flight_constants = borrowing_inline_kernel(_shaped_flight_constants.py_func)
+stepped_shaped_window = borrowing_inline_kernel(_stepped_shaped_window.py_func)
+shaped_flight = borrowing_inline_kernel(_shaped_flight.py_func)
+# ... and a waveform's trials with B from the periodic solution (the per-trial state stays in registers)
+periodic_flight_constants = inline_kernel(_periodic_flight_constants.py_func)
+periodic_chained_constants = inline_kernel(_periodic_chained_constants.py_func)
+periodic_velocity = inline_kernel(_periodic_velocity.py_func)
+periodic_displacement = inline_kernel(_periodic_displacement.py_func)
 
 
 def _advance_particles(lo, hi, pos, vel, states, alive, t_start, t_end, field, mass, density, gas, kind, species_of,
@@ -96,6 +114,10 @@ def _advance_particles(lo, hi, pos, vel, states, alive, t_start, t_end, field, m
     envelope = ac and ax == 0.0 and ay == 0.0 and az == 0.0
     # a waveform without static acceleration: the windows are bounded from constants of the flight (.waveform_window)
     tight = shaped and ax == 0.0 and ay == 0.0 and az == 0.0
+    # ... and with B: the trials from the periodic solution, one rotation a trial (.waveform_periodic)
+    periodic = tight and periodic_trials(field)
+    inverse_period = 1.0 / field[WAVE_START] if shaped else 0.0
+    inverse_w = 1.0 / field[12] if periodic else 0.0
     exact = variant == STATIC or variant == OSCILLATING or (variant == WAVEFORM and field[12] == 0.0)
     half_gyration = 0.5 * field[12]
     # off cyclotron resonance, an oscillating flight with B about the particular solution v_p (:mod:`.particular`)
@@ -136,6 +158,8 @@ def _advance_particles(lo, hi, pos, vel, states, alive, t_start, t_end, field, m
                     rng[k] = child_state[i, member, k]
                 t = child_time[member]
             t_begin = t
+            chained = False  # a waveform flight with B from the last flight's trial (.waveform_periodic)
+            s_phase, s_piece, s_turn = 0.0, 0, 0.0j
             # the field's phase at t: computed here, then carried from flight to flight by the trials' rotations
             phase_sin, phase_cos = sincos(omega * t) if ac else (0.0, 1.0)
             x0, y0, z0 = x, y, z
@@ -165,9 +189,18 @@ def _advance_particles(lo, hi, pos, vel, states, alive, t_start, t_end, field, m
                 step_cos = 1.0
                 su0 = sg0 = s_along = s_across = s_offset = sdx = sdy = sdz = sfx = sfy = sfz = 0.0
                 sk0 = 0
-                if shaped:  # the phase and its piece: the trials' flights start there
+                s_gap = s_zeta = 0.0j
+                if periodic and chained:  # ... and the walk's state, from the trial that ended the last flight
+                    su0, sk0, sg0, s_along, s_across, s_offset, s_gap, s_turn = periodic_chained_constants(
+                        vx, vy, vz, s_phase, s_piece, s_turn, inverse_w, field)
+                elif periodic:  # ... from the start time: a sine and a search
+                    su0, sk0, sg0, s_along, s_across, s_offset, s_gap, s_turn = periodic_flight_constants(
+                        vx, vy, vz, t, field)
+                elif shaped:  # the phase and its piece: the trials' flights start there
                     su0, sk0, sg0, s_along, s_across, s_offset = shaped_flight_constants(vx, vy, vz, t, field)
+                s_piece, s_periods = sk0, 0.0
                 hint_period, hint = 0.0, sk0  # where the next window's walk over the pieces starts
+                s_gwin = sg0  # G1 at the next window's start
                 sh = ch = gs = gc = 0.0  # the half-angle sines of the last trial (oscillating field)
                 if not exact:
                     vb, radius, a_par = flight_envelope(vx, vy, vz, bx, by, bz, ux, uy, uz, a_par_field)
@@ -207,8 +240,9 @@ def _advance_particles(lo, hi, pos, vel, states, alive, t_start, t_end, field, m
                             h = window * inverse_nu if nu_window > 0.0 else fallback
                             h = min(h, growth * max(s_window, speed_floor) * inverse_accel)
                             if tight:
-                                s_window, hint_period, hint = shaped_tight_window(
-                                    su0, sk0, sg0, s_along, s_across, s_offset, window_end, h, field, hint_period, hint)
+                                s_window, s_gwin, hint_period, hint = stepped_shaped_window(
+                                    su0, sg0, s_along, s_across, s_offset, window_end, h, field, s_gwin, hint_period,
+                                    hint)
                             else:
                                 s_window = shaped_window(vx, vy, vz, t, window_end, h, field, accel_mag)
                             nu_window = trial_frequencies(s_window, density, gas, bound, inverse_step, sigma_max,
@@ -256,6 +290,11 @@ def _advance_particles(lo, hi, pos, vel, states, alive, t_start, t_end, field, m
                     elif ac:
                         tvx, tvy, tvz, phase_cos, phase_sin, sh, ch, gs, gc = flight_with_phases(
                             vx, vy, vz, c0, s0, elapsed, record)
+                    elif periodic:  # the half-angle sines of the gyration give the rotation of the gap
+                        gs, gc = sincos_spread(half_gyration * elapsed)
+                        tvx, tvy, tvz, s_zeta, s_piece, s_periods, s_turn = periodic_velocity(
+                            s_along, sg0, s_gap, su0, elapsed, gs, gc, s_piece, s_periods, s_turn, inverse_period,
+                            inverse_w, field)
                     elif shaped:  # a real collision's displacement comes with its velocity
                         tvx, tvy, tvz, sdx, sdy, sdz = shaped_flight(vx, vy, vz, su0, sk0, elapsed, field)
                     elif exact:
@@ -332,6 +371,8 @@ def _advance_particles(lo, hi, pos, vel, states, alive, t_start, t_end, field, m
                 elif exact:
                     half = 0.5 * elapsed * elapsed
                     x, y, z = x + vx * elapsed + ax * half, y + vy * elapsed + ay * half, z + vz * elapsed + az * half
+                elif periodic and not landed:  # a real collision: its whole displacement below, from its trial
+                    pass
                 elif landed or shaped:
                     x, y, z = flown_position(x, y, z, vx, vy, vz, elapsed, record)
                 else:  # a real collision: the sines of its trial's gyration (static or oscillating flight)
@@ -345,6 +386,13 @@ def _advance_particles(lo, hi, pos, vel, states, alive, t_start, t_end, field, m
                 if shaped:  # a real collision's from its trial
                     if landed:
                         sfx, sfy, sfz, sdx, sdy, sdz = shaped_flight(vx, vy, vz, su0, sk0, elapsed, field)
+                    elif periodic:
+                        sdx, sdy, sdz = periodic_displacement(vx, vy, vz, s_zeta, su0, sk0, elapsed, gs, gc, inverse_w,
+                                                              field)
+                        # the next flight starts at this trial's phase, piece and turn times rotation
+                        s_phase = su0 + elapsed * inverse_period - s_periods
+                        s_turn = complex(1.0 - 2.0 * gs * gs, -2.0 * gs * gc) * s_turn
+                        chained = True
                     x, y, z = x + sdx, y + sdy, z + sdz
                 if landed:
                     if shaped:
@@ -455,11 +503,14 @@ def advance_swarm(lo, hi, pos, vel, states, alive, t_start, t_end, field, mass, 
     the exact response to the field over the flight to the static flight
     (:func:`.waveform_magnetic.shaped_flight`: from the phase's piece at the
     flight's start, found once a flight; a real collision's displacement
-    comes with its trial's velocity). Without static acceleration each window
-    is bounded from constants of the flight
-    (:func:`.waveform_window.shaped_tight_window`: the exact extremes along
-    the field or B, the gyration about the periodic solution across B);
-    with it, from the exact velocity at the window's start
+    comes with its trial's velocity). With B and without static
+    acceleration the trials take the periodic solution instead
+    (:mod:`.waveform_periodic`: one rotation a trial, the next flight's
+    constants from the trial that ended the last one). Without static
+    acceleration each window is bounded from G1 at its ends and the
+    constants of the flight (:func:`.waveform_window.stepped_shaped_window`:
+    G1, its period and piece handed from window to window); with it, from
+    the exact velocity at the window's start
     (:func:`.waveform_magnetic.shaped_window`).
 
     An oscillating record (:mod:`.oscillating`: the static record extended

@@ -39,7 +39,12 @@ the oscillating record's decomposition along and across b (17: a . b;
 then ``|a . b| max|f|`` (29) and ``A max|f|`` (30); after the waveform's
 tables, R and P at the knots (real and imaginary parts, 4 n entries) and
 q, c (4 entries); then the periodic solution's tables of the window bound
-(:mod:`.waveform_window`, :func:`periodic_tables`: 3 n + 1 entries).
+(:mod:`.waveform_window`, :func:`periodic_tables`: 3 n + 1 entries); then
+the trials' tables (:mod:`.waveform_periodic`, :func:`trial_tables`: 5 n +
+1 entries, ending where the next tables start); last, with B or without,
+the tables that find a phase's piece and G1's extremes over a window
+(:func:`.waveform.with_window_tables`, their start in 33). Entry 32 holds
+a . b T.
 """
 
 from __future__ import annotations
@@ -51,13 +56,18 @@ import numpy as np
 from ..._jit import borrowing_kernel, kernel
 from .flight import flown_velocity
 from .oscillating import oscillating_field, sincos
-from .waveform import WAVE_START, _piece, piece_integrals, waveform_integrals, waveform_record
+from .waveform import WAVE_START, _piece, piece_integrals, waveform_integrals, waveform_record, with_window_tables
 
 # below this |1 - q| the periodic solution is not tabulated (cyclotron resonance): the window bound then grows with
 # the flight (:mod:`.waveform_window`)
 RESONANCE = 1e-9
 # below this |x| the phi functions come from the series of phi3 (17 terms: truncation below 1e-17)
 PHI_SERIES = 1.0
+# the trials take the periodic solution (:func:`trial_tables`) if |1 - q| is at least PERIODIC_GAP (away from
+# cyclotron resonance, where the periodic solution grows as 1/|1 - q| and its rounding with it) and the pieces'
+# particular solutions are at most PERIODIC_LOSS times its size
+PERIODIC_GAP = 0.05
+PERIODIC_LOSS = 16.0
 
 
 @kernel
@@ -148,6 +158,41 @@ def periodic_tables(knots, values, slopes, period, w, big_r, q):
     return np.concatenate([big_p.real, big_p.imag, pieces, [pieces[:-1].max() if n > 1 else 0.0]])
 
 
+def trial_tables(knots, values, slopes, period, w, periodic, q, largest):
+    """The tables of the trials' flights from the periodic solution (:mod:`.waveform_periodic`), per unit A: a flag
+    (1.0 if they may be used), then per piece k (padded to n): the gyration ``K_k = P_k - L_k(t_k)`` about the
+    piece's particular solution (real and imaginary parts), the turn ``e^{i W (t_{k+1} - t_k)}`` over the piece
+    (real and imaginary parts) and ``sigma_k / W^2``.
+
+    On piece k, where f = f_k + sigma_k (t - t_k), ``L_k(t) = -i f(t)/W +
+    sigma_k/W^2`` solves dL/dt = -i W L + f, so the periodic solution there
+    is ``P(t) = L_k(t) + e^{-i W (t - t_k)} K_k``. The flag is 0 near
+    cyclotron resonance (``|1 - q| < PERIODIC_GAP``) or where L and K are
+    more than ``PERIODIC_LOSS`` times the periodic solution's size (slopes
+    steep beside W: their difference would lose that many ulps), and the
+    trials then take the phi functions (:func:`piece_response`).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from collisionkit._kernels.transport.waveform_magnetic import trial_tables
+    >>> tables = trial_tables(np.array([0.0, 1.0]), np.array([1.0, 1.0]), np.zeros(2), 2.0, 1.0,
+    ...                       np.array([-1j, -1j]), np.exp(-2j), 1.0)  # f = 1: P = L = -i, K = 0
+    >>> [round(float(value), 12) + 0.0 for value in tables]  # flag, Re K, Im K, Re turn, Im turn, sigma/W^2
+    [1.0, 0.0, 0.0, 0.0, 0.0, -0.416146836547, 1.0, 0.909297426826, 0.0, 0.0, 0.0]
+    """
+    n = knots.size
+    sigma = slopes / period
+    start = -1j * values / w + sigma / w**2  # L_k at the piece's start
+    gyration = periodic - start
+    turns = np.exp(1j * w * np.append(np.diff(knots) * period, 0.0))
+    size = float(max(np.abs(start[:-1]).max(), np.abs(gyration[:-1]).max())) if n > 1 else 0.0
+    reference = max(float(np.abs(periodic).max()), largest * min(period, 1.0 / w))
+    usable = abs(1.0 - q) >= PERIODIC_GAP and math.isfinite(size) and size <= PERIODIC_LOSS * reference
+    return np.concatenate([[1.0 if usable else 0.0], gyration.real, gyration.imag, turns.real, turns.imag,
+                           sigma / w**2])
+
+
 def shaped_field_record(static_field, amplitude, period, knots, values):
     """The flight record of a waveform (:func:`.waveform.waveform_record`) in the static field ``static_field``,
     with the entries and tables of the module docstring if it has a magnetic field.
@@ -160,27 +205,31 @@ def shaped_field_record(static_field, amplitude, period, knots, values):
     >>> square = np.array([0.0, 0.5, 0.5, 1.0]), np.array([1.0, 1.0, -1.0, -1.0])
     >>> record = shaped_field_record(derived_field(np.zeros(3), np.array([0.0, 1.0, 0.0])), np.array([0.0, 0.0, 2.0]),
     ...                              1.0, *square)
-    >>> record.size - (34 + 2 + 5 * 4), float(record[24]), float(record[30])  # 7 n + 5 more; A = 2, A max|f| = 2
-    (33, 2.0, 2.0)
+    >>> int(record[33]) - (34 + 2 + 5 * 4), float(record[24]), float(record[30])  # 12 n + 6 more; A = 2, A max|f| = 2
+    (54, 2.0, 2.0)
     """
     record = waveform_record(static_field, amplitude, period, knots, values)
     w = float(static_field[12])
     if w == 0.0:
-        return record
+        return with_window_tables(record)
     largest = record[25] / float(np.linalg.norm(amplitude))
     decomposed = oscillating_field(np.asarray(static_field, dtype=float), np.asarray(amplitude, dtype=float), 1.0)
     record[17:25] = decomposed[17:25]
     record[26:29] = decomposed[26:29]
     record[29] = abs(decomposed[17]) * largest
     record[30] = decomposed[24] * largest
+    record[32] = decomposed[17] * period  # the window bound's parallel scale: a . b T
     n = len(knots)
     big_r, big_p, q, c = _response_tables(np.asarray(knots, dtype=float), np.asarray(values, dtype=float),
                                           record[WAVE_START + 2 + 2 * n:WAVE_START + 2 + 3 * n].copy(), period, w)
     slopes = record[WAVE_START + 2 + 2 * n:WAVE_START + 2 + 3 * n].copy()
+    periodic = periodic_tables(np.asarray(knots, dtype=float), np.asarray(values, dtype=float), slopes, period, w,
+                               big_r, q)
+    trials = trial_tables(np.asarray(knots, dtype=float), np.asarray(values, dtype=float), slopes, period, w,
+                          periodic[:n] + 1j * periodic[n:2 * n], q, largest)
     tables = np.concatenate([big_r.real, big_r.imag, big_p.real, big_p.imag, [q.real, q.imag, c.real, c.imag],
-                             periodic_tables(np.asarray(knots, dtype=float), np.asarray(values, dtype=float), slopes,
-                                             period, w, big_r, q)])
-    return np.concatenate([record, tables])
+                             periodic, trials])
+    return with_window_tables(np.concatenate([record, tables]))
 
 
 @borrowing_kernel
