@@ -253,11 +253,13 @@ class NeighbourLists:
         """
         self._refresh_lists(anchors_only=True)
         order = np.argsort(self._cell_keys()[self.cell_of], kind="stable")
-        self.p[:] = self.p[order]
+        # the records column by column: a temporary of one column, not of the whole array (64 MB at N = 10^6)
+        for array in (self.p, self._image):
+            for column in range(array.shape[1]):
+                array[:, column] = array[order, column]
         self._mass = self._mass[order]
         self._species = self._species[order]
-        self._image = self._image[order]
-        self.ids = self.ids[order]
+        self.ids = self.ids[order]  # a new array: a transport measurement tells a re-sort by it
         self.book[:] = 0.0
         self.book[:, _k.TARGET] = _k.LIST_TARGET
         copy_masses_and_species(self)
