@@ -5,8 +5,8 @@ within the contact distance at the list's radius scale plus a shell; the
 lists are built from cell lists of the anchors, a particle's own list is
 rebuilt when it has moved half a shell from its anchor (a queued event of
 its own), and all of them when the cells, the shell or the radius scale
-change. The memory order of the particles follows the cells along a
-Z-order (Morton) curve, re-sorted every so often.
+change. The memory order of the particles follows the cells, re-sorted
+every so often.
 """
 
 from __future__ import annotations
@@ -24,47 +24,6 @@ LIST_SCALE_MARGIN = 0.05
 INITIAL_CELL_SLOTS = 8
 # the most cells a particle, on average (per axis: (CELLS_PER_PARTICLE N)^(1/dim))
 CELLS_PER_PARTICLE = 2
-
-
-def morton_keys(ncell):
-    """Z-order (Morton) key of every cell of a grid, indexed by the linear cell number (x fastest).
-
-    The key interleaves the bits of the cell's integer coordinates,
-    ``key = sum_b (bit_b(cx) 2^(3b) + bit_b(cy) 2^(3b+1) + bit_b(cz) 2^(3b+2))``
-    (G. M. Morton, IBM technical report (1966); Z-order), so the cells of
-    every aligned block of ``2^k`` cells per axis have consecutive keys
-    among the grid's: neighbours in y and z lie near each other along the
-    curve, not ``ncell_x`` and ``ncell_x ncell_y`` cells apart as in the
-    linear order. Grids of any size (not only powers of two) and shape: the
-    keys of a grid are distinct (a sort key; they are not dense).
-
-    Parameters
-    ----------
-    ncell : array_like of int, shape (3,)
-        Cells per axis (1 along the axes a 2D system lacks).
-
-    Returns
-    -------
-    ndarray of int64, shape (prod(ncell),)
-
-    Examples
-    --------
-    >>> morton_keys([2, 2, 1]).tolist()
-    [0, 1, 2, 3]
-    >>> morton_keys([4, 1, 1]).tolist()
-    [0, 1, 8, 9]
-    """
-    ncell = [int(n) for n in ncell]
-    cell = np.arange(math.prod(ncell), dtype=np.int64)
-    coordinates = (cell % ncell[0], cell // ncell[0] % ncell[1], cell // (ncell[0] * ncell[1]))
-    bits = max(n - 1 for n in ncell).bit_length()
-    if 3 * bits > 63:
-        raise ValueError(f"a cell grid of {ncell} is too large for 63-bit Morton keys")
-    key = np.zeros(cell.size, dtype=np.int64)
-    for bit in range(bits):
-        for axis, c in enumerate(coordinates):
-            key |= ((c >> bit) & 1) << (3 * bit + axis)
-    return key
 
 
 class NeighbourLists:
@@ -235,24 +194,28 @@ class NeighbourLists:
         """Time from now until the growing radii outgrow the lists' scale (inf when not compressing)."""
         return (self.params[_k.P_LIST_SCALE] - self.scale) / self.growth if self.growth > 0 else math.inf
 
-    def _cell_keys(self):
-        """:func:`morton_keys` of the current cell grid (computed once per grid)."""
-        cached = getattr(self, "_morton", None)
-        if cached is None or not np.array_equal(cached[0], self.ncell):
-            cached = self._morton = (self.ncell.copy(), morton_keys(self.ncell))
-        return cached[1]
+    def _slot_order(self):
+        """The new memory order at a sort: slots in the order of their cells (x fastest), stably.
+
+        A Z-order (Morton) curve of the cells was measured against it at
+        N = 32000 to 10^6 and gained nothing beyond the run-to-run spread,
+        nor did it lose to a random order (benchmarks/results/edmd_morton.md):
+        a particle's records fill a cache line each, so no order makes
+        neighbours share one, and numpy's large arrays sit in huge pages.
+        """
+        return np.argsort(self.cell_of, kind="stable")
 
     def _sort_by_cell(self):
-        """Renumber the memory slots along a Z-order curve of the cells so neighbours lie close in memory.
+        """Renumber the memory slots in cell order so neighbours lie close in memory.
 
         Particles keep their identity through ``ids``; all lists are rebuilt
         and all events re-predicted (the slots changed). The order is that
-        of the :func:`morton_keys` of the cells of the particles' positions
-        now (their anchors, set before renumbering; within a cell, the
-        former order), and the lists are built once, after it.
+        of the cells of the particles' positions now (their anchors, set
+        before renumbering; :meth:`_slot_order`), and the lists are built
+        once, after it. The trajectory does not depend on the order.
         """
         self._refresh_lists(anchors_only=True)
-        order = np.argsort(self._cell_keys()[self.cell_of], kind="stable")
+        order = self._slot_order()
         # the records column by column: a temporary of one column, not of the whole array (64 MB at N = 10^6)
         for array in (self.p, self._image):
             for column in range(array.shape[1]):

@@ -231,7 +231,7 @@ class HardSphereSystem(SystemParameters, ParticleState, NeighbourLists, Checkpoi
         self.p = _system_setup.particle_records(positions, velocities, radius)
         _system_setup.wrap_into_box(self.p, box, periodic)
         self._image = np.zeros((count, dim), dtype=np.int64)
-        # particles live in memory in the cells' Z-order (re-sorted as they move); ids maps slot -> particle
+        # particles live in memory in cell order (re-sorted as they move); ids maps slot -> particle
         self.ids = np.arange(count)
         self.last_sort = 0
         self.acc = np.zeros(_k.ACC_SIZE)
@@ -244,7 +244,7 @@ class HardSphereSystem(SystemParameters, ParticleState, NeighbourLists, Checkpoi
         if self.shear_rate != 0.0:
             self._add_streaming()
         _system_setup.allocate_engine_arrays(self)
-        self._sort_by_cell()  # memory in the cells' Z-order from the start (a lattice's own order is row by row)
+        self._refresh_lists()
         _system_setup.check_walls(self)
         gap = self._sheared_gap() if self.shear_rate != 0.0 else self._pair_gap()
         if gap < -1e-9 * float(np.max(radius)):
