@@ -198,10 +198,11 @@ class NeighbourLists:
         """The new memory order at a sort: slots in the order of their cells (x fastest), stably.
 
         A Z-order (Morton) curve of the cells was measured against it at
-        N = 32000 to 10^6 and gained nothing beyond the run-to-run spread,
-        nor did it lose to a random order (benchmarks/results/edmd_morton.md):
-        a particle's records fill a cache line each, so no order makes
-        neighbours share one, and numpy's large arrays sit in huge pages.
+        N = 32000 to 10^6 and gained nothing (0.89-1.01 times the rate,
+        within the run-to-run spread); even a random order cost only 8-18 %
+        at 10^6 (benchmarks/results/edmd_morton.md): a particle's records
+        fill a cache line each, so no order makes neighbours share one, and
+        numpy's large arrays sit in huge pages (few TLB misses).
         """
         return np.argsort(self.cell_of, kind="stable")
 
