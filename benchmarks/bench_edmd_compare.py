@@ -11,8 +11,16 @@ round. ``--shell-old`` and ``--shell-new`` set the neighbour shell (in
 diameters) of either side (default: the engine's), so one tree can be
 timed against itself with two shells.
 
+With ``--collisions`` a child times as ``bench_edmd.one_size`` does
+instead: 5 N collisions of warm-up, then max(5 N, 10^6) collisions; with
+``--sort`` too it renumbers the particles in memory (``_sort_by_cell``, each
+tree its own way) after the warm-up, so both sides are timed in the order a
+long run keeps (a run re-sorts every ``SORT_INTERVAL`` N collisions, and
+one_size's 10 N of N >= 10^5 hold none, so it times the lattice's order).
+Any N is then allowed (FCC: 4 cells^3), with the packing fraction ``--eta``.
+
 Usage: python benchmarks/bench_edmd_compare.py --old /tmp/base/src [--new SRC] [--sizes 864 32000] [--rounds 5]
-       [--shell-old S] [--shell-new S] [--output edmd_compare]
+       [--shell-old S] [--shell-new S] [--collisions [--sort]] [--output edmd_compare]
 Writes benchmarks/results/<output>.md and .json.
 """
 
@@ -33,8 +41,23 @@ RESULTS = HERE / "results"
 NEW_SRC = HERE.parent / "src"
 
 
-def child(src: Path, cache: Path, particles: int, eta: float, duration: float, shell: float | None) -> dict:
-    """One timed window in a fresh process importing collisionkit from ``src``."""
+def child(src: Path, cache: Path, particles: int, eta: float, duration: float | None, shell: float | None,
+          sort: bool = False) -> dict:
+    """One timed window (or, if ``duration`` is None, one_size's collisions) in a fresh process importing ``src``."""
+    if duration is None:
+        timed = f"""
+system.run(collisions=5 * system.count)
+if {sort!r}:
+    system._sort_by_cell()
+start = time.process_time()
+collisions = system.run(collisions=max(5 * system.count, 1_000_000))
+cpu = time.process_time() - start"""
+    else:
+        timed = f"""
+system.run(time={duration})
+start = time.process_time()
+collisions = system.run(time={duration})
+cpu = time.process_time() - start"""
     code = f"""
 import json, resource, time
 import numpy as np
@@ -43,10 +66,7 @@ cells = round(({particles} / 4) ** (1 / 3))
 positions, box = edmd.lattice("fcc", cells, {eta})
 options = {{}} if {shell!r} is None else {{"neighbour_shell": {shell!r}}}
 system = edmd.HardSphereSystem(positions, edmd.maxwell_boltzmann(np.ones(len(positions)), 3, seed=1), 0.5, box, **options)
-system.run(time={duration})
-start = time.process_time()
-collisions = system.run(time={duration})
-cpu = time.process_time() - start
+{timed}
 system.check()
 print(json.dumps({{"collisions": collisions, "cpu_seconds": cpu, "rate": collisions / cpu,
                   "mean_list": float(system.neighbour_count.mean()), "width": system.neighbours.shape[1],
@@ -73,6 +93,8 @@ def main() -> None:
     parser.add_argument("--window", type=float, default=None, help="simulated-time window L (default: the state point's)")
     parser.add_argument("--shell-old", type=float, default=None)
     parser.add_argument("--shell-new", type=float, default=None)
+    parser.add_argument("--collisions", action="store_true", help="time as bench_edmd.one_size (not a time window)")
+    parser.add_argument("--sort", action="store_true", help="with --collisions: re-sort the memory order first")
     parser.add_argument("--output", default="edmd_compare")
     args = parser.parse_args()
     cache = Path(os.environ.get("NUMBA_CACHE_DIR", ".numba_cache")).resolve()
@@ -81,35 +103,46 @@ def main() -> None:
     shells = {"old": args.shell_old, "new": args.shell_new}
     rows = []
     for size in args.sizes:
-        particles, _, duration = STATE_POINTS[size]
-        duration = args.window or duration
+        if args.collisions:
+            particles, duration = size, None
+        else:
+            particles, _, duration = STATE_POINTS[size]
+            duration = args.window or duration
         runs = {"old": [], "new": []}
         loads = []
         for k in range(args.rounds):
             loads.append(os.getloadavg()[0])
             for side in (("old", "new") if k % 2 == 0 else ("new", "old")):
-                runs[side].append(child(sources[side], caches[side], particles, args.eta, duration, shells[side]))
+                runs[side].append(child(sources[side], caches[side], particles, args.eta, duration, shells[side],
+                                        args.sort))
             print(f"N {particles} round {k}: old {runs['old'][-1]['rate']:.4g}/s new {runs['new'][-1]['rate']:.4g}/s "
-                  f"ratio {runs['new'][-1]['rate'] / runs['old'][-1]['rate']:.3f} load {loads[-1]:.2f}", flush=True)
+                  f"ratio {runs['new'][-1]['rate'] / runs['old'][-1]['rate']:.3f} load {loads[-1]:.2f} "
+                  f"memory {runs['old'][-1]['peak_memory_mb']:.0f} / {runs['new'][-1]['peak_memory_mb']:.0f} MB",
+                  flush=True)
         ratios = [n["rate"] / o["rate"] for n, o in zip(runs["new"], runs["old"])]
         rows.append({"particles": particles, "window": duration, "runs": runs, "ratios": ratios, "loads": loads})
     command = "python benchmarks/bench_edmd_compare.py " + " ".join(sys.argv[1:])
+    timed = ("5 N collisions of warm-up" + (", a re-sort" if args.sort else "") + ", then max(5 N, 10^6) collisions"
+             if args.collisions else "the window [L, 2 L]")
     lines = [
         f"# EDMD A/B: {args.new} (new) against {args.old} (old)",
         "",
         f"Command: `{command}`; eta {args.eta}, shells old {args.shell_old or 'default'} / new "
-        f"{args.shell_new or 'default'}; {args.rounds} rounds of alternating child processes, CPU time of the window "
-        "[L, 2 L] from an FCC start.",
+        f"{args.shell_new or 'default'}; {args.rounds} rounds of alternating child processes, CPU time of {timed} "
+        "from an FCC start.",
         "",
-        "| N (L) | old collisions/CPU-s | new collisions/CPU-s | new / old: median (range) | load averages | mean list old / new |",
-        "|---|---|---|---|---|---|",
+        "| N (L) | old collisions/CPU-s | new collisions/CPU-s | new / old: median (range) | load averages "
+        "| mean list old / new | peak memory old / new (MB) |",
+        "|---|---|---|---|---|---|---|",
     ]
     for row in rows:
         lines.append(
-            f"| {row['particles']:,} ({row['window']:g}) | {spread([r['rate'] for r in row['runs']['old']])} | "
+            f"| {row['particles']:,} ({row['window'] or '-'}) | {spread([r['rate'] for r in row['runs']['old']])} | "
             f"{spread([r['rate'] for r in row['runs']['new']])} | {spread(row['ratios'])} | "
             f"{min(row['loads']):.2f}-{max(row['loads']):.2f} | {row['runs']['old'][0]['mean_list']:.2f} / "
-            f"{row['runs']['new'][0]['mean_list']:.2f} |"
+            f"{row['runs']['new'][0]['mean_list']:.2f} | "
+            f"{statistics.median(r['peak_memory_mb'] for r in row['runs']['old']):.0f} / "
+            f"{statistics.median(r['peak_memory_mb'] for r in row['runs']['new']):.0f} |"
         )
     text = "\n".join(lines) + "\n"
     print(text)
