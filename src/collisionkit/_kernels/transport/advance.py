@@ -46,6 +46,10 @@ from .rng import next_u64, normal_pair, seed_state, uniform
 # the kinds of field, each with its own machine code of the particle loop (:func:`field_variant`)
 STATIC, MAGNETIC, OSCILLATING, OSCILLATING_MAGNETIC, NEAR_RESONANCE, WAVEFORM = range(6)
 LOOP_VARIANT = STATIC  # the kind of field of the loop: each copy of it in PARTICLE_LOOPS sees its own
+# ... and what it implies, each a global of its own: numba prunes a branch on a global before it inlines the
+# flights, so a loop compiles only its own kind's code (first compilation, measured: static 39 -> 14 s, static
+# B 34 -> 10 s, waveform 46 -> 31 s)
+LOOP_OSCILLATING = LOOP_WAVEFORM = LOOP_PARTICULAR = False
 # a flight window lasts WINDOW_COLLISIONS / (trial frequency of the previous window): longer windows mean
 # fewer window updates but a looser bound (more null trials); 1.3 is the fastest on Reid's ramp at 1-12 Td
 WINDOW_COLLISIONS = 1.3
@@ -103,9 +107,9 @@ def _advance_particles(lo, hi, pos, vel, states, alive, t_start, t_end, field, m
     moved_column = n_proc + DISPLACEMENT_COLUMN_OFFSET
     accel_mag = math.sqrt(field[0] ** 2 + field[1] ** 2 + field[2] ** 2)
     variant = LOOP_VARIANT
-    ac = variant == OSCILLATING or variant == OSCILLATING_MAGNETIC or variant == NEAR_RESONANCE
+    ac = LOOP_OSCILLATING  # E0 cos(omega t) (:mod:`.oscillating`)
     omega = field[STATIC_SIZE] if ac else 0.0
-    shaped = variant == WAVEFORM  # a periodic waveform given as samples (:mod:`.waveform`)
+    shaped = LOOP_WAVEFORM  # a periodic waveform given as samples (:mod:`.waveform`)
     if ac or shaped:
         accel_mag += field[STATIC_SIZE + 12]
     record = record_values(field)  # a tuple: the inlined flight functions then take no array (no reference counts)
@@ -121,7 +125,7 @@ def _advance_particles(lo, hi, pos, vel, states, alive, t_start, t_end, field, m
     exact = variant == STATIC or variant == OSCILLATING or (variant == WAVEFORM and field[12] == 0.0)
     half_gyration = 0.5 * field[12]
     # off cyclotron resonance, an oscillating flight with B about the particular solution v_p (:mod:`.particular`)
-    particular = variant == OSCILLATING_MAGNETIC
+    particular = LOOP_PARTICULAR
     _, k_s, k_c = particular_terms(field)
     bx, by, bz, ux, uy, uz = field[3], field[4], field[5], field[9], field[10], field[11]
     a_par_field = field[6] * bx + field[7] * by + field[8] * bz
@@ -182,7 +186,7 @@ def _advance_particles(lo, hi, pos, vel, states, alive, t_start, t_end, field, m
                     pz = vz - (s0 * k_s[2] + c0 * k_c[2])
                 wvx, wvy, wvz, wc, ws = vx, vy, vz, c0, s0  # the state at the next window's start
                 w_par, radius_ac, w_speed, s_window, turning, turned = 0.0, 0.0, 0.0, speed0, 0.0j, 0.0j
-                if envelope:
+                if ac and envelope:
                     w_par, radius_ac, w_speed, turning = flight_envelope_ac(vx, vy, vz, c0, s0, record)
                     turned = turning  # U at the next window's start
                 step = step_sin = 0.0
@@ -190,10 +194,10 @@ def _advance_particles(lo, hi, pos, vel, states, alive, t_start, t_end, field, m
                 su0 = sg0 = s_along = s_across = s_offset = sdx = sdy = sdz = sfx = sfy = sfz = 0.0
                 sk0 = 0
                 s_gap = s_zeta = 0.0j
-                if periodic and chained:  # ... and the walk's state, from the trial that ended the last flight
+                if shaped and periodic and chained:  # ... and the walk's state, from the trial that ended the last flight
                     su0, sk0, sg0, s_along, s_across, s_offset, s_gap, s_turn = periodic_chained_constants(
                         vx, vy, vz, s_phase, s_piece, s_turn, inverse_w, field)
-                elif periodic:  # ... from the start time: a sine and a search
+                elif shaped and periodic:  # ... from the start time: a sine and a search
                     su0, sk0, sg0, s_along, s_across, s_offset, s_gap, s_turn = periodic_flight_constants(
                         vx, vy, vz, t, field)
                 elif shaped:  # the phase and its piece: the trials' flights start there
@@ -223,7 +227,7 @@ def _advance_particles(lo, hi, pos, vel, states, alive, t_start, t_end, field, m
                             fx, fy, fz = flown_velocity(vx, vy, vz, elapsed, record)
                         return i, math.sqrt(fx * fx + fy * fy + fz * fz)
                     if elapsed >= window_end:  # open the next window
-                        if envelope:  # the bound from the parallel velocity and phase at the window's start
+                        if ac and envelope:  # the bound from the parallel velocity and phase at the window's start
                             # (the previous window's bound stands in for the speed at the start)
                             if window_end == 0.0:  # the flight's windows all of the first one's length: one sine
                                 step = window * inverse_nu if nu_window > 0.0 else fallback
@@ -290,7 +294,7 @@ def _advance_particles(lo, hi, pos, vel, states, alive, t_start, t_end, field, m
                     elif ac:
                         tvx, tvy, tvz, phase_cos, phase_sin, sh, ch, gs, gc = flight_with_phases(
                             vx, vy, vz, c0, s0, elapsed, record)
-                    elif periodic:  # the half-angle sines of the gyration give the rotation of the gap
+                    elif shaped and periodic:  # the half-angle sines of the gyration give the rotation of the gap
                         gs, gc = sincos_spread(half_gyration * elapsed)
                         tvx, tvy, tvz, s_zeta, s_piece, s_periods, s_turn = periodic_velocity(
                             s_along, sg0, s_gap, su0, elapsed, gs, gc, s_piece, s_periods, s_turn, inverse_period,
@@ -371,7 +375,7 @@ def _advance_particles(lo, hi, pos, vel, states, alive, t_start, t_end, field, m
                 elif exact:
                     half = 0.5 * elapsed * elapsed
                     x, y, z = x + vx * elapsed + ax * half, y + vy * elapsed + ay * half, z + vz * elapsed + az * half
-                elif periodic and not landed:  # a real collision: its whole displacement below, from its trial
+                elif shaped and periodic and not landed:  # a real collision: its whole displacement below, from its trial
                     pass
                 elif landed or shaped:
                     x, y, z = flown_position(x, y, z, vx, vy, vz, elapsed, record)
@@ -569,7 +573,9 @@ def _variant_loop(variant):
     """The particle loop of one kind of field: a copy of :func:`_advance_particles` that sees ``LOOP_VARIANT =
     variant`` (numba freezes globals as constants), under a name of its own (numba names its cache files by it)."""
     source = _advance_particles
-    scope = dict(source.__globals__, LOOP_VARIANT=variant)
+    scope = dict(source.__globals__, LOOP_VARIANT=variant, LOOP_WAVEFORM=variant == WAVEFORM,
+                 LOOP_OSCILLATING=variant in (OSCILLATING, OSCILLATING_MAGNETIC, NEAR_RESONANCE),
+                 LOOP_PARTICULAR=variant == OSCILLATING_MAGNETIC)
     copy = types.FunctionType(source.__code__, scope, f"{source.__name__}_{variant}")
     copy.__qualname__ = f"{source.__qualname__}_{variant}"
     copy.__doc__, copy.__module__ = source.__doc__, source.__module__
