@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import math
 
-from ...._jit import borrowing_kernel, inline_kernel
+from ...._jit import inline_kernel
 from .fields import electric_at, magnetic_at
 from .integrator import (
     A21, A31, A32, A41, A42, A43, A51, A52, A53, A54, A61, A62, A63, A64, A65, A71, A73, A74, A75, A76, E1, E3, E4,
@@ -21,7 +21,7 @@ from .integrator import (
 )
 
 
-@borrowing_kernel
+@inline_kernel
 def acceleration(qm, e_kind, e_par, e_meta, e_values, e_user, b_kind, b_par, b_meta, b_values, b_user, buffer,
                  position, velocity):
     """(q/m)(E + v x B) at ``position`` for ``velocity`` (3-tuples), a tuple."""
