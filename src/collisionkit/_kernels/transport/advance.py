@@ -194,7 +194,7 @@ def _advance_particles(lo, hi, pos, vel, states, alive, t_start, t_end, field, m
                 su0 = sg0 = s_along = s_across = s_offset = sdx = sdy = sdz = sfx = sfy = sfz = 0.0
                 sk0 = 0
                 s_gap = s_zeta = 0.0j
-                if shaped and periodic and chained:  # ... and the walk's state, from the trial that ended the last flight
+                if shaped and periodic and chained:  # ... and the walk's state, from the trial ending the last flight
                     su0, sk0, sg0, s_along, s_across, s_offset, s_gap, s_turn = periodic_chained_constants(
                         vx, vy, vz, s_phase, s_piece, s_turn, inverse_w, field)
                 elif shaped and periodic:  # ... from the start time: a sine and a search
@@ -375,7 +375,7 @@ def _advance_particles(lo, hi, pos, vel, states, alive, t_start, t_end, field, m
                 elif exact:
                     half = 0.5 * elapsed * elapsed
                     x, y, z = x + vx * elapsed + ax * half, y + vy * elapsed + ay * half, z + vz * elapsed + az * half
-                elif shaped and periodic and not landed:  # a real collision: its whole displacement below, from its trial
+                elif shaped and periodic and not landed:  # a real collision: its displacement below, from its trial
                     pass
                 elif landed or shaped:
                     x, y, z = flown_position(x, y, z, vx, vy, vz, elapsed, record)
