@@ -26,6 +26,8 @@ import sys
 import time
 from pathlib import Path
 
+from _bench_common import json_in_fresh_process
+
 from collisionkit._io import atomic_write_text
 
 RESULTS = Path(__file__).parent / "results"
@@ -97,12 +99,7 @@ def time_window(particles: int, eta: float, duration: float) -> dict:
 def in_subprocess(particles: int, eta: float, shell: float | None = None, window: float | None = None) -> dict:
     """:func:`one_size` (or :func:`time_window` if ``window`` is given) in a fresh process."""
     call = f"time_window({particles}, {eta}, {window})" if window is not None else f"one_size({particles}, {eta}, {shell})"
-    code = (
-        f"import json, sys; sys.path.insert(0, {str(Path(__file__).parent)!r}); import bench_edmd; "
-        f"print(json.dumps(bench_edmd.{call}))"
-    )
-    output = subprocess.run([sys.executable, "-c", code], check=True, capture_output=True, text=True).stdout
-    return json.loads(output.strip().splitlines()[-1])
+    return json_in_fresh_process("bench_edmd", call)
 
 
 def start_up_seconds() -> float:

@@ -34,10 +34,9 @@ import subprocess
 import sys
 from pathlib import Path
 
-from collisionkit._io import atomic_write_text
+from _bench_common import write_results
 
 HERE = Path(__file__).parent
-RESULTS = HERE / "results"
 NEW_SRC = HERE.parent / "src"
 
 
@@ -144,11 +143,7 @@ def main() -> None:
             f"{statistics.median(r['peak_memory_mb'] for r in row['runs']['old']):.0f} / "
             f"{statistics.median(r['peak_memory_mb'] for r in row['runs']['new']):.0f} |"
         )
-    text = "\n".join(lines) + "\n"
-    print(text)
-    RESULTS.mkdir(exist_ok=True)
-    atomic_write_text(RESULTS / f"{args.output}.md", text)
-    atomic_write_text(RESULTS / f"{args.output}.json", json.dumps({"rows": rows}, indent=2) + "\n")
+    write_results(args.output, "\n".join(lines) + "\n", {"rows": rows})
 
 
 if __name__ == "__main__":

@@ -38,14 +38,13 @@ Writes benchmarks/results/edmd_event_counts.md and .json.
 from __future__ import annotations
 
 import argparse
-import json
 import os
 import sys
 from pathlib import Path
 
 import numpy as np
+from _bench_common import json_in_fresh_process, write_results
 
-from collisionkit._io import atomic_write_text
 from collisionkit._jit import borrowing_kernel as kernel
 from collisionkit._kernels import edmd as engine
 from collisionkit._kernels.edmd.contacts import bounce_off_wall, collide_pair
@@ -59,8 +58,6 @@ from collisionkit._kernels.edmd.neighbour_lists import rebuild_list, sweep_frame
 from collisionkit._kernels.edmd.prediction import predict
 from collisionkit._kernels.edmd.queue import queue_update
 
-
-RESULTS = Path(__file__).parent / "results"
 
 # tallies of the counting loop
 EVENTS = 0
@@ -403,12 +400,7 @@ def count_reference(source: Path, particles: int, eta: float, duration: float, s
 
 
 def in_subprocess(particles: int, eta: float, duration: float, shell: float | None) -> dict:
-    import subprocess
-
-    code = (f"import json, sys; sys.path.insert(0, {str(Path(__file__).parent)!r}); import bench_edmd_event_counts as b; "
-            f"print(json.dumps(b.count_point({particles}, {eta}, {duration}, {shell})))")
-    output = subprocess.run([sys.executable, "-c", code], check=True, capture_output=True, text=True).stdout
-    return json.loads(output.strip().splitlines()[-1])
+    return json_in_fresh_process("bench_edmd_event_counts", f"count_point({particles}, {eta}, {duration}, {shell})")
 
 
 ROWS = [
@@ -479,11 +471,7 @@ def main() -> None:
         with tempfile.TemporaryDirectory() as scratch:
             rows += [count_reference(args.source, n, args.eta, STATE_POINTS[n][2], Path(scratch)) for n in args.sizes]
     command = "python benchmarks/bench_edmd_event_counts.py " + " ".join(sys.argv[1:])
-    text = table(rows, command.strip(), loads, args.eta)
-    print(text)
-    RESULTS.mkdir(exist_ok=True)
-    atomic_write_text(RESULTS / f"{args.output}.md", text)
-    atomic_write_text(RESULTS / f"{args.output}.json", json.dumps({"rows": rows}, indent=2) + "\n")
+    write_results(args.output, table(rows, command.strip(), loads, args.eta), {"rows": rows})
 
 
 if __name__ == "__main__":

@@ -21,14 +21,13 @@ Writes benchmarks/results/<output>.md and .json.
 from __future__ import annotations
 
 import argparse
-import json
 import os
 import statistics
-import subprocess
 import sys
 from pathlib import Path
 
-RESULTS = Path(__file__).parent / "results"
+from _bench_common import json_in_fresh_process, write_results
+
 VARIANTS = ("cells", "morton", "random")
 
 
@@ -76,12 +75,7 @@ def one_run(particles: int, variant: str) -> dict:
 
 
 def in_subprocess(particles: int, variant: str) -> dict:
-    code = (
-        f"import json, sys; sys.path.insert(0, {str(Path(__file__).parent)!r}); import bench_edmd_order; "
-        f"print(json.dumps(bench_edmd_order.one_run({particles}, {variant!r})))"
-    )
-    output = subprocess.run([sys.executable, "-c", code], check=True, capture_output=True, text=True).stdout
-    return json.loads(output.strip().splitlines()[-1])
+    return json_in_fresh_process("bench_edmd_order", f"one_run({particles}, {variant!r})")
 
 
 def main() -> None:
@@ -90,8 +84,6 @@ def main() -> None:
     parser.add_argument("--rounds", type=int, default=3)
     parser.add_argument("--output", default="edmd_order")
     args = parser.parse_args()
-    from collisionkit._io import atomic_write_text
-
     rows = []
     for size in args.sizes:
         runs = {variant: [] for variant in VARIANTS}
@@ -123,11 +115,7 @@ def main() -> None:
                 f"{statistics.median(r['peak_memory_mb'] for r in row['runs'][variant]):.0f} | "
                 f"{min(row['loads']):.2f}-{max(row['loads']):.2f} |"
             )
-    text = "\n".join(lines) + "\n"
-    print(text)
-    RESULTS.mkdir(exist_ok=True)
-    atomic_write_text(RESULTS / f"{args.output}.md", text)
-    atomic_write_text(RESULTS / f"{args.output}.json", json.dumps({"rows": rows}, indent=2) + "\n")
+    write_results(args.output, "\n".join(lines) + "\n", {"rows": rows})
 
 
 if __name__ == "__main__":

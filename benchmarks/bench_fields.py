@@ -14,20 +14,30 @@ fields_<tag>.json). ``--compare OLD_SRC`` times this checkout and the one
 whose ``src`` is OLD_SRC in alternating child processes (one round each,
 ``--repeats`` times) and writes benchmarks/results/fields_compare.md: each
 case's median and range before and after, and of its ratio to E alone.
+``--baseline REVISION`` does the same against the ``src`` of a git revision
+of this repository (exported to a temporary directory), which runs only the
+cases its code can (for ``015b4fc^``, the code issue 20 was filed against:
+E alone and E perpendicular to B), and writes
+benchmarks/results/fields_baseline.md: each case against that revision's
+static-field cost. ``--collisions`` sets the collisions a run (2e7).
 
     NUMBA_CACHE_DIR=.numba_cache .venv/bin/python benchmarks/bench_fields.py
     NUMBA_CACHE_DIR=.numba_cache .venv/bin/python benchmarks/bench_fields.py --compare /tmp/old/src --repeats 5
+    NUMBA_CACHE_DIR=.numba_cache .venv/bin/python benchmarks/bench_fields.py --baseline 015b4fc^ --repeats 5
 """
 
 from __future__ import annotations
 
 import inspect
+import io
 import json
 import math
 import os
 import statistics
 import subprocess
 import sys
+import tarfile
+import tempfile
 import time
 from pathlib import Path
 
@@ -63,33 +73,44 @@ def cost(options: dict) -> dict:
             "ns_per_collision": 1e9 * cpu / result.collisions, "mean_energy": result.mean_energy}
 
 
-def compare(old_src: str, repeats: int) -> None:
-    """Alternate child processes of the old and this checkout, one round each, and tabulate both."""
-    here = str(Path(__file__).resolve().parents[1] / "src")
-    rounds = {"before": [], "after": []}
+def alternate(sources: dict[str, str], repeats: int) -> tuple[dict[str, list[dict]], list[tuple]]:
+    """Run this script once per round in a child process for each ``label: src`` of ``sources`` (``PYTHONPATH``
+    = src), alternating the order from round to round; return each label's rounds and the load averages."""
+    rounds = {label: [] for label in sources}
     loads = [os.getloadavg()]
     for k in range(repeats):
-        for label, src in (("before", old_src), ("after", here)):
-            tag = f"compare_{label}_{k}"
+        order = list(sources.items()) if k % 2 == 0 else list(sources.items())[::-1]
+        for label, src in order:
+            tag = f"child_{label}_{k}"
             # each checkout its own numba cache: one shared would be recompiled at every switch (its stamp differs)
             cache = Path(os.environ.get("NUMBA_CACHE_DIR", ".numba_cache")) / f"compare_{label}"
             environment = {**os.environ, "PYTHONPATH": src, "NUMBA_CACHE_DIR": str(cache)}
-            subprocess.run([sys.executable, __file__, "--repeats", "1", "--tag", tag], check=True, env=environment)
+            subprocess.run([sys.executable, __file__, "--repeats", "1", "--tag", tag, "--collisions", str(COLLISIONS)],
+                           check=True, env=environment)
             path = RESULTS / f"fields_{tag}.json"
             rounds[label].append(json.loads(path.read_text()))
             path.unlink()
-    loads.append(os.getloadavg())
+        loads.append(os.getloadavg())
+    return rounds, loads
+
+
+def spread(values: list[float], digits: int) -> str:
+    """``median (min-max)`` of ``values``."""
+    return f"{statistics.median(values):.{digits}f} ({min(values):.{digits}f}-{max(values):.{digits}f})"
+
+
+def compare(old_src: str, repeats: int) -> None:
+    """Alternate child processes of the old and this checkout, one round each, and tabulate both."""
+    here = str(Path(__file__).resolve().parents[1] / "src")
+    rounds, loads = alternate({"before": old_src, "after": here}, repeats)
     lines = ["# Fields benchmark: before and after", "",
              f"benchmarks/bench_fields.py --compare {old_src} --repeats {repeats}: {repeats} rounds, the old and this "
              f"checkout in alternating child processes, one run of each case a round (CPU time per real collision, "
-             f"2e7 collisions a run); load average {loads[0][0]:.1f} at the start, {loads[1][0]:.1f} at the end. "
+             f"{COLLISIONS:.0e} collisions a run); load average {loads[0][0]:.1f} at the start, "
+             f"{loads[-1][0]:.1f} at the end. "
              "Medians (range) over the rounds; the ratio is each round's ratio to that round's E alone.", "",
              "| case | ns before | ns after | null / real before -> after | ratio to E alone before "
              "| ratio to E alone after |", "|---|---|---|---|---|---|"]
-
-    def spread(values, digits):
-        return f"{statistics.median(values):.{digits}f} ({min(values):.{digits}f}-{max(values):.{digits}f})"
-
     for name in rounds["after"][0]:
         if not isinstance(rounds["after"][0][name], dict):
             continue
@@ -109,7 +130,56 @@ def compare(old_src: str, repeats: int) -> None:
     atomic_write_text(RESULTS / "fields_compare.md", "\n".join(lines) + "\n")
 
 
+def exported_source(revision: str, into: Path) -> str:
+    """The ``src`` tree of git ``revision`` of this repository, written under ``into``; its path."""
+    repository = Path(__file__).resolve().parents[1]
+    archive = subprocess.run(["git", "-C", str(repository), "archive", "--format=tar", revision, "src"],
+                             check=True, capture_output=True).stdout
+    with tarfile.open(fileobj=io.BytesIO(archive)) as tar:
+        tar.extractall(into, filter="data")
+    return str(into / "src")
+
+
+def baseline(revision: str, repeats: int) -> None:
+    """Each case of this checkout against the static-field cost of the code at ``revision`` (issue 20's
+    "today's static-field cost": the code the issue was filed against), alternating child processes."""
+    here = str(Path(__file__).resolve().parents[1] / "src")
+    with tempfile.TemporaryDirectory() as scratch:
+        old_src = exported_source(revision, Path(scratch))
+        rounds, loads = alternate({"baseline": old_src, "today": here}, repeats)
+    old_static = {name for name in rounds["baseline"][0] if isinstance(rounds["baseline"][0][name], dict)}
+    lines = ["# Fields benchmark against the static-field cost of an earlier revision", "",
+             f"benchmarks/bench_fields.py --baseline {revision} --repeats {repeats}: the code of git revision "
+             f"{revision} (the static cases it can run: {', '.join(sorted(old_static))}) and this checkout in "
+             f"alternating child processes, one run of each case a round (CPU time per real collision, "
+             f"{COLLISIONS:.0e} collisions a run); load average {loads[0][0]:.1f} at the start, "
+             f"{loads[-1][0]:.1f} at the end. Medians (range) over the rounds of each round's ratio; 'static of its "
+             "kind' is the old E alone for a case without B and the old E perpendicular to B for a case with B.", "",
+             f"| case | ns today | ns at {revision} | x old E alone | x old static of its kind | x today's E alone |",
+             "|---|---|---|---|---|---|"]
+    with_b = "E perpendicular to B (200 Hx)"
+    for name, options in CASES.items():
+        found = [each[name]["ns_per_collision"] for each in rounds["today"] if name in each]
+        if not found:
+            continue
+        old = [each[name]["ns_per_collision"] for each in rounds["baseline"] if name in each]
+        kind = with_b if "reduced_magnetic_field" in options and with_b in old_static else "E alone"
+        to_old_alone = [new / each["E alone"]["ns_per_collision"] for new, each in zip(found, rounds["baseline"])]
+        to_old_kind = [new / each[kind]["ns_per_collision"] for new, each in zip(found, rounds["baseline"])]
+        to_today = [new / each["E alone"]["ns_per_collision"] for new, each in zip(found, rounds["today"])]
+        lines.append(f"| {name} | {spread(found, 0)} | {spread(old, 0) if old else ''} | {spread(to_old_alone, 2)} "
+                     f"| {spread(to_old_kind, 2)} | {spread(to_today, 2)} |")
+    atomic_write_text(RESULTS / "fields_baseline.md", "\n".join(lines) + "\n")
+
+
 def main() -> None:
+    global COLLISIONS
+    if "--collisions" in sys.argv:
+        COLLISIONS = float(sys.argv[sys.argv.index("--collisions") + 1])
+    if "--baseline" in sys.argv:
+        repeats = int(sys.argv[sys.argv.index("--repeats") + 1]) if "--repeats" in sys.argv else 3
+        baseline(sys.argv[sys.argv.index("--baseline") + 1], repeats)
+        return
     if "--compare" in sys.argv:
         repeats = int(sys.argv[sys.argv.index("--repeats") + 1]) if "--repeats" in sys.argv else 3
         compare(sys.argv[sys.argv.index("--compare") + 1], repeats)
@@ -136,7 +206,7 @@ def main() -> None:
         return
     base = rows["E perpendicular to B (200 Hx)"]["ns_per_collision"]
     lines = ["# Swarms in fields at any angle and AC fields: CPU time per real collision", "",
-             f"Reid's ramp, 12 Td (amplitude), 0 K, 10 000 particles, one thread, 2e7 collisions a run, "
+             f"Reid's ramp, 12 Td (amplitude), 0 K, 10 000 particles, one thread, {COLLISIONS:.0e} collisions a run, "
              f"benchmarks/bench_fields.py: the median of {repeats} runs of each case, the cases in turn, on the "
              f"shared 2-core machine (load average {load_start[0]:.1f} at the start, "
              f"{rows['load_average_at_end'][0]:.1f} at the end: other jobs running). The ratio to E alone is the "
