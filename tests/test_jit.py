@@ -2,6 +2,13 @@
 
 from __future__ import annotations
 
+import fcntl
+import os
+import select
+import subprocess
+import sys
+
+import numba
 from numba.core import caching
 
 from collisionkit import _jit
@@ -29,3 +36,46 @@ def test_kernel_caches_are_stamped_by_every_kernel_source(tmp_path, monkeypatch)
     finally:
         monkeypatch.undo()
         _jit.kernel_sources_stamp.cache_clear()
+
+
+CHILD = '''
+import sys
+from collisionkit._jit import compile_lock_path, kernel
+
+def doubled(x):
+    return 2.0 * x
+
+compiled = kernel(doubled)
+print(compile_lock_path(compiled), flush=True)
+sys.stdin.readline()  # the parent holds the lock now
+print(compiled(1.5), flush=True)
+'''
+
+
+def test_a_kernel_compiles_in_one_process_at_a_time(tmp_path):
+    """While another process holds a kernel's compile lock, its first call waits; then it compiles and runs."""
+    script = tmp_path / "child_kernel.py"  # a file of its own: numba caches only functions from files
+    script.write_text(CHILD)
+    environment = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path / "cache")}  # cold: the call must compile
+    child = subprocess.Popen([sys.executable, str(script)], stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True,
+                             env=environment)
+    try:
+        path = child.stdout.readline().strip()
+        assert path.startswith(str(tmp_path / "cache")) and path.endswith(".nbi.lock")
+        with open(path, "a") as lock:
+            fcntl.flock(lock, fcntl.LOCK_EX)
+            child.stdin.write("go\n")
+            child.stdin.flush()
+            # compiling this function takes well under a second; the child must still be waiting after 5
+            ready, _, _ = select.select([child.stdout], [], [], 5.0)
+            assert not ready and child.poll() is None
+        assert child.stdout.readline().strip() == "3.0"  # the lock released: it compiles and runs
+        assert child.wait(timeout=120) == 0
+    finally:
+        child.kill()
+        child.wait()
+
+
+def test_a_kernel_without_an_on_disk_cache_has_no_compile_lock():
+    assert _jit.compile_lock_path(numba.njit(lambda x: x)) is None
+    assert _jit.compile_lock_path(prediction.first_root_from_below) is not None
