@@ -144,6 +144,8 @@ BAD_INPUTS = [
     ("swarm", ["--model", "reid", "--E-N", "-3"], "reduced_field (E/N) must be >= 0"),
     ("swarm", ["--model", "reid", "--E-N", "12,abc"], "--E-N: 'abc' is not a number"),
     ("swarm", ["--model", "reid", "--B-N", "inf"], "b_n: Input should be a finite number"),
+    # B = |B| (0, sin psi, cos psi): a negative B/N would turn B to 180 - psi while the summary says psi
+    ("swarm", ["--model", "reid", "--B-N", "-5"], "b_n: Input should be greater than or equal to 0"),
     ("swarm", ["--model", "reid", "--angle", "200"], "angle: Input should be less than or equal to 180"),
     ("swarm", ["--model", "reid", "--angle", "-5"], "angle: Input should be greater than or equal to 0"),
     ("swarm", ["--model", "reid", "--angle", "nan"], "angle: Input should be a finite number"),

@@ -37,7 +37,7 @@ class SwarmOptions(Options):
     fractions: list[float] | None = None
     database: str | None = None
     e_n: list[float] = Field(default=[12.0], min_length=1)
-    b_n: float = Field(default=0.0, allow_inf_nan=False)
+    b_n: float = Field(default=0.0, ge=0, allow_inf_nan=False)
     angle: float = Field(default=90.0, ge=0, le=180, allow_inf_nan=False)
     omega_n: float = Field(default=0.0, ge=0, allow_inf_nan=False)
     waveform: list[tuple[float, float]] | None = None
@@ -268,7 +268,7 @@ def swarm(
     fractions: Annotated[list[float] | None, typer.Option(help="Their number fractions (repeat).")] = None,
     database: Annotated[str | None, typer.Option(help="Database to take a species from when the LXCat files hold it from several (e.g. Biagi).")] = None,
     e_n: Annotated[list[str] | None, typer.Option("--E-N", help="E/N in Td; repeat or comma list for a sweep.  \\[default: 12]")] = None,
-    b_n: Annotated[float | None, typer.Option("--B-N", help="B/N in Hx (static), in the y-z plane at --angle from E (E along z).  \\[default: 0]")] = None,
+    b_n: Annotated[float | None, typer.Option("--B-N", help="B/N in Hx (>= 0, static), in the y-z plane at --angle from E (E along z).  \\[default: 0]")] = None,
     angle: Annotated[float | None, typer.Option("--angle", help="Degrees between E and B, 0 to 180 (B = |B| (0, sin, cos)).  \\[default: 90]")] = None,
     omega_n: Annotated[float | None, typer.Option("--omega-N", help="omega/N in rad m^3/s: E(t) = E0 cos(omega t) with --E-N the amplitude E0/N; results by phase and cycle averages (0: static).  \\[default: 0]")] = None,
     waveform: Annotated[Path | None, typer.Option("--waveform", help="A periodic field of any shape instead of the cosine, with --omega-N (and --B-N, --angle if wanted): a file of two columns, the fraction of the period (0 to 1) and E/E0, linear between samples (the same fraction twice: a jump).")] = None,
