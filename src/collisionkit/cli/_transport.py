@@ -36,6 +36,7 @@ class SwarmOptions(Options):
     species: list[str] | None = None
     fractions: list[float] | None = None
     database: str | None = None
+    flags: ClassVar[dict[str, str]] = {"e_n": "--E-N", "b_n": "--B-N", "omega_n": "--omega-N"}
     e_n: list[float] = Field(default=[12.0], min_length=1)
     b_n: float = Field(default=0.0, ge=0, allow_inf_nan=False)
     angle: float = Field(default=90.0, ge=0, le=180, allow_inf_nan=False)
