@@ -207,26 +207,34 @@ def _with_error(value, error, digits=4):
     return "0" if value == 0.0 and error == 0.0 else f"{value:.{digits}g} ± {error:.2g}"
 
 
-def _swarm_row(result):
+def _swarm_row(result, magnetic: bool = False):
+    """A row of the main table; with B, N D_T (the mean of two different directions across E) gives way to the
+    tensor of the components table."""
+    transverse = ("see below" if magnetic else
+                  f"{result.diffusion_T_N:.4g} ± {result.diffusion_T_N_error:.2g}")
     return (f"{result.reduced_field:g}", f"{result.mean_energy:.5g} ± {result.mean_energy_error:.2g}",
             f"{-result.drift_velocity_bulk[2]:.5g} ± {result.drift_velocity_bulk_error[2]:.2g}",
-            f"{result.diffusion_L_N:.4g} ± {result.diffusion_L_N_error:.2g}",
-            f"{result.diffusion_T_N:.4g} ± {result.diffusion_T_N_error:.2g}",
+            f"{result.diffusion_L_N:.4g} ± {result.diffusion_L_N_error:.2g}", transverse,
             _with_error(result.alpha_N, result.alpha_N_error), _with_error(result.eta_N, result.eta_N_error),
             f"{result.collisions_per_second:.3g}")
 
 
 def _field_rows(results):
     """Rows of the drift and diffusion components that matter in a magnetic or oscillating field (frame: E along
-    z, B in the y-z plane); cycle averages for an oscillating field."""
+    z, B in the y-z plane; cycle averages for an oscillating field), each with its error: per E/N one row per
+    quantity, three components a row."""
     rows = []
     for r in results:
-        w, d = r.drift_velocity_bulk, r.diffusion_N_bulk
-        rows.append((f"{r.reduced_field:g}", f"{r.mean_energy:.5g} ± {r.mean_energy_error:.2g}",
-                     ", ".join(f"{w[k]:.4g}" for k in range(3)),
-                     ", ".join(f"{r.drift_velocity_flux[k]:.4g}" for k in range(3)),
-                     ", ".join(f"{d[k, k]:.4g}" for k in range(3)),
-                     ", ".join(f"{d[i, j]:.4g}" for i, j in ((1, 2), (0, 1), (0, 2)))))
+        d, d_error = r.diffusion_N_bulk, r.diffusion_N_bulk_error
+        quantities = (
+            ("W bulk (m/s)", r.drift_velocity_bulk, r.drift_velocity_bulk_error),
+            ("W flux (m/s)", r.drift_velocity_flux, r.drift_velocity_flux_error),
+            ("N D bulk, diagonal (1/m/s)", [d[k, k] for k in range(3)], [d_error[k, k] for k in range(3)]),
+            ("N D bulk, off-diagonal (1/m/s)", [d[i, j] for i, j in ((1, 2), (0, 1), (0, 2))],
+             [d_error[i, j] for i, j in ((1, 2), (0, 1), (0, 2))]),
+        )
+        for name, values, errors in quantities:
+            rows.append((f"{r.reduced_field:g}", name, *(f"{v:.4g} ± {e:.2g}" for v, e in zip(values, errors))))
     return rows
 
 
@@ -324,14 +332,12 @@ def swarm(
     print_table("swarm transport (W along -z for electrons)",
                 ("E/N (Td)", "mean energy (eV)", "bulk W (m/s)", "N D_L (1/m/s)", "N D_T (1/m/s)",
                  "alpha/N (m^2)", "eta/N (m^2)", "collisions/s"),
-                [_swarm_row(r) for r in results])
+                [_swarm_row(r, options.b_n != 0.0) for r in results])
     if options.b_n != 0.0 or options.omega_n > 0.0:
         what = "cycle averages, " if options.omega_n > 0.0 else ""
         print_table(f"drift and bulk diffusion components ({what}E along z, B in the y-z plane at "
                     f"{options.angle:g} deg)",
-                    ("E/N (Td)", "mean energy (eV)", "W bulk x, y, z (m/s)", "W flux x, y, z (m/s)",
-                     "N D bulk xx, yy, zz (1/m/s)", "N D bulk yz, xy, xz (1/m/s)"),
-                    _field_rows(results))
+                    ("E/N (Td)", "quantity", "x / xx / yz", "y / yy / xy", "z / zz / xz"), _field_rows(results))
     unconverged = [f"{r.reduced_field:g}" for r in results if not r.converged]
     if unconverged:
         message = (f"E/N = {', '.join(unconverged)} Td stopped at the collision budget "
