@@ -184,6 +184,11 @@ def _before_the_work(scan, options: SwarmOptions) -> None:
     kind = " of a gas that ionizes or attaches" if ionizing else ""
     refuse_beyond_memory(swarm_memory(options.particles, ionizing), f"--particles {options.particles}{kind}",
                          ": use fewer particles")
+    if options.b_n == 0.0 and options.angle != 90.0:
+        note(f"--angle {options.angle:g} has no effect without --B-N (no magnetic field)")
+    if options.omega_n > 0.0 and ionizing:
+        note("alpha/N and eta/N are NaN in an AC field: the steady-state Townsend growth they describe has no "
+             "meaning there; the rate coefficients are cycle averages")
     note(f"seed {options.seed} (--seed {options.seed} repeats this run)")
     warm_up(["swarm"])
 
