@@ -470,3 +470,10 @@ def test_the_component_table_gives_every_component_with_its_error():
     assert rows[3][2:] == ("5e+22 ± 5e+21", "1e+22 ± 1e+21", "2e+22 ± 2e+21")  # yz, xy, xz
     assert _swarm_row(result, magnetic=True)[4] == "see below"
     assert _swarm_row(result)[4] == "5e+23 ± 2e+22"
+
+
+def test_an_angle_without_b_is_noted():
+    result = runner.invoke(app, ["swarm", "--model", "maxwell", "--E-N", "10", "--angle", "30", "--gas-temperature", "0",
+                                 "--particles", "640", "--tolerance", "0.1", "--collision-budget", "1e5"])
+    assert result.exit_code == 0, result.output
+    assert "note: --angle 30 has no effect without --B-N" in " ".join(result.output.split())
