@@ -4,6 +4,7 @@ import csv
 import json
 from pathlib import Path
 
+import numpy as np
 import pytest
 from typer.testing import CliRunner
 
@@ -445,3 +446,34 @@ def test_a_waveform_with_oblique_b_runs_from_options_and_toml_and_resumes_as_if_
     single = json.loads(from_toml.read_text())
     assert single["parameters"]["waveform"] == square and single["parameters"]["field_angle"] == 60.0
     assert _physics(single["results"][0]) == expected[0]
+
+
+def test_the_component_table_gives_every_component_with_its_error():
+    """Issue 20's components in a field with B: drifts and tensor elements each with its error (an AC cycle average
+    of a small drift component can be all noise), one row per quantity; N D_T gives way to the tensor."""
+    from types import SimpleNamespace
+
+    from collisionkit.cli._transport import _field_rows, _swarm_row
+
+    tensor = np.arange(9.0).reshape(3, 3) * 1e22
+    result = SimpleNamespace(
+        reduced_field=12.0, mean_energy=0.22, mean_energy_error=3e-4, drift_velocity_bulk=np.array([-3e4, 68.07, -4e4]),
+        drift_velocity_bulk_error=np.array([70.0, 60.0, 50.0]), drift_velocity_flux=np.array([-3.1e4, 1.0, -4.1e4]),
+        drift_velocity_flux_error=np.array([71.0, 61.0, 51.0]), diffusion_N_bulk=tensor,
+        diffusion_N_bulk_error=tensor / 10, diffusion_L_N=4e23, diffusion_L_N_error=1e22, diffusion_T_N=5e23, diffusion_T_N_error=2e22, alpha_N=0.0,
+        alpha_N_error=0.0, eta_N=0.0, eta_N_error=0.0, collisions_per_second=1e6)
+    rows = _field_rows([result])
+    assert [row[1] for row in rows] == ["W bulk (m/s)", "W flux (m/s)", "N D bulk, diagonal (1/m/s)",
+                                        "N D bulk, off-diagonal (1/m/s)"]
+    assert rows[0][2:] == ("-3e+04 ± 70", "68.07 ± 60", "-4e+04 ± 50")
+    assert rows[2][2:] == ("0 ± 0", "4e+22 ± 4e+21", "8e+22 ± 8e+21")
+    assert rows[3][2:] == ("5e+22 ± 5e+21", "1e+22 ± 1e+21", "2e+22 ± 2e+21")  # yz, xy, xz
+    assert _swarm_row(result, magnetic=True)[4] == "see below"
+    assert _swarm_row(result)[4] == "5e+23 ± 2e+22"
+
+
+def test_an_angle_without_b_is_noted():
+    result = runner.invoke(app, ["swarm", "--model", "maxwell", "--E-N", "10", "--angle", "30", "--gas-temperature", "0",
+                                 "--particles", "640", "--tolerance", "0.1", "--collision-budget", "1e5"])
+    assert result.exit_code == 0, result.output
+    assert "note: --angle 30 has no effect without --B-N" in " ".join(result.output.split())

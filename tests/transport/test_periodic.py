@@ -135,6 +135,8 @@ def test_an_oscillating_field_refuses_a_drift_tolerance_and_bad_settings():
         simulate_swarm(gas, 10.0, reduced_frequency=1e-13, phases=2)
     with pytest.raises(ValueError, match="field_angle"):
         simulate_swarm(gas, 10.0, field_angle=181.0)
+    with pytest.raises(ValueError, match="reduced_magnetic_field"):  # |B| >= 0; its direction is field_angle
+        simulate_swarm(gas, 10.0, reduced_magnetic_field=-5.0)
 
 
 def test_a_static_result_has_empty_phase_tables():

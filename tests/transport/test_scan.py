@@ -32,6 +32,7 @@ QUICK = dict(model="reid", particles=640, seed=3, tolerance=0.05, collision_budg
         ({"model": "reid", "populations": [0.1]}, TypeError, "populations must be a table"),
         ({"model": "reid", "particles": 100}, ValueError, "particles must be in [128, 10000000]"),
         ({"model": "reid", "tolerance": 0.0}, ValueError, "tolerance must be in (0, 0.5]"),
+        ({"model": "reid", "reduced_magnetic_field": -5.0}, ValueError, "reduced_magnetic_field (B/N) must be >= 0"),
         ({"model": "reid", "sharing": "half"}, ValueError, "sharing must be one of equal, uniform"),
         ({"model": "reid", "seed": True}, TypeError, "seed must be an integer"),
     ],

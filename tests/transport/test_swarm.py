@@ -243,6 +243,7 @@ def test_wrong_types_are_refused(args, kwargs, message):
         (dict(seed=-1, points=5), ValueError, "seed"),
         (dict(initial_energy=0.0, points=5), ValueError, "initial_energy"),
         (dict(reduced_magnetic_field=np.inf, points=5), ValueError, "reduced_magnetic_field"),
+        (dict(reduced_magnetic_field=-5.0, points=5), ValueError, "reduced_magnetic_field"),
     ],
 )
 def test_trace_trajectories_refuses_bad_input(kwargs, error, message):

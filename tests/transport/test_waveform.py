@@ -10,11 +10,12 @@ A cosine sampled at 256 points reproduces the E0 cos(omega t) swarm (test_period
 """
 
 import math
+import warnings
 
 import numpy as np
 import pytest
 
-from collisionkit.transport import maxwell_model, simulate_swarm
+from collisionkit.transport import maxwell_model, read_waveform, simulate_swarm
 from collisionkit.transport._waveform import half_wave_antisymmetric, waveform_knots, waveform_rms
 from collisionkit.transport.swarm import REFERENCE_DENSITY, TOWNSEND
 
@@ -104,3 +105,13 @@ def test_the_samples_are_checked_and_described():
     assert half_wave_antisymmetric(SQUARE) and not half_wave_antisymmetric(SAWTOOTH)
     assert half_wave_antisymmetric([(k / 8, math.cos(math.pi * k / 4)) for k in range(8)])
     assert not half_wave_antisymmetric([(k / 8, abs(math.cos(math.pi * k / 4))) for k in range(8)])
+
+
+@pytest.mark.parametrize("text", ["", "# u  E/E0\n", "\n\n"])
+def test_a_waveform_file_without_samples_is_refused_in_one_line_without_a_warning(text, tmp_path):
+    path = tmp_path / "empty.txt"
+    path.write_text(text)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        with pytest.raises(ValueError, match="empty.txt holds no samples"):
+            read_waveform(path)

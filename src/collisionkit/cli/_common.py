@@ -73,6 +73,8 @@ class Options(BaseModel):
     output_files: ClassVar[tuple[str, ...]] = ("summary",)
     output_folders: ClassVar[tuple[str, ...]] = ()
     input_files: ClassVar[tuple[str, ...]] = ()
+    # the command-line spelling of options whose flag is not ``--`` and the dashed name (``--E-N`` for ``e_n``)
+    flags: ClassVar[dict[str, str]] = {}
 
     overwrite: bool = False
 
@@ -199,8 +201,12 @@ def _describe(error: Mapping[str, Any], model: type[Options] | None = None) -> s
     ...     plots: bool = True
     >>> _describe({"loc": ("particle",), "type": "extra_forbidden", "msg": "", "input": 100}, Run)
     "unknown option 'particle'; did you mean 'particles'? (options: overwrite, particles, plots)"
+    >>> _describe({"loc": ("particles",), "type": "greater_than", "msg": "Input should be greater than 0", "input": -1}, Run)
+    '--particles: Input should be greater than 0 (got -1)'
     """
     where = ".".join(str(part) for part in error["loc"])
+    if error["type"] != "extra_forbidden" and model is not None and where in model.model_fields:
+        where = model.flags.get(where, f"--{_dashed(where)}")  # as the user wrote it (a TOML key drops the --)
     if error["type"] == "extra_forbidden":
         if model is None:
             return f"unknown option {where!r}"

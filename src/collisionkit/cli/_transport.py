@@ -36,8 +36,9 @@ class SwarmOptions(Options):
     species: list[str] | None = None
     fractions: list[float] | None = None
     database: str | None = None
+    flags: ClassVar[dict[str, str]] = {"e_n": "--E-N", "b_n": "--B-N", "omega_n": "--omega-N"}
     e_n: list[float] = Field(default=[12.0], min_length=1)
-    b_n: float = Field(default=0.0, allow_inf_nan=False)
+    b_n: float = Field(default=0.0, ge=0, allow_inf_nan=False)
     angle: float = Field(default=90.0, ge=0, le=180, allow_inf_nan=False)
     omega_n: float = Field(default=0.0, ge=0, allow_inf_nan=False)
     waveform: list[tuple[float, float]] | None = None
@@ -183,6 +184,11 @@ def _before_the_work(scan, options: SwarmOptions) -> None:
     kind = " of a gas that ionizes or attaches" if ionizing else ""
     refuse_beyond_memory(swarm_memory(options.particles, ionizing), f"--particles {options.particles}{kind}",
                          ": use fewer particles")
+    if options.b_n == 0.0 and options.angle != 90.0:
+        note(f"--angle {options.angle:g} has no effect without --B-N (no magnetic field)")
+    if options.omega_n > 0.0 and ionizing:
+        note("alpha/N and eta/N are NaN in an AC field: the steady-state Townsend growth they describe has no "
+             "meaning there; the rate coefficients are cycle averages")
     note(f"seed {options.seed} (--seed {options.seed} repeats this run)")
     warm_up(["swarm"])
 
@@ -206,26 +212,34 @@ def _with_error(value, error, digits=4):
     return "0" if value == 0.0 and error == 0.0 else f"{value:.{digits}g} ± {error:.2g}"
 
 
-def _swarm_row(result):
+def _swarm_row(result, magnetic: bool = False):
+    """A row of the main table; with B, N D_T (the mean of two different directions across E) gives way to the
+    tensor of the components table."""
+    transverse = ("see below" if magnetic else
+                  f"{result.diffusion_T_N:.4g} ± {result.diffusion_T_N_error:.2g}")
     return (f"{result.reduced_field:g}", f"{result.mean_energy:.5g} ± {result.mean_energy_error:.2g}",
             f"{-result.drift_velocity_bulk[2]:.5g} ± {result.drift_velocity_bulk_error[2]:.2g}",
-            f"{result.diffusion_L_N:.4g} ± {result.diffusion_L_N_error:.2g}",
-            f"{result.diffusion_T_N:.4g} ± {result.diffusion_T_N_error:.2g}",
+            f"{result.diffusion_L_N:.4g} ± {result.diffusion_L_N_error:.2g}", transverse,
             _with_error(result.alpha_N, result.alpha_N_error), _with_error(result.eta_N, result.eta_N_error),
             f"{result.collisions_per_second:.3g}")
 
 
 def _field_rows(results):
     """Rows of the drift and diffusion components that matter in a magnetic or oscillating field (frame: E along
-    z, B in the y-z plane); cycle averages for an oscillating field."""
+    z, B in the y-z plane; cycle averages for an oscillating field), each with its error: per E/N one row per
+    quantity, three components a row."""
     rows = []
     for r in results:
-        w, d = r.drift_velocity_bulk, r.diffusion_N_bulk
-        rows.append((f"{r.reduced_field:g}", f"{r.mean_energy:.5g} ± {r.mean_energy_error:.2g}",
-                     ", ".join(f"{w[k]:.4g}" for k in range(3)),
-                     ", ".join(f"{r.drift_velocity_flux[k]:.4g}" for k in range(3)),
-                     ", ".join(f"{d[k, k]:.4g}" for k in range(3)),
-                     ", ".join(f"{d[i, j]:.4g}" for i, j in ((1, 2), (0, 1), (0, 2)))))
+        d, d_error = r.diffusion_N_bulk, r.diffusion_N_bulk_error
+        quantities = (
+            ("W bulk (m/s)", r.drift_velocity_bulk, r.drift_velocity_bulk_error),
+            ("W flux (m/s)", r.drift_velocity_flux, r.drift_velocity_flux_error),
+            ("N D bulk, diagonal (1/m/s)", [d[k, k] for k in range(3)], [d_error[k, k] for k in range(3)]),
+            ("N D bulk, off-diagonal (1/m/s)", [d[i, j] for i, j in ((1, 2), (0, 1), (0, 2))],
+             [d_error[i, j] for i, j in ((1, 2), (0, 1), (0, 2))]),
+        )
+        for name, values, errors in quantities:
+            rows.append((f"{r.reduced_field:g}", name, *(f"{v:.4g} ± {e:.2g}" for v, e in zip(values, errors))))
     return rows
 
 
@@ -268,7 +282,7 @@ def swarm(
     fractions: Annotated[list[float] | None, typer.Option(help="Their number fractions (repeat).")] = None,
     database: Annotated[str | None, typer.Option(help="Database to take a species from when the LXCat files hold it from several (e.g. Biagi).")] = None,
     e_n: Annotated[list[str] | None, typer.Option("--E-N", help="E/N in Td; repeat or comma list for a sweep.  \\[default: 12]")] = None,
-    b_n: Annotated[float | None, typer.Option("--B-N", help="B/N in Hx (static), in the y-z plane at --angle from E (E along z).  \\[default: 0]")] = None,
+    b_n: Annotated[float | None, typer.Option("--B-N", help="B/N in Hx (>= 0, static), in the y-z plane at --angle from E (E along z).  \\[default: 0]")] = None,
     angle: Annotated[float | None, typer.Option("--angle", help="Degrees between E and B, 0 to 180 (B = |B| (0, sin, cos)).  \\[default: 90]")] = None,
     omega_n: Annotated[float | None, typer.Option("--omega-N", help="omega/N in rad m^3/s: E(t) = E0 cos(omega t) with --E-N the amplitude E0/N; results by phase and cycle averages (0: static).  \\[default: 0]")] = None,
     waveform: Annotated[Path | None, typer.Option("--waveform", help="A periodic field of any shape instead of the cosine, with --omega-N (and --B-N, --angle if wanted): a file of two columns, the fraction of the period (0 to 1) and E/E0, linear between samples (the same fraction twice: a jump).")] = None,
@@ -323,14 +337,12 @@ def swarm(
     print_table("swarm transport (W along -z for electrons)",
                 ("E/N (Td)", "mean energy (eV)", "bulk W (m/s)", "N D_L (1/m/s)", "N D_T (1/m/s)",
                  "alpha/N (m^2)", "eta/N (m^2)", "collisions/s"),
-                [_swarm_row(r) for r in results])
+                [_swarm_row(r, options.b_n != 0.0) for r in results])
     if options.b_n != 0.0 or options.omega_n > 0.0:
         what = "cycle averages, " if options.omega_n > 0.0 else ""
         print_table(f"drift and bulk diffusion components ({what}E along z, B in the y-z plane at "
                     f"{options.angle:g} deg)",
-                    ("E/N (Td)", "mean energy (eV)", "W bulk x, y, z (m/s)", "W flux x, y, z (m/s)",
-                     "N D bulk xx, yy, zz (1/m/s)", "N D bulk yz, xy, xz (1/m/s)"),
-                    _field_rows(results))
+                    ("E/N (Td)", "quantity", "x / xx / yz", "y / yy / xy", "z / zz / xz"), _field_rows(results))
     unconverged = [f"{r.reduced_field:g}" for r in results if not r.converged]
     if unconverged:
         message = (f"E/N = {', '.join(unconverged)} Td stopped at the collision budget "

@@ -45,7 +45,7 @@ def validate_swarm_setup(gas, reduced_field, reduced_magnetic_field, gas_tempera
         raise TypeError("gas must be a Gas (e.g. from collisionkit.transport.gases or read_lxcat); "
                         f"got {type(gas).__name__}")
     real_in_range(reduced_field, "reduced_field (Td)", 0.0, inclusive=(True, False))
-    real_in_range(reduced_magnetic_field, "reduced_magnetic_field (Hx)")
+    real_in_range(reduced_magnetic_field, "reduced_magnetic_field (Hx)", 0.0, inclusive=(True, False))
     real_in_range(gas_temperature, "gas_temperature (K)", 0.0, inclusive=(True, False))
     integer_in_range(seed, "seed", 0)
     real_in_range(mass, "mass (kg)", 0.0)

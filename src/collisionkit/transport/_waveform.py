@@ -12,6 +12,7 @@ static B at any angle or without, is exact
 from __future__ import annotations
 
 import math
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -135,11 +136,15 @@ def read_waveform(path) -> list[list[float]]:
     if path.is_dir():
         raise ValueError(f"{path} is a folder, not a waveform file")
     try:
-        table = np.loadtxt(path, comments="#", ndmin=2)
+        with warnings.catch_warnings():  # numpy warns of a file without data: said below in one line instead
+            warnings.simplefilter("ignore", UserWarning)
+            table = np.loadtxt(path, comments="#", ndmin=2)
     except FileNotFoundError:
         raise ValueError(f"waveform file not found: {path}") from None
     except (OSError, ValueError) as failure:
         raise ValueError(f"waveform file {path} is not two columns of numbers: {failure}") from None
+    if table.size == 0:
+        raise ValueError(f"waveform file {path} holds no samples (two columns: phase fraction, E/E0)")
     if table.shape[1] != 2:
         raise ValueError(f"waveform file {path} must have two columns (phase fraction, E/E0); it has {table.shape[1]}")
     return table.tolist()

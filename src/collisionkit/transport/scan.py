@@ -62,7 +62,7 @@ class SwarmParameters(Parameters):
         The database to take a species from when the files hold it from
         several (:func:`~collisionkit.transport.read_lxcat`).
     reduced_magnetic_field : float
-        B/N in Hx (``--B-N``), static, at ``field_angle`` from E.
+        B/N in Hx (``--B-N``, >= 0), static, at ``field_angle`` from E.
     field_angle : float
         Degrees between E and B, in [0, 180] (``--angle``, 90 by default);
         the frame has E along z and B in the y-z plane,
@@ -159,7 +159,8 @@ class SwarmParameters(Parameters):
                 raise TypeError(f"database must be a database's name; got {self.database!r}")
         set_(self, "species", None if self.species is None else _strings("species", self.species))
         set_(self, "fractions", None if self.fractions is None else _reals("fractions", self.fractions))
-        set_(self, "reduced_magnetic_field", check_real("reduced_magnetic_field (B/N)", self.reduced_magnetic_field))
+        set_(self, "reduced_magnetic_field", check_real("reduced_magnetic_field (B/N)", self.reduced_magnetic_field,
+                                                        0.0))
         set_(self, "field_angle", check_real("field_angle (degrees between E and B)", self.field_angle, 0.0, 180.0))
         set_(self, "reduced_frequency", check_real("reduced_frequency (omega/N, rad m^3/s)", self.reduced_frequency,
                                                    0.0))

@@ -237,7 +237,7 @@ def simulate_swarm(
         E/N in Td (>= 0); E points along +z. With ``reduced_frequency`` the
         amplitude E0/N of E(t) = E0 cos(omega t).
     reduced_magnetic_field : float
-        B/N in Hx (static), at ``field_angle`` from E in the y-z plane.
+        B/N in Hx (>= 0, static), at ``field_angle`` from E in the y-z plane.
     field_angle : float
         Angle psi between E and B in degrees, in [0, 180] (90 by default:
         crossed fields). The frame is right-handed with E along +z and
