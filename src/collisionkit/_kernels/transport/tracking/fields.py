@@ -5,7 +5,7 @@ numba call that is not inlined costs reference counting per array), except
 the interpolation of a map (:func:`map_value`), which is called: inlined, it
 was copied into every stage of the integrator twice (E and B), which made
 most of the tracking kernel's first compilation (cold cache: 125 s of CPU
-with the call, about 220 s inlined). The tracking kernel, compiled without
+with the call, 210 s inlined). The tracking kernel, compiled without
 reference counting, calls it without reference counts; the ions' kernel
 pays them on its two arrays.
 
