@@ -8,7 +8,7 @@ its header gives the method and the read-off uncertainties. E(t) = E0 cos(omega 
 W(phase + pi) = -W(phase) (exact in the periodic steady state), folds the 16 phases onto 8, both for the
 simulation and for the figure's readings.
 
-The three higher frequencies are run (about 30 s of one core); the lowest, 1.777e-17, is left out: its period
+The three higher frequencies are run (about 35 s of CPU in all); the lowest, 1.777e-17, is left out: its period
 holds ~6000 collisions per electron, so one run costs ~60 s of one core by itself, and it is the quasi-static
 limit that ``benchmarks/bench_ac_limits.py`` checks against static runs. Its row stays in the table.
 
