@@ -1,8 +1,10 @@
 """Reid's ramp in an AC field against static-field runs in the low- and high-frequency limits.
 
 White, Robson & Ness (Aust. J. Phys. 48, 925 (1995)) give the AC Reid ramp (10 Td r.m.s.) as figures only (the
-LoKI-MC paper, Dias et al., PSST 32, 095003 (2023), compares with them in its figure 15, again without a table), so
-the cosine field is checked here against two limits derived independently of the AC code, each from static runs:
+LoKI-MC paper, Dias et al., PSST 32, 095003 (2023), compares with them in its figure 15, again without a table; its
+curves, read off the figure, are tests/data/white1995_ac_reid.txt, which tests/transport/test_periodic_white.py
+checks at the three higher frequencies), so the cosine field is also checked here against two limits derived
+independently of the AC code, each from static runs:
 
 * low frequency (omega far below the energy and momentum relaxation frequencies, omega/N = 1.777e-17 rad m^3/s,
   White's lowest): the swarm follows the field quasi-statically, <e>(omega t) = <e>_DC(E0 |cos omega t|) and
