@@ -19,7 +19,7 @@ LOKI_MC = {row[0]: row[1:] for row in np.loadtxt(DATA)}
 # LoKI-MC's own scatter, relative, measured by the B = 0 row against its published B = 0 values (file header):
 # 0.06 % in <e>, 0.01 % in W (+ 12 m/s, the reading of a zero), 0.6 % in N D (+ 4.9e20, the Hall term's zero);
 # then the read-off (0.001 pt of the PDF: 2e-6 eV, 0.7 m/s, 1.3e19 /(m s))
-SCATTER = {"energy": (6e-4, 2e-6), "drift": (2e-4, 12.0 + 0.7), "diffusion": (6e-3, 4.9e20 + 1.3e19)}
+SCATTER = {"energy": (6e-4, 2e-6), "drift": (1e-4, 12.0 + 0.7), "diffusion": (6e-3, 4.9e20 + 1.3e19)}
 SIGMAS = 4.0
 
 
