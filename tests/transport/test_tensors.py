@@ -159,9 +159,15 @@ def test_lucas_saelee_with_b_at_60_degrees_matches_dujko():
 # Lucas-Saelee, 10 Td, m/M = 1e-3, gas at 0 K, B at psi to E: Dujko et al. (2010) and LoKI-MC, both as plotted in
 # Dias et al., Plasma Sources Sci. Technol. 32, 095003 (2023), Fig. 3 (vector art: markers read to 0.01 %). Per
 # (B/N in Hx, psi in degrees, F): Dujko's <e> (eV), |W_bulk| (1e4 m/s), k_ion (m^3/s; None without ionization),
-# then LoKI-MC's same three: two independent Monte Carlo codes, whose difference is the published values' spread
+# then LoKI-MC's same three: two independent Monte Carlo codes, whose difference is the published values' spread.
+# The crosses of the two codes are black for every series: a series' crosses are told apart by the drawing order
+# (the legend's: 200 Hx F = 0, 0.5, 1, then 1000 Hx; for k_ion F = 1 before 0.5), which agrees with the nearest
+# LoKI-MC squares. At 0 deg B changes nothing: (200, 0, 1) is LoKI-MC's B = 0 row of validation-data.md (4.97 eV,
+# W_bulk 9.47e4 m/s, nu_eff 2.43e3 /s at 1e20 m^-3). Fig. 3 has no drift components (nor has the text: "not shown")
 LUCAS_SAELEE_OBLIQUE = {
     (1000.0, 0.0, 0.0): (5.571, 7.3345, None, 5.561, 7.321, None),
+    (200.0, 0.0, 1.0): (4.9732, 9.4947, 2.38e-17, 4.9734, 9.4836, 2.418e-17),
+    (200.0, 30.0, 0.5): (5.0937, 7.7352, 1.00e-17, 5.0975, 7.7295, 1.0126e-17),
     (1000.0, 30.0, 1.0): (4.812, 8.153, 1.56e-17, 4.816, 8.152, 1.601e-17),
     (1000.0, 60.0, 0.5): (3.658, 4.007, 6.06e-19, 3.665, 4.012, 6.198e-19),
     (1000.0, 90.0, 0.0): (0.2761, 0.993, None, 0.2796, 0.9911, None),
@@ -177,7 +183,9 @@ def test_lucas_saelee_at_any_angle_matches_dujko_and_loki_mc(b_over_n, angle, io
     2.6 % in k_ion at 30 deg) + the 0.05 % read-off. The points span B along E (the B = 0 values), the 1000 Hx
     magnetised regime (<e> from 5.6 down to 0.28 eV, |W| -> E / B = 1e4 m/s at 90 deg) and ionization. Measured
     (seed 7, 1e8 collisions): within 0.45 % in <e> and |W| but at 1000 Hx, 90 deg (<e> +1.55 +- 0.33 %; LoKI-MC's
-    is +1.27 %), and k_ion +3.2 % at 30 deg (LoKI-MC's +2.6 %)."""
+    is +1.27 %), and k_ion +3.2 % at 30 deg (LoKI-MC's +2.6 %); at 200 Hx, 30 deg: <e> +0.27 %, |W| +0.62 %, k_ion
+    +2.1 % (LoKI-MC's +0.07 %, -0.07 %, +1.3 %). Drift components: Fig. 3 has only |W_bulk|, so only those the
+    symmetry fixes are checked."""
     energy, speed, k_ion, *loki = LUCAS_SAELEE_OBLIQUE[(b_over_n, angle, ionizing)]
     r = simulate_swarm(lucas_saelee(ionizing, mass=1000 * ME), 10.0, reduced_magnetic_field=b_over_n,
                        field_angle=angle, gas_temperature=0.0, particles=6000, seed=7, threads=2,
@@ -193,6 +201,10 @@ def test_lucas_saelee_at_any_angle_matches_dujko_and_loki_mc(b_over_n, angle, io
     measured_error = np.linalg.norm(w * r.drift_velocity_bulk_error) / measured
     assert measured_error < 5e-3 * speed * 1e4
     assert _within(measured, measured_error, speed * 1e4, relative=spread(speed, loki[1]))
+    # the components the symmetry fixes: B along E (0 deg) leaves no drift across E; at 90 deg none along B (y)
+    transverse = [0, 1] if angle == 0 else [1] if angle == 90 else []
+    assert _within(w[transverse], r.drift_velocity_bulk_error[transverse], 0.0)
+    assert w[2] < 0 and (angle == 0 or w[0] < 0)  # against E and, B off E, along E x B (-x)
     if k_ion is not None:
         rate, rate_error = r.rate_coefficients["lucas_saelee:ionization"], r.rate_coefficient_errors[
             "lucas_saelee:ionization"]
