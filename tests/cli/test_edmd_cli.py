@@ -302,7 +302,7 @@ def test_an_inelastic_run_says_it_cooled_and_takes_the_elastic_floor(tmp_path):
     elastic = runner.invoke(app, ["edmd", *map(str, SMALL), "--initial", "fcc", "--out", str(tmp_path)])
     assert elastic.exit_code == 0 and "Haff" not in elastic.output
     refused = runner.invoke(app, ["edmd", "--elastic-below", "-1", "--no-plots"], env={"COLUMNS": "200"})
-    assert refused.exit_code == 2 and "elastic_below" in " ".join(refused.output.split())
+    assert refused.exit_code == 2 and "--elastic-below" in " ".join(refused.output.split())
 
 
 def test_an_interrupted_run_says_where_its_checkpoint_is(tmp_path, monkeypatch):
