@@ -110,9 +110,12 @@ def test_a_real_ctrl_c_during_the_imports_prints_no_traceback():
     from pathlib import Path
 
     source = str(Path(_command.__file__).resolve().parents[1])
+    # SIGINT as a terminal gives it: a test run started in the background by a shell without job control inherits
+    # it ignored, and so would the child (Python keeps an ignored SIGINT): the child exited 0 in such a CI run
     child = subprocess.Popen([sys.executable, "-X", "importtime", "-m", "collisionkit", "edmd", "--help"],
                              stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                             env=dict(os.environ, PYTHONPATH=source))
+                             env=dict(os.environ, PYTHONPATH=source),
+                             preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
     lines = []
     for line in child.stderr:
         lines.append(line)
