@@ -1,11 +1,13 @@
-"""What the benchmark scripts share: a function of a benchmark module run in a fresh process, and the writing of
-a results table (Markdown and JSON) to ``benchmarks/results``."""
+"""What the benchmark scripts share: a function of a benchmark module run in a fresh process, the source tree of
+another git revision, and the writing of a results table (Markdown and JSON) to ``benchmarks/results``."""
 
 from __future__ import annotations
 
+import io
 import json
 import subprocess
 import sys
+import tarfile
 from pathlib import Path
 
 from collisionkit._io import atomic_write_text
@@ -29,3 +31,13 @@ def write_results(name: str, text: str, data: dict) -> None:
     RESULTS.mkdir(exist_ok=True)
     atomic_write_text(RESULTS / f"{name}.md", text)
     atomic_write_text(RESULTS / f"{name}.json", json.dumps(data, indent=2) + "\n")
+
+
+def exported_source(revision: str, into: Path) -> str:
+    """The ``src`` tree of git ``revision`` of this repository, written under ``into``; its path."""
+    repository = BENCHMARKS.resolve().parent
+    archive = subprocess.run(["git", "-C", str(repository), "archive", "--format=tar", revision, "src"],
+                             check=True, capture_output=True).stdout
+    with tarfile.open(fileobj=io.BytesIO(archive)) as tar:
+        tar.extractall(into, filter="data")
+    return str(into / "src")

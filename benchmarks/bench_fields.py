@@ -29,17 +29,17 @@ static-field cost. ``--collisions`` sets the collisions a run (2e7).
 from __future__ import annotations
 
 import inspect
-import io
 import json
 import math
 import os
 import statistics
 import subprocess
 import sys
-import tarfile
 import tempfile
 import time
 from pathlib import Path
+
+from _bench_common import exported_source
 
 from collisionkit._io import atomic_write_json, atomic_write_text
 from collisionkit.transport import reid_ramp, simulate_swarm
@@ -128,16 +128,6 @@ def compare(old_src: str, repeats: int) -> None:
         lines.append(f"| {name} | {cells['before'][0]} | {cells['after'][0]} | {cells['before'][1]} -> "
                      f"{cells['after'][1]} | {cells['before'][2]} | {cells['after'][2]} |")
     atomic_write_text(RESULTS / "fields_compare.md", "\n".join(lines) + "\n")
-
-
-def exported_source(revision: str, into: Path) -> str:
-    """The ``src`` tree of git ``revision`` of this repository, written under ``into``; its path."""
-    repository = Path(__file__).resolve().parents[1]
-    archive = subprocess.run(["git", "-C", str(repository), "archive", "--format=tar", revision, "src"],
-                             check=True, capture_output=True).stdout
-    with tarfile.open(fileobj=io.BytesIO(archive)) as tar:
-        tar.extractall(into, filter="data")
-    return str(into / "src")
 
 
 def baseline(revision: str, repeats: int) -> None:

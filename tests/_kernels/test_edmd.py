@@ -5,12 +5,28 @@ import math
 import numba
 import numpy as np
 import pytest
-from hypothesis import given, settings
+from hypothesis import example, given, settings
 from hypothesis import strategies as st
 from scipy import optimize
 
 from collisionkit._kernels import edmd as kernels
-from collisionkit._kernels.edmd.motion import wrap_into_box
+from collisionkit._kernels.edmd.motion import minimum_image, pair_image, wrap_into_box
+
+
+@settings(max_examples=400, deadline=None)
+@given(st.floats(-1.5, 1.5), st.floats(0.25, 1e3), st.booleans())
+@example(0.5, 10.0, True)  # exactly half a box: no image either way
+@example(-0.5, 10.0, True)
+@example(0.5000000000000001, 10.0, True)
+@example(-1.5, 10.0, False)
+def test_pair_image_is_the_minimum_image_bit_for_bit(fraction, length, periodic):
+    """The pair tests' branch-free image (small boxes) equals the branching one, also at half a box and for walls."""
+    dx = fraction * length
+    half = 0.5 * length if periodic else math.inf
+    expected = minimum_image(dx, length, half)
+    image = pair_image(dx, length, half)
+    assert image == expected  # bit for bit: 0.0 == -0.0 is the one difference allowed
+    assert abs(image) <= half * (1 + 4 * np.finfo(float).eps) if periodic else image == dx  # |dx| - L rounded
 
 
 @pytest.mark.parametrize("growth", [0.0, 0.05, 0.5])

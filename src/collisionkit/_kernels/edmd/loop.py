@@ -19,6 +19,11 @@ from .neighbour_lists import rebuild_list, sweep_frame
 from .prediction import predict
 from .queue import queue_update, tree_build
 
+# particles from which the event loop prefetches: a smaller system's records stay in the core's cache, where the
+# prefetches only cost instructions (2 % of the time at N = 864; without them N = 4000 at eta 0.26 was 14 % slower),
+# in-process A/B (issue 21)
+PREFETCH_FROM = 2048
+
 
 @inline_kernel
 def _prefetch_particle(i, p, b, queue, neighbours, neighbour_count, tree, leaves):
@@ -102,6 +107,7 @@ def run_events(t, still, max_pair_collisions, max_events, t_stop, stall_limit, p
     scale0 = params[P_SCALE0]
     growth = params[P_GROWTH]
     event = int(acc[ACC_EVENTS])
+    prefetching = p.shape[0] >= PREFETCH_FROM
     while done < max_pair_collisions:
         if events >= max_events:
             stop = STOP_EVENTS
@@ -140,19 +146,22 @@ def run_events(t, still, max_pair_collisions, max_events, t_stop, stall_limit, p
         events += 1
         # memory latency dominates: start every load whose address is known, then compute;
         # also for the particle of the next event, most likely the runner-up now
-        _prefetch_particle(i, p, b, queue, neighbours, neighbour_count, tree, leaves)
-        upcoming = _likely_next(i, tree, leaves)
-        if upcoming >= 0:
-            _prefetch_particle(upcoming, p, b, queue, neighbours, neighbour_count, tree, leaves)
+        upcoming = -1
         target = int(b[i, TARGET])
-        if target >= 0:
-            _prefetch_particle(target, p, b, queue, neighbours, neighbour_count, tree, leaves)
-        _prefetch_neighbours(i, p, neighbours, neighbour_count)
+        if prefetching:
+            _prefetch_particle(i, p, b, queue, neighbours, neighbour_count, tree, leaves)
+            upcoming = _likely_next(i, tree, leaves)
+            if upcoming >= 0:
+                _prefetch_particle(upcoming, p, b, queue, neighbours, neighbour_count, tree, leaves)
+            if target >= 0:
+                _prefetch_particle(target, p, b, queue, neighbours, neighbour_count, tree, leaves)
+            _prefetch_neighbours(i, p, neighbours, neighbour_count)
         advance(p, i, t, geom, dim)
         partner = -1  # the second particle to re-predict, if any
         if target >= 0:
             j = target
-            _prefetch_neighbours(j, p, neighbours, neighbour_count)
+            if prefetching:
+                _prefetch_neighbours(j, p, neighbours, neighbour_count)
             if b[j, CHANGED_AT] > b[i, PREDICTED_AT]:
                 acc[ACC_STALE_EVENTS] += 1.0
             else:

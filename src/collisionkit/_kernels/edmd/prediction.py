@@ -17,7 +17,13 @@ from .layout import (
     P_SHELL, PREDICTED_AT, R, SHEAR_X_EXCURSION, T, TARGET, V, X, wall_target,
 )
 from .exact import sure_approach
-from .motion import half_box, minimum_image, shear_offset, sheared_image, streaming_velocity
+from .motion import half_box, minimum_image, pair_image, shear_offset, sheared_image, streaming_velocity
+
+# box lengths (in diameters) below which the pair tests take periodic images without a branch. With this and
+# loop.PREFETCH_FROM the engine is 3-6 % faster at N = 864, eta 0.45 (box 10 diameters; benchmarks/bench_edmd_ab.py,
+# two runs: 5.6 % and 3.3 %, quartiles 1.5-8.5 %); always branch-free was 2.5-3.3 % slower at N = 4000 and 32000
+# (20 and 31 diameters) (issue 21)
+SMALL_BOX_DIAMETERS = 12.0
 
 
 @kernel
@@ -108,7 +114,10 @@ def _first_contact_ballistic(p, i, neighbours, neighbour_count, geom, scale, hor
     beat the best so far before the square root and the division. It rarely
     passes, so its branch is well predicted; a branch on b < 0 alone would
     be a coin toss, and a mispredicted branch costs more than the
-    arithmetic it saves.
+    arithmetic it saves. For the same reason the periodic images are taken
+    without a branch in a box shorter than ``SMALL_BOX_DIAMETERS`` of i's
+    diameters, where about one pair in five lies across a face
+    (:func:`.motion.pair_image`); in a larger box the branch is cheaper.
     """
     t = p[i, T]
     xi, yi, zi = p[i, X], p[i, X + 1], p[i, X + 2]
@@ -116,14 +125,20 @@ def _first_contact_ballistic(p, i, neighbours, neighbour_count, geom, scale, hor
     ri = p[i, R]
     lx, ly, lz = geom[G_BOX, 0], geom[G_BOX, 1], geom[G_BOX, 2]
     hx, hy, hz = half_box(geom, 0), half_box(geom, 1), half_box(geom, 2)
+    # in a small box many pairs lie across a face: take their images without a branch to mispredict
+    across_often = min(hx, hy, hz) < SMALL_BOX_DIAMETERS * ri * scale  # half the shortest periodic length
     best = horizon
     partner = -1
     for m in range(neighbour_count[i]):
         j = neighbours[i, m]
         dt = t - p[j, T]
-        rx = minimum_image(p[j, X] + p[j, V] * dt - xi, lx, hx)
-        ry = minimum_image(p[j, X + 1] + p[j, V + 1] * dt - yi, ly, hy)
-        rz = minimum_image(p[j, X + 2] + p[j, V + 2] * dt - zi, lz, hz)
+        rx = p[j, X] + p[j, V] * dt - xi
+        ry = p[j, X + 1] + p[j, V + 1] * dt - yi
+        rz = p[j, X + 2] + p[j, V + 2] * dt - zi
+        if across_often:
+            rx, ry, rz = pair_image(rx, lx, hx), pair_image(ry, ly, hy), pair_image(rz, lz, hz)
+        else:
+            rx, ry, rz = minimum_image(rx, lx, hx), minimum_image(ry, ly, hy), minimum_image(rz, lz, hz)
         ux = p[j, V] - vxi
         uy = p[j, V + 1] - vyi
         uz = p[j, V + 2] - vzi
