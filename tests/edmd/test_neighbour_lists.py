@@ -7,14 +7,18 @@ from collisionkit import edmd
 from tests.edmd.systems import fcc_system, hexagonal_system
 
 
-def test_neighbour_lists_are_symmetric_and_complete():
+@pytest.mark.parametrize("lattice_cells", [4, 2])
+def test_neighbour_lists_are_symmetric_and_complete(lattice_cells):
     """Every pair whose anchors are within the list radius is listed, both ways, and no pair beyond it.
 
     The cells hold float32 anchors, so a pair within their round-off of the
-    radius may be listed too (harmless: the list is a superset).
+    radius may be listed too (harmless: the list is a superset). Four FCC
+    cells make 4 list cells a side (each neighbouring cell seen through one
+    periodic shift), two make 2 (a cell its own neighbour on both sides:
+    minimum images per anchor).
     """
     rng = np.random.default_rng(3)
-    positions, box = edmd.lattice("fcc", 4, 0.35)
+    positions, box = edmd.lattice("fcc", lattice_cells, 0.35)
     radii = np.where(rng.random(len(positions)) < 0.5, 0.5, 0.35)
     system = edmd.HardSphereSystem(positions, edmd.maxwell_boltzmann(np.ones(len(radii)), 3, seed=rng), radii, box)
     system.run(collisions=20 * system.count)  # lists rebuilt one particle at a time
@@ -34,6 +38,7 @@ def test_neighbour_lists_are_symmetric_and_complete():
     assert within <= listed <= allowed
     assert len(within) > 8 * system.count
     assert all((j, i) in listed for i, j in listed)
+    assert (system.ncell[:3] >= 3).all() == (lattice_cells == 4)
 
 
 def test_lists_grow_when_they_overflow_mid_run():

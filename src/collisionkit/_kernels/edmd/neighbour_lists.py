@@ -19,6 +19,31 @@ from .motion import frame_x, half_box, minimum_image, shear_offset, streaming_ve
 
 
 @inline_kernel
+def _scan_cell(i, cell, shift_x, shift_y, shift_z, reach_i, list_scale, neighbours, count, cell_members, cell_count,
+               cell_points):
+    """Append to i's list the anchors of one cell within reach of i's anchor, the cell seen at a fixed shift.
+
+    ``shift`` is i's anchor minus the cell's periodic shift (0 or a box
+    length a side), so no anchor needs an image of its own. Each member is
+    written at the end of the list whether kept or not (no branch on the
+    distance to mispredict), only while the row has room: a full row's last
+    entry stays (a list that outgrows its row is rebuilt anyway). Returns
+    the count so far.
+    """
+    width = neighbours.shape[1]
+    for slot in range(cell_count[cell]):
+        dx = cell_points[cell, slot, 0] - shift_x
+        dy = cell_points[cell, slot, 1] - shift_y
+        dz = cell_points[cell, slot, 2] - shift_z
+        reach = reach_i + cell_points[cell, slot, 3] * list_scale
+        j = cell_members[cell, slot]
+        if count < width:
+            neighbours[i, count] = j
+        count += (dx * dx + dy * dy + dz * dz <= reach * reach) & (j != i)
+    return count
+
+
+@inline_kernel
 def gather_neighbours(p, i, b, cell_of, neighbours, neighbour_count, cell_members, cell_count, cell_points, ncell,
                       geom, dim, params):
     """Fill i's list from the anchors in the cells around i's anchor.
@@ -39,8 +64,6 @@ def gather_neighbours(p, i, b, cell_of, neighbours, neighbour_count, cell_member
     for k in range(dim):
         per_cell = per_cell and (ncell[k] >= 3 or geom[G_PERIODIC, k] == 0.0)
     hx, hy, hz = half_box(geom, 0), half_box(geom, 1), half_box(geom, 2)
-    if per_cell:
-        hx, hy, hz = math.inf, math.inf, math.inf
     ax, ay, az = b[i, ANCHOR], b[i, ANCHOR + 1], b[i, ANCHOR + 2]
     # anchors are stored in float32 in the cells: widen the test by their round-off
     slack = ANCHOR_ROUNDING * (max(lx, ly, lz) + 1.0)
@@ -60,18 +83,16 @@ def gather_neighbours(p, i, b, cell_of, neighbours, neighbour_count, cell_member
                     continue
                 cell = cell_index(nx, ny, nz, ncell)
                 # the anchors seen from i's: the periodic image of the cell (the shift is 0 or a box length)
-                shift_x, shift_y, shift_z = ax - sx, ay - sy, az - sz
-                if not per_cell:
-                    shift_x, shift_y, shift_z = ax, ay, az
+                if per_cell:
+                    count = _scan_cell(i, cell, ax - sx, ay - sy, az - sz, reach_i, list_scale, neighbours, count,
+                                       cell_members, cell_count, cell_points)
+                    continue
                 for slot in range(cell_count[cell]):
-                    dx = minimum_image(cell_points[cell, slot, 0] - shift_x, lx, hx)
-                    dy = minimum_image(cell_points[cell, slot, 1] - shift_y, ly, hy)
-                    dz = minimum_image(cell_points[cell, slot, 2] - shift_z, lz, hz)
+                    dx = minimum_image(cell_points[cell, slot, 0] - ax, lx, hx)
+                    dy = minimum_image(cell_points[cell, slot, 1] - ay, ly, hy)
+                    dz = minimum_image(cell_points[cell, slot, 2] - az, lz, hz)
                     reach = reach_i + cell_points[cell, slot, 3] * list_scale
                     j = cell_members[cell, slot]
-                    # written at the end of the list whether kept or not (no branch on the distance to mispredict),
-                    # only while the row has room: a full row's last entry stays (a list that outgrows its row is
-                    # rebuilt anyway)
                     if count < width:
                         neighbours[i, count] = j
                     count += (dx * dx + dy * dy + dz * dz <= reach * reach) & (j != i)
