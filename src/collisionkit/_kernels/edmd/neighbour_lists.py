@@ -19,27 +19,33 @@ from .motion import frame_x, half_box, minimum_image, shear_offset, streaming_ve
 
 
 @inline_kernel
+def _append_within(i, j, dx, dy, dz, reach, neighbours, count):
+    """Keep j in i's list if its anchor is within ``reach`` (separation dx, dy, dz) and not i's own; the new count.
+
+    j is written at the end of the list whether kept or not (no branch on
+    the distance to mispredict), only while the row has room: a full row's
+    last entry stays (a list that outgrows its row is rebuilt anyway).
+    """
+    if count < neighbours.shape[1]:
+        neighbours[i, count] = j
+    return count + ((dx * dx + dy * dy + dz * dz <= reach * reach) & (j != i))
+
+
+@inline_kernel
 def _scan_cell(i, cell, shift_x, shift_y, shift_z, reach_i, list_scale, neighbours, count, cell_members, cell_count,
                cell_points):
     """Append to i's list the anchors of one cell within reach of i's anchor, the cell seen at a fixed shift.
 
     ``shift`` is i's anchor minus the cell's periodic shift (0 or a box
-    length a side), so no anchor needs an image of its own. Each member is
-    written at the end of the list whether kept or not (no branch on the
-    distance to mispredict), only while the row has room: a full row's last
-    entry stays (a list that outgrows its row is rebuilt anyway). Returns
-    the count so far.
+    length a side), so no anchor needs an image of its own. Returns the
+    count so far.
     """
-    width = neighbours.shape[1]
     for slot in range(cell_count[cell]):
         dx = cell_points[cell, slot, 0] - shift_x
         dy = cell_points[cell, slot, 1] - shift_y
         dz = cell_points[cell, slot, 2] - shift_z
         reach = reach_i + cell_points[cell, slot, 3] * list_scale
-        j = cell_members[cell, slot]
-        if count < width:
-            neighbours[i, count] = j
-        count += (dx * dx + dy * dy + dz * dz <= reach * reach) & (j != i)
+        count = _append_within(i, cell_members[cell, slot], dx, dy, dz, reach, neighbours, count)
     return count
 
 
@@ -91,11 +97,8 @@ def gather_neighbours(p, i, b, cell_of, neighbours, neighbour_count, cell_member
                     dx = minimum_image(cell_points[cell, slot, 0] - ax, lx, hx)
                     dy = minimum_image(cell_points[cell, slot, 1] - ay, ly, hy)
                     dz = minimum_image(cell_points[cell, slot, 2] - az, lz, hz)
-                    reach = reach_i + cell_points[cell, slot, 3] * list_scale
-                    j = cell_members[cell, slot]
-                    if count < width:
-                        neighbours[i, count] = j
-                    count += (dx * dx + dy * dy + dz * dz <= reach * reach) & (j != i)
+                    count = _append_within(i, cell_members[cell, slot], dx, dy, dz,
+                                           reach_i + cell_points[cell, slot, 3] * list_scale, neighbours, count)
     neighbour_count[i] = min(count, width)
     return count
 
@@ -129,11 +132,9 @@ def _scan_row(i, ny, nz, across, shift_y, shift_z, centre, strain, hz, reach_i, 
     back by the frame's offset if the row lies across a y face:
     ``across`` = -1 or 1, its anchors seen ``across`` box heights away), so
     the row's anchors within ``largest`` of i's lie within
-    ``largest (1 + |strain|)`` of it along x. Written at the end of the
-    list whether kept or not while the row has room, as in
-    :func:`gather_neighbours`. Returns the count so far.
+    ``largest (1 + |strain|)`` of it along x (kept by
+    :func:`_append_within`). Returns the count so far.
     """
-    width = neighbours.shape[1]
     lx = geom[G_BOX, 0]
     lz = geom[G_BOX, 2]
     first, last, hx = _row_columns(centre, largest * (1.0 + abs(strain)), ncell, geom)
@@ -149,11 +150,8 @@ def _scan_row(i, ny, nz, across, shift_y, shift_z, centre, strain, hz, reach_i, 
             dy = cell_points[cell, slot, 1] - shift_y
             dx = minimum_image(cell_points[cell, slot, 0] - shift_x, lx, hx) + strain * dy
             dz = minimum_image(cell_points[cell, slot, 2] - shift_z, lz, hz)
-            reach = reach_i + cell_points[cell, slot, 3] * list_scale
-            j = cell_members[cell, slot]
-            if count < width:
-                neighbours[i, count] = j
-            count += (dx * dx + dy * dy + dz * dz <= reach * reach) & (j != i)
+            count = _append_within(i, cell_members[cell, slot], dx, dy, dz,
+                                   reach_i + cell_points[cell, slot, 3] * list_scale, neighbours, count)
     return count
 
 
