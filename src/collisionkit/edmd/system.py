@@ -20,6 +20,7 @@ import numpy as np
 from .._kernels import edmd as _k
 from .._repr import hard_sphere_system_rows, html_table
 from . import _checks, _system_setup
+from ._cell_crossings import ENGINE_CELLS, CellCrossings, engine_code
 from ._neighbour_lists import NeighbourLists
 from ._particle_state import ParticleState
 from ._shear import THERMOSTAT_INTERVAL, ShearFlow, shear_parameters
@@ -103,7 +104,7 @@ class OverlapError(ValueError, RuntimeError):
     """
 
 
-class HardSphereSystem(SystemParameters, ParticleState, NeighbourLists, Checkpoints, ShearFlow):
+class HardSphereSystem(SystemParameters, ParticleState, NeighbourLists, CellCrossings, Checkpoints, ShearFlow):
     """N hard spheres (3D) or discs (2D) in a box, advanced event by event.
 
     Parameters
@@ -169,6 +170,15 @@ class HardSphereSystem(SystemParameters, ParticleState, NeighbourLists, Checkpoi
         after every ``THERMOSTAT_INTERVAL`` N pair collisions (> 0; default
         None, no thermostat).
         Elastic spheres heat up under shear without one.
+    engine : {"auto", "lists", "cells"}, optional
+        The event engine. "lists": neighbour lists (any system). "cells":
+        cell crossings as events, no lists, for straight flights of fixed
+        radii (no gravity, compression or shear); in a dilute gas it makes
+        the same trajectory up to round-off 1.7-1.9 times as fast (N = 4000,
+        eta = 0.1 and 0.03). "auto" (default) takes "cells" for such systems
+        below the packing fraction where the two are level
+        (:data:`~collisionkit.edmd._cell_crossings.CELLS_BELOW_PACKING`),
+        else "lists". The choice is :attr:`engine`.
 
     Examples
     --------
@@ -201,6 +211,7 @@ class HardSphereSystem(SystemParameters, ParticleState, NeighbourLists, Checkpoi
         neighbour_shell=None,
         shear_rate=0.0,
         thermostat=None,
+        engine="auto",
         *,
         _growth=0.0,
         _scale=1.0,
@@ -243,6 +254,8 @@ class HardSphereSystem(SystemParameters, ParticleState, NeighbourLists, Checkpoi
         shear_parameters(self, shear_rate, thermostat)
         if self.shear_rate != 0.0:
             self._add_streaming()
+        straight = _growth == 0.0 and not np.any(gravity) and self.shear_rate == 0.0
+        self._engine_code = engine_code(engine, dim, packing_fraction(radius * float(_scale), box), straight)
         _system_setup.allocate_engine_arrays(self)
         self._refresh_lists()
         _system_setup.check_walls(self)
@@ -330,6 +343,9 @@ class HardSphereSystem(SystemParameters, ParticleState, NeighbourLists, Checkpoi
         )
 
     def _predict_all(self):
+        if self._engine_code == ENGINE_CELLS:
+            self._predict_all_crossings()
+            return
         _k.predict_all(
             self.p, self.book, self.anchor_time, self.neighbours, self.neighbour_count, self.geom, self.dim, self.params, self.queue,
             self.tree, self.leaves, self.acc,

@@ -48,7 +48,7 @@ from .layout import (
     P_SCALE0, PREDICTED_AT, R, STOP_COLLISIONS, STOP_EVENTS, STOP_NO_EVENT, STOP_OVERFLOW,
     STOP_STALLED, STOP_TIME, T, TARGET, V, X, wall_target,
 )
-from .motion import shift_by_box
+from .motion import shift_by_box, wrap_into_box
 from .prediction import first_root_from_below
 from .queue import queue_update, tree_build
 
@@ -391,6 +391,13 @@ def predict_all_crossings(p, b, pending, offsets, cell_of, cell_members, cell_co
 
 
 @kernel
+def wrap_all(p, geom, dim, image, b, acc, params):
+    """Bring every particle into [0, L) on periodic axes (:func:`.motion.wrap_into_box`, image sums kept)."""
+    for i in range(p.shape[0]):
+        wrap_into_box(p, i, geom, dim, image, b, acc, params)
+
+
+@kernel
 def bin_into_cells(p, cell_of, cell_members, cell_count, ncell, geom, dim):
     """Put every particle into the cell holding its position (clamped into the grid); the fullest cell's count.
 
@@ -420,5 +427,5 @@ def bin_into_cells(p, cell_of, cell_members, cell_count, ncell, geom, dim):
 __all__ = [
     "ALL_NEIGHBOURS", "CROSSING_BASE", "PENDING_AT", "PENDING_PARTNER", "PENDING_TIME", "bin_into_cells",
     "crossing_target", "next_crossing", "next_wall_hit", "offset_table", "predict_all_crossings",
-    "run_crossing_events", "search_cells",
+    "run_crossing_events", "search_cells", "wrap_all",
 ]
