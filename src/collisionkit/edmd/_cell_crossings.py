@@ -31,21 +31,28 @@ CELLS_PER_PARTICLE = 2
 INITIAL_SLOTS = 4
 
 
-def engine_code(engine, dim, packing_fraction, straight_flights) -> int:
+def engine_code(engine, dim, packing_fraction, straight_flights, cells_fit=True) -> int:
     """The engine a new system runs: ``engine`` ("auto", "lists" or "cells") resolved for its kind of system.
 
     ``straight_flights``: no gravity, compression or shear (the cell
     engine's only kind). "cells" for another kind is a ValueError.
+    ``cells_fit``: the box holds 3 cells a periodic axis (else "auto" takes
+    the lists; "cells" fails when its grid is made, naming the axis).
     """
     if engine == "auto":
         dilute = packing_fraction < CELLS_BELOW_PACKING[dim]
-        return ENGINE_CELLS if straight_flights and dilute else ENGINE_LISTS
+        return ENGINE_CELLS if straight_flights and dilute and cells_fit else ENGINE_LISTS
     if engine not in ENGINE_NAMES:
         raise ValueError(f"engine must be 'auto', 'lists' or 'cells'; got {engine!r}")
     if engine == "cells" and not straight_flights:
         raise ValueError("engine='cells' runs straight flights of fixed radii only: no gravity, compression or "
                          "shear (use 'lists' or 'auto')")
     return ENGINE_NAMES[engine]
+
+
+def cells_fit(box, dim, periodic, largest_contact) -> bool:
+    """Whether every periodic axis holds 3 cells no narrower than ``largest_contact`` (:func:`crossing_grid`)."""
+    return all(math.floor(box[k] / largest_contact * (1 - 1e-12)) >= 3 for k in range(dim) if periodic[k])
 
 
 def crossing_grid(box, dim, periodic, largest_contact, count):

@@ -18,9 +18,10 @@ import math
 import numpy as np
 
 from .._kernels import edmd as _k
+from .._kernels.edmd.crossings import PENDING_TIME
 from .._repr import hard_sphere_system_rows, html_table
 from . import _checks, _system_setup
-from ._cell_crossings import ENGINE_CELLS, CellCrossings, engine_code
+from ._cell_crossings import ENGINE_CELLS, CellCrossings, cells_fit, engine_code
 from ._neighbour_lists import NeighbourLists
 from ._particle_state import ParticleState
 from ._shear import THERMOSTAT_INTERVAL, ShearFlow, shear_parameters
@@ -255,7 +256,8 @@ class HardSphereSystem(SystemParameters, ParticleState, NeighbourLists, CellCros
         if self.shear_rate != 0.0:
             self._add_streaming()
         straight = _growth == 0.0 and not np.any(gravity) and self.shear_rate == 0.0
-        self._engine_code = engine_code(engine, dim, packing_fraction(radius * float(_scale), box), straight)
+        fit = cells_fit(box, dim, periodic, 2.0 * float(np.max(radius)) * float(_scale))
+        self._engine_code = engine_code(engine, dim, packing_fraction(radius * float(_scale), box), straight, fit)
         _system_setup.allocate_engine_arrays(self)
         self._refresh_lists()
         _system_setup.check_walls(self)
@@ -288,6 +290,7 @@ class HardSphereSystem(SystemParameters, ParticleState, NeighbourLists, CellCros
             self.p[:, _k.T] -= shift
             self.queue -= shift
             self.tree[:, 0] -= shift
+            self.pending[:, PENDING_TIME] -= shift  # the cell-crossing engine's absolute times too
             self.params[_k.P_SCALE0] += self.growth * shift
             self._shear_clock(shift)
             self.elapsed += shift
