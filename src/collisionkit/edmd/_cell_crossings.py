@@ -22,11 +22,17 @@ from .._kernels.edmd import crossings as _crossings
 ENGINE_LISTS = 0
 ENGINE_CELLS = 1
 ENGINE_NAMES = {"lists": ENGINE_LISTS, "cells": ENGINE_CELLS}
-# packing fractions below which engine="auto" takes the cell crossings: where the two engines were level in one
-# process, alternating (benchmarks/bench_edmd_engines.py; results/edmd_engines.md)
-CELLS_BELOW_PACKING = {2: 0.3, 3: 0.2}
-# the most cells a particle, on average (per axis: (CELLS_PER_PARTICLE N)^(1/dim)); more would be mostly empty
-CELLS_PER_PARTICLE = 2
+# packing fractions below which engine="auto" takes the cell crossings (discs 2, spheres 3): where the two engines
+# were level in one process, alternating (benchmarks/bench_edmd_engines.py, N = 4000: results/edmd_engines_3d.md,
+# edmd_engines_2d.md): spheres 1.72x the lists' rate at eta = 0.03, 1.59 at 0.1, 1.31 at 0.15, 1.00 at 0.2, 0.87 at
+# 0.26; discs 1.90 at 0.02, 1.63 at 0.05, 1.36 at 0.15, 1.13 at 0.25, 1.04 at 0.35, 0.92 at 0.45
+CELLS_BELOW_PACKING = {2: 0.35, 3: 0.2}
+# the most cells a particle, on average (per axis: (CELLS_PER_PARTICLE N)^(1/dim)), discs 2 and spheres 3: below
+# this the cells are as narrow as the contact distance, above it wider. Wider cells mean fewer crossings but more pair
+# tests a search; measured at N = 4000 against the lists (benchmarks/bench_edmd_engines.py, one cap a process): 3D
+# eta = 0.1 1.77x the lists' rate with 16, 1.35x with 2, 1.14x with 1 (eta = 0.03: 1.94, 1.91, 1.72); 2D eta = 0.05
+# 0.88x with 16, 1.51x with 4, 1.58x with 1 (eta = 0.15: 1.24x with 16, 1.36x with 2)
+CELLS_PER_PARTICLE = {2: 2, 3: 16}
 # slots per cell to start with (grown when a cell needs more)
 INITIAL_SLOTS = 4
 
@@ -56,14 +62,14 @@ def cells_fit(box, dim, periodic, largest_contact) -> bool:
 
 
 def crossing_grid(box, dim, periodic, largest_contact, count):
-    """Cells per axis and their widths: no narrower than ``largest_contact``, about CELLS_PER_PARTICLE a particle.
+    """Cells per axis and their widths: no narrower than ``largest_contact``, at most about CELLS_PER_PARTICLE a particle.
 
     A periodic axis needs at least 3 cells (each neighbouring cell seen
     through one image); the list engine asks the same of the box.
     """
     ncell = np.ones(3, dtype=np.int64)
     widths = np.ones(3)
-    most = max(3, int((CELLS_PER_PARTICLE * count) ** (1.0 / dim)))
+    most = max(3, int((CELLS_PER_PARTICLE[dim] * count) ** (1.0 / dim)))
     for k in range(dim):
         ncell[k] = min(max(int(math.floor(box[k] / largest_contact * (1 - 1e-12))), 1), most)
         if periodic[k] and ncell[k] < 3:

@@ -176,8 +176,10 @@ class NeighbourLists:
         cells, slots = int(np.prod(self.ncell)), self._room_for(needed)
         self.cell_members = np.zeros((cells, slots), dtype=np.int32)
         self.cell_count = np.zeros(cells, dtype=np.int32)
-        # anchors and radii in float32 (16 bytes a slot): a cell of 4 spheres in one cache line
-        self.cell_points = np.zeros((cells, slots, 4), dtype=np.float32)
+        # anchors and radii in float32 (16 bytes a slot): a cell of 4 spheres in one cache line (the cell-crossing
+        # engine has no anchors: one unused slot)
+        shape = (1, 1, 4) if self._engine_code == ENGINE_CELLS else (cells, slots, 4)
+        self.cell_points = np.zeros(shape, dtype=np.float32)
 
     def _grow_overflowed_storage(self) -> bool:
         """After a run stopped because a list row or a cell was full: grow them, rebuild all lists, True.
