@@ -138,8 +138,8 @@ def _scan_members(p, cell, sx, sy, sz, cell_members, cell_count, xi, yi, zi, vxi
 
 
 @inline_kernel
-def search_cells(p, i, offsets, row, cell_of, cell_members, cell_count, ncell, geom, scale):
-    """Earliest contact (time from i's time, partner) of i with the cells of row ``row`` of ``offsets``.
+def search_cells(p, i, c0, c1, c2, offsets, row, cell_members, cell_count, ncell, geom, scale):
+    """Earliest contact (time from i's time, partner) of i, in cell (c0, c1, c2), with the cells of row ``row``.
 
     Row ``row`` of :func:`offset_table` lists cell offsets, the nearest
     first, so that an early good contact tightens the filter for the rest.
@@ -149,30 +149,31 @@ def search_cells(p, i, offsets, row, cell_of, cell_members, cell_count, ncell, g
     xi, yi, zi = p[i, X], p[i, X + 1], p[i, X + 2]
     vxi, vyi, vzi = p[i, V], p[i, V + 1], p[i, V + 2]
     ri = p[i, R]
-    c0, c1, c2 = cell_coordinates(cell_of[i], ncell)
+    n0, n1, n2 = ncell[0], ncell[1], ncell[2]
+    periodic0, periodic1, periodic2 = geom[G_PERIODIC, 0] != 0.0, geom[G_PERIODIC, 1] != 0.0, geom[G_PERIODIC, 2] != 0.0
+    l0, l1, l2 = geom[G_BOX, 0], geom[G_BOX, 1], geom[G_BOX, 2]
     best = math.inf
     partner = -1
     for q in range(offsets.shape[1]):
         if offsets[row, q, 0] == ROW_END:
             break
-        x, sx = _neighbour_cell(c0, offsets[row, q, 0], ncell[0], geom[G_PERIODIC, 0] != 0.0, geom[G_BOX, 0])
-        y, sy = _neighbour_cell(c1, offsets[row, q, 1], ncell[1], geom[G_PERIODIC, 1] != 0.0, geom[G_BOX, 1])
-        z, sz = _neighbour_cell(c2, offsets[row, q, 2], ncell[2], geom[G_PERIODIC, 2] != 0.0, geom[G_BOX, 2])
+        x, sx = _neighbour_cell(c0, offsets[row, q, 0], n0, periodic0, l0)
+        y, sy = _neighbour_cell(c1, offsets[row, q, 1], n1, periodic1, l1)
+        z, sz = _neighbour_cell(c2, offsets[row, q, 2], n2, periodic2, l2)
         if x < 0 or y < 0 or z < 0:
             continue
-        best, partner = _scan_members(p, cell_index(x, y, z, ncell), sx, sy, sz, cell_members, cell_count, xi, yi,
-                                      zi, vxi, vyi, vzi, ri, t, scale, best, partner)
+        best, partner = _scan_members(p, x + n0 * (y + n1 * z), sx, sy, sz, cell_members, cell_count, xi, yi, zi,
+                                      vxi, vyi, vzi, ri, t, scale, best, partner)
     return best, partner
 
 
 @inline_kernel
-def next_crossing(p, i, cell_of, ncell, geom, dim):
-    """Time (from i's time) until i leaves its cell, and the face; (inf, -1) if it never does.
+def next_crossing(p, i, c0, c1, c2, ncell, geom, dim):
+    """Time (from i's time) until i leaves its cell (c0, c1, c2), and the face; (inf, -1) if it never does.
 
     A face on a wall is never crossed (the wall hit comes first). A
     position past the face by round-off crosses at once.
     """
-    c0, c1, c2 = cell_coordinates(cell_of[i], ncell)
     best = math.inf
     face = -1
     for k in range(dim):
@@ -228,9 +229,9 @@ def _queue_earliest(p, i, b, pending, boundary, boundary_target, queue, tree, le
 
 
 @inline_kernel
-def _boundary(p, i, cell_of, ncell, geom, dim, scale):
-    """i's next boundary event: (time from i's time, TARGET), a wall hit or a cell crossing."""
-    crossing, face = next_crossing(p, i, cell_of, ncell, geom, dim)
+def _boundary(p, i, c0, c1, c2, ncell, geom, dim, scale):
+    """i's next boundary event: (time from i's time, TARGET), a wall hit or a crossing of cell (c0, c1, c2)."""
+    crossing, face = next_crossing(p, i, c0, c1, c2, ncell, geom, dim)
     wall, wall_code = next_wall_hit(p, i, geom, dim, scale)
     if wall <= crossing:
         return wall, wall_code
@@ -241,12 +242,14 @@ def _boundary(p, i, cell_of, ncell, geom, dim, scale):
 def predict_fully(p, i, b, pending, offsets, cell_of, cell_members, cell_count, ncell, geom, dim, scale, event,
                   queue, tree, leaves):
     """Search all of i's neighbouring cells, record its best collision as pending and queue its next event."""
-    tau, partner = search_cells(p, i, offsets, ALL_NEIGHBOURS, cell_of, cell_members, cell_count, ncell, geom, scale)
+    c0, c1, c2 = cell_coordinates(cell_of[i], ncell)
+    tau, partner = search_cells(p, i, c0, c1, c2, offsets, ALL_NEIGHBOURS, cell_members, cell_count, ncell, geom,
+                                scale)
     pending[i, PENDING_TIME] = p[i, T] + tau if partner >= 0 else math.inf
     pending[i, PENDING_PARTNER] = partner
     pending[i, PENDING_AT] = event
     b[i, PREDICTED_AT] = event
-    boundary, target = _boundary(p, i, cell_of, ncell, geom, dim, scale)
+    boundary, target = _boundary(p, i, c0, c1, c2, ncell, geom, dim, scale)
     _queue_earliest(p, i, b, pending, boundary, target, queue, tree, leaves)
 
 
@@ -286,12 +289,12 @@ def _cross(p, i, face, b, pending, image, offsets, cell_of, cell_members, cell_c
     cell_members[new, cell_count[new]] = i
     cell_count[new] += 1
     cell_of[i] = new
-    tau, partner = search_cells(p, i, offsets, face, cell_of, cell_members, cell_count, ncell, geom, scale)
+    tau, partner = search_cells(p, i, c0, c1, c2, offsets, face, cell_members, cell_count, ncell, geom, scale)
     if partner >= 0 and p[i, T] + tau < pending[i, PENDING_TIME]:
         pending[i, PENDING_TIME] = p[i, T] + tau
         pending[i, PENDING_PARTNER] = partner
         pending[i, PENDING_AT] = event
-    boundary, target = _boundary(p, i, cell_of, ncell, geom, dim, scale)
+    boundary, target = _boundary(p, i, c0, c1, c2, ncell, geom, dim, scale)
     _queue_earliest(p, i, b, pending, boundary, target, queue, tree, leaves)
     return True
 
