@@ -23,9 +23,10 @@ ENGINE_LISTS = 0
 ENGINE_CELLS = 1
 ENGINE_NAMES = {"lists": ENGINE_LISTS, "cells": ENGINE_CELLS}
 # packing fractions below which engine="auto" takes the cell crossings (discs 2, spheres 3): where the two engines
-# were level in one process, alternating (benchmarks/bench_edmd_engines.py, N = 4000: results/edmd_engines_3d.md,
-# edmd_engines_2d.md): spheres 1.72x the lists' rate at eta = 0.03, 1.59 at 0.1, 1.31 at 0.15, 1.00 at 0.2, 0.87 at
-# 0.26; discs 1.90 at 0.02, 1.63 at 0.05, 1.36 at 0.15, 1.13 at 0.25, 1.04 at 0.35, 0.92 at 0.45
+# are level, a little on the safe side. Measured in one process, alternating (benchmarks/bench_edmd_engines.py,
+# N = 4000, results/edmd_engines_3d.md, edmd_engines_2d.md), the cells' rate over the lists': spheres 2.36 at
+# eta = 0.03, 1.90 at 0.1, 1.53 at 0.15, 1.10 at 0.2, 0.90 at 0.26; discs 1.99 at 0.02, 1.58 at 0.05, 1.35 at 0.15,
+# 1.22 at 0.25, 1.10 at 0.35, 0.93 at 0.45
 CELLS_BELOW_PACKING = {2: 0.35, 3: 0.2}
 # the most cells a particle, on average (per axis: (CELLS_PER_PARTICLE N)^(1/dim)), discs 2 and spheres 3: below
 # this the cells are as narrow as the contact distance, above it wider. Wider cells mean fewer crossings but more pair

@@ -7,7 +7,7 @@ import math
 import numpy as np
 
 from . import _checks
-from ._cell_crossings import engine_code
+from ._cell_crossings import cells_fit, engine_code
 from .system import HardSphereSystem, default_shell
 from .theory import MAX_PACKING_FRACTION, _ball_volume
 
@@ -265,7 +265,8 @@ def random_fluid(
         dilute = default_shell(radii, np.full(dim, side), system_options.get("gravity") is None)
         system._shell_request = max(float(system._shell_request), dilute)
     straight = system.shear_rate == 0.0 and system_options.get("gravity") is None
-    system._engine_code = engine_code(engine, dim, packing_fraction, straight)
+    fit = cells_fit(np.full(dim, side), dim, np.ones(dim, dtype=bool), float(diameters.max()))
+    system._engine_code = engine_code(engine, dim, packing_fraction, straight, fit)
     system._stop_growing(1.0)
     system.check(tolerance=1e-7)
     system.set_velocities(maxwell_boltzmann(masses, dim, kT, generator))
