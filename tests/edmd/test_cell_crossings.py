@@ -116,3 +116,12 @@ def test_a_cell_outgrowing_its_slots_grows_them_and_the_run_goes_on():
     assert system.cell_members.shape[1] > fullest
     assert (system.velocities() ** 2).sum() == pytest.approx(energy, rel=1e-12)
     assert system.check() > -1e-9
+
+
+def test_the_drift_check_catches_a_particle_outside_its_cell():
+    """check() guards the cell engine's invariant (each particle within round-off of its cell)."""
+    system = fcc_system(cells=4, eta=0.1)
+    system.check()
+    system.p[0, _k.X] += 1.5 * system.geom[_k.G_CELL, 0]
+    with pytest.raises(RuntimeError, match="outside its cell"):
+        system._check_cell_drift(1e-9)
