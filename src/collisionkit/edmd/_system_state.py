@@ -433,13 +433,7 @@ def _check_cells(arrays, p, dim, geom, params, rebuilt):
     points = _array(arrays, "cell_points", (cells, slots, 4))
     if rebuilt:
         return
-    _require((filled >= 0) & (filled <= slots), "cell_count", f"must hold counts in [0, {slots}]")
-    _require(filled.sum() == count, "cell_count", f"must count {count} particles in all; got {filled.sum()}")
-    used = np.arange(slots) < filled[:, None]
-    held = members[used]
-    _require((held >= 0) & (held < count), "cell_members", f"must hold particles in [0, {count})")
-    _require(np.bincount(held, minlength=count) == 1, "cell_members", "must hold each particle once")
-    _require(cell_of[held] == np.nonzero(used)[0], "cell_of", "must hold the cell that holds each particle")
+    used, held = _check_members(members, filled, cell_of, count)
     anchors = arrays["book"][:, _k.ANCHOR : _k.ANCHOR + 3]
     coordinates = np.zeros((count, 3), dtype=np.int64)
     for k in range(dim):
@@ -448,6 +442,19 @@ def _check_cells(arrays, p, dim, geom, params, rebuilt):
     _require(cell_of == home, "cell_of", "must hold the cell of each particle's anchor")
     expected = np.column_stack([anchors[held], p[held, _k.R]]).astype(np.float32)
     _require(points[used] == expected, "cell_points", "must hold the anchors and radii of the cells' particles")
+
+
+def _check_members(members, filled, cell_of, count):
+    """Each particle once in the cells, in the cell ``cell_of`` names; (slots in use, their particles)."""
+    slots = members.shape[1]
+    _require((filled >= 0) & (filled <= slots), "cell_count", f"must hold counts in [0, {slots}]")
+    _require(filled.sum() == count, "cell_count", f"must count {count} particles in all; got {filled.sum()}")
+    used = np.arange(slots) < filled[:, None]
+    held = members[used]
+    _require((held >= 0) & (held < count), "cell_members", f"must hold particles in [0, {count})")
+    _require(np.bincount(held, minlength=count) == 1, "cell_members", "must hold each particle once")
+    _require(cell_of[held] == np.nonzero(used)[0], "cell_of", "must hold the cell that holds each particle")
+    return used, held
 
 
 def _check_crossing_cells(arrays, p, dim, geom, params, rebuilt):
@@ -469,19 +476,12 @@ def _check_crossing_cells(arrays, p, dim, geom, params, rebuilt):
     _require(geom[_k.G_CELL, :dim] == widths[:dim], "geom", "must hold the cell widths of the grid")
     cells = math.prod(ncell.tolist())
     members = _array(arrays, "cell_members", (cells, None))
-    slots = members.shape[1]
     filled = _array(arrays, "cell_count", (cells,))
     cell_of = _array(arrays, "cell_of", (count,))
     _array(arrays, "cell_points", (1, 1, 4))  # no anchors in this engine
     if rebuilt:
         return
-    _require((filled >= 0) & (filled <= slots), "cell_count", f"must hold counts in [0, {slots}]")
-    _require(filled.sum() == count, "cell_count", f"must count {count} particles in all; got {filled.sum()}")
-    used = np.arange(slots) < filled[:, None]
-    held = members[used]
-    _require((held >= 0) & (held < count), "cell_members", f"must hold particles in [0, {count})")
-    _require(np.bincount(held, minlength=count) == 1, "cell_members", "must hold each particle once")
-    _require(cell_of[held] == np.nonzero(used)[0], "cell_of", "must hold the cell that holds each particle")
+    _check_members(members, filled, cell_of, count)
     coordinates = np.stack(np.unravel_index(cell_of, tuple(ncell[::-1].tolist()))[::-1], axis=1)[:, :dim]
     points = p[:, _k.X : _k.X + dim]
     slack = 1e-9 * widths[:dim]

@@ -42,14 +42,13 @@ from ..._jit import borrowing_inline_kernel as inline_kernel
 from ..._jit import borrowing_kernel as kernel
 from .cells import cell_coordinates, cell_index
 from .contacts import bounce_off_wall, collide_pair
-from .exact import sure_approach
 from .layout import (
     ACC_CELL_OVERFLOW, ACC_EVENTS, ACC_LIST_REBUILDS, ACC_STALE_EVENTS, CHANGED_AT, G_BOX, G_CELL, G_PERIODIC,
     P_SCALE0, PREDICTED_AT, R, STOP_COLLISIONS, STOP_EVENTS, STOP_NO_EVENT, STOP_OVERFLOW,
     STOP_STALLED, STOP_TIME, T, TARGET, V, X, wall_target,
 )
 from .motion import shift_by_box, wrap_into_box
-from .prediction import first_root_from_below
+from .prediction import contact_before, first_root_from_below
 from .queue import queue_update, tree_build
 
 # columns of the pending-collision records (float64, N x 3)
@@ -107,10 +106,10 @@ def _scan_members(p, cell, sx, sy, sz, cell_members, cell_count, xi, yi, zi, vxi
                   partner):
     """Earliest contact of a particle at (xi, yi, zi) with the members of one cell, seen shifted by (sx, sy, sz).
 
-    The root and the cheap filter of
-    :func:`.prediction._first_contact_ballistic` (same arithmetic, so the
-    same contact times). The particle itself, if a member, has r = u = 0,
-    so b = 0 and the filter drops it.
+    The root and the cheap filter of the list engine
+    (:func:`.prediction.contact_before`: the same contact times). The
+    particle itself, if a member, has r = u = 0, so b = 0 and the filter
+    drops it.
     """
     for m in range(cell_count[cell]):
         j = cell_members[cell, m]
@@ -121,19 +120,10 @@ def _scan_members(p, cell, sx, sy, sz, cell_members, cell_count, xi, yi, zi, vxi
         ux = p[j, V] - vxi
         uy = p[j, V + 1] - vyi
         uz = p[j, V + 2] - vzi
-        sigma = (ri + p[j, R]) * scale
-        b = rx * ux + ry * uy + rz * uz
-        c = rx * rx + ry * ry + rz * rz - sigma * sigma
-        if max(b, c + 2.0 * b * best) < 0.0 and sure_approach(b, rx, ry, rz, ux, uy, uz, 0.0) < 0.0:
-            cx = ry * uz - rz * uy
-            cy = rz * ux - rx * uz
-            cz = rx * uy - ry * ux
-            discriminant = sigma * sigma * (ux * ux + uy * uy + uz * uz) - (cx * cx + cy * cy + cz * cz)
-            if discriminant >= 0.0 or c <= 0.0:
-                tau = max(c, 0.0) / (math.sqrt(max(discriminant, 0.0)) - b)
-                if tau < best:
-                    best = tau
-                    partner = j
+        tau = contact_before(rx, ry, rz, ux, uy, uz, (ri + p[j, R]) * scale, best)
+        if tau < best:
+            best = tau
+            partner = j
     return best, partner
 
 
