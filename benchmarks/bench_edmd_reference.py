@@ -72,6 +72,9 @@ STATE_POINTS = {
     108000: (108000, 0.45, 1.5),
     1000188: (1000188, 0.45, 0.5),
 }
+# --dilute: a dilute gas, where collisionkit runs its cell-crossing engine (engine="auto") and the C Cell variant is
+# at home; the window gives about 2e6 collisions as above
+DILUTE_POINT = (4000, 0.1, 600.0)
 
 
 def variant_sources(source: Path, variant: str) -> dict[str, Path]:
@@ -269,6 +272,7 @@ def main() -> None:
     parser.add_argument("--sizes", type=int, nargs="+", default=[864, 4000, 32000, 108000],
                         help=f"state points by N, of {sorted(STATE_POINTS)}")
     parser.add_argument("--variants", nargs="+", default=list(VARIANTS), choices=list(VARIANTS))
+    parser.add_argument("--dilute", action="store_true", help="also N = 4000 at eta = 0.1 (after --sizes)")
     parser.add_argument("--output", default="edmd_reference", help="stem of the result files in benchmarks/results")
     parser.add_argument("--dynamo", type=Path, help="a folder holding DynamO's dynamod and dynarun")
     parser.add_argument("--dynamo-sizes", type=int, nargs="+", default=[4000], help="state points (by N) to run DynamO at")
@@ -283,9 +287,9 @@ def main() -> None:
     started = time.time()
     rows = []
     with tempfile.TemporaryDirectory() as scratch:
-        for size in args.sizes:
-            particles, eta, duration = STATE_POINTS[size]
-            with_dynamo = args.dynamo is not None and size in args.dynamo_sizes
+        for particles, eta, duration in [STATE_POINTS[size] for size in args.sizes] + [DILUTE_POINT] * args.dilute:
+            dynamo_points = [STATE_POINTS[n][:2] for n in args.dynamo_sizes if n in STATE_POINTS]
+            with_dynamo = args.dynamo is not None and (particles, eta) in dynamo_points
             rows.append(measure_point(args.source, Path(scratch), particles, eta, duration, args.pairs, args.variants,
                                       args.dynamo if with_dynamo else None, args.dynamo_pairs))
     text = table(rows, args.pairs, load_before, os.getloadavg()[0])

@@ -85,7 +85,7 @@ def test_neighbour_shell_is_validated():
 def test_the_anchor_drift_check_catches_a_particle_beyond_half_the_shell():
     """check() guards the neighbour-list invariant |x - anchor| <= shell / 2; a particle 0.6 shell away must
     raise. Kills: allowed = 0.5 shell -> 5 shell."""
-    system = edmd.HardSphereSystem(*_square_lattice_with_velocities())
+    system = edmd.HardSphereSystem(*_square_lattice_with_velocities(), engine="lists")
     system.check()
     system.anchor[0, 0] -= 0.6 * system.neighbour_shell_width
     with pytest.raises(RuntimeError, match="drifted"):
@@ -109,7 +109,7 @@ def test_the_shell_is_the_requested_fraction_of_the_largest_diameter():
 def test_cells_are_sized_by_the_grid_they_hold_not_by_every_grid_before(eta):
     # issue 16, item 6: each grid change of a compression took 1.25 times the old grid's slots, and the small
     # starting radii asked for many empty cells: 65 kB of cells a particle at eta = 0.02 (1.4 kB at 0.3)
-    system = edmd.random_fluid(3, 4000, eta, seed=1)
+    system = edmd.random_fluid(3, 4000, eta, seed=1, engine="lists")
     cells = int(np.prod(system.ncell))
     assert cells <= 2 * system.count
     occupancy = np.bincount(system.cell_of.astype(np.int64), minlength=cells).max()

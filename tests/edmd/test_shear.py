@@ -170,8 +170,8 @@ def test_checkpoint_resumes_bit_for_bit():
 
 
 def test_older_checkpoint_formats_read_as_unsheared():
-    positions, box = edmd.lattice("square", 8, 0.3)
-    system = edmd.HardSphereSystem(positions, edmd.maxwell_boltzmann(np.ones(64), 2, seed=1), 0.5, box)
+    positions, box = edmd.lattice("square", 8, 0.3)  # formats before 7 ran the list engine
+    system = edmd.HardSphereSystem(positions, edmd.maxwell_boltzmann(np.ones(64), 2, seed=1), 0.5, box, engine="lists")
     state = system.state_dict()
     state["format"] = np.asarray(3)
     state["params"] = state["params"][: _k.P_SIZE_WITHOUT_SHEAR]
@@ -188,7 +188,8 @@ def test_format_4_checkpoints_load_only_unsheared():
     with pytest.raises(ValueError, match="engine format 4 with Lees-Edwards shear"):
         edmd.HardSphereSystem.from_state_dict(sheared)
     positions, box = edmd.lattice("square", 8, 0.3)
-    plain = edmd.HardSphereSystem(positions, edmd.maxwell_boltzmann(np.ones(64), 2, seed=1), 0.5, box).state_dict()
+    plain = edmd.HardSphereSystem(positions, edmd.maxwell_boltzmann(np.ones(64), 2, seed=1), 0.5, box,
+                                  engine="lists").state_dict()
     plain["format"] = np.asarray(4)
     assert edmd.HardSphereSystem.from_state_dict(plain).run(collisions=100) == 100
 

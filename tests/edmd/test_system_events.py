@@ -15,7 +15,9 @@ import pytest
 
 from collisionkit import edmd
 from collisionkit._kernels import edmd as kernels
+from collisionkit._kernels.edmd.crossings import CROSSING_BASE
 from collisionkit.edmd import _system_events
+from collisionkit.edmd._cell_crossings import run_crossing_kernel
 from tests.edmd.systems import fcc_system
 from tests.sweep.helpers import deadline
 
@@ -25,9 +27,10 @@ def _compiled(system):
     return system
 
 
-def parallel_discs():
+def parallel_discs(engine="auto"):
     """Two discs on parallel lines in a periodic box, at the same velocity: no pair can ever collide."""
-    return _compiled(edmd.HardSphereSystem([[1.0, 1.0], [1.0, 5.0]], [[1.0, 0.0], [1.0, 0.0]], 0.5, 10.0))
+    return _compiled(edmd.HardSphereSystem([[1.0, 1.0], [1.0, 5.0]], [[1.0, 0.0], [1.0, 0.0]], 0.5, 10.0,
+                                           engine=engine))
 
 
 def test_a_run_for_collisions_no_pair_can_make_stops_with_the_cause():
@@ -98,7 +101,12 @@ def test_an_interrupt_lands_within_a_second_of_a_run_without_collisions():
 
 
 def test_a_kernel_call_stops_at_its_event_allowance_and_at_a_stalled_instant():
-    system = parallel_discs()
+    crossing = parallel_discs()  # dilute: the cell-crossing engine, whose events here are all crossings
+    assert crossing.engine == "cells"
+    t, _, _, stop, target = run_crossing_kernel(crossing, 0.0, 0, 100, 1000, math.inf, kernels.STALLED_EVENTS)
+    assert stop == kernels.STOP_EVENTS and crossing.acc[kernels.ACC_EVENTS] == 1000 and t > 0.0
+    assert target <= CROSSING_BASE and crossing.acc[kernels.ACC_PAIR_COLLISIONS] == 0
+    system = parallel_discs("lists")
     arrays = (system.p, system.book, system.anchor_time, system._image, system.cell_of, system.neighbours, system.neighbour_count,
               system.cell_members, system.cell_count, system.cell_points, system.ncell, system.geom, system.dim,
               system.restitution, system.params, system.queue, system.tree, system.leaves, system.acc)

@@ -189,16 +189,31 @@ CRAFTED = [
 ]
 # the same through EdmdRun.resume: the run's checkpoint holds the system's arrays
 CRAFTED_RUNS = [("run: leaves = 10**7", "leaves", CRAFTED[0][2]), ("run: a short tree", "tree", CRAFTED[2][2])]
+# a checkpoint of the cell-crossing engine (the same system, engine="cells")
+CRAFTED_CELLS = [
+    ("cells: an engine code of 2", "_engine_code", _replace("_engine_code", lambda _: np.asarray(2))),
+    ("cells: a pending partner beyond the particles", "pending", _set("pending", (0, 1), float(N + 3))),
+    ("cells: a NaN pending time", "pending", _set("pending", (4, 0), np.nan)),
+    ("cells: a pending event numbered after the last", "pending", _set("pending", (2, 2), 1e18)),
+    ("cells: pending records of 2 columns", "pending", _replace("pending", lambda pending: pending[:, :2].copy())),
+    ("cells: a crossing of a face beyond the box", "book", _set("book", (0, _k.TARGET), -8.0 - 6)),
+    ("cells: a list rebuild", "book", _set("book", (0, _k.TARGET), float(_k.LIST_TARGET))),
+    ("cells: a particle far from its cell", "cell_of",
+     _set("cell_of", 0, lambda cell_of: (cell_of[0] + 13) % 27)),
+    ("cells: a grid of the list radius", "ncell", _replace("ncell", lambda ncell: np.array([3, 3, 3]))),
+    ("cells: compressing", "params", _set("params", _k.P_GROWTH, 0.1)),
+    ("cells: gravity", "geom", _set("geom", (_k.G_GRAVITY, 1), -1.0)),
+]
 
 
-def crafted_system():
+def crafted_system(engine="lists"):
     """108 spheres of two species between walls at y = 0 and L, after some collisions."""
     positions, box = edmd.lattice("fcc", 3, 0.2)
     species = np.arange(N) % 2
     velocities = edmd.maxwell_boltzmann(np.ones(N), 3, seed=1)
     radii = np.where(species, 0.4, 0.5)
     system = edmd.HardSphereSystem(positions, velocities, radii, box, periodic=[True, False, True], species=species,
-                                   restitution=[[1.0, 0.9], [0.9, 0.8]])
+                                   restitution=[[1.0, 0.9], [0.9, 0.8]], engine=engine)
     system.run(collisions=3_000)
     return system
 
@@ -214,12 +229,14 @@ def run_crafted_cases(folder):
     run = read_checkpoint(folder / "run.npz", "edmd")
     cases = [(case, mutate, "system") for case, _, mutate in CRAFTED]
     cases += [(case, mutate, "run") for case, _, mutate in CRAFTED_RUNS]
+    cases += [(case, mutate, "cells") for case, _, mutate in CRAFTED_CELLS]
+    bases = {"system": base, "run": run.arrays, "cells": crafted_system("cells").state_dict()}
     for number, (case, mutate, kind) in enumerate(cases):
-        arrays = {name: np.array(value) for name, value in (base if kind == "system" else run.arrays).items()}
+        arrays = {name: np.array(value) for name, value in bases[kind].items()}
         mutate(arrays)
         path = folder / f"case{number}.npz"
         try:
-            if kind == "system":
+            if kind in ("system", "cells"):
                 write_checkpoint(path, "hard-sphere-system", {}, {}, arrays)
                 restored = edmd.HardSphereSystem.load(path)
                 restored.run(collisions=500)
@@ -249,7 +266,8 @@ def crafted_outcomes(tmp_path_factory):
     return outcomes, result
 
 
-@pytest.mark.parametrize(("case", "array"), [(case, array) for case, array, _ in CRAFTED + CRAFTED_RUNS])
+@pytest.mark.parametrize(("case", "array"),
+                         [(case, array) for case, array, _ in CRAFTED + CRAFTED_RUNS + CRAFTED_CELLS])
 def test_a_crafted_checkpoint_is_refused_naming_the_bad_array(crafted_outcomes, case, array):
     outcomes, result = crafted_outcomes
     died = f"the subprocess died (exit code {result.returncode}) before this case: {result.stderr[-2000:]}"

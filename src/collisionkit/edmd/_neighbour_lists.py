@@ -16,6 +16,7 @@ import math
 import numpy as np
 
 from .._kernels import edmd as _k
+from ._cell_crossings import ENGINE_CELLS
 from ._system_setup import copy_masses_and_species
 
 # while compressing, lists cover radii up to the current scale plus this (then all are rebuilt)
@@ -109,8 +110,12 @@ class NeighbourLists:
         cells and list rows are enlarged when needed. With ``anchors_only``
         it stops once the anchors are in the cells (``cell_of`` current),
         the lists and events left stale: for :meth:`_sort_by_cell`, which
-        refreshes everything after renumbering.
+        refreshes everything after renumbering. The cell-crossing engine
+        (:attr:`engine` "cells") has no lists: its cells are refreshed instead.
         """
+        if self._engine_code == ENGINE_CELLS:
+            self._refresh_crossings(cells_only=anchors_only)
+            return
         self.synchronise()
         list_scale = self.scale0 + LIST_SCALE_MARGIN if self.growth > 0 else self.scale0
         shell, ncell, widths = self._list_geometry(list_scale)
@@ -171,8 +176,10 @@ class NeighbourLists:
         cells, slots = int(np.prod(self.ncell)), self._room_for(needed)
         self.cell_members = np.zeros((cells, slots), dtype=np.int32)
         self.cell_count = np.zeros(cells, dtype=np.int32)
-        # anchors and radii in float32 (16 bytes a slot): a cell of 4 spheres in one cache line
-        self.cell_points = np.zeros((cells, slots, 4), dtype=np.float32)
+        # anchors and radii in float32 (16 bytes a slot): a cell of 4 spheres in one cache line (the cell-crossing
+        # engine has no anchors: one unused slot)
+        shape = (1, 1, 4) if self._engine_code == ENGINE_CELLS else (cells, slots, 4)
+        self.cell_points = np.zeros(shape, dtype=np.float32)
 
     def _grow_overflowed_storage(self) -> bool:
         """After a run stopped because a list row or a cell was full: grow them, rebuild all lists, True.
@@ -232,6 +239,9 @@ class NeighbourLists:
 
     def _check_anchor_drift(self, tolerance):
         """RuntimeError if a particle is further than half a shell from its anchor (its list could miss a collision)."""
+        if self._engine_code == ENGINE_CELLS:
+            self._check_cell_drift(tolerance)
+            return
         drift = _k.largest_anchor_drift(self.p, self.book, self.anchor_time, self.geom, self.dim, self.params)
         allowed = 0.5 * self.params[_k.P_SHELL] + tolerance * float(np.max(self.box[: self.dim]))
         if drift > allowed:

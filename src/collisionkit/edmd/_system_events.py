@@ -28,6 +28,8 @@ import warnings
 import numpy as np
 
 from .._kernels import edmd as _k
+from .._kernels.edmd.crossings import CROSSING_BASE
+from ._cell_crossings import ENGINE_CELLS, run_crossing_kernel
 
 # events per call of the event loop: well under a second even at N = 10^6, so that Ctrl-C is answered at once
 EVENTS_PER_CALL = 1 << 17
@@ -92,6 +94,8 @@ def stall_message(system, target):
     'inelastic collapse'
     """
     when = f"{stall_limit(system.count)} events in a row at time {system.elapsed + system.time:.17g}"
+    if target <= CROSSING_BASE:
+        return f"the event loop stalled: {when}, cell crossings (no particle moves)"
     if target < _k.LIST_TARGET:  # a wall
         return (f"wall collapse: {when}, bounces off a wall: a particle under gravity bounces ever lower on an "
                 "inelastic wall (or rests on it), infinitely many bounces in finite time "
@@ -204,12 +208,17 @@ def run_event_loop(system, collisions, t_stop):
     left, quiet, quiet_since = collisions, 0, system.time
     while True:
         made, events = system.collisions, system.acc[_k.ACC_EVENTS]
-        system.time, system._still, longest, stop, target = _k.run_events(
-            system.time, system._still, left, EVENTS_PER_CALL, t_stop, stall_limit(system.count), system.p,
-            system.book, system.anchor_time, system._image, system.cell_of, system.neighbours, system.neighbour_count, system.cell_members, system.cell_count,
-            system.cell_points, system.ncell, system.geom, system.dim, system.restitution, system.params,
-            system.queue, system.tree, system.leaves, system.acc,
-        )
+        if system._engine_code == ENGINE_CELLS:
+            system.time, system._still, longest, stop, target = run_crossing_kernel(
+                system, system.time, system._still, left, EVENTS_PER_CALL, t_stop, stall_limit(system.count))
+        else:
+            system.time, system._still, longest, stop, target = _k.run_events(
+                system.time, system._still, left, EVENTS_PER_CALL, t_stop, stall_limit(system.count), system.p,
+                system.book, system.anchor_time, system._image, system.cell_of, system.neighbours,
+                system.neighbour_count, system.cell_members, system.cell_count, system.cell_points, system.ncell,
+                system.geom, system.dim, system.restitution, system.params, system.queue, system.tree,
+                system.leaves, system.acc,
+            )
         made = system.collisions - made
         if stop == _k.STOP_STALLED:
             raise RuntimeError(stall_message(system, target))

@@ -144,6 +144,8 @@ def allocate_engine_arrays(system):
     system.anchor_time = np.zeros(count if system.params[_k.P_SHEAR_RATE] != 0.0 else 1)
     system.neighbours = np.zeros((count, INITIAL_LIST_WIDTH), dtype=np.uint32)
     system.neighbour_count = np.zeros(count, dtype=np.int32)
+    # the cell-crossing engine's best collision found so far of each particle (time, partner, event number)
+    system.pending = np.zeros((count, 3))
     blocks = -(-count // _k.QUEUE_BLOCK)
     system.leaves = next_power_of_two(blocks)
     system.queue = aligned_zeros(blocks * _k.QUEUE_BLOCK)

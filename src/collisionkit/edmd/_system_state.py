@@ -21,6 +21,8 @@ import numpy as np
 
 from .._io import CheckpointError, read_checkpoint, write_checkpoint
 from .._kernels import edmd as _k
+from .._kernels.edmd.crossings import CROSSING_BASE
+from ._cell_crossings import ENGINE_CELLS, ENGINE_LISTS, crossing_grid
 from ._neighbour_lists import CELLS_PER_PARTICLE
 from ._system_setup import RESTITUTION_LAWS, aligned_zeros, next_power_of_two
 
@@ -32,17 +34,19 @@ class Checkpoints:
 
     _ARRAYS = ("p", "_mass", "_species", "_image", "ids", "acc", "geom", "params", "restitution", "book", "anchor_time",
                "cell_of", "ncell", "queue", "tree", "neighbours", "neighbour_count", "cell_members", "cell_count",
-               "cell_points")
-    _SCALARS = ("dim", "time", "elapsed", "leaves", "last_sort", "_shell_request")
+               "cell_points", "pending")
+    _SCALARS = ("dim", "time", "elapsed", "leaves", "last_sort", "_shell_request", "_engine_code")
     # layout of the engine's arrays in a checkpoint; raise it when they change (2: bookkeeping records, block queue;
     # 3: the transport sums in the accumulator; 4: Lees-Edwards shear and its thermostat in the parameters and the
     # accumulator; 5: under shear, cells as high as the list radius and the pairs across the y faces listed within
-    # a capsule; 6: under shear, anchors carried by the flow, the cells in its frame, the lists' times)
-    STATE_FORMAT = 6
+    # a capsule; 6: under shear, anchors carried by the flow, the cells in its frame, the lists' times; 7: the
+    # cell-crossing engine, its pending collisions and the engine's code)
+    STATE_FORMAT = 7
     # older formats a restore still reads: format 2 lacks the transport sums, which start at 0 (only their changes
     # over a measurement have a meaning, and a format-2 run measured none); formats 2 and 3 were never sheared, and
-    # formats 4 and 5 are read only unsheared (their sheared lists and cells are kept differently)
-    READABLE_FORMATS = (2, 3, 4, 5, 6)
+    # formats 4 and 5 are read only unsheared (their sheared lists and cells are kept differently); formats before 7
+    # ran the list engine
+    READABLE_FORMATS = (2, 3, 4, 5, 6, 7)
 
     def state_dict(self):
         """Every array and number needed to continue the run bit for bit.
@@ -85,7 +89,10 @@ class Checkpoints:
                 f"{' and '.join(map(str, cls.READABLE_FORMATS))} "
                 "(checkpoints do not carry over between engine versions: restart the run)"
             )
-        if written < cls.STATE_FORMAT:
+        if written < 7:  # the list engine, no pending collisions
+            count = np.shape(state["p"])[0] if "p" in state else 0
+            state = dict(state) | {"pending": np.zeros((count, 3)), "_engine_code": np.asarray(ENGINE_LISTS)}
+        if written < 6:
             state = dict(state) | {"anchor_time": np.zeros(1)}  # never sheared (refused below if it was)
         missing = [name for name in (*cls._ARRAYS, *cls._SCALARS, "restitution_law") if name not in state]
         if missing:
@@ -165,7 +172,8 @@ class Checkpoints:
 _DTYPES = {"p": np.float64, "_mass": np.float64, "_species": np.int64, "_image": np.int64, "ids": np.int64,
            "acc": np.float64, "geom": np.float64, "params": np.float64, "restitution": np.float64, "book": np.float64,
            "anchor_time": np.float64, "cell_of": np.int32, "ncell": np.int64, "queue": np.float64, "tree": np.float64, "neighbours": np.uint32,
-           "neighbour_count": np.int32, "cell_members": np.int32, "cell_count": np.int32, "cell_points": np.float32}
+           "neighbour_count": np.int32, "cell_members": np.int32, "cell_count": np.int32, "cell_points": np.float32,
+           "pending": np.float64}
 # accumulator slots that count (whole numbers), and those sized by a run that stopped to grow a row (<= N + 1)
 _COUNTERS = (_k.ACC_PAIR_COLLISIONS, _k.ACC_WALL_COLLISIONS, _k.ACC_LIST_REBUILDS, _k.ACC_STALE_EVENTS, _k.ACC_EVENTS)
 _OVERFLOWS = (_k.ACC_LIST_OVERFLOW, _k.ACC_CELL_OVERFLOW)
@@ -263,11 +271,20 @@ def check_state(arrays, scalars):
     _require(_whole(overflows) & (overflows >= 0) & (overflows <= count + 1), "acc",
              f"must hold row sizes in [0, {count + 1}] in its overflow slots")
     _scalar(scalars, "last_sort", "i", 0, acc[_k.ACC_PAIR_COLLISIONS])
-    _check_book(arrays, p, dim, geom, acc[_k.ACC_EVENTS])
+    cells_engine = _scalar(scalars, "_engine_code", "i", ENGINE_LISTS, ENGINE_CELLS) == ENGINE_CELLS
+    if cells_engine:
+        _require(params[[_k.P_GROWTH, _k.P_SHEAR_RATE]] == 0, "params", "must hold no growth and no shear for "
+                 "the cell-crossing engine")
+        _require(geom[_k.G_GRAVITY] == 0, "geom", "must hold no gravity for the cell-crossing engine")
+    _check_book(arrays, p, dim, geom, acc[_k.ACC_EVENTS], cells_engine)
     # saved as a run stopped to grow a list row or a cell (in a progress callback): the restore rebuilds them all
     rebuilt = bool(np.any(overflows > 0))
-    _check_cells(arrays, p, dim, geom, params, rebuilt)
+    if cells_engine:
+        _check_crossing_cells(arrays, p, dim, geom, params, rebuilt)
+    else:
+        _check_cells(arrays, p, dim, geom, params, rebuilt)
     _check_lists(arrays, count, rebuilt)
+    _check_pending(arrays, count, acc[_k.ACC_EVENTS])
     _check_queue(arrays, scalars, count)
 
 
@@ -366,8 +383,8 @@ def _check_in_box(points, name, geom, dim, shell):
     _require((points >= -margin) & (points <= box + margin), name, "must hold points inside the box")
 
 
-def _check_book(arrays, p, dim, geom, events):
-    """The bookkeeping records: next event (partner or wall), event numbers, anchor, mass and species."""
+def _check_book(arrays, p, dim, geom, events, cells_engine):
+    """The bookkeeping records: next event (partner, wall, list or cell crossing), event numbers, anchor, mass, species."""
     count = p.shape[0]
     book = _array(arrays, "book", (count, 8))
     _require(np.isfinite(book), "book", "must hold finite numbers")
@@ -376,8 +393,13 @@ def _check_book(arrays, p, dim, geom, events):
     walled = np.flatnonzero(geom[_k.G_PERIODIC, :dim] == 0)
     wall = (faces >= 0) & np.isin(faces // 2, walled) & _whole(faces)
     partner = (target >= 0) & (target < count) & (target != np.arange(count))
-    _require(_whole(target) & (partner | (target == _k.LIST_TARGET) | wall), "book",
-             f"must hold next events with a partner in [0, {count}), a list rebuild or a wall")
+    if cells_engine:
+        crossing = (CROSSING_BASE - target >= 0) & (CROSSING_BASE - target < 2 * dim)
+        _require(_whole(target) & (partner | crossing | wall), "book",
+                 f"must hold next events with a partner in [0, {count}), a cell crossing or a wall")
+    else:
+        _require(_whole(target) & (partner | (target == _k.LIST_TARGET) | wall), "book",
+                 f"must hold next events with a partner in [0, {count}), a list rebuild or a wall")
     numbers = book[:, [_k.PREDICTED_AT, _k.CHANGED_AT]]
     _require(_whole(numbers) & (numbers >= 0) & (numbers <= events), "book",
              f"must hold event numbers in [0, {events:.0f}]")
@@ -411,13 +433,7 @@ def _check_cells(arrays, p, dim, geom, params, rebuilt):
     points = _array(arrays, "cell_points", (cells, slots, 4))
     if rebuilt:
         return
-    _require((filled >= 0) & (filled <= slots), "cell_count", f"must hold counts in [0, {slots}]")
-    _require(filled.sum() == count, "cell_count", f"must count {count} particles in all; got {filled.sum()}")
-    used = np.arange(slots) < filled[:, None]
-    held = members[used]
-    _require((held >= 0) & (held < count), "cell_members", f"must hold particles in [0, {count})")
-    _require(np.bincount(held, minlength=count) == 1, "cell_members", "must hold each particle once")
-    _require(cell_of[held] == np.nonzero(used)[0], "cell_of", "must hold the cell that holds each particle")
+    used, held = _check_members(members, filled, cell_of, count)
     anchors = arrays["book"][:, _k.ANCHOR : _k.ANCHOR + 3]
     coordinates = np.zeros((count, 3), dtype=np.int64)
     for k in range(dim):
@@ -426,6 +442,62 @@ def _check_cells(arrays, p, dim, geom, params, rebuilt):
     _require(cell_of == home, "cell_of", "must hold the cell of each particle's anchor")
     expected = np.column_stack([anchors[held], p[held, _k.R]]).astype(np.float32)
     _require(points[used] == expected, "cell_points", "must hold the anchors and radii of the cells' particles")
+
+
+def _check_members(members, filled, cell_of, count):
+    """Each particle once in the cells, in the cell ``cell_of`` names; (slots in use, their particles)."""
+    slots = members.shape[1]
+    _require((filled >= 0) & (filled <= slots), "cell_count", f"must hold counts in [0, {slots}]")
+    _require(filled.sum() == count, "cell_count", f"must count {count} particles in all; got {filled.sum()}")
+    used = np.arange(slots) < filled[:, None]
+    held = members[used]
+    _require((held >= 0) & (held < count), "cell_members", f"must hold particles in [0, {count})")
+    _require(np.bincount(held, minlength=count) == 1, "cell_members", "must hold each particle once")
+    _require(cell_of[held] == np.nonzero(used)[0], "cell_of", "must hold the cell that holds each particle")
+    return used, held
+
+
+def _check_crossing_cells(arrays, p, dim, geom, params, rebuilt):
+    """The cell-crossing engine's grid (cells as wide as the largest contact) and each particle once in its cell.
+
+    A particle may lie outside its cell by round-off (its cell is the
+    engine's state, not a function of its position); more is refused.
+    """
+    count = p.shape[0]
+    ncell = _array(arrays, "ncell", (3,))
+    box = geom[_k.G_BOX, :dim]
+    largest = 2.0 * float(np.max(p[:, _k.R])) * params[_k.P_SCALE0]
+    try:
+        grid, widths = crossing_grid(box, dim, geom[_k.G_PERIODIC, :dim] != 0, largest, count)
+    except ValueError as error:
+        raise _bad("geom", f"must hold a box the cell-crossing engine can run: {error}") from None
+    _require(np.array_equal(ncell, grid), "ncell", f"must hold the cell grid {grid[:dim].tolist()} of the box and "
+             f"the largest contact distance; got {ncell.tolist()}")
+    _require(geom[_k.G_CELL, :dim] == widths[:dim], "geom", "must hold the cell widths of the grid")
+    cells = math.prod(ncell.tolist())
+    members = _array(arrays, "cell_members", (cells, None))
+    filled = _array(arrays, "cell_count", (cells,))
+    cell_of = _array(arrays, "cell_of", (count,))
+    _array(arrays, "cell_points", (1, 1, 4))  # no anchors in this engine
+    if rebuilt:
+        return
+    _check_members(members, filled, cell_of, count)
+    coordinates = np.stack(np.unravel_index(cell_of, tuple(ncell[::-1].tolist()))[::-1], axis=1)[:, :dim]
+    points = p[:, _k.X : _k.X + dim]
+    slack = 1e-9 * widths[:dim]
+    _require((points >= coordinates * widths[:dim] - slack) & (points <= (coordinates + 1) * widths[:dim] + slack),
+             "cell_of", "must hold the cell of each particle's position (within round-off)")
+
+
+def _check_pending(arrays, count, events):
+    """The cell-crossing engine's pending collisions: a time (inf: none), a partner, an event number."""
+    pending = _array(arrays, "pending", (count, 3))
+    times, partners, numbers = pending[:, 0], pending[:, 1], pending[:, 2]
+    _require(~np.isnan(times) & (times > -np.inf), "pending", "must hold collision times (no NaN or -inf)")
+    _require(_whole(partners) & (partners >= -1) & (partners < count), "pending",
+             f"must hold partners in [-1, {count})")
+    _require(_whole(numbers) & (numbers >= 0) & (numbers <= events), "pending",
+             f"must hold event numbers in [0, {events:.0f}]")
 
 
 def _check_lists(arrays, count, rebuilt):

@@ -7,6 +7,7 @@ import math
 import numpy as np
 
 from . import _checks
+from ._cell_crossings import cells_fit, engine_code
 from .system import HardSphereSystem, default_shell
 from .theory import MAX_PACKING_FRACTION, _ball_volume
 
@@ -216,7 +217,9 @@ def random_fluid(
         Passed to :class:`HardSphereSystem` (restitution, ...); the box is
         periodic. Without ``neighbour_shell`` the compressed fluid keeps the
         compression's shell or, where wider (dilute fluids),
-        :func:`~collisionkit.edmd.default_shell`'s.
+        :func:`~collisionkit.edmd.default_shell`'s. The compression runs
+        on neighbour lists; the fluid then runs the ``engine`` asked for
+        (default "auto").
 
     Examples
     --------
@@ -246,9 +249,9 @@ def random_fluid(
     velocities = maxwell_boltzmann(masses, dim, kT, generator)
     # a small starting scale keeps the random points apart
     start = 0.5 * _smallest_distance_bound(positions, side, diameters)
-    system = HardSphereSystem(
-        positions, velocities, radii, side, masses, periodic=True, _growth=growth_rate, _scale=start, **system_options
-    )
+    engine = system_options.pop("engine", "auto")  # the lists compress; the fluid then gets the engine asked for
+    system = HardSphereSystem(positions, velocities, radii, side, masses, periodic=True, _growth=growth_rate,
+                              _scale=start, engine="lists", **system_options)
     total_time = (1.0 - start) / growth_rate
     done = 0.0
     while done < total_time:
@@ -261,6 +264,9 @@ def random_fluid(
     if system_options.get("neighbour_shell") is None:  # the compression's shell, now the dilute default's if wider
         dilute = default_shell(radii, np.full(dim, side), system_options.get("gravity") is None)
         system._shell_request = max(float(system._shell_request), dilute)
+    straight = system.shear_rate == 0.0 and system_options.get("gravity") is None
+    fit = cells_fit(np.full(dim, side), dim, np.ones(dim, dtype=bool), float(diameters.max()))
+    system._engine_code = engine_code(engine, dim, packing_fraction, straight, fit)
     system._stop_growing(1.0)
     system.check(tolerance=1e-7)
     system.set_velocities(maxwell_boltzmann(masses, dim, kT, generator))

@@ -18,8 +18,10 @@ import math
 import numpy as np
 
 from .._kernels import edmd as _k
+from .._kernels.edmd.crossings import PENDING_TIME
 from .._repr import hard_sphere_system_rows, html_table
 from . import _checks, _system_setup
+from ._cell_crossings import ENGINE_CELLS, CellCrossings, cells_fit, engine_code
 from ._neighbour_lists import NeighbourLists
 from ._particle_state import ParticleState
 from ._shear import THERMOSTAT_INTERVAL, ShearFlow, shear_parameters
@@ -103,7 +105,7 @@ class OverlapError(ValueError, RuntimeError):
     """
 
 
-class HardSphereSystem(SystemParameters, ParticleState, NeighbourLists, Checkpoints, ShearFlow):
+class HardSphereSystem(SystemParameters, ParticleState, NeighbourLists, CellCrossings, Checkpoints, ShearFlow):
     """N hard spheres (3D) or discs (2D) in a box, advanced event by event.
 
     Parameters
@@ -169,6 +171,16 @@ class HardSphereSystem(SystemParameters, ParticleState, NeighbourLists, Checkpoi
         after every ``THERMOSTAT_INTERVAL`` N pair collisions (> 0; default
         None, no thermostat).
         Elastic spheres heat up under shear without one.
+    engine : {"auto", "lists", "cells"}, optional
+        The event engine. "lists": neighbour lists (any system). "cells":
+        cell crossings as events, no lists, for straight flights of fixed
+        radii (no gravity, compression or shear); in a dilute gas it makes
+        the same trajectory up to round-off 1.5-2.4 times as fast (N = 4000,
+        spheres at eta = 0.15-0.03, discs 1.4-2.0 at 0.15-0.02). "auto"
+        (default) takes "cells" for such systems below the packing fraction
+        where the two are level
+        (:data:`~collisionkit.edmd._cell_crossings.CELLS_BELOW_PACKING`),
+        else "lists". The choice is :attr:`engine`.
 
     Examples
     --------
@@ -201,6 +213,7 @@ class HardSphereSystem(SystemParameters, ParticleState, NeighbourLists, Checkpoi
         neighbour_shell=None,
         shear_rate=0.0,
         thermostat=None,
+        engine="auto",
         *,
         _growth=0.0,
         _scale=1.0,
@@ -243,6 +256,9 @@ class HardSphereSystem(SystemParameters, ParticleState, NeighbourLists, Checkpoi
         shear_parameters(self, shear_rate, thermostat)
         if self.shear_rate != 0.0:
             self._add_streaming()
+        straight = _growth == 0.0 and not np.any(gravity) and self.shear_rate == 0.0
+        fit = cells_fit(box, dim, periodic, 2.0 * float(np.max(radius)) * float(_scale))
+        self._engine_code = engine_code(engine, dim, packing_fraction(radius * float(_scale), box), straight, fit)
         _system_setup.allocate_engine_arrays(self)
         self._refresh_lists()
         _system_setup.check_walls(self)
@@ -275,6 +291,7 @@ class HardSphereSystem(SystemParameters, ParticleState, NeighbourLists, Checkpoi
             self.p[:, _k.T] -= shift
             self.queue -= shift
             self.tree[:, 0] -= shift
+            self.pending[:, PENDING_TIME] -= shift  # the cell-crossing engine's absolute times too
             self.params[_k.P_SCALE0] += self.growth * shift
             self._shear_clock(shift)
             self.elapsed += shift
@@ -330,6 +347,9 @@ class HardSphereSystem(SystemParameters, ParticleState, NeighbourLists, Checkpoi
         )
 
     def _predict_all(self):
+        if self._engine_code == ENGINE_CELLS:
+            self._predict_all_crossings()
+            return
         _k.predict_all(
             self.p, self.book, self.anchor_time, self.neighbours, self.neighbour_count, self.geom, self.dim, self.params, self.queue,
             self.tree, self.leaves, self.acc,

@@ -188,11 +188,25 @@ def wrap_into_box(p, i, geom, dim, image, b, acc, params):
                     image[i, k] += 1
             else:
                 continue
-            moved = p[i, X + k] - before
-            mass = b[i, MASS]
-            energy = 0.0
-            for a in range(3):
-                momentum = mass * p[i, V + a]
-                acc[ACC_MOMENTUM_IMAGE + 3 * a + k] -= momentum * moved
-                energy += 0.5 * momentum * p[i, V + a]
-            acc[ACC_ENERGY_IMAGE + k] -= energy * moved
+            _book_wrap(p, i, k, p[i, X + k] - before, b, acc)
+
+
+@inline_kernel
+def _book_wrap(p, i, k, moved, b, acc):
+    """Take back the jump of the Helfand moments when particle i's stored x_k moved by ``moved`` (a wrap)."""
+    mass = b[i, MASS]
+    energy = 0.0
+    for a in range(3):
+        momentum = mass * p[i, V + a]
+        acc[ACC_MOMENTUM_IMAGE + 3 * a + k] -= momentum * moved
+        energy += 0.5 * momentum * p[i, V + a]
+    acc[ACC_ENERGY_IMAGE + k] -= energy * moved
+
+
+@inline_kernel
+def shift_by_box(p, i, k, step, geom, image, b, acc):
+    """Move particle i's stored x_k by ``step`` (+-1) box lengths to another image, as :func:`wrap_into_box` does."""
+    before = p[i, X + k]
+    p[i, X + k] += step * geom[G_BOX, k]
+    image[i, k] -= step
+    _book_wrap(p, i, k, p[i, X + k] - before, b, acc)

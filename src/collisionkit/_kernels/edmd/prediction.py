@@ -100,21 +100,41 @@ def pair_contact_time(rx, ry, rz, ux, uy, uz, contact, scale, growth, beat):
 
 
 @inline_kernel
+def contact_before(rx, ry, rz, ux, uy, uz, sigma, best):
+    """Time until |r + u tau| = sigma (straight flights, fixed radii) if it comes before ``best``, else inf.
+
+    r is the separation (partner minus particle), u the relative velocity.
+    The root is tau = c / (-b + sqrt(D)) with b = r.u, c = |r|^2 - sigma^2
+    and D = sigma^2 |u|^2 - |r x u|^2 (= b^2 - |u|^2 c by Lagrange's
+    identity, without its cancellation), taken when the pair approaches
+    (b < 0) and D >= 0; an overlap by round-off (c <= 0) while approaching
+    collides at once. Since sqrt(D) <= -b when c >= 0, tau >= c / (-2 b):
+    one cheap test, c < -2 b best, rejects the receding pairs and those that
+    cannot beat ``best`` before the square root and the division.
+    """
+    b = rx * ux + ry * uy + rz * uz
+    c = rx * rx + ry * ry + rz * rz - sigma * sigma
+    # b < 0 and c + 2 b best < 0 in one comparison, so one (rarely taken, well predicted) branch;
+    # then b's sign made sure, as the collision step makes it (see .exact)
+    if max(b, c + 2.0 * b * best) < 0.0 and sure_approach(b, rx, ry, rz, ux, uy, uz, 0.0) < 0.0:
+        cx = ry * uz - rz * uy
+        cy = rz * ux - rx * uz
+        cz = rx * uy - ry * ux
+        discriminant = sigma * sigma * (ux * ux + uy * uy + uz * uz) - (cx * cx + cy * cy + cz * cz)
+        if discriminant >= 0.0 or c <= 0.0:
+            return max(c, 0.0) / (math.sqrt(max(discriminant, 0.0)) - b)
+    return math.inf
+
+
+@inline_kernel
 def _first_contact_ballistic(p, i, neighbours, neighbour_count, geom, scale, horizon):
     """Earliest contact of i (at its own time) with its list before ``horizon``: fixed radii, straight flights.
 
     Returns (time from i's time, partner), or (inf, -1) if no contact comes
-    before ``horizon``. The root of |r + u tau| = sigma is
-    tau = c / (-b + sqrt(D)) with b = r.u, c = |r|^2 - sigma^2 and
-    D = sigma^2 |u|^2 - |r x u|^2 (= b^2 - |u|^2 c by Lagrange's identity,
-    without its cancellation), taken when the pair approaches (b < 0) and
-    D >= 0; an overlap by round-off (c <= 0) while approaching collides at
-    once. Since sqrt(D) <= -b when c >= 0, tau >= c / (-2 b): one cheap
-    test, c < -2 b best, rejects the receding pairs and those that cannot
-    beat the best so far before the square root and the division. It rarely
-    passes, so its branch is well predicted; a branch on b < 0 alone would
-    be a coin toss, and a mispredicted branch costs more than the
-    arithmetic it saves. For the same reason the periodic images are taken
+    before ``horizon``. Each pair's root and filter: :func:`contact_before`,
+    whose one rarely taken branch is well predicted (a branch on b < 0 alone
+    would be a coin toss, and a mispredicted branch costs more than the
+    arithmetic it saves). For the same reason the periodic images are taken
     without a branch in a box shorter than ``SMALL_BOX_DIAMETERS`` of i's
     diameters, where about one pair in five lies across a face
     (:func:`.motion.pair_image`); in a larger box the branch is cheaper.
@@ -142,21 +162,10 @@ def _first_contact_ballistic(p, i, neighbours, neighbour_count, geom, scale, hor
         ux = p[j, V] - vxi
         uy = p[j, V + 1] - vyi
         uz = p[j, V + 2] - vzi
-        sigma = (ri + p[j, R]) * scale
-        b = rx * ux + ry * uy + rz * uz
-        c = rx * rx + ry * ry + rz * rz - sigma * sigma
-        # b < 0 and c + 2 b best < 0 in one comparison, so one (rarely taken, well predicted) branch;
-        # then b's sign made sure, as the collision step makes it (see .exact)
-        if max(b, c + 2.0 * b * best) < 0.0 and sure_approach(b, rx, ry, rz, ux, uy, uz, 0.0) < 0.0:
-            cx = ry * uz - rz * uy
-            cy = rz * ux - rx * uz
-            cz = rx * uy - ry * ux
-            discriminant = sigma * sigma * (ux * ux + uy * uy + uz * uz) - (cx * cx + cy * cy + cz * cz)
-            if discriminant >= 0.0 or c <= 0.0:
-                tau = max(c, 0.0) / (math.sqrt(max(discriminant, 0.0)) - b)
-                if tau < best:
-                    best = tau
-                    partner = j
+        tau = contact_before(rx, ry, rz, ux, uy, uz, (ri + p[j, R]) * scale, best)
+        if tau < best:
+            best = tau
+            partner = j
     if partner < 0:
         return math.inf, -1
     return best, partner
@@ -190,19 +199,10 @@ def _first_contact_sheared(p, i, neighbours, neighbour_count, geom, params, hori
         ux = p[j, V] - n * slide - vxi
         uy = p[j, V + 1] - vyi
         uz = p[j, V + 2] - vzi
-        sigma = (ri + p[j, R]) * scale
-        b = rx * ux + ry * uy + rz * uz
-        c = rx * rx + ry * ry + rz * rz - sigma * sigma
-        if max(b, c + 2.0 * b * best) < 0.0 and sure_approach(b, rx, ry, rz, ux, uy, uz, 0.0) < 0.0:
-            cx = ry * uz - rz * uy
-            cy = rz * ux - rx * uz
-            cz = rx * uy - ry * ux
-            discriminant = sigma * sigma * (ux * ux + uy * uy + uz * uz) - (cx * cx + cy * cy + cz * cz)
-            if discriminant >= 0.0 or c <= 0.0:
-                tau = max(c, 0.0) / (math.sqrt(max(discriminant, 0.0)) - b)
-                if tau < best:
-                    best = tau
-                    partner = j
+        tau = contact_before(rx, ry, rz, ux, uy, uz, (ri + p[j, R]) * scale, best)
+        if tau < best:
+            best = tau
+            partner = j
     if partner < 0:
         return math.inf, -1
     return best, partner

@@ -1,0 +1,149 @@
+"""The cell-crossing engine of a :class:`~collisionkit.edmd.HardSphereSystem`: when it is chosen, its cells.
+
+Dilute systems spend the neighbour-list engine's time on list rebuilds (a
+list expires after a fraction of a free path); the cell-crossing engine
+(:mod:`collisionkit._kernels.edmd.crossings`) has no lists: cells as wide
+as the largest contact distance, a particle's collisions searched in its
+own and the adjacent cells, and a cell crossing an event that searches only
+the cells it brings in. ``engine="auto"`` takes it for straight flights of
+fixed radii (no gravity, compression or shear) below a packing fraction
+measured where the two engines are level.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .._kernels import edmd as _k
+from .._kernels.edmd import crossings as _crossings
+
+ENGINE_LISTS = 0
+ENGINE_CELLS = 1
+ENGINE_NAMES = {"lists": ENGINE_LISTS, "cells": ENGINE_CELLS}
+# packing fractions below which engine="auto" takes the cell crossings (discs 2, spheres 3): where the two engines
+# are level, a little on the safe side. Measured in one process, alternating (benchmarks/bench_edmd_engines.py,
+# N = 4000, results/edmd_engines_3d.md, edmd_engines_2d.md), the cells' rate over the lists': spheres 2.36 at
+# eta = 0.03, 1.90 at 0.1, 1.53 at 0.15, 1.10 at 0.2, 0.90 at 0.26; discs 1.99 at 0.02, 1.58 at 0.05, 1.35 at 0.15,
+# 1.22 at 0.25, 1.10 at 0.35, 0.93 at 0.45
+CELLS_BELOW_PACKING = {2: 0.35, 3: 0.2}
+# the most cells a particle, on average (per axis: (CELLS_PER_PARTICLE N)^(1/dim)), discs 2 and spheres 3: below
+# this the cells are as narrow as the contact distance, above it wider. Wider cells mean fewer crossings but more pair
+# tests a search; measured at N = 4000 against the lists (benchmarks/bench_edmd_engines.py, one cap a process): 3D
+# eta = 0.1 1.77x the lists' rate with 16, 1.35x with 2, 1.14x with 1 (eta = 0.03: 1.94, 1.91, 1.72); 2D eta = 0.05
+# 0.88x with 16, 1.51x with 4, 1.58x with 1 (eta = 0.15: 1.24x with 16, 1.36x with 2)
+CELLS_PER_PARTICLE = {2: 2, 3: 16}
+# slots per cell to start with (grown when a cell needs more)
+INITIAL_SLOTS = 4
+
+
+def engine_code(engine, dim, packing_fraction, straight_flights, cells_fit=True) -> int:
+    """The engine a new system runs: ``engine`` ("auto", "lists" or "cells") resolved for its kind of system.
+
+    ``straight_flights``: no gravity, compression or shear (the cell
+    engine's only kind). "cells" for another kind is a ValueError.
+    ``cells_fit``: the box holds 3 cells a periodic axis (else "auto" takes
+    the lists; "cells" fails when its grid is made, naming the axis).
+    """
+    if engine == "auto":
+        dilute = packing_fraction < CELLS_BELOW_PACKING[dim]
+        return ENGINE_CELLS if straight_flights and dilute and cells_fit else ENGINE_LISTS
+    if engine not in ENGINE_NAMES:
+        raise ValueError(f"engine must be 'auto', 'lists' or 'cells'; got {engine!r}")
+    if engine == "cells" and not straight_flights:
+        raise ValueError("engine='cells' runs straight flights of fixed radii only: no gravity, compression or "
+                         "shear (use 'lists' or 'auto')")
+    return ENGINE_NAMES[engine]
+
+
+def cells_fit(box, dim, periodic, largest_contact) -> bool:
+    """Whether every periodic axis holds 3 cells no narrower than ``largest_contact`` (:func:`crossing_grid`)."""
+    return all(math.floor(box[k] / largest_contact * (1 - 1e-12)) >= 3 for k in range(dim) if periodic[k])
+
+
+def crossing_grid(box, dim, periodic, largest_contact, count):
+    """Cells per axis and their widths: no narrower than ``largest_contact``, at most about CELLS_PER_PARTICLE a particle.
+
+    A periodic axis needs at least 3 cells (each neighbouring cell seen
+    through one image); the list engine asks the same of the box.
+    """
+    ncell = np.ones(3, dtype=np.int64)
+    widths = np.ones(3)
+    most = max(3, int((CELLS_PER_PARTICLE[dim] * count) ** (1.0 / dim)))
+    for k in range(dim):
+        ncell[k] = min(max(int(math.floor(box[k] / largest_contact * (1 - 1e-12))), 1), most)
+        if periodic[k] and ncell[k] < 3:
+            raise ValueError(f"box[{k}] = {box[k]:.6g} is too small: a periodic axis needs at least 3 times the "
+                             f"largest diameter ({largest_contact:.6g})")
+        widths[k] = box[k] / ncell[k]
+    return ncell, widths
+
+
+class CellCrossings:
+    """The cell-crossing engine's upkeep in :class:`~collisionkit.edmd.HardSphereSystem` (a mixin).
+
+    Owns ``pending`` (each particle's best collision found so far) and,
+    when the engine runs, the cells (``cell_of``, ``ncell``,
+    ``cell_members``, ``cell_count``, the widths in ``geom``).
+    """
+
+    @property
+    def engine(self) -> str:
+        """The event engine: "lists" (neighbour lists) or "cells" (cell crossings, for dilute systems)."""
+        return "cells" if self._engine_code == ENGINE_CELLS else "lists"
+
+    def _refresh_crossings(self, cells_only=False):
+        """Wrap every particle into the box, put it in its cell and (unless ``cells_only``) predict every event."""
+        self.synchronise()
+        # the shell lists would have (reported, and kept valid for a checkpoint), though no list is built
+        self.params[_k.P_SHELL] = self._list_geometry(self.scale0)[0]
+        self.params[_k.P_LIST_SCALE] = self.scale0
+        _crossings.wrap_all(self.p, self.geom, self.dim, self._image, self.book, self.acc, self.params)
+        largest = 2.0 * float(np.max(self.p[:, _k.R])) * self.scale0
+        ncell, widths = crossing_grid(self.box, self.dim, self.periodic, largest, self.count)
+        if not np.array_equal(ncell, getattr(self, "ncell", None)):
+            self.ncell = ncell
+            self._grow_cells(INITIAL_SLOTS)
+        self.geom[_k.G_CELL] = widths
+        while (needed := _crossings.bin_into_cells(self.p, self.cell_of, self.cell_members, self.cell_count,
+                                                   self.ncell, self.geom, self.dim)) > 0:
+            self._grow_cells(needed)
+        if not cells_only:
+            self._predict_all_crossings()
+
+    def _predict_all_crossings(self):
+        _crossings.predict_all_crossings(
+            self.p, self.book, self.pending, _offsets(self.dim), self.cell_of, self.cell_members, self.cell_count,
+            self.ncell, self.geom, self.dim, self.params, self.queue, self.tree, self.leaves, self.acc,
+        )
+
+    def _check_cell_drift(self, tolerance):
+        """RuntimeError if a particle (synchronised) lies outside its cell beyond round-off: an engine bug."""
+        width = self.geom[_k.G_CELL, : self.dim]
+        coordinates = np.stack(np.unravel_index(self.cell_of, tuple(self.ncell[::-1]))[::-1], axis=1)[:, : self.dim]
+        points = self.p[:, _k.X : _k.X + self.dim]
+        allowed = 1e-9 * width + tolerance * float(np.max(self.box[: self.dim]))
+        outside = np.maximum(coordinates * width - points, points - (coordinates + 1) * width).max()
+        if outside > allowed.max():
+            raise RuntimeError(f"a particle lies {outside:.6g} outside its cell (allowed {allowed.max():.6g})")
+
+
+def run_crossing_kernel(system, time, still, collisions, max_events, t_stop, stall_limit):
+    """One call of the cell-crossing event loop on ``system`` (:func:`._system_events.run_event_loop`'s kernel)."""
+    return _crossings.run_crossing_events(
+        time, still, collisions, max_events, t_stop, stall_limit, system.p, system.book, system.pending,
+        system._image, _offsets(system.dim), system.cell_of, system.cell_members, system.cell_count, system.ncell,
+        system.geom, system.dim, system.restitution, system.params, system.queue, system.tree, system.leaves,
+        system.acc,
+    )
+
+
+_OFFSET_TABLES = {}
+
+
+def _offsets(dim):
+    """The search order of the neighbouring cells (:func:`~collisionkit._kernels.edmd.crossings.offset_table`)."""
+    if dim not in _OFFSET_TABLES:
+        _OFFSET_TABLES[dim] = _crossings.offset_table(dim)
+    return _OFFSET_TABLES[dim]
