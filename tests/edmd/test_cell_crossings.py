@@ -125,3 +125,14 @@ def test_the_drift_check_catches_a_particle_outside_its_cell():
     system.p[0, _k.X] += 1.5 * system.geom[_k.G_CELL, 0]
     with pytest.raises(RuntimeError, match="outside its cell"):
         system._check_cell_drift(1e-9)
+
+
+def test_a_particle_at_rest_keeps_a_valid_event_and_its_checkpoint_loads():
+    """A resting particle's event is at inf; its target must still be a code the checkpoint check accepts."""
+    system = edmd.HardSphereSystem([[1.0, 1.0], [5.0, 5.0], [8.0, 2.0]], [[0.0, 0.0], [1.0, 0.3], [-0.4, 0.7]], 0.5,
+                                   10.0)
+    assert system.engine == "cells"
+    assert system.book[0, _k.TARGET] != 0.0 and system.queue[0] == np.inf
+    restored = edmd.HardSphereSystem.from_state_dict(system.state_dict())
+    assert restored.run(time=50.0) == system.run(time=50.0)
+    np.testing.assert_array_equal(restored.positions(), system.positions())

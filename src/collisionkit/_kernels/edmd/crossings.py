@@ -223,9 +223,11 @@ def _boundary(p, i, c0, c1, c2, ncell, geom, dim, scale):
     """i's next boundary event: (time from i's time, TARGET), a wall hit or a crossing of cell (c0, c1, c2)."""
     crossing, face = next_crossing(p, i, c0, c1, c2, ncell, geom, dim)
     wall, wall_code = next_wall_hit(p, i, geom, dim, scale)
-    if wall <= crossing:
+    if wall < crossing:
         return wall, wall_code
-    return crossing, crossing_target(face)
+    # a particle at rest never leaves its cell: an event at inf, still a crossing code (a TARGET of 0 would name
+    # particle 0 as its partner)
+    return crossing, crossing_target(max(face, 0))
 
 
 @inline_kernel
