@@ -56,6 +56,8 @@ BAD_INPUTS = [
     ("edmd", ["--thermostat"], "thermostat needs a shear_rate"),
     ("edmd", ["--thermostat=1"], "does not take a value"),
     ("edmd", ["--no-thermostat=1"], "does not take a value"),
+    ("edmd", ["--engine", "bogus"], "--engine: Input should be 'auto', 'lists' or 'cells'"),
+    ("edmd", ["--engine", "cells", "--shear-rate", "0.1"], "engine cells cannot be combined with shear_rate"),
     ("edmd", ["--summary", "{dir}"], "is a folder: give a file name"),
     ("edmd", ["--trajectory", "frames.txt"], "--trajectory must end in .gsd"),
     ("edmd", ["--trajectory", "{file}.gsd", "--frame-every", "0"], "--frame-every"),

@@ -29,6 +29,9 @@ SMALL = dict(particles=108, initial="fcc", equilibration=12_000, collisions=4_00
         ({"transport": "yes"}, ValueError, "transport must be true or false; got 'yes'"),
         ({"yeh_hummer": True}, ValueError, "yeh_hummer needs transport"),
         ({"yeh_hummer": True, "transport": True, "dim": 2}, ValueError, "and dim 3"),
+        ({"engine": "grid"}, ValueError, "engine must be one of auto, lists, cells; got 'grid'"),
+        ({"engine": None}, ValueError, "engine must be one of auto, lists, cells; got None"),
+        ({"engine": "cells", "shear_rate": 0.1}, ValueError, "engine cells cannot be combined with shear_rate"),
     ],
 )
 def test_bad_parameters_name_the_parameter_and_the_allowed_range(values, error, words):
@@ -250,3 +253,70 @@ def test_a_study_can_set_transport_as_it_sets_any_parameter():
     command = sweep_command("edmd")
     assert command.options()["transport"] == "transport" and command.canonical("yeh_hummer") == "yeh-hummer"
     assert command.parameters.from_mapping({"transport": True, "particles": 108}).transport is True
+
+
+# 64 discs at eta = 0.1 (a box of 22 diameters): dilute, so "auto" takes the cells
+DILUTE = dict(dim=2, particles=64, packing_fraction=0.1, initial="square", equilibration=200, collisions=400, blocks=2,
+              seed=4)
+
+
+@pytest.mark.parametrize(("engine", "packing_fraction", "used"), [
+    ("lists", 0.1, "lists"), ("cells", 0.1, "cells"), ("auto", 0.1, "cells"), ("auto", 0.5, "lists"),
+    ("cells", 0.5, "cells"),  # asked for, the cells run a dense fluid too (slower than the lists there)
+])
+def test_the_engine_reaches_the_system_and_the_summary_says_which_ran(engine, packing_fraction, used):
+    run = EdmdRun(EdmdParameters(**(DILUTE | {"packing_fraction": packing_fraction}), engine=engine))
+    assert run.parameters.engine == engine and run.system.engine == used
+    summary = run.run().summary()
+    assert summary["engine"] == used and summary["parameters"]["engine"] == engine
+    assert EdmdParameters.from_mapping(summary["parameters"]) == run.parameters  # the summary's block reruns it
+
+
+def test_a_random_start_runs_the_engine_asked_for_after_its_compression():
+    # the compression always runs on the lists; the fluid then gets the engine of the parameters
+    lists = EdmdRun(EdmdParameters(**(DILUTE | {"initial": "random"}), engine="lists"))
+    assert lists.system.engine == "lists"
+    assert EdmdRun(EdmdParameters(**(DILUTE | {"initial": "random"}))).system.engine == "cells"
+
+
+def test_a_resumed_run_keeps_its_engine_and_refuses_another(tmp_path):
+    path = tmp_path / "run.npz"
+    parameters = EdmdParameters(**DILUTE, engine="lists")  # dilute: "auto" would take the cells
+    straight = EdmdRun(parameters).run().summary()
+    EdmdRun(parameters, checkpoint=path).save()  # as after set-up
+    assert read_checkpoint(path, "edmd").parameters["engine"] == "lists"
+    resumed = EdmdRun.resume(path, engine="lists")  # given again, it must agree
+    assert resumed.parameters.engine == "lists" and resumed.system.engine == "lists"
+    summary = resumed.run().summary()
+    assert summary["engine"] == "lists" and summary["compressibility_factor"] == straight["compressibility_factor"]
+    with pytest.raises(ValueError, match="engine = cells differs from the checkpoint"):
+        EdmdRun.resume(path, engine="cells")
+
+
+def test_parameters_and_checkpoints_from_before_the_engine_option_load_with_auto(tmp_path):
+    old = EdmdParameters(**DILUTE).to_dict()
+    del old["engine"]
+    assert EdmdParameters.from_mapping(old).engine == "auto"
+    path = tmp_path / "run.npz"
+    run = EdmdRun(EdmdParameters(**DILUTE), checkpoint=path)
+    run.save()
+    saved = read_checkpoint(path, "edmd")
+    from collisionkit._io import write_checkpoint
+
+    write_checkpoint(path, "edmd", old, saved.state, saved.arrays)
+    resumed = EdmdRun.resume(path)
+    assert resumed.parameters.engine == "auto" and resumed.system.engine == run.system.engine == "cells"
+    assert resumed.run().summary()["engine"] == "cells"
+
+
+def test_a_checkpoint_whose_system_runs_another_engine_than_its_parameters_is_refused(tmp_path):
+    path = tmp_path / "run.npz"
+    EdmdRun(EdmdParameters(**DILUTE, engine="lists"), checkpoint=path).save()
+    saved = read_checkpoint(path, "edmd")
+    from collisionkit._io import write_checkpoint
+
+    write_checkpoint(path, "edmd", saved.parameters | {"engine": "cells"}, saved.state, saved.arrays)
+    with pytest.raises(CheckpointError) as caught:
+        EdmdRun.resume(path)
+    message = str(caught.value)
+    assert "its system runs the lists engine, its parameters ask for engine cells" in message and "\n" not in message

@@ -25,6 +25,7 @@ from ._memory import edmd_memory, refuse_beyond_memory, size
 from ._warmup import warm_up
 
 InitialName = Literal["random", "fcc", "sc", "square", "hexagonal"]
+EngineName = Literal["auto", "lists", "cells"]  # collisionkit.edmd._run_checks.ENGINES
 
 OUTPUT_OPTIONS = ("summary", "trajectory", "frame_every", "xyz", "out", "plots", "checkpoint", "overwrite")
 OUTPUT_SUFFIXES = {"trajectory": (".gsd",), "xyz": (".xyz", ".extxyz")}  # the formats --trajectory and --xyz write
@@ -53,6 +54,7 @@ class EdmdOptions(Options):
     yeh_hummer: bool = False
     shear_rate: float = Field(default=0.0, ge=0, allow_inf_nan=False)
     thermostat: bool = False
+    engine: EngineName = "auto"
     summary: Path | None = None
     trajectory: Path | None = None
     frame_every: int | None = Field(default=None, ge=1)
@@ -289,6 +291,10 @@ def edmd(
         typer.Option("--thermostat/--no-thermostat",
                      help=_help("With --shear-rate: hold kT = 1 by rescaling the velocities relative to the flow every 4 N pair collisions.", "no")),
     ] = None,
+    engine: Annotated[
+        str | None,
+        typer.Option(metavar="[auto|lists|cells]", help=_help("Event engine: auto, lists (neighbour lists, any run) or cells (cell crossings, no lists: faster in dilute gases; not with --shear-rate). The summary's engine is the one that ran.", "auto: cells for dilute straight flights (eta < 0.2 spheres, 0.35 discs), lists otherwise")),
+    ] = None,
     summary: Annotated[Path | None, typer.Option("--summary", help="Write the results as JSON to this file.")] = None,
     trajectory: Annotated[
         Path | None, typer.Option(help="Write frames to this GSD file (HOOMD, OVITO, freud read it).")
@@ -323,7 +329,7 @@ def edmd(
     given = dict(
         dim=dim, particles=particles, packing_fraction=packing_fraction, restitution=restitution,
         elastic_below=elastic_below, equilibration=equilibration, collisions=collisions, blocks=blocks, seed=seed, initial=initial,
-        transport=transport, yeh_hummer=yeh_hummer, shear_rate=shear_rate, thermostat=thermostat, summary=summary, trajectory=trajectory, frame_every=frame_every, xyz=xyz, out=out, plots=plots,
+        transport=transport, yeh_hummer=yeh_hummer, shear_rate=shear_rate, thermostat=thermostat, engine=engine, summary=summary, trajectory=trajectory, frame_every=frame_every, xyz=xyz, out=out, plots=plots,
         checkpoint=checkpoint, overwrite=overwrite,
     )  # fmt: skip
     if resume is None:

@@ -46,7 +46,8 @@ def rows(result: dict) -> list[tuple[str, str, str]]:
         ("g(r) at contact", pm("contact_value"), ""),
         ("energy lost (measurement / total)", f"{result['energy_lost']:.5g} / {result['energy_lost_total']:.5g}", lost),
         ("pair collisions (measured)", str(result["collisions"]), f"after {result['equilibration_collisions']} equilibration"),
-        ("collisions per second", f"{result['collisions_per_second']:.4g}", "wall clock, measurement (no compiling)"),
+        ("collisions per second", f"{result['collisions_per_second']:.4g}",
+         f"wall clock, measurement (no compiling), {result['engine']} engine"),
     ]
 
 

@@ -25,9 +25,9 @@ NOTICE = "compiling kernels (first run only)"
 def _main_kernels(domain: str) -> list:
     """The numba dispatchers whose cache says whether a domain's kernels are compiled."""
     if domain == "edmd":
-        from .._kernels.edmd import loop, measurement
+        from .._kernels.edmd import crossings, loop, measurement
 
-        return [loop.run_events, measurement.pair_distance_counts]
+        return [loop.run_events, crossings.run_crossing_events, measurement.pair_distance_counts]
     if domain == "swarm":
         from .._kernels.transport import advance
 
@@ -89,7 +89,7 @@ def cold(domains: Iterable[str]) -> bool:
 
 
 def _tiny_edmd() -> None:
-    """Every kernel of an EDMD run and its measurement, on 108 spheres, without running an event."""
+    """Every kernel of an EDMD run and its measurement, on 108 spheres, without running an event (both engines)."""
     import numpy as np
 
     from ..edmd import HardSphereSystem, Sampler, lattice, maxwell_boltzmann
@@ -101,6 +101,9 @@ def _tiny_edmd() -> None:
     sampler = Sampler(system, collisions=2, blocks=2)
     pair_histogram(system, sampler.r_max, 10)  # g(r): timed in every measurement block
     system.positions(unwrapped=True)
+    dilute = HardSphereSystem(positions * 2.0, maxwell_boltzmann(np.ones(len(positions)), 3, seed=0), 0.5, box * 2.0,
+                              engine="cells")
+    dilute.compile_event_loop()  # the cell-crossing engine, taken by dilute runs
 
 
 def _tiny_swarm() -> None:

@@ -2,8 +2,8 @@ r"""The summary of an EDMD run (:meth:`~collisionkit.edmd.EdmdRun.summary`): mea
 
 The measurement's values with their errors, the equation of state and
 Enskog's collision rate of an elastic run, Enskog's transport coefficients
-and the Yeh-Hummer correction of a transport run, and the parameters that
-rerun it.
+and the Yeh-Hummer correction of a transport run, the event engine that ran
+(``engine``: "lists" or "cells"), and the parameters that rerun it.
 
 A sheared run's theory is taken at ``temperature_mean``, the time average
 of kT over the measurement (the viscous heating raises kT between the
@@ -56,6 +56,7 @@ def edmd_summary(run, measurement, files: Sequence = ()) -> dict[str, Any]:
         "energy_lost_total": run.initial_energy - system.kinetic_energy(),
         "elastic": p.restitution == 1.0,
         "elastic_below": system.elastic_below,
+        "engine": system.engine,  # the one that ran: "lists" or "cells" (parameters' "auto" resolved)
     }
     sheared = p.shear_rate != 0.0
     # kT of the theory: the measurement's time average under shear (unknown if resumed from a checkpoint written

@@ -19,7 +19,6 @@ from __future__ import annotations
 
 import contextlib
 import dataclasses
-import math
 import secrets
 from collections.abc import Callable, Sequence
 from pathlib import Path
@@ -28,16 +27,15 @@ from typing import Any
 import numpy as np
 
 from .._io import CheckpointError, exclusive, read_checkpoint, write_checkpoint
-from .._params import Parameters, check_choice, check_integer, check_real, check_seed, check_unchanged
+from .._params import Parameters, check_integer, check_unchanged
+from ._run_checks import check_saved_run, checked_parameters
 from ._summary import edmd_summary
-from .initial import LATTICE_DIM, lattice, lattice_cells, maxwell_boltzmann, random_fluid
+from .initial import lattice, lattice_cells, maxwell_boltzmann, random_fluid
 from .measurement import Measurement, Sampler
 from .system import HardSphereSystem
-from .theory import MAX_PACKING_FRACTION
 
 __all__ = ["EdmdParameters", "EdmdRun"]
 
-INITIAL_STATES = ("random", *LATTICE_DIM)
 EQUILIBRATION_PER_PARTICLE = 20
 COLLISIONS_PER_PARTICLE = 200
 # a transport run's default: 10 blocks of 200 per particle (400 mean free times) outlast the fit window tenfold
@@ -93,6 +91,10 @@ class EdmdParameters(Parameters):
         every 4 N pair collisions (elastic spheres heat up under shear; in
         between kT rises, and the summary's ``temperature_mean`` is its time
         average, at which ``shear_viscosity_enskog`` is given).
+    engine : {"auto", "lists", "cells"}
+        The event engine of the system (:class:`~collisionkit.edmd.HardSphereSystem`,
+        ``engine``); "cells" not with ``shear_rate``. The summary's ``engine``
+        is the one that ran ("auto": cells for dilute straight flights).
 
     Examples
     --------
@@ -118,46 +120,11 @@ class EdmdParameters(Parameters):
     yeh_hummer: bool = False
     shear_rate: float = 0.0
     thermostat: bool = False
+    engine: str = "auto"
 
     def __post_init__(self):
-        set_ = object.__setattr__
-        check_choice("dim", self.dim, (2, 3))
-        set_(self, "particles", check_integer("particles", self.particles, 2, 100_000_000))
-        limit = MAX_PACKING_FRACTION[self.dim]
-        eta = check_real("packing_fraction", self.packing_fraction, 0.0, low_open=True)
-        if eta > limit:
-            raise ValueError(f"packing_fraction must lie in (0, {limit}] for dim={self.dim}; got {eta:g}")
-        set_(self, "packing_fraction", eta)
-        set_(self, "restitution", check_real("restitution", self.restitution, 0.0, 1.0))
-        if self.elastic_below is not None:
-            set_(self, "elastic_below", check_real("elastic_below", self.elastic_below, 0.0))
-        set_(self, "blocks", check_integer("blocks", self.blocks, 2, 100_000))
-        if self.equilibration is not None:
-            set_(self, "equilibration", check_integer("equilibration", self.equilibration, 0))
-        if self.collisions is not None:
-            set_(self, "collisions", check_integer("collisions", self.collisions, 2))
-            if self.collisions < self.blocks:
-                raise ValueError(f"collisions must be >= blocks ({self.blocks}); got {self.collisions}")
-        if self.seed is not None:
-            set_(self, "seed", check_seed("seed", self.seed))
-        check_choice("initial", self.initial, INITIAL_STATES)
-        if self.initial != "random":
-            lattice_cells(self.initial, self.dim, self.particles)
-        set_(self, "shear_rate", check_real("shear_rate", self.shear_rate, 0.0))
-        for name in ("transport", "yeh_hummer", "thermostat"):
-            if not isinstance(getattr(self, name), bool):
-                raise ValueError(f"{name} must be true or false; got {getattr(self, name)!r}")
-        if self.transport and self.restitution != 1.0:
-            raise ValueError(f"transport needs restitution 1 (the Einstein-Helfand relations hold in equilibrium, "
-                             f"which an inelastic gas never reaches); got restitution {self.restitution:g}")
-        if self.thermostat and self.shear_rate == 0.0:
-            raise ValueError("thermostat needs a shear_rate > 0 (it holds a sheared system at kT = 1)")
-        if self.transport and self.shear_rate != 0.0:
-            raise ValueError("transport cannot be combined with shear_rate (the Einstein-Helfand relations hold in "
-                             "equilibrium); a sheared run reports shear_viscosity from its stress")
-        if self.yeh_hummer and not (self.transport and self.dim == 3):
-            raise ValueError("yeh_hummer needs transport (the correction uses the measured shear viscosity) and dim 3 "
-                             "(its constant is the cubic lattice's)")
+        for name, value in checked_parameters(self).items():  # (._run_checks: every value, the rules between them)
+            object.__setattr__(self, name, value)
 
     def resolved(self, seed=None) -> EdmdParameters:
         """A copy with the defaults that depend on other parameters filled in (and a seed drawn if none).
@@ -207,7 +174,7 @@ def _initial_system(parameters: EdmdParameters, progress: Callable[[float], Any]
         positions, box = lattice(p.initial, lattice_cells(p.initial, p.dim, p.particles), p.packing_fraction)
         velocities = maxwell_boltzmann(np.ones(p.particles), p.dim, kT=1.0, seed=p.seed)
     return HardSphereSystem(positions, velocities, 0.5, box, restitution=p.restitution, elastic_below=p.elastic_below,
-                            shear_rate=p.shear_rate, thermostat=1.0 if p.thermostat else None)
+                            shear_rate=p.shear_rate, thermostat=1.0 if p.thermostat else None, engine=p.engine)
 
 
 class EdmdRun:
@@ -345,7 +312,7 @@ class EdmdRun:
         except (KeyError, TypeError, ValueError, IndexError) as error:
             raise saved.damaged(f"its measurement cannot be read (no array {error})" if isinstance(error, KeyError)
                                 else f"its measurement cannot be read ({error})") from None
-        _check_sampler(saved, self.sampler, self.parameters, self.system)
+        check_saved_run(saved, self.sampler, self.parameters, self.system)
         self.equilibrated = saved.entry("equilibrated", "integer", 0, self.parameters.equilibration)
         self.frames = saved.entry("frames", "integer", 0) if state["append"] else 0
         self.last_frame = saved.entry("last_frame", "integer", -1)
@@ -582,17 +549,3 @@ def _heating_note(run) -> str | None:
         note += (": beyond about 0.1 the fluid shear-thins, its viscosity below Enskog's G -> 0 value (0.97 of it at "
                  "0.09 for spheres at eta 0.3, 0.9 at 0.18 for discs)")
     return note
-
-
-def _check_sampler(saved, sampler: Sampler | None, parameters: EdmdParameters, system: HardSphereSystem) -> None:
-    """CheckpointError if the saved measurement does not fit the run (blocks, block length, records, positions)."""
-    if sampler is None:
-        return
-    lengths = {len(values) for values in sampler.records.values()} | {len(sampler.speeds)}
-    fits = (sampler.blocks, sampler.per_block) == (parameters.blocks, parameters.collisions // parameters.blocks)
-    fits &= len(lengths) == 1 and lengths.pop() <= sampler.blocks and sampler.histogram.ndim == 1
-    fits &= sampler.start_positions.shape == (system.count, system.dim) and math.isfinite(sampler.r_max)
-    fits &= (sampler.transport is not None) == parameters.transport
-    fits &= sampler.transport is None or len(sampler.transport.edge_times) == sampler.done + 1
-    if not fits:
-        raise saved.damaged("its measurement arrays (sampler_*) do not fit its parameters and particles")

@@ -1,0 +1,100 @@
+"""The checks of an EDMD run (:mod:`.run`): its parameters when they are made, its measurement when it is resumed.
+
+:func:`checked_parameters` is :class:`~collisionkit.edmd.EdmdParameters`'
+validation: every value in its range (a ``ValueError`` or ``TypeError``
+naming the parameter and what it allows) and the rules between them, so a
+run that cannot go is refused before any work. :func:`check_saved_run`
+refuses a checkpoint whose measurement or engine does not fit its
+parameters.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+from .._params import check_choice, check_integer, check_real, check_seed
+from ._cell_crossings import ENGINE_NAMES
+from .initial import LATTICE_DIM, lattice_cells
+from .theory import MAX_PACKING_FRACTION
+
+INITIAL_STATES = ("random", *LATTICE_DIM)
+ENGINES = ("auto", *ENGINE_NAMES)
+
+
+def checked_parameters(p) -> dict[str, Any]:
+    """The values of the parameters ``p`` checked and normalised (ints, floats), by name; raises if one is refused.
+
+    Examples
+    --------
+    >>> from collisionkit.edmd import EdmdParameters
+    >>> EdmdParameters(engine="cells", shear_rate=0.1)
+    Traceback (most recent call last):
+    ...
+    ValueError: engine cells cannot be combined with shear_rate: the cell-crossing engine runs straight flights only (use engine lists or auto)
+    >>> EdmdParameters(engine="grid")
+    Traceback (most recent call last):
+    ...
+    ValueError: engine must be one of auto, lists, cells; got 'grid'
+    """
+    values: dict[str, Any] = {}
+    check_choice("dim", p.dim, (2, 3))
+    values["particles"] = check_integer("particles", p.particles, 2, 100_000_000)
+    limit = MAX_PACKING_FRACTION[p.dim]
+    eta = check_real("packing_fraction", p.packing_fraction, 0.0, low_open=True)
+    if eta > limit:
+        raise ValueError(f"packing_fraction must lie in (0, {limit}] for dim={p.dim}; got {eta:g}")
+    values["packing_fraction"] = eta
+    values["restitution"] = check_real("restitution", p.restitution, 0.0, 1.0)
+    if p.elastic_below is not None:
+        values["elastic_below"] = check_real("elastic_below", p.elastic_below, 0.0)
+    blocks = values["blocks"] = check_integer("blocks", p.blocks, 2, 100_000)
+    if p.equilibration is not None:
+        values["equilibration"] = check_integer("equilibration", p.equilibration, 0)
+    if p.collisions is not None:
+        collisions = values["collisions"] = check_integer("collisions", p.collisions, 2)
+        if collisions < blocks:
+            raise ValueError(f"collisions must be >= blocks ({blocks}); got {collisions}")
+    if p.seed is not None:
+        values["seed"] = check_seed("seed", p.seed)
+    check_choice("initial", p.initial, INITIAL_STATES)
+    if p.initial != "random":
+        lattice_cells(p.initial, p.dim, values["particles"])
+    shear_rate = values["shear_rate"] = check_real("shear_rate", p.shear_rate, 0.0)
+    for name in ("transport", "yeh_hummer", "thermostat"):
+        if not isinstance(getattr(p, name), bool):
+            raise ValueError(f"{name} must be true or false; got {getattr(p, name)!r}")
+    check_choice("engine", p.engine, ENGINES)
+    if values["restitution"] != 1.0 and p.transport:
+        raise ValueError(f"transport needs restitution 1 (the Einstein-Helfand relations hold in equilibrium, "
+                         f"which an inelastic gas never reaches); got restitution {values['restitution']:g}")
+    if p.thermostat and shear_rate == 0.0:
+        raise ValueError("thermostat needs a shear_rate > 0 (it holds a sheared system at kT = 1)")
+    if p.transport and shear_rate != 0.0:
+        raise ValueError("transport cannot be combined with shear_rate (the Einstein-Helfand relations hold in "
+                         "equilibrium); a sheared run reports shear_viscosity from its stress")
+    if p.yeh_hummer and not (p.transport and p.dim == 3):
+        raise ValueError("yeh_hummer needs transport (the correction uses the measured shear viscosity) and dim 3 "
+                         "(its constant is the cubic lattice's)")
+    if p.engine == "cells" and shear_rate != 0.0:  # what HardSphereSystem refuses, said before any work
+        raise ValueError("engine cells cannot be combined with shear_rate: the cell-crossing engine runs straight "
+                         "flights only (use engine lists or auto)")
+    return values
+
+
+def check_saved_run(saved, sampler, parameters, system) -> None:
+    """CheckpointError if the saved measurement does not fit the run (blocks, block length, records, positions),
+    or the saved system runs another engine than ``parameters.engine`` asks for."""
+    if parameters.engine != "auto" and system.engine != parameters.engine:
+        raise saved.damaged(f"its system runs the {system.engine} engine, its parameters ask for engine "
+                            f"{parameters.engine}")
+    if sampler is None:
+        return
+    lengths = {len(values) for values in sampler.records.values()} | {len(sampler.speeds)}
+    fits = (sampler.blocks, sampler.per_block) == (parameters.blocks, parameters.collisions // parameters.blocks)
+    fits &= len(lengths) == 1 and lengths.pop() <= sampler.blocks and sampler.histogram.ndim == 1
+    fits &= sampler.start_positions.shape == (system.count, system.dim) and math.isfinite(sampler.r_max)
+    fits &= (sampler.transport is not None) == parameters.transport
+    fits &= sampler.transport is None or len(sampler.transport.edge_times) == sampler.done + 1
+    if not fits:
+        raise saved.damaged("its measurement arrays (sampler_*) do not fit its parameters and particles")
