@@ -199,6 +199,8 @@ def measure_point(source: Path, scratch: Path, particles: int, eta: float, durat
     fastest = max(trial, key=lambda variant: trial[variant]["rate"])
     print(f"N = {particles}, eta = {eta}: " + ", ".join(f"{v} {r['rate']:.3g}/s" for v, r in trial.items())
           + f"; fastest {fastest}", flush=True)
+    # a first run of ours, not kept, fills numba's cache: no measured run compiles (nor counts the compiler's memory)
+    ours_rate(particles, eta, duration / 100)
     reference, ours, loads = [], [], []
     for _ in range(pairs):
         loads.append(os.getloadavg()[0])
