@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import re
 from typing import get_args
 
 import pytest
@@ -90,9 +91,34 @@ def test_a_resumed_run_keeps_its_engine(tmp_path):
 
 
 def test_the_help_gives_the_choices_and_the_real_thresholds_of_auto():
+    """The thresholds are the library's, filled in when the help is shown (the command line starts without
+    importing collisionkit.edmd and numba)."""
     command = typer.main.get_command(app).commands["edmd"]
     (option,) = [parameter for parameter in command.params if parameter.name == "engine"]
     spheres, discs = CELLS_BELOW_PACKING[3], CELLS_BELOW_PACKING[2]
-    assert f"(eta < {spheres:g} spheres, {discs:g} discs)" in option.help
+    shown = runner.invoke(app, ["edmd", "--help"], env={"COLUMNS": "200"})
+    assert shown.exit_code == 0, shown.output
+    help_text = " ".join(re.sub("[│╭╮╰╯─]", " ", shown.output).split())  # rich's frame, at any width
+    assert f"(eta < {spheres:g} spheres, {discs:g} discs), lists otherwise" in help_text
     assert option.metavar == "[auto|lists|cells]"
     assert get_args(EngineName) == ENGINES  # the command's choices are the library's
+
+
+def _dilute_with(**changes):
+    """DILUTE's arguments with some options changed (``packing_fraction=0.2``: --packing-fraction 0.2)."""
+    arguments = [str(value) for value in DILUTE]
+    for name, value in changes.items():
+        arguments[arguments.index("--" + name.replace("_", "-")) + 1] = str(value)
+    return arguments
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+def test_auto_takes_the_cells_just_below_the_threshold_and_the_lists_at_it(tmp_path, dim):
+    threshold = CELLS_BELOW_PACKING[dim]
+    lattice = {"dim": dim, "particles": 64, "initial": "square"} if dim == 2 else {
+        "dim": dim, "particles": 108, "initial": "fcc"}
+    for eta, engine in ((round(threshold - 0.01, 6), "cells"), (threshold, "lists")):
+        summary = tmp_path / f"{eta}.json"
+        result = invoke(*_dilute_with(**lattice, packing_fraction=eta), "--summary", summary)
+        assert result.exit_code == 0, result.output
+        assert json.loads(summary.read_text())["engine"] == engine, eta

@@ -5,8 +5,8 @@ import pytest
 
 from collisionkit import edmd
 from collisionkit._kernels import edmd as _k
-from collisionkit.edmd._cell_crossings import CELLS_BELOW_PACKING
-from tests.edmd.systems import fcc_system
+from collisionkit.edmd._cell_crossings import CELLS_BELOW_PACKING, ENGINE_CELLS, ENGINE_LISTS, engine_code
+from tests.edmd.systems import fcc_system, hexagonal_system
 
 
 def _disc_system(eta, seed=2, **options):
@@ -20,6 +20,7 @@ def test_auto_takes_cells_for_dilute_straight_flights_and_lists_otherwise():
     assert fcc_system(cells=4, eta=below).engine == "cells"
     assert fcc_system(cells=4, eta=above).engine == "lists"
     assert _disc_system(CELLS_BELOW_PACKING[2] * 0.5).engine == "cells"
+    assert _disc_system(CELLS_BELOW_PACKING[2] * 1.5).engine == "lists"
     assert fcc_system(cells=4, eta=below, gravity=[0, 0, -1.0], periodic=[True, True, False]).engine == "lists"
     assert fcc_system(cells=4, eta=below, shear_rate=0.5).engine == "lists"
     assert edmd.random_fluid(3, 64, 0.1, seed=1).engine == "cells"  # compressed on lists, then its own engine
@@ -32,6 +33,19 @@ def test_auto_takes_cells_for_dilute_straight_flights_and_lists_otherwise():
     assert edmd.HardSphereSystem(**tight).engine == "lists"
     with pytest.raises(ValueError, match=r"box\[0\] = 3 is too small: a periodic axis needs at least 3 times"):
         edmd.HardSphereSystem(**tight, engine="cells")
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+def test_auto_takes_the_cells_just_below_the_threshold_and_the_lists_at_it(dim):
+    """At the threshold itself the lists, also where a lattice's packing fraction rounds to just below it (a
+    hexagonal lattice at 0.45 has 0.44999999999999984)."""
+    threshold = CELLS_BELOW_PACKING[dim]
+    make = (lambda eta: fcc_system(cells=4, eta=eta)) if dim == 3 else (lambda eta: hexagonal_system(eta=eta))
+    assert make(threshold - 0.01).engine == "cells"
+    assert make(threshold).engine == "lists"
+    assert engine_code("auto", dim, threshold, True) == ENGINE_LISTS
+    assert engine_code("auto", dim, threshold * (1 - 1e-6), True) == ENGINE_CELLS
+    assert edmd.random_fluid(dim, 64, threshold - 0.01, seed=1).engine == "cells"
 
 
 @pytest.mark.parametrize(("options", "message"), [

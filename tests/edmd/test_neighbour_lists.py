@@ -15,12 +15,15 @@ def test_neighbour_lists_are_symmetric_and_complete(lattice_cells):
     radius may be listed too (harmless: the list is a superset). Four FCC
     cells make 4 list cells a side (each neighbouring cell seen through one
     periodic shift), two make 2 (a cell its own neighbour on both sides:
-    minimum images per anchor).
+    minimum images per anchor). The lists are named: the mixture's packing
+    fraction (0.23-0.25) lies below CELLS_BELOW_PACKING, where "auto" takes
+    the cells.
     """
     rng = np.random.default_rng(3)
     positions, box = edmd.lattice("fcc", lattice_cells, 0.35)
     radii = np.where(rng.random(len(positions)) < 0.5, 0.5, 0.35)
-    system = edmd.HardSphereSystem(positions, edmd.maxwell_boltzmann(np.ones(len(radii)), 3, seed=rng), radii, box)
+    system = edmd.HardSphereSystem(positions, edmd.maxwell_boltzmann(np.ones(len(radii)), 3, seed=rng), radii, box,
+                                   engine="lists")
     system.run(collisions=20 * system.count)  # lists rebuilt one particle at a time
     shell, scale = system.neighbour_shell_width, system.neighbour_list_scale
     length = system.box[:3]

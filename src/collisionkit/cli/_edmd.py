@@ -14,6 +14,7 @@ from typing import Annotated, ClassVar, Literal
 
 import typer
 from pydantic import Field, model_validator
+from typer.core import TyperCommand
 
 from .._io import FileLockedError
 from ._common import (
@@ -246,6 +247,39 @@ def _help(text: str, default: str | None = None) -> str:
     return text if default is None else f"{text}  \\[default: {default}]"
 
 
+def engine_help(thresholds: dict[int, float] | None = None) -> str:
+    """The --engine help; with ``thresholds`` (discs 2, spheres 3) also the packing fractions auto takes cells below.
+
+    The thresholds are the library's
+    (:data:`collisionkit.edmd._cell_crossings.CELLS_BELOW_PACKING`), filled in
+    by :class:`EdmdCommand` when the help is shown: importing
+    :mod:`collisionkit.edmd` (and numba) for every command would slow the
+    command line's start.
+
+    Examples
+    --------
+    >>> engine_help({2: 0.45, 3: 0.25}).endswith("(eta < 0.25 spheres, 0.45 discs), lists otherwise]")
+    True
+    """
+    below = "" if thresholds is None else f" (eta < {thresholds[3]:g} spheres, {thresholds[2]:g} discs)"
+    return _help("Event engine: auto, lists (neighbour lists, any run) or cells (cell crossings, no lists: faster in "
+                 "dilute gases; not with --shear-rate). The summary's engine is the one that ran.",
+                 f"auto: cells for dilute straight flights{below}, lists otherwise")
+
+
+class EdmdCommand(TyperCommand):
+    """The ``edmd`` command: its help gives auto's thresholds as the library has them (see :func:`engine_help`)."""
+
+    def format_help(self, ctx, formatter) -> None:
+        """Fill the thresholds into the --engine help, then format the help as any command's."""
+        from ..edmd._cell_crossings import CELLS_BELOW_PACKING
+
+        for parameter in self.params:
+            if parameter.name == "engine":
+                parameter.help = engine_help(CELLS_BELOW_PACKING)
+        super().format_help(ctx, formatter)
+
+
 def edmd(
     dim: Annotated[int | None, typer.Option(help=_help("2 (discs) or 3 (spheres).", "3"))] = None,
     particles: Annotated[int | None, typer.Option(help=_help("Number of particles (>= 2; a periodic box must be 3 diameters wide: about 16 or more at eta 0.3).", "500"))] = None,
@@ -293,7 +327,7 @@ def edmd(
     ] = None,
     engine: Annotated[
         str | None,
-        typer.Option(metavar="[auto|lists|cells]", help=_help("Event engine: auto, lists (neighbour lists, any run) or cells (cell crossings, no lists: faster in dilute gases; not with --shear-rate). The summary's engine is the one that ran.", "auto: cells for dilute straight flights (eta < 0.2 spheres, 0.35 discs), lists otherwise")),
+        typer.Option(metavar="[auto|lists|cells]", help=engine_help()),
     ] = None,
     summary: Annotated[Path | None, typer.Option("--summary", help="Write the results as JSON to this file.")] = None,
     trajectory: Annotated[
@@ -356,4 +390,4 @@ def edmd(
 
 def register(app: typer.Typer) -> None:
     """Add the ``edmd`` command to the ``collisionkit`` app."""
-    app.command("edmd")(edmd)
+    app.command("edmd", cls=EdmdCommand)(edmd)

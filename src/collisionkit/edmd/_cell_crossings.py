@@ -24,10 +24,10 @@ ENGINE_CELLS = 1
 ENGINE_NAMES = {"lists": ENGINE_LISTS, "cells": ENGINE_CELLS}
 # packing fractions below which engine="auto" takes the cell crossings (discs 2, spheres 3): where the two engines
 # are level, a little on the safe side. Measured in one process, alternating (benchmarks/bench_edmd_engines.py,
-# N = 4000, results/edmd_engines_3d.md, edmd_engines_2d.md), the cells' rate over the lists': spheres 2.36 at
-# eta = 0.03, 1.90 at 0.1, 1.53 at 0.15, 1.10 at 0.2, 0.90 at 0.26; discs 1.99 at 0.02, 1.58 at 0.05, 1.35 at 0.15,
-# 1.22 at 0.25, 1.10 at 0.35, 0.93 at 0.45
-CELLS_BELOW_PACKING = {2: 0.35, 3: 0.2}
+# N = 4000; discs N = 3969), after the cell engine's inner-cell search (results/edmd_engines_3d_inner_cells.md,
+# edmd_engines_2d_inner_cells.md), the cells' rate over the lists': spheres 1.77 at eta = 0.1, 1.22 at 0.2, 1.01 at
+# 0.26, 0.83 at 0.3; discs 1.82 at 0.05, 1.29 at 0.25, 1.19 at 0.35, 1.08 at 0.45 (the last point of the discs' run)
+CELLS_BELOW_PACKING = {2: 0.45, 3: 0.25}
 # the most cells a particle, on average (per axis: (CELLS_PER_PARTICLE N)^(1/dim)), discs 2 and spheres 3: below
 # this the cells are as narrow as the contact distance, above it wider. Wider cells mean fewer crossings but more pair
 # tests a search; measured at N = 4000 against the lists (benchmarks/bench_edmd_engines.py, one cap a process): 3D
@@ -45,9 +45,12 @@ def engine_code(engine, dim, packing_fraction, straight_flights, cells_fit=True)
     engine's only kind). "cells" for another kind is a ValueError.
     ``cells_fit``: the box holds 3 cells a periodic axis (else "auto" takes
     the lists; "cells" fails when its grid is made, naming the axis).
+    A packing fraction within round-off of the threshold counts as at it
+    (a hexagonal lattice at 0.45 has 0.44999999999999984): "auto" takes the
+    lists there.
     """
     if engine == "auto":
-        dilute = packing_fraction < CELLS_BELOW_PACKING[dim]
+        dilute = packing_fraction < CELLS_BELOW_PACKING[dim] * (1.0 - 1e-9)
         return ENGINE_CELLS if straight_flights and dilute and cells_fit else ENGINE_LISTS
     if engine not in ENGINE_NAMES:
         raise ValueError(f"engine must be 'auto', 'lists' or 'cells'; got {engine!r}")
