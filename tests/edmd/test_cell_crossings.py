@@ -5,12 +5,13 @@ import pytest
 
 from collisionkit import edmd
 from collisionkit._kernels import edmd as _k
+from collisionkit._kernels.edmd.layout import PREFETCH_FROM
 from collisionkit.edmd._cell_crossings import CELLS_BELOW_PACKING, ENGINE_CELLS, ENGINE_LISTS, engine_code
 from tests.edmd.systems import fcc_system, hexagonal_system
 
 
-def _disc_system(eta, seed=2, **options):
-    positions, box = edmd.lattice("square", 16, eta)
+def _disc_system(eta, seed=2, side=16, **options):
+    positions, box = edmd.lattice("square", side, eta)
     velocities = edmd.maxwell_boltzmann(np.ones(len(positions)), 2, seed=seed)
     return edmd.HardSphereSystem(positions, velocities, 0.5, box, **options)
 
@@ -73,6 +74,9 @@ def _same_start(make, **options):
     lambda **options: fcc_system(cells=5, eta=0.12, **options),
     lambda **options: fcc_system(cells=5, eta=0.08, periodic=[False, True, False], **options),
     lambda **options: _disc_system(0.25, **options),
+    # from PREFETCH_FROM particles both event loops prefetch (the guesses must not change what happens)
+    lambda **options: fcc_system(cells=8, eta=0.12, **options),
+    lambda **options: _disc_system(0.3, side=46, **options),
 ])
 def test_both_engines_make_one_trajectory_over_many_runs(make):
     """Run in pieces (the clock restarts at 0 after each): the same collisions at the same times, the same sums.
@@ -92,6 +96,10 @@ def test_both_engines_make_one_trajectory_over_many_runs(make):
     assert cells.acc[_k.ACC_VIRIAL] == pytest.approx(lists.acc[_k.ACC_VIRIAL], rel=1e-9)
     assert cells.acc[_k.ACC_WALL_COLLISIONS] == lists.acc[_k.ACC_WALL_COLLISIONS]
     assert cells.check() > -1e-9
+
+
+def test_the_largest_systems_of_the_trajectory_test_reach_the_prefetching_loops():
+    assert 4 * 8**3 >= PREFETCH_FROM and 46**2 >= PREFETCH_FROM
 
 
 def test_a_long_cells_run_conserves_energy_and_momentum_across_memory_sorts():

@@ -40,16 +40,17 @@ import numpy as np
 # no EDMD kernel allocates or returns an array: all of them borrow, without reference counting
 from ..._jit import borrowing_inline_kernel as inline_kernel
 from ..._jit import borrowing_kernel as kernel
+from .._memory import prefetch
 from .cells import cell_coordinates, cell_index
 from .contacts import bounce_off_wall, collide_pair
 from .layout import (
     ACC_CELL_OVERFLOW, ACC_EVENTS, ACC_LIST_REBUILDS, ACC_STALE_EVENTS, CHANGED_AT, G_BOX, G_CELL, G_PERIODIC,
-    P_SCALE0, PREDICTED_AT, R, STOP_COLLISIONS, STOP_EVENTS, STOP_NO_EVENT, STOP_OVERFLOW,
-    STOP_STALLED, STOP_TIME, T, TARGET, V, X, wall_target,
+    P_SCALE0, PREDICTED_AT, PREFETCH_FROM, QUEUE_BLOCK, R, STOP_COLLISIONS, STOP_EVENTS, STOP_NO_EVENT,
+    STOP_OVERFLOW, STOP_STALLED, STOP_TIME, T, TARGET, TREE_LEVELS_PREFETCHED, V, X, wall_target,
 )
 from .motion import shift_by_box, wrap_into_box
 from .prediction import contact_before, first_root_from_below
-from .queue import queue_update, tree_build
+from .queue import likely_next, queue_update, tree_build
 
 # columns of the pending-collision records (float64, N x 3)
 PENDING_TIME = 0  # absolute time of the particle's best pair collision found so far (inf: none)
@@ -304,6 +305,42 @@ def _cross(p, i, face, b, pending, image, offsets, cell_of, cell_members, cell_c
 
 
 @inline_kernel
+def _prefetch_particle(i, p, b, pending, cell_of, queue, tree, leaves):
+    """Start loading the records an event of particle i reads, so that the misses overlap."""
+    prefetch(p, i)
+    prefetch(b, i)
+    prefetch(pending, i)
+    prefetch(cell_of, i)
+    prefetch(queue, i)
+    node = leaves + i // QUEUE_BLOCK
+    for _ in range(TREE_LEVELS_PREFETCHED):
+        prefetch(tree, node)
+        node >>= 1
+
+
+@inline_kernel
+def _prefetch_neighbourhood(cell, cell_members, cell_count, ncell):
+    """Start loading the counts and member rows of the cells around ``cell`` if it is off the grid's faces.
+
+    Along x the 3 cells of a row are adjacent in memory: their ends are
+    prefetched, one line each for the counts, every member row.
+    """
+    n0, n1, n2 = ncell[0], ncell[1], ncell[2]
+    c0, c1, c2 = cell_coordinates(cell, ncell)
+    if not (0 < c0 < n0 - 1 and 0 < c1 < n1 - 1 and (n2 == 1 or 0 < c2 < n2 - 1)):
+        return
+    layers = 3 if n2 > 1 else 1
+    for dz in range(layers):
+        for dy in range(3):
+            centre = cell + n0 * ((dy - 1) + n1 * (dz - (1 if n2 > 1 else 0)))
+            prefetch(cell_count, centre - 1)
+            prefetch(cell_count, centre + 1)
+            prefetch(cell_members, centre - 1)
+            prefetch(cell_members, centre)
+            prefetch(cell_members, centre + 1)
+
+
+@inline_kernel
 def _fly(p, i, t, dim):
     """Move particle i along its straight flight to time t."""
     dt = t - p[i, T]
@@ -330,6 +367,7 @@ def run_crossing_events(t, still, max_pair_collisions, max_events, t_stop, stall
     target = -1
     scale = params[P_SCALE0]
     event = int(acc[ACC_EVENTS])
+    prefetching = p.shape[0] >= PREFETCH_FROM
     while done < max_pair_collisions:
         if events >= max_events:
             stop = STOP_EVENTS
@@ -354,7 +392,20 @@ def run_crossing_events(t, still, max_pair_collisions, max_events, t_stop, stall
         event += 1
         events += 1
         target = int(b[i, TARGET])
+        upcoming = -1
+        if prefetching:  # memory latency dominates: start every load whose address is known
+            _prefetch_particle(i, p, b, pending, cell_of, queue, tree, leaves)
+            upcoming = likely_next(i, tree, leaves)
+            if upcoming >= 0:
+                _prefetch_particle(upcoming, p, b, pending, cell_of, queue, tree, leaves)
+            if target >= 0:
+                _prefetch_particle(target, p, b, pending, cell_of, queue, tree, leaves)
         _fly(p, i, t, dim)
+        if upcoming >= 0:  # its records have arrived by now: fetch the cells around it and its partner's records
+            _prefetch_neighbourhood(cell_of[upcoming], cell_members, cell_count, ncell)
+            upcoming_target = int(b[upcoming, TARGET])
+            if upcoming_target >= 0:
+                _prefetch_particle(upcoming_target, p, b, pending, cell_of, queue, tree, leaves)
         if target >= 0:
             j = target
             if b[j, CHANGED_AT] > pending[i, PENDING_AT]:

@@ -11,19 +11,13 @@ from .._memory import prefetch
 from .contacts import bounce_off_wall, collide_pair
 from .layout import (
     ACC_CELL_OVERFLOW, ACC_EVENTS, ACC_LIST_REBUILDS, ACC_STALE_EVENTS, CHANGED_AT, LIST_TARGET, P_GROWTH, P_SCALE0,
-    P_SHEAR_RATE, P_SHEAR_SWEEP, PREDICTED_AT, QUEUE_BLOCK, SHEAR_SWEEP_STRAIN, STOP_COLLISIONS, STOP_EVENTS,
-    STOP_NO_EVENT, STOP_OVERFLOW, STOP_STALLED, STOP_TIME, TARGET, TREE_LEVELS_PREFETCHED, wall_target,
+    P_SHEAR_RATE, P_SHEAR_SWEEP, PREDICTED_AT, PREFETCH_FROM, QUEUE_BLOCK, SHEAR_SWEEP_STRAIN, STOP_COLLISIONS,
+    STOP_EVENTS, STOP_NO_EVENT, STOP_OVERFLOW, STOP_STALLED, STOP_TIME, TARGET, TREE_LEVELS_PREFETCHED, wall_target,
 )
 from .motion import advance
 from .neighbour_lists import rebuild_list, sweep_frame
 from .prediction import predict
-from .queue import queue_update, tree_build
-
-# particles from which the event loop prefetches: a smaller system's records stay in the core's cache, where the
-# prefetches only cost instructions (2 % of the time at N = 864; without them N = 4000 at eta 0.26 was 14 % slower),
-# in-process A/B (issue 21)
-PREFETCH_FROM = 2048
-
+from .queue import likely_next, queue_update, tree_build
 
 @inline_kernel
 def _prefetch_particle(i, p, b, queue, neighbours, neighbour_count, tree, leaves):
@@ -37,27 +31,6 @@ def _prefetch_particle(i, p, b, queue, neighbours, neighbour_count, tree, leaves
     for _ in range(TREE_LEVELS_PREFETCHED):
         prefetch(tree, node)
         node >>= 1
-
-
-@inline_kernel
-def _likely_next(i, tree, leaves):
-    """The particle of the second-earliest event, a guess good enough for prefetching.
-
-    The runner-up of the tournament is the best of the siblings along the
-    winner i's path; the block and the lowest levels (cold in cache) are
-    skipped, so the guess misses if the runner-up lies among i's nearest
-    32 particles. Returns -1 if there is no guess.
-    """
-    node = (leaves + i // QUEUE_BLOCK) >> 2 if leaves >= 8 else leaves + i // QUEUE_BLOCK
-    best_time = math.inf
-    best = -1.0
-    while node > 1:
-        sibling_time = tree[node ^ 1, 0]
-        sibling_id = tree[node ^ 1, 1]
-        best = sibling_id if sibling_time < best_time else best
-        best_time = min(sibling_time, best_time)
-        node >>= 1
-    return int(best)
 
 
 @inline_kernel
@@ -150,7 +123,7 @@ def run_events(t, still, max_pair_collisions, max_events, t_stop, stall_limit, p
         target = int(b[i, TARGET])
         if prefetching:
             _prefetch_particle(i, p, b, queue, neighbours, neighbour_count, tree, leaves)
-            upcoming = _likely_next(i, tree, leaves)
+            upcoming = likely_next(i, tree, leaves)
             if upcoming >= 0:
                 _prefetch_particle(upcoming, p, b, queue, neighbours, neighbour_count, tree, leaves)
             if target >= 0:

@@ -20,7 +20,7 @@ from .exact import sure_approach
 from .motion import half_box, minimum_image, pair_image, shear_offset, sheared_image, streaming_velocity
 
 # box lengths (in diameters) below which the pair tests take periodic images without a branch. With this and
-# loop.PREFETCH_FROM the engine is 3-6 % faster at N = 864, eta 0.45 (box 10 diameters; benchmarks/bench_edmd_ab.py,
+# layout.PREFETCH_FROM the engine is 3-6 % faster at N = 864, eta 0.45 (box 10 diameters; benchmarks/bench_edmd_ab.py,
 # two runs: 5.6 % and 3.3 %, quartiles 1.5-8.5 %); always branch-free was 2.5-3.3 % slower at N = 4000 and 32000
 # (20 and 31 diameters) (issue 21)
 SMALL_BOX_DIAMETERS = 12.0

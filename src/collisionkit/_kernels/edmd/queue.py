@@ -76,6 +76,27 @@ def queue_update(i, time, queue, tree, leaves):
     tree_update(block, tree, best_time, float(best), leaves)
 
 
+@inline_kernel
+def likely_next(i, tree, leaves):
+    """The particle of the second-earliest event, a guess good enough for prefetching.
+
+    The runner-up of the tournament is the best of the siblings along the
+    winner i's path; the block and the lowest levels (cold in cache) are
+    skipped, so the guess misses if the runner-up lies among i's nearest
+    32 particles. Returns -1 if there is no guess.
+    """
+    node = (leaves + i // QUEUE_BLOCK) >> 2 if leaves >= 8 else leaves + i // QUEUE_BLOCK
+    best_time = math.inf
+    best = -1.0
+    while node > 1:
+        sibling_time = tree[node ^ 1, 0]
+        sibling_id = tree[node ^ 1, 1]
+        best = sibling_id if sibling_time < best_time else best
+        best_time = min(sibling_time, best_time)
+        node >>= 1
+    return int(best)
+
+
 @kernel
 def tree_build(tree, queue, leaves):
     """Fill the tree over the queue's blocks (queue padded with inf to whole blocks)."""
