@@ -23,11 +23,16 @@ ENGINE_LISTS = 0
 ENGINE_CELLS = 1
 ENGINE_NAMES = {"lists": ENGINE_LISTS, "cells": ENGINE_CELLS}
 # packing fractions below which engine="auto" takes the cell crossings (discs 2, spheres 3): where the two engines
-# are level, a little on the safe side. Measured in one process, alternating (benchmarks/bench_edmd_engines.py,
-# N = 4000; discs N = 3969), after the cell engine's inner-cell search (results/edmd_engines_3d_inner_cells.md,
-# edmd_engines_2d_inner_cells.md), the cells' rate over the lists': spheres 1.77 at eta = 0.1, 1.22 at 0.2, 1.01 at
-# 0.26, 0.83 at 0.3; discs 1.82 at 0.05, 1.29 at 0.25, 1.19 at 0.35, 1.08 at 0.45 (the last point of the discs' run)
-CELLS_BELOW_PACKING = {2: 0.45, 3: 0.25}
+# are level in the larger of the systems measured, a little on the safe side (the crossing moves to lower packing as
+# N grows: the cells' arrays outgrow the caches sooner). Measured in one process, alternating
+# (benchmarks/bench_edmd_engines.py), the cells' rate over the lists':
+# - N = 4000 (discs 3969), after the inner-cell search (results/edmd_engines_3d_inner_cells.md, _2d_inner_cells.md):
+#   spheres 1.77 at eta = 0.1, 1.22 at 0.2, 1.01 at 0.26, 0.83 at 0.3; discs 1.82 at 0.05, 1.29 at 0.25, 1.19 at
+#   0.35, 1.08 at 0.45;
+# - N = 32000 (discs 32041), with the cell engine's prefetching (results/edmd_engines_3d_32000.md, _2d_32000.md):
+#   spheres 1.60 at 0.1, 1.18 at 0.2, 0.82 at 0.25, 0.64 at 0.3 (level at ~0.225); discs 1.15 at 0.25, 0.97 at 0.35,
+#   0.88 at 0.4, 0.80 at 0.45 (level at ~0.33).
+CELLS_BELOW_PACKING = {2: 0.33, 3: 0.22}
 # the most cells a particle, on average (per axis: (CELLS_PER_PARTICLE N)^(1/dim)), discs 2 and spheres 3: below
 # this the cells are as narrow as the contact distance, above it wider. Wider cells mean fewer crossings but more pair
 # tests a search; measured at N = 4000 against the lists (benchmarks/bench_edmd_engines.py, one cap a process): 3D
@@ -46,8 +51,8 @@ def engine_code(engine, dim, packing_fraction, straight_flights, cells_fit=True)
     ``cells_fit``: the box holds 3 cells a periodic axis (else "auto" takes
     the lists; "cells" fails when its grid is made, naming the axis).
     A packing fraction within round-off of the threshold counts as at it
-    (a hexagonal lattice at 0.45 has 0.44999999999999984): "auto" takes the
-    lists there.
+    (a lattice's packing fraction can come out an ulp below the one asked
+    for): "auto" takes the lists there.
     """
     if engine == "auto":
         dilute = packing_fraction < CELLS_BELOW_PACKING[dim] * (1.0 - 1e-9)

@@ -176,9 +176,10 @@ class HardSphereSystem(SystemParameters, ParticleState, NeighbourLists, CellCros
         cell crossings as events, no lists, for straight flights of fixed
         radii (no gravity, compression or shear); in a dilute gas it makes
         the same trajectory up to round-off 1.2-1.8 times as fast (N = 4000,
-        spheres at eta = 0.2-0.1, discs 1.2-1.8 at 0.35-0.05). "auto"
+        spheres at eta = 0.2-0.1, discs 1.3-1.8 at 0.25-0.05; N = 32000,
+        spheres 1.2-1.6). "auto"
         (default) takes "cells" for such systems below the packing fraction
-        where the two are level, 0.25 for spheres and 0.45 for discs
+        where the two are level, 0.22 for spheres and 0.33 for discs
         (:data:`~collisionkit.edmd._cell_crossings.CELLS_BELOW_PACKING`),
         else "lists". The choice is :attr:`engine`.
 
