@@ -73,8 +73,11 @@ STATE_POINTS = {
     1000188: (1000188, 0.45, 0.5),
 }
 # --dilute: a dilute gas, where collisionkit runs its cell-crossing engine (engine="auto") and the C Cell variant is
-# at home; the window gives about 2e6 collisions as above
-DILUTE_POINT = (4000, 0.1, 600.0)
+# at home; the window gives about 2e6 collisions as above (--dilute-sizes picks them)
+DILUTE_POINTS = {
+    4000: (4000, 0.1, 600.0),
+    32000: (32000, 0.1, 75.0),
+}
 
 
 def variant_sources(source: Path, variant: str) -> dict[str, Path]:
@@ -271,10 +274,12 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--source", type=Path, required=True, help="a checkout of github.com/FSmallenburg/EDMD")
     parser.add_argument("--pairs", type=int, default=7, help="alternating runs of the two codes per state point")
-    parser.add_argument("--sizes", type=int, nargs="+", default=[864, 4000, 32000, 108000],
+    parser.add_argument("--sizes", type=int, nargs="*", default=[864, 4000, 32000, 108000],
                         help=f"state points by N, of {sorted(STATE_POINTS)}")
     parser.add_argument("--variants", nargs="+", default=list(VARIANTS), choices=list(VARIANTS))
-    parser.add_argument("--dilute", action="store_true", help="also N = 4000 at eta = 0.1 (after --sizes)")
+    parser.add_argument("--dilute", action="store_true", help="also eta = 0.1 at --dilute-sizes (after --sizes)")
+    parser.add_argument("--dilute-sizes", type=int, nargs="+", default=[4000], choices=sorted(DILUTE_POINTS),
+                        help="the sizes of the dilute points")
     parser.add_argument("--output", default="edmd_reference", help="stem of the result files in benchmarks/results")
     parser.add_argument("--dynamo", type=Path, help="a folder holding DynamO's dynamod and dynarun")
     parser.add_argument("--dynamo-sizes", type=int, nargs="+", default=[4000], help="state points (by N) to run DynamO at")
@@ -285,11 +290,14 @@ def main() -> None:
     unknown = [n for n in args.sizes if n not in STATE_POINTS]
     if unknown:
         raise SystemExit(f"--sizes must be among {sorted(STATE_POINTS)}; got {unknown}")
+    points = [STATE_POINTS[size] for size in args.sizes] + [DILUTE_POINTS[n] for n in args.dilute_sizes] * args.dilute
+    if not points:
+        raise SystemExit("no state point: give --sizes or --dilute")
     load_before = os.getloadavg()[0]
     started = time.time()
     rows = []
     with tempfile.TemporaryDirectory() as scratch:
-        for particles, eta, duration in [STATE_POINTS[size] for size in args.sizes] + [DILUTE_POINT] * args.dilute:
+        for particles, eta, duration in points:
             dynamo_points = [STATE_POINTS[n][:2] for n in args.dynamo_sizes if n in STATE_POINTS]
             with_dynamo = args.dynamo is not None and (particles, eta) in dynamo_points
             rows.append(measure_point(args.source, Path(scratch), particles, eta, duration, args.pairs, args.variants,
