@@ -45,12 +45,12 @@ from .cells import cell_coordinates, cell_index
 from .contacts import bounce_off_wall, collide_pair
 from .layout import (
     ACC_CELL_OVERFLOW, ACC_EVENTS, ACC_LIST_REBUILDS, ACC_STALE_EVENTS, CHANGED_AT, G_BOX, G_CELL, G_PERIODIC,
-    P_SCALE0, PREDICTED_AT, PREFETCH_FROM, QUEUE_BLOCK, R, STOP_COLLISIONS, STOP_EVENTS, STOP_NO_EVENT,
-    STOP_OVERFLOW, STOP_STALLED, STOP_TIME, T, TARGET, TREE_LEVELS_PREFETCHED, V, X, wall_target,
+    P_SCALE0, PREDICTED_AT, PREFETCH_FROM, R, STOP_COLLISIONS, STOP_EVENTS, STOP_NO_EVENT,
+    STOP_OVERFLOW, STOP_STALLED, STOP_TIME, T, TARGET, V, X, wall_target,
 )
 from .motion import shift_by_box, wrap_into_box
 from .prediction import contact_before, first_root_from_below
-from .queue import likely_next, queue_update, tree_build
+from .queue import likely_next, prefetch_queue_entry, queue_update, tree_build
 
 # columns of the pending-collision records (float64, N x 3)
 PENDING_TIME = 0  # absolute time of the particle's best pair collision found so far (inf: none)
@@ -311,11 +311,7 @@ def _prefetch_particle(i, p, b, pending, cell_of, queue, tree, leaves):
     prefetch(b, i)
     prefetch(pending, i)
     prefetch(cell_of, i)
-    prefetch(queue, i)
-    node = leaves + i // QUEUE_BLOCK
-    for _ in range(TREE_LEVELS_PREFETCHED):
-        prefetch(tree, node)
-        node >>= 1
+    prefetch_queue_entry(i, queue, tree, leaves)
 
 
 @inline_kernel

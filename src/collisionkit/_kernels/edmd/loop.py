@@ -11,13 +11,13 @@ from .._memory import prefetch
 from .contacts import bounce_off_wall, collide_pair
 from .layout import (
     ACC_CELL_OVERFLOW, ACC_EVENTS, ACC_LIST_REBUILDS, ACC_STALE_EVENTS, CHANGED_AT, LIST_TARGET, P_GROWTH, P_SCALE0,
-    P_SHEAR_RATE, P_SHEAR_SWEEP, PREDICTED_AT, PREFETCH_FROM, QUEUE_BLOCK, SHEAR_SWEEP_STRAIN, STOP_COLLISIONS,
-    STOP_EVENTS, STOP_NO_EVENT, STOP_OVERFLOW, STOP_STALLED, STOP_TIME, TARGET, TREE_LEVELS_PREFETCHED, wall_target,
+    P_SHEAR_RATE, P_SHEAR_SWEEP, PREDICTED_AT, PREFETCH_FROM, SHEAR_SWEEP_STRAIN, STOP_COLLISIONS,
+    STOP_EVENTS, STOP_NO_EVENT, STOP_OVERFLOW, STOP_STALLED, STOP_TIME, TARGET, wall_target,
 )
 from .motion import advance
 from .neighbour_lists import rebuild_list, sweep_frame
 from .prediction import predict
-from .queue import likely_next, queue_update, tree_build
+from .queue import likely_next, prefetch_queue_entry, queue_update, tree_build
 
 @inline_kernel
 def _prefetch_particle(i, p, b, queue, neighbours, neighbour_count, tree, leaves):
@@ -26,11 +26,7 @@ def _prefetch_particle(i, p, b, queue, neighbours, neighbour_count, tree, leaves
     prefetch(b, i)
     prefetch(neighbours, i)
     prefetch(neighbour_count, i)
-    prefetch(queue, i)
-    node = leaves + i // QUEUE_BLOCK
-    for _ in range(TREE_LEVELS_PREFETCHED):
-        prefetch(tree, node)
-        node >>= 1
+    prefetch_queue_entry(i, queue, tree, leaves)
 
 
 @inline_kernel

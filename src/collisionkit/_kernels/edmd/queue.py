@@ -7,7 +7,8 @@ import math
 # no EDMD kernel allocates or returns an array: all of them borrow, without reference counting
 from ..._jit import borrowing_inline_kernel as inline_kernel
 from ..._jit import borrowing_kernel as kernel
-from .layout import QUEUE_BLOCK
+from .._memory import prefetch
+from .layout import QUEUE_BLOCK, TREE_LEVELS_PREFETCHED
 
 
 @inline_kernel
@@ -74,6 +75,16 @@ def queue_update(i, time, queue, tree, leaves):
         return
     best_time, best = _block_first(block, queue)
     tree_update(block, tree, best_time, float(best), leaves)
+
+
+@inline_kernel
+def prefetch_queue_entry(i, queue, tree, leaves):
+    """Start loading particle i's queue entry and the lowest nodes of its block's path up the tree."""
+    prefetch(queue, i)
+    node = leaves + i // QUEUE_BLOCK
+    for _ in range(TREE_LEVELS_PREFETCHED):
+        prefetch(tree, node)
+        node >>= 1
 
 
 @inline_kernel
