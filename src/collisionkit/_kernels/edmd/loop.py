@@ -19,6 +19,7 @@ from .neighbour_lists import rebuild_list, sweep_frame
 from .prediction import predict
 from .queue import likely_next, prefetch_queue_entry, queue_update, tree_build
 
+
 @inline_kernel
 def _prefetch_particle(i, p, b, queue, neighbours, neighbour_count, tree, leaves):
     """Start loading everything an event of particle i reads, so the misses overlap."""
