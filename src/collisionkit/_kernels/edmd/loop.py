@@ -15,7 +15,7 @@ from .layout import (
     STOP_EVENTS, STOP_NO_EVENT, STOP_OVERFLOW, STOP_STALLED, STOP_TIME, TARGET, wall_target,
 )
 from .motion import advance
-from .neighbour_lists import rebuild_list, sweep_frame
+from .neighbour_lists import prefetch_rebuild, rebuild_list, sweep_frame
 from .prediction import predict
 from .queue import likely_next, prefetch_queue_entry, queue_update, tree_build
 
@@ -155,6 +155,8 @@ def run_events(t, still, max_pair_collisions, max_events, t_stop, stall_limit, p
             upcoming_target = int(b[upcoming, TARGET])
             if upcoming_target >= 0:
                 _prefetch_particle(upcoming_target, p, b, queue, neighbours, neighbour_count, tree, leaves)
+            elif upcoming_target == LIST_TARGET:
+                prefetch_rebuild(upcoming, b, neighbours, neighbour_count, cell_count, cell_points, ncell, geom, dim)
         # one call site, so the inlined prediction is compiled once
         for q in range(1 if partner < 0 else 2):
             _repredict(p, i if q == 0 else partner, b, anchor_time, neighbours, neighbour_count, geom, dim, params,
