@@ -156,7 +156,8 @@ def run_events(t, still, max_pair_collisions, max_events, t_stop, stall_limit, p
             if upcoming_target >= 0:
                 _prefetch_particle(upcoming_target, p, b, queue, neighbours, neighbour_count, tree, leaves)
             elif upcoming_target == LIST_TARGET:
-                prefetch_rebuild(upcoming, b, neighbours, neighbour_count, cell_count, cell_points, ncell, geom, dim)
+                prefetch_rebuild(upcoming, b, cell_of, neighbours, neighbour_count, cell_members, cell_count, cell_points,
+                                 ncell, geom, dim)
         # one call site, so the inlined prediction is compiled once
         for q in range(1 if partner < 0 else 2):
             _repredict(p, i if q == 0 else partner, b, anchor_time, neighbours, neighbour_count, geom, dim, params,
