@@ -11,11 +11,11 @@ from .._memory import prefetch
 from .contacts import bounce_off_wall, collide_pair
 from .layout import (
     ACC_CELL_OVERFLOW, ACC_EVENTS, ACC_LIST_REBUILDS, ACC_STALE_EVENTS, CHANGED_AT, LIST_TARGET, P_GROWTH, P_SCALE0,
-    P_SHEAR_RATE, P_SHEAR_SWEEP, PREDICTED_AT, PREFETCH_FROM, SHEAR_SWEEP_STRAIN, STOP_COLLISIONS,
-    STOP_EVENTS, STOP_NO_EVENT, STOP_OVERFLOW, STOP_STALLED, STOP_TIME, TARGET, wall_target,
+    P_SHEAR_RATE, P_SHEAR_SWEEP, PREDICTED_AT, PREFETCH_FROM, PREFETCH_REBUILDS_FROM, SHEAR_SWEEP_STRAIN,
+    STOP_COLLISIONS, STOP_EVENTS, STOP_NO_EVENT, STOP_OVERFLOW, STOP_STALLED, STOP_TIME, TARGET, wall_target,
 )
 from .motion import advance
-from .neighbour_lists import rebuild_list, sweep_frame
+from .neighbour_lists import prefetch_rebuild, rebuild_list, sweep_frame
 from .prediction import predict
 from .queue import likely_next, prefetch_queue_entry, queue_update, tree_build
 
@@ -78,6 +78,7 @@ def run_events(t, still, max_pair_collisions, max_events, t_stop, stall_limit, p
     growth = params[P_GROWTH]
     event = int(acc[ACC_EVENTS])
     prefetching = p.shape[0] >= PREFETCH_FROM
+    prefetching_rebuilds = p.shape[0] >= PREFETCH_REBUILDS_FROM
     while done < max_pair_collisions:
         if events >= max_events:
             stop = STOP_EVENTS
@@ -155,6 +156,9 @@ def run_events(t, still, max_pair_collisions, max_events, t_stop, stall_limit, p
             upcoming_target = int(b[upcoming, TARGET])
             if upcoming_target >= 0:
                 _prefetch_particle(upcoming_target, p, b, queue, neighbours, neighbour_count, tree, leaves)
+            elif upcoming_target == LIST_TARGET and prefetching_rebuilds:
+                prefetch_rebuild(upcoming, b, cell_of, neighbours, neighbour_count, cell_members, cell_count,
+                                 cell_points, ncell, geom, dim)
         # one call site, so the inlined prediction is compiled once
         for q in range(1 if partner < 0 else 2):
             _repredict(p, i if q == 0 else partner, b, anchor_time, neighbours, neighbour_count, geom, dim, params,

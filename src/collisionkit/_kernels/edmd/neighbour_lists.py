@@ -269,8 +269,8 @@ def _join_neighbours(i, neighbours, neighbour_count):
 
 
 @inline_kernel
-def _prefetch_cells(cell, cell_members, cell_count, cell_points, ncell, geom, dim):
-    """Start loading the cells around ``cell`` (their counts and first slots)."""
+def _prefetch_cells(cell, cell_members, cell_count, cell_points, ncell, geom, dim, members):
+    """Start loading the cells around ``cell``: their counts, first slots and, if ``members``, member rows."""
     cx, cy, cz = cell_coordinates(cell, ncell)
     zl, zh = cell_offsets(ncell[2], geom[G_PERIODIC, 2] != 0.0) if dim == 3 else (0, 0)
     yl, yh = cell_offsets(ncell[1], geom[G_PERIODIC, 1] != 0.0)
@@ -288,6 +288,24 @@ def _prefetch_cells(cell, cell_members, cell_count, cell_points, ncell, geom, di
                 prefetch(cell_points, neighbour_cell)
                 prefetch_at(cell_points, neighbour_cell, CELL_SLOTS_PER_LINE)  # a fifth sphere is common
                 prefetch(cell_count, neighbour_cell)
+                if members:
+                    prefetch(cell_members, neighbour_cell)
+
+
+@inline_kernel
+def prefetch_rebuild(i, b, cell_of, neighbours, neighbour_count, cell_members, cell_count, cell_points, ncell, geom,
+                     dim):
+    """Start loading what i's coming list rebuild reads: its neighbours' lists and the cells around its anchor.
+
+    The new anchor lies within half a shell of the old one, so in the old
+    anchor's cell or next to it: most of the cells the rebuild scans.
+    """
+    for m in range(neighbour_count[i]):
+        prefetch(neighbours, neighbours[i, m])
+        prefetch(neighbour_count, neighbours[i, m])
+    prefetch(cell_of, i)
+    _prefetch_cells(cell_of_anchor(b, i, ncell, geom, dim), cell_members, cell_count, cell_points, ncell, geom, dim,
+                    True)
 
 
 @inline_kernel
@@ -313,7 +331,7 @@ def rebuild_list(p, i, b, anchor_time, cell_of, neighbours, neighbour_count, cel
     wrap_into_box(p, i, geom, dim, image, b, acc, params)
     _anchor(p, i, b, geom, params, anchor_time)
     cell = cell_of_anchor(b, i, ncell, geom, dim)
-    _prefetch_cells(cell, cell_members, cell_count, cell_points, ncell, geom, dim)
+    _prefetch_cells(cell, cell_members, cell_count, cell_points, ncell, geom, dim, False)
     for m in range(neighbour_count[i]):
         prefetch(neighbours, neighbours[i, m])
         prefetch(neighbour_count, neighbours[i, m])
