@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import gc
+import itertools
 import json
 import os
 import subprocess
@@ -64,6 +65,9 @@ def test_the_available_memory_comes_from_meminfo_or_the_system(tmp_path, monkeyp
 
 
 def _traced_peak(run) -> int:
+    """tracemalloc's peak during ``run()``, after one untraced call (the figures are measured after a warm-up:
+    a first call's compiler or cache loading allocates Python objects that are not the run's)."""
+    run()
     gc.collect()
     tracemalloc.start()
     try:
@@ -74,15 +78,35 @@ def _traced_peak(run) -> int:
 
 
 @pytest.mark.parametrize(("initial", "particles", "eta"), [("random", 4000, 0.3), ("random", 4000, 0.1),
-                                                           ("fcc", 4000, 0.3)])
-def test_the_memory_estimate_covers_what_a_run_allocates(initial, particles, eta):
-    # the figures per particle were measured at larger N (see cli/_memory.py); here a small run checks them again
+                                                           ("fcc", 4000, 0.3), ("fcc", 4000, 0.02)])
+def test_the_memory_estimate_covers_what_a_run_allocates(initial, particles, eta, tmp_path):
+    # the figures per particle were measured at larger N (see cli/_memory.py); here a small run checks them again,
+    # with a checkpoint (a second copy of the state while it is written); eta 0.02 runs the cell engine, whose
+    # cells (16 a sphere) need more than the lists' estimate (a traced 2.58 kB a particle against 1.77 kB)
     from collisionkit.edmd import EdmdParameters, EdmdRun
 
     parameters = EdmdParameters(particles=particles, initial=initial, packing_fraction=eta, equilibration=0,
                                 collisions=20, blocks=10, seed=1)
-    peak = _traced_peak(lambda: EdmdRun(parameters).run().measurement())
+    paths = (tmp_path / f"run{number}.npz" for number in itertools.count())
+    peak = _traced_peak(lambda: EdmdRun(parameters, checkpoint=next(paths)).run().measurement())
     assert peak <= _memory.edmd_memory(parameters), (peak, _memory.edmd_memory(parameters))
+
+
+def test_the_memory_estimate_counts_the_cells_where_the_cell_engine_may_run():
+    from collisionkit.edmd import EdmdParameters
+    from collisionkit.edmd._cell_crossings import CELLS_BELOW_PACKING
+
+    def per_particle(**options):
+        return _memory.edmd_memory(EdmdParameters(particles=4000, initial="fcc", blocks=10, **options)) / 4000
+
+    lists = _memory.EDMD_LATTICE_BYTES_PER_PARTICLE + 10 * _memory.EDMD_BYTES_PER_PARTICLE_AND_BLOCK
+    cells = _memory.EDMD_CELLS_BYTES_PER_PARTICLE + 10 * _memory.EDMD_BYTES_PER_PARTICLE_AND_BLOCK
+    below = CELLS_BELOW_PACKING[3] - 0.01
+    assert per_particle(packing_fraction=below) == cells
+    assert per_particle(packing_fraction=below, engine="lists") == lists
+    assert per_particle(packing_fraction=0.3, engine="cells") == cells
+    assert per_particle(packing_fraction=CELLS_BELOW_PACKING[3]) == lists
+    assert per_particle(packing_fraction=below, shear_rate=0.1) == lists
 
 
 def test_the_swarm_memory_estimate_covers_what_a_swarm_allocates():

@@ -106,8 +106,8 @@ def _refuse_beyond_memory(parameters) -> None:
     """Stop before any work if the run would not fit in the machine's available memory."""
     needed = edmd_memory(parameters)
     hint = ""
-    if parameters.initial == "random":
-        lattice = edmd_memory(parameters, lattice=True)
+    lattice = edmd_memory(parameters, lattice=True)
+    if parameters.initial == "random" and lattice < needed:
         hint = (f"; the random start's compression needs the most (a lattice start, --initial fcc or hexagonal, "
                 f"needs about {size(lattice)})")
     refuse_beyond_memory(needed, f"--particles {parameters.particles}", hint + ": use fewer particles")
