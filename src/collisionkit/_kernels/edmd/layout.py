@@ -122,8 +122,9 @@ TREE_LEVELS_PREFETCHED = 6
 # 14 % faster at N = 4000, eta 0.26; the cells' loop 1.00 (0.96-1.08) at N = 4000, eta 0.1, 1.42 at N = 32000
 PREFETCH_FROM = 2048
 # particles from which the lists' loop also prefetches for the likely next event's list rebuild (its neighbours'
-# lists, the cells around its anchor): in-process A/B at eta 0.45, 1.24x at N = 10^6, none at 32000, 3 % slower
-# at N = 4000, eta 0.26 (issue 21)
+# lists, the cells around its anchor and their members): in-process A/B against the loop without it, eta 0.45:
+# 1.16x at N = 10^6 (quartiles 1.10-1.28), 1.12x at 108000; none at 32000 and 3 % slower at N = 4000, eta 0.26
+# (issue 21, benchmarks/results/edmd_ab_*_rebuild_prefetch.md)
 PREFETCH_REBUILDS_FROM = 65536
 
 
