@@ -46,9 +46,11 @@ class CrossingEngine:
                                         dim) == 0
         self.pending = np.zeros((count, 3))
         self.offsets = crossings.offset_table(dim)
-        crossings.predict_all_crossings(system.p, system.book, self.pending, self.offsets, self.cell_of,
+        self.gathered = np.zeros(3**dim * self.cell_members.shape[1] + 2, dtype=np.int32)
+        self.steps = crossings.linear_offsets(self.offsets, ncell)
+        crossings.predict_all_crossings(system.p, system.book, self.pending, self.offsets, self.steps, self.cell_of,
                                         self.cell_members, self.cell_count, ncell, geom, dim, system.params,
-                                        system.queue, system.tree, system.leaves, system.acc)
+                                        system.queue, system.tree, system.leaves, system.acc, self.gathered)
         self.time = system.time
 
     def run(self, collisions):
@@ -56,8 +58,8 @@ class CrossingEngine:
         before = s.acc[kernels.ACC_PAIR_COLLISIONS]
         self.time, _, _, stop, _ = crossings.run_crossing_events(
             self.time, 0, collisions, 10**9, math.inf, 10**6, s.p, s.book, self.pending, s._image, self.offsets,
-            self.cell_of, self.cell_members, self.cell_count, self.ncell, self.geom, self.dim, s.restitution,
-            s.params, s.queue, s.tree, s.leaves, s.acc)
+            self.steps, self.cell_of, self.cell_members, self.cell_count, self.ncell, self.geom, self.dim,
+            s.restitution, s.params, s.queue, s.tree, s.leaves, s.acc, self.gathered)
         assert stop == kernels.STOP_COLLISIONS
         assert s.acc[kernels.ACC_PAIR_COLLISIONS] - before == collisions
 
@@ -193,9 +195,11 @@ def test_full_cell_search_finds_the_earliest_contact_among_the_adjacent_cells(di
     expected_tau, expected_partner = _earliest_neighbour_contacts(positions, velocities, sigma, box, cells[:, :dim],
                                                                   ncell)
     offsets = crossings.offset_table(dim)
+    gathered = np.zeros(3**dim * cell_members.shape[1] + 2, dtype=np.int32)
+    steps = crossings.linear_offsets(offsets, grid)
     for i in range(count):
-        tau, partner = crossings.search_cells(p, i, *cells[i], offsets, crossings.ALL_NEIGHBOURS, cell_members,
-                                              cell_count, grid, geom, 1.0)
+        tau, partner = crossings.search_cells(p, i, *cells[i], offsets, steps, crossings.ALL_NEIGHBOURS,
+                                              cell_members, cell_count, grid, geom, 1.0, gathered)
         assert partner == expected_partner[i]
         assert tau == (pytest.approx(expected_tau[i], rel=1e-9) if partner >= 0 else math.inf)
     inner = ((cells[:, :dim] > 0) & (cells[:, :dim] < side - 1)).all(axis=1)

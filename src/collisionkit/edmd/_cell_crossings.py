@@ -122,8 +122,9 @@ class CellCrossings:
 
     def _predict_all_crossings(self):
         _crossings.predict_all_crossings(
-            self.p, self.book, self.pending, _offsets(self.dim), self.cell_of, self.cell_members, self.cell_count,
-            self.ncell, self.geom, self.dim, self.params, self.queue, self.tree, self.leaves, self.acc,
+            self.p, self.book, self.pending, _offsets(self.dim), _steps(self), self.cell_of, self.cell_members,
+            self.cell_count, self.ncell, self.geom, self.dim, self.params, self.queue, self.tree, self.leaves, self.acc,
+            _search_scratch(self),
         )
 
     def _check_cell_drift(self, tolerance):
@@ -141,10 +142,31 @@ def run_crossing_kernel(system, time, still, collisions, max_events, t_stop, sta
     """One call of the cell-crossing event loop on ``system`` (:func:`._system_events.run_event_loop`'s kernel)."""
     return _crossings.run_crossing_events(
         time, still, collisions, max_events, t_stop, stall_limit, system.p, system.book, system.pending,
-        system._image, _offsets(system.dim), system.cell_of, system.cell_members, system.cell_count, system.ncell,
-        system.geom, system.dim, system.restitution, system.params, system.queue, system.tree, system.leaves,
-        system.acc,
+        system._image, _offsets(system.dim), _steps(system), system.cell_of, system.cell_members, system.cell_count,
+        system.ncell, system.geom, system.dim, system.restitution, system.params, system.queue, system.tree,
+        system.leaves, system.acc, _search_scratch(system),
     )
+
+
+def _steps(system):
+    """The search order as cell-number differences in ``system``'s grid (:func:`.crossings.linear_offsets`)."""
+    grid = (system.dim, *system.ncell.tolist())
+    if getattr(system, "_search_grid", None) != grid:
+        system._search_steps = _crossings.linear_offsets(_offsets(system.dim), system.ncell)
+        system._search_grid = grid
+    return system._search_steps
+
+
+def _search_scratch(system):
+    """The cell searches' scratch of ``system`` (the members of the 3^dim cells around one), grown with its cells.
+
+    Not state: a checkpoint does not hold it, a restored system makes its own.
+    """
+    size = 3**system.dim * system.cell_members.shape[1] + 2
+    scratch = getattr(system, "_search_members", None)
+    if scratch is None or scratch.shape[0] < size:
+        scratch = system._search_members = np.zeros(size, dtype=np.int32)
+    return scratch
 
 
 _OFFSET_TABLES = {}
