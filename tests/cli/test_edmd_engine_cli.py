@@ -13,7 +13,7 @@ from typer.testing import CliRunner
 from collisionkit.cli import app
 from collisionkit.cli._edmd import EngineName
 from collisionkit.cli._edmd_report import rows
-from collisionkit.edmd._cell_crossings import CELLS_BELOW_PACKING
+from collisionkit.edmd._cell_crossings import CELLS_BELOW_PACKING, CELLS_BELOW_PACKING_AT
 from collisionkit.edmd._run_checks import ENGINES
 
 runner = CliRunner()
@@ -46,7 +46,7 @@ def test_the_summary_names_the_engine_that_ran(tmp_path, given, used):
 
 def test_auto_takes_the_lists_in_a_dense_fluid_and_a_config_file_sets_the_engine(tmp_path):
     dense = [str(value) for value in DILUTE]
-    dense[dense.index("--packing-fraction") + 1] = "0.5"  # above CELLS_BELOW_PACKING[2]
+    dense[dense.index("--packing-fraction") + 1] = "0.6"  # above CELLS_BELOW_PACKING[2]
     result = invoke(*dense, "--summary", tmp_path / "auto.json")
     assert result.exit_code == 0, result.output
     assert json.loads((tmp_path / "auto.json").read_text())["engine"] == "lists"
@@ -96,10 +96,12 @@ def test_the_help_gives_the_choices_and_the_real_thresholds_of_auto():
     command = typer.main.get_command(app).commands["edmd"]
     (option,) = [parameter for parameter in command.params if parameter.name == "engine"]
     spheres, discs = CELLS_BELOW_PACKING[3], CELLS_BELOW_PACKING[2]
+    first, last = CELLS_BELOW_PACKING_AT[0], CELLS_BELOW_PACKING_AT[-1]
     shown = runner.invoke(app, ["edmd", "--help"], env={"COLUMNS": "200"})
     assert shown.exit_code == 0, shown.output
     help_text = " ".join(re.sub("[│╭╮╰╯─]", " ", shown.output).split())  # rich's frame, at any width
-    assert f"(eta < {spheres:g} spheres, {discs:g} discs), lists otherwise" in help_text
+    assert (f"(eta < {spheres[0]:g} spheres, {discs[0]:g} discs up to {first} particles; {spheres[-1]:g} and "
+            f"{discs[-1]:g} from {last}), lists otherwise") in help_text
     assert option.metavar == "[auto|lists|cells]"
     assert get_args(EngineName) == ENGINES  # the command's choices are the library's
 
@@ -114,7 +116,7 @@ def _dilute_with(**changes):
 
 @pytest.mark.parametrize("dim", [2, 3])
 def test_auto_takes_the_cells_just_below_the_threshold_and_the_lists_at_it(tmp_path, dim):
-    threshold = CELLS_BELOW_PACKING[dim]
+    threshold = CELLS_BELOW_PACKING[dim][0]  # a small system's
     lattice = {"dim": dim, "particles": 64, "initial": "square"} if dim == 2 else {
         "dim": dim, "particles": 108, "initial": "fcc"}
     for eta, engine in ((round(threshold - 0.01, 6), "cells"), (threshold, "lists")):

@@ -94,18 +94,19 @@ def test_the_memory_estimate_covers_what_a_run_allocates(initial, particles, eta
 
 def test_the_memory_estimate_counts_the_cells_where_the_cell_engine_may_run():
     from collisionkit.edmd import EdmdParameters
-    from collisionkit.edmd._cell_crossings import CELLS_BELOW_PACKING
+    from collisionkit.edmd._cell_crossings import cells_below_packing
 
     def per_particle(**options):
         return _memory.edmd_memory(EdmdParameters(particles=4000, initial="fcc", blocks=10, **options)) / 4000
 
     lists = _memory.EDMD_LATTICE_BYTES_PER_PARTICLE + 10 * _memory.EDMD_BYTES_PER_PARTICLE_AND_BLOCK
     cells = _memory.EDMD_CELLS_BYTES_PER_PARTICLE + 10 * _memory.EDMD_BYTES_PER_PARTICLE_AND_BLOCK
-    below = CELLS_BELOW_PACKING[3] - 0.01
+    threshold = cells_below_packing(3, 4000)
+    below = threshold - 0.01
     assert per_particle(packing_fraction=below) == cells
     assert per_particle(packing_fraction=below, engine="lists") == lists
     assert per_particle(packing_fraction=0.3, engine="cells") == cells
-    assert per_particle(packing_fraction=CELLS_BELOW_PACKING[3]) == lists
+    assert per_particle(packing_fraction=threshold) == lists
     assert per_particle(packing_fraction=below, shear_rate=0.1) == lists
 
 

@@ -6,7 +6,9 @@ import pytest
 from collisionkit import edmd
 from collisionkit._kernels import edmd as _k
 from collisionkit._kernels.edmd.layout import PREFETCH_FROM, PREFETCH_REBUILDS_FROM
-from collisionkit.edmd._cell_crossings import CELLS_BELOW_PACKING, ENGINE_CELLS, ENGINE_LISTS, engine_code
+from collisionkit.edmd._cell_crossings import (
+    CELLS_BELOW_PACKING, CELLS_BELOW_PACKING_AT, ENGINE_CELLS, ENGINE_LISTS, cells_below_packing, engine_code,
+)
 from tests.edmd.systems import fcc_system, hexagonal_system
 
 
@@ -17,11 +19,11 @@ def _disc_system(eta, seed=2, side=16, **options):
 
 
 def test_auto_takes_cells_for_dilute_straight_flights_and_lists_otherwise():
-    below, above = CELLS_BELOW_PACKING[3] * 0.5, CELLS_BELOW_PACKING[3] * 1.5
+    below, above = cells_below_packing(3, 256) * 0.5, cells_below_packing(3, 256) * 1.5
     assert fcc_system(cells=4, eta=below).engine == "cells"
     assert fcc_system(cells=4, eta=above).engine == "lists"
-    assert _disc_system(CELLS_BELOW_PACKING[2] * 0.5).engine == "cells"
-    assert _disc_system(CELLS_BELOW_PACKING[2] * 1.5).engine == "lists"
+    assert _disc_system(cells_below_packing(2, 256) * 0.5).engine == "cells"
+    assert _disc_system(cells_below_packing(2, 256) * 1.25).engine == "lists"
     assert fcc_system(cells=4, eta=below, gravity=[0, 0, -1.0], periodic=[True, True, False]).engine == "lists"
     assert fcc_system(cells=4, eta=below, shear_rate=0.5).engine == "lists"
     assert edmd.random_fluid(3, 64, 0.1, seed=1).engine == "cells"  # compressed on lists, then its own engine
@@ -40,13 +42,29 @@ def test_auto_takes_cells_for_dilute_straight_flights_and_lists_otherwise():
 def test_auto_takes_the_cells_just_below_the_threshold_and_the_lists_at_it(dim):
     """At the threshold itself the lists, also where a lattice's packing fraction rounds to just below it (a
     lattice's packing fraction can come out an ulp below the one asked for)."""
-    threshold = CELLS_BELOW_PACKING[dim]
+    threshold = CELLS_BELOW_PACKING[dim][0]  # a small system's
     make = (lambda eta: fcc_system(cells=4, eta=eta)) if dim == 3 else (lambda eta: hexagonal_system(eta=eta))
     assert make(threshold - 0.01).engine == "cells"
     assert make(threshold).engine == "lists"
-    assert engine_code("auto", dim, threshold, True) == ENGINE_LISTS
-    assert engine_code("auto", dim, threshold * (1 - 1e-6), True) == ENGINE_CELLS
+    assert engine_code("auto", dim, threshold, 500, True) == ENGINE_LISTS
+    assert engine_code("auto", dim, threshold * (1 - 1e-6), 500, True) == ENGINE_CELLS
     assert edmd.random_fluid(dim, 64, threshold - 0.01, seed=1).engine == "cells"
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+def test_the_threshold_falls_with_n_as_measured_linear_in_log_n_between_the_measured_sizes(dim):
+    """Held below the first size and beyond the last; between two sizes at their geometric mean the mean of theirs."""
+    counts, thresholds = CELLS_BELOW_PACKING_AT, CELLS_BELOW_PACKING[dim]
+    assert cells_below_packing(dim, 2) == cells_below_packing(dim, counts[0]) == thresholds[0]
+    assert cells_below_packing(dim, 10**9) == thresholds[-1]
+    for (n0, t0), (n1, t1) in zip(zip(counts, thresholds), zip(counts[1:], thresholds[1:])):
+        assert cells_below_packing(dim, n1) == pytest.approx(t1, abs=1e-12)
+        assert cells_below_packing(dim, (n0 * n1) ** 0.5) == pytest.approx((t0 + t1) / 2, abs=1e-12)
+        assert t1 <= t0  # the lists win sooner in a larger system
+    # the same packing fraction: the cells for a small system, the lists for a large one
+    eta = (thresholds[0] + thresholds[-1]) / 2
+    assert engine_code("auto", dim, eta, 1000, True) == ENGINE_CELLS
+    assert engine_code("auto", dim, eta, 2 * counts[-1], True) == ENGINE_LISTS
 
 
 @pytest.mark.parametrize(("options", "message"), [

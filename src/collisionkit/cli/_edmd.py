@@ -247,21 +247,26 @@ def _help(text: str, default: str | None = None) -> str:
     return text if default is None else f"{text}  \\[default: {default}]"
 
 
-def engine_help(thresholds: dict[int, float] | None = None) -> str:
-    """The --engine help; with ``thresholds`` (discs 2, spheres 3) also the packing fractions auto takes cells below.
+def engine_help(thresholds: dict[int, tuple[float, ...]] | None = None, counts: tuple[int, ...] = ()) -> str:
+    """The --engine help; with ``thresholds`` also the packing fractions auto takes cells below.
 
-    The thresholds are the library's
-    (:data:`collisionkit.edmd._cell_crossings.CELLS_BELOW_PACKING`), filled in
-    by :class:`EdmdCommand` when the help is shown: importing
-    :mod:`collisionkit.edmd` (and numba) for every command would slow the
-    command line's start.
+    ``thresholds`` (discs 2, spheres 3) hold the packing fractions at the
+    numbers of particles ``counts``, the library's
+    (:data:`collisionkit.edmd._cell_crossings.CELLS_BELOW_PACKING` and
+    ``CELLS_BELOW_PACKING_AT``), filled in by :class:`EdmdCommand` when the
+    help is shown: importing :mod:`collisionkit.edmd` (and numba) for every
+    command would slow the command line's start.
 
     Examples
     --------
-    >>> engine_help({2: 0.45, 3: 0.25}).endswith("(eta < 0.25 spheres, 0.45 discs), lists otherwise]")
+    >>> engine_help({2: (0.5, 0.3), 3: (0.27, 0.22)}, (32000, 10**6)).endswith(
+    ...     "(eta < 0.27 spheres, 0.5 discs up to 32000 particles; 0.22 and 0.3 from 1000000), lists otherwise]")
     True
     """
-    below = "" if thresholds is None else f" (eta < {thresholds[3]:g} spheres, {thresholds[2]:g} discs)"
+    below = ""
+    if thresholds is not None:
+        below = (f" (eta < {thresholds[3][0]:g} spheres, {thresholds[2][0]:g} discs up to {counts[0]} particles; "
+                 f"{thresholds[3][-1]:g} and {thresholds[2][-1]:g} from {counts[-1]})")
     return _help("Event engine: auto, lists (neighbour lists, any run) or cells (cell crossings, no lists: faster in "
                  "dilute gases; not with --shear-rate). The summary's engine is the one that ran.",
                  f"auto: cells for dilute straight flights{below}, lists otherwise")
@@ -272,11 +277,11 @@ class EdmdCommand(TyperCommand):
 
     def format_help(self, ctx, formatter) -> None:
         """Fill the thresholds into the --engine help, then format the help as any command's."""
-        from ..edmd._cell_crossings import CELLS_BELOW_PACKING
+        from ..edmd._cell_crossings import CELLS_BELOW_PACKING, CELLS_BELOW_PACKING_AT
 
         for parameter in self.params:
             if parameter.name == "engine":
-                parameter.help = engine_help(CELLS_BELOW_PACKING)
+                parameter.help = engine_help(CELLS_BELOW_PACKING, CELLS_BELOW_PACKING_AT)
         super().format_help(ctx, formatter)
 
 

@@ -93,9 +93,9 @@ def _may_run_cells(parameters) -> bool:
         return True
     if parameters.engine != "auto" or parameters.shear_rate != 0.0:
         return False
-    from ..edmd._cell_crossings import CELLS_BELOW_PACKING
+    from ..edmd._cell_crossings import cells_below_packing
 
-    return parameters.packing_fraction < CELLS_BELOW_PACKING[parameters.dim]
+    return parameters.packing_fraction < cells_below_packing(parameters.dim, parameters.particles)
 
 
 def swarm_memory(particles: int, ionizing: bool) -> int:

@@ -22,17 +22,15 @@ from .._kernels.edmd import crossings as _crossings
 ENGINE_LISTS = 0
 ENGINE_CELLS = 1
 ENGINE_NAMES = {"lists": ENGINE_LISTS, "cells": ENGINE_CELLS}
-# packing fractions below which engine="auto" takes the cell crossings (discs 2, spheres 3): where the two engines
-# are level in the larger of the systems measured, a little on the safe side (the crossing moves to lower packing as
-# N grows: the cells' arrays outgrow the caches sooner). Measured in one process, alternating
-# (benchmarks/bench_edmd_engines.py), the cells' rate over the lists':
-# - N = 4000 (discs 3969), after the inner-cell search (results/edmd_engines_3d_inner_cells.md, _2d_inner_cells.md):
-#   spheres 1.77 at eta = 0.1, 1.22 at 0.2, 1.01 at 0.26, 0.83 at 0.3; discs 1.82 at 0.05, 1.29 at 0.25, 1.19 at
-#   0.35, 1.08 at 0.45;
-# - N = 32000 (discs 32041), with the cell engine's prefetching (results/edmd_engines_3d_32000.md, _2d_32000.md):
-#   spheres 1.60 at 0.1, 1.18 at 0.2, 0.82 at 0.25, 0.64 at 0.3 (level at ~0.225); discs 1.15 at 0.25, 0.97 at 0.35,
-#   0.88 at 0.4, 0.80 at 0.45 (level at ~0.33).
-CELLS_BELOW_PACKING = {2: 0.33, 3: 0.22}
+# packing fractions below which engine="auto" takes the cell crossings (discs 2, spheres 3) at the numbers of
+# particles CELLS_BELOW_PACKING_AT, linear in log N between them and held beyond them (cells_below_packing): where
+# the two engines are level, a little on the safe side. The level falls as N grows (the cells' arrays outgrow the
+# caches sooner than the lists'). Measured after the gathered cell search on the 2-core Intel VM, in one process,
+# alternating (benchmarks/bench_edmd_engines.py; results/edmd_engines_levels_by_n.md), levels: spheres 0.285 at
+# N = 4000, 0.29 at 32000, 0.275 at 108000, 0.23 at 10^6; discs 0.54 at 3969, 0.53 at 32041, 0.37 at 108241, 0.29 at
+# 10^6 (before it, on the AMD VM: spheres 0.225 and discs 0.33 at 32000)
+CELLS_BELOW_PACKING_AT = (32_000, 108_000, 1_000_000)
+CELLS_BELOW_PACKING = {2: (0.50, 0.35, 0.28), 3: (0.27, 0.26, 0.22)}
 # the most cells a particle, on average (per axis: (CELLS_PER_PARTICLE N)^(1/dim)), discs 2 and spheres 3: below
 # this the cells are as narrow as the contact distance, above it wider. Wider cells mean fewer crossings but more pair
 # tests a search; measured at N = 4000 against the lists (benchmarks/bench_edmd_engines.py, one cap a process): 3D
@@ -43,19 +41,34 @@ CELLS_PER_PARTICLE = {2: 2, 3: 16}
 INITIAL_SLOTS = 4
 
 
-def engine_code(engine, dim, packing_fraction, straight_flights, cells_fit=True) -> int:
-    """The engine a new system runs: ``engine`` ("auto", "lists" or "cells") resolved for its kind of system.
+def cells_below_packing(dim, count) -> float:
+    """The packing fraction below which ``engine="auto"`` takes the cell crossings for ``count`` particles.
+
+    :data:`CELLS_BELOW_PACKING` at :data:`CELLS_BELOW_PACKING_AT`, linear in
+    log N between them and held beyond them.
+
+    Examples
+    --------
+    >>> cells_below_packing(3, 500), cells_below_packing(3, 32_000), cells_below_packing(3, 10**7)
+    (0.27, 0.27, 0.22)
+    """
+    return float(np.interp(math.log(count), np.log(CELLS_BELOW_PACKING_AT), CELLS_BELOW_PACKING[dim]))
+
+
+def engine_code(engine, dim, packing_fraction, count, straight_flights, cells_fit=True) -> int:
+    """The engine a new system of ``count`` particles runs: ``engine`` ("auto", "lists" or "cells") resolved.
 
     ``straight_flights``: no gravity, compression or shear (the cell
     engine's only kind). "cells" for another kind is a ValueError.
     ``cells_fit``: the box holds 3 cells a periodic axis (else "auto" takes
     the lists; "cells" fails when its grid is made, naming the axis).
-    A packing fraction within round-off of the threshold counts as at it
+    The threshold is :func:`cells_below_packing`'s; a packing fraction
+    within round-off of it counts as at it
     (a lattice's packing fraction can come out an ulp below the one asked
     for): "auto" takes the lists there.
     """
     if engine == "auto":
-        dilute = packing_fraction < CELLS_BELOW_PACKING[dim] * (1.0 - 1e-9)
+        dilute = packing_fraction < cells_below_packing(dim, count) * (1.0 - 1e-9)
         return ENGINE_CELLS if straight_flights and dilute and cells_fit else ENGINE_LISTS
     if engine not in ENGINE_NAMES:
         raise ValueError(f"engine must be 'auto', 'lists' or 'cells'; got {engine!r}")

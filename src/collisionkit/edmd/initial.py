@@ -266,7 +266,7 @@ def random_fluid(
         system._shell_request = max(float(system._shell_request), dilute)
     straight = system.shear_rate == 0.0 and system_options.get("gravity") is None
     fit = cells_fit(np.full(dim, side), dim, np.ones(dim, dtype=bool), float(diameters.max()))
-    system._engine_code = engine_code(engine, dim, packing_fraction, straight, fit)
+    system._engine_code = engine_code(engine, dim, packing_fraction, particles, straight, fit)
     system._stop_growing(1.0)
     system.check(tolerance=1e-7)
     system.set_velocities(maxwell_boltzmann(masses, dim, kT, generator))

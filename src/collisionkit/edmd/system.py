@@ -179,8 +179,9 @@ class HardSphereSystem(SystemParameters, ParticleState, NeighbourLists, CellCros
         spheres at eta = 0.2-0.1, discs 1.3-1.8 at 0.25-0.05; N = 32000,
         spheres 1.2-1.6). "auto"
         (default) takes "cells" for such systems below the packing fraction
-        where the two are level, 0.22 for spheres and 0.33 for discs
-        (:data:`~collisionkit.edmd._cell_crossings.CELLS_BELOW_PACKING`),
+        where the two are level, which falls with N: 0.27 for spheres and
+        0.5 for discs up to 32000 particles, 0.22 and 0.28 at 10^6
+        (:func:`~collisionkit.edmd._cell_crossings.cells_below_packing`),
         else "lists". The choice is :attr:`engine`.
 
     Examples
@@ -259,7 +260,8 @@ class HardSphereSystem(SystemParameters, ParticleState, NeighbourLists, CellCros
             self._add_streaming()
         straight = _growth == 0.0 and not np.any(gravity) and self.shear_rate == 0.0
         fit = cells_fit(box, dim, periodic, 2.0 * float(np.max(radius)) * float(_scale))
-        self._engine_code = engine_code(engine, dim, packing_fraction(radius * float(_scale), box), straight, fit)
+        self._engine_code = engine_code(engine, dim, packing_fraction(radius * float(_scale), box), count, straight,
+                                        fit)
         _system_setup.allocate_engine_arrays(self)
         self._refresh_lists()
         _system_setup.check_walls(self)
