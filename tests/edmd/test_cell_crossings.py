@@ -5,7 +5,7 @@ import pytest
 
 from collisionkit import edmd
 from collisionkit._kernels import edmd as _k
-from collisionkit._kernels.edmd.layout import PREFETCH_FROM, PREFETCH_REBUILDS_FROM
+from collisionkit._kernels.edmd.layout import CELLS_PREFETCH_FROM, PREFETCH_FROM, PREFETCH_REBUILDS_FROM
 from collisionkit.edmd._cell_crossings import (
     CELLS_BELOW_PACKING, CELLS_BELOW_PACKING_AT, ENGINE_CELLS, ENGINE_LISTS, cells_below_packing, engine_code,
 )
@@ -92,10 +92,11 @@ def _same_start(make, **options):
     lambda **options: fcc_system(cells=5, eta=0.12, **options),
     lambda **options: fcc_system(cells=5, eta=0.08, periodic=[False, True, False], **options),
     lambda **options: _disc_system(0.25, **options),
-    # from PREFETCH_FROM particles both event loops prefetch (the guesses must not change what happens)
+    # from PREFETCH_FROM particles the lists' loop prefetches (the guesses must not change what happens)
     lambda **options: fcc_system(cells=8, eta=0.12, **options),
     lambda **options: _disc_system(0.3, side=46, **options),
-    # from PREFETCH_REBUILDS_FROM the lists' loop also prefetches for the next list rebuild
+    # from PREFETCH_REBUILDS_FROM the lists' loop also prefetches for the next list rebuild (and from
+    # CELLS_PREFETCH_FROM the cells' loop prefetches)
     lambda **options: fcc_system(cells=26, eta=0.12, **options),
     lambda **options: _disc_system(0.3, side=257, **options),
 ])
@@ -122,6 +123,7 @@ def test_both_engines_make_one_trajectory_over_many_runs(make):
 def test_the_largest_systems_of_the_trajectory_test_reach_the_prefetching_loops():
     assert 4 * 8**3 >= PREFETCH_FROM and 46**2 >= PREFETCH_FROM
     assert 4 * 26**3 >= PREFETCH_REBUILDS_FROM and 257**2 >= PREFETCH_REBUILDS_FROM
+    assert 4 * 26**3 >= CELLS_PREFETCH_FROM and 257**2 >= CELLS_PREFETCH_FROM
 
 
 def test_a_long_cells_run_conserves_energy_and_momentum_across_memory_sorts():

@@ -106,8 +106,13 @@ class CellCrossings:
 
     Owns ``pending`` (each particle's best collision found so far) and,
     when the engine runs, the cells (``cell_of``, ``ncell``,
-    ``cell_members``, ``cell_count``, the widths in ``geom``).
+    ``cell_members``, ``cell_count``, the widths in ``geom``), and the cell
+    searches' scratch and step table (not state: made when first needed).
     """
+
+    _search_members = None  # the members of the cells around one (:func:`_search_scratch`)
+    _search_steps = None  # the search order as cell-number differences (:func:`_steps`)
+    _search_grid = None  # (dim, *ncell) the step table was made for
 
     @property
     def engine(self) -> str:
@@ -164,7 +169,7 @@ def run_crossing_kernel(system, time, still, collisions, max_events, t_stop, sta
 def _steps(system):
     """The search order as cell-number differences in ``system``'s grid (:func:`.crossings.linear_offsets`)."""
     grid = (system.dim, *system.ncell.tolist())
-    if getattr(system, "_search_grid", None) != grid:
+    if system._search_grid != grid:
         system._search_steps = _crossings.linear_offsets(_offsets(system.dim), system.ncell)
         system._search_grid = grid
     return system._search_steps
@@ -176,7 +181,7 @@ def _search_scratch(system):
     Not state: a checkpoint does not hold it, a restored system makes its own.
     """
     size = 3**system.dim * system.cell_members.shape[1] + 2
-    scratch = getattr(system, "_search_members", None)
+    scratch = system._search_members
     if scratch is None or scratch.shape[0] < size:
         scratch = system._search_members = np.zeros(size, dtype=np.int32)
     return scratch

@@ -44,8 +44,8 @@ from .._memory import prefetch
 from .cells import cell_coordinates, cell_index
 from .contacts import bounce_off_wall, collide_pair
 from .layout import (
-    ACC_CELL_OVERFLOW, ACC_EVENTS, ACC_LIST_REBUILDS, ACC_STALE_EVENTS, CHANGED_AT, G_BOX, G_CELL, G_PERIODIC,
-    P_SCALE0, PREDICTED_AT, PREFETCH_FROM, R, STOP_COLLISIONS, STOP_EVENTS, STOP_NO_EVENT,
+    ACC_CELL_OVERFLOW, ACC_EVENTS, ACC_LIST_REBUILDS, ACC_STALE_EVENTS, CELLS_PREFETCH_FROM, CHANGED_AT, G_BOX, G_CELL,
+    G_PERIODIC, P_SCALE0, PREDICTED_AT, R, STOP_COLLISIONS, STOP_EVENTS, STOP_NO_EVENT,
     STOP_OVERFLOW, STOP_STALLED, STOP_TIME, T, TARGET, V, X, wall_target,
 )
 from .motion import shift_by_box, wrap_into_box
@@ -414,7 +414,7 @@ def run_crossing_events(t, still, max_pair_collisions, max_events, t_stop, stall
     target = -1
     scale = params[P_SCALE0]
     event = int(acc[ACC_EVENTS])
-    prefetching = p.shape[0] >= PREFETCH_FROM
+    prefetching = p.shape[0] >= CELLS_PREFETCH_FROM
     while done < max_pair_collisions:
         if events >= max_events:
             stop = STOP_EVENTS

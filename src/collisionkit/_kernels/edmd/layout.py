@@ -121,6 +121,10 @@ TREE_LEVELS_PREFETCHED = 6
 # prefetches only cost instructions. In-process A/B (issue 21): the lists' loop 2 % slower with them at N = 864,
 # 14 % faster at N = 4000, eta 0.26; the cells' loop 1.00 (0.96-1.08) at N = 4000, eta 0.1, 1.42 at N = 32000
 PREFETCH_FROM = 2048
+# the same for the cell engine's loop (.crossings), whose records and cells stay cached longer: on the Intel VM of
+# 2026-11-28, in one process at eta 0.1 against the loop prefetching from 2048, no prefetches at all were 1.07x at
+# N = 4000, 1.00 at 6912, 0.98 at 8788, 0.94 at 13500 and 0.87 at 32000 (on the AMD VM 1.00 (0.96-1.08) at 4000)
+CELLS_PREFETCH_FROM = 6144
 # particles from which the lists' loop also prefetches for the likely next event's list rebuild (its neighbours'
 # lists, the cells around its anchor and their members): in-process A/B against the loop without it, eta 0.45:
 # 1.16x at N = 10^6 (quartiles 1.10-1.28), 1.12x at 108000; none at 32000 and 3 % slower at N = 4000, eta 0.26
