@@ -46,7 +46,7 @@ class CrossingEngine:
                                         dim) == 0
         self.pending = np.zeros((count, 3))
         self.offsets = crossings.offset_table(dim)
-        self.gathered = np.zeros(3**dim * self.cell_members.shape[1] + 2, dtype=np.int32)
+        self.gathered = np.zeros(3**dim * self.cell_members.shape[1] + 2, dtype=np.int64)
         self.steps = crossings.linear_offsets(self.offsets, ncell)
         crossings.predict_all_crossings(system.p, system.book, self.pending, self.offsets, self.steps, self.cell_of,
                                         self.cell_members, self.cell_count, ncell, geom, dim, system.params,
@@ -195,7 +195,7 @@ def test_full_cell_search_finds_the_earliest_contact_among_the_adjacent_cells(di
     expected_tau, expected_partner = _earliest_neighbour_contacts(positions, velocities, sigma, box, cells[:, :dim],
                                                                   ncell)
     offsets = crossings.offset_table(dim)
-    gathered = np.zeros(3**dim * cell_members.shape[1] + 2, dtype=np.int32)
+    gathered = np.zeros(3**dim * cell_members.shape[1] + 2, dtype=np.int64)
     steps = crossings.linear_offsets(offsets, grid)
     for i in range(count):
         tau, partner = crossings.search_cells(p, i, *cells[i], offsets, steps, crossings.ALL_NEIGHBOURS,

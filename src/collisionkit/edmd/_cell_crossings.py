@@ -183,7 +183,7 @@ def _search_scratch(system):
     size = 3**system.dim * system.cell_members.shape[1] + 2
     scratch = system._search_members
     if scratch is None or scratch.shape[0] < size:
-        scratch = system._search_members = np.zeros(size, dtype=np.int32)
+        scratch = system._search_members = np.zeros(size, dtype=np.int64)
     return scratch
 
 

@@ -64,6 +64,8 @@ CROSSING_BASE = -8
 ALL_NEIGHBOURS = 6
 # the offset marking the end of a shorter row of the table
 ROW_END = 2
+# periodic images a neighbouring cell can be seen through (3 shifts an axis), in the gathered members' codes
+IMAGES = 27
 
 
 def offset_table(dim):
@@ -177,6 +179,37 @@ def _gather_members(here, steps, row, cell_members, cell_count, gathered):
 
 
 @inline_kernel
+def _gather_edge_members(c0, c1, c2, offsets, row, cell_members, cell_count, ncell, geom, gathered):
+    """:func:`_gather_members` from a cell on the grid's faces: each member stored as ``j * IMAGES + image``.
+
+    ``image`` = kx + 3 ky + 9 kz says through which periodic image its cell
+    is seen, k = 0, 1, 2 for a shift of -1, 0, +1 box lengths along the
+    axis; cells beyond a wall are skipped.
+    """
+    n0, n1, n2 = ncell[0], ncell[1], ncell[2]
+    periodic0, periodic1, periodic2 = geom[G_PERIODIC, 0] != 0.0, geom[G_PERIODIC, 1] != 0.0, geom[G_PERIODIC, 2] != 0.0
+    found = 0
+    for q in range(offsets.shape[1]):
+        if offsets[row, q, 0] == ROW_END:
+            break
+        x, sx = _neighbour_cell(c0, offsets[row, q, 0], n0, periodic0, 1.0)
+        y, sy = _neighbour_cell(c1, offsets[row, q, 1], n1, periodic1, 1.0)
+        z, sz = _neighbour_cell(c2, offsets[row, q, 2], n2, periodic2, 1.0)
+        if x < 0 or y < 0 or z < 0:
+            continue
+        cell = x + n0 * (y + n1 * z)
+        image = int(sx + 1.0) + 3 * int(sy + 1.0) + 9 * int(sz + 1.0)
+        filled = cell_count[cell]
+        gathered[found] = cell_members[cell, 0] * IMAGES + image
+        gathered[found + 1] = cell_members[cell, 1] * IMAGES + image
+        if filled > 2:
+            for m in range(2, filled):
+                gathered[found + m] = cell_members[cell, m] * IMAGES + image
+        found += filled
+    return found
+
+
+@inline_kernel
 def search_cells(p, i, c0, c1, c2, offsets, steps, row, cell_members, cell_count, ncell, geom, scale, gathered):
     """Earliest contact (time from i's time, partner) of i, in cell (c0, c1, c2), with the cells of row ``row``.
 
@@ -187,7 +220,8 @@ def search_cells(p, i, c0, c1, c2, offsets, steps, row, cell_members, cell_count
     :func:`linear_offsets`), seen without an image: no per-axis wrap
     (measured 1.15x on the whole run at N 4000, eta 0.1); their members are
     gathered first (:func:`_gather_members`, into ``gathered``) and tested
-    in one loop, in the same order.
+    in one loop, in the same order; from a cell on the faces each with the
+    image its cell is seen through (:func:`_gather_edge_members`).
     """
     t = p[i, T]
     xi, yi, zi = p[i, X], p[i, X + 1], p[i, X + 2]
@@ -206,16 +240,24 @@ def search_cells(p, i, c0, c1, c2, offsets, steps, row, cell_members, cell_count
             best, partner = _test_pair(p, gathered[m], 0.0, 0.0, 0.0, xi, yi, zi, vxi, vyi, vzi, ri, t, scale, best,
                                        partner)
         return best, partner
-    for q in range(offsets.shape[1]):
-        if offsets[row, q, 0] == ROW_END:
-            break
-        x, sx = _neighbour_cell(c0, offsets[row, q, 0], n0, periodic0, l0)
-        y, sy = _neighbour_cell(c1, offsets[row, q, 1], n1, periodic1, l1)
-        z, sz = _neighbour_cell(c2, offsets[row, q, 2], n2, periodic2, l2)
-        if x < 0 or y < 0 or z < 0:
-            continue
-        best, partner = _scan_members(p, x + n0 * (y + n1 * z), sx, sy, sz, cell_members, cell_count, xi, yi, zi,
-                                      vxi, vyi, vzi, ri, t, scale, best, partner)
+    if cell_members.shape[1] < 2:
+        for q in range(offsets.shape[1]):
+            if offsets[row, q, 0] == ROW_END:
+                break
+            x, sx = _neighbour_cell(c0, offsets[row, q, 0], n0, periodic0, l0)
+            y, sy = _neighbour_cell(c1, offsets[row, q, 1], n1, periodic1, l1)
+            z, sz = _neighbour_cell(c2, offsets[row, q, 2], n2, periodic2, l2)
+            if x < 0 or y < 0 or z < 0:
+                continue
+            best, partner = _scan_members(p, x + n0 * (y + n1 * z), sx, sy, sz, cell_members, cell_count, xi, yi,
+                                          zi, vxi, vyi, vzi, ri, t, scale, best, partner)
+        return best, partner
+    # a cell on the grid's faces: each member gathered with the image its cell is seen through
+    found = _gather_edge_members(c0, c1, c2, offsets, row, cell_members, cell_count, ncell, geom, gathered)
+    for m in range(found):
+        j, image = gathered[m] // IMAGES, gathered[m] % IMAGES
+        best, partner = _test_pair(p, j, (image % 3 - 1) * l0, (image // 3 % 3 - 1) * l1, (image // 9 - 1) * l2, xi,
+                                   yi, zi, vxi, vyi, vzi, ri, t, scale, best, partner)
     return best, partner
 
 
@@ -404,7 +446,7 @@ def run_crossing_events(t, still, max_pair_collisions, max_events, t_stop, stall
 
     Cell crossings are counted in ``acc[ACC_LIST_REBUILDS]`` (the
     boundary events of this engine). ``gathered`` is scratch for the cell
-    searches: int32, 3^dim times the slots a cell, plus 2. It stops with ``STOP_OVERFLOW`` and
+    searches: int64, 3^dim times the slots a cell, plus 2. It stops with ``STOP_OVERFLOW`` and
     ``acc[ACC_CELL_OVERFLOW]`` set if a cell outgrows its row.
     """
     done = 0
