@@ -17,6 +17,7 @@ import math
 import numpy as np
 
 from .._kernels import edmd as _k
+from .._kernels.edmd import cell_search as _cell_search
 from .._kernels.edmd import crossings as _crossings
 
 ENGINE_LISTS = 0
@@ -167,10 +168,10 @@ def run_crossing_kernel(system, time, still, collisions, max_events, t_stop, sta
 
 
 def _steps(system):
-    """The search order as cell-number differences in ``system``'s grid (:func:`.crossings.linear_offsets`)."""
+    """The search order as cell-number differences in ``system``'s grid (:func:`.cell_search.linear_offsets`)."""
     grid = (system.dim, *system.ncell.tolist())
     if system._search_grid != grid:
-        system._search_steps = _crossings.linear_offsets(_offsets(system.dim), system.ncell)
+        system._search_steps = _cell_search.linear_offsets(_offsets(system.dim), system.ncell)
         system._search_grid = grid
     return system._search_steps
 
@@ -191,7 +192,7 @@ _OFFSET_TABLES = {}
 
 
 def _offsets(dim):
-    """The search order of the neighbouring cells (:func:`~collisionkit._kernels.edmd.crossings.offset_table`)."""
+    """The search order of the neighbouring cells (:func:`~collisionkit._kernels.edmd.cell_search.offset_table`)."""
     if dim not in _OFFSET_TABLES:
-        _OFFSET_TABLES[dim] = _crossings.offset_table(dim)
+        _OFFSET_TABLES[dim] = _cell_search.offset_table(dim)
     return _OFFSET_TABLES[dim]
