@@ -92,8 +92,15 @@ def test_full_cell_search_finds_the_earliest_contact_among_the_adjacent_cells(di
     steps = cell_search.linear_offsets(offsets, grid)
     for i in range(count):
         tau, partner = cell_search.search_cells(p, i, *cells[i], offsets, steps, cell_search.ALL_NEIGHBOURS,
-                                              cell_members, cell_count, grid, geom, 1.0, gathered)
+                                                cell_members, cell_count, grid, geom, 1.0, math.inf, gathered)
         assert partner == expected_partner[i]
         assert tau == (pytest.approx(expected_tau[i], rel=1e-9) if partner >= 0 else math.inf)
+        if partner >= 0:  # a horizon past the contact keeps it, one before it finds none
+            later = cell_search.search_cells(p, i, *cells[i], offsets, steps, cell_search.ALL_NEIGHBOURS,
+                                             cell_members, cell_count, grid, geom, 1.0, 1.5 * tau, gathered)
+            earlier = cell_search.search_cells(p, i, *cells[i], offsets, steps, cell_search.ALL_NEIGHBOURS,
+                                               cell_members, cell_count, grid, geom, 1.0, 0.5 * tau, gathered)
+            assert later == (tau, partner)
+            assert earlier == (math.inf, -1)
     inner = ((cells[:, :dim] > 0) & (cells[:, :dim] < side - 1)).all(axis=1)
     assert inner.any() and not inner.all() and np.isfinite(expected_tau).sum() > count // 4

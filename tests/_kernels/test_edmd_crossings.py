@@ -115,3 +115,43 @@ def test_crossing_engine_conserves_energy_and_momentum_of_a_polydisperse_gas():
     coordinates = np.stack(np.unravel_index(engine.cell_of, engine.ncell[::-1])[::-1], axis=1)
     assert (positions >= coordinates * width - 1e-9).all() and (positions <= (coordinates + 1) * width + 1e-9).all()
 
+
+
+
+@pytest.mark.parametrize("dim", [3, 2])
+def test_next_crossing_is_the_first_face_the_flight_reaches_but_never_one_on_a_wall(dim):
+    """Against the faces' times one by one: distance / |v| along each axis that can be left; the flight ends there."""
+    rng = np.random.default_rng(5)
+    ncell = np.array([5, 4, 3 if dim == 3 else 1], dtype=np.int64)
+    geom = np.zeros((4, 3))
+    geom[kernels.G_BOX] = [5.0, 6.0, 4.5 if dim == 3 else 1.0]
+    geom[kernels.G_CELL] = geom[kernels.G_BOX] / ncell
+    geom[kernels.G_PERIODIC] = [1.0, 0.0, 1.0]  # y between walls
+    width = geom[kernels.G_CELL]
+    p = np.zeros((1, 8))
+    never = 0
+    for _ in range(500):
+        cell = np.zeros(3, dtype=np.int64)
+        cell[:dim] = rng.integers(0, ncell[:dim])
+        velocity = np.zeros(3)
+        velocity[:dim] = rng.normal(size=dim) * (rng.uniform(size=dim) > 0.2)  # some axes at rest
+        p[0, kernels.X:kernels.X + dim] = (cell[:dim] + rng.uniform(0, 1, dim)) * width[:dim]
+        p[0, kernels.V:kernels.V + 3] = velocity
+        times = np.full(dim, math.inf)
+        for k in range(dim):
+            ahead = cell[k] + (1 if velocity[k] > 0 else -1)
+            if velocity[k] != 0.0 and (k != 1 or 0 <= ahead < ncell[k]):  # y's outer faces lie on the walls
+                face_at = (cell[k] + (velocity[k] > 0)) * width[k]
+                times[k] = abs(face_at - p[0, kernels.X + k]) / abs(velocity[k])
+        tau, face = crossings.next_crossing(p, 0, *cell, ncell, geom, dim)
+        if np.isinf(times).all():
+            assert (tau, face) == (math.inf, -1)
+            never += 1
+            continue
+        axis = int(np.argmin(times))
+        assert face == 2 * axis + (velocity[axis] > 0) and tau == pytest.approx(times[axis], rel=1e-12)
+        # the flight stays in the cell until then along every axis it could leave by (a wall's hit comes first)
+        end = p[0, kernels.X:kernels.X + dim] + velocity[:dim] * tau
+        within = (end >= cell[:dim] * width[:dim] - 1e-12) & (end <= (cell[:dim] + 1) * width[:dim] + 1e-12)
+        assert within[np.isfinite(times)].all()
+    assert 0 < never < 100
