@@ -26,12 +26,14 @@ ENGINE_NAMES = {"lists": ENGINE_LISTS, "cells": ENGINE_CELLS}
 # packing fractions below which engine="auto" takes the cell crossings (discs 2, spheres 3) at the numbers of
 # particles CELLS_BELOW_PACKING_AT, linear in log N between them and held beyond them (cells_below_packing): where
 # the two engines are level, a little on the safe side. The level falls as N grows (the cells' arrays outgrow the
-# caches sooner than the lists'). Measured after the gathered cell search on the 2-core Intel VM, in one process,
-# alternating (benchmarks/bench_edmd_engines.py; results/edmd_engines_levels_by_n.md), levels: spheres 0.285 at
-# N = 4000, 0.29 at 32000, 0.275 at 108000, 0.23 at 10^6; discs 0.54 at 3969, 0.53 at 32041, 0.37 at 108241, 0.29 at
-# 10^6 (before it, on the AMD VM: spheres 0.225 and discs 0.33 at 32000)
-CELLS_BELOW_PACKING_AT = (32_000, 108_000, 1_000_000)
-CELLS_BELOW_PACKING = {2: (0.50, 0.35, 0.28), 3: (0.27, 0.26, 0.22)}
+# caches sooner than the lists'). Measured on the 2-core Intel VM, in one process, alternating
+# (benchmarks/bench_edmd_engines.py; results/edmd_engines_levels_by_n.md), levels for spheres after the crossing's
+# bounded search and branch-free face times: 0.31 at N = 4000, 0.295 at 32000, 0.28 at 108000, 0.237 at 10^6
+# (results/edmd_engines_levels_after_crossings.md); for discs before them (the thresholds are held there): 0.54 at
+# 3969, 0.53 at 32041, 0.37 at 108241, 0.29 at 10^6 (on the AMD VM before the gathered search: spheres 0.225 and
+# discs 0.33 at 32000)
+CELLS_BELOW_PACKING_AT = (4_000, 32_000, 108_000, 1_000_000)
+CELLS_BELOW_PACKING = {2: (0.50, 0.50, 0.35, 0.28), 3: (0.30, 0.28, 0.27, 0.22)}
 # the most cells a particle, on average (per axis: (CELLS_PER_PARTICLE N)^(1/dim)), discs 2 and spheres 3: below
 # this the cells are as narrow as the contact distance, above it wider. Wider cells mean fewer crossings but more pair
 # tests a search; measured at N = 4000 against the lists (benchmarks/bench_edmd_engines.py, one cap a process): 3D
@@ -51,7 +53,7 @@ def cells_below_packing(dim, count) -> float:
     Examples
     --------
     >>> cells_below_packing(3, 500), cells_below_packing(3, 32_000), cells_below_packing(3, 10**7)
-    (0.27, 0.27, 0.22)
+    (0.3, 0.28, 0.22)
     """
     return float(np.interp(math.log(count), np.log(CELLS_BELOW_PACKING_AT), CELLS_BELOW_PACKING[dim]))
 
