@@ -261,7 +261,7 @@ DILUTE = dict(dim=2, particles=64, packing_fraction=0.1, initial="square", equil
 
 
 @pytest.mark.parametrize(("engine", "packing_fraction", "used"), [
-    ("lists", 0.1, "lists"), ("cells", 0.1, "cells"), ("auto", 0.1, "cells"), ("auto", 0.5, "lists"),
+    ("lists", 0.1, "lists"), ("cells", 0.1, "cells"), ("auto", 0.1, "cells"), ("auto", 0.6, "lists"),
     ("cells", 0.5, "cells"),  # asked for, the cells run a dense fluid too (slower than the lists there)
 ])
 def test_the_engine_reaches_the_system_and_the_summary_says_which_ran(engine, packing_fraction, used):

@@ -29,11 +29,11 @@ ENGINE_NAMES = {"lists": ENGINE_LISTS, "cells": ENGINE_CELLS}
 # caches sooner than the lists'). Measured on the 2-core Intel VM, in one process, alternating
 # (benchmarks/bench_edmd_engines.py; results/edmd_engines_levels_by_n.md), levels for spheres after the crossing's
 # bounded search and branch-free face times: 0.31 at N = 4000, 0.295 at 32000, 0.28 at 108000, 0.237 at 10^6
-# (results/edmd_engines_levels_after_crossings.md); for discs before them (the thresholds are held there): 0.54 at
-# 3969, 0.53 at 32041, 0.37 at 108241, 0.29 at 10^6 (on the AMD VM before the gathered search: spheres 0.225 and
-# discs 0.33 at 32000)
+# (results/edmd_engines_levels_after_crossings.md); for discs 0.587 at 3969, 0.538 at 32041, 0.438 at 108241, 0.30
+# at 10^6 (the same file; before these changes 0.54, 0.53, 0.37, 0.29) (on the AMD VM before the gathered search:
+# spheres 0.225 and discs 0.33 at 32000)
 CELLS_BELOW_PACKING_AT = (4_000, 32_000, 108_000, 1_000_000)
-CELLS_BELOW_PACKING = {2: (0.50, 0.50, 0.35, 0.28), 3: (0.30, 0.28, 0.27, 0.22)}
+CELLS_BELOW_PACKING = {2: (0.55, 0.50, 0.40, 0.28), 3: (0.30, 0.28, 0.27, 0.22)}
 # the most cells a particle, on average (per axis: (CELLS_PER_PARTICLE N)^(1/dim)), discs 2 and spheres 3: below
 # this the cells are as narrow as the contact distance, above it wider. Wider cells mean fewer crossings but more pair
 # tests a search; measured at N = 4000 against the lists (benchmarks/bench_edmd_engines.py, one cap a process): 3D
