@@ -10,7 +10,7 @@ import typer
 from pydantic import Field
 
 from ._common import (
-    Deliveries, Options, OverwriteOption, check_input_file, fail, load_options, progress_bar, require, require_gsd,
+    Deliveries, Options, OverwriteOption, check_input_file, fail, fail_for_option, load_options, progress_bar, require, require_gsd,
     run_failed, say, warn,
 )
 from ._files import rescue_path
@@ -141,7 +141,7 @@ def _encounter_animation(options: AnimateOptions, source: str):
                 p["m1"], p["m2"], p["rp"], p["vinf"], p["sep0"], G=p.get("G", 1.0), layout=p.get("layout", "diagonal")
             )
         except (TypeError, ValueError) as error:
-            raise fail(str(error)) from None
+            raise fail_for_option(error, AnimateOptions, {"v_inf": "vinf"}) from None
     return plotting.animate_encounter(ic, frames=options.frames, colour_by=options.colour)
 
 

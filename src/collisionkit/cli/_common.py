@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import difflib
 import importlib.util
+import re
 import tomllib
 from collections.abc import Collection, Iterable, Mapping
 from contextlib import contextmanager
@@ -51,6 +52,44 @@ OverwriteOption = Annotated[bool | None, typer.Option(
 
 def _dashed(name: str) -> str:
     return name.replace("_", "-")
+
+
+def fail_for_option(error: Exception, model: type[Options], renamed: Mapping[str, str] | None = None) -> typer.Exit:
+    """:func:`fail` with a library error, the parameter its message starts with named as its option.
+
+    Examples
+    --------
+    >>> class Run(Options):
+    ...     packing_fraction: float = 0.3
+    >>> fail_for_option(ValueError("packing_fraction must lie in (0, 0.5]; got 0.6"), Run).exit_code
+    2
+    """
+    return fail(named_as_option(str(error), model, renamed))
+
+
+def named_as_option(message: str, model: type[Options], renamed: Mapping[str, str] | None = None) -> str:
+    """``message`` with the library parameter it starts with (if an option of ``model``) written as the option.
+
+    The library names its arguments (``packing_fraction must lie in ...``);
+    the user gave an option (``--packing-fraction``). ``renamed`` maps a
+    library name to the option's field where they differ (``v_inf``: ``vinf``).
+
+    Examples
+    --------
+    >>> class Run(Options):
+    ...     packing_fraction: float = 0.3
+    >>> named_as_option("packing_fraction must lie in (0, 0.5]; got 0.6", Run)
+    '--packing-fraction must lie in (0, 0.5]; got 0.6'
+    >>> named_as_option("k must be finite", Run)
+    'k must be finite'
+    """
+    leading = re.match(r"[A-Za-z_][A-Za-z0-9_]*", message)
+    if leading is None:
+        return message
+    name = (renamed or {}).get(leading.group(), leading.group())
+    if name not in model.model_fields:
+        return message
+    return model.flags.get(name, f"--{_dashed(name)}") + message[leading.end():]
 
 
 class Options(BaseModel):
@@ -216,7 +255,9 @@ def _describe(error: Mapping[str, Any], model: type[Options] | None = None) -> s
         return f"unknown option {where!r}{guess} (options: {', '.join(names)})"
     if error["type"] == "value_error":  # our own rules: their message without pydantic's "Value error, "
         message = str(error["ctx"]["error"])
-        return f"{where}: {message} (got {error.get('input')!r})" if where else message
+        if where:
+            return f"{where}: {message} (got {error.get('input')!r})"
+        return message if model is None else named_as_option(message, model)
     return f"{where or 'options'}: {error['msg']} (got {error.get('input')!r})"
 
 

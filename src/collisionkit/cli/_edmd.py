@@ -18,8 +18,8 @@ from typer.core import TyperCommand
 
 from .._io import FileLockedError
 from ._common import (
-    INTERRUPTED_EXIT_CODE, Options, OverwriteOption, fail, fraction_reporter, load_options, note, option_values,
-    progress_bar, refuse_folder, require_gsd, require_plotting, run_failed, validate_options, warn,
+    INTERRUPTED_EXIT_CODE, Options, OverwriteOption, fail, fail_for_option, fraction_reporter, load_options, note,
+    option_values, progress_bar, refuse_folder, require_gsd, require_plotting, run_failed, validate_options, warn,
 )
 from ._edmd_report import report
 from ._memory import edmd_memory, refuse_beyond_memory, size
@@ -120,7 +120,7 @@ def _new_run(options: EdmdOptions):
     try:
         parameters = options.parameters().resolved()
     except ValueError as error:
-        raise fail(str(error)) from None
+        raise fail_for_option(error, EdmdOptions) from None
     _refuse_beyond_memory(parameters)
     _say_seed(parameters.seed, drawn=options.seed is None)
     extra = _frame_notes(parameters, options.frame_every)
@@ -287,23 +287,23 @@ class EdmdCommand(TyperCommand):
 
 def edmd(
     dim: Annotated[int | None, typer.Option(help=_help("2 (discs) or 3 (spheres).", "3"))] = None,
-    particles: Annotated[int | None, typer.Option(help=_help("Number of particles (>= 2; a periodic box must be 3 diameters wide: about 16 or more at eta 0.3).", "500"))] = None,
+    particles: Annotated[int | None, typer.Option(help=_help("Number of particles (2 to 1e8; a periodic box must be 3 diameters wide: about 16 or more at eta 0.3).", "500"))] = None,
     packing_fraction: Annotated[
         float | None, typer.Option(help=_help("Packing fraction eta: (0, 0.5] in 3D, (0, 0.7] in 2D.", "0.3"))
     ] = None,
     restitution: Annotated[float | None, typer.Option(help=_help("Coefficient of restitution in [0, 1].", "1"))] = None,
     elastic_below: Annotated[
         float | None,
-        typer.Option(help=_help("Contacts with a normal approach speed below this are elastic (>= 0; guards inelastic runs against collapse).", "1e-6 (rms speeds) if restitution < 1")),
+        typer.Option(help=_help("Contacts with a normal approach speed below this are elastic (0 to 1000 thermal speeds; guards inelastic runs against collapse).", "1e-6 (rms speeds) if restitution < 1")),
     ] = None,
     equilibration: Annotated[
-        int | None, typer.Option(help=_help("Pair collisions before measuring (>= 0).", "20 per particle"))
+        int | None, typer.Option(help=_help("Pair collisions before measuring (0 to 1e14).", "20 per particle"))
     ] = None,
     collisions: Annotated[
         int | None,
-        typer.Option(help=_help("Pair collisions measured (>= blocks; rounded down to a multiple of blocks).", "200 per particle")),
+        typer.Option(help=_help("Pair collisions measured (>= blocks, at most 1e14; rounded down to a multiple of blocks).", "200 per particle")),
     ] = None,
-    blocks: Annotated[int | None, typer.Option(help=_help("Measurement blocks for the error bars (>= 2).", "10"))] = None,
+    blocks: Annotated[int | None, typer.Option(help=_help("Measurement blocks for the error bars (2 to 100000).", "10"))] = None,
     seed: Annotated[int | None, typer.Option(help=_help("Random seed (>= 0).", "random, reported"))] = None,
     initial: Annotated[
         str | None,
@@ -323,7 +323,7 @@ def edmd(
     ] = None,
     shear_rate: Annotated[
         float | None,
-        typer.Option(help=_help("Lees-Edwards shear at rate G (>= 0; flow x, gradient y): reports the shear stress and shear_viscosity = -P_xy / G.", "0, no shear")),
+        typer.Option(help=_help("Lees-Edwards shear at rate G (0 to 1000, in sqrt(kT/m)/sigma; flow x, gradient y): reports the shear stress and shear_viscosity = -P_xy / G.", "0, no shear")),
     ] = None,
     thermostat: Annotated[
         bool | None,

@@ -14,6 +14,10 @@ def _theory_column(result: dict) -> tuple[str, str, str, str]:
     that heating): kT rises, or the thermostat brings it back to 1 every 4 N pair collisions.
     """
     if not result["elastic"]:
+        from ..edmd.run import BARELY_COOLED
+
+        if result.get("elastic_below") and result["temperature"] > BARELY_COOLED:  # the floor made it elastic
+            return "elastic floor: nearly all contacts elastic", "", "barely cools (elastic floor)", "> 0 (small)"
         return "no equilibrium (inelastic)", "", "cools (Haff)", "> 0"
     z = f"{result['compressibility_factor_theory']:.5g} ({result['theory']})"
     omega = f"{result['collision_frequency_from_pressure']:.5g} (Enskog, from Z)"

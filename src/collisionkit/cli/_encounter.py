@@ -10,7 +10,7 @@ import typer
 from pydantic import Field
 
 from ._common import (
-    Deliveries, Options, OverwriteOption, fail, note, option_values, print_table, require, require_plotting, say,
+    Deliveries, Options, OverwriteOption, fail, fail_for_option, note, option_values, print_table, require, require_plotting, say,
     validate_options, warn,
 )
 from ._star import check_star_file
@@ -151,7 +151,7 @@ def encounter(
         else:
             result, ic = encounter_summary(options.parameters())
     except ValueError as error:
-        raise fail(str(error)) from None
+        raise fail_for_option(error, EncounterOptions, {"v_inf": "vinf"}) from None
     system = options.parameters().unit_system()
     rows = _rows(ic, result["contact"], result["unit_labels"])
     if with_stars:
