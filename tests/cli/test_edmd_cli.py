@@ -113,8 +113,8 @@ def test_toml_config_and_command_line_wins(tmp_path):
 @pytest.mark.parametrize(
     ("arguments", "words"),
     [
-        (("--packing-fraction", 0.55), "packing_fraction must lie in (0, 0.5] for dim=3"),
-        (("--dim", 2, "--packing-fraction", 0.75), "packing_fraction"),
+        (("--packing-fraction", 0.55), "--packing-fraction must lie in (0, 0.5] for dim=3"),
+        (("--dim", 2, "--packing-fraction", 0.75), "--packing-fraction"),
         (("--dim", 4), "dim"),
         (("--restitution", 1.5), "restitution"),
         (("--particles", 1), "particles"),
