@@ -29,7 +29,7 @@ from rich.table import Table
 
 from ._files import (
     Deliveries, check_input_file, check_output_file, check_output_folder, refuse_clashes, refuse_folder,
-    refuse_to_replace,
+    refuse_earlier_run, refuse_to_replace,
 )
 from ._messages import (
     BAD_INPUT_EXIT_CODE, INTERRUPTED_EXIT_CODE, RUN_FAILED_EXIT_CODE, console, error, error_console, fail, note,
@@ -116,6 +116,16 @@ class Options(BaseModel):
     flags: ClassVar[dict[str, str]] = {}
 
     overwrite: bool = False
+
+    def folder_files(self, folder: str) -> tuple[str, ...]:
+        """The names of the files this run may write in output folder ``folder`` (refused if there already).
+
+        Examples
+        --------
+        >>> Options().folder_files("out")
+        ()
+        """
+        return ()
 
     def unwritten(self) -> set[str]:
         """The output options this run will not write (``--out`` with ``--no-plots``): not checked.
@@ -339,6 +349,11 @@ def check_paths(options: Options, keep: Collection[Path] = ()) -> None:
     keep = {Path(path).resolve() for path in keep}
     for option, path in outputs.items():
         refuse_to_replace(path, option, options.overwrite, keep)
+    if not keep:  # a resumed run finishes what it started, in its folders
+        for name in model.output_folders:
+            if name not in options.unwritten():
+                refuse_earlier_run(getattr(options, name), f"--{_dashed(name)}", options.folder_files(name),
+                                   options.overwrite)
 
 
 def _field_name(model: type[Options], key: str) -> str:

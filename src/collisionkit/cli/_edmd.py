@@ -21,7 +21,7 @@ from ._common import (
     INTERRUPTED_EXIT_CODE, Options, OverwriteOption, fail, fail_for_option, fraction_reporter, load_options, note,
     option_values, progress_bar, refuse_folder, require_gsd, require_plotting, run_failed, validate_options, warn,
 )
-from ._edmd_report import report
+from ._edmd_report import PLOTS, report
 from ._memory import edmd_memory, refuse_beyond_memory, size
 from ._warmup import warm_up
 
@@ -78,6 +78,10 @@ class EdmdOptions(Options):
             if path is not None and path.suffix.lower() not in suffixes:
                 raise ValueError(f"--{name} must end in {' or '.join(suffixes)} (the format it writes); got {str(path)!r}")
         return self
+
+    def folder_files(self, folder: str) -> tuple[str, ...]:
+        """The plots of ``--out`` (an earlier run's are not replaced without --overwrite)."""
+        return PLOTS
 
     def unwritten(self) -> set[str]:
         """``out`` without plots: nothing goes there.
