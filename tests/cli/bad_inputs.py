@@ -54,6 +54,7 @@ BAD_INPUTS = [
     ("edmd", ["--no-yeh-hummer=1"], "does not take a value"),
     ("edmd", ["--shear-rate", "-0.5"], "--shear-rate"),
     ("edmd", ["--shear-rate", "1e300"], "--shear-rate must be in [0, 1000]"),
+    ("edmd", ["--checkpoint", "c.txt"], "--checkpoint must end in .npz"),
     ("edmd", ["--shear-rate", "inf"], "--shear-rate: Input should be a finite number"),
     ("edmd", ["--shear-rate", "fast"], "invalid value for '--shear-rate'"),
     ("edmd", ["--shear-rate", "0.1", "--transport"], "transport cannot be combined with shear_rate"),

@@ -160,7 +160,7 @@ def _resumed_run(resume: Path, given: dict, extend: int | None = None):
     outputs |= {"checkpoint": run.checkpoint, "trajectory": run.trajectory, "frame_every": run.frame_every}
     keep = [resume] + ([run.trajectory] if run.continues_trajectory else [])
     options = validate_options(EdmdOptions, run.parameters.to_dict() | outputs, keep=keep)
-    _require_outputs(options)
+    _require_outputs(options, resumed_from=resume)
     _say_seed(run.parameters.seed, drawn=False)
     extra = _frame_notes(run.parameters, run.frame_every)
     warm_up(["edmd"], always=["edmd"])
@@ -181,8 +181,17 @@ def _extend(run, extend: int | None) -> None:
          f"{run.parameters.collisions} in all")
 
 
-def _require_outputs(options: EdmdOptions) -> None:
-    """Stop before the run if an output asked for needs an extra that is not installed."""
+def _require_outputs(options: EdmdOptions, resumed_from: Path | None = None) -> None:
+    """Stop before the run if an output asked for needs an extra that is not installed, or misnames its format.
+
+    A new checkpoint must end in .npz (the format it is: a zip of arrays);
+    a resumed run writes on to the checkpoint it resumed from whatever its name.
+    """
+    checkpoint = options.checkpoint
+    new = checkpoint is not None and (resumed_from is None or checkpoint.resolve() != Path(resumed_from).resolve())
+    if new and checkpoint.suffix.lower() != ".npz":
+        raise fail(f"--checkpoint must end in .npz (the format it writes: a zip of arrays); got "
+                   f"{str(options.checkpoint)!r}")
     if options.plots:
         require_plotting()
     if options.trajectory is not None:
