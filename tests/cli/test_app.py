@@ -64,7 +64,8 @@ def test_an_arithmetic_error_no_check_foresaw_is_one_line_and_exit_code_1(tmp_pa
     result = runner.invoke(app, ["encounter", "--no-plots", "--out", str(tmp_path / "e")])
     assert result.exit_code == RUN_FAILED_EXIT_CODE, result.output
     assert result.output.strip().splitlines() == [said(result.output)]  # one line
-    assert said(result.output).startswith("error: the run failed: a number left the floating-point range (OverflowError")
+    assert said(result.output).startswith(
+        "error: the run failed: a number left the floating-point range (OverflowError")
     assert "Traceback" not in result.output
 
 

@@ -10,7 +10,8 @@ import typer
 from pydantic import Field
 
 from ._common import (
-    Deliveries, Options, OverwriteOption, check_input_file, fail, fail_for_option, load_options, progress_bar, require, require_gsd,
+    Deliveries, Options, OverwriteOption, check_input_file, fail, fail_for_option, load_options, progress_bar, require,
+    require_gsd,
     run_failed, say, warn,
 )
 from ._files import rescue_path

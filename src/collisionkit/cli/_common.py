@@ -257,10 +257,16 @@ def _describe(error: Mapping[str, Any], model: type[Options] | None = None) -> s
     if error["type"] != "extra_forbidden" and model is not None and where in model.model_fields:
         where = model.flags.get(where, f"--{_dashed(where)}")  # as the user wrote it (a TOML key drops the --)
     if error["type"] == "extra_forbidden":
+        where = _dashed(where)  # as a config file may spell it (the command line's flags are checked by typer)
         if model is None:
             return f"unknown option {where!r}"
         names = sorted(_dashed(name) for name in model.model_fields)
-        close = difflib.get_close_matches(_dashed(where), names, n=3)
+        switched = where.removeprefix("no-").replace("-", "_")
+        if where.startswith("no-") and model.model_fields.get(switched) is not None and \
+                model.model_fields[switched].annotation is bool:  # --no-plots on the command line: plots = false
+            return (f"unknown option {where!r}; did you mean '{_dashed(switched)} = false'? "
+                    f"(options: {', '.join(names)})")
+        close = difflib.get_close_matches(where, names, n=3)
         guess = f"; did you mean {' or '.join(repr(name) for name in close)}?" if close else ""
         return f"unknown option {where!r}{guess} (options: {', '.join(names)})"
     if error["type"] == "value_error":  # our own rules: their message without pydantic's "Value error, "

@@ -10,7 +10,8 @@ import typer
 from pydantic import Field
 
 from ._common import (
-    Deliveries, Options, OverwriteOption, fail, fail_for_option, note, option_values, print_table, require, require_plotting, say,
+    Deliveries, Options, OverwriteOption, fail, fail_for_option, note, option_values, print_table, require,
+    require_plotting, say,
     validate_options, warn,
 )
 from ._star import check_star_file

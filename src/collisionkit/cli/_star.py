@@ -9,7 +9,8 @@ import typer
 from pydantic import Field
 
 from ._common import (
-    Deliveries, Options, OverwriteOption, fail, fail_for_option, fraction_reporter, load_options, note, print_table, progress_bar, require,
+    Deliveries, Options, OverwriteOption, fail, fail_for_option, fraction_reporter, load_options, note, print_table,
+    progress_bar, require,
     say,
 )
 
