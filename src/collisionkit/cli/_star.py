@@ -10,8 +10,7 @@ from pydantic import Field
 
 from ._common import (
     Deliveries, Options, OverwriteOption, fail, fail_for_option, fraction_reporter, load_options, note, print_table,
-    progress_bar, require,
-    say,
+    progress_bar, require, say,
 )
 
 UnitsName = Literal["nbody", "si", "cgs", "solar", "stellar"]
