@@ -171,7 +171,7 @@ def animate(
     ] = None,
     fps: Annotated[int | None, typer.Option(help="Frames per second (1 to 60).  \\[default: 20]")] = None,
     frames: Annotated[
-        int | None, typer.Option(help="Frames of an encounter; most frames read from a trajectory.  \\[default: 80]")
+        int | None, typer.Option(help="Frames of an encounter; most frames read from a trajectory (2 to 5000).  \\[default: 80]")
     ] = None,
     every: Annotated[int | None, typer.Option(help="Trajectory: use every n-th frame (>= 1).  \\[default: 1]")] = None,
     dpi: Annotated[int | None, typer.Option(help="Resolution of the frames (20 to 300).  \\[default: 80]")] = None,
