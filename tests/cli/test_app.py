@@ -54,6 +54,21 @@ def test_an_os_error_during_a_run_is_one_line_and_exit_code_1(tmp_path, monkeypa
     assert "Traceback" not in result.output
 
 
+def test_an_arithmetic_error_no_check_foresaw_is_one_line_and_exit_code_1(tmp_path, monkeypatch):
+    import collisionkit.encounters as encounters
+
+    def overflow(parameters):
+        raise OverflowError(34, "Numerical result out of range")
+
+    monkeypatch.setattr(encounters, "encounter_summary", overflow)
+    result = runner.invoke(app, ["encounter", "--no-plots", "--out", str(tmp_path / "e")])
+    assert result.exit_code == RUN_FAILED_EXIT_CODE, result.output
+    assert result.output.strip().splitlines() == [said(result.output)]  # one line
+    assert said(result.output).startswith(
+        "error: the run failed: a number left the floating-point range (OverflowError")
+    assert "Traceback" not in result.output
+
+
 def test_edmd_says_the_seed_it_drew_and_records_it(tmp_path):
     # the default seed was random for edmd and not printed: a run could not be repeated
     summary = tmp_path / "s.json"

@@ -122,7 +122,10 @@ def test_an_unknown_config_key_comes_with_the_closest_names_and_the_valid_ones(t
     [
         (["swarm", "--model", "reid", "--cross-sections", "{tmp}/x.txt"], None,
          "error: invalid options: give exactly one of model, gas and cross_sections (--model, --gas, --cross-sections)"),
-        (["edmd"], 'plots = "no"\n', "error: invalid options: plots must be true or false, not 'no'"),
+        (["edmd"], 'plots = "no"\n', "error: invalid options: --plots must be true or false, not 'no'"),
+        (["encounter"], "no-plots = true\n",
+         "error: invalid options: unknown option 'no-plots'; did you mean 'plots = false'? (options: layout, m1, m2, "
+         "out, overwrite, plots, radius1, radius2, rp, sep0, star1, star2, summary, units, vinf)"),
         (["swarm", "--model", "reid", "--E-N=-1"], None,
          "error: invalid options: reduced_field (E/N) must be >= 0; got -1"),
     ],

@@ -113,8 +113,8 @@ def test_toml_config_and_command_line_wins(tmp_path):
 @pytest.mark.parametrize(
     ("arguments", "words"),
     [
-        (("--packing-fraction", 0.55), "packing_fraction must lie in (0, 0.5] for dim=3"),
-        (("--dim", 2, "--packing-fraction", 0.75), "packing_fraction"),
+        (("--packing-fraction", 0.55), "--packing-fraction must lie in (0, 0.5] for dim=3"),
+        (("--dim", 2, "--packing-fraction", 0.75), "--packing-fraction"),
         (("--dim", 4), "dim"),
         (("--restitution", 1.5), "restitution"),
         (("--particles", 1), "particles"),
@@ -279,6 +279,19 @@ def test_an_output_file_named_for_another_format_is_refused(tmp_path, option, na
     assert result.exit_code == 2, result.output
     assert words in " ".join(result.output.split())
     assert not any(tmp_path.iterdir())  # nothing ran
+
+
+def test_an_inelastic_run_whose_floor_made_every_contact_elastic_does_not_say_it_cooled(tmp_path):
+    # a new user's run: --elastic-below 1e10 --restitution 0.5 said "the gas cooled ... kT from 1 to 1"
+    summary = tmp_path / "floor.json"
+    result = runner.invoke(app, ["edmd", *map(str, SMALL), "--initial", "fcc", "--restitution", "0.5",
+                                 "--elastic-below", "100", "--no-plots", "--summary", str(summary)],
+                           env={"COLUMNS": "200"})
+    assert result.exit_code == 0, result.output
+    said = " ".join(result.output.split())
+    assert json.loads(summary.read_text())["temperature"] > 0.99
+    assert "the gas barely cooled" in said and "this is the run of an elastic gas" in said
+    assert "Haff" not in said
 
 
 def test_output_suffixes_are_matched_without_case():

@@ -182,7 +182,7 @@ def test_stars_too_close_are_warned_and_their_masses_are_not_given_twice(tmp_pat
     assert "warning: the bodies overlap" in said and "tidal effects at the start are not negligible" in said
     config = tmp_path / "c.toml"
     config.write_text("m2 = 3.0\n")
-    result = invoke("--config", config, "--star1", star_files[0], "--star2", star_files[1], "--out", tmp_path)
+    result = invoke("--config", config, "--star1", star_files[0], "--star2", star_files[1], "--out", tmp_path / "2")
     assert result.exit_code == 2 and "--m2 comes from the particles" in result.output
 
 

@@ -217,11 +217,27 @@ def test_an_existing_file_is_replaced_only_with_overwrite(tmp_path, monkeypatch,
     assert existing.read_bytes() != b"a user's own file"
 
 
-def test_a_command_refreshes_the_files_of_its_own_out_folder(tmp_path):
-    for _ in range(2):
-        result = invoke(["encounter", "--out", tmp_path / "flyby"])
-        assert result.exit_code == 0, result.output
-    assert (tmp_path / "flyby" / "encounter.png").exists()
+def test_an_earlier_run_s_files_in_an_out_folder_are_replaced_only_with_overwrite(tmp_path):
+    # a new user's report: a second encounter into one --out replaced its files unasked and kept an earlier run's
+    # initial_conditions.hdf5 (particle stars), which contradicted the new initial conditions
+    flyby = tmp_path / "flyby"
+    assert invoke(["encounter", "--out", flyby]).exit_code == 0
+    (flyby / "initial_conditions.hdf5").write_bytes(b"an earlier run's stars")
+    (flyby / "notes.txt").write_text("a user's own file, none of the command's business")
+    before = (flyby / "initial_conditions.json").read_text()
+    refused = invoke(["encounter", "--m1", "3", "--out", flyby])
+    assert refused.exit_code == 2 and f"--out {flyby} already holds initial_conditions.json" in said(refused)
+    assert "pass --overwrite" in said(refused) and (flyby / "initial_conditions.json").read_text() == before
+    replaced = invoke(["encounter", "--m1", "3", "--out", flyby, "--no-plots", "--overwrite"])
+    assert replaced.exit_code == 0, replaced.output
+    assert json.loads((flyby / "initial_conditions.json").read_text())["m1"] == 3.0
+    assert sorted(path.name for path in flyby.iterdir()) == ["initial_conditions.json", "initial_conditions.txt",
+                                                             "notes.txt"]  # the stale stars and plot are gone
+    edmd = ["edmd", "--particles", "64", "--collisions", "400", "--seed", "1", "--out", tmp_path / "gas"]
+    assert invoke(edmd).exit_code == 0 and (tmp_path / "gas" / "snapshot.png").exists()
+    assert invoke(edmd).exit_code == 2
+    assert invoke([*edmd, "--no-plots"]).exit_code == 0  # no plots: the folder is not written
+    assert invoke([*edmd, "--overwrite"]).exit_code == 0
 
 
 def test_a_resumed_run_does_not_erase_another_trajectory_unasked(tmp_path):

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import re
 
 import numpy as np
 import pytest
@@ -167,3 +168,16 @@ def test_the_summary_of_the_star_command():
 def test_bad_polytrope_parameters_are_named(values, message):
     with pytest.raises(ValueError, match=message):
         PolytropeParameters(**values)
+
+
+@pytest.mark.parametrize(("mass", "radius", "scale"), [
+    (1e160, 1.0, "G M^2 / R = inf"),
+    (1.0, 1e-300, "M / R^3 = inf"),
+    (1e-300, 1e300, "G M^2 / R = 0"),
+])
+def test_a_star_beyond_the_float_range_is_a_named_value_error(mass, radius, scale):
+    """Refused when made (the command line stops before any work) and by polytrope_star itself."""
+    with pytest.raises(ValueError, match=re.escape(scale)):
+        PolytropeParameters(polytrope=1.0, particles=500, mass=mass, radius=radius)
+    with pytest.raises(ValueError, match=re.escape(scale)):
+        polytrope_star(1.0, 500, mass, radius, neighbours=10)

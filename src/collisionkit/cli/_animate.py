@@ -10,7 +10,8 @@ import typer
 from pydantic import Field
 
 from ._common import (
-    Deliveries, Options, OverwriteOption, check_input_file, fail, load_options, progress_bar, require, require_gsd,
+    Deliveries, Options, OverwriteOption, check_input_file, fail, fail_for_option, load_options, progress_bar, require,
+    require_gsd,
     run_failed, say, warn,
 )
 from ._files import rescue_path
@@ -141,7 +142,7 @@ def _encounter_animation(options: AnimateOptions, source: str):
                 p["m1"], p["m2"], p["rp"], p["vinf"], p["sep0"], G=p.get("G", 1.0), layout=p.get("layout", "diagonal")
             )
         except (TypeError, ValueError) as error:
-            raise fail(str(error)) from None
+            raise fail_for_option(error, AnimateOptions, {"v_inf": "vinf"}) from None
     return plotting.animate_encounter(ic, frames=options.frames, colour_by=options.colour)
 
 
@@ -170,7 +171,7 @@ def animate(
     ] = None,
     fps: Annotated[int | None, typer.Option(help="Frames per second (1 to 60).  \\[default: 20]")] = None,
     frames: Annotated[
-        int | None, typer.Option(help="Frames of an encounter; most frames read from a trajectory.  \\[default: 80]")
+        int | None, typer.Option(help="Frames of an encounter; most frames read from a trajectory (2 to 5000).  \\[default: 80]")
     ] = None,
     every: Annotated[int | None, typer.Option(help="Trajectory: use every n-th frame (>= 1).  \\[default: 1]")] = None,
     dpi: Annotated[int | None, typer.Option(help="Resolution of the frames (20 to 300).  \\[default: 80]")] = None,

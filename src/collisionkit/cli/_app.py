@@ -65,6 +65,11 @@ class CommandLine(TyperGroup):
         except typer.Abort:
             error("aborted")
             sys.exit(RUN_FAILED_EXIT_CODE)
+        except ArithmeticError as failure:  # an input range no check foresaw: one line, not a traceback
+            error(f"the run failed: a number left the floating-point range ({type(failure).__name__}: {failure}); "
+                  "some input is far outside the range this command handles (very large or small values): bring "
+                  "it nearer 1 in the units used, and please report the command line")
+            sys.exit(RUN_FAILED_EXIT_CODE)
         except OSError as failure:
             if failure.errno == errno.EPIPE:  # the reader of our output went away (``| head``): nothing to say
                 sys.exit(RUN_FAILED_EXIT_CODE)

@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import difflib
 import importlib.util
+import re
 import tomllib
 from collections.abc import Collection, Iterable, Mapping
 from contextlib import contextmanager
@@ -28,7 +29,7 @@ from rich.table import Table
 
 from ._files import (
     Deliveries, check_input_file, check_output_file, check_output_folder, refuse_clashes, refuse_folder,
-    refuse_to_replace,
+    refuse_earlier_run, refuse_to_replace,
 )
 from ._messages import (
     BAD_INPUT_EXIT_CODE, INTERRUPTED_EXIT_CODE, RUN_FAILED_EXIT_CODE, console, error, error_console, fail, note,
@@ -51,6 +52,44 @@ OverwriteOption = Annotated[bool | None, typer.Option(
 
 def _dashed(name: str) -> str:
     return name.replace("_", "-")
+
+
+def fail_for_option(error: Exception, model: type[Options], renamed: Mapping[str, str] | None = None) -> typer.Exit:
+    """:func:`fail` with a library error, the parameter its message starts with named as its option.
+
+    Examples
+    --------
+    >>> class Run(Options):
+    ...     packing_fraction: float = 0.3
+    >>> fail_for_option(ValueError("packing_fraction must lie in (0, 0.5]; got 0.6"), Run).exit_code
+    2
+    """
+    return fail(named_as_option(str(error), model, renamed))
+
+
+def named_as_option(message: str, model: type[Options], renamed: Mapping[str, str] | None = None) -> str:
+    """``message`` with the library parameter it starts with (if an option of ``model``) written as the option.
+
+    The library names its arguments (``packing_fraction must lie in ...``);
+    the user gave an option (``--packing-fraction``). ``renamed`` maps a
+    library name to the option's field where they differ (``v_inf``: ``vinf``).
+
+    Examples
+    --------
+    >>> class Run(Options):
+    ...     packing_fraction: float = 0.3
+    >>> named_as_option("packing_fraction must lie in (0, 0.5]; got 0.6", Run)
+    '--packing-fraction must lie in (0, 0.5]; got 0.6'
+    >>> named_as_option("k must be finite", Run)
+    'k must be finite'
+    """
+    leading = re.match(r"[A-Za-z_][A-Za-z0-9_]*", message)
+    if leading is None:
+        return message
+    name = (renamed or {}).get(leading.group(), leading.group())
+    if name not in model.model_fields:
+        return message
+    return model.flags.get(name, f"--{_dashed(name)}") + message[leading.end():]
 
 
 class Options(BaseModel):
@@ -77,6 +116,16 @@ class Options(BaseModel):
     flags: ClassVar[dict[str, str]] = {}
 
     overwrite: bool = False
+
+    def folder_files(self, folder: str) -> tuple[str, ...]:
+        """The names of the files this run may write in output folder ``folder`` (refused if there already).
+
+        Examples
+        --------
+        >>> Options().folder_files("out")
+        ()
+        """
+        return ()
 
     def unwritten(self) -> set[str]:
         """The output options this run will not write (``--out`` with ``--no-plots``): not checked.
@@ -208,15 +257,23 @@ def _describe(error: Mapping[str, Any], model: type[Options] | None = None) -> s
     if error["type"] != "extra_forbidden" and model is not None and where in model.model_fields:
         where = model.flags.get(where, f"--{_dashed(where)}")  # as the user wrote it (a TOML key drops the --)
     if error["type"] == "extra_forbidden":
+        where = _dashed(where)  # as a config file may spell it (the command line's flags are checked by typer)
         if model is None:
             return f"unknown option {where!r}"
         names = sorted(_dashed(name) for name in model.model_fields)
-        close = difflib.get_close_matches(_dashed(where), names, n=3)
+        switched = where.removeprefix("no-").replace("-", "_")
+        if where.startswith("no-") and model.model_fields.get(switched) is not None and \
+                model.model_fields[switched].annotation is bool:  # --no-plots on the command line: plots = false
+            return (f"unknown option {where!r}; did you mean '{_dashed(switched)} = false'? "
+                    f"(options: {', '.join(names)})")
+        close = difflib.get_close_matches(where, names, n=3)
         guess = f"; did you mean {' or '.join(repr(name) for name in close)}?" if close else ""
         return f"unknown option {where!r}{guess} (options: {', '.join(names)})"
     if error["type"] == "value_error":  # our own rules: their message without pydantic's "Value error, "
         message = str(error["ctx"]["error"])
-        return f"{where}: {message} (got {error.get('input')!r})" if where else message
+        if where:
+            return f"{where}: {message} (got {error.get('input')!r})"
+        return message if model is None else named_as_option(message, model)
     return f"{where or 'options'}: {error['msg']} (got {error.get('input')!r})"
 
 
@@ -298,6 +355,11 @@ def check_paths(options: Options, keep: Collection[Path] = ()) -> None:
     keep = {Path(path).resolve() for path in keep}
     for option, path in outputs.items():
         refuse_to_replace(path, option, options.overwrite, keep)
+    if not keep:  # a resumed run finishes what it started, in its folders
+        for name in model.output_folders:
+            if name not in options.unwritten():
+                refuse_earlier_run(getattr(options, name), f"--{_dashed(name)}", options.folder_files(name),
+                                   options.overwrite)
 
 
 def _field_name(model: type[Options], key: str) -> str:

@@ -18,10 +18,10 @@ from typer.core import TyperCommand
 
 from .._io import FileLockedError
 from ._common import (
-    INTERRUPTED_EXIT_CODE, Options, OverwriteOption, fail, fraction_reporter, load_options, note, option_values,
-    progress_bar, refuse_folder, require_gsd, require_plotting, run_failed, validate_options, warn,
+    INTERRUPTED_EXIT_CODE, Options, OverwriteOption, fail, fail_for_option, fraction_reporter, load_options, note,
+    option_values, progress_bar, refuse_folder, require_gsd, require_plotting, run_failed, validate_options, warn,
 )
-from ._edmd_report import report
+from ._edmd_report import PLOTS, report
 from ._memory import edmd_memory, refuse_beyond_memory, size
 from ._warmup import warm_up
 
@@ -79,6 +79,10 @@ class EdmdOptions(Options):
                 raise ValueError(f"--{name} must end in {' or '.join(suffixes)} (the format it writes); got {str(path)!r}")
         return self
 
+    def folder_files(self, folder: str) -> tuple[str, ...]:
+        """The plots of ``--out`` (an earlier run's are not replaced without --overwrite)."""
+        return PLOTS
+
     def unwritten(self) -> set[str]:
         """``out`` without plots: nothing goes there.
 
@@ -120,7 +124,7 @@ def _new_run(options: EdmdOptions):
     try:
         parameters = options.parameters().resolved()
     except ValueError as error:
-        raise fail(str(error)) from None
+        raise fail_for_option(error, EdmdOptions) from None
     _refuse_beyond_memory(parameters)
     _say_seed(parameters.seed, drawn=options.seed is None)
     extra = _frame_notes(parameters, options.frame_every)
@@ -156,7 +160,7 @@ def _resumed_run(resume: Path, given: dict, extend: int | None = None):
     outputs |= {"checkpoint": run.checkpoint, "trajectory": run.trajectory, "frame_every": run.frame_every}
     keep = [resume] + ([run.trajectory] if run.continues_trajectory else [])
     options = validate_options(EdmdOptions, run.parameters.to_dict() | outputs, keep=keep)
-    _require_outputs(options)
+    _require_outputs(options, resumed_from=resume)
     _say_seed(run.parameters.seed, drawn=False)
     extra = _frame_notes(run.parameters, run.frame_every)
     warm_up(["edmd"], always=["edmd"])
@@ -177,8 +181,17 @@ def _extend(run, extend: int | None) -> None:
          f"{run.parameters.collisions} in all")
 
 
-def _require_outputs(options: EdmdOptions) -> None:
-    """Stop before the run if an output asked for needs an extra that is not installed."""
+def _require_outputs(options: EdmdOptions, resumed_from: Path | None = None) -> None:
+    """Stop before the run if an output asked for needs an extra that is not installed, or misnames its format.
+
+    A new checkpoint must end in .npz (the format it is: a zip of arrays);
+    a resumed run writes on to the checkpoint it resumed from whatever its name.
+    """
+    checkpoint = options.checkpoint
+    new = checkpoint is not None and (resumed_from is None or checkpoint.resolve() != Path(resumed_from).resolve())
+    if new and checkpoint.suffix.lower() != ".npz":
+        raise fail(f"--checkpoint must end in .npz (the format it writes: a zip of arrays); got "
+                   f"{str(options.checkpoint)!r}")
     if options.plots:
         require_plotting()
     if options.trajectory is not None:
@@ -287,23 +300,23 @@ class EdmdCommand(TyperCommand):
 
 def edmd(
     dim: Annotated[int | None, typer.Option(help=_help("2 (discs) or 3 (spheres).", "3"))] = None,
-    particles: Annotated[int | None, typer.Option(help=_help("Number of particles (>= 2; a periodic box must be 3 diameters wide: about 16 or more at eta 0.3).", "500"))] = None,
+    particles: Annotated[int | None, typer.Option(help=_help("Number of particles (2 to 1e8; a periodic box must be 3 diameters wide: about 16 or more at eta 0.3).", "500"))] = None,
     packing_fraction: Annotated[
         float | None, typer.Option(help=_help("Packing fraction eta: (0, 0.5] in 3D, (0, 0.7] in 2D.", "0.3"))
     ] = None,
     restitution: Annotated[float | None, typer.Option(help=_help("Coefficient of restitution in [0, 1].", "1"))] = None,
     elastic_below: Annotated[
         float | None,
-        typer.Option(help=_help("Contacts with a normal approach speed below this are elastic (>= 0; guards inelastic runs against collapse).", "1e-6 (rms speeds) if restitution < 1")),
+        typer.Option(help=_help("Contacts with a normal approach speed below this are elastic (0 to 1000 thermal speeds; guards inelastic runs against collapse).", "1e-6 (rms speeds) if restitution < 1")),
     ] = None,
     equilibration: Annotated[
-        int | None, typer.Option(help=_help("Pair collisions before measuring (>= 0).", "20 per particle"))
+        int | None, typer.Option(help=_help("Pair collisions before measuring (0 to 1e14).", "20 per particle"))
     ] = None,
     collisions: Annotated[
         int | None,
-        typer.Option(help=_help("Pair collisions measured (>= blocks; rounded down to a multiple of blocks).", "200 per particle")),
+        typer.Option(help=_help("Pair collisions measured (>= blocks, at most 1e14; rounded down to a multiple of blocks).", "200 per particle")),
     ] = None,
-    blocks: Annotated[int | None, typer.Option(help=_help("Measurement blocks for the error bars (>= 2).", "10"))] = None,
+    blocks: Annotated[int | None, typer.Option(help=_help("Measurement blocks for the error bars (2 to 100000).", "10"))] = None,
     seed: Annotated[int | None, typer.Option(help=_help("Random seed (>= 0).", "random, reported"))] = None,
     initial: Annotated[
         str | None,
@@ -323,7 +336,7 @@ def edmd(
     ] = None,
     shear_rate: Annotated[
         float | None,
-        typer.Option(help=_help("Lees-Edwards shear at rate G (>= 0; flow x, gradient y): reports the shear stress and shear_viscosity = -P_xy / G.", "0, no shear")),
+        typer.Option(help=_help("Lees-Edwards shear at rate G (0 to 1000, in sqrt(kT/m)/sigma; flow x, gradient y): reports the shear stress and shear_viscosity = -P_xy / G.", "0, no shear")),
     ] = None,
     thermostat: Annotated[
         bool | None,

@@ -6,6 +6,10 @@ from pathlib import Path
 
 from ._common import Deliveries, print_table, say, warn
 
+# the plots of --out (the Helfand moments with --transport only, the equation of state for elastic runs only)
+PLOTS = ("equation_of_state.png", "speed_distribution.png", "snapshot.png", "radial_distribution.png",
+         "helfand_moments.png")
+
 
 def _theory_column(result: dict) -> tuple[str, str, str, str]:
     """Reference values for Z, omega, kT and the energy lost: theory if elastic, trends if not.
@@ -14,6 +18,10 @@ def _theory_column(result: dict) -> tuple[str, str, str, str]:
     that heating): kT rises, or the thermostat brings it back to 1 every 4 N pair collisions.
     """
     if not result["elastic"]:
+        from ..edmd.run import BARELY_COOLED
+
+        if result.get("elastic_below") and result["temperature"] > BARELY_COOLED:  # the floor made it elastic
+            return "elastic floor: nearly all contacts elastic", "", "barely cools (elastic floor)", "> 0 (small)"
         return "no equilibrium (inelastic)", "", "cools (Haff)", "> 0"
     z = f"{result['compressibility_factor_theory']:.5g} ({result['theory']})"
     omega = f"{result['collision_frequency_from_pressure']:.5g} (Enskog, from Z)"
@@ -124,6 +132,10 @@ def _plots(run, measurement, out: Path, deliveries: Deliveries) -> None:
     deliveries.write(f"the plot folder {out}", folder)
     for name, draw in figures:
         deliveries.write(f"the plot {out / name}", lambda name=name, draw=draw: plotting.save(draw(), out / name))
+    drawn = {name for name, _ in figures}
+    for name in PLOTS:  # an earlier run's plot that this run does not draw (replaced with --overwrite) goes
+        if name not in drawn:
+            (out / name).unlink(missing_ok=True)
 
 
 def report(run, options, extra: dict) -> None:

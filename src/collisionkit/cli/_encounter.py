@@ -10,13 +10,16 @@ import typer
 from pydantic import Field
 
 from ._common import (
-    Deliveries, Options, OverwriteOption, fail, note, option_values, print_table, require, require_plotting, say,
+    Deliveries, Options, OverwriteOption, fail, fail_for_option, note, option_values, print_table, require,
+    require_plotting, say,
     validate_options, warn,
 )
 from ._star import check_star_file
 from ._warmup import warm_up
 
 UnitsName = Literal["nbody", "si", "cgs", "solar", "stellar"]
+# the files of --out: the initial conditions (JSON and text), the particle stars placed on the orbit, the plot
+WRITTEN = ("initial_conditions.json", "initial_conditions.txt", "initial_conditions.hdf5", "encounter.png")
 LayoutName = Literal["diagonal", "x"]
 
 
@@ -46,6 +49,11 @@ class EncounterOptions(Options):
 
     output_folders: ClassVar[tuple[str, ...]] = ("out",)
     input_files: ClassVar[tuple[str, ...]] = ("star1", "star2")
+
+    def folder_files(self, folder: str) -> tuple[str, ...]:
+        """The files an encounter writes in ``--out`` (the stars' file and the plot among them, written or not:
+        a stale one would contradict the new initial conditions)."""
+        return WRITTEN
 
     def parameters(self):
         """The set-up as :class:`collisionkit.encounters.EncounterParameters` (``--vinf`` is ``v_inf``).
@@ -151,7 +159,7 @@ def encounter(
         else:
             result, ic = encounter_summary(options.parameters())
     except ValueError as error:
-        raise fail(str(error)) from None
+        raise fail_for_option(error, EncounterOptions, {"v_inf": "vinf"}) from None
     system = options.parameters().unit_system()
     rows = _rows(ic, result["contact"], result["unit_labels"])
     if with_stars:
@@ -161,9 +169,11 @@ def encounter(
         warn(message)
     deliveries = Deliveries("encounter")
     deliveries.write(f"the initial conditions in {options.out}", lambda: ic.write(options.out, units=system))
+    placed = options.out / "initial_conditions.hdf5"
     if with_stars:
-        placed = options.out / "initial_conditions.hdf5"
         deliveries.write(f"the stars {placed}", lambda: write_star(pair, placed))
+    else:  # an earlier run's stars (replaced with --overwrite) would contradict these initial conditions
+        placed.unlink(missing_ok=True)
     if options.plots:
         import matplotlib
 
@@ -176,6 +186,8 @@ def encounter(
 
         deliveries.write(f"the plot {options.out / 'encounter.png'}",
                          lambda: plotting.save(figure(), options.out / "encounter.png"))
+    else:
+        (options.out / "encounter.png").unlink(missing_ok=True)  # an earlier run's plot, of other conditions
     result["files"] = [str(path) for path in deliveries.files]
     for path in deliveries.files:
         say(f"wrote {path}")

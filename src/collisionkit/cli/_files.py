@@ -200,6 +200,33 @@ def refuse_to_replace(path: Path | None, option: str, overwrite: bool, keep: Col
     raise fail(f"{option} {path} exists: pass --overwrite to replace it, or name another file")
 
 
+def refuse_earlier_run(folder: Path | None, option: str, names: Collection[str], overwrite: bool) -> None:
+    """Stop (exit 2) before files of an earlier run in an output folder would be replaced, unless ``overwrite``.
+
+    ``names`` are the files the command writes in the folder; other files
+    in it are none of its business (``--out .`` is fine).
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> folder = Path(tempfile.mkdtemp())
+    >>> _ = (folder / "encounter.png").write_bytes(b"")
+    >>> refuse_earlier_run(folder, "--out", ["snapshot.png"], overwrite=False)  # not one of ours: no matter
+    >>> try:
+    ...     refuse_earlier_run(folder, "--out", ["encounter.png"], overwrite=False)
+    ... except Exception as stop:
+    ...     print(type(stop).__name__, stop.exit_code)
+    Exit 2
+    """
+    if folder is None or overwrite or not Path(folder).is_dir():
+        return
+    earlier = [name for name in names if (Path(folder) / name).exists()]
+    if earlier:
+        more = f" and {len(earlier) - 1} more of its files" if len(earlier) > 1 else ""
+        raise fail(f"{option} {folder} already holds {earlier[0]}{more} from an earlier run: pass --overwrite to "
+                   "replace them, or name another folder")
+
+
 def _rescue_folders() -> Iterable[Path]:
     yield Path.cwd()
     yield Path(tempfile.gettempdir())

@@ -9,8 +9,8 @@ import typer
 from pydantic import Field
 
 from ._common import (
-    Deliveries, Options, OverwriteOption, fail, fraction_reporter, load_options, note, print_table, progress_bar, require,
-    say,
+    Deliveries, Options, OverwriteOption, fail, fail_for_option, fraction_reporter, load_options, note, print_table,
+    progress_bar, require, say,
 )
 
 UnitsName = Literal["nbody", "si", "cgs", "solar", "stellar"]
@@ -119,7 +119,7 @@ def star(
     try:
         parameters = options.parameters()
     except (ValueError, TypeError) as error:
-        raise fail(str(error)) from None
+        raise fail_for_option(error, StarOptions) from None
     from ..encounters import polytrope_summary, write_star
 
     note(f"seed {parameters.seed} (--seed {parameters.seed} repeats this run)")

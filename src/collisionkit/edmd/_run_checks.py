@@ -20,6 +20,13 @@ from .theory import MAX_PACKING_FRACTION
 
 INITIAL_STATES = ("random", *LATTICE_DIM)
 ENGINES = ("auto", *ENGINE_NAMES)
+# the largest speed threshold (elastic_below, in thermal speeds sqrt(kT/m)): 1000 makes every contact elastic
+MAX_SPEED = 1e3
+# the largest shear rate, in sqrt(kT/m) / sigma: a box of 10 diameters then slides at 10^4 thermal speeds, where an
+# inelastic gas is heated 10^6-fold; typical granular and rheology runs use 0.01 to 5
+MAX_SHEAR_RATE = 1e3
+# the most pair collisions of a run's equilibration or measurement: about 3 years at 10^6 a second
+MAX_COLLISIONS = 10**14
 
 
 def checked_parameters(p) -> dict[str, Any]:
@@ -47,12 +54,12 @@ def checked_parameters(p) -> dict[str, Any]:
     values["packing_fraction"] = eta
     values["restitution"] = check_real("restitution", p.restitution, 0.0, 1.0)
     if p.elastic_below is not None:
-        values["elastic_below"] = check_real("elastic_below", p.elastic_below, 0.0)
+        values["elastic_below"] = check_real("elastic_below", p.elastic_below, 0.0, MAX_SPEED)
     blocks = values["blocks"] = check_integer("blocks", p.blocks, 2, 100_000)
     if p.equilibration is not None:
-        values["equilibration"] = check_integer("equilibration", p.equilibration, 0)
+        values["equilibration"] = check_integer("equilibration", p.equilibration, 0, MAX_COLLISIONS)
     if p.collisions is not None:
-        collisions = values["collisions"] = check_integer("collisions", p.collisions, 2)
+        collisions = values["collisions"] = check_integer("collisions", p.collisions, 2, MAX_COLLISIONS)
         if collisions < blocks:
             raise ValueError(f"collisions must be >= blocks ({blocks}); got {collisions}")
     if p.seed is not None:
@@ -60,7 +67,7 @@ def checked_parameters(p) -> dict[str, Any]:
     check_choice("initial", p.initial, INITIAL_STATES)
     if p.initial != "random":
         lattice_cells(p.initial, p.dim, values["particles"])
-    shear_rate = values["shear_rate"] = check_real("shear_rate", p.shear_rate, 0.0)
+    shear_rate = values["shear_rate"] = check_real("shear_rate", p.shear_rate, 0.0, MAX_SHEAR_RATE)
     for name in ("transport", "yeh_hummer", "thermostat"):
         if not isinstance(getattr(p, name), bool):
             raise ValueError(f"{name} must be true or false; got {getattr(p, name)!r}")

@@ -42,6 +42,8 @@ COLLISIONS_PER_PARTICLE = 200
 TRANSPORT_COLLISIONS_PER_PARTICLE = 2000
 MIN_CHUNK = 10_000
 CHECKPOINT_KIND = "edmd"
+# kT above which an inelastic run with an elastic floor is reported as not cooled (under 1 % of the energy lost)
+BARELY_COOLED = 0.99
 
 
 @dataclasses.dataclass(frozen=True)
@@ -528,6 +530,10 @@ class EdmdRun:
         if self.parameters.shear_rate != 0.0:
             return (f"restitution < 1 under shear: the viscous heating of the flow balances the collisional cooling "
                     f"in a steady state (kT from 1 to {kT:.3g}); compare with granular_shear_flow (dilute gas)")
+        if system.elastic_below > 0 and kT > BARELY_COOLED:
+            return (f"restitution < 1, but the gas barely cooled (kT from 1 to {kT:.3g}): contacts slower than "
+                    f"--elastic-below {system.elastic_below:.3g} are elastic, and nearly all were; this is the run of "
+                    "an elastic gas")
         note = (f"restitution < 1: the gas cooled as it ran (homogeneous cooling, Haff's law), kT from 1 to {kT:.3g}; "
                 "Z, the collision frequency and D are averages over a cooling state, not equilibrium values")
         if system.elastic_below > 0 and kT < 100.0 * system.elastic_below**2:

@@ -21,10 +21,14 @@ def scalar_above(value, name: str, low: float = 0.0, *, inclusive: bool = False)
 
 
 def nonzero_speed(value, name: str) -> float:
-    """A speed whose square is a normal float (> ~1.5e-154), or a named error (v^2 would round to 0)."""
+    """A speed whose square is a normal, finite float (~1.5e-154 to ~1.3e154), or a named error.
+
+    Below, v^2 would round to 0; above, it would overflow.
+    """
     speed = scalar_above(value, name)
-    if speed * speed < sys.float_info.min:
-        raise ValueError(f"{name} must be > {math.sqrt(sys.float_info.min):.3g} (its square must not round to 0); "
+    low, high = math.sqrt(sys.float_info.min), math.sqrt(sys.float_info.max)
+    if not low < speed < high:
+        raise ValueError(f"{name} must lie in ({low:.3g}, {high:.3g}) (its square must be a normal float); "
                          f"got {speed!r}")
     return speed
 
@@ -53,7 +57,8 @@ def interaction(m1, m2, G, k):
     m2 = scalar_above(m2, "m2")
     G = (1.0 if k is None else 0.0) if G is None else scalar_above(G, "G", inclusive=True)
     k = 0.0 if k is None else real_scalar(k, "k")
-    mu_k = G * (m1 + m2) - k * (m1 + m2) / (m1 * m2)
+    # k / mu = k (m1 + m2) / (m1 m2), without the product m1 m2 (it underflows to 0 for masses of ~1e-160)
+    mu_k = G * (m1 + m2) - (k * ((m1 + m2) / m1) / m2 if k != 0.0 else 0.0)
     if not math.isfinite(mu_k):
         raise ValueError("G (m1 + m2) - k / mu overflows; rescale the units")
     if mu_k == 0.0:

@@ -12,6 +12,7 @@ centre-of-mass frame, laid out on the diagonal of the gravity grid (a
 from __future__ import annotations
 
 import math
+import sys
 import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -288,6 +289,7 @@ def starcrash_initial_conditions(m1, m2, rp, v_inf, sep0, G=1.0, *, layout: str 
     r0 = scalar_above(sep0, "sep0")
     if r0 < rp:
         raise ValueError(f"sep0 must be >= rp = {rp} (the stars start outside periastron); got {r0}")
+    _check_scales(m1, m2, rp, v_inf, r0, G)
     mu_g = orbit.kepler_parameter
     v0 = math.sqrt(v_inf**2 + 2.0 * mu_g / r0)
     b = orbit.impact_parameter
@@ -307,7 +309,7 @@ def starcrash_initial_conditions(m1, m2, rp, v_inf, sep0, G=1.0, *, layout: str 
             GridExitWarning,
             stacklevel=2,
         )
-    return InitialConditions(
+    return _finite(InitialConditions(
         m1=m1,
         m2=m2,
         rp=rp,
@@ -326,4 +328,32 @@ def starcrash_initial_conditions(m1, m2, rp, v_inf, sep0, G=1.0, *, layout: str 
         vr=vr,
         time_to_periastron=-oriented.time_at_separation(r0, branch="inbound"),
         orbit=oriented,
-    )
+    ))
+
+
+def _check_scales(m1, m2, rp, v_inf, sep0, G) -> None:
+    """ValueError unless the set-up's scales are normal floats: G m1 m2 / rp, mu v_inf^2 and v_inf sep0.
+
+    The initial conditions are products of these with the masses and
+    lengths given; beyond ~1e308 (or below ~1e-308) they overflow (or
+    vanish) in double precision.
+    """
+    scales = {
+        "G m1 m2 / rp": G * (m1 / rp) * m2,
+        "mu v_inf^2": m1 / (m1 + m2) * m2 * v_inf * v_inf,
+        "v_inf sep0": v_inf * sep0,
+    }
+    for name, value in scales.items():
+        if not sys.float_info.min <= abs(value) < math.inf:
+            raise ValueError(f"the masses, rp, v_inf and sep0 give {name} = {value:.3g}, outside the floating-point "
+                             f"range ({sys.float_info.min:.3g} to {sys.float_info.max:.3g}): choose units in which "
+                             "they are nearer 1")
+
+
+def _finite(ic: InitialConditions) -> InitialConditions:
+    """``ic``, or a ValueError naming its first number that is not finite (the set-up left the float range)."""
+    for name, value in ic.to_dict().items():
+        if not isinstance(value, str) and not np.isfinite(np.asarray(value, dtype=float)).all():
+            raise ValueError(f"the initial condition {name} comes out {value}: the masses, distances and speeds "
+                             "given leave the floating-point range; choose units in which they are nearer 1")
+    return ic

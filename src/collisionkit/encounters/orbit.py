@@ -115,7 +115,7 @@ class TwoBodyOrbit(ContactMixin, RelativeOrbit):
         m1, m2, G, k, mu_k = interaction(m1, m2, G, k)
         v = nonzero_speed(v_inf, "v_inf")
         b = scalar_above(impact_parameter, "impact_parameter", 0.0, inclusive=mu_k < 0)
-        mu = m1 * m2 / (m1 + m2)
+        mu = m1 / (m1 + m2) * m2  # not m1 m2 / M: the product underflows for masses of ~1e-160
         rp = float(scattering.coulomb_closest_approach(b, -mu * mu_k, mu, v))
         return cls._from_elements(m1, m2, G, k, mu_k, rp, -v * v, np.eye(3), h=b * v)
 
@@ -165,8 +165,8 @@ class TwoBodyOrbit(ContactMixin, RelativeOrbit):
 
     @property
     def reduced_mass(self) -> float:
-        """mu = m1 m2 / (m1 + m2)."""
-        return self.m1 * self.m2 / (self.m1 + self.m2)
+        """mu = m1 m2 / (m1 + m2), taken as (m1 / M) m2 (the product m1 m2 underflows for masses of ~1e-160)."""
+        return self.m1 / (self.m1 + self.m2) * self.m2
 
     @property
     def coulomb_strength(self) -> float:

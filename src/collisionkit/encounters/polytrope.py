@@ -41,6 +41,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import sys
 from typing import Any
 
 import numpy as np
@@ -278,6 +279,30 @@ def _checked_star(n, particles, mass, radius, neighbours, gamma) -> dict:
     return checked
 
 
+def _check_scales(mass: float, radius: float, particles: int, G: float) -> None:
+    """ValueError unless the star's scales are normal floats (~2.2e-308 to ~1.8e308).
+
+    The potential energy G M^2 / R, the density M / R^3, the specific
+    energy G M / R, the particle mass M / K and the squared spacing
+    (R / K^(1/3))^2 (the smoothing lengths come from squared distances):
+    beyond these the star's numbers overflow or vanish in double precision.
+    """
+    spacing = radius / particles ** (1.0 / 3.0)
+    scales = {
+        "G M^2 / R": G * mass * (mass / radius),
+        "M / R^3": mass / radius / radius / radius,
+        "G M / R": G * (mass / radius),
+        "M / particles": mass / particles,
+        "(R / particles^(1/3))^2": spacing * spacing,
+        "R^2": radius * radius,
+    }
+    for name, value in scales.items():
+        if not sys.float_info.min <= value < math.inf:
+            raise ValueError(f"the mass and radius give {name} = {value:.3g}, outside the floating-point range "
+                             f"({sys.float_info.min:.3g} to {sys.float_info.max:.3g}): choose units in which they "
+                             "are nearer 1")
+
+
 @dataclasses.dataclass(frozen=True)
 class PolytropeParameters(Parameters):
     """A polytropic star to sample as SPH particles (``collisionkit star``), checked when made.
@@ -322,6 +347,7 @@ class PolytropeParameters(Parameters):
         for name, value in _checked_star(self.polytrope, self.particles, self.mass, self.radius, self.neighbours,
                                          self.gamma).items():
             object.__setattr__(self, name, value)
+        _check_scales(self.mass, self.radius, self.particles, unit_system(self.units).G)
 
     @property
     def gamma_used(self) -> float:
@@ -372,6 +398,7 @@ def polytrope_star(n: float, particles: int, mass: float = 1.0, radius: float = 
     star = _checked_star(n, particles, mass, radius, neighbours, gamma)
     n, count, mass, radius = star["polytrope"], star["particles"], star["mass"], star["radius"]
     system = unit_system(units) if isinstance(units, str) else units
+    _check_scales(mass, radius, count, system.G)
     rng = np.random.default_rng(seed)
     solution = lane_emden(n)
     xi = solution.radius_of_mass_fraction(rng.random(count))
