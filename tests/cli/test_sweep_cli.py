@@ -248,3 +248,89 @@ def test_a_study_whose_folder_takes_no_table_saves_it_elsewhere_and_exits_1(tmp_
     assert len(rescued) == 1
     rows = read_table(rescued[0])
     assert len(rows) == 6 and [row["status"] for row in rows].count("failed") == 2  # sep0 = 0.5 < rp fails
+
+
+GOOD_ENCOUNTERS = """\
+command = "encounter"
+seed = 3
+[fixed]
+rp = 1.0
+[vary]
+sep0 = [10.0, 20.0]
+"""
+
+
+def test_overwrite_starts_a_study_again_in_its_folder_and_with_resume_replaces_only_the_summary(tmp_path, dask_client):
+    # sweep --overwrite stopped with "already holds a study", as without it
+    study, out, summary = study_file(tmp_path, GOOD_ENCOUNTERS), tmp_path / "out", tmp_path / "summary.json"
+    address = dask_client.scheduler.address
+    with deadline(120):
+        assert invoke(study, "--out", out, "--scheduler", address).exit_code == 0
+    (out / "points" / "p0000-r00" / "output.log").write_text("an old failure")  # the sweep's own file: it goes
+    (out / "points" / "p0000-r00" / "notes.txt").write_text("mine")  # not the sweep's: it stays
+    refused = invoke(study, "--out", out, "--scheduler", address)
+    said = " ".join(refused.output.split())
+    assert refused.exit_code == 2 and "Traceback" not in refused.output
+    assert f"already holds a study; resume it (resume_study('{out / 'checkpoint.npz'}'), --resume" in said
+    assert "start it again there (overwrite=True, --overwrite) or use another folder" in said
+    with deadline(120):
+        again = invoke(study, "--out", out, "--scheduler", address, "--overwrite", "--summary", summary)
+    assert again.exit_code == 0, again.output
+    assert (json.loads(summary.read_text())["runs"], json.loads(summary.read_text())["skipped"]) == (2, 0)
+    assert not (out / "points" / "p0000-r00" / "output.log").exists()
+    assert (out / "points" / "p0000-r00" / "notes.txt").read_text() == "mine"
+    assert len(read_table(out / "results.csv")) == 2
+    with deadline(120):  # with --resume, --overwrite lets --summary be replaced; the study goes on, nothing reruns
+        resumed = invoke("--resume", out / "checkpoint.npz", "--scheduler", address, "--summary", summary,
+                         "--overwrite")
+    assert resumed.exit_code == 0, resumed.output
+    assert json.loads(summary.read_text())["skipped"] == 2
+
+
+def test_overwrite_refuses_a_folder_whose_checkpoint_is_not_a_study(tmp_path):
+    out = tmp_path / "out"
+    out.mkdir()
+    (out / "checkpoint.npz").write_bytes(b"a file of mine")
+    result = invoke(study_file(tmp_path, GOOD_ENCOUNTERS), "--out", out, "--overwrite", "--workers", 1)
+    said = " ".join(result.output.split())
+    assert result.exit_code == 2 and "Traceback" not in result.output
+    checkpoint = out / "checkpoint.npz"
+    assert f"invalid study {tmp_path / 'study.toml'}: {checkpoint} holds no study that can be replaced" in said
+    assert checkpoint.read_bytes() == b"a file of mine" and sorted(out.iterdir()) == [checkpoint]
+
+
+INTERRUPTED_STUDY = """\
+command = "edmd"
+seed = 1
+[fixed]
+particles = 108
+equilibration = 2000
+blocks = 3
+[vary]
+collisions = [3000, 200000000]
+"""
+
+
+@pytest.mark.slow
+def test_ctrl_c_on_the_embedded_cluster_prints_one_line_and_exits_130(tmp_path):
+    # a terminal's Ctrl-C (SIGINT to the whole process group) printed Dask's warnings and the workers' tracebacks
+    study, out = study_file(tmp_path, INTERRUPTED_STUDY), tmp_path / "out"
+    command = [sys.executable, "-c", "from collisionkit.cli import main; main()", "sweep", str(study),
+               "--out", str(out), "--workers", "1"]
+    sweep = subprocess.Popen(command, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True,
+                             start_new_session=True, env=os.environ.copy() | {"COLUMNS": "200"})
+    try:
+        with deadline(300):  # the second point runs (the first is saved): the cluster is up
+            while not (out / "points" / "p0001-r00").exists() and sweep.poll() is None:
+                time.sleep(0.05)
+        os.killpg(sweep.pid, signal.SIGINT)
+        _, stderr = sweep.communicate(timeout=60)
+    finally:
+        if sweep.poll() is None:
+            os.killpg(sweep.pid, signal.SIGKILL)
+            sweep.wait(timeout=30)
+    assert sweep.returncode == 130, stderr
+    assert f"warning: interrupted: finished points are saved; continue with --resume {out / 'checkpoint.npz'}" in stderr
+    for noise in ("Traceback", "KeyboardInterrupt", "distributed.", "WARNING", "CancelledError"):
+        assert noise not in stderr, stderr
+    assert json.loads((out / "points" / "p0000-r00" / "result.json").read_text())["status"] == "ok"

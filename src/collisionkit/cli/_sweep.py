@@ -20,7 +20,7 @@ from rich.markup import escape
 
 from .._io import FileLockedError, write_csv
 from ._common import (
-    INTERRUPTED_EXIT_CODE, RUN_FAILED_EXIT_CODE, OverwriteOption, check_output_file, check_output_folder, error,
+    INTERRUPTED_EXIT_CODE, RUN_FAILED_EXIT_CODE, check_output_file, check_output_folder, error,
     error_console, fail, note, print_table, progress_bar, refuse_clashes, refuse_folder, refuse_to_replace, run_failed,
     say, warn, write_summary,
 )
@@ -32,7 +32,7 @@ SHOWN_FAILURES = 10
 CONNECT_TIMEOUT = "15s"
 
 
-def _load(path: Path, out: Path):
+def _load(path: Path, out: Path, overwrite: bool):
     """The validated study, every point checked by its command's rules; any problem is an input error (exit 2)."""
     from .. import sweep as core
 
@@ -40,7 +40,7 @@ def _load(path: Path, out: Path):
     try:
         study = core.load_study(path)
         core.check_command(study)
-        core.check_folder(study, out)
+        core.check_folder(study, out, overwrite=overwrite)
     except (ValueError, TypeError) as error:
         raise fail(f"invalid study {path}: {error}") from None
     except OSError as error:
@@ -181,7 +181,9 @@ def sweep(
                                        "folder: skip finished points, rerun the rest.")
     ] = None,
     summary: Annotated[Path | None, typer.Option("--summary", help="Write the results as JSON to this file.")] = None,
-    overwrite: OverwriteOption = None,
+    overwrite: Annotated[bool | None, typer.Option(
+        "--overwrite", help="Start the study again in --out if it holds one (the files that study's sweep wrote there "
+        "are replaced, no other), and let --summary replace an existing file; with --resume, only the latter.")] = None,
 ):
     """Run a parameter sweep with replicas of a collisionkit command, on a local or remote Dask cluster.
 
@@ -205,14 +207,14 @@ def sweep(
     refuse_clashes({"--summary": summary, "--out": out})
     refuse_to_replace(summary, "--summary", bool(overwrite))
     if resume is None:
-        parsed = _load(study, out)
+        parsed = _load(study, out, bool(overwrite))
     total = len(core.expand(parsed)) * parsed.replicas
     note(f"seed {parsed.seed} (the study's root seed: each run's own seed derives from it and its point)")
     warm_up([parsed.command])  # compiled once here, the workers load the kernels from the cache
     try:
         with _executor(workers, scheduler) as client, progress_bar("points", total=total) as advance:
             results = core.run_study(parsed, out, executor=client, resume=resume is not None,
-                                     on_point=lambda record: advance())
+                                     overwrite=bool(overwrite) and resume is None, on_point=lambda record: advance())
     except FileLockedError as locked:
         raise fail(f"{locked}: another collisionkit sweep is running this study; wait for it or use another --out") \
             from None

@@ -29,7 +29,9 @@ or the order of execution.
 
 Each point's ``result.json`` and ``summary.json`` are written atomically as
 soon as it finishes; the study's checkpoint ``OUT/checkpoint.npz`` lets
-:func:`resume_study` skip the finished points and rerun the others. At the
+:func:`resume_study` skip the finished points and rerun the others
+(``run_study(..., overwrite=True)`` starts the study in a folder again,
+removing only the files a sweep wrote there). At the
 end the study folder gets ``results.csv`` (one row per point and replica;
 nested results as ``a.b``, vectors as ``v[i]``), ``results.parquet`` when
 ``pyarrow`` is installed, and ``main_result.png`` (the main result against

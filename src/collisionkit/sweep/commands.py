@@ -42,6 +42,9 @@ class SweepCommand:
     outputs : mapping of str to type
         Options that are not physics (dashed names): ``Path`` ones name a
         file written in the point's folder.
+    files : tuple of str
+        The files ``run`` writes in the point's folder under fixed names
+        (besides the point's checkpoint and those ``outputs`` name).
 
     Examples
     --------
@@ -54,6 +57,7 @@ class SweepCommand:
     load_parameters: Callable[[], type]
     run: Callable[[Any, Path, Mapping[str, Any]], dict]
     outputs: Mapping[str, type] = field(default_factory=dict)
+    files: tuple[str, ...] = ()
 
     @property
     def parameters(self) -> type:
@@ -191,7 +195,8 @@ _COMMANDS = {
     "edmd": SweepCommand("edmd", _edmd_parameters, _run_edmd, {"trajectory": Path, "frame-every": int, "xyz": Path}),
     "swarm": SweepCommand("swarm", _swarm_parameters, _run_swarm),
     "slab": SweepCommand("slab", _slab_parameters, _run_slab),
-    "encounter": SweepCommand("encounter", _encounter_parameters, _run_encounter),
+    "encounter": SweepCommand("encounter", _encounter_parameters, _run_encounter,
+                              files=("initial_conditions.json", "initial_conditions.txt")),
     "track": SweepCommand("track", _track_parameters, _run_track),
 }
 

@@ -4,7 +4,9 @@ Every point's ``result.json`` is written atomically as soon as it
 finishes; the study's checkpoint (``OUT/checkpoint.npz``, the format every
 collisionkit run uses) holds the study and the finished points, so
 :func:`resume_study` (``collisionkit sweep --resume OUT/checkpoint.npz``)
-skips them and reruns the others (the failed ones too).
+skips them and reruns the others (the failed ones too), and
+``run_study(..., overwrite=True)`` (``sweep --overwrite``) starts a study
+again in a folder that holds one, removing only the files its sweep wrote.
 """
 
 from __future__ import annotations
@@ -12,8 +14,11 @@ from __future__ import annotations
 import concurrent.futures
 import contextlib
 import json
+import logging
 import math
 import os
+import signal
+import threading
 import time
 import traceback
 from collections.abc import Callable, Iterable, Iterator, Mapping
@@ -26,8 +31,8 @@ from .._io import (
 )
 from .commands import POINT_CHECKPOINT, sweep_command
 from .study import Study, _check_integer, load_study, study_from_dict
-from .table import results_table, write_outputs
-from .tasks import PointTask, _split_options, point_tasks
+from .table import OUTPUT_FILES, results_table, write_outputs
+from .tasks import POINTS_FOLDER, RESULT_FILE, PointTask, _split_options, point_tasks
 
 __all__ = ["OutputsNotWritten", "StudyResults", "check_folder", "local_client", "remote_client", "resume_study",
            "run_point", "run_study"]
@@ -35,7 +40,11 @@ __all__ = ["OutputsNotWritten", "StudyResults", "check_folder", "local_client", 
 RESULT_FORMAT = 2
 CHECKPOINT_FILE = "checkpoint.npz"
 CHECKPOINT_KIND = "sweep"
+SUMMARY_FILE, LOG_FILE = "summary.json", "output.log"
+POINT_FILES = (RESULT_FILE, SUMMARY_FILE, LOG_FILE, POINT_CHECKPOINT)  # what the sweep writes in a point's folder
 LOCK_WAIT_SECONDS = 24 * 3600.0  # a point still run by an earlier client's worker: wait for it this long at most
+WORKER_SETUP = "collisionkit.sweep._worker"  # a Dask preload: each worker of the embedded cluster ignores SIGINT
+CLUSTER_LOG_LEVEL = logging.ERROR  # the embedded cluster's warnings (a cancelled point, a worker killed) are not shown
 
 
 # ------------------------------------------------------------------ running one point
@@ -82,11 +91,11 @@ def run_point(task: PointTask) -> dict[str, Any]:
             if finished is not None:
                 return finished
             summary = command.run(parameters, task.directory, outputs)
-        atomic_write_json(task.directory / "summary.json", summary)
-        summary = json.loads((task.directory / "summary.json").read_text())  # as a reader sees it (NaN as null)
+        atomic_write_json(task.directory / SUMMARY_FILE, summary)
+        summary = json.loads((task.directory / SUMMARY_FILE).read_text())  # as a reader sees it (NaN as null)
     except Exception as exception:  # the run's failure is the point's result
         error = f"{type(exception).__name__}: {exception}"
-        atomic_write_text(task.directory / "output.log", traceback.format_exc())
+        atomic_write_text(task.directory / LOG_FILE, traceback.format_exc())
     elapsed, cpu_time = time.perf_counter() - started, time.process_time() - cpu_started
     record = _record(task, "ok" if error is None else "failed", error, elapsed, summary)
     record["cpu_time"] = cpu_time
@@ -163,6 +172,17 @@ def local_client(workers: int | None = None):
     distributed.Client
         Closed, with the cluster, on leaving the ``with`` block.
 
+    Notes
+    -----
+    Ctrl-C is the caller's: the worker processes ignore SIGINT (they start
+    with it ignored, and a restarted one ignores it from its preload), so a
+    terminal's Ctrl-C, sent to the whole process group, raises
+    KeyboardInterrupt in this process only, and leaving the block closes
+    the cluster. While the workers start, and while the cluster closes (a
+    worker busy in a point is stopped after a few seconds), this process
+    ignores SIGINT too. Dask's log lines below ERROR (a cancelled point, a
+    worker killed on closing) are not shown while the cluster lives.
+
     Examples
     --------
     >>> with local_client(workers=1) as client:
@@ -172,13 +192,36 @@ def local_client(workers: int | None = None):
     if workers is not None:
         _check_integer("workers", workers, 1, None)
     try:
+        import dask
         from distributed import Client, LocalCluster
     except ImportError:  # pragma: no cover - depends on the installation
         raise ImportError("the embedded cluster needs dask.distributed: pip install 'collisionkit[cluster]'") from None
     count = workers or os.cpu_count() or 1
-    with LocalCluster(n_workers=count, threads_per_worker=1, processes=True, dashboard_address=":0") as cluster:
-        with Client(cluster) as client:
-            yield client
+    preload = [*dask.config.get("distributed.worker.preload", []), WORKER_SETUP]
+    closing = contextlib.ExitStack()
+    with _sigint_ignored():  # the worker processes inherit it
+        cluster = closing.enter_context(LocalCluster(n_workers=count, threads_per_worker=1, processes=True,
+                                                     dashboard_address=":0", silence_logs=CLUSTER_LOG_LEVEL,
+                                                     preload=preload))
+    try:
+        yield closing.enter_context(Client(cluster))
+    finally:
+        with _sigint_ignored():  # closing waits (seconds) for a busy worker: a second Ctrl-C does not break it off
+            closing.close()
+
+
+@contextlib.contextmanager
+def _sigint_ignored():
+    """Ignore SIGINT in this process for the block (in the main thread, where Python handles it; else nothing)."""
+    previous = signal.getsignal(signal.SIGINT)
+    if threading.current_thread() is not threading.main_thread() or previous is None:
+        yield
+        return
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, previous)
 
 
 @contextlib.contextmanager
@@ -296,13 +339,26 @@ def _as_study(study) -> Study:
     raise TypeError(f"study must be a Study, a mapping or a TOML path; got {type(study).__name__}")
 
 
-def check_folder(study: Study, out, resume: bool = False) -> None:
-    """Check that ``out`` can take the study: empty of studies, or (to resume) holding the same study.
+def check_folder(study: Study, out, resume: bool = False, overwrite: bool = False) -> None:
+    """Check that ``out`` can take the study: no study, the same one (to resume) or any (to overwrite).
+
+    Parameters
+    ----------
+    study : Study
+    out : path
+        The study's folder.
+    resume : bool
+        The study continues in ``out``: a study there must be this one.
+    overwrite : bool
+        The study starts again in ``out``: a study there must be readable
+        (its files are then replaced, see :func:`run_study`).
 
     Raises
     ------
     ValueError
-        If ``out`` is a file, holds a study and ``resume`` is false, or holds another study.
+        If ``out`` is a file, holds a study and neither ``resume`` nor
+        ``overwrite`` is given, holds another study (``resume``), or holds
+        a ``checkpoint.npz`` that is not a readable study (``overwrite``).
 
     Examples
     --------
@@ -315,12 +371,51 @@ def check_folder(study: Study, out, resume: bool = False) -> None:
     path = out / CHECKPOINT_FILE
     if not path.exists():
         return
+    if overwrite:
+        _saved_tasks(path)
+        return
     if not resume:
         raise ValueError(f"out {out} already holds a study; resume it (resume_study({str(path)!r}), "
-                         f"--resume {path}) or use another folder")
+                         f"--resume {path}), start it again there (overwrite=True, --overwrite) or use another folder")
     saved = read_checkpoint(path, CHECKPOINT_KIND)
     if saved.state.get("fingerprint") != study.fingerprint():
         raise ValueError(f"out {out} holds a different study ({path}); resume it with the same study or use another folder")
+
+
+def _saved_tasks(checkpoint: Path) -> list[PointTask]:
+    """The runs of the study saved in ``checkpoint``, in its folder (ValueError if it holds no valid study)."""
+    try:
+        saved = read_checkpoint(checkpoint, CHECKPOINT_KIND)
+        return point_tasks(study_from_dict(saved.parameters), checkpoint.parent)
+    except (TypeError, ValueError) as error:
+        raise ValueError(f"{checkpoint} holds no study that can be replaced ({error}); nothing there is removed: "
+                         "use another folder") from None
+
+
+def _point_files(task: PointTask) -> list[Path]:
+    """The files a run of ``task`` may write in its folder: the sweep's own, the command's (named or fixed)."""
+    command = sweep_command(task.command)
+    named = [task.options.get(key) for key, kind in command.outputs.items() if kind is Path]
+    names = [*POINT_FILES, *command.files, *(str(name) for name in named if name is not None)]
+    return [task.directory / name for name in names if Path(name).name == name]  # never a path out of the folder
+
+
+def _remove_study(out: Path) -> None:
+    """Remove the files the sweep of the study saved in ``out`` wrote there, and the points' folders left empty.
+
+    The study's checkpoint stays, to be replaced (atomically) by the next
+    one; a file the sweep did not write (a note in a point's folder) stays,
+    and so does its folder.
+    """
+    for task in _saved_tasks(out / CHECKPOINT_FILE):
+        for path in _point_files(task):
+            path.unlink(missing_ok=True)
+        with contextlib.suppress(OSError):
+            task.directory.rmdir()
+    with contextlib.suppress(OSError):
+        (out / POINTS_FOLDER).rmdir()
+    for name in OUTPUT_FILES:
+        (out / name).unlink(missing_ok=True)
 
 
 class OutputsNotWritten(OSError):
@@ -365,7 +460,7 @@ def _save_checkpoint(study: Study, out: Path, records: Mapping[str, dict]) -> Pa
 
 def run_study(study, out, executor=None, workers: int | None = None, resume: bool = False,
               progress: Callable[[float], Any] | None = None,
-              on_point: Callable[[dict], Any] | None = None) -> StudyResults:  # fmt: skip
+              on_point: Callable[[dict], Any] | None = None, overwrite: bool = False) -> StudyResults:  # fmt: skip
     """Run every point and replica of a study and write the table and the plot.
 
     Every point is checked by the command's own rules before any runs.
@@ -385,13 +480,19 @@ def run_study(study, out, executor=None, workers: int | None = None, resume: boo
     resume : bool
         Continue the study in ``out`` (as :func:`resume_study`): skip the
         points whose ``result.json`` is complete, rerun the others. Without
-        it, ``out`` must not hold a study. The study's checkpoint is locked
-        while it runs: a second sweep of the folder raises
-        :class:`~collisionkit._io.FileLockedError`.
+        it, ``out`` must not hold a study (unless ``overwrite``). The study's
+        checkpoint is locked while it runs: a second sweep of the folder
+        raises :class:`~collisionkit._io.FileLockedError`.
     progress : callable, optional
         Called as ``progress(fraction)`` with the fraction of runs done.
     on_point : callable, optional
         Called with each point's record as it finishes (skipped ones first).
+    overwrite : bool
+        Start the study again in ``out`` if it holds one (this study or
+        another): every point runs. The files written there by the sweep of
+        the study found there (its tables, its points' files) are removed
+        first and its checkpoint is replaced atomically; no other file is
+        touched. Not with ``resume``.
 
     Returns
     -------
@@ -412,11 +513,15 @@ def run_study(study, out, executor=None, workers: int | None = None, resume: boo
     study = _as_study(study)
     if executor is not None and workers is not None:
         raise ValueError("workers sets the size of the embedded cluster; it cannot be used with executor")
+    if resume and overwrite:
+        raise ValueError("resume continues the study in out, overwrite starts it again: give one of them")
     out = Path(out)
     tasks = point_tasks(study, out)
-    check_folder(study, out, resume)
+    check_folder(study, out, resume, overwrite)
     with exclusive(out / CHECKPOINT_FILE):  # a second sweep (or --resume) of this folder is refused meanwhile
-        check_folder(study, out, resume)  # again, now that no other sweep can start one here
+        check_folder(study, out, resume, overwrite)  # again, now that no other sweep can start one here
+        if overwrite and (out / CHECKPOINT_FILE).exists():
+            _remove_study(out)
         done = {task.name: record for task in tasks if resume and (record := _is_complete(task)) is not None}
         files = [_save_checkpoint(study, out, done)]
         report = _Reporter(len(tasks), progress, on_point)

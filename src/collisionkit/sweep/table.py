@@ -20,6 +20,7 @@ __all__ = ["aggregate", "points_table", "results_table", "write_csv", "write_out
 TABLE_COLUMNS = ("point", "replica", "seed", "spawn_key", "status", "error", "elapsed")
 NOT_RESULTS = ("parameters", "files", "options")  # summary keys that are not results (the row has the options)
 MAX_VECTOR = 16  # numeric lists up to this size (vectors, 3x3 tensors) become columns; longer ones (spectra) do not
+OUTPUT_FILES = ("results.csv", "points.csv", "results.parquet", "main_result.png")  # write_outputs' files in the folder
 
 
 def _flatten(summary: Mapping[str, Any], prefix: str = "") -> Iterator[tuple[str, Any]]:
@@ -206,11 +207,12 @@ def write_outputs(study: Study, out, table: list[Mapping[str, Any]]) -> list[Pat
     ['main_result.png', 'points.csv', 'results.csv', 'results.parquet']
     """
     out = Path(out)
-    files = [write_csv(out / "results.csv", table), write_csv(out / "points.csv", points_table(study, table))]
-    parquet = write_parquet(out / "results.parquet", table)
+    results_path, points_path, parquet_path, plot_path = (out / name for name in OUTPUT_FILES)
+    files = [write_csv(results_path, table), write_csv(points_path, points_table(study, table))]
+    parquet = write_parquet(parquet_path, table)
     if parquet is not None:
         files.append(parquet)
-    plot = _plot_main(study, out / "main_result.png", table)
+    plot = _plot_main(study, plot_path, table)
     if plot is not None:
         files.append(plot)
     return files

@@ -13,6 +13,7 @@ from .commands import SweepCommand, sweep_command
 from .study import Study, _check_integer, expand
 
 RESULT_FILE = "result.json"
+POINTS_FOLDER = "points"  # in the study's folder: a folder per point and replica
 SET_BY_THE_SWEEP = ("summary", "out", "config", "resume", "checkpoint", "plots")  # each point's files: the sweep's
 
 
@@ -168,7 +169,7 @@ def point_tasks(study: Study, out) -> list[PointTask]:
     for index, point in enumerate(expand(study)):
         for replica in range(study.replicas):
             seed = point_seed(study.seed, index, replica)
-            directory = out / "points" / point_name(index, replica)
+            directory = out / POINTS_FOLDER / point_name(index, replica)
             options = _options(study, point, seed, takes_seed)
             tasks.append(PointTask(study.command, index, replica, point, seed, (index, replica), directory, options))
     return tasks
