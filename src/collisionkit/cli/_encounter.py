@@ -151,6 +151,10 @@ def encounter(
         stars = _read_stars(options)
     from ..encounters import encounter_summary, star_encounter_summary, write_star
 
+    try:  # the set-up's numbers checked before any work (the stars' masses come from their files)
+        options.star_parameters() if with_stars else options.parameters()
+    except ValueError as error:
+        raise fail_for_option(error, EncounterOptions, {"v_inf": "vinf"}) from None
     warm_up(["encounter"])
 
     try:

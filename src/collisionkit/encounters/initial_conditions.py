@@ -20,7 +20,7 @@ from pathlib import Path
 import numpy as np
 
 from .._io import atomic_write_json, atomic_write_text
-from ._validation import scalar_above
+from ._validation import interaction, nonzero_speed, scalar_above
 from .orbit import Hyperbolic
 from .units import UnitSystem, unit_system
 
@@ -329,6 +329,25 @@ def starcrash_initial_conditions(m1, m2, rp, v_inf, sep0, G=1.0, *, layout: str 
         time_to_periastron=-oriented.time_at_separation(r0, branch="inbound"),
         orbit=oriented,
     ))
+
+
+def check_set_up(m1, m2, rp, v_inf, sep0, G) -> None:
+    """ValueError unless a set-up's numbers are usable: v_inf^2 a normal float, and :func:`_check_scales`.
+
+    Cheap (no orbit is solved), so a command can refuse bad input before any work.
+
+    Examples
+    --------
+    >>> check_set_up(1.0, 1.0, 1.0, 0.5, 10.0, 1.0)
+    >>> check_set_up(1e300, 1e300, 1.0, 0.5, 10.0, 1.0)
+    Traceback (most recent call last):
+    ...
+    ValueError: the masses, rp, v_inf and sep0 give G m1 m2 / rp = inf, outside the floating-point range \
+(2.23e-308 to 1.8e+308): choose units in which they are nearer 1
+    """
+    v_inf = nonzero_speed(v_inf, "v_inf")
+    m1, m2, G, _, _ = interaction(m1, m2, G, None)
+    _check_scales(m1, m2, scalar_above(rp, "rp"), v_inf, scalar_above(sep0, "sep0"), G)
 
 
 def _check_scales(m1, m2, rp, v_inf, sep0, G) -> None:

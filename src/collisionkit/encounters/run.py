@@ -7,7 +7,7 @@ import warnings
 from typing import Any, ClassVar
 
 from .._params import Parameters, check_choice, check_real
-from .initial_conditions import GridExitWarning, InitialConditions, starcrash_initial_conditions
+from .initial_conditions import GridExitWarning, InitialConditions, check_set_up, starcrash_initial_conditions
 from .units import UNIT_SYSTEMS, UnitSystem, unit_system
 
 __all__ = ["EncounterParameters", "encounter_summary", "unit_labels"]
@@ -59,6 +59,7 @@ class EncounterParameters(Parameters):
             object.__setattr__(self, name, check_real(name, getattr(self, name), 0.0, low_open=True))
         check_choice("units", self.units, UNIT_SYSTEMS)
         check_choice("layout", self.layout, LAYOUTS)
+        check_set_up(self.m1, self.m2, self.rp, self.v_inf, self.sep0, self.unit_system().G)
         for name in ("radius1", "radius2"):
             if getattr(self, name) is not None:
                 object.__setattr__(self, name, check_real(name, getattr(self, name), 0.0))
