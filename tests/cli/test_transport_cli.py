@@ -142,7 +142,7 @@ def test_a_single_value_in_the_config_is_a_list_of_one(tmp_path):
         config.write_text(f"E_N = {value}\n")
         result = runner.invoke(app, ["swarm", "--model", "reid", "--config", str(config)], env={"COLUMNS": "200"})
         assert result.exit_code == 2, result.output
-        assert "e-n must be a number or a list of numbers" in result.output
+        assert "E-N must be a number or a list of numbers" in result.output  # as --E-N spells it
 
 
 def test_swarm_at_zero_field_needs_a_warm_gas_and_then_converges_without_a_drift_tolerance(tmp_path):

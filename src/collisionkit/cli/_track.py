@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from pathlib import Path
 from typing import Annotated, Any, ClassVar, Literal
 
@@ -13,6 +14,7 @@ from ._common import (
     INTERRUPTED_EXIT_CODE, Deliveries, Options, OverwriteOption, fail, fraction_reporter, note, print_table,
     progress_bar, read_toml, refuse_folder, require, run_failed, say, validate_options, warn,
 )
+from ._transport import MAX_GAS_TEMPERATURE, refuse_checkpoint_suffix
 from ._warmup import warm_up
 
 TRACK_OUTPUTS = ("out", "summary", "checkpoint", "overwrite", "threads")  # what a resumed run may change
@@ -44,7 +46,7 @@ class TrackOptions(Options):
     scattering: str | dict[str, str] | None = None
     populations: dict[str, float] | None = None
     pressure: float | None = Field(default=None, gt=0, allow_inf_nan=False)
-    temperature: float = Field(default=300.0, ge=0, allow_inf_nan=False)
+    temperature: float = Field(default=300.0, ge=0, le=MAX_GAS_TEMPERATURE, allow_inf_nan=False)
     density: float | None = Field(default=None, gt=0, allow_inf_nan=False)
     electrons: int = Field(default=100, ge=1, le=10_000_000)
     position: list[float] | None = None
@@ -89,6 +91,50 @@ class TrackOptions(Options):
 
         names = TrackParameters.names()
         return TrackParameters(**{name: getattr(self, name) for name in names})
+
+
+class _FileSpellings(Mapping):
+    """How a device file spells each option: ``[geometry] gap``, ``[geometry] kind``, ``[ions] mobility``, ``seed``;
+    made on first use (the tables are the library's, which a command imports only when it runs).
+
+    Examples
+    --------
+    >>> spellings = _FileSpellings()
+    >>> spellings["gap"], spellings["geometry"], spellings["max_electrons"]
+    ('[geometry] gap', '[geometry] kind', 'max-electrons')
+    """
+
+    def _table(self) -> dict[str, str]:
+        from ..transport.tracking.parameters import SECTIONS
+
+        spellings = {name: name.replace("_", "-") for name in TrackOptions.model_fields}
+        for table, keys in SECTIONS.items():
+            for key, name in keys.items():
+                spellings[name] = f"[{table}] {key.replace('_', '-')}"
+        return spellings
+
+    def __getitem__(self, name: str) -> str:
+        return self._table()[name]
+
+    def __iter__(self):
+        return iter(self._table())
+
+    def __len__(self) -> int:
+        return len(self._table())
+
+
+class DeviceFileOptions(TrackOptions):
+    """:class:`TrackOptions` as a device file sets them: an error names the option as the file spells it
+    (``[geometry] gap``), not as a flag the command does not have (``--gap``). The command line's own values are
+    checked before, as :class:`TrackOptions`, so an error here is the file's.
+
+    Examples
+    --------
+    >>> DeviceFileOptions.flags["gap"]
+    '[geometry] gap'
+    """
+
+    flags: ClassVar[Mapping[str, str]] = _FileSpellings()
 
 
 def device_options(config: Path) -> dict[str, Any]:
@@ -138,6 +184,14 @@ def _resumed_run(resume: Path, given: dict):
     return run, options
 
 
+def _where(run, options: TrackOptions) -> str:
+    """What a stopped run has saved, and how to go on."""
+    if options.checkpoint is None:
+        return "no --checkpoint was given, so nothing is saved"
+    return (f"{run.done} of {options.electrons} primaries are saved in {options.checkpoint}; continue with "
+            f"--resume {options.checkpoint} (and --max-electrons to raise the limit)")
+
+
 def _rows(summary: dict) -> list[tuple[str, str]]:
     def pm(value, error, fmt=".5g"):
         return f"{value:{fmt}} ± {error:.2g}" if error == error else f"{value:{fmt}}"
@@ -170,17 +224,31 @@ def _plots(run, out: Path, deliveries: Deliveries) -> None:
 
 
 def track(
-    config: Annotated[Path | None, typer.Option("--config", help="The device file (TOML): \\[gas], \\[geometry], \\[source] and \\[ions] tables; options on the command line win.")] = None,
-    electrons: Annotated[int | None, typer.Option(help="Primary electrons (1 to 1e7).  \\[default: 100, or the file's]")] = None,
-    voltage: Annotated[float | None, typer.Option(help="Voltage of the anode (plates) or the wire (coaxial), V.")] = None,
-    method: Annotated[str | None, typer.Option(help="Collisions by null-collision or path-length.  \\[default: null-collision]")] = None,
+    config: Annotated[Path | None, typer.Option(
+        "--config", help="The device file (TOML): \\[gas], \\[geometry], \\[source] and \\[ions] tables; options "
+                         "on the command line win.")] = None,
+    electrons: Annotated[int | None, typer.Option(
+        help="Primary electrons (1 to 1e7).  \\[default: 100, or the file's]")] = None,
+    voltage: Annotated[float | None, typer.Option(
+        help="Voltage of the anode (plates) or the wire (coaxial), V.")] = None,
+    method: Annotated[str | None, typer.Option(
+        help="Collisions by null-collision or path-length.  \\[default: null-collision]")] = None,
     seed: Annotated[int | None, typer.Option(help="Random seed (>= 0).  \\[default: 2026]")] = None,
-    max_electrons: Annotated[int | None, typer.Option(help="Electrons the run may follow, primaries and secondaries (1 to 1e12; about 130 B each): a bigger avalanche is refused after a pilot of 8 primaries or stopped.  \\[default: 1e7]")] = None,
-    threads: Annotated[int | None, typer.Option(help="Worker threads (results do not depend on them).  \\[default: all cores]")] = None,
-    out: Annotated[Path | None, typer.Option(help="Folder for the plots of sample tracks and of the spectra (none if not given).")] = None,
+    max_electrons: Annotated[int | None, typer.Option(
+        help="Electrons the run may follow, primaries and secondaries (1 to 1e12; about 130 B each): a bigger "
+             "avalanche is refused after a pilot of 8 primaries (runs of 800 primaries or more; exit 2) or stopped "
+             "when reached (exit 1).  \\[default: 1e7]")] = None,
+    threads: Annotated[int | None, typer.Option(
+        help="Worker threads (results do not depend on them).  \\[default: all cores]")] = None,
+    out: Annotated[Path | None, typer.Option(
+        help="Folder for the plots of sample tracks and of the spectra (none if not given).")] = None,
     summary: Annotated[Path | None, typer.Option("--summary", help="Write the results as JSON to this file.")] = None,
-    checkpoint: Annotated[Path | None, typer.Option(help="Save the run after every twentieth of the primaries to this file (atomically).")] = None,
-    resume: Annotated[Path | None, typer.Option(help="Continue the run saved in this checkpoint (only --summary, --out, --checkpoint, --threads may change).")] = None,
+    checkpoint: Annotated[Path | None, typer.Option(
+        help="Save the run after every twentieth of the primaries to this checkpoint (atomically): a .npz file (a "
+             "numpy zip archive), for --resume.")] = None,
+    resume: Annotated[Path | None, typer.Option(
+        help="Continue the run saved in this checkpoint (only --summary, --out, --checkpoint, --threads may "
+             "change).")] = None,
     overwrite: OverwriteOption = None,
 ):
     """Electrons and their avalanches through a device: gain, drift time, spectra, profiles, induced current."""
@@ -189,19 +257,24 @@ def track(
                  summary=summary, checkpoint=checkpoint, overwrite=overwrite)
     given = {key: value for key, value in given.items() if value is not None}
     validate_options(TrackOptions, MINIMAL_DEVICE | given)  # the command line's own values first, whatever the file
+    refuse_checkpoint_suffix(given.get("checkpoint"))
     if resume is None:
         if config is None:
             raise fail("--config FILE is required: the device (TOML with [gas], [geometry] and [source])")
-        options = validate_options(TrackOptions, device_options(config) | given)
+        options = validate_options(DeviceFileOptions, device_options(config) | given)
+        refuse_checkpoint_suffix(options.checkpoint)
         run = _new_run(options)
     else:
         if config is not None:
             given = device_options(config) | given
+        refuse_checkpoint_suffix(given.get("checkpoint"))  # (a resumed run goes on writing --resume's own file)
         run, options = _resumed_run(resume, given)
     if options.out is not None:
         require("matplotlib", "plot", "plots (--out)")
     note(f"seed {options.seed} (--seed {options.seed} repeats this run)")
     warm_up(["track"])
+    from ..transport.tracking.run import ElectronLimitError
+
     try:
         with progress_bar("track", total=100) as advance:
             report = fraction_reporter(advance, 100)
@@ -210,14 +283,14 @@ def track(
     except FileLockedError as locked:
         raise fail(f"{locked}: another collisionkit run is writing it; wait for it or name another --checkpoint") \
             from None
-    except ValueError as refused:
-        saved = (f" ({run.done} of {options.electrons} primaries are saved in {options.checkpoint}: --resume it)"
-                 if options.checkpoint is not None and run.done else "")
-        raise fail(f"{refused}{saved}") from None
+    except ElectronLimitError as stopped:  # after some of the work: a run failure, not bad input
+        raise run_failed(f"the run stopped: {stopped}; {_where(run, options)}") from None
+    except ValueError as refused:  # a refusal before the work (the pilot's projection); after some, a failure
+        if run.done:
+            raise run_failed(f"the run stopped: {refused}; {_where(run, options)}") from None
+        raise fail(str(refused)) from None
     except (KeyboardInterrupt, OSError) as stop:
-        where = (f"{run.done} of {options.electrons} primaries are saved in {options.checkpoint}; continue with "
-                 f"--resume {options.checkpoint}" if options.checkpoint is not None else
-                 "no --checkpoint was given, so nothing is saved")
+        where = _where(run, options)
         if isinstance(stop, OSError):
             raise run_failed(f"the run stopped: {stop}; {where}") from None
         warn(f"interrupted: {where}")

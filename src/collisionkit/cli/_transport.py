@@ -13,12 +13,38 @@ from pydantic import Field, field_validator, model_validator
 from .._io import FileLockedError
 from ._common import (
     INTERRUPTED_EXIT_CODE, Deliveries, Options, OverwriteOption, fail, fraction_reporter, load_options, note,
-    option_values, print_table, progress_bar, refuse_folder, require, run_failed, say, validate_options, warn, write_summary,
+    option_values, print_table, progress_bar, refuse_folder, require, run_failed, say, validate_options, warn,
+    write_summary,
 )
 from ._memory import refuse_beyond_memory, swarm_memory
 from ._warmup import warm_up
 
 ModelName = Literal["maxwell", "hard_sphere", "reid", "lucas_saelee"]
+# the library's ranges (collisionkit.transport._validation), here so that the options are checked without importing
+# the library (it is imported when a command runs); tests/cli/test_transport_cli.py checks that they agree
+MAX_REDUCED_FIELD = 1e6  # Td
+MAX_REDUCED_MAGNETIC_FIELD = 1e6  # Hx
+MAX_GAS_TEMPERATURE = 1e5  # K
+REDUCED_FREQUENCY_RANGE = (1e-20, 1e-8)  # rad m^3/s, or 0
+CHECKPOINT_SUFFIX = ".npz"  # what a checkpoint is: a numpy zip archive (collisionkit._io.write_checkpoint)
+
+
+def refuse_checkpoint_suffix(path: Path | None, option: str = "--checkpoint") -> None:
+    """Exit 2, before any work, if ``path`` does not end in .npz: a checkpoint is a numpy zip archive.
+
+    Examples
+    --------
+    >>> refuse_checkpoint_suffix(Path("scan.npz")), refuse_checkpoint_suffix(None)
+    (None, None)
+    >>> try:
+    ...     refuse_checkpoint_suffix(Path("scan.json"))
+    ... except Exception as stop:
+    ...     print(type(stop).__name__, stop.exit_code)
+    Exit 2
+    """
+    if path is not None and Path(path).suffix.lower() != CHECKPOINT_SUFFIX:
+        raise fail(f"{option} must end in {CHECKPOINT_SUFFIX} (a checkpoint is a numpy zip archive, not JSON); "
+                   f"got {str(path)!r}")
 
 
 class SwarmOptions(Options):
@@ -38,14 +64,14 @@ class SwarmOptions(Options):
     database: str | None = None
     flags: ClassVar[dict[str, str]] = {"e_n": "--E-N", "b_n": "--B-N", "omega_n": "--omega-N"}
     e_n: list[float] = Field(default=[12.0], min_length=1)
-    b_n: float = Field(default=0.0, ge=0, allow_inf_nan=False)
+    b_n: float = Field(default=0.0, ge=0, le=MAX_REDUCED_MAGNETIC_FIELD, allow_inf_nan=False)
     angle: float = Field(default=90.0, ge=0, le=180, allow_inf_nan=False)
     omega_n: float = Field(default=0.0, ge=0, allow_inf_nan=False)
     waveform: list[tuple[float, float]] | None = None
-    gas_temperature: float = Field(default=300.0, ge=0, allow_inf_nan=False)
+    gas_temperature: float = Field(default=300.0, ge=0, le=MAX_GAS_TEMPERATURE, allow_inf_nan=False)
     particles: int = Field(default=20_000, ge=128, le=10_000_000)
     seed: int = Field(default=2026, ge=0)
-    tolerance: float = Field(default=2e-3, gt=0, le=0.5)
+    tolerance: float = Field(default=2e-3, gt=0, le=0.5, allow_inf_nan=False)
     collision_budget: float = Field(default=5e8, ge=1e4, allow_inf_nan=False)
     sharing: Literal["equal", "uniform"] = "equal"
     scattering: str | dict[str, str] | None = None  # checked by SwarmParameters, whose message names the laws
@@ -58,20 +84,57 @@ class SwarmOptions(Options):
     output_folders: ClassVar[tuple[str, ...]] = ("out",)
     input_files: ClassVar[tuple[str, ...]] = ("cross_sections",)
 
+    @model_validator(mode="before")
+    @classmethod
+    def _numbers_by_their_flags(cls, values: Any) -> Any:
+        """A string or a bool for E/N, B/N or omega/N (``E-N = "abc"`` in a TOML file) is refused naming the key as
+        the command line spells it (E-N), before the shared check would name it e-n."""
+        if not isinstance(values, dict):
+            return values
+        for key, value in values.items():
+            name = str(key).replace("-", "_").lower()
+            entries = value if isinstance(value, list) else [value]
+            if name in cls.flags and any(isinstance(entry, (bool, str)) for entry in entries):
+                plural = " or a list of numbers" if name == "e_n" else ""
+                raise ValueError(f"{cls.flags[name].lstrip('-')} must be a number{plural}, not {value!r}")
+        return values
+
+    @model_validator(mode="before")
+    @classmethod
+    def _samples_or_file(cls, values: Any) -> Any:
+        """``--waveform FILE`` (and ``waveform = "FILE"`` in a TOML file): two columns, the phase fraction and E/E0,
+        read into the samples; a TOML list of pairs is taken as it is. A file that cannot be read is one message
+        naming --waveform and the file (a model-level error: no echo of the path object)."""
+        if not isinstance(values, dict) or not isinstance(values.get("waveform"), (str, Path)):
+            return values
+        from ..transport import read_waveform
+
+        try:
+            return dict(values) | {"waveform": read_waveform(Path(values["waveform"]))}
+        except ValueError as error:
+            raise ValueError(f"--waveform: {error}") from None
+
     @field_validator("cross_sections", mode="before")
     @classmethod
     def _one_file_is_a_list(cls, value: Any) -> Any:
         """``cross-sections = "ar.txt"`` in a TOML file (and a saved checkpoint's single path) is a list of one."""
         return [value] if isinstance(value, (str, Path)) else value
-    @field_validator("waveform", mode="before")
-    @classmethod
-    def _samples_or_file(cls, value: Any) -> Any:
-        """``--waveform FILE`` (and ``waveform = "FILE"`` in a TOML file): two columns, the phase fraction and E/E0,
-        read into the samples; a TOML list of pairs is taken as it is."""
-        if isinstance(value, (str, Path)):
-            from ..transport import read_waveform
 
-            return read_waveform(Path(value))
+    @field_validator("e_n")
+    @classmethod
+    def _fields_in_range(cls, values: list[float]) -> list[float]:
+        """Every E/N finite and in [0, MAX_REDUCED_FIELD] Td (the library's range, named here as --E-N)."""
+        if not all(0.0 <= value <= MAX_REDUCED_FIELD for value in values):  # NaN fails too
+            raise ValueError(f"every E/N must be a finite number from 0 to {MAX_REDUCED_FIELD:g} Td")
+        return values
+
+    @field_validator("omega_n")
+    @classmethod
+    def _frequency_in_range(cls, value: float) -> float:
+        """omega/N 0 (static) or in REDUCED_FREQUENCY_RANGE (the library's range, named here as --omega-N)."""
+        low, high = REDUCED_FREQUENCY_RANGE
+        if value != 0.0 and not low <= value <= high:
+            raise ValueError(f"must be 0 (a static field) or from {low:g} to {high:g} rad m^3/s")
         return value
 
     @field_validator("scattering", mode="before")
@@ -85,7 +148,15 @@ class SwarmOptions(Options):
 
     @model_validator(mode="after")
     def _physics(self):
-        """The library's rules (one gas, E/N >= 0, a warm gas at E/N = 0 ...), so a sweep checks every point."""
+        """The library's rules (one gas, E/N >= 0, a warm gas at E/N = 0 ...), so a sweep checks every point; the
+        waveform's first, named as --waveform (its samples are not echoed)."""
+        if self.waveform is not None:
+            from ..transport.swarm import check_waveform_peak
+
+            try:
+                check_waveform_peak(self.waveform, max(self.e_n))
+            except ValueError as error:
+                raise ValueError(f"--waveform: {error}") from None
         self.parameters()
         return self
 
@@ -99,7 +170,8 @@ class SwarmOptions(Options):
         """
         from ..transport.scan import SwarmParameters
 
-        return SwarmParameters(reduced_field=self.e_n, model=self.model, gas=self.gas, cross_sections=self.cross_sections,
+        return SwarmParameters(reduced_field=self.e_n, model=self.model, gas=self.gas,
+                               cross_sections=self.cross_sections,
                                species=self.species, fractions=self.fractions, database=self.database,
                                reduced_magnetic_field=self.b_n, field_angle=self.angle,
                                reduced_frequency=self.omega_n, waveform=self.waveform,
@@ -213,15 +285,38 @@ def _with_error(value, error, digits=4):
 
 
 def _swarm_row(result, magnetic: bool = False):
-    """A row of the main table; with B, N D_T (the mean of two different directions across E) gives way to the
+    """A row of the transport table; with B, N D_T (the mean of two different directions across E) gives way to the
     tensor of the components table."""
     transverse = ("see below" if magnetic else
                   f"{result.diffusion_T_N:.4g} ± {result.diffusion_T_N_error:.2g}")
     return (f"{result.reduced_field:g}", f"{result.mean_energy:.5g} ± {result.mean_energy_error:.2g}",
             f"{-result.drift_velocity_bulk[2]:.5g} ± {result.drift_velocity_bulk_error[2]:.2g}",
-            f"{result.diffusion_L_N:.4g} ± {result.diffusion_L_N_error:.2g}", transverse,
-            _with_error(result.alpha_N, result.alpha_N_error), _with_error(result.eta_N, result.eta_N_error),
-            f"{result.collisions_per_second:.3g}")
+            f"{result.diffusion_L_N:.4g} ± {result.diffusion_L_N_error:.2g}", transverse)
+
+
+def _rate_row(result):
+    """A row of the Townsend table: alpha/N, eta/N and the run's speed."""
+    return (f"{result.reduced_field:g}", _with_error(result.alpha_N, result.alpha_N_error),
+            _with_error(result.eta_N, result.eta_N_error), f"{result.collisions_per_second:.3g}")
+
+
+def print_swarm_tables(results, magnetic: bool, oscillating: bool, angle: float) -> None:
+    """The results as tables that fit 80 columns (a terminal's default, and a file's): transport coefficients, then
+    Townsend coefficients and speed, then (with B or an oscillating field) the components.
+
+    Each cell holds words of at most about ten characters ("5.821e+23", "±"), so a narrow console wraps a cell
+    at its spaces instead of cutting a number; eight columns in one table did not fit (a number or a header
+    ended in "…").
+    """
+    print_table("swarm transport (W along -z for electrons)",
+                ("E/N (Td)", "mean energy (eV)", "bulk W (m/s)", "N D_L (1/m/s)", "N D_T (1/m/s)"),
+                [_swarm_row(r, magnetic) for r in results])
+    print_table("steady-state Townsend coefficients (SST) and the run's speed",
+                ("E/N (Td)", "alpha/N (m^2)", "eta/N (m^2)", "collisions/s"), [_rate_row(r) for r in results])
+    if magnetic or oscillating:
+        what = "cycle averages, " if oscillating else ""
+        print_table(f"drift and diffusion components ({what}E along z, B at {angle:g} deg in y-z)",
+                    ("E/N (Td)", "quantity", "x / xx / yz", "y / yy / xy", "z / zz / xz"), _field_rows(results))
 
 
 def _field_rows(results):
@@ -276,42 +371,76 @@ def _swarm_plots(results, out: Path, deliveries: Deliveries, reid_benchmark: boo
 
 def swarm(
     model: Annotated[str | None, typer.Option(help="Model gas: maxwell, hard_sphere, reid, lucas_saelee.")] = None,
-    gas: Annotated[str | None, typer.Option(help="Real gas by name (collisionkit gases lists them), or a mixture by mole fraction: 'Ar:0.9,N2:0.1'.")] = None,
-    cross_sections: Annotated[list[Path] | None, typer.Option("--cross-sections", help="LXCat cross-section file (repeat to join files).")] = None,
+    gas: Annotated[str | None, typer.Option(
+        help="Real gas by name (collisionkit gases lists them), or a mixture by mole fraction: "
+             "'Ar:0.9,N2:0.1'.")] = None,
+    cross_sections: Annotated[list[Path] | None, typer.Option(
+        "--cross-sections", help="LXCat cross-section file (repeat to join files).")] = None,
     species: Annotated[list[str] | None, typer.Option(help="Species of the LXCat files to use (repeat).")] = None,
     fractions: Annotated[list[float] | None, typer.Option(help="Their number fractions (repeat).")] = None,
-    database: Annotated[str | None, typer.Option(help="Database to take a species from when the LXCat files hold it from several (e.g. Biagi).")] = None,
-    e_n: Annotated[list[str] | None, typer.Option("--E-N", help="E/N in Td; repeat or comma list for a sweep.  \\[default: 12]")] = None,
-    b_n: Annotated[float | None, typer.Option("--B-N", help="B/N in Hx (>= 0, static), in the y-z plane at --angle from E (E along z).  \\[default: 0]")] = None,
-    angle: Annotated[float | None, typer.Option("--angle", help="Degrees between E and B, 0 to 180 (B = |B| (0, sin, cos)).  \\[default: 90]")] = None,
-    omega_n: Annotated[float | None, typer.Option("--omega-N", help="omega/N in rad m^3/s: E(t) = E0 cos(omega t) with --E-N the amplitude E0/N; results by phase and cycle averages (0: static).  \\[default: 0]")] = None,
-    waveform: Annotated[Path | None, typer.Option("--waveform", help="A periodic field of any shape instead of the cosine, with --omega-N (and --B-N, --angle if wanted): a file of two columns, the fraction of the period (0 to 1) and E/E0, linear between samples (the same fraction twice: a jump).")] = None,
-    gas_temperature: Annotated[float | None, typer.Option(help="Gas temperature in K (>= 0): targets' Maxwellian and Boltzmann populations of reversible excitations (superelastic collisions); 0 for the model-gas benchmarks.  \\[default: 300]")] = None,
+    database: Annotated[str | None, typer.Option(
+        help="Database to take a species from when the LXCat files hold it from several (e.g. Biagi).")] = None,
+    e_n: Annotated[list[str] | None, typer.Option(
+        "--E-N", help="E/N in Td, 0 to 1e6; repeat or comma list for a sweep.  \\[default: 12]")] = None,
+    b_n: Annotated[float | None, typer.Option(
+        "--B-N", help="B/N in Hx (0 to 1e6, static), in the y-z plane at --angle from E (E along z).  "
+                      "\\[default: 0]")] = None,
+    angle: Annotated[float | None, typer.Option(
+        "--angle", help="Degrees between E and B, 0 to 180 (B = |B| (0, sin, cos)).  \\[default: 90]")] = None,
+    omega_n: Annotated[float | None, typer.Option(
+        "--omega-N", help="omega/N in rad m^3/s, 0 (static) or 1e-20 to 1e-8: E(t) = E0 cos(omega t) with --E-N the "
+                          "amplitude E0/N; results by phase and cycle averages.  \\[default: 0]")] = None,
+    waveform: Annotated[Path | None, typer.Option(
+        "--waveform", help="A periodic field of any shape instead of the cosine, with --omega-N (and --B-N, --angle if "
+                           "wanted): a file of two columns, the fraction of the period (0 to 1) and E/E0 "
+                           "(within +-1e6; the peak E/N, --E-N times the largest |E/E0|, at most 1e6 Td), "
+                           "linear between samples (the same fraction twice: a jump).")] = None,
+    gas_temperature: Annotated[float | None, typer.Option(
+        help="Gas temperature in K (0 to 1e5): targets' Maxwellian and Boltzmann populations of reversible excitations "
+             "(superelastic collisions); 0 for the model-gas benchmarks.  \\[default: 300]")] = None,
     particles: Annotated[int | None, typer.Option(help="Simulated particles (128 to 1e7).  \\[default: 20000]")] = None,
     seed: Annotated[int | None, typer.Option(help="Random seed (>= 0).  \\[default: 2026]")] = None,
-    tolerance: Annotated[float | None, typer.Option(help="Target relative error of mean energy and drift (of mean energy alone at E/N = 0 and with --omega-N).  \\[default: 0.002]")] = None,
-    collision_budget: Annotated[float | None, typer.Option(help="Stop after this many real collisions per E/N.  \\[default: 5e8]")] = None,
-    sharing: Annotated[str | None, typer.Option(help="Ionization energy sharing: equal or uniform.  \\[default: equal]")] = None,
-    scattering: Annotated[str | None, typer.Option(help="Angular scattering law of every process: isotropic, okhrimovskyy, vahedi-surendra or forward (elastic tables are momentum transfer, converted; per process kind: a [scattering] table in --config).  \\[default: isotropic]")] = None,
-    out: Annotated[Path | None, typer.Option(help="Folder for plots and swarm.csv, a row per E/N (none if not given).")] = None,
+    tolerance: Annotated[float | None, typer.Option(
+        help="Target relative error of mean energy and drift (of mean energy alone at E/N = 0 and with --omega-N), in "
+             "(0, 0.5].  \\[default: 0.002]")] = None,
+    collision_budget: Annotated[float | None, typer.Option(
+        help="Stop after this many real collisions per E/N (>= 1e4).  \\[default: 5e8]")] = None,
+    sharing: Annotated[str | None, typer.Option(
+        help="Ionization energy sharing: equal or uniform.  \\[default: equal]")] = None,
+    scattering: Annotated[str | None, typer.Option(
+        help="Angular scattering law of every process: isotropic, okhrimovskyy, vahedi-surendra or forward (elastic "
+             "tables are momentum transfer, converted; per process kind: a [scattering] table in --config).  "
+             "\\[default: isotropic]")] = None,
+    out: Annotated[Path | None, typer.Option(
+        help="Folder for plots and swarm.csv, a row per E/N (none if not given).")] = None,
     summary: Annotated[Path | None, typer.Option("--summary", help="Write the results as JSON to this file.")] = None,
-    checkpoint: Annotated[Path | None, typer.Option(help="Write the finished E/N points to this JSON file after each one (atomically).")] = None,
-    resume: Annotated[Path | None, typer.Option(help="Continue the sweep saved in this checkpoint, with its options (only --summary, --out, --checkpoint may change); skips its finished points; checkpoints go on to it unless --checkpoint is given.")] = None,
-    config: Annotated[Path | None, typer.Option("--config", help="TOML file with these options (command line wins).")] = None,
+    checkpoint: Annotated[Path | None, typer.Option(
+        help="Write the finished E/N points to this checkpoint after each one (atomically): a .npz file (a numpy zip "
+             "archive) for --resume.")] = None,
+    resume: Annotated[Path | None, typer.Option(
+        help="Continue the sweep saved in this checkpoint, with its options (only --summary, --out, --checkpoint may "
+             "change); skips its finished points; checkpoints go on to it unless --checkpoint is given.")] = None,
+    config: Annotated[Path | None, typer.Option(
+        "--config", help="TOML file with these options (command line wins).")] = None,
     overwrite: OverwriteOption = None,
 ):
-    """Electron swarm transport coefficients (mean energy, drift, diffusion, rates, SST Townsend alpha/N and eta/N) against E/N."""
+    """Electron swarm transport coefficients (mean energy, drift, diffusion, rates, SST Townsend alpha/N and eta/N)
+    against E/N."""
     given = dict(model=model, gas=gas, cross_sections=cross_sections, species=species, fractions=fractions,
                  database=database, e_n=_e_n_values(e_n),
-                 b_n=b_n, angle=angle, omega_n=omega_n, waveform=waveform, gas_temperature=gas_temperature, particles=particles, seed=seed, tolerance=tolerance,
+                 b_n=b_n, angle=angle, omega_n=omega_n, waveform=waveform, gas_temperature=gas_temperature,
+                 particles=particles, seed=seed, tolerance=tolerance,
                  collision_budget=collision_budget, sharing=sharing, scattering=scattering, out=out, summary=summary,
                  checkpoint=checkpoint,
                  overwrite=overwrite)
     if resume is None:
         options = load_options(SwarmOptions, config, given)
+        refuse_checkpoint_suffix(options.checkpoint)
         scan = _new_scan(options)
     else:
-        scan, options = _resumed_scan(resume, option_values(SwarmOptions, config, given))
+        values = option_values(SwarmOptions, config, given)
+        refuse_checkpoint_suffix(values.get("checkpoint"))  # (a resumed scan goes on writing --resume's own file)
+        scan, options = _resumed_scan(resume, values)
     _before_the_work(scan, options)
     results = scan.results
     try:
@@ -334,15 +463,7 @@ def swarm(
             raise run_failed(f"the scan stopped: {stop}; {where}") from None
         warn(f"interrupted: {where}")
         raise typer.Exit(INTERRUPTED_EXIT_CODE) from None
-    print_table("swarm transport (W along -z for electrons)",
-                ("E/N (Td)", "mean energy (eV)", "bulk W (m/s)", "N D_L (1/m/s)", "N D_T (1/m/s)",
-                 "alpha/N (m^2)", "eta/N (m^2)", "collisions/s"),
-                [_swarm_row(r, options.b_n != 0.0) for r in results])
-    if options.b_n != 0.0 or options.omega_n > 0.0:
-        what = "cycle averages, " if options.omega_n > 0.0 else ""
-        print_table(f"drift and bulk diffusion components ({what}E along z, B in the y-z plane at "
-                    f"{options.angle:g} deg)",
-                    ("E/N (Td)", "quantity", "x / xx / yz", "y / yy / xy", "z / zz / xz"), _field_rows(results))
+    print_swarm_tables(results, options.b_n != 0.0, options.omega_n > 0.0, options.angle)
     unconverged = [f"{r.reduced_field:g}" for r in results if not r.converged]
     if unconverged:
         message = (f"E/N = {', '.join(unconverged)} Td stopped at the collision budget "
@@ -405,15 +526,19 @@ class SlabOptions(Options):
 
 
 def slab(
-    thickness: Annotated[float | None, typer.Option(help="Slab thickness in mean free paths (>= 0).  \\[default: 1]")] = None,
+    thickness: Annotated[float | None, typer.Option(
+        help="Slab thickness in mean free paths (0 to 1e4).  \\[default: 1]")] = None,
     albedo: Annotated[float | None, typer.Option(help="Single-scattering albedo in [0, 1].  \\[default: 1]")] = None,
     incidence: Annotated[str | None, typer.Option(help="normal or isotropic.  \\[default: normal]")] = None,
-    model: Annotated[str | None, typer.Option(help="isotropic (3D) or rod (1D: normal incidence, no mass ratio).  \\[default: isotropic]")] = None,
-    mass_ratio: Annotated[float | None, typer.Option(help="Target/particle mass (>= 1; inf: no energy loss).  \\[default: inf]")] = None,
-    particles: Annotated[int | None, typer.Option(help="Histories (>= 64).  \\[default: 100000]")] = None,
+    model: Annotated[str | None, typer.Option(
+        help="isotropic (3D) or rod (1D: normal incidence, no mass ratio).  \\[default: isotropic]")] = None,
+    mass_ratio: Annotated[float | None, typer.Option(
+        help="Target/particle mass (>= 1; inf: no energy loss).  \\[default: inf]")] = None,
+    particles: Annotated[int | None, typer.Option(help="Histories (64 to 1e9).  \\[default: 100000]")] = None,
     seed: Annotated[int | None, typer.Option(help="Random seed (>= 0).  \\[default: 2026]")] = None,
     summary: Annotated[Path | None, typer.Option("--summary", help="Write the results as JSON to this file.")] = None,
-    config: Annotated[Path | None, typer.Option("--config", help="TOML file with these options (command line wins).")] = None,
+    config: Annotated[Path | None, typer.Option(
+        "--config", help="TOML file with these options (command line wins).")] = None,
     overwrite: OverwriteOption = None,
 ):
     """Transmission and reflection of a beam by a scattering slab (Krasov, sec. 5.5)."""

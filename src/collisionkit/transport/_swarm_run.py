@@ -119,15 +119,26 @@ class Stepper:
                 raise RuntimeError(self._runaway_message(speed, t1 - t0))
 
     def _runaway_message(self, speed, duration):
-        """Why a step could not end: a particle took ``TRIAL_BUDGET`` trials and reached ``speed`` (m/s)."""
+        """Why a step could not end: a particle took ``TRIAL_BUDGET`` trials and reached ``speed`` (m/s).
+
+        Above the top of the tables the field (or a tiny cross section) drove it past the energies they cover;
+        below it, with a step far longer than its collisions take, either the step (an oscillating field's
+        sampling, a fraction of its period) or a cross section that vanishes where it is (a gap in the tables).
+        """
         energy = 0.5 * self.mass * speed**2 / EV
         top = float(self.tables.nodes[-1]) / EV
-        return (f"the swarm cannot be advanced: a particle took {self.trial_budget} trial collisions in a step of "
+        head = (f"the swarm cannot be advanced: a particle took {self.trial_budget} trial collisions in a step of "
                 f"{duration:.3g} s (planned for about collisions_per_sample real ones) and reached {energy:.3g} eV "
-                f"({energy / top:.3g} times the "
-                f"top of the cross-section tables, {top:.3g} eV): it collides far less often than the gas's tables "
-                "promise at the start and runs away in the field; are the cross sections zero or tiny over these "
-                "energies (an all-zero block such as ELASTIC, or a units slip such as cm^2 for m^2)?")
+                f"({energy / top:.3g} times the top of the cross-section tables, {top:.3g} eV)")
+        if energy > top:
+            return (f"{head}: it ran away in the field. Either the field (E/N, or B/N, omega/N, a waveform's peak) "
+                    "drives electrons beyond the energies the cross sections cover: lower it, or use cross sections "
+                    "that extend to higher energies; or the cross sections are zero or tiny over these energies (an "
+                    "all-zero block such as ELASTIC, or a units slip such as cm^2 for m^2)")
+        return (f"{head}: it needs far more collisions in a step than planned. Either the step is too long for the "
+                "gas (in an oscillating field a sample lasts at least a fraction of the period: raise omega/N), or "
+                "the cross sections are zero or tiny over some energies (an all-zero block such as ELASTIC, or a "
+                "units slip such as cm^2 for m^2)")
 
     def step(self, swarm: Swarm, t0, t1, groups, control=None):
         """Advance from t0 to t1; return (swarm with children appended, per-group tallies).
@@ -252,9 +263,10 @@ class SwarmRun:
         if swarm.size == 0 or not swarm.alive.any():
             raise RuntimeError("every particle was attached: no swarm left (lower attachment or raise E/N)")
         if not np.isfinite(swarm.vel[swarm.alive]).all():
-            raise RuntimeError("particles escaped to unbounded energy (their velocities overflowed): the cross "
-                               "sections are zero or tiny over the energies reached (an all-zero block, or a units "
-                               "slip such as cm^2 for m^2?)")
+            raise RuntimeError("particles escaped to unbounded energy (their velocities overflowed): the field "
+                               "(E/N, B/N, omega/N, a waveform's peak) drives them beyond the energies the cross "
+                               "sections cover, or the cross sections are zero or tiny over the energies reached "
+                               "(an all-zero block, or a units slip such as cm^2 for m^2?)")
         self.swarm = swarm
         moments = np.zeros((self.groups, MOMENT_COLUMNS))
         _k.group_moments(swarm.pos, swarm.vel, swarm.alive, swarm.group, self.groups, self.stepper.mass, moments)

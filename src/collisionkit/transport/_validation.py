@@ -11,6 +11,15 @@ from .. import _arrays
 from ._tables import SHARING_CODES
 from .gases import Gas
 
+# Allowed ranges of a swarm's field and gas: generous, finite ends that no swarm study comes near, so an absurd
+# value (a units slip, an exponent typo) is refused before any work instead of running into overflow or a runaway
+# (the sources of the margins: :func:`validate_swarm_setup`, :func:`check_reduced_frequency`)
+MAX_REDUCED_FIELD = 1e6  # Td
+MAX_REDUCED_MAGNETIC_FIELD = 1e6  # Hx
+MAX_GAS_TEMPERATURE = 1e5  # K
+REDUCED_FREQUENCY_RANGE = (1e-20, 1e-8)  # rad m^3/s, or 0 for a static field
+
+
 
 def real_in_range(value, name, low=-math.inf, high=math.inf, *, inclusive=(False, False), length=None):
     """``value`` as a float (a vector if ``length`` is given) in the range from ``low`` to ``high``.
@@ -40,13 +49,25 @@ def integer_in_range(value, name, low, high=None):
 def validate_swarm_setup(gas, reduced_field, reduced_magnetic_field, gas_temperature, seed, mass, charge,
                          initial_energy):
     """Check the arguments shared by :func:`~collisionkit.transport.swarm.simulate_swarm` and
-    :func:`~collisionkit.transport.swarm.trace_trajectories`."""
+    :func:`~collisionkit.transport.swarm.trace_trajectories`.
+
+    Notes
+    -----
+    The upper ends are far beyond practice, so that only a slip is refused:
+    E/N <= 1e6 Td (:data:`MAX_REDUCED_FIELD`) is ten times the highest E/N of
+    breakdown at low pressure-gap products, about 1e5 Td (Phelps and
+    Petrovic, Plasma Sources Sci. Technol. 8, R21 (1999)); B/N <= 1e6 Hx is a
+    thousand times the highest of magnetised swarm studies, about 1e3 Hx
+    (Dujko et al., J. Phys. D 41, 245205 (2008)); a gas temperature <= 1e5 K
+    is three times the hottest thermal plasmas (arcs, about 3e4 K).
+    """
     if not isinstance(gas, Gas):
         raise TypeError("gas must be a Gas (e.g. from collisionkit.transport.gases or read_lxcat); "
                         f"got {type(gas).__name__}")
-    real_in_range(reduced_field, "reduced_field (Td)", 0.0, inclusive=(True, False))
-    real_in_range(reduced_magnetic_field, "reduced_magnetic_field (Hx)", 0.0, inclusive=(True, False))
-    real_in_range(gas_temperature, "gas_temperature (K)", 0.0, inclusive=(True, False))
+    real_in_range(reduced_field, "reduced_field (E/N, Td)", 0.0, MAX_REDUCED_FIELD, inclusive=(True, True))
+    real_in_range(reduced_magnetic_field, "reduced_magnetic_field (B/N, Hx)", 0.0, MAX_REDUCED_MAGNETIC_FIELD,
+                  inclusive=(True, True))
+    real_in_range(gas_temperature, "gas_temperature (K)", 0.0, MAX_GAS_TEMPERATURE, inclusive=(True, True))
     integer_in_range(seed, "seed", 0)
     real_in_range(mass, "mass (kg)", 0.0)
     real_in_range(charge, "charge (C)")
@@ -103,3 +124,35 @@ def reachable_tolerances(tolerances, defaults, reduced_field, charge, gravity, g
         raise ValueError(f"tolerances[{drift[0]!r}] cannot be met: the drift of a swarm without a field or gravity "
                          "is zero by symmetry (no relative error); leave it out")
     return {name: value for name, value in tolerances.items() if name not in drift}
+
+
+def check_reduced_frequency(value, name="reduced_frequency (omega/N, rad m^3/s)") -> float:
+    """omega/N as a float: 0 (a static field) or in :data:`REDUCED_FREQUENCY_RANGE`, else a ValueError naming ``name``.
+
+    The ends leave every practical field inside: 50 Hz at 1 atm is 1.3e-23
+    (far below: the swarm follows such a field quasi-statically, run it
+    static at each E/N), 13.56 MHz at 1 atm 3.5e-18, 2.45 GHz at 0.1 mTorr
+    4.8e-9. The upper end, 1e-8, is 50 times the electron cyclotron frequency
+    per molecule, omega_c/N = (e/m_e) B/N = 1.76e-16 B/N[Hx], at the largest
+    B/N allowed (1e6 Hx), and 1e4 times the collision frequency per molecule
+    of any electron (nu/N = sigma v <~ 1e-12 m^3/s), where the field no
+    longer heats the swarm (its effective value falls as nu/omega: Margenau,
+    Phys. Rev. 69, 508 (1946)). At the lower end, 1e-20, a sample interval
+    (at least a sixteenth of the period, :mod:`._periodic`) holds
+    2 pi (nu/N) / (16 omega/N) ~ 4e4 collisions a particle at nu/N = 1e-14
+    m^3/s; much below it the step's trial budget (2^20 a particle) runs out.
+
+    Examples
+    --------
+    >>> check_reduced_frequency(0), check_reduced_frequency(2e-14)
+    (0.0, 2e-14)
+    >>> check_reduced_frequency(1e-300)
+    Traceback (most recent call last):
+    ...
+    ValueError: reduced_frequency (omega/N, rad m^3/s) must be 0 (a static field) or in [1e-20, 1e-08]; got 1e-300
+    """
+    value = real_in_range(value, name, 0.0, inclusive=(True, False))
+    low, high = REDUCED_FREQUENCY_RANGE
+    if value != 0.0 and not low <= value <= high:
+        raise ValueError(f"{name} must be 0 (a static field) or in [{low:g}, {high:g}]; got {value:g}")
+    return value

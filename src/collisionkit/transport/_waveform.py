@@ -20,6 +20,9 @@ import numpy as np
 from .._kernels.transport.waveform_magnetic import shaped_field_record
 
 MAX_SAMPLES = 100_000
+# |E/E0| of a sample at most: a waveform is a shape (of order 1) scaled by the amplitude E0/N; a value a million
+# times the amplitude is a slip (and 1e300 overflowed its r.m.s.); the peak E/N is bounded as E/N itself
+MAX_RATIO = 1e6
 
 
 def waveform_knots(samples) -> tuple[np.ndarray, np.ndarray]:
@@ -27,7 +30,7 @@ def waveform_knots(samples) -> tuple[np.ndarray, np.ndarray]:
 
     ValueError (naming ``waveform`` and the rule) unless ``samples`` is a
     sequence of at least two (u, f) pairs of finite numbers, u in [0, 1]
-    non-decreasing, no u three times, not all f zero.
+    non-decreasing, no u three times, |f| <= :data:`MAX_RATIO`, not all f zero.
 
     Examples
     --------
@@ -50,6 +53,9 @@ def waveform_knots(samples) -> tuple[np.ndarray, np.ndarray]:
         raise ValueError("waveform phase fractions must be non-decreasing from 0 to 1")
     if np.any((np.diff(u)[:-1] == 0.0) & (np.diff(u)[1:] == 0.0)):
         raise ValueError("waveform phase fractions may repeat once (a jump), not three times")
+    if np.any(np.abs(f) > MAX_RATIO):
+        raise ValueError(f"waveform E/E0 values must lie in [-{MAX_RATIO:g}, {MAX_RATIO:g}] (a shape, scaled by "
+                         f"the amplitude E/N); got {f[np.abs(f) > MAX_RATIO][0]:g}")
     if not np.any(f != 0.0):
         raise ValueError("waveform E/E0 values must not all be zero")
     # the piece that wraps from the last sample to the first, one period later: its value at u = 0 (= 1)
@@ -63,6 +69,18 @@ def waveform_knots(samples) -> tuple[np.ndarray, np.ndarray]:
         knots.append(1.0)
         values.append(wrap)
     return np.array(knots), np.array(values)
+
+
+def waveform_peak(samples) -> float:
+    """The largest |f| = |E/E0| over a period (f is linear between samples: a sample holds it).
+
+    Examples
+    --------
+    >>> from collisionkit.transport._waveform import waveform_peak
+    >>> waveform_peak([(0.0, 0.5), (0.5, -2.0)])
+    2.0
+    """
+    return float(np.abs(waveform_knots(samples)[1]).max())
 
 
 def waveform_rms(samples) -> float:

@@ -26,12 +26,12 @@ import numpy as np
 
 from .._io import Checkpoint, CheckpointError, exclusive, file_digest, read_checkpoint, write_checkpoint
 from .._params import Parameters, check_choice, check_unchanged, check_integer, check_real, check_seed
-from ._waveform import waveform_knots
+from ._validation import MAX_GAS_TEMPERATURE, MAX_REDUCED_FIELD, MAX_REDUCED_MAGNETIC_FIELD, check_reduced_frequency
 from .angular import SCATTERING_LAWS
 from .catalogue import catalogue_files, catalogue_gas
 from .gases import MODEL_GASES, SCATTERING_KINDS, Gas, model_gas
 from .lxcat import read_lxcat
-from .swarm import SwarmResult, simulate_swarm
+from .swarm import SwarmResult, check_waveform_peak, simulate_swarm
 
 __all__ = ["SwarmParameters", "SwarmScan", "swarm_summary"]
 
@@ -46,7 +46,9 @@ class SwarmParameters(Parameters):
     Parameters
     ----------
     reduced_field : float or sequence of float
-        E/N values in Td (finite, >= 0), run in order (``--E-N``).
+        E/N values in Td, in [0, 1e6], run in order (``--E-N``). The ranges of
+        E/N, B/N, omega/N and the gas temperature are generous finite ends,
+        far beyond practice (:func:`~collisionkit.transport._validation.validate_swarm_setup`).
     model : str, optional
         A model gas (:data:`~collisionkit.transport.MODEL_GASES`); exactly
         one of ``model``, ``gas`` and ``cross_sections``.
@@ -62,21 +64,21 @@ class SwarmParameters(Parameters):
         The database to take a species from when the files hold it from
         several (:func:`~collisionkit.transport.read_lxcat`).
     reduced_magnetic_field : float
-        B/N in Hx (``--B-N``, >= 0), static, at ``field_angle`` from E.
+        B/N in Hx (``--B-N``), in [0, 1e6], static, at ``field_angle`` from E.
     field_angle : float
         Degrees between E and B, in [0, 180] (``--angle``, 90 by default);
         the frame has E along z and B in the y-z plane,
         ``B = |B| (0, sin psi, cos psi)``.
     reduced_frequency : float
-        omega/N in rad m^3/s (``--omega-N``, >= 0; 0 is a static field):
+        omega/N in rad m^3/s (``--omega-N``): 0, a static field, or in [1e-20, 1e-8]:
         E(t) = E0 cos(omega t) with the E/N values as the amplitude E0/N.
     waveform : sequence of (u, E/E0) pairs, optional
         A periodic field of any shape instead of the cosine (``--waveform``;
         needs ``reduced_frequency`` > 0; B as with the cosine): E(t) = E0 f(omega t / 2 pi),
-        f linear between the samples, u the fraction of the period
+        f linear between the samples, |f| <= 1e6 and the peak E/N at most 1e6 Td, u the fraction of the period
         (:func:`~collisionkit.transport.simulate_swarm`); stored as the pairs.
     gas_temperature : float
-        In K (>= 0, 300 by default); E/N = 0 needs a warm gas. Above 0 the
+        In K, in [0, 1e5] (300 by default); E/N = 0 needs a warm gas. Above 0 the
         reversible excitations have superelastic inverses
         (:mod:`~collisionkit.transport.superelastic`); the model-gas
         benchmarks assume 0.
@@ -110,7 +112,7 @@ class SwarmParameters(Parameters):
     >>> SwarmParameters(model="reid", reduced_field=-1)
     Traceback (most recent call last):
     ...
-    ValueError: reduced_field (E/N) must be >= 0; got -1
+    ValueError: reduced_field (E/N, Td) must be in [0, 1e+06]; got -1
     """
 
     reduced_field: Any = (12.0,)
@@ -159,13 +161,13 @@ class SwarmParameters(Parameters):
                 raise TypeError(f"database must be a database's name; got {self.database!r}")
         set_(self, "species", None if self.species is None else _strings("species", self.species))
         set_(self, "fractions", None if self.fractions is None else _reals("fractions", self.fractions))
-        set_(self, "reduced_magnetic_field", check_real("reduced_magnetic_field (B/N)", self.reduced_magnetic_field,
-                                                        0.0))
+        set_(self, "reduced_magnetic_field", check_real("reduced_magnetic_field (B/N, Hx)", self.reduced_magnetic_field,
+                                                        0.0, MAX_REDUCED_MAGNETIC_FIELD))
         set_(self, "field_angle", check_real("field_angle (degrees between E and B)", self.field_angle, 0.0, 180.0))
-        set_(self, "reduced_frequency", check_real("reduced_frequency (omega/N, rad m^3/s)", self.reduced_frequency,
-                                                   0.0))
-        set_(self, "waveform", _waveform(self.waveform, self.reduced_frequency))
-        set_(self, "gas_temperature", check_real("gas_temperature", self.gas_temperature, 0.0))
+        set_(self, "reduced_frequency", _reduced_frequency(self.reduced_frequency))
+        set_(self, "waveform", _waveform(self.waveform, self.reduced_frequency, max(fields)))
+        set_(self, "gas_temperature", check_real("gas_temperature (K)", self.gas_temperature, 0.0,
+                                                 MAX_GAS_TEMPERATURE))
         set_(self, "particles", check_integer("particles", self.particles, 128, 10_000_000))
         set_(self, "seed", check_seed("seed", self.seed))
         set_(self, "tolerance", check_real("tolerance", self.tolerance, 0.0, 0.5, low_open=True))
@@ -244,11 +246,17 @@ class SwarmParameters(Parameters):
         return str(self.model or self.gas)
 
 
-def _waveform(value, reduced_frequency):
-    """The samples of a waveform as a tuple of (u, E/E0) pairs, checked (None stays None)."""
+def _reduced_frequency(value) -> float:
+    """omega/N checked: 0 or in the range (a bool or a non-number is a TypeError, as for the other numbers)."""
+    check_real("reduced_frequency (omega/N, rad m^3/s)", value, 0.0)
+    return check_reduced_frequency(value)
+
+
+def _waveform(value, reduced_frequency, reduced_field):
+    """The samples of a waveform as a tuple of (u, E/E0) pairs, checked with the largest E/N (None stays None)."""
     if value is None:
         return None
-    waveform_knots(value)
+    check_waveform_peak(value, reduced_field)
     if reduced_frequency <= 0.0:
         raise ValueError("waveform needs reduced_frequency > 0 (--omega-N: the period is 2 pi / omega)")
     return tuple((float(u), float(f)) for u, f in value)
@@ -258,7 +266,7 @@ def _reduced_fields(value) -> tuple[float, ...]:
     values = value if isinstance(value, Sequence) and not isinstance(value, str) else [value]
     if not values:
         raise ValueError("reduced_field (E/N) needs at least one value in Td")
-    return tuple(check_real("reduced_field (E/N)", item, 0.0) for item in values)
+    return tuple(check_real("reduced_field (E/N, Td)", item, 0.0, MAX_REDUCED_FIELD) for item in values)
 
 
 def _paths(values) -> tuple[Path, ...]:

@@ -50,9 +50,10 @@ from ._periodic import DEFAULT_PHASES, PeriodicRun
 from ._swarm_run import STEPS_PER_CHUNK, Stepper, SwarmRun, initial_swarm
 from ._tables import SHARING_CODES, build_tables
 from ._tensors import TensorRun
-from ._waveform import half_wave_antisymmetric, shaped_record, waveform_knots, waveform_rms
+from ._waveform import half_wave_antisymmetric, shaped_record, waveform_knots, waveform_peak, waveform_rms
 from ._validation import (
-    integer_in_range, reachable_tolerances, real_in_range, validate_swarm_setup, validated_run_settings,
+    MAX_REDUCED_FIELD, check_reduced_frequency, integer_in_range, reachable_tolerances, real_in_range,
+    validate_swarm_setup, validated_run_settings,
 )
 from .gases import Gas
 from .swarm_result import SwarmResult
@@ -200,6 +201,25 @@ def _oscillating_tolerances(tolerances, defaults, gravity, symmetric=True):
     return {name: value for name, value in tolerances.items() if name not in drift}
 
 
+def check_waveform_peak(waveform, reduced_field: float) -> None:
+    """ValueError unless the waveform's samples are valid and its peak E/N, ``reduced_field`` max|E/E0|, is at most
+    :data:`~collisionkit.transport._validation.MAX_REDUCED_FIELD` (the bound of a static E/N).
+
+    Examples
+    --------
+    >>> check_waveform_peak([(0.0, 1.0), (1.0, -1.0)], 12.0)
+    >>> check_waveform_peak([(0.0, 1e5), (1.0, -1.0)], 12.0)  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    ValueError: the waveform's peak E/N (...) is 1.2e+06 Td; it must be <= 1e+06 Td
+    """
+    waveform_knots(waveform)
+    peak = waveform_peak(waveform)
+    if reduced_field * peak > MAX_REDUCED_FIELD:
+        raise ValueError(f"the waveform's peak E/N (the amplitude {reduced_field:g} Td times the largest |E/E0|, "
+                         f"{peak:g}) is {reduced_field * peak:g} Td; it must be <= {MAX_REDUCED_FIELD:g} Td")
+
+
 def simulate_swarm(
     gas: Gas,
     reduced_field: float,
@@ -234,17 +254,19 @@ def simulate_swarm(
     gas : Gas
         Target gas (see :mod:`collisionkit.transport.gases`, :mod:`~collisionkit.transport.lxcat`).
     reduced_field : float
-        E/N in Td (>= 0); E points along +z. With ``reduced_frequency`` the
-        amplitude E0/N of E(t) = E0 cos(omega t).
+        E/N in Td, in [0, 1e6]; E points along +z. With ``reduced_frequency``
+        the amplitude E0/N of E(t) = E0 cos(omega t). The ranges of E/N, B/N,
+        omega/N and the gas temperature are generous finite ends, far beyond
+        practice (:mod:`collisionkit.transport._validation`).
     reduced_magnetic_field : float
-        B/N in Hx (>= 0, static), at ``field_angle`` from E in the y-z plane.
+        B/N in Hx, in [0, 1e6], static, at ``field_angle`` from E in the y-z plane.
     field_angle : float
         Angle psi between E and B in degrees, in [0, 180] (90 by default:
         crossed fields). The frame is right-handed with E along +z and
         ``B = |B| (0, sin psi, cos psi)`` (:func:`magnetic_direction`); the
         drift velocities and diffusion tensors of the result are in it.
     reduced_frequency : float
-        omega/N in rad m^3/s (>= 0; 0, the default, is a static field):
+        omega/N in rad m^3/s: 0, the default, a static field, or in [1e-20, 1e-8]:
         E(t) = E0 cos(omega t), the result resolved in phase (``phases``
         points over the period) and averaged over the cycle. The motion
         between collisions is exact (:mod:`collisionkit._kernels.transport.oscillating`),
@@ -256,13 +278,13 @@ def simulate_swarm(
         E(t) = E0 f(omega t / 2 pi), with ``reduced_field`` E0/N and
         ``reduced_frequency`` omega/N (> 0); f is linear between the samples
         (u the fraction of the period, 0 to 1, non-decreasing, the same u
-        twice a jump; f = E/E0) and periodic
+        twice a jump; f = E/E0, |f| <= 1e6, the peak E/N at most 1e6 Td) and periodic
         (:mod:`collisionkit.transport._waveform`). The motion is exact,
         with a static B at ``field_angle`` or without
         (:mod:`collisionkit._kernels.transport.waveform_magnetic`). The
         cycle-averaged drift's default tolerance is dropped.
     gas_temperature : float
-        K (>= 0; 300 by default). The targets move with the gas's Maxwellian
+        K, in [0, 1e5] (300 by default). The targets move with the gas's Maxwellian
         and the reversible excitations' upper levels are populated by
         Boltzmann (superelastic collisions,
         :mod:`collisionkit.transport.superelastic`); 0 puts the targets at
@@ -349,7 +371,7 @@ def simulate_swarm(
     validate_swarm_setup(gas, reduced_field, reduced_magnetic_field, gas_temperature, seed, mass, charge,
                          initial_energy)
     real_in_range(field_angle, "field_angle (degrees)", 0.0, 180.0, inclusive=(True, True))
-    real_in_range(reduced_frequency, "reduced_frequency (omega/N, rad m^3/s)", 0.0, inclusive=(True, False))
+    check_reduced_frequency(reduced_frequency)
     integer_in_range(phases, "phases", 4, 256)
     gravity = validated_run_settings(particles, groups, gravity, sharing, tolerances, collision_budget, max_seconds,
                                      collisions_per_sample, min_samples, energy_bins, threads, progress,
@@ -359,7 +381,7 @@ def simulate_swarm(
     if waveform is not None:
         if reduced_frequency <= 0.0:
             raise ValueError("waveform needs reduced_frequency > 0 (omega/N, rad m^3/s: the period is 2 pi / omega)")
-        waveform_knots(waveform)
+        check_waveform_peak(waveform, reduced_field)
     oscillating = reduced_frequency > 0.0 and reduced_field > 0.0 and charge != 0.0
     if oscillating:
         symmetric = waveform is None or half_wave_antisymmetric(waveform)

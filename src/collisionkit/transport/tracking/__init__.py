@@ -15,7 +15,7 @@ followed too), and ends on an electrode or another surface of the device.
   :class:`Geometry`, :func:`parallel_plate_geometry`, :func:`coaxial_geometry`;
 * devices: :class:`Device` (gas, density, fields, geometry, readout),
   :class:`WeightingField`, :func:`gas_density`;
-* runs: :func:`track` -> :class:`TrackingResult`; :class:`IonDrift`;
+* runs: :func:`track` -> :class:`TrackingResult`; :class:`IonDrift`; :class:`ElectronLimitError`;
   :class:`TrackParameters` and :class:`TrackRun` (the ``track`` command, with
   checkpoints) and :func:`track_summary`.
 """
@@ -28,11 +28,11 @@ from .geometry import Cylinder, Geometry, Plane, Sphere, Surface, coaxial_geomet
 from .command import TrackRun, track_summary
 from .parameters import TrackParameters
 from .result import TrackingResult
-from .run import METHODS, IonDrift, track
+from .run import METHODS, ElectronLimitError, IonDrift, track
 
 __all__ = [
-    "CoaxialField", "Cylinder", "Device", "DipoleMagneticField", "Field", "FieldMap", "Geometry", "IonDrift",
-    "METHODS", "MagneticMirror", "ParallelPlateField", "Plane", "PointChargeField", "Sphere", "Surface",
+    "CoaxialField", "Cylinder", "Device", "DipoleMagneticField", "ElectronLimitError", "Field", "FieldMap",
+    "Geometry", "IonDrift", "METHODS", "MagneticMirror", "ParallelPlateField", "Plane", "PointChargeField", "Sphere", "Surface",
     "TrackParameters", "TrackRun", "TrackingResult", "UniformField", "UniformMagneticField", "UserField",
     "WeightingField", "coaxial_geometry", "gas_density", "parallel_plate_geometry", "read_field_map", "track",
     "track_summary",

@@ -88,6 +88,13 @@ class TrackRun:
 
         ``progress(fraction)`` is called with the fraction of primaries done.
 
+        Raises
+        ------
+        collisionkit.transport.tracking.ElectronLimitError
+            If the avalanches follow more electrons than ``max_electrons``
+            (counted as they go, or projected from the chunks done): the
+            chunks done are saved in the checkpoint.
+
         Examples
         --------
         >>> p = TrackParameters(model="maxwell", gap=1e-4, voltage=1.0, density=1e23, electrons=4,
@@ -110,7 +117,7 @@ class TrackRun:
                 if done and followed / done * p.electrons > p.max_electrons:
                     raise too_many_electrons(p.max_electrons, followed / done * p.electrons,
                                              f"the first {done} primaries made {followed / done:.3g} electrons each: "
-                                             f"{p.electrons} primaries would follow about")
+                                             f"{p.electrons} primaries would follow about", stopped=True)
                 part = track(self.device, primaries=count, position=p.positions()[0], energy=p.energy,
                              direction=p.direction, method=p.method, seed=p.seed, sharing=p.sharing,
                              ions=None if p.ion_mobility is None else IonDrift(p.ion_mobility),

@@ -82,7 +82,8 @@ class TrackParameters(Parameters):
         populations too).
     pressure, temperature, density : float
         The gas: pressure (Pa, > 0; default 1 atm) and temperature (K, > 0), or
-        its number density (m^-3) instead of the pressure.
+        its number density (m^-3) instead of the pressure; the temperature at
+        most 1e5 K (the swarm's gas temperature).
     electrons : int
         Primary electrons (1 to 1e7).
     position : 3 numbers, optional
@@ -232,7 +233,7 @@ class TrackParameters(Parameters):
                                    populations=self.populations)
         except ValueError as error:
             raise ValueError(str(error).replace("--cross-sections", "cross-sections").replace("--gas", "gas")
-                             .replace("--model", "model")) from None
+                             .replace("--model", "model").replace("gas_temperature", "temperature")) from None
 
     def make_gas(self) -> Gas:
         """The gas (see :meth:`collisionkit.transport.SwarmParameters.make_gas`).

@@ -32,7 +32,7 @@ from .fields import CoaxialField, ParallelPlateField, _finite, _vector
 from .result import TrackingResult
 from .tables import tracking_tables
 
-__all__ = ["METHODS", "IonDrift", "track"]
+__all__ = ["METHODS", "ElectronLimitError", "IonDrift", "track"]
 
 METHODS = {"null-collision": _c.NULL_COLLISION, "path-length": _c.PATH_LENGTH}
 EV = constants.e
@@ -45,6 +45,14 @@ SIGNAL_MARGIN = 2.0  # the signal window: this times the latest end seen in the 
 MAX_ELECTRONS = 10_000_000
 RECORD_BYTES = 8 * (_c.RECORD_COLUMNS + _c.BIRTH_COLUMNS)
 ON_SURFACE = 1e-12  # a start this close to a surface (relative to the length scale) is on it: emitted inward
+
+
+class ElectronLimitError(RuntimeError, ValueError):
+    """A run stopped, after some of its work, because its avalanches followed more electrons than ``max_electrons``.
+
+    A run failure, not bad input: the ``track`` command exits with 1 for it. It is a ValueError too, as this stop
+    was before, so code that caught that goes on working.
+    """
 
 
 @dataclass(frozen=True)
@@ -326,8 +334,9 @@ def track(device: Device, *, primaries: int = 100, position=(0.0, 0.0, 0.0), ene
         Electrons (primaries and secondaries) the run may follow, >= 1: a run
         whose avalanches would exceed it is refused after a pilot of a few
         primaries (ValueError; a pilot runs before 800 primaries or more, or
-        for the signal's window), or stopped when it gets there; each
-        electron's record takes about 130 B.
+        for the signal's window), or stopped when it gets there
+        (:class:`ElectronLimitError`, a ValueError too); each electron's
+        record takes about 130 B.
     batch_size : int, optional
         Primaries per kernel batch (default: the primaries spread over the threads).
 
@@ -451,17 +460,22 @@ def _pilot_window(plan: _Plan, primaries: int, pilot: TrackingResult) -> float:
     return SIGNAL_MARGIN * latest
 
 
-def too_many_electrons(max_electrons: int, electrons: float, what: str) -> ValueError:
-    """The error of a run that follows (or would follow) more electrons than ``max_electrons``.
+def too_many_electrons(max_electrons: int, electrons: float, what: str, stopped: bool = False) -> ValueError:
+    """The error of a run that follows (or would follow) more electrons than ``max_electrons``: a ValueError for a
+    run refused on a projection, an :class:`ElectronLimitError` for one ``stopped`` after part of its work.
 
     Examples
     --------
     >>> str(too_many_electrons(100, 250.0, "the run has followed")).split(":")[0]
     'the run has followed 250 electrons, more than max_electrons = 100 (their records take about 128 B each)'
+    >>> type(too_many_electrons(100, 250.0, "the run has followed", stopped=True)).__name__
+    'ElectronLimitError'
     """
-    return ValueError(f"{what} {electrons:.3g} electrons, more than max_electrons = {max_electrons} (their records "
-                      f"take about {RECORD_BYTES} B each): follow fewer primaries, lower the gain (voltage, pressure), "
-                      f"or raise max_electrons if the memory allows")
+    kind = ElectronLimitError if stopped else ValueError
+    return kind(f"{what} {electrons:.3g} electrons, more than max_electrons = {max_electrons} (their records take "
+                f"about {RECORD_BYTES} B each): the avalanches are larger than that allows; follow fewer primaries, "
+                "lower the gain (the voltage, or the pressure times the gap: the Townsend alpha times the gap), or "
+                "raise max_electrons if the memory allows")
 
 
 def _check_projected_size(plan: _Plan, pilot: TrackingResult, primaries: int) -> None:
@@ -479,8 +493,9 @@ def _count_followed(plan: _Plan, ended: int, lo: int, hi: int) -> None:
         plan.followed[0] += ended
         total = plan.followed[0]
     if total > plan.max_electrons:
-        raise too_many_electrons(plan.max_electrons, total, f"primaries {plan.first_primary + lo} to {plan.first_primary + hi - 1} "
-                                     f"(with the batches beside them) have followed")
+        raise too_many_electrons(plan.max_electrons, total, f"primaries {plan.first_primary + lo} to "
+                                 f"{plan.first_primary + hi - 1} (with the batches beside them) have followed",
+                                 stopped=True)
 
 
 def _integer(name, value, low, high=None):
