@@ -127,7 +127,7 @@ def test_an_unknown_config_key_comes_with_the_closest_names_and_the_valid_ones(t
          "error: invalid options: unknown option 'no-plots'; did you mean 'plots = false'? (options: layout, m1, m2, "
          "out, overwrite, plots, radius1, radius2, rp, sep0, star1, star2, summary, units, vinf)"),
         (["swarm", "--model", "reid", "--E-N=-1"], None,
-         "error: invalid options: reduced_field (E/N) must be >= 0; got -1"),
+         "error: invalid options: --E-N: every E/N must be a finite number from 0 to 1e+06 Td (got [-1.0])"),
     ],
 )
 def test_a_broken_rule_is_one_clean_sentence(tmp_path, arguments, config, sentence):

@@ -238,6 +238,10 @@ def test_an_earlier_run_s_files_in_an_out_folder_are_replaced_only_with_overwrit
     assert invoke(edmd).exit_code == 2
     assert invoke([*edmd, "--no-plots"]).exit_code == 0  # no plots: the folder is not written
     assert invoke([*edmd, "--overwrite"]).exit_code == 0
+    swarm = ["swarm", "--model", "reid", "--E-N", "12", "--particles", "1000", "--tolerance", "0.1", "--seed", "1",
+             "--out", tmp_path / "swarm"]
+    assert invoke(swarm).exit_code == 0 and (tmp_path / "swarm" / "swarm.csv").exists()
+    assert invoke(swarm).exit_code == 2 and invoke([*swarm, "--overwrite"]).exit_code == 0
 
 
 def test_a_resumed_run_does_not_erase_another_trajectory_unasked(tmp_path):

@@ -68,6 +68,10 @@ class TrackOptions(Options):
     output_folders: ClassVar[tuple[str, ...]] = ("out",)
     input_files: ClassVar[tuple[str, ...]] = ("cross_sections",)
 
+    def folder_files(self, folder: str) -> tuple[str, ...]:
+        """The plots of ``--out`` (an earlier run's are not replaced without --overwrite)."""
+        return ("tracks.png", "spectra.png")
+
     @field_validator("cross_sections", mode="before")
     @classmethod
     def _one_file_is_a_list(cls, value: Any) -> Any:

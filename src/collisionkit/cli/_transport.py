@@ -84,6 +84,10 @@ class SwarmOptions(Options):
     output_folders: ClassVar[tuple[str, ...]] = ("out",)
     input_files: ClassVar[tuple[str, ...]] = ("cross_sections",)
 
+    def folder_files(self, folder: str) -> tuple[str, ...]:
+        """The plots and the table of ``--out`` (an earlier run's are not replaced without --overwrite)."""
+        return SWARM_FILES
+
     @model_validator(mode="before")
     @classmethod
     def _numbers_by_their_flags(cls, values: Any) -> Any:
@@ -194,6 +198,9 @@ def _e_n_values(raw: list[str] | None) -> list[float] | None:
     return values
 
 
+# the files of a swarm run's --out: the EEDF, the table, the coefficients against E/N (a scan), W and <e> against the
+# phase (an oscillating field)
+SWARM_FILES = ("eedf.png", "swarm.csv", "transport_coefficients.png", "phase.png")
 SWARM_OUTPUTS = ("out", "summary", "checkpoint", "overwrite")  # what a resumed scan may change; the rest is physics
 
 
@@ -367,6 +374,8 @@ def _swarm_plots(results, out: Path, deliveries: Deliveries, reid_benchmark: boo
         deliveries.write(f"the plot {out / 'transport_coefficients.png'}", lambda: plotting.save(
             plotting.plot_transport_coefficients(results, reference=plotting.REID_PUBLISHED if reid_benchmark else ())
             .flat[0], out / "transport_coefficients.png"))
+    else:  # one E/N: no curve; an earlier scan's (replaced with --overwrite) would not be of these results
+        (out / "transport_coefficients.png").unlink(missing_ok=True)
 
 
 def swarm(
@@ -477,6 +486,8 @@ def swarm(
         _swarm_plots(results, options.out, deliveries, reid)
         if options.omega_n > 0.0:
             _phase_plots(results, options.out, deliveries)
+        else:  # an earlier run's (replaced with --overwrite), of another field
+            (options.out / "phase.png").unlink(missing_ok=True)
     for path in deliveries.files:
         say(f"wrote {path}")
     deliveries.finish(options.summary, scan.summary(deliveries.files) | {"seed": options.seed})
