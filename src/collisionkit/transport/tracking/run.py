@@ -52,6 +52,12 @@ class ElectronLimitError(RuntimeError, ValueError):
 
     A run failure, not bad input: the ``track`` command exits with 1 for it. It is a ValueError too, as this stop
     was before, so code that caught that goes on working.
+
+    Examples
+    --------
+    >>> from collisionkit.transport.tracking.run import ElectronLimitError
+    >>> issubclass(ElectronLimitError, RuntimeError) and issubclass(ElectronLimitError, ValueError)
+    True
     """
 
 
