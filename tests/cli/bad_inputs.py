@@ -160,7 +160,7 @@ BAD_INPUTS = [
     ("swarm", ["--model", "reid", "--B-N", "1e300"], "--B-N: Input should be less than or equal to 1000000"),
     ("swarm", ["--model", "reid", "--gas-temperature", "1e12"], "--gas-temperature: Input should be less than or equal to 100000"),
     ("swarm", ["--model", "reid", "--omega-N", "1e300"], "--omega-N: must be 0 (a static field) or from 1e-20 to 1e-08"),
-    ("swarm", ["--model", "reid", "--omega-N", "1e-300"], "--omega-N: must be 0 (a static field) or from 1e-20 to 1e-08"),
+    ("swarm", ["--model", "reid", "--omega-N", "1e-300"], "rad m^3/s (a slower field is quasi-static: scan its E/N"),
     ("swarm", ["--model", "reid", "--tolerance", "nan"], "--tolerance: Input should be a finite number"),
     ("swarm", ["--model", "reid", "--checkpoint", "s.json"], "--checkpoint must end in .npz"),
     ("swarm", ["--model", "reid", "--E-N", "12,abc"], "--E-N: 'abc' is not a number"),

@@ -37,6 +37,7 @@ def test_the_command_line_ranges_are_the_library_ones():
     assert _transport.MAX_REDUCED_MAGNETIC_FIELD == _validation.MAX_REDUCED_MAGNETIC_FIELD
     assert _transport.MAX_GAS_TEMPERATURE == _validation.MAX_GAS_TEMPERATURE
     assert _transport.REDUCED_FREQUENCY_RANGE == _validation.REDUCED_FREQUENCY_RANGE
+    assert _transport.QUASI_STATIC == _validation.QUASI_STATIC
 
 
 def test_a_waveform_of_huge_values_is_refused_as_waveform_with_no_raw_warning(tmp_path):

@@ -26,6 +26,7 @@ MAX_REDUCED_FIELD = 1e6  # Td
 MAX_REDUCED_MAGNETIC_FIELD = 1e6  # Hx
 MAX_GAS_TEMPERATURE = 1e5  # K
 REDUCED_FREQUENCY_RANGE = (1e-20, 1e-8)  # rad m^3/s, or 0
+QUASI_STATIC = "a slower field is quasi-static: scan its E/N values with a static field instead"
 CHECKPOINT_SUFFIX = ".npz"  # what a checkpoint is: a numpy zip archive (collisionkit._io.write_checkpoint)
 
 
@@ -138,7 +139,8 @@ class SwarmOptions(Options):
         """omega/N 0 (static) or in REDUCED_FREQUENCY_RANGE (the library's range, named here as --omega-N)."""
         low, high = REDUCED_FREQUENCY_RANGE
         if value != 0.0 and not low <= value <= high:
-            raise ValueError(f"must be 0 (a static field) or from {low:g} to {high:g} rad m^3/s")
+            slow = f" ({QUASI_STATIC})" if value < low else ""
+            raise ValueError(f"must be 0 (a static field) or from {low:g} to {high:g} rad m^3/s{slow}")
         return value
 
     @field_validator("scattering", mode="before")

@@ -18,6 +18,8 @@ MAX_REDUCED_FIELD = 1e6  # Td
 MAX_REDUCED_MAGNETIC_FIELD = 1e6  # Hx
 MAX_GAS_TEMPERATURE = 1e5  # K
 REDUCED_FREQUENCY_RANGE = (1e-20, 1e-8)  # rad m^3/s, or 0 for a static field
+# what a field slower than the range's low end is (the swarm follows it): said when one is refused
+QUASI_STATIC = "a slower field is quasi-static: scan its E/N values with a static field instead"
 
 
 
@@ -149,10 +151,12 @@ def check_reduced_frequency(value, name="reduced_frequency (omega/N, rad m^3/s)"
     >>> check_reduced_frequency(1e-300)
     Traceback (most recent call last):
     ...
-    ValueError: reduced_frequency (omega/N, rad m^3/s) must be 0 (a static field) or in [1e-20, 1e-08]; got 1e-300
+    ValueError: reduced_frequency (omega/N, rad m^3/s) must be 0 (a static field) or in [1e-20, 1e-08]; got 1e-300 \
+(a slower field is quasi-static: scan its E/N values with a static field instead)
     """
     value = real_in_range(value, name, 0.0, inclusive=(True, False))
     low, high = REDUCED_FREQUENCY_RANGE
     if value != 0.0 and not low <= value <= high:
-        raise ValueError(f"{name} must be 0 (a static field) or in [{low:g}, {high:g}]; got {value:g}")
+        slow = f" ({QUASI_STATIC})" if value < low else ""
+        raise ValueError(f"{name} must be 0 (a static field) or in [{low:g}, {high:g}]; got {value:g}{slow}")
     return value
