@@ -310,7 +310,7 @@ def test_a_resume_never_cuts_the_frames_its_checkpoint_knows_and_refuses_a_file_
 
 def test_an_open_gsd_writer_locks_its_file_against_other_processes(tmp_path):
     from collisionkit._io import FileLockedError
-    from tests.test_io import held_by_another_process
+    from tests._io.processes import held_by_another_process
 
     path = tmp_path / "run.gsd"
     writing = "from collisionkit.trajectory import GSDWriter\nwriter = GSDWriter(sys.argv[1])"

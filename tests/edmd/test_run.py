@@ -124,7 +124,7 @@ def test_a_damaged_run_checkpoint_is_one_line_naming_the_entry(tmp_path, state, 
 
 def test_a_run_whose_checkpoint_another_process_writes_is_refused_before_any_work(tmp_path, monkeypatch):
     from collisionkit._io import FileLockedError
-    from tests.test_io import HOLD, held_by_another_process
+    from tests._io.processes import HOLD, held_by_another_process
 
     path = tmp_path / "run.npz"
     run = EdmdRun(EdmdParameters(**QUICK), checkpoint=path)

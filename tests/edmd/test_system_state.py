@@ -61,7 +61,7 @@ def test_a_state_saved_as_a_run_stopped_to_grow_its_rows_restores_and_continues_
 
 
 def test_a_damaged_system_checkpoint_is_one_line_naming_the_file_and_the_array(tmp_path):
-    from tests.test_io import _flip_bytes_inside
+    from tests._io.test_checkpoints import _flip_bytes_inside
 
     path = tmp_path / "state.npz"
     fcc_system(cells=2, eta=0.3).save(path)

@@ -136,7 +136,7 @@ def test_a_swarm_checkpoint_with_entries_of_the_wrong_type_is_refused_naming_the
 
 
 def test_a_scan_whose_checkpoint_another_process_writes_is_refused_before_any_point(tmp_path, monkeypatch):
-    from tests.test_io import HOLD, held_by_another_process
+    from tests._io.processes import HOLD, held_by_another_process
 
     path = tmp_path / "scan.npz"
     monkeypatch.setattr(scan, "simulate_swarm", lambda *args, **kwargs: pytest.fail("a point ran"))
