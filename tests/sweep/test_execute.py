@@ -120,9 +120,6 @@ def test_run_study_argument_errors(tmp_path):
     with pytest.raises(ValueError, match="workers sets the size"):
         with ThreadPoolExecutor(1) as pool:
             sweep.run_study(ENCOUNTERS, tmp_path, executor=pool, workers=2)
-    with pytest.raises(ValueError, match="workers must be >= 1"):
-        with sweep.local_client(0):
-            pass
 
 
 # ------------------------------------------------------------------ a real dask cluster
@@ -169,39 +166,6 @@ def test_killed_worker_and_stopped_client_resume_to_the_serial_table(tmp_path, d
     cluster_rows = physics_columns(read_table(out / "results.csv"))
     assert cluster_rows == physics_columns(read_table(reference / "results.csv"))
     assert len(cluster_rows) == 6 and all(row["status"] == "ok" for row in cluster_rows)
-
-
-def _ignores_sigint() -> bool:
-    return signal.getsignal(signal.SIGINT) == signal.SIG_IGN
-
-
-def _worker_pids(client) -> set[int]:
-    """The pids of the client's workers, once every worker answers (empty while one is gone)."""
-    try:
-        return set(client.run(os.getpid).values())
-    except Exception:  # a worker just killed: the scheduler still lists it
-        return set()
-
-
-@pytest.fixture
-def ctrl_c_raises():
-    """Python's own SIGINT handler in this process for the test (a runner may have left SIGINT ignored)."""
-    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
-    yield
-    signal.signal(signal.SIGINT, previous)
-
-
-def test_the_embedded_cluster_s_workers_leave_ctrl_c_to_the_caller(ctrl_c_raises):
-    # a terminal's Ctrl-C reached the workers too: their KeyboardInterrupt tracebacks came after the sweep's one line
-    with deadline(120), sweep.local_client(workers=1) as client:
-        assert signal.getsignal(signal.SIGINT) is signal.default_int_handler  # the caller's own Ctrl-C works
-        assert list(client.run(_ignores_sigint).values()) == [True]
-        (first,) = _worker_pids(client)
-        os.kill(first, signal.SIGKILL)  # its nanny starts another one: it ignores SIGINT too (the preload)
-        while not _worker_pids(client) - {first}:
-            time.sleep(0.2)
-        assert list(client.run(_ignores_sigint).values()) == [True]
-    assert signal.getsignal(signal.SIGINT) is signal.default_int_handler
 
 
 def test_point_names_need_non_negative_integers():

@@ -42,9 +42,10 @@ Points run on any :class:`concurrent.futures.Executor` or on a
 (``pip install 'collisionkit[cluster]'``).
 """
 
+from .clients import local_client, remote_client
 from .commands import MAIN_RESULTS, SweepCommand, sweep_command, sweep_commands
 from .execute import (
-    OutputsNotWritten, StudyResults, check_folder, local_client, remote_client, resume_study, run_point, run_study,
+    OutputsNotWritten, StudyResults, check_folder, resume_study, run_point, run_study,
 )
 from .study import Study, expand, load_study, study_from_dict
 from .statistics import combine_replicas
