@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import os
 from concurrent.futures import ThreadPoolExecutor
 
 import pytest
@@ -46,6 +47,27 @@ def test_overwrite_starts_another_study_again_and_removes_only_the_old_one_s_fil
     saved = read_checkpoint(out / "checkpoint.npz", "sweep")
     assert saved.state["fingerprint"] == sweep.study_from_dict(SMALLER).fingerprint()
     assert run(SMALLER, tmp_path / "new", overwrite=True).skipped == 0  # a folder without a study: nothing to remove
+
+
+DEAD_WRITER = 4194305  # above Linux's largest process id: a writer that is surely gone
+
+
+def test_overwrite_removes_the_lock_and_temporary_files_killed_runs_left_and_keeps_a_live_writer_s(tmp_path):
+    # a point killed mid-write left its hidden lock and temporary files; --overwrite left them in the folder
+    out = tmp_path / "study"
+    serial_run(ENCOUNTERS, out)
+    point = out / "points" / "p0002-r01"  # not a point of the new study: its folder goes when emptied
+    left = [point / ".result.json.lock", point / f".summary.json.{DEAD_WRITER}.abcd1234.tmp",
+            point / ".checkpoint.npz.lock", out / f".results.csv.{DEAD_WRITER}.abcd1234.tmp"]
+    for path in left:
+        path.write_text(f"{DEAD_WRITER}\n")
+        os.utime(path, (0, 0))  # older than this process, as a killed run's are
+    live = out / "points" / "p0000-r00" / f".result.json.{os.getpid()}.abcd1234.tmp"  # this process: a live writer
+    live.write_text("half a result")
+    run(SMALLER, out, overwrite=True)
+    assert not [path for path in left if path.exists()] and not point.exists()
+    assert live.exists()
+    assert not list(out.rglob(".*.lock"))
 
 
 def test_an_interrupted_overwrite_keeps_none_of_the_old_results_for_a_resume(tmp_path):

@@ -24,7 +24,8 @@ from pathlib import Path
 from typing import Any
 
 from .._io import (
-    CheckpointError, FileLockedError, atomic_write_json, atomic_write_text, exclusive, read_checkpoint, write_checkpoint,
+    CheckpointError, FileLockedError, atomic_write_json, atomic_write_text, exclusive, read_checkpoint,
+    remove_stale_temporaries, write_checkpoint,
 )
 from .clients import local_client
 from .commands import POINT_CHECKPOINT, sweep_command
@@ -302,17 +303,34 @@ def _remove_study(out: Path) -> None:
 
     The study's checkpoint stays, to be replaced (atomically) by the next
     one; a file the sweep did not write (a note in a point's folder) stays,
-    and so does its folder.
+    and so does its folder. What a killed run left beside the sweep's
+    files goes too (:func:`_remove_written`).
     """
     for task in _saved_tasks(out / CHECKPOINT_FILE):
+        if not task.directory.is_dir():
+            continue
         for path in _point_files(task):
-            path.unlink(missing_ok=True)
+            _remove_written(path)
         with contextlib.suppress(OSError):
             task.directory.rmdir()
     with contextlib.suppress(OSError):
         (out / POINTS_FOLDER).rmdir()
     for name in OUTPUT_FILES:
-        (out / name).unlink(missing_ok=True)
+        _remove_written(out / name)
+
+
+def _remove_written(path: Path) -> None:
+    """Remove ``path`` with what killed writers of it left: its hidden lock file and temporary files.
+
+    Taking the file's lock refuses (:class:`~collisionkit._io.FileLockedError`)
+    while a live process writes it (a worker of an earlier client still in
+    its point); leaving the block removes the lock file, and a temporary
+    file is removed only when its writer is gone
+    (:func:`~collisionkit._io.remove_stale_temporaries`).
+    """
+    with exclusive(path):
+        path.unlink(missing_ok=True)
+        remove_stale_temporaries(path)
 
 
 class OutputsNotWritten(OSError):
