@@ -12,26 +12,30 @@ and resumes from it::
     scan = SwarmScan.resume("scan.npz")
     scan.run()
     scan.summary()["results"][1]["mean_energy"]
+
+The checks of the parameters' values are in ``_scan_values``, the reading
+of a checkpoint's saved results in ``_scan_checkpoint``.
 """
 
 from __future__ import annotations
 
 import dataclasses
 import hashlib
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any, ClassVar
 
-import numpy as np
-
-from .._io import Checkpoint, CheckpointError, exclusive, file_digest, read_checkpoint, write_checkpoint
+from .._io import CheckpointError, exclusive, file_digest, read_checkpoint, write_checkpoint
 from .._params import Parameters, check_choice, check_unchanged, check_integer, check_real, check_seed
-from ._validation import MAX_GAS_TEMPERATURE, MAX_REDUCED_FIELD, MAX_REDUCED_MAGNETIC_FIELD, check_reduced_frequency
+from ._scan_checkpoint import _saved_result
+from ._scan_values import _paths, _populations, _reals, _reduced_fields, _reduced_frequency, _scattering, _strings
+from ._scan_values import _waveform
+from ._validation import MAX_GAS_TEMPERATURE, MAX_REDUCED_MAGNETIC_FIELD
 from .angular import SCATTERING_LAWS
 from .catalogue import catalogue_files, catalogue_gas
 from .gases import MODEL_GASES, SCATTERING_KINDS, Gas, model_gas
 from .lxcat import read_lxcat
-from .swarm import SwarmResult, check_waveform_peak, simulate_swarm
+from .swarm import SwarmResult, simulate_swarm
 
 __all__ = ["SwarmParameters", "SwarmScan", "swarm_summary"]
 
@@ -246,37 +250,6 @@ class SwarmParameters(Parameters):
         return str(self.model or self.gas)
 
 
-def _reduced_frequency(value) -> float:
-    """omega/N checked: 0 or in the range (a bool or a non-number is a TypeError, as for the other numbers)."""
-    check_real("reduced_frequency (omega/N, rad m^3/s)", value, 0.0)
-    return check_reduced_frequency(value)
-
-
-def _waveform(value, reduced_frequency, reduced_field):
-    """The samples of a waveform as a tuple of (u, E/E0) pairs, checked with the largest E/N (None stays None)."""
-    if value is None:
-        return None
-    check_waveform_peak(value, reduced_field)
-    if reduced_frequency <= 0.0:
-        raise ValueError("waveform needs reduced_frequency > 0 (--omega-N: the period is 2 pi / omega)")
-    return tuple((float(u), float(f)) for u, f in value)
-
-
-def _reduced_fields(value) -> tuple[float, ...]:
-    values = value if isinstance(value, Sequence) and not isinstance(value, str) else [value]
-    if not values:
-        raise ValueError("reduced_field (E/N) needs at least one value in Td")
-    return tuple(check_real("reduced_field (E/N, Td)", item, 0.0, MAX_REDUCED_FIELD) for item in values)
-
-
-def _paths(values) -> tuple[Path, ...]:
-    """One path or several, resolved (a resumed scan finds them from any folder)."""
-    values = [values] if isinstance(values, (str, Path)) or hasattr(values, "__fspath__") else list(values)
-    if not values:
-        raise ValueError("cross_sections needs at least one LXCat file")
-    return tuple(Path(value).resolve() for value in values)
-
-
 def gas_files_digest(paths) -> str | None:
     """SHA-256 of the cross-section files (of one file: its own digest; of several: of their digests in order).
 
@@ -291,45 +264,6 @@ def gas_files_digest(paths) -> str | None:
     if len(paths) == 1:
         return file_digest(paths[0])
     return hashlib.sha256("\n".join(file_digest(path) for path in paths).encode()).hexdigest()
-def _scattering(value):
-    """The angular laws: None, one law for every kind, or ``{kind: law}`` (checked, kinds in canonical order)."""
-    if value is None:
-        return None
-    if isinstance(value, str):
-        check_choice("scattering", value, SCATTERING_LAWS)
-        return value
-    if not isinstance(value, Mapping) or not value:
-        raise TypeError(f"scattering must be a law ({', '.join(SCATTERING_LAWS)}) or a table of laws by process "
-                        f"kind ({', '.join(SCATTERING_KINDS)}); got {value!r}")
-    for kind, law in value.items():
-        check_choice("scattering kind", kind, SCATTERING_KINDS)
-        check_choice(f"scattering[{kind!r}]", law, SCATTERING_LAWS)
-    return {kind: value[kind] for kind in SCATTERING_KINDS if kind in value}
-
-
-def _populations(value):
-    """``{"species:label": fraction}`` with fractions in [0, 1), or None."""
-    if value is None:
-        return None
-    if not isinstance(value, Mapping) or not value:
-        raise TypeError(f"populations must be a table of fractions by process (\"species:label\" = fraction); "
-                        f"got {value!r}")
-    return {str(key): check_real(f"populations[{key!r}]", fraction, 0.0, 1.0, high_open=True)
-            for key, fraction in value.items()}
-
-
-def _strings(name: str, values) -> tuple[str, ...]:
-    values = [values] if isinstance(values, str) else list(values)
-    if not values or not all(isinstance(item, str) and item for item in values):
-        raise TypeError(f"{name} must be a list of names; got {values!r}")
-    return tuple(values)
-
-
-def _reals(name: str, values) -> tuple[float, ...]:
-    values = [values] if not isinstance(values, Sequence) else list(values)
-    return tuple(check_real(name, item, 0.0) for item in values)
-
-
 class SwarmScan:
     """Swarm runs at each E/N in turn, checkpointed after each finished point.
 
@@ -503,47 +437,6 @@ class SwarmScan:
         [5.0, 10.0]
         """
         return swarm_summary(self.parameters, self.results, files)
-
-
-def _saved_result(saved: Checkpoint, index: int, entry) -> SwarmResult:
-    """Result ``index`` of a swarm checkpoint as a SwarmResult whose every field has its type and shape.
-
-    A damaged one is a CheckpointError naming the file, the result and the field.
-    """
-    try:
-        result = SwarmResult.from_dict(entry)
-    except (TypeError, ValueError) as error:
-        raise saved.damaged(f"result {index} cannot be read ({error})") from None
-    for name, spec in SwarmResult.__dataclass_fields__.items():
-        value = getattr(result, name)
-        if spec.type == "int":
-            valid = isinstance(value, int) and not isinstance(value, bool) and value >= 0
-        elif spec.type == "bool":
-            valid = isinstance(value, bool)
-        elif spec.type == "np.ndarray":
-            valid = value.shape == _saved_shape(name, result)
-        elif spec.type == "dict" and name != "extras":
-            valid = all(isinstance(key, str) and isinstance(item, (int, float)) and not isinstance(item, bool)
-                        for key, item in value.items())
-        else:  # floats (from_dict converted them) and the free-form extras
-            valid = spec.type == "float" or isinstance(value, dict)
-        if not valid:
-            raise saved.damaged(f"result {index} has a {name} of the wrong type or shape: {value!r}")
-    return result
-
-
-def _saved_shape(name: str, result: SwarmResult) -> tuple[int, ...]:
-    """The shape a saved result's array field must have."""
-    phases = np.shape(result.phases)
-    if name.startswith("diffusion_N_"):
-        return (3, 3)
-    if name.startswith("drift_velocity_flux_by_phase"):
-        return (*phases, 3)
-    if name.startswith("mean_energy_by_phase") or name == "phases":
-        return phases
-    if name.startswith("drift"):
-        return (3,)
-    return np.shape(result.eedf_energy)
 
 
 def swarm_summary(parameters: SwarmParameters, results: Sequence[SwarmResult], files: Sequence = ()) -> dict[str, Any]:

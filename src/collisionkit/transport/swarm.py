@@ -4,9 +4,10 @@ Krasov's trajectory algorithm (sec. 5.5: a random free path, exact motion
 under the force, a collision, a new direction) with energy-dependent cross
 sections through null collisions (Skullerud 1968); the kernels are in
 :mod:`collisionkit._kernels.transport`. This module checks the arguments and
-sets the run up; the run itself (stepping, population control, the end of
-the transient) is in ``_swarm_run``, the estimators below in
-``_estimators`` and the result in :mod:`collisionkit.transport.swarm_result`.
+makes the field's record; the run is set up in ``_swarm_setup``, the run
+itself (stepping, population control, the end of the transient) is in
+``_swarm_run``, the estimators below in ``_estimators`` and the result in
+:mod:`collisionkit.transport.swarm_result`.
 
 Observables (Robson, Ness, White, Dujko; e.g. Dujko et al., J. Phys. D 41,
 245205 (2008)) over the steady-state window, from per-step sums:
@@ -37,8 +38,8 @@ mean. The result does not depend on the number of threads.
 from __future__ import annotations
 
 import math
-import os
 import warnings
+from typing import NamedTuple
 
 import numpy as np
 from scipy import constants
@@ -46,10 +47,10 @@ from scipy import constants
 from .._arrays import seed_value
 from .._kernels import transport as _k
 from ._initial import balanced_energy
-from ._periodic import DEFAULT_PHASES, PeriodicRun
+from ._periodic import DEFAULT_PHASES
 from ._swarm_run import STEPS_PER_CHUNK, Stepper, SwarmRun, initial_swarm
+from ._swarm_setup import new_run, run_to_steady_state, with_field_settings
 from ._tables import SHARING_CODES, build_tables
-from ._tensors import TensorRun
 from ._waveform import half_wave_antisymmetric, shaped_record, waveform_knots, waveform_peak, waveform_rms
 from ._validation import (
     MAX_REDUCED_FIELD, check_reduced_frequency, integer_in_range, reachable_tolerances, real_in_range,
@@ -61,11 +62,6 @@ from .swarm_result import SwarmResult
 __all__ = ["SwarmResult", "simulate_swarm", "trace_trajectories", "diffusion_error_floor", "magnetic_direction",
            "DEFAULT_TOLERANCES", "TOWNSEND", "HUXLEY", "REFERENCE_DENSITY"]
 
-# The transient runs with 1/TRANSIENT_SHARE of the particles (at least TRANSIENT_PER_GROUP a group), which are then
-# cloned to the full number: relaxing costs per particle, and in argon at low E/N it takes ~M/(2m) = 4e4 collisions
-# a particle (the whole of a run that relaxed with every particle)
-TRANSIENT_SHARE = 16
-TRANSIENT_PER_GROUP = 64
 TOWNSEND = 1e-21  # V m^2
 HUXLEY = 1e-27  # T m^3
 REFERENCE_DENSITY = 1e24  # m^-3; N-scaled results do not depend on it
@@ -368,20 +364,14 @@ def simulate_swarm(
     defaults = tolerances is None
     tolerances = DEFAULT_TOLERANCES if defaults else tolerances
     seed = seed_value(seed)
-    validate_swarm_setup(gas, reduced_field, reduced_magnetic_field, gas_temperature, seed, mass, charge,
-                         initial_energy)
-    real_in_range(field_angle, "field_angle (degrees)", 0.0, 180.0, inclusive=(True, True))
-    check_reduced_frequency(reduced_frequency)
-    integer_in_range(phases, "phases", 4, 256)
+    _check_field_and_projectile(gas, reduced_field, reduced_magnetic_field, field_angle, reduced_frequency, phases,
+                                gas_temperature, seed, mass, charge, initial_energy)
     gravity = validated_run_settings(particles, groups, gravity, sharing, tolerances, collision_budget, max_seconds,
                                      collisions_per_sample, min_samples, energy_bins, threads, progress,
                                      known_tolerances=DEFAULT_TOLERANCES)
     tolerances = reachable_tolerances(tolerances, tolerances is DEFAULT_TOLERANCES, reduced_field, charge, gravity,
                                       gas_temperature)
-    if waveform is not None:
-        if reduced_frequency <= 0.0:
-            raise ValueError("waveform needs reduced_frequency > 0 (omega/N, rad m^3/s: the period is 2 pi / omega)")
-        check_waveform_peak(waveform, reduced_field)
+    _check_waveform(waveform, reduced_frequency, reduced_field)
     oscillating = reduced_frequency > 0.0 and reduced_field > 0.0 and charge != 0.0
     if oscillating:
         symmetric = waveform is None or half_wave_antisymmetric(waveform)
@@ -389,50 +379,151 @@ def simulate_swarm(
     tables = build_tables(gas, mass, gas_temperature)
     _require_collisions(tables)
     _warn_unreachable_diffusion(tolerances, particles, defaults)
-    threads = threads or os.cpu_count() or 1
+    field = _Field(reduced_field, reduced_magnetic_field, field_angle, reduced_frequency, waveform, gravity,
+                   oscillating)
+    field_record = _run_field_record(field, mass, charge)
+    if initial_energy is None:
+        initial_energy = _default_initial_energy(tables, field, mass, charge, gas_temperature)
+    run, stepper = new_run(tables, field_record, oscillating, reduced_frequency, particles, groups, seed, mass,
+                           initial_energy, sharing, threads, phases, REFERENCE_DENSITY, CHECK_BOUND)
+    result = run_to_steady_state(run, stepper, collisions_per_sample, tolerances, collision_budget, max_seconds,
+                                 min_samples, energy_bins, progress,
+                                 (reduced_field, reduced_magnetic_field, gas_temperature, particles))
+    return with_field_settings(result, field_angle, reduced_frequency, waveform)
+
+
+def _check_field_and_projectile(gas, reduced_field, reduced_magnetic_field, field_angle, reduced_frequency, phases,
+                                gas_temperature, seed, mass, charge, initial_energy) -> None:
+    """Check the gas, the fields and the projectile of :func:`simulate_swarm`, in the order of its signature.
+
+    Parameters
+    ----------
+    gas, reduced_field, reduced_magnetic_field, field_angle, reduced_frequency, phases, gas_temperature, seed, \
+mass, charge, initial_energy
+        :func:`simulate_swarm`'s arguments of those names (``seed`` already an integer).
+
+    Raises
+    ------
+    TypeError, ValueError
+        At the first argument of the wrong kind or out of its range.
+
+    Examples
+    --------
+    >>> from collisionkit.transport import reid_ramp
+    >>> _check_field_and_projectile(reid_ramp(), 12.0, 0.0, 181.0, 0.0, 32, 300.0, 0, 9.1e-31, -1.6e-19, None)
+    Traceback (most recent call last):
+    ...
+    ValueError: field_angle (degrees) must lie in [0.0, 180.0]; got 181.0
+    """
+    validate_swarm_setup(gas, reduced_field, reduced_magnetic_field, gas_temperature, seed, mass, charge,
+                         initial_energy)
+    real_in_range(field_angle, "field_angle (degrees)", 0.0, 180.0, inclusive=(True, True))
+    check_reduced_frequency(reduced_frequency)
+    integer_in_range(phases, "phases", 4, 256)
+
+
+def _check_waveform(waveform, reduced_frequency, reduced_field) -> None:
+    """ValueError unless ``waveform`` is None, or a valid one within the E/N bound in an oscillating field.
+
+    Examples
+    --------
+    >>> _check_waveform(None, 0.0, 12.0)
+    >>> _check_waveform([(0.0, 1.0), (1.0, -1.0)], 0.0, 12.0)
+    Traceback (most recent call last):
+    ...
+    ValueError: waveform needs reduced_frequency > 0 (omega/N, rad m^3/s: the period is 2 pi / omega)
+    """
+    if waveform is not None:
+        if reduced_frequency <= 0.0:
+            raise ValueError("waveform needs reduced_frequency > 0 (omega/N, rad m^3/s: the period is 2 pi / omega)")
+        check_waveform_peak(waveform, reduced_field)
+
+
+class _Field(NamedTuple):
+    """The field of a run, checked: E/N (Td; the amplitude if it oscillates), B/N (Hx) at ``field_angle`` degrees
+    from E, omega/N (rad m^3/s), the waveform (or None), gravity (m/s^2) and whether it oscillates (omega/N, E/N
+    and the charge not zero)."""
+
+    reduced_field: float
+    reduced_magnetic_field: float
+    field_angle: float
+    reduced_frequency: float
+    waveform: object
+    gravity: np.ndarray
+    oscillating: bool
+
+
+def _run_field_record(field: _Field, mass, charge):
+    """The kernel's field record of a run: static, E0 cos(omega t), or a periodic waveform, with B and gravity.
+
+    Parameters
+    ----------
+    field : _Field
+        The run's field, checked.
+    mass, charge : float
+        The projectile's.
+
+    Returns
+    -------
+    ndarray
+        The record at :data:`REFERENCE_DENSITY`.
+
+    Examples
+    --------
+    >>> field = _Field(10.0, 0.0, 90.0, 0.0, None, np.zeros(3), False)
+    >>> bool(np.array_equal(_run_field_record(field, 9.1e-31, -1.6e-19),
+    ...                     _field_record(10.0, 0.0, REFERENCE_DENSITY, 9.1e-31, -1.6e-19, np.zeros(3))))
+    True
+    """
+    reduced_field, reduced_magnetic_field, field_angle, reduced_frequency, waveform, gravity, oscillating = field
     density = REFERENCE_DENSITY
     if oscillating and waveform is not None:
         amplitude = np.array([0.0, 0.0, charge * reduced_field * TOWNSEND * density / mass])
-        field_record = shaped_record(_field_record(0.0, reduced_magnetic_field, density, mass, charge, gravity,
-                                                   field_angle), amplitude,
-                                     2.0 * math.pi / (reduced_frequency * density), waveform)
-    elif oscillating:
-        field_record = _oscillating_record(reduced_field, reduced_magnetic_field, reduced_frequency, density, mass,
-                                           charge, gravity, field_angle)
-    else:
-        field_record = _field_record(reduced_field, reduced_magnetic_field, density, mass, charge, gravity,
-                                     field_angle)
-    if initial_energy is None:
-        # an oscillating field heats as its r.m.s. value does (omega << nu; less above: a start need not be exact)
-        effective_field = reduced_field / math.sqrt(2.0) if oscillating else reduced_field
-        if oscillating and waveform is not None:
-            effective_field = reduced_field * waveform_rms(waveform)
-        initial_energy = _starting_energy(tables, density, mass, charge, reduced_magnetic_field, field_angle, gravity,
-                                          effective_field, gas_temperature)
-    counts = np.full(groups, particles // groups)
-    counts[: particles % groups] += 1
-    copies = max(1, min(TRANSIENT_SHARE, particles // groups // TRANSIENT_PER_GROUP))
-    swarm = initial_swarm(groups * max(1, particles // groups // copies), groups, seed, mass, initial_energy)
-    rng = np.random.default_rng(np.random.SeedSequence(seed).spawn(groups + 1)[-1])
-    stepper = Stepper(tables, field_record, mass, density, SHARING_CODES[sharing], threads, CHECK_BOUND)
-    target = max(1, swarm.size // groups)
+        return shaped_record(_field_record(0.0, reduced_magnetic_field, density, mass, charge, gravity, field_angle),
+                             amplitude, 2.0 * math.pi / (reduced_frequency * density), waveform)
     if oscillating:
-        run = PeriodicRun(stepper, swarm, groups, target, rng, tables, density, omega=reduced_frequency * density,
-                          phases=phases)
-    else:
-        run = TensorRun(stepper, swarm, groups, target, rng, tables, density)
-    run.final_counts = counts if copies > 1 else None
-    try:
-        run.calibrate(collisions_per_sample)
-        result = run.until_converged(tolerances, collision_budget, max_seconds, min_samples, energy_bins, progress,
-                                     (reduced_field, reduced_magnetic_field, gas_temperature, particles))
-    finally:
-        stepper.close()
-    result.field_angle = float(field_angle)
-    result.reduced_frequency = float(reduced_frequency)
-    if waveform is not None:
-        result.extras["waveform"] = np.asarray(waveform, dtype=float).tolist()
-    return result
+        return _oscillating_record(reduced_field, reduced_magnetic_field, reduced_frequency, density, mass, charge,
+                                   gravity, field_angle)
+    return _field_record(reduced_field, reduced_magnetic_field, density, mass, charge, gravity, field_angle)
+
+
+def _default_initial_energy(tables, field: _Field, mass, charge, gas_temperature) -> float:
+    """The initial mean energy (eV) of a run that gives none: :func:`_starting_energy` in the effective field.
+
+    An oscillating field heats as its r.m.s. value does (omega << nu; less
+    above: a start need not be exact): E0/sqrt(2) for the cosine, E0 times
+    the waveform's r.m.s. value.
+
+    Parameters
+    ----------
+    tables : KernelTables
+        The gas's tables.
+    field : _Field
+        The run's field, checked.
+    mass, charge, gas_temperature : float
+        The projectile's and the gas's.
+
+    Returns
+    -------
+    float
+
+    Examples
+    --------
+    >>> from collisionkit.transport import reid_ramp
+    >>> tables = build_tables(reid_ramp(), constants.m_e, 0.0)
+    >>> static = _default_initial_energy(tables, _Field(12.0, 0.0, 90.0, 0.0, None, np.zeros(3), False), constants.m_e,
+    ...                                  -constants.e, 0.0)
+    >>> ac = _default_initial_energy(tables, _Field(12.0 * math.sqrt(2.0), 0.0, 90.0, 1e-13, None, np.zeros(3), True),
+    ...                              constants.m_e, -constants.e, 0.0)
+    >>> bool(abs(ac / static - 1) < 1e-12)
+    True
+    """
+    reduced_field, reduced_magnetic_field, field_angle, _, waveform, gravity, oscillating = field
+    effective_field = reduced_field / math.sqrt(2.0) if oscillating else reduced_field
+    if oscillating and waveform is not None:
+        effective_field = reduced_field * waveform_rms(waveform)
+    return _starting_energy(tables, REFERENCE_DENSITY, mass, charge, reduced_magnetic_field, field_angle, gravity,
+                            effective_field, gas_temperature)
 
 
 def trace_trajectories(gas: Gas, reduced_field: float, *, particles: int = 5, collisions: float = 200.0,

@@ -6,6 +6,11 @@ the mean number of electrons that reach the collecting electrode per
 primary; the drift time the mean time at which they reach it (measured from
 the release of their primary), a ratio of per-primary sums whose error
 follows from the delta method.
+
+:class:`TrackingResult` holds the arrays and answers the questions; the
+estimators behind its answers are in ``_result_statistics`` and its joined
+and stored forms (:meth:`~TrackingResult.combine`, the checkpoint arrays)
+in ``_result_arrays``.
 """
 
 from __future__ import annotations
@@ -17,6 +22,10 @@ import numpy as np
 from scipy import constants
 
 from ..._kernels.transport.tracking import codes as _c
+from ._result_arrays import combined_values, field_arrays, values_from_arrays
+from ._result_statistics import arrival_sums, mean_and_error as _mean_and_error
+from ._result_statistics import polya_theta as _polya_theta  # noqa: F401 (the name polya_theta's example imports)
+from ._result_statistics import polya_theta_and_error, records_at_collector, swarm_coefficients
 
 __all__ = ["TrackingResult", "ratio_and_error"]
 
@@ -45,15 +54,6 @@ def ratio_and_error(numerators, denominators) -> tuple[float, float]:
         return ratio, math.nan
     residual = a - ratio * b
     return ratio, float(np.sqrt(residual.var(ddof=1) / a.size) / b.mean())
-
-
-def _mean_and_error(values) -> tuple[float, float]:
-    values = np.asarray(values, dtype=float)
-    if values.size == 0:
-        return math.nan, math.nan
-    if values.size < 2:
-        return float(values.mean()), math.nan
-    return float(values.mean()), float(values.std(ddof=1) / math.sqrt(values.size))
 
 
 @dataclass
@@ -123,11 +123,6 @@ class TrackingResult:
 
     # ------------------------------------------------------------------ gain and drift
 
-    def _collector_index(self) -> int:
-        if self.collector is None:
-            raise ValueError("this device names no collecting electrode (collector)")
-        return list(self.surfaces).index(self.collector)
-
     def collected_records(self) -> np.ndarray:
         """The end records of the electrons that reached the collecting electrode.
 
@@ -139,10 +134,7 @@ class TrackingResult:
         >>> track(device, primaries=3, position=(0, 0, 5e-5), seed=1).collected_records().shape
         (3, 11)
         """
-        index = self._collector_index()
-        r = self.records
-        mask = (r[:, _c.RECORD_STATUS] == _c.ENDED_SURFACE) & (r[:, _c.RECORD_SURFACE] == index)
-        return r[mask]
+        return records_at_collector(self.records, self.surfaces, self.collector)
 
     @property
     def gain(self) -> float:
@@ -155,11 +147,7 @@ class TrackingResult:
         return _mean_and_error(self.collected)[1]
 
     def _per_primary_times(self):
-        records = self.collected_records()
-        primary = records[:, _c.RECORD_PRIMARY].astype(np.int64)
-        sums = np.bincount(primary, weights=records[:, _c.RECORD_TIME], minlength=self.primaries)
-        counts = np.bincount(primary, minlength=self.primaries)
-        return sums, counts
+        return arrival_sums(self.collected_records(), self.primaries)
 
     @property
     def drift_time(self) -> float:
@@ -260,13 +248,7 @@ class TrackingResult:
         >>> bool(abs(_polya_theta(gains)) < 0.02)
         True
         """
-        values = self.collected.astype(float)
-        theta = _polya_theta(values)
-        if values.size < 3:
-            return theta, math.nan
-        blocks = np.array_split(np.arange(values.size), min(values.size, 32))
-        partial = np.array([_polya_theta(np.delete(values, block)) for block in blocks])
-        return theta, float(math.sqrt((len(blocks) - 1) * partial.var()))
+        return polya_theta_and_error(self.collected.astype(float))
 
     # ------------------------------------------------------------------ signals and profiles
 
@@ -324,25 +306,7 @@ class TrackingResult:
         """
         if self.sample_times.size < 2:
             raise ValueError("the run sampled fewer than 2 times: give sample_times to track()")
-        first = int(start * (self.sample_times.size - 1))
-        times = self.sample_times[first:]
-        m = self.moments[:, first:, :]
-        n = np.maximum(m[..., 0], 1.0)
-        mean = m[..., 1:14] / n[..., None]
-        centroid = mean[..., 0:3]
-        variance = (mean[..., 3:6] - centroid**2) * (n / np.maximum(n - 1.0, 1.0))[..., None]
-        tc = times - times.mean()
-
-        def slope(y):
-            return (y - y.mean(axis=1, keepdims=True)) @ tc / (tc @ tc)
-
-        per_group = {
-            "drift_velocity": slope(centroid[..., 2]),
-            "diffusion_L": 0.5 * slope(variance[..., 2]),
-            "diffusion_T": 0.25 * slope(variance[..., 0] + variance[..., 1]),
-            "mean_energy": (mean[..., 9] / EV).mean(axis=1),
-        }
-        return {name: _mean_and_error(values) for name, values in per_group.items()}
+        return swarm_coefficients(self.sample_times, self.moments, start)
 
     # ------------------------------------------------------------------ combining and saving
 
@@ -362,33 +326,7 @@ class TrackingResult:
         parts = list(parts)
         if not parts:
             raise ValueError("combine needs at least one result")
-        offsets = np.cumsum([0] + [p.primaries for p in parts[:-1]])
-
-        def shifted(name):
-            arrays = []
-            for offset, p in zip(offsets, parts):
-                rows = getattr(p, name).copy()
-                rows[:, _c.RECORD_PRIMARY] += offset
-                arrays.append(rows)
-            return np.concatenate(arrays)
-
-        values = {}
-        for item in fields(cls):
-            name = item.name
-            data = [getattr(p, name) for p in parts]
-            if name in ("records", "ion_records"):
-                values[name] = shifted(name)
-            elif name in ("electrons", "collected", "collisions", "induced_charge", "weighting_charge",
-                          "ion_induced_charge"):
-                values[name] = np.concatenate(data)
-            elif name in ("primaries", "null_collisions", "steps", "rejected_steps", "particle_time", "seconds",
-                          "signal", "ion_signal", "profiles", "moments"):
-                values[name] = sum(data[1:], data[0])
-            elif name == "points":
-                values[name] = np.concatenate(data)
-            else:
-                values[name] = data[0]
-        return cls(**values)
+        return cls(**combined_values([item.name for item in fields(cls)], parts))
 
     def to_arrays(self) -> dict[str, np.ndarray]:
         """Every field as an array (for a checkpoint); :meth:`from_arrays` reads them back.
@@ -402,13 +340,7 @@ class TrackingResult:
         >>> TrackingResult.from_arrays(result.to_arrays()).collected.tolist() == result.collected.tolist()
         True
         """
-        out = {}
-        for item in fields(self):
-            value = getattr(self, item.name)
-            if item.name == "collector":
-                value = "" if value is None else value
-            out[item.name] = np.asarray(value) if not isinstance(value, tuple) else np.array(value, dtype=str)
-        return out
+        return field_arrays(self, [item.name for item in fields(self)])
 
     @classmethod
     def from_arrays(cls, arrays) -> TrackingResult:
@@ -421,27 +353,4 @@ class TrackingResult:
         ...
         KeyError: 'primaries'
         """
-        values = {}
-        scalars = {"primaries": int, "null_collisions": int, "steps": int, "rejected_steps": int,
-                   "particle_time": float, "signal_step": float, "seconds": float, "method": str, "mass": float,
-                   "profile_coordinate": str, "collector": str}
-        for item in fields(cls):
-            value = arrays[item.name]
-            if item.name in scalars:
-                value = scalars[item.name](np.asarray(value).item())
-            elif item.name in ("surfaces", "process_labels", "process_kinds"):
-                value = tuple(str(v) for v in np.asarray(value).reshape(-1))
-            else:
-                value = np.asarray(value, dtype=float)
-            values[item.name] = value
-        values["collector"] = values["collector"] or None
-        return cls(**values)
-
-
-def _polya_theta(values) -> float:
-    values = np.asarray(values, dtype=float)
-    mean = values.mean()
-    variance = values.var(ddof=1)
-    if mean <= 0 or variance <= 0:
-        return math.nan
-    return 1.0 / (variance / mean**2 + 1.0 / mean) - 1.0
+        return cls(**values_from_arrays([item.name for item in fields(cls)], arrays))

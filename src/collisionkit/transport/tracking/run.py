@@ -1,7 +1,8 @@
 """Tracking runs: primaries released in a device, followed with their avalanches until they end.
 
 :func:`track` checks its arguments, prepares the kernel's arrays
-(:mod:`collisionkit._kernels.transport.tracking`) and runs batches of
+(:mod:`collisionkit._kernels.transport.tracking`; the checks of single
+arguments and the field arrays are in ``_track_setup``) and runs batches of
 primaries in threads; each batch calls the kernel until its stack is empty,
 emptying the record buffers and growing the stack when the kernel asks.
 Every primary has its own random stream, derived from the seed and its
@@ -17,18 +18,21 @@ import time
 from concurrent.futures import ThreadPoolExecutor
 import threading
 from dataclasses import dataclass, field
+from types import SimpleNamespace
 
 import numpy as np
 from scipy import constants
 
-from ..._kernels.transport import derived_field
 from ..._kernels.transport.tracking import codes as _c
 from ..._kernels.transport.tracking import track_particles
 from ..._kernels.transport.tracking.ions import drift_ions
 from ..._kernels.transport.tracking.track import launch
 from .._tables import SHARING_CODES
+from ._track_setup import (
+    bounded, checked_times, integer, kernel_fields, profile_setting, start_positions, unit_direction,
+)
 from .device import Device
-from .fields import CoaxialField, ParallelPlateField, _finite, _vector
+from .fields import _finite
 from .result import TrackingResult
 from .tables import tracking_tables
 
@@ -78,36 +82,6 @@ class IonDrift:
     def __post_init__(self):
         object.__setattr__(self, "mobility", _finite("ion mobility (m^2/(V s))", self.mobility, 0.0, True))
         object.__setattr__(self, "charge", _finite("ion charge (C)", self.charge))
-
-
-def _positions(position, primaries, geometry) -> np.ndarray:
-    array = np.asarray(position, dtype=float)
-    if array.shape == (3,):
-        array = np.broadcast_to(array, (primaries, 3))
-    if array.shape != (primaries, 3) or not np.all(np.isfinite(array)):
-        raise ValueError(f"position must be three numbers (m) or one row of three per primary ({primaries}); "
-                         f"got shape {np.shape(position)}")
-    outside = ~geometry.contains(array)
-    if outside.any():
-        raise ValueError(f"position {array[np.argmax(outside)].tolist()} (m) lies outside the device's volume")
-    return np.ascontiguousarray(array)
-
-
-def _profile(device: Device, profile, bins):
-    """(kind code, parameters, edges, name) of the profile coordinate."""
-    if profile is None:
-        if isinstance(device.electric, ParallelPlateField):
-            profile = ("z", 0.0, device.electric.gap)
-        elif isinstance(device.electric, CoaxialField):
-            profile = ("radius", device.electric.wire_radius, device.electric.cathode_radius)
-        else:
-            return 0, np.zeros(4), np.zeros(1), "none", 0
-    name, low, high = profile
-    if name not in ("z", "radius") or not (math.isfinite(low) and math.isfinite(high) and high > low):
-        raise ValueError(f"profile must be ('z' or 'radius', low, high) with high > low (m); got {profile!r}")
-    axis = device.electric.axis if isinstance(device.electric, CoaxialField) else (0.0, 0.0)
-    code = _c.PROFILE_Z if name == "z" else _c.PROFILE_RADIUS
-    return code, np.array([*axis, low, high]), np.linspace(low, high, bins + 1), name, bins
 
 
 @dataclass
@@ -253,22 +227,6 @@ def _drift_ions(plan: _Plan, births, n):
     return records, induced, signal
 
 
-def _field_arrays(device: Device):
-    """The kernel's field arguments: E, B, weighting, surfaces, exact flag and the uniform-field record."""
-    from .fields import UniformField
-    from .magnetic import UniformMagneticField
-
-    electric = device.electric or UniformField((0.0, 0.0, 0.0))
-    magnetic = device.magnetic or UniformMagneticField((0.0, 0.0, 0.0))
-    e_arrays = electric.arrays() if device.electric is not None else (_c.E_NONE, *electric.arrays()[1:])
-    e_arrays = (*e_arrays[:4], electric.blocks(), e_arrays[4])  # the kernel takes the map's local bounds too
-    b_arrays = magnetic.arrays() if device.magnetic is not None else (_c.B_NONE, *magnetic.arrays()[1:])
-    exact = electric.is_uniform() and magnetic.is_uniform()
-    w_kind, w_par = device.weighting.arrays() if device.weighting is not None else (_c.W_NONE,
-                                                                                     np.zeros(_c.FIELD_PARAMETERS))
-    return (*e_arrays, *b_arrays, w_kind, w_par, device.geometry.table(), exact), exact, electric, magnetic
-
-
 def track(device: Device, *, primaries: int = 100, position=(0.0, 0.0, 0.0), energy: float = 0.1,
           direction=None, method: str = "null-collision", seed: int = 0, mass: float = constants.m_e,
           charge: float = -constants.e, sharing: str = "equal", ions: IonDrift | None = None,
@@ -361,79 +319,200 @@ def track(device: Device, *, primaries: int = 100, position=(0.0, 0.0, 0.0), ene
     >>> result.gain, bool(result.drift_time > 0)
     (1.0, True)
     """
+    args = _checked_arguments(device, primaries, method, sharing, seed, energy, mass, charge, tolerance,
+                              depth_tolerance, groups, max_steps, record_points, first_primary, max_electrons, ions)
+    direction = unit_direction(direction)
+    positions = start_positions(position, args.primaries, device.geometry)
+    sample_times, time_limit = checked_times(device, sample_times, time_limit)
+    if step_length is not None:
+        step_length = _finite("step_length (m)", step_length, 0.0, low_open=True)
+    fields = kernel_fields(device, METHODS[method], args.charge, args.mass)
+    plan = _make_plan(device, args, METHODS[method], sharing, fields, positions, direction, sample_times, time_limit,
+                      step_length, profile, profile_bins, ions)
+    pilot = _run_pilot(plan, args.primaries, device.weighting is not None and signal_window == "auto")
+    _size_signal(plan, signal_window, signal_bins, args.primaries, pilot)
+    return _run_batches(plan, args.primaries, threads, batch_size, progress)
+
+
+def _checked_arguments(device, primaries, method, sharing, seed, energy, mass, charge, tolerance, depth_tolerance,
+                       groups, max_steps, record_points, first_primary, max_electrons, ions) -> SimpleNamespace:
+    """:func:`track`'s device, choices and numbers checked, in the order of its signature.
+
+    Parameters
+    ----------
+    device, primaries, method, sharing, seed, energy, mass, charge, tolerance, depth_tolerance, groups, max_steps, \
+record_points, first_primary, max_electrons, ions
+        :func:`track`'s arguments of those names.
+
+    Returns
+    -------
+    SimpleNamespace
+        The numbers as checked (ints and floats), by their names.
+
+    Raises
+    ------
+    TypeError, ValueError
+        At the first argument of the wrong kind or out of its range.
+
+    Examples
+    --------
+    >>> from collisionkit.transport import maxwell_model
+    >>> device = Device.parallel_plate(maxwell_model(1e-13, mass=1e-29), 1e-4, 10.0, density=1e23)
+    >>> args = _checked_arguments(device, 2, "null-collision", "equal", 0, 1, 9.1e-31, -1.6e-19, 1e-6, 1e-5, 16,
+    ...                           100, 0, 0, 10, None)
+    >>> args.primaries, args.energy
+    (2, 1.0)
+    """
     if not isinstance(device, Device):
         raise TypeError(f"device must be a Device; got {type(device).__name__}")
-    primaries = _integer("primaries", primaries, 1)
+    checked = {"primaries": integer("primaries", primaries, 1)}
     if method not in METHODS:
         raise ValueError(f"method must be one of {', '.join(METHODS)}; got {method!r}")
     if sharing not in SHARING_CODES:
         raise ValueError(f"sharing must be one of {', '.join(SHARING_CODES)}; got {sharing!r}")
-    seed = _integer("seed", seed, 0)
-    energy = _finite("energy (eV)", energy, 0.0)
-    mass = _finite("mass (kg)", mass, 0.0, low_open=True)
-    charge = _finite("charge (C)", charge)
-    tolerance = _bounded("tolerance", tolerance)
-    depth_tolerance = _bounded("depth_tolerance", depth_tolerance)
-    groups = _integer("groups", groups, 2, 1024)
-    max_steps = _integer("max_steps", max_steps, 1)
-    record_points = _integer("record_points", record_points, 0)
-    first_primary = _integer("first_primary", first_primary, 0)
-    max_electrons = _integer("max_electrons", max_electrons, 1)
+    checked |= {
+        "seed": integer("seed", seed, 0), "energy": _finite("energy (eV)", energy, 0.0),
+        "mass": _finite("mass (kg)", mass, 0.0, low_open=True), "charge": _finite("charge (C)", charge),
+        "tolerance": bounded("tolerance", tolerance), "depth_tolerance": bounded("depth_tolerance", depth_tolerance),
+        "groups": integer("groups", groups, 2, 1024), "max_steps": integer("max_steps", max_steps, 1),
+        "record_points": integer("record_points", record_points, 0),
+        "first_primary": integer("first_primary", first_primary, 0),
+        "max_electrons": integer("max_electrons", max_electrons, 1),
+    }
     if ions is not None and not isinstance(ions, IonDrift):
         raise TypeError(f"ions must be an IonDrift; got {type(ions).__name__}")
-    if direction is None:
-        direction = np.zeros(3)
-    else:
-        direction = _vector("direction", direction)
-        if not np.linalg.norm(direction) > 0:
-            raise ValueError("direction must not be zero")
-        direction = direction / np.linalg.norm(direction)
-    positions = _positions(position, primaries, device.geometry)
-    sample_times = np.zeros(0) if sample_times is None else np.asarray(sample_times, dtype=float).reshape(-1)
-    if sample_times.size and (not np.all(np.isfinite(sample_times)) or np.any(np.diff(sample_times) <= 0)
-                              or sample_times[0] < 0):
-        raise ValueError("sample_times must be finite, >= 0 and increasing (s)")
-    if time_limit is None:
-        time_limit = float(sample_times[-1]) if sample_times.size else math.inf
-    time_limit = _finite("time_limit (s)", time_limit, 0.0, low_open=True) if math.isfinite(time_limit) else math.inf
-    if not device.geometry.surfaces and not math.isfinite(time_limit):
-        raise ValueError("an unbounded device (no surfaces) needs time_limit or sample_times: nothing else ends a "
-                         "particle")
-    length = device.geometry.length_scale
-    step_length = length if step_length is None else _finite("step_length (m)", step_length, 0.0, low_open=True)
-    field_args, exact, electric, _ = _field_arrays(device)
-    code = METHODS[method]
-    if code == _c.NULL_COLLISION and not exact and not math.isfinite(electric.bound()) and \
-            field_args[0] == _c.E_USER:
-        raise ValueError("the null-collision method needs a bound of the field: give UserField(..., max_field=) or "
-                         "use method='path-length'")
-    flight = np.zeros(13)
-    if exact:
-        acceleration = charge * (electric.uniform_value() if device.electric is not None else np.zeros(3)) / mass
-        omega = charge * (device.magnetic.uniform_value() if device.magnetic is not None else np.zeros(3)) / mass
-        flight = derived_field(acceleration, omega)
-    fields = (*field_args, flight)
-    tables = tracking_tables(device.gas, mass, device.gas_temperature)
-    settings = {"mass": mass, "charge": charge, "density": device.density, "method": code, "tolerance": tolerance,
-                "depth_tolerance": depth_tolerance, "length": length, "step_length": step_length,
-                "time_limit": time_limit, "max_steps": max_steps, "sharing": SHARING_CODES[sharing]}
-    plan = _Plan(device, tables, fields, settings, positions, math.sqrt(2.0 * energy * EV / mass), direction, seed,
-                 first_primary, groups, np.ascontiguousarray(sample_times), 0, 1.0,
-                 _profile(device, profile, _integer("profile_bins", profile_bins, 1)), ions, mass, charge,
-                 record_points, max_electrons)
-    pilot = None
-    auto_window = device.weighting is not None and signal_window == "auto"
-    if auto_window or primaries >= PILOT_SHARE * PILOT_PRIMARIES:  # a few primaries first: the signal's span, and
-        # the avalanches' size projected to the run (a smaller run is stopped by the count as it goes)
-        pilot = _run_batch(plan, 0, min(PILOT_PRIMARIES, primaries), False)
-        _check_projected_size(plan, pilot, primaries)
-        plan.followed[0] = 0
-    if device.weighting is not None and signal_window is not None:
-        bins = _integer("signal_bins", signal_bins, 1)
-        if signal_window == "auto":
-            signal_window = _pilot_window(plan, primaries, pilot)
-        window = _finite("signal_window (s)", signal_window, 0.0, low_open=True)
-        plan.signal_bins, plan.signal_step = bins, window / bins
+    return SimpleNamespace(**checked)
+
+
+def _make_plan(device, args, method_code, sharing, fields, positions, direction, sample_times, time_limit,
+               step_length, profile, profile_bins, ions) -> _Plan:
+    """The plan of a run: the gas's tables, the kernel's settings and the checked arguments together.
+
+    Parameters
+    ----------
+    device : Device
+    args : SimpleNamespace
+        The numbers of :func:`_checked_arguments`.
+    method_code : int
+        The collision method's code (:data:`METHODS`).
+    sharing : str
+        The energy sharing's name.
+    fields : tuple
+        The kernel's field arguments (:func:`~._track_setup.kernel_fields`).
+    positions, direction, sample_times, time_limit
+        As checked by ``_track_setup``.
+    step_length : float or None
+        Checked; None for the geometry's length scale.
+    profile, profile_bins, ions
+        :func:`track`'s arguments (the profile's bins checked here).
+
+    Returns
+    -------
+    _Plan
+        With no signal yet (:func:`_size_signal` sizes it).
+
+    Examples
+    --------
+    >>> from collisionkit.transport import maxwell_model
+    >>> device = Device.parallel_plate(maxwell_model(1e-13, mass=1e-29), 1e-4, 10.0, density=1e23)
+    >>> args = _checked_arguments(device, 2, "null-collision", "equal", 0, 1, 9.1e-31, -1.6e-19, 1e-6, 1e-5, 16,
+    ...                           100, 0, 0, 10, None)
+    >>> fields = kernel_fields(device, METHODS["null-collision"], args.charge, args.mass)
+    >>> plan = _make_plan(device, args, METHODS["null-collision"], "equal", fields, np.zeros((2, 3)), np.zeros(3),
+    ...                   np.zeros(0), math.inf, 1e-4, None, 10, None)
+    >>> plan.profile[3], plan.signal_bins
+    ('z', 0)
+    """
+    tables = tracking_tables(device.gas, args.mass, device.gas_temperature)
+    settings = {"mass": args.mass, "charge": args.charge, "density": device.density, "method": method_code,
+                "tolerance": args.tolerance, "depth_tolerance": args.depth_tolerance,
+                "length": device.geometry.length_scale,
+                "step_length": device.geometry.length_scale if step_length is None else step_length, "time_limit": time_limit,
+                "max_steps": args.max_steps, "sharing": SHARING_CODES[sharing]}
+    return _Plan(device, tables, fields, settings, positions, math.sqrt(2.0 * args.energy * EV / args.mass),
+                 direction, args.seed, args.first_primary, args.groups, np.ascontiguousarray(sample_times), 0, 1.0,
+                 profile_setting(device, profile, integer("profile_bins", profile_bins, 1)), ions, args.mass,
+                 args.charge, args.record_points, args.max_electrons)
+
+
+def _run_pilot(plan: _Plan, primaries: int, auto_window: bool) -> TrackingResult | None:
+    """A pilot run of a few primaries, if the signal's window is sized from it or the run is large; else None.
+
+    A large run (:data:`PILOT_SHARE` times the pilot's primaries or more) is
+    refused before its work if the pilot's avalanches, projected to it,
+    exceed ``max_electrons``; a smaller run is stopped by the count as it
+    goes. The pilot's electrons do not count towards the run's.
+
+    Examples
+    --------
+    >>> from collisionkit.transport import maxwell_model
+    >>> device = Device.parallel_plate(maxwell_model(1e-13, mass=1e-29), 1e-4, 10.0, density=1e23)
+    >>> args = _checked_arguments(device, 2, "null-collision", "equal", 0, 1, 9.1e-31, -1.6e-19, 1e-6, 1e-5, 16,
+    ...                           100, 0, 0, 10, None)
+    >>> fields = kernel_fields(device, METHODS["null-collision"], args.charge, args.mass)
+    >>> plan = _make_plan(device, args, METHODS["null-collision"], "equal", fields, np.zeros((2, 3)), np.zeros(3),
+    ...                   np.zeros(0), math.inf, 1e-4, None, 10, None)
+    >>> _run_pilot(plan, 2, False) is None
+    True
+    """
+    if not (auto_window or primaries >= PILOT_SHARE * PILOT_PRIMARIES):
+        return None
+    pilot = _run_batch(plan, 0, min(PILOT_PRIMARIES, primaries), False)
+    _check_projected_size(plan, pilot, primaries)
+    plan.followed[0] = 0
+    return pilot
+
+
+def _size_signal(plan: _Plan, signal_window, signal_bins, primaries: int, pilot: TrackingResult | None) -> None:
+    """Set the plan's induced-current histogram: ``signal_bins`` bins over the window (none without a readout).
+
+    ``signal_window`` "auto" is :data:`SIGNAL_MARGIN` times the latest end of the ``pilot`` run
+    (:func:`_pilot_window`); None records no current.
+
+    Examples
+    --------
+    >>> from types import SimpleNamespace
+    >>> plan = SimpleNamespace(device=SimpleNamespace(weighting=object()), signal_bins=0, signal_step=1.0)
+    >>> _size_signal(plan, 1e-6, 4, 8, None)
+    >>> plan.signal_bins, plan.signal_step
+    (4, 2.5e-07)
+    """
+    if plan.device.weighting is None or signal_window is None:
+        return
+    bins = integer("signal_bins", signal_bins, 1)
+    if signal_window == "auto":
+        signal_window = _pilot_window(plan, primaries, pilot)
+    window = _finite("signal_window (s)", signal_window, 0.0, low_open=True)
+    plan.signal_bins, plan.signal_step = bins, window / bins
+
+
+def _run_batches(plan: _Plan, primaries: int, threads, batch_size, progress) -> TrackingResult:
+    """Every primary in batches (in threads), reporting the fraction done, joined into one result.
+
+    Parameters
+    ----------
+    plan : _Plan
+    primaries : int
+    threads, batch_size, progress
+        :func:`track`'s arguments: default all cores, and batches that spread the primaries four to a thread.
+
+    Returns
+    -------
+    TrackingResult
+        The batches' results joined in the order of their primaries (the first batch keeps its track points).
+
+    Examples
+    --------
+    >>> from collisionkit.transport import maxwell_model
+    >>> device = Device.parallel_plate(maxwell_model(1e-13, mass=1e-29), 1e-4, 10.0, density=1e23)
+    >>> args = _checked_arguments(device, 2, "null-collision", "equal", 0, 1, 9.1e-31, -1.6e-19, 1e-6, 1e-5, 16,
+    ...                           100, 0, 0, 10, None)
+    >>> fields = kernel_fields(device, METHODS["null-collision"], args.charge, args.mass)
+    >>> plan = _make_plan(device, args, METHODS["null-collision"], "equal", fields, np.full((2, 3), 5e-5),
+    ...                   np.zeros(3), np.zeros(0), math.inf, 1e-4, None, 10, None)
+    >>> _run_batches(plan, 2, 1, None, None).primaries
+    2
+    """
     threads = threads or os.cpu_count() or 1
     batch_size = batch_size or max(1, math.ceil(primaries / (4 * threads)))
     bounds = list(range(0, primaries, batch_size)) + [primaries]
@@ -502,19 +581,3 @@ def _count_followed(plan: _Plan, ended: int, lo: int, hi: int) -> None:
         raise too_many_electrons(plan.max_electrons, total, f"primaries {plan.first_primary + lo} to "
                                  f"{plan.first_primary + hi - 1} (with the batches beside them) have followed",
                                  stopped=True)
-
-
-def _integer(name, value, low, high=None):
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
-        raise TypeError(f"{name} must be an integer; got {value!r}")
-    if value < low or (high is not None and value > high):
-        allowed = f">= {low}" if high is None else f"in [{low}, {high}]"
-        raise ValueError(f"{name} must be {allowed}; got {value}")
-    return int(value)
-
-
-def _bounded(name, value):
-    value = _finite(name, value, 0.0, low_open=True)
-    if value > 0.1:
-        raise ValueError(f"{name} must be in (0, 0.1]; got {value:g}")
-    return value
