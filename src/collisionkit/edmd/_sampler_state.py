@@ -26,10 +26,14 @@ def sampler_arrays(sampler) -> dict:
 
     Examples
     --------
-    >>> from collisionkit.edmd import Sampler, random_fluid
-    >>> sampler = Sampler(random_fluid(2, 100, 0.3, seed=1), collisions=2000, blocks=2)
+    >>> from collisionkit.edmd import Sampler, lattice, maxwell_boltzmann, HardSphereSystem
+    >>> import numpy as np
+    >>> positions, box = lattice("square", 10, 0.3)
+    >>> system = HardSphereSystem(positions, maxwell_boltzmann(np.ones(100), 2, seed=1), 0.5, box)
+    >>> sampler = Sampler(system, collisions=4000, blocks=2)
+    >>> sampler.run_block()
     >>> sampler_arrays(sampler)["sampler_scalars"][:2]
-    array([   2., 1000.])
+    array([   2., 2000.])
     """
     state = {f"sampler_{name}": np.asarray(values, dtype=float) for name, values in sampler.records.items()}
     state |= {

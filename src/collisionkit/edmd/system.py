@@ -24,7 +24,7 @@ from . import _checks, _system_run, _system_setup
 from ._cell_crossings import CellCrossings
 from ._neighbour_lists import NeighbourLists
 from ._particle_state import ParticleState
-from ._shear import ShearFlow, shear_parameters
+from ._shear import THERMOSTAT_INTERVAL, ShearFlow, shear_parameters  # noqa: F401 (THERMOSTAT_INTERVAL: as before)
 from ._system_events import run_event_loop
 from ._system_parameters import SystemParameters
 from ._system_setup import RESTITUTION_LAWS
