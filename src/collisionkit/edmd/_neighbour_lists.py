@@ -34,7 +34,10 @@ class NeighbourLists:
     ``periodic``, radius ``scale0`` and ``growth``, the requested
     ``_shell_request``) and owns ``neighbours``, ``neighbour_count``,
     ``cell_of``, ``ncell``, ``cell_members``, ``cell_count``,
-    ``cell_points`` and the shell and list scale in ``params``.
+    ``cell_points`` and the shell and list scale in ``params``. After a
+    rebuild it re-predicts every event (:meth:`_predict_all`, of either
+    engine), and it finds the smallest pair gap through the cells
+    (:meth:`_pair_gap`).
     """
 
     @property
@@ -147,6 +150,26 @@ class NeighbourLists:
             else:
                 break
         self._predict_all()
+
+    def _predict_all(self):
+        """Predict every particle's next event afresh and rebuild the event queue (either engine).
+
+        The lists engine's prediction from the neighbour lists, or the
+        cell-crossing engine's (:meth:`_predict_all_crossings`).
+        """
+        if self._engine_code == ENGINE_CELLS:
+            self._predict_all_crossings()
+            return
+        _k.predict_all(
+            self.p, self.book, self.anchor_time, self.neighbours, self.neighbour_count, self.geom, self.dim, self.params, self.queue,
+            self.tree, self.leaves, self.acc,
+        )
+
+    def _pair_gap(self):
+        """The smallest surface gap between two particles now, found through the cells (no shear: see ``_sheared_gap``)."""
+        return _k.min_gap(
+            self.p, self.scale, self.cell_of, self.cell_members, self.cell_count, self.ncell, self.geom, self.dim
+        )
 
     def _fullest_cell(self, ncell, widths) -> int:
         """Particles in the fullest cell of a new grid: the slots sized from the grid itself.

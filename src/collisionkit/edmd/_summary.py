@@ -14,6 +14,9 @@ at), and its energy budget since the start is given in parts:
 ``thermostat_energy_total`` (removed by the thermostat) -
 ``viscous_heating_total`` (the flow's work, :math:`-G V \int P_{xy} dt`;
 :mod:`._shear`).
+
+:func:`cooling_note` says what the averages of an inelastic run (or the
+temperature of a heated sheared one) mean.
 """
 
 from __future__ import annotations
@@ -25,6 +28,9 @@ from typing import Any
 from .theory import (
     carnahan_starling, enskog_collision_frequency, enskog_transport, hansen_goos, henderson, yeh_hummer_correction,
 )
+
+# kT above which an inelastic run with an elastic floor is reported as not cooled (under 1 % of the energy lost)
+BARELY_COOLED = 0.99
 
 
 def equation_of_state(dim: int) -> tuple[str, Callable]:
@@ -132,3 +138,49 @@ def _transport_summary(run, measurement) -> dict[str, Any]:
                    "self_diffusion_infinite": measurement.diffusion_coefficient + correction,
                    "self_diffusion_infinite_error": error}
     return result
+
+
+def cooling_note(run) -> str | None:
+    """What an inelastic ``run``'s averages mean, or an elastic sheared run's temperature; else None.
+
+    The note of :meth:`~collisionkit.edmd.EdmdRun.cooling_note`, which
+    shows each case.
+
+    Examples
+    --------
+    >>> from collisionkit.edmd import EdmdParameters, EdmdRun
+    >>> cooling_note(EdmdRun(EdmdParameters(dim=2, particles=64, initial="square", seed=1))) is None
+    True
+    """
+    if run.parameters.restitution == 1.0:
+        return None if run.sampler is None or run.sampler.done < 2 else _heating_note(run)
+    system = run.system
+    kT = system.temperature()
+    if run.parameters.shear_rate != 0.0:
+        return (f"restitution < 1 under shear: the viscous heating of the flow balances the collisional cooling "
+                f"in a steady state (kT from 1 to {kT:.3g}); compare with granular_shear_flow (dilute gas)")
+    if system.elastic_below > 0 and kT > BARELY_COOLED:
+        return (f"restitution < 1, but the gas barely cooled (kT from 1 to {kT:.3g}): contacts slower than "
+                f"--elastic-below {system.elastic_below:.3g} are elastic, and nearly all were; this is the run of "
+                "an elastic gas")
+    note = (f"restitution < 1: the gas cooled as it ran (homogeneous cooling, Haff's law), kT from 1 to {kT:.3g}; "
+            "Z, the collision frequency and D are averages over a cooling state, not equilibrium values")
+    if system.elastic_below > 0 and kT < 100.0 * system.elastic_below**2:
+        note += (f". It reached the elastic floor: contacts slower than --elastic-below {system.elastic_below:.3g} "
+                 "are elastic (against inelastic collapse), so fewer --collisions follow the cooling itself")
+    return note
+
+
+def _heating_note(run) -> str | None:
+    """What the temperature of an elastic sheared run means, if the flow heated it by more than 5 % on average."""
+    p, m = run.parameters, run.measurement()
+    if p.shear_rate == 0.0 or p.restitution != 1.0 or not m.temperature_mean > 1.05:
+        return None
+    reduced = p.shear_rate / m.collision_frequency
+    where = "between the thermostat's rescalings (every 4 N pair collisions)" if p.thermostat else "(no thermostat)"
+    note = (f"the flow heats the fluid {where}: kT averaged {m.temperature_mean:.3g}, the temperature the viscosity "
+            f"and Enskog's value are taken at; reduced shear rate G / collision frequency {reduced:.2g}")
+    if reduced > 0.1:
+        note += (": beyond about 0.1 the fluid shear-thins, its viscosity below Enskog's G -> 0 value (0.97 of it at "
+                 "0.09 for spheres at eta 0.3, 0.9 at 0.18 for discs)")
+    return note

@@ -1,4 +1,4 @@
-"""Construction of a :class:`~collisionkit.edmd.HardSphereSystem`: input checks and the engine's arrays.
+"""Construction of a :class:`~collisionkit.edmd.HardSphereSystem`: input checks, the engine and its arrays.
 
 The kernels read every particle from 64-byte records: ``p`` (position,
 velocity, own time, radius) and ``book`` (next event, event numbers, list
@@ -14,6 +14,8 @@ import numpy as np
 from .. import _arrays
 from .._kernels import edmd as _k
 from . import _checks
+from ._cell_crossings import cells_fit, engine_code
+from .theory import packing_fraction
 
 RESTITUTION_LAWS = {"constant": _k.LAW_CONSTANT, "bridges": _k.LAW_BRIDGES}
 # neighbour-list entries per particle a new system starts with (the rows grow when a run needs more)
@@ -34,6 +36,29 @@ def particle_arrays(positions, velocities):
     for array, name in ((positions, "positions"), (velocities, "velocities")):
         _arrays.require_finite(array, name)
     return positions, velocities
+
+
+def checked_particles(positions, velocities, radii, masses, box, periodic, species):
+    """The particles' inputs checked, in this order: positions, velocities, radii, masses, box, periodic, species.
+
+    Returns the positions and velocities (N, d), radii and masses (N,),
+    box (d,), periodic flags (d,) and species indices (N,; 0 for None).
+
+    Examples
+    --------
+    >>> _, _, radius, mass, box, periodic, species = checked_particles(
+    ...     [[1.0, 1.0], [1.0, 5.0]], [[1.0, 0.0], [1.0, 0.0]], 0.5, 1.0, 10.0, True, None)
+    >>> radius, box, periodic, species
+    (array([0.5, 0.5]), array([10., 10.]), array([ True,  True]), array([0, 0]))
+    """
+    positions, velocities = particle_arrays(positions, velocities)
+    count, dim = positions.shape
+    radius = _checks.positive(_checks.per_particle(radii, count, "radii"), "radii", scalar=False)
+    mass = _checks.positive(_checks.per_particle(masses, count, "masses"), "masses", scalar=False)
+    box = _checks.positive(_checks.per_particle(box, dim, "box"), "box", scalar=False)
+    periodic = periodic_axes(periodic, dim)
+    species = _checks.per_particle(0 if species is None else species, count, "species", integer=True)
+    return positions, velocities, radius, mass, box, periodic, species
 
 
 def periodic_axes(periodic, dim):
@@ -120,6 +145,46 @@ def particle_records(positions, velocities, radius):
     p[:, _k.V : _k.V + dim] = velocities
     p[:, _k.R] = radius
     return p
+
+
+def start_records(system, positions, velocities, radius, box, periodic):
+    """Give ``system`` its particles at time 0: records folded into the box, no images, slots in input order.
+
+    Also the event loop's counters: the sort, the accumulators, the events
+    in a row at one instant.
+    """
+    count, dim = positions.shape
+    system.time = 0.0
+    system.elapsed = 0.0
+    system.p = particle_records(positions, velocities, radius)
+    wrap_into_box(system.p, box, periodic)
+    system._image = np.zeros((count, dim), dtype=np.int64)
+    # particles live in memory in cell order (re-sorted as they move); ids maps slot -> particle
+    system.ids = np.arange(count)
+    system.last_sort = 0
+    system.acc = np.zeros(_k.ACC_SIZE)
+    system._still = 0  # events in a row at the current instant (the event loop's watch for a collapse)
+
+
+def engine_choice(engine, radius, box, periodic, gravity, growth, scale, shear_rate):
+    """The code of the event engine a system runs: ``engine`` as asked, "auto" resolved.
+
+    The cell-crossing engine needs straight flights of fixed radii (no
+    gravity, compression or shear) and cells that fit the box
+    (:func:`~collisionkit.edmd._cell_crossings.engine_code`).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from collisionkit.edmd._cell_crossings import ENGINE_CELLS
+    >>> engine_choice("auto", np.full(100, 0.5), np.full(2, 40.0), np.ones(2, bool), np.zeros(2), 0.0, 1.0,
+    ...               0.0) == ENGINE_CELLS
+    True
+    """
+    dim = len(box)
+    straight = growth == 0.0 and not np.any(gravity) and shear_rate == 0.0
+    fit = cells_fit(box, dim, periodic, 2.0 * float(np.max(radius)) * float(scale))
+    return engine_code(engine, dim, packing_fraction(radius * float(scale), box), len(radius), straight, fit)
 
 
 def wrap_into_box(p, box, periodic):

@@ -2,7 +2,9 @@
 
 :class:`Sampler` runs a system block by block and records what each block
 gives (resumable from a checkpoint); :func:`measure` runs it to the end;
-:class:`Measurement` holds the results with their standard errors.
+:class:`Measurement` holds the results with their standard errors. What a
+block records and what the records give are in ``_sampler_records``, the
+sampler's checkpoint arrays in ``_sampler_state``.
 """
 
 from __future__ import annotations
@@ -15,18 +17,16 @@ import numpy as np
 
 from .._repr import html_table, measurement_rows
 from . import _checks, _msd, _pair_distribution
+from ._sampler_records import RECORDS, SHEAR_RECORDS, block_start, observables, record_block
+from ._sampler_state import restore_sampler, sampler_arrays
 from ._shear import run_sheared
-from ._transport import TransportMeasurement, TransportSampler, transport_measurement
+from ._transport import TransportMeasurement, TransportSampler
 from .system import HardSphereSystem
-from .theory import _ball_volume
 
 __all__ = ["RECORDS", "SHEAR_RECORDS", "Measurement", "Sampler", "measure"]
 
-# what the sampler records at the end of each block (temperature: kT at the end; temperature_mean: its time average)
-RECORDS = ("temperature", "temperature_mean", "compressibility", "pressure", "frequency", "time", "msd", "msd_groups")
-# and, under shear, the xy element of the pressure tensor (kinetic plus collisional), its collisional part and the
-# energy the thermostat removed
-SHEAR_RECORDS = ("shear_stress", "collisional_shear_stress", "thermostat_energy")
+# RECORDS (what the sampler records at the end of each block) and SHEAR_RECORDS (and under shear) are defined in
+# ._sampler_records
 
 
 @dataclass
@@ -279,23 +279,15 @@ class Sampler:
         system = self.system
         dim, count = system.dim, system.count
         kT_before = system.temperature()
-        virial0, collisions0, time0 = system.virial, system.collisions, system.elapsed
-        shear0 = _shear_totals(system)
-        thermostat0 = system.thermostat_energy
+        start = block_start(system)
         # numba compiles at the first call (seconds on a cold cache): not a part of the timed run
         system.compile_event_loop()
         _pair_distribution.pair_distance_histogram(np.zeros((1, dim)), system.box[:dim], system.periodic, 1.0, 1)
         # the measurement's wall clock: the events and the sampling of this block
         tick = perf_counter()
-        area = None
-        if system.shear_rate != 0.0:
-            area = run_sheared(system, self.per_block, progress)
-        elif self.transport is None:
-            system.run(collisions=self.per_block, progress=progress)
-        else:
-            self.transport.run_block(self.per_block, progress)
+        area = self._run_block_events(progress)
         kT_after = system.temperature()
-        duration = system.elapsed - time0
+        duration = system.elapsed - start["time"]
         # the time average of kT: under shear from the sampled energy, else the mean of the block's ends
         kT = 0.5 * (kT_before + kT_after) if area is None or not duration > 0 else 2.0 * area / (dim * count * duration)
         if not (duration > 0.0 and kT > 0.0):
@@ -304,30 +296,22 @@ class Sampler:
                 "system collapsed (e.g. restitution < 1 with elastic_below 0), so its pressure and collision "
                 "frequency are undefined; raise elastic_below or the restitution"
             )
-        virial = system.virial - virial0
-        record = self.records
-        record["temperature"].append(kT_after)
-        record["temperature_mean"].append(kT)
-        record["compressibility"].append(1.0 + virial / (dim * count * kT * duration))
-        record["pressure"].append((count * kT + virial / (dim * duration)) / system.volume)
-        record["frequency"].append(2.0 * (system.collisions - collisions0) / (count * duration))
-        record["time"].append(system.elapsed - self.start_time)
-        unwrapped = system.positions(unwrapped=True)
-        axes = self._diffusion_axes()
-        squared = np.sum((unwrapped[:, axes] - self.start_positions[:, axes]) ** 2, axis=1)
-        record["msd"].append(float(np.mean(squared)))
-        record["msd_groups"].append(_msd.group_means(squared))
-        if system.shear_rate != 0.0:
-            stress, collisional = _shear_stresses(system, shear0, duration)
-            record["shear_stress"].append(stress)
-            record["collisional_shear_stress"].append(collisional)
-            record["thermostat_energy"].append(system.thermostat_energy - thermostat0)
-        if self.lag_msd is not None:
-            self.lag_msd.add(unwrapped[:, axes], system.elapsed)
-        # relative to the flow under shear (as kT is): lab-frame speeds grow with the box and the rate
-        self.speeds.append(np.linalg.norm(system.peculiar_velocities(), axis=1))
-        self.histogram += _pair_distribution.pair_histogram(system, self.r_max, self.histogram.size)
+        record_block(self, start, kT_after, kT, duration)
         self.wall_seconds += perf_counter() - tick
+
+    def _run_block_events(self, progress):
+        """Run the block's pair collisions (sheared, for transport or plain); under shear return the energy's integral.
+
+        Under shear the time integral of the peculiar kinetic energy
+        (:func:`~collisionkit.edmd._shear.run_sheared`), else None.
+        """
+        if self.system.shear_rate != 0.0:
+            return run_sheared(self.system, self.per_block, progress)
+        if self.transport is None:
+            self.system.run(collisions=self.per_block, progress=progress)
+        else:
+            self.transport.run_block(self.per_block, progress)
+        return None
 
     def state_dict(self):
         """The sampler's accumulators as arrays (the system is saved separately).
@@ -343,20 +327,7 @@ class Sampler:
         >>> sorted(sampler.state_dict())[:3]
         ['sampler_compressibility', 'sampler_frequency', 'sampler_histogram']
         """
-        state = {f"sampler_{name}": np.asarray(values, dtype=float) for name, values in self.records.items()}
-        state |= {
-            "sampler_speeds": np.asarray(self.speeds, dtype=float).reshape(len(self.speeds), -1),
-            "sampler_histogram": self.histogram,
-            "sampler_start_positions": self.start_positions,
-            "sampler_scalars": np.array(
-                [self.blocks, self.per_block, self.r_max, self.start_time, self.start_lost, self.wall_seconds]
-            ),
-        }
-        if self.lag_msd is not None:
-            state |= self.lag_msd.state_dict()
-        if self.transport is not None:
-            state |= self.transport.state_dict()
-        return state
+        return sampler_arrays(self)
 
     @classmethod
     def from_state_dict(cls, system: HardSphereSystem, state):
@@ -376,30 +347,7 @@ class Sampler:
         if not isinstance(system, HardSphereSystem):
             raise TypeError(f"system must be a HardSphereSystem; got {type(system).__name__}")
         sampler = cls.__new__(cls)
-        sampler.system = system
-        blocks, per_block, r_max, start_time, start_lost, wall = state["sampler_scalars"]
-        sampler.blocks, sampler.per_block = int(blocks), int(per_block)
-        sampler.r_max, sampler.start_time, sampler.start_lost, sampler.wall_seconds = r_max, start_time, start_lost, wall
-        sampler.histogram = np.array(state["sampler_histogram"])
-        sampler.start_positions = np.array(state["sampler_start_positions"])
-        sampler.records = {name: list(state[f"sampler_{name}"]) for name in RECORDS + SHEAR_RECORDS
-                           if f"sampler_{name}" in state}
-        # a checkpoint written before the groups were recorded: their blocks are unknown (no D error)
-        sampler.records.setdefault("msd_groups", [np.full(_msd.MSD_GROUPS, math.nan)] * len(sampler.records["msd"]))
-        # ... or before the mean kT and the thermostat's energy were: unknown for the blocks done
-        done = len(sampler.records["msd"])
-        sampler.records.setdefault("temperature_mean", [math.nan] * done)
-        if "shear_stress" in sampler.records:
-            sampler.records.setdefault("thermostat_energy", [math.nan] * done)
-        sampler.speeds = [row for row in np.array(state["sampler_speeds"])]
-        sampler.lag_msd = _msd.LagMSD.from_state_dict(state)
-        if sampler.lag_msd is not None and len(sampler.lag_msd.positions[0]) and \
-                np.shape(sampler.lag_msd.positions[0])[-1] != len(sampler._diffusion_axes()):
-            # a sheared run saved before the transverse D: its displacements count x too, so it has none
-            sampler.lag_msd = None
-            sampler.records["msd"] = [math.nan] * len(sampler.records["msd"])
-        has_transport = "transport_scalars" in state
-        sampler.transport = TransportSampler.from_state_dict(system, state) if has_transport else None
+        restore_sampler(sampler, system, state)
         return sampler
 
     def result(self) -> Measurement:
@@ -419,65 +367,7 @@ class Sampler:
         """
         if self.done < 2:
             raise ValueError(f"need at least 2 finished blocks for errors; have {self.done}")
-        system, dim, count = self.system, self.system.dim, self.system.count
-        record = self.records
-        edges = np.linspace(0.0, self.r_max, self.histogram.size + 1)
-        centres = 0.5 * (edges[1:] + edges[:-1])
-        shells = _ball_volume(edges[1:], dim) - _ball_volume(edges[:-1], dim)
-        # ordered pairs: each of the N particles sees the other N - 1 at density (N - 1) / V
-        rdf = self.histogram / (self.done * count * ((count - 1) / system.volume) * shells)
-        speeds = np.concatenate(self.speeds)
-        omega = float(np.mean(record["frequency"]))
-        mean_speed = float(np.mean(speeds))
-        msd_time = np.concatenate([[0.0], record["time"]])
-        msd = np.concatenate([[0.0], record["msd"]])
-        axes = len(self._diffusion_axes())
-        from_lags = self.lag_msd.diffusion(axes) if self.lag_msd is not None else None
-        diffusion, diffusion_error = from_lags or _msd.diffusion_from_msd(msd_time, msd, record["msd_groups"], axes)
-        omega_error = _msd.block_error(record["frequency"])
-        diameter = 2.0 * float(np.max(system.radius))
-        contact, contact_error = _pair_distribution.contact_value(centres, rdf, self.histogram, diameter)
-        durations = np.diff(msd_time)
-        block_kT = np.asarray(record["temperature_mean"], dtype=float)
-        return Measurement(
-            dim=dim,
-            particles=count,
-            packing_fraction=system.packing_fraction,
-            collisions=self.per_block * self.done,
-            time=float(msd_time[-1]),
-            wall_seconds=self.wall_seconds,
-            temperature=float(record["temperature"][-1]),
-            compressibility_factor=float(np.mean(record["compressibility"])),
-            compressibility_factor_error=_msd.block_error(record["compressibility"]),
-            pressure=float(np.mean(record["pressure"])),
-            pressure_error=_msd.block_error(record["pressure"]),
-            collision_frequency=omega,
-            collision_frequency_error=omega_error,
-            mean_free_time=1.0 / omega,
-            mean_free_time_error=omega_error / omega**2,
-            mean_free_path=mean_speed / omega,
-            mean_free_path_error=mean_speed * omega_error / omega**2,
-            mean_speed=mean_speed,
-            diffusion_coefficient=diffusion,
-            diffusion_coefficient_error=diffusion_error,
-            energy_lost=float(system.energy_lost - self.start_lost),
-            contact_value=contact,
-            contact_value_error=contact_error,
-            speeds=speeds,
-            rdf_r=centres,
-            rdf=rdf,
-            msd_time=msd_time,
-            msd=msd,
-            block_temperature=np.asarray(record["temperature"]),
-            block_compressibility=np.asarray(record["compressibility"]),
-            block_frequency=np.asarray(record["frequency"]),
-            temperature_mean=float(np.sum(block_kT * durations) / np.sum(durations)),
-            temperature_mean_error=_msd.block_error(block_kT),
-            block_temperature_mean=block_kT,
-            transport=None if self.transport is None else transport_measurement(
-                self.transport, self.done, 1.0 / omega, system.volume, count),
-            **_shear_results(system.shear_rate, record, system.volume * durations),
-        )
+        return Measurement(**observables(self))
 
 
 def measure(system: HardSphereSystem, collisions: int, blocks: int = 10, rdf_bins: int = 500, progress=None,
@@ -512,42 +402,6 @@ def measure(system: HardSphereSystem, collisions: int, blocks: int = 10, rdf_bin
     while not sampler.finished:
         sampler.run_block(None if progress is None else _share_of_blocks(progress, sampler))
     return sampler.result()
-
-
-def _shear_totals(system):
-    """What the shear stress of a block is computed from: peculiar kinetic energy, energy lost and removed, stress."""
-    if system.shear_rate == 0.0:
-        return None
-    return (system.kinetic_energy(), system.energy_lost, system.thermostat_energy,
-            float(system.collisional_stress[0, 1]))
-
-
-def _shear_stresses(system, before, duration):
-    r"""P_xy over a block (kinetic plus collisional) and its collisional part, from the exact energy balance.
-
-    Over the block :math:`\Delta E + E_{lost} + E_{thermostat} = -G V \int
-    P_{xy} dt` (see :mod:`._shear`): the total needs no sampling of the
-    kinetic stress; the collisional part is the collisional stress sum's
-    change over V t.
-    """
-    energy, lost, removed, stress = before
-    work = (system.kinetic_energy() - energy) + (system.energy_lost - lost) + (system.thermostat_energy - removed)
-    volume_time = system.volume * duration
-    return (-work / (system.shear_rate * volume_time),
-            (float(system.collisional_stress[0, 1]) - stress) / volume_time)
-
-
-def _shear_results(rate, record, volume_times):
-    """The Measurement's shear fields from the block records (none without shear); V t of each block given."""
-    if rate == 0.0:
-        return {}
-    stress, collisional = np.asarray(record["shear_stress"]), np.asarray(record["collisional_shear_stress"])
-    return {"shear_rate": rate, "thermostat_energy": float(np.sum(record["thermostat_energy"])),
-            "viscous_heating": -rate * float(np.sum(stress * volume_times)),
-            "shear_stress": float(np.mean(stress)), "shear_stress_error": _msd.block_error(stress),
-            "collisional_shear_stress": float(np.mean(collisional)),
-            "collisional_shear_stress_error": _msd.block_error(collisional),
-            "shear_viscosity": -float(np.mean(stress)) / rate, "shear_viscosity_error": _msd.block_error(stress) / rate}
 
 
 def _share_of_blocks(progress, sampler):

@@ -13,11 +13,14 @@ the dynamics)::
     run = EdmdRun.resume("run.npz")
     run.run()
     run.summary()["compressibility_factor"]
+
+The run keeps its parameters, system, sampler and counters; its checkpoint
+is written and read in ``_run_state``, its files are locked and its frames
+written in ``_run_files``, and its summary and notes made in ``_summary``.
 """
 
 from __future__ import annotations
 
-import contextlib
 import dataclasses
 import secrets
 from collections.abc import Callable, Sequence
@@ -26,10 +29,11 @@ from typing import Any
 
 import numpy as np
 
-from .._io import CheckpointError, exclusive, read_checkpoint, write_checkpoint
-from .._params import Parameters, check_integer, check_unchanged
-from ._run_checks import check_saved_run, checked_parameters
-from ._summary import edmd_summary
+from .._params import Parameters, check_integer
+from ._run_checks import checked_parameters
+from ._run_files import RunFiles
+from ._run_state import CHECKPOINT_KIND, restore_run, resume_arguments, save_run  # noqa: F401 (CHECKPOINT_KIND)
+from ._summary import BARELY_COOLED, cooling_note, edmd_summary  # noqa: F401 (BARELY_COOLED: the CLI's)
 from .initial import lattice, lattice_cells, maxwell_boltzmann, random_fluid
 from .measurement import Measurement, Sampler
 from .system import HardSphereSystem
@@ -41,9 +45,8 @@ COLLISIONS_PER_PARTICLE = 200
 # a transport run's default: 10 blocks of 200 per particle (400 mean free times) outlast the fit window tenfold
 TRANSPORT_COLLISIONS_PER_PARTICLE = 2000
 MIN_CHUNK = 10_000
-CHECKPOINT_KIND = "edmd"
-# kT above which an inelastic run with an elastic floor is reported as not cooled (under 1 % of the energy lost)
-BARELY_COOLED = 0.99
+# CHECKPOINT_KIND (the kind of the run's checkpoints) is defined in ._run_state, BARELY_COOLED (the kT above which an
+# inelastic run with an elastic floor is reported as not cooled) in ._summary: both are importable from here as before
 
 
 @dataclasses.dataclass(frozen=True)
@@ -215,7 +218,6 @@ class EdmdRun:
         self.checkpoint = None if checkpoint is None else Path(checkpoint)
         self.trajectory = None if trajectory is None else Path(trajectory)
         self.frame_every = frame_every
-        self._writer = None
         self._continued = False
         if _state is None:
             self.system = _initial_system(self.parameters, progress)
@@ -223,7 +225,7 @@ class EdmdRun:
             self.equilibrated, self.frames, self.last_frame = 0, 0, -1
             self.initial_energy = self.system.kinetic_energy()
         else:
-            self._restore(_state)
+            restore_run(self, _state)
 
     # ---------------------------------------------------------------- checkpoints
 
@@ -236,15 +238,7 @@ class EdmdRun:
         True
         """
         path = self.checkpoint if path is None else Path(path)
-        if path is None:
-            return None
-        arrays = dict(self.system.state_dict())
-        if self.sampler is not None:
-            arrays |= self.sampler.state_dict()
-        state = {"equilibrated": self.equilibrated, "frames": self.frames, "last_frame": self.last_frame,
-                 "initial_energy": self.initial_energy, "trajectory": None if self.trajectory is None else
-                 str(self.trajectory.resolve()), "frame_every": self.frame_every}
-        return write_checkpoint(path, CHECKPOINT_KIND, self.parameters.to_dict(), state, arrays)
+        return None if path is None else save_run(self, path)
 
     @classmethod
     def resume(cls, path, checkpoint=None, trajectory=None, frame_every=None, **given) -> EdmdRun:
@@ -287,39 +281,7 @@ class EdmdRun:
         >>> resumed.run().measured
         400
         """
-        saved = read_checkpoint(path, CHECKPOINT_KIND)
-        try:
-            parameters = EdmdParameters.from_mapping(saved.parameters)
-        except (TypeError, ValueError) as error:
-            raise CheckpointError(f"{path} holds parameters that are not valid now: {error}") from None
-        check_unchanged(parameters, given, path)
-        saved_trajectory = saved.entry("trajectory", "text", optional=True)
-        saved_frame_every = saved.entry("frame_every", "integer", 1, optional=True)
-        append = trajectory is not None and saved_trajectory is not None and \
-            Path(trajectory).resolve() == Path(saved_trajectory)
-        if frame_every is None and append:
-            frame_every = saved_frame_every
-        return cls(parameters, checkpoint=path if checkpoint is None else checkpoint, trajectory=trajectory,
-                   frame_every=frame_every, _state={"saved": saved, "append": append})
-
-    def _restore(self, state) -> None:
-        saved = state["saved"]
-        try:  # every array is checked before a kernel sees it
-            self.system = HardSphereSystem.from_state_dict(saved.arrays)
-        except ValueError as error:  # written by another engine version, or arrays out of shape or range
-            raise CheckpointError(f"cannot resume from {saved.path}: {error}") from None
-        arrays = saved.arrays
-        try:
-            self.sampler = Sampler.from_state_dict(self.system, arrays) if "sampler_scalars" in arrays else None
-        except (KeyError, TypeError, ValueError, IndexError) as error:
-            raise saved.damaged(f"its measurement cannot be read (no array {error})" if isinstance(error, KeyError)
-                                else f"its measurement cannot be read ({error})") from None
-        check_saved_run(saved, self.sampler, self.parameters, self.system)
-        self.equilibrated = saved.entry("equilibrated", "integer", 0, self.parameters.equilibration)
-        self.frames = saved.entry("frames", "integer", 0) if state["append"] else 0
-        self.last_frame = saved.entry("last_frame", "integer", -1)
-        self.initial_energy = saved.entry("initial_energy", "number", 0.0)
-        self._append = self._continued = state["append"]
+        return cls(**resume_arguments(EdmdParameters, path, checkpoint, trajectory, frame_every, given))
 
     # ---------------------------------------------------------------- running
 
@@ -396,10 +358,9 @@ class EdmdRun:
         def report(done: int):
             return None if progress is None else (lambda fraction: progress(min(1.0, (done + fraction * step) / total)))
 
-        self._open_trajectory()
-        try:
+        with RunFiles(self) as files:
             if self.equilibrated == 0 and self.sampler is None:
-                self._chunk_done()  # the initial state: a frame (with frame_every) and a checkpoint
+                self._chunk_done(files)  # the initial state: a frame (with frame_every) and a checkpoint
             chunk = max(p.particles, MIN_CHUNK)
             while self.equilibrated < p.equilibration:
                 step = min(chunk, p.equilibration - self.equilibrated)
@@ -407,63 +368,21 @@ class EdmdRun:
                 if done == 0:
                     raise RuntimeError("the system stopped colliding during equilibration")
                 self.equilibrated += done
-                self._chunk_done()
+                self._chunk_done(files)
             if self.sampler is None:
                 self.sampler = Sampler(self.system, p.collisions, p.blocks, transport=p.transport)
             while not self.sampler.finished:
                 step = self.sampler.per_block
                 self.sampler.run_block(report(self.equilibrated + self.measured))
-                self._chunk_done()
-            self._frame(final=True)
-        finally:
-            self._close_trajectory()
+                self._chunk_done(files)
+            files.frame(final=True)
         if progress is not None:
             progress(1.0)
         return self
 
-    def _open_trajectory(self) -> None:
-        """Lock the checkpoint and the trajectory for the run (a second writer is refused); open the trajectory.
-
-        A resumed run appends to its trajectory: frames after the
-        checkpoint's are dropped, and a file without all of the checkpoint's
-        frames is refused (it is not this run's trajectory).
-        """
-        self._locks = contextlib.ExitStack()
-        try:
-            for path in (self.checkpoint, self.trajectory):
-                self._locks.enter_context(exclusive(path))
-            if self.trajectory is None:
-                return
-            from ..trajectory import GSDWriter, truncate_gsd
-
-            append = getattr(self, "_append", False) and self.trajectory.exists()
-            last_step = self.last_frame if self.frames > 0 else None
-            self.frames = truncate_gsd(self.trajectory, self.frames, last_step=last_step) if append else 0
-            self._writer = GSDWriter(self.trajectory, mode="a" if append else "w")
-            self._append = True
-        except BaseException:
-            self._locks.close()
-            raise
-
-    def _close_trajectory(self) -> None:
-        if self._writer is not None:
-            self._writer.close()
-            self._writer = None
-        self._locks.close()
-
-    def _frame(self, final: bool = False) -> None:
-        step = self.system.collisions
-        if self._writer is None or step == self.last_frame:
-            return
-        every = self.frame_every
-        due = every is not None and (self.last_frame < 0 or step // every > self.last_frame // every)
-        if due or final:
-            self._writer.write(self.system, step)
-            self.frames += 1
-            self.last_frame = step
-
-    def _chunk_done(self) -> None:
-        self._frame()
+    def _chunk_done(self, files: RunFiles) -> None:
+        """After set-up and every chunk and block: a frame if one is due, and the checkpoint."""
+        files.frame()
         self.save()
 
     # ---------------------------------------------------------------- results
@@ -523,35 +442,4 @@ class EdmdRun:
         >>> heated.run().cooling_note().split(":")[0]
         "the flow heats the fluid between the thermostat's rescalings (every 4 N pair collisions)"
         """
-        if self.parameters.restitution == 1.0:
-            return None if self.sampler is None or self.sampler.done < 2 else _heating_note(self)
-        system = self.system
-        kT = system.temperature()
-        if self.parameters.shear_rate != 0.0:
-            return (f"restitution < 1 under shear: the viscous heating of the flow balances the collisional cooling "
-                    f"in a steady state (kT from 1 to {kT:.3g}); compare with granular_shear_flow (dilute gas)")
-        if system.elastic_below > 0 and kT > BARELY_COOLED:
-            return (f"restitution < 1, but the gas barely cooled (kT from 1 to {kT:.3g}): contacts slower than "
-                    f"--elastic-below {system.elastic_below:.3g} are elastic, and nearly all were; this is the run of "
-                    "an elastic gas")
-        note = (f"restitution < 1: the gas cooled as it ran (homogeneous cooling, Haff's law), kT from 1 to {kT:.3g}; "
-                "Z, the collision frequency and D are averages over a cooling state, not equilibrium values")
-        if system.elastic_below > 0 and kT < 100.0 * system.elastic_below**2:
-            note += (f". It reached the elastic floor: contacts slower than --elastic-below {system.elastic_below:.3g} "
-                     "are elastic (against inelastic collapse), so fewer --collisions follow the cooling itself")
-        return note
-
-
-def _heating_note(run) -> str | None:
-    """What the temperature of an elastic sheared run means, if the flow heated it by more than 5 % on average."""
-    p, m = run.parameters, run.measurement()
-    if p.shear_rate == 0.0 or p.restitution != 1.0 or not m.temperature_mean > 1.05:
-        return None
-    reduced = p.shear_rate / m.collision_frequency
-    where = "between the thermostat's rescalings (every 4 N pair collisions)" if p.thermostat else "(no thermostat)"
-    note = (f"the flow heats the fluid {where}: kT averaged {m.temperature_mean:.3g}, the temperature the viscosity "
-            f"and Enskog's value are taken at; reduced shear rate G / collision frequency {reduced:.2g}")
-    if reduced > 0.1:
-        note += (": beyond about 0.1 the fluid shear-thins, its viscosity below Enskog's G -> 0 value (0.97 of it at "
-                 "0.09 for spheres at eta 0.3, 0.9 at 0.18 for discs)")
-    return note
+        return cooling_note(self)

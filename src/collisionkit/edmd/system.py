@@ -8,7 +8,8 @@ the system keeps the kernels' arrays, with its responsibilities split over
 helper modules: construction (``_system_setup``), named views of the
 kernels' parameters and totals (``_system_parameters``), the particles as
 users see them (``_particle_state``), neighbour lists and cells
-(``_neighbour_lists``) and checkpoints (``_system_state``).
+(``_neighbour_lists``), checkpoints (``_system_state``), runs in chunks and
+the clock (``_system_run``) and the event loop (``_system_events``).
 """
 
 from __future__ import annotations
@@ -18,16 +19,16 @@ import math
 import numpy as np
 
 from .._kernels import edmd as _k
-from .._kernels.edmd.crossings import PENDING_TIME
 from .._repr import hard_sphere_system_rows, html_table
-from . import _checks, _system_setup
-from ._cell_crossings import ENGINE_CELLS, CellCrossings, cells_fit, engine_code
+from . import _checks, _system_run, _system_setup
+from ._cell_crossings import CellCrossings
 from ._neighbour_lists import NeighbourLists
 from ._particle_state import ParticleState
-from ._shear import THERMOSTAT_INTERVAL, ShearFlow, shear_parameters
+from ._shear import THERMOSTAT_INTERVAL, ShearFlow, shear_parameters  # noqa: F401 (THERMOSTAT_INTERVAL: as before)
 from ._system_events import run_event_loop
 from ._system_parameters import SystemParameters
 from ._system_setup import RESTITUTION_LAWS
+from ._system_run import SORT_INTERVAL
 from ._system_state import Checkpoints
 from .theory import packing_fraction
 
@@ -37,8 +38,7 @@ __all__ = [
     "OverlapError",
 ]
 
-# re-sort particles in memory by cell after this many collisions per particle
-SORT_INTERVAL = 20
+# SORT_INTERVAL (collisions per particle between re-sorts in memory by cell) is defined in ._system_run
 # neighbour-list shell (skin) in units of the largest diameter; benchmarks/bench_edmd.py --shells tunes it
 DEFAULT_SHELL = 0.7
 # the shell's default for 3D systems that start at a packing fraction of DENSE_PACKING or more, where a list holds
@@ -220,19 +220,14 @@ class HardSphereSystem(SystemParameters, ParticleState, NeighbourLists, CellCros
         _growth=0.0,
         _scale=1.0,
     ):
-        positions, velocities = _system_setup.particle_arrays(positions, velocities)
-        count, dim = positions.shape
-        self.dim = dim
-        radius = _checks.positive(_checks.per_particle(radii, count, "radii"), "radii", scalar=False)
-        self._mass = _checks.positive(_checks.per_particle(masses, count, "masses"), "masses", scalar=False)
-        box = _checks.positive(_checks.per_particle(box, dim, "box"), "box", scalar=False)
-        periodic = _system_setup.periodic_axes(periodic, dim)
-        self._species = _checks.per_particle(0 if species is None else species, count, "species", integer=True)
+        positions, velocities, radius, self._mass, box, periodic, self._species = _system_setup.checked_particles(
+            positions, velocities, radii, masses, box, periodic, species)
+        self.dim = positions.shape[1]
         self.restitution, self.params = _system_setup.restitution_parameters(
             self._species, restitution, restitution_law, law_speed, law_exponent, wall_restitution
         )
         self.restitution_law = restitution_law
-        gravity = _system_setup.gravity_vector(gravity, dim)
+        gravity = _system_setup.gravity_vector(gravity, self.dim)
         if neighbour_shell is None:
             homogeneous = _growth == 0.0 and not np.any(gravity)
             neighbour_shell = default_shell(radius * float(_scale), box, homogeneous)
@@ -241,16 +236,7 @@ class HardSphereSystem(SystemParameters, ParticleState, NeighbourLists, CellCros
         self.geom = _system_setup.geometry(box, periodic, gravity)
         self.params[_k.P_SCALE0] = float(_scale)
         self.params[_k.P_GROWTH] = float(_growth)
-        self.time = 0.0
-        self.elapsed = 0.0
-        self.p = _system_setup.particle_records(positions, velocities, radius)
-        _system_setup.wrap_into_box(self.p, box, periodic)
-        self._image = np.zeros((count, dim), dtype=np.int64)
-        # particles live in memory in cell order (re-sorted as they move); ids maps slot -> particle
-        self.ids = np.arange(count)
-        self.last_sort = 0
-        self.acc = np.zeros(_k.ACC_SIZE)
-        self._still = 0  # events in a row at the current instant (the event loop's watch for a collapse)
+        _system_setup.start_records(self, positions, velocities, radius, box, periodic)
         if elastic_below is None:
             elastic_below = _system_setup.default_elastic_below(self.restitution, restitution_law, velocities,
                                                                 self.params[_k.P_WALL_RESTITUTION], gravity, box)
@@ -258,10 +244,8 @@ class HardSphereSystem(SystemParameters, ParticleState, NeighbourLists, CellCros
         shear_parameters(self, shear_rate, thermostat)
         if self.shear_rate != 0.0:
             self._add_streaming()
-        straight = _growth == 0.0 and not np.any(gravity) and self.shear_rate == 0.0
-        fit = cells_fit(box, dim, periodic, 2.0 * float(np.max(radius)) * float(_scale))
-        self._engine_code = engine_code(engine, dim, packing_fraction(radius * float(_scale), box), count, straight,
-                                        fit)
+        self._engine_code = _system_setup.engine_choice(engine, radius, box, periodic, gravity, _growth, _scale,
+                                                        self.shear_rate)
         _system_setup.allocate_engine_arrays(self)
         self._refresh_lists()
         _system_setup.check_walls(self)
@@ -288,17 +272,7 @@ class HardSphereSystem(SystemParameters, ParticleState, NeighbourLists, CellCros
         >>> system.time, system.elapsed > 0
         (0.0, True)
         """
-        _k.synchronise(self.p, self.time, self.geom, self.dim)
-        shift = self.time
-        if shift != 0.0:
-            self.p[:, _k.T] -= shift
-            self.queue -= shift
-            self.tree[:, 0] -= shift
-            self.pending[:, PENDING_TIME] -= shift  # the cell-crossing engine's absolute times too
-            self.params[_k.P_SCALE0] += self.growth * shift
-            self._shear_clock(shift)
-            self.elapsed += shift
-            self.time = 0.0
+        _system_run.restart_clock(self)
 
     def check(self, tolerance=1e-9):
         """Verify the invariant: no overlaps between particles or with walls.
@@ -343,20 +317,6 @@ class HardSphereSystem(SystemParameters, ParticleState, NeighbourLists, CellCros
         (the queue holds each particle's earliest, list events included).
         """
         return float(self.tree[1, 0]) - self.time
-
-    def _pair_gap(self):
-        return _k.min_gap(
-            self.p, self.scale, self.cell_of, self.cell_members, self.cell_count, self.ncell, self.geom, self.dim
-        )
-
-    def _predict_all(self):
-        if self._engine_code == ENGINE_CELLS:
-            self._predict_all_crossings()
-            return
-        _k.predict_all(
-            self.p, self.book, self.anchor_time, self.neighbours, self.neighbour_count, self.geom, self.dim, self.params, self.queue,
-            self.tree, self.leaves, self.acc,
-        )
 
     def _stop_growing(self, scale):
         """End a compression: radii fixed at ``scale`` from now on (lists rebuilt)."""
@@ -408,40 +368,7 @@ class HardSphereSystem(SystemParameters, ParticleState, NeighbourLists, CellCros
         >>> system.run(time=0.5) > 0, round(system.elapsed, 12) > 0
         (True, True)
         """
-        if collisions is None and time is None:
-            raise ValueError("give collisions or time (or both)")
-        target = np.iinfo(np.int64).max if collisions is None else _checks.integer_at_least(collisions, "collisions", 0)
-        duration = math.inf if time is None else _checks.bounded(time, "time", 0.0)
-        chunk = max(self.count, 100_000) if chunk is None else _checks.integer_at_least(chunk, "chunk", 1)
-        done, remaining = 0, duration
-        while done < target and remaining > 0:
-            step = min(chunk, target - done)
-            if self.thermostat is not None:  # the peculiar velocities are rescaled on a grid of the collision count
-                step = min(step, self._thermostat_due_in())
-            if self.collisions - self.last_sort >= SORT_INTERVAL * self.count:
-                self._sort_by_cell()
-            before, start = self.collisions, self.time
-            # while growing, the lists hold only up to the radius scale they were built for
-            lists_expire = self._lists_expire_in()
-            span = max(min(remaining, lists_expire), 0.0)
-            self.time = self._run_events(step, start + span)
-            lists_expired = lists_expire < remaining and self.time == start + span
-            advanced = self.collisions - before
-            done += advanced
-            remaining -= self.time - start
-            if progress is not None:
-                shares = ([done / collisions] if collisions else []) + ([1.0 - remaining / duration] if time else [])
-                progress(min(max(shares), 1.0))
-            self.synchronise()
-            if self.thermostat is not None and advanced > 0 and self._thermostat_due_in() == THERMOSTAT_INTERVAL * self.count:
-                self._apply_thermostat()
-            if self._grow_overflowed_storage():
-                continue
-            if lists_expired:
-                self._refresh_lists()
-            elif advanced < step:  # stopped by the time limit, or nothing left to happen
-                break
-        return done
+        return _system_run.advance(self, collisions, time, progress, chunk)
 
     def _run_until(self, collisions, elapsed):
         """Process events until ``collisions`` more pair collisions or the total time ``elapsed``: the collisions made.
@@ -452,14 +379,7 @@ class HardSphereSystem(SystemParameters, ParticleState, NeighbourLists, CellCros
         at their own times). Re-sorts and grows overflowed rows as
         :meth:`run` does.
         """
-        if self.collisions - self.last_sort >= SORT_INTERVAL * self.count:
-            self._sort_by_cell()
-        start = self.collisions
-        while True:
-            left = collisions - (self.collisions - start)
-            self.time = self._run_events(left, max(elapsed - self.elapsed, self.time))
-            if not self._grow_overflowed_storage():
-                return self.collisions - start
+        return _system_run.run_until(self, collisions, elapsed)
 
     def compile_event_loop(self):
         """Compile the event loop now (numba compiles at the first call), so that a timed run times only events.

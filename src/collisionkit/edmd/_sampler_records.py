@@ -1,0 +1,193 @@
+r"""What a :class:`~collisionkit.edmd.Sampler` records at each block's end, and the observables its records give.
+
+:func:`block_start` takes the totals a block is measured against,
+:func:`record_block` appends the block's values to the sampler's records
+(:data:`RECORDS`, and :data:`SHEAR_RECORDS` under shear) and accumulates
+its speeds, pair distances and displacements; :func:`observables` turns
+the records of the blocks done into the fields of a
+:class:`~collisionkit.edmd.Measurement`: block means with standard errors,
+g(r) with its contact value, the diffusion coefficient, the mean free time
+and path, and, under shear, the stress, viscosity and energy budget.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from . import _msd, _pair_distribution
+from ._transport import transport_measurement
+from .theory import _ball_volume
+
+# what the sampler records at the end of each block (temperature: kT at the end; temperature_mean: its time average)
+RECORDS = ("temperature", "temperature_mean", "compressibility", "pressure", "frequency", "time", "msd", "msd_groups")
+# and, under shear, the xy element of the pressure tensor (kinetic plus collisional), its collisional part and the
+# energy the thermostat removed
+SHEAR_RECORDS = ("shear_stress", "collisional_shear_stress", "thermostat_energy")
+
+
+def block_start(system) -> dict:
+    """The system's totals at the start of a block: virial, collisions, time, shear totals, thermostat energy.
+
+    Examples
+    --------
+    >>> from collisionkit.edmd import HardSphereSystem
+    >>> system = HardSphereSystem([[1.0, 1.0], [1.0, 5.0]], [[1.0, 0.0], [1.0, 0.0]], 0.5, 10.0)
+    >>> block_start(system)["collisions"], block_start(system)["shear"] is None
+    (0, True)
+    """
+    return {"virial": system.virial, "collisions": system.collisions, "time": system.elapsed,
+            "shear": shear_totals(system), "thermostat": system.thermostat_energy}
+
+
+def record_block(sampler, start, kT_after, kT, duration) -> None:
+    """Append the block just run to ``sampler``'s records: kT at its end and mean, Z, P, frequency, time, MSD, shear.
+
+    ``start`` is :func:`block_start` of the block, ``duration`` its time.
+    Also adds the block end as an MSD time origin, a sample of the
+    (peculiar) speeds and the pair distances for g(r).
+    """
+    system = sampler.system
+    dim, count = system.dim, system.count
+    virial = system.virial - start["virial"]
+    record = sampler.records
+    record["temperature"].append(kT_after)
+    record["temperature_mean"].append(kT)
+    record["compressibility"].append(1.0 + virial / (dim * count * kT * duration))
+    record["pressure"].append((count * kT + virial / (dim * duration)) / system.volume)
+    record["frequency"].append(2.0 * (system.collisions - start["collisions"]) / (count * duration))
+    record["time"].append(system.elapsed - sampler.start_time)
+    unwrapped = system.positions(unwrapped=True)
+    axes = sampler._diffusion_axes()
+    squared = np.sum((unwrapped[:, axes] - sampler.start_positions[:, axes]) ** 2, axis=1)
+    record["msd"].append(float(np.mean(squared)))
+    record["msd_groups"].append(_msd.group_means(squared))
+    if system.shear_rate != 0.0:
+        stress, collisional = shear_stresses(system, start["shear"], duration)
+        record["shear_stress"].append(stress)
+        record["collisional_shear_stress"].append(collisional)
+        record["thermostat_energy"].append(system.thermostat_energy - start["thermostat"])
+    if sampler.lag_msd is not None:
+        sampler.lag_msd.add(unwrapped[:, axes], system.elapsed)
+    # relative to the flow under shear (as kT is): lab-frame speeds grow with the box and the rate
+    sampler.speeds.append(np.linalg.norm(system.peculiar_velocities(), axis=1))
+    sampler.histogram += _pair_distribution.pair_histogram(system, sampler.r_max, sampler.histogram.size)
+
+
+def shear_totals(system):
+    """What the shear stress of a block is computed from: peculiar kinetic energy, energy lost and removed, stress."""
+    if system.shear_rate == 0.0:
+        return None
+    return (system.kinetic_energy(), system.energy_lost, system.thermostat_energy,
+            float(system.collisional_stress[0, 1]))
+
+
+def shear_stresses(system, before, duration):
+    r"""P_xy over a block (kinetic plus collisional) and its collisional part, from the exact energy balance.
+
+    Over the block :math:`\Delta E + E_{lost} + E_{thermostat} = -G V \int
+    P_{xy} dt` (see :mod:`._shear`): the total needs no sampling of the
+    kinetic stress; the collisional part is the collisional stress sum's
+    change over V t.
+    """
+    energy, lost, removed, stress = before
+    work = (system.kinetic_energy() - energy) + (system.energy_lost - lost) + (system.thermostat_energy - removed)
+    volume_time = system.volume * duration
+    return (-work / (system.shear_rate * volume_time),
+            (float(system.collisional_stress[0, 1]) - stress) / volume_time)
+
+
+def observables(sampler) -> dict:
+    """The fields of the :class:`~collisionkit.edmd.Measurement` of ``sampler``'s finished blocks (at least 2).
+
+    Examples
+    --------
+    >>> from collisionkit.edmd import Sampler, lattice, maxwell_boltzmann, HardSphereSystem
+    >>> import numpy as np
+    >>> positions, box = lattice("square", 10, 0.3)
+    >>> system = HardSphereSystem(positions, maxwell_boltzmann(np.ones(100), 2, seed=1), 0.5, box)
+    >>> sampler = Sampler(system, collisions=4000, blocks=2)
+    >>> while not sampler.finished:
+    ...     sampler.run_block()
+    >>> fields = observables(sampler)
+    >>> fields["collisions"], fields["rdf"].shape
+    (4000, (500,))
+    """
+    system, dim, count = sampler.system, sampler.system.dim, sampler.system.count
+    record = sampler.records
+    centres, rdf = _pair_distribution_function(sampler)
+    speeds = np.concatenate(sampler.speeds)
+    omega = float(np.mean(record["frequency"]))
+    mean_speed = float(np.mean(speeds))
+    msd_time = np.concatenate([[0.0], record["time"]])
+    msd = np.concatenate([[0.0], record["msd"]])
+    axes = len(sampler._diffusion_axes())
+    from_lags = sampler.lag_msd.diffusion(axes) if sampler.lag_msd is not None else None
+    diffusion, diffusion_error = from_lags or _msd.diffusion_from_msd(msd_time, msd, record["msd_groups"], axes)
+    omega_error = _msd.block_error(record["frequency"])
+    diameter = 2.0 * float(np.max(system.radius))
+    contact, contact_error = _pair_distribution.contact_value(centres, rdf, sampler.histogram, diameter)
+    durations = np.diff(msd_time)
+    block_kT = np.asarray(record["temperature_mean"], dtype=float)
+    return dict(
+        dim=dim,
+        particles=count,
+        packing_fraction=system.packing_fraction,
+        collisions=sampler.per_block * sampler.done,
+        time=float(msd_time[-1]),
+        wall_seconds=sampler.wall_seconds,
+        temperature=float(record["temperature"][-1]),
+        compressibility_factor=float(np.mean(record["compressibility"])),
+        compressibility_factor_error=_msd.block_error(record["compressibility"]),
+        pressure=float(np.mean(record["pressure"])),
+        pressure_error=_msd.block_error(record["pressure"]),
+        collision_frequency=omega,
+        collision_frequency_error=omega_error,
+        mean_free_time=1.0 / omega,
+        mean_free_time_error=omega_error / omega**2,
+        mean_free_path=mean_speed / omega,
+        mean_free_path_error=mean_speed * omega_error / omega**2,
+        mean_speed=mean_speed,
+        diffusion_coefficient=diffusion,
+        diffusion_coefficient_error=diffusion_error,
+        energy_lost=float(system.energy_lost - sampler.start_lost),
+        contact_value=contact,
+        contact_value_error=contact_error,
+        speeds=speeds,
+        rdf_r=centres,
+        rdf=rdf,
+        msd_time=msd_time,
+        msd=msd,
+        block_temperature=np.asarray(record["temperature"]),
+        block_compressibility=np.asarray(record["compressibility"]),
+        block_frequency=np.asarray(record["frequency"]),
+        temperature_mean=float(np.sum(block_kT * durations) / np.sum(durations)),
+        temperature_mean_error=_msd.block_error(block_kT),
+        block_temperature_mean=block_kT,
+        transport=None if sampler.transport is None else transport_measurement(
+            sampler.transport, sampler.done, 1.0 / omega, system.volume, count),
+        **shear_results(system.shear_rate, record, system.volume * durations),
+    )
+
+
+def _pair_distribution_function(sampler):
+    """The bin centres and g(r) of ``sampler``'s pair-distance histogram over the blocks done."""
+    system, count = sampler.system, sampler.system.count
+    edges = np.linspace(0.0, sampler.r_max, sampler.histogram.size + 1)
+    centres = 0.5 * (edges[1:] + edges[:-1])
+    shells = _ball_volume(edges[1:], system.dim) - _ball_volume(edges[:-1], system.dim)
+    # ordered pairs: each of the N particles sees the other N - 1 at density (N - 1) / V
+    rdf = sampler.histogram / (sampler.done * count * ((count - 1) / system.volume) * shells)
+    return centres, rdf
+
+
+def shear_results(rate, record, volume_times):
+    """The Measurement's shear fields from the block records (none without shear); V t of each block given."""
+    if rate == 0.0:
+        return {}
+    stress, collisional = np.asarray(record["shear_stress"]), np.asarray(record["collisional_shear_stress"])
+    return {"shear_rate": rate, "thermostat_energy": float(np.sum(record["thermostat_energy"])),
+            "viscous_heating": -rate * float(np.sum(stress * volume_times)),
+            "shear_stress": float(np.mean(stress)), "shear_stress_error": _msd.block_error(stress),
+            "collisional_shear_stress": float(np.mean(collisional)),
+            "collisional_shear_stress_error": _msd.block_error(collisional),
+            "shear_viscosity": -float(np.mean(stress)) / rate, "shear_viscosity_error": _msd.block_error(stress) / rate}
