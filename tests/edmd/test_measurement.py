@@ -202,3 +202,20 @@ def test_a_block_and_a_measurement_report_the_fractions_of_their_collisions():
     for block_end in (1 / 3, 2 / 3, 1.0):
         assert any(fraction == pytest.approx(block_end, rel=1e-12) for fraction in overall)
     assert overall[-1] == 1.0
+
+
+def test_a_sampler_saved_before_its_first_block_resumes_to_the_same_measurement():
+    # state_dict() of a sampler with no finished block raised "cannot reshape array of size 0"
+    def measured(sampler):
+        while sampler.done < sampler.blocks:
+            sampler.run_block()
+        return sampler.result()
+
+    straight = measured(edmd.Sampler(fcc_system(cells=3, eta=0.3, seed=5), collisions=4 * 2_000, blocks=4))
+    system = fcc_system(cells=3, eta=0.3, seed=5)
+    fresh = edmd.Sampler(system, collisions=4 * 2_000, blocks=4)
+    state, system_state = fresh.state_dict(), system.state_dict()
+    resumed = edmd.Sampler.from_state_dict(edmd.HardSphereSystem.from_state_dict(system_state), state)
+    assert resumed.done == 0
+    again = measured(resumed)
+    assert again.pressure == straight.pressure and again.diffusion_coefficient == straight.diffusion_coefficient

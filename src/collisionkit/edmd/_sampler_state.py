@@ -37,7 +37,7 @@ def sampler_arrays(sampler) -> dict:
     """
     state = {f"sampler_{name}": np.asarray(values, dtype=float) for name, values in sampler.records.items()}
     state |= {
-        "sampler_speeds": np.asarray(sampler.speeds, dtype=float).reshape(len(sampler.speeds), -1),
+        "sampler_speeds": _speed_rows(sampler.speeds),
         "sampler_histogram": sampler.histogram,
         "sampler_start_positions": sampler.start_positions,
         "sampler_scalars": np.array(
@@ -50,6 +50,11 @@ def sampler_arrays(sampler) -> dict:
     if sampler.transport is not None:
         state |= sampler.transport.state_dict()
     return state
+
+
+def _speed_rows(speeds) -> np.ndarray:
+    """The blocks' speed samples as rows of a 2-D array ((0, 0) before the first block ends)."""
+    return np.asarray(speeds, dtype=float).reshape(len(speeds), -1) if len(speeds) else np.empty((0, 0))
 
 
 def restore_sampler(sampler, system, state) -> None:
