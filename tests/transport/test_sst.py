@@ -57,3 +57,15 @@ def test_bad_sst_settings_are_refused(kwargs, words):
         simulate_sst(maxwell_model(), 10.0, **kwargs)
     with pytest.raises(ValueError, match="reduced_field"):
         simulate_sst(maxwell_model(), 0.0, length_N=1e20)
+
+
+def test_an_avalanche_that_outgrows_max_electrons_stops_with_what_to_do():
+    # 600 Td over 2e20 m^-2 with every inelastic collision ionizing grew without bound: killed at 23 GB of memory
+    gas = lucas_saelee(1.0, mass=9.109e-28)
+    with pytest.raises(RuntimeError, match=r"more than max_electrons \(2000\).*use a shorter length_N"):
+        simulate_sst(gas, 600.0, length_N=2e20, particles=64, groups=4, seed=1, threads=1, max_electrons=2000)
+
+
+def test_max_electrons_must_hold_the_released_particles():
+    with pytest.raises(ValueError, match=r"max_electrons \(at least particles, 64\)"):
+        simulate_sst(maxwell_model(), 10.0, length_N=1e20, particles=64, groups=4, max_electrons=63)

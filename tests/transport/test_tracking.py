@@ -347,6 +347,25 @@ def test_surfaces_absorb_reflect_and_let_out_with_the_crossing_found_on_the_surf
     assert np.allclose(speeds, math.sqrt(2 * E / ME), rtol=1e-12)
 
 
+def test_a_particle_that_ends_off_every_surface_records_none_even_after_a_reflection():
+    """The reflecting cylinder of the test above, with a time limit that stops most electrons after they bounced
+    off the wall and before they reach a plane: their records name no surface (-1); the surface column kept the
+    wall's index after a reflection."""
+    geometry = Geometry((Plane((0, 0, 0), (0, 0, 1), name="floor"),
+                         Plane((0, 0, 0.01), (0, 0, -1), action="transparent", name="lid"),
+                         Cylinder(2e-3, action="reflect", name="wall")))
+    device = Device(VACUUM, 1.0, 0.0, geometry=geometry)
+    speed = math.sqrt(2 * E / ME)
+    result = track(device, primaries=200, position=(0, 0, 5e-3), energy=1.0, seed=6, threads=1,
+                   time_limit=4e-3 / speed)  # 4 mm of path: past the wall (2 mm), short of a plane when |v_z| is small
+    r = result.records
+    stopped = r[:, C.RECORD_STATUS] == C.ENDED_TIME
+    assert stopped.sum() > 50
+    assert np.all(r[stopped, C.RECORD_SURFACE] == -1)
+    assert np.all(r[~stopped, C.RECORD_STATUS] == C.ENDED_SURFACE)
+    assert set(r[~stopped, C.RECORD_SURFACE].astype(int)) <= {0, 1}
+
+
 def test_records_say_where_when_and_with_which_energy_and_direction_particles_leave():
     gap = 1e-3
     device = Device.parallel_plate(maxwell_model(1e-13, mass=10 * ME), gap, 20.0, density=1e23, temperature=0.0)

@@ -43,6 +43,9 @@ from .swarm import REFERENCE_DENSITY, _field_record, _require_collisions
 
 __all__ = ["SSTResult", "simulate_sst"]
 
+# electrons followed at once: a step holds about 1.7 kB an electron at most (16 child slots), so a few GB
+MAX_ELECTRONS = 10**6
+
 
 @dataclass
 class SSTResult:
@@ -88,7 +91,8 @@ def _slope(positions, counts, weights):
 def simulate_sst(gas: Gas, reduced_field: float, *, length_N: float, window=(0.4, 0.8), bins: int = 80,
                  gas_temperature: float = 300.0, particles: int = 2000, groups: int = 16, seed: int = 0,
                  sharing: str = "equal", initial_energy: float = 1.0, collisions_per_sample: float = 20.0,
-                 collision_budget: float = 2e9, threads: int | None = None) -> SSTResult:
+                 collision_budget: float = 2e9, max_electrons: int = MAX_ELECTRONS,
+                 threads: int | None = None) -> SSTResult:
     r"""Measure :math:`(\alpha - \eta)/N` from the growth of electrons released at a plane (see the module docstring).
 
     Parameters
@@ -111,6 +115,11 @@ def simulate_sst(gas: Gas, reduced_field: float, *, length_N: float, window=(0.4
     collision_budget : float
         Real collisions at most (> 0): a RuntimeError if the electrons have
         not all passed L by then (a run growing without end).
+    max_electrons : int
+        Electrons followed at once at most (from ``particles`` to 10^9;
+        default 10^6, a few GB at the most): a RuntimeError before a step
+        that would start with more (the avalanche outgrew the memory: the
+        electrons multiply by about :math:`e^{\alpha_{eff} L}`).
 
     Returns
     -------
@@ -140,6 +149,8 @@ def simulate_sst(gas: Gas, reduced_field: float, *, length_N: float, window=(0.4
         raise ValueError(f"sharing must be one of {sorted(SHARING_CODES)}; got {sharing!r}")
     real_in_range(collisions_per_sample, "collisions_per_sample", 0.0)
     real_in_range(collision_budget, "collision_budget", 0.0)
+    max_electrons = integer_in_range(max_electrons, f"max_electrons (at least particles, {particles})", particles,
+                                     10**9)
     threads = integer_in_range(threads, "threads", 1) if threads is not None else (os.cpu_count() or 1)
     mass, charge = constants.m_e, -constants.e
     tables = build_tables(gas, mass, gas_temperature)
@@ -154,9 +165,16 @@ def simulate_sst(gas: Gas, reduced_field: float, *, length_N: float, window=(0.4
     samples = np.zeros((groups, bins))
     t, collisions, seconds = 0.0, 0, 0.0
     try:
-        while swarm.size:
+        def within_limit(swarm):
+            """``swarm``, if it holds at most max_electrons (checked before every step and part of a step)."""
+            if swarm.size > max_electrons:
+                reached = float(np.max(-swarm.pos[:, 2])) / length  # the leading electrons, as a fraction of L
+                raise RuntimeError(_too_many_electrons(swarm.size, max_electrons, reached, length_N))
+            return swarm
+
+        while within_limit(swarm).size:
             start = time.perf_counter()
-            swarm, tally = stepper.step(swarm, t, t + dt, groups)
+            swarm, tally = stepper.step(swarm, t, t + dt, groups, control=within_limit)
             seconds += time.perf_counter() - start
             t += dt
             collisions += int(tally[:, :n_proc].sum())
@@ -184,3 +202,11 @@ def simulate_sst(gas: Gas, reduced_field: float, *, length_N: float, window=(0.4
                      position_N=centres * REFERENCE_DENSITY, density=total * dt / particles,
                      window=(low * length * REFERENCE_DENSITY, high * length * REFERENCE_DENSITY),
                      particles=particles, groups=groups, collisions=collisions, seconds=seconds)
+
+
+def _too_many_electrons(count: int, max_electrons: int, reached: float, length_N: float) -> str:
+    """Why an SST run stopped: ``count`` electrons, more than ``max_electrons``, the leaders at ``reached`` L."""
+    return (f"the SST run stopped with {count} electrons, more than max_electrons ({max_electrons}), the leading ones "
+            f"at {reached:.2g} of the length: the avalanche grows as exp(alpha_eff s) and would outgrow the memory; "
+            f"use a shorter length_N (now {length_N:g} m^-2, a few 1/(alpha_eff/N) is enough), fewer particles or a "
+            "larger max_electrons")

@@ -256,7 +256,10 @@ def track_particles(stack_pos, stack_vel, stack_time, stack_birth, stack_state, 
             tau_left = -math.log(uniform(rng))  # (a suspended particle draws it when taken again)
             record_point(points, control, number, t, x, y, z)
         # ---- the particle ended: its record
-        end_record(records, control, primary, status, surface, t, x, y, z, vx, vy, vz, birth)
+        # the surface it ended on, none for another ending (surface may still name one it bounced off or one a
+        # collision came before)
+        end_record(records, control, primary, status, surface if status == ENDED_SURFACE else -1, t, x, y, z, vx,
+                   vy, vz, birth)
         weighting_charge(tallies, primary, n_proc, charge, w_kind, w_par, x, y, z, phi_start, current_recorded)
     return DONE
 
