@@ -219,3 +219,22 @@ def test_a_sampler_saved_before_its_first_block_resumes_to_the_same_measurement(
     assert resumed.done == 0
     again = measured(resumed)
     assert again.pressure == straight.pressure and again.diffusion_coefficient == straight.diffusion_coefficient
+
+
+def test_a_sampler_runs_the_blocks_it_planned_and_then_asks_for_extend():
+    # run_block() went on past the planned blocks: done 4 of 2, a measurement of twice the collisions asked for
+    sampler = edmd.Sampler(square_system(), collisions=400, blocks=2)
+    sampler.run_block()
+    sampler.run_block()
+    with pytest.raises(RuntimeError, match=r"all 2 blocks it planned.*extend\(blocks\)"):
+        sampler.run_block()
+    assert sampler.done == 2 and sampler.result().collisions == 400
+    sampler.extend(1)
+    sampler.run_block()
+    assert sampler.done == 3 and sampler.result().collisions == 600
+
+
+def test_a_system_at_rest_is_said_to_be_at_rest_not_collapsed():
+    system = square_system(velocities=np.zeros((16, 2)))
+    with pytest.raises(RuntimeError, match=r"at rest \(kT = 0\)"):
+        edmd.measure(system, collisions=100, blocks=2)

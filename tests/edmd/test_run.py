@@ -320,3 +320,23 @@ def test_a_checkpoint_whose_system_runs_another_engine_than_its_parameters_is_re
         EdmdRun.resume(path)
     message = str(caught.value)
     assert "its system runs the lists engine, its parameters ask for engine cells" in message and "\n" not in message
+
+
+def test_a_new_run_does_not_replace_another_run_s_checkpoint_or_trajectory_unless_asked(tmp_path):
+    # a new EdmdRun silently replaced the checkpoint (and the GSD file) of another, finished run
+    checkpoint, trajectory = tmp_path / "run.npz", tmp_path / "run.gsd"
+    first = EdmdRun(EdmdParameters(dim=2, particles=64, initial="square", collisions=400, blocks=2, seed=1),
+                    checkpoint=checkpoint)
+    first.run()
+    saved = checkpoint.read_bytes()
+    other = EdmdParameters(dim=2, particles=100, initial="square", collisions=400, blocks=2, seed=2)
+    with pytest.raises(FileExistsError, match=r"checkpoint .*run\.npz exists .*overwrite=True"):
+        EdmdRun(other, checkpoint=checkpoint)
+    assert checkpoint.read_bytes() == saved
+    trajectory.write_bytes(b"someone's frames")
+    with pytest.raises(FileExistsError, match=r"trajectory .*run\.gsd exists"):
+        EdmdRun(other, checkpoint=tmp_path / "new.npz", trajectory=trajectory)
+    assert trajectory.read_bytes() == b"someone's frames" and not (tmp_path / "new.npz").exists()
+    assert EdmdRun.resume(checkpoint).parameters.particles == 64  # the first run's, still resumable
+    EdmdRun(other, checkpoint=checkpoint, overwrite=True).run()
+    assert EdmdRun.resume(checkpoint).parameters.particles == 100

@@ -428,3 +428,15 @@ def test_the_totals_of_a_run_are_named_properties():
     assert system.collisions == 1000 and system.virial > 0
     assert system.packing_fraction == pytest.approx(0.3, rel=1e-12)
     assert "eta=0.3000" in repr(system) and "<caption" in system._repr_html_()
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+def test_the_box_has_one_length_per_axis_and_is_a_copy(dim):
+    # box gave the engine's own array (3 entries in 2-D): halving box[0] in place squeezed the system into overlaps
+    system = edmd.random_fluid(dim, 64, 0.3, seed=1)
+    box = system.box
+    assert box.shape == (dim,) and system.positions().shape == (64, dim)
+    eta = system.packing_fraction
+    box[0] *= 0.5
+    assert system.packing_fraction == eta and system.box[0] == 2 * box[0]
+    system.run(collisions=200)  # no overlap: the system kept its box

@@ -26,3 +26,23 @@ def test_2d_snapshot_has_one_colour_and_no_colour_bar():
 def test_speed_distribution_has_units_on_both_axes():
     ax = plotting.plot_speed_distribution(np.linspace(0.1, 3, 100), kT=1.0, dim=3)
     assert "kT/m" in ax.get_xlabel() and "kT/m" in ax.get_ylabel()
+
+
+def test_the_equation_of_state_of_discs_is_not_drawn_against_the_theory_of_spheres():
+    # disc measurements plotted with dim=3 were drawn on the Hansen-Goos curve under the title "hard spheres"
+    from collisionkit import edmd
+
+    system = edmd.random_fluid(2, 100, 0.3, seed=1)
+    measured = edmd.measure(system, collisions=2000, blocks=2)
+    with pytest.raises(ValueError, match="measurement 0 is of a 2-D system; dim is 3"):
+        plotting.plot_equation_of_state([measured], 3)
+    assert plotting.plot_equation_of_state([measured], 2).get_title() == "hard discs"
+
+
+def test_a_system_s_own_positions_and_box_draw_its_snapshot():
+    # the box had 3 entries in 2-D, which plot_snapshot refused beside the system's (N, 2) positions
+    from collisionkit import edmd
+
+    system = edmd.random_fluid(2, 50, 0.3, seed=1)
+    ax = plotting.plot_snapshot(system.positions(), system.radius, system.box)
+    assert len(ax.collections[0].get_offsets()) == 50

@@ -195,3 +195,11 @@ def test_more_replicas_or_points_keep_the_existing_seeds():
     assert not set(base.values()) & {task.seed for task in sweep.point_tasks(other_root, "out")}
 
 
+
+
+def test_a_numpy_array_of_values_is_varied_like_the_list_of_its_numbers():
+    # np.linspace(...) was refused: "must be a list or a range"
+    from_array = sweep.Study("edmd", seed=1, fixed={"particles": 200}, vary={"packing-fraction": np.linspace(0.1, 0.3, 3)})
+    from_list = sweep.Study("edmd", seed=1, fixed={"particles": 200}, vary={"packing-fraction": [0.1, 0.2, 0.3]})
+    assert from_array.vary == from_list.vary and from_array.fingerprint() == from_list.fingerprint()
+    assert all(type(value) is float for value in from_array.vary["packing-fraction"])

@@ -143,3 +143,13 @@ def test_a_scan_whose_checkpoint_another_process_writes_is_refused_before_any_po
     with held_by_another_process(HOLD, path) as pid, pytest.raises(FileLockedError, match=f"pid {pid}"):
         SwarmScan(SwarmParameters(reduced_field=[12.0], **QUICK), checkpoint=path).run()
     assert not path.exists()
+
+
+def test_reduced_fields_may_be_a_numpy_array():
+    # a numpy-first user's np.array([1., 2.]) was refused: "must be a number"
+    import numpy as np
+
+    assert SwarmParameters(model="reid", reduced_field=np.array([1.0, 2.0])).reduced_field == (1.0, 2.0)
+    assert SwarmParameters(model="reid", reduced_field=np.float64(3.0)).reduced_field == (3.0,)
+    with pytest.raises(ValueError, match="1-D array"):
+        SwarmParameters(model="reid", reduced_field=np.ones((2, 2)))

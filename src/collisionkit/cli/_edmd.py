@@ -132,7 +132,8 @@ def _new_run(options: EdmdOptions):
     try:
         with progress_bar("setting up", total=100) as advance:
             run = EdmdRun(parameters, checkpoint=options.checkpoint, trajectory=options.trajectory,
-                          frame_every=options.frame_every, progress=fraction_reporter(advance, 100))
+                          frame_every=options.frame_every, progress=fraction_reporter(advance, 100),
+                          overwrite=bool(options.overwrite))
     except (ValueError, OverlapError) as error:
         raise fail(f"cannot set up the initial state: {error}") from None
     return run, extra

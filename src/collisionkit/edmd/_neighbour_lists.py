@@ -68,7 +68,7 @@ class NeighbourLists:
         The cells hold the anchors in float32: a list may also hold pairs
         within their round-off of the radius (a harmless superset).
         """
-        return _k.ANCHOR_ROUNDING * (float(np.max(self.box)) + 1.0)
+        return _k.ANCHOR_ROUNDING * (float(np.max(self.geom[_k.G_BOX])) + 1.0)  # all 3 entries, as always
 
     def _list_geometry(self, list_scale):
         """Shell and cells for lists valid up to radius scale ``list_scale``."""

@@ -20,8 +20,19 @@ class SystemParameters:
 
     @property
     def box(self):
-        """Box lengths (3 entries; the third is 1 in 2D)."""
-        return self.geom[_k.G_BOX]
+        """Box lengths, one per axis (``dim`` entries, like a row of :meth:`positions`; a copy).
+
+        Examples
+        --------
+        >>> from collisionkit.edmd import random_fluid
+        >>> system = random_fluid(2, 50, 0.3, seed=1)
+        >>> system.box.shape
+        (2,)
+        >>> system.box[0] = 1.0                  # a copy: the system keeps its box
+        >>> float(system.box[0]) > 1.0
+        True
+        """
+        return self.geom[_k.G_BOX, : self.dim].copy()
 
     @property
     def periodic(self):

@@ -261,9 +261,10 @@ class Sampler:
         Raises
         ------
         RuntimeError
-            If the system cannot be measured: its run stalled (see
-            :meth:`HardSphereSystem.run`), or the block took no time or
-            left no kinetic energy (a collapse).
+            If every planned block is done (:meth:`extend` plans more), or
+            the system cannot be measured: its particles are at rest, its run
+            stalled (see :meth:`HardSphereSystem.run`), or the block took no
+            time or left no kinetic energy (a collapse).
 
         Examples
         --------
@@ -276,9 +277,15 @@ class Sampler:
         >>> sampler.done, sampler.finished
         (1, False)
         """
+        if self.finished:
+            raise RuntimeError(f"the sampler has run all {self.blocks} blocks it planned (result() measures them); "
+                               "extend(blocks) plans more")
         system = self.system
         dim, count = system.dim, system.count
         kT_before = system.temperature()
+        if not kT_before > 0.0:
+            raise RuntimeError("the particles are at rest (kT = 0): nothing collides, so nothing can be measured; "
+                               "give them velocities (set_velocities, maxwell_boltzmann)")
         start = block_start(system)
         # numba compiles at the first call (seconds on a cold cache): not a part of the timed run
         system.compile_event_loop()

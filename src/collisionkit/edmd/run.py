@@ -5,8 +5,9 @@ chunks of ``max(N, 10^4)`` pair collisions, then ``blocks`` measurement
 blocks of ``collisions // blocks``. With a checkpoint, the full state is
 written atomically after set-up and after every chunk and block, so a run
 resumed from it continues bit for bit as if it had never stopped.
-Trajectory frames are written at chunk and block ends (they never change
-the dynamics)::
+With a trajectory file, its last frame is always written, and with
+``frame_every`` a frame at the first chunk or block end after every that
+many pair collisions (frames never change the dynamics)::
 
     run = EdmdRun(EdmdParameters(particles=500, packing_fraction=0.3, seed=1), checkpoint="run.npz")
     run.run()                          # killed? then:
@@ -182,6 +183,14 @@ def _initial_system(parameters: EdmdParameters, progress: Callable[[float], Any]
                             shear_rate=p.shear_rate, thermostat=1.0 if p.thermostat else None, engine=p.engine)
 
 
+def _refuse_existing(**files) -> None:
+    """FileExistsError naming the first of ``files`` (name: path or None) that exists: a new run does not replace it."""
+    for name, path in files.items():
+        if path is not None and Path(path).exists():
+            raise FileExistsError(f"{name} {path} exists (another run's file): resume that run "
+                                  "(EdmdRun.resume), choose another file or pass overwrite=True")
+
+
 class EdmdRun:
     """An EDMD run: equilibration chunks then measurement blocks, with checkpoints and trajectory frames.
 
@@ -197,6 +206,10 @@ class EdmdRun:
         A frame at the first chunk or block end after every this many pair collisions.
     progress : callable, optional
         ``progress(fraction)`` while compressing the random initial state.
+    overwrite : bool
+        Replace an existing ``checkpoint`` or ``trajectory`` file (another
+        run's); without it such a file is refused (FileExistsError) before
+        any work. A resumed run (:meth:`resume`) writes to its own files.
 
     Examples
     --------
@@ -207,9 +220,11 @@ class EdmdRun:
     """
 
     def __init__(self, parameters: EdmdParameters, checkpoint=None, trajectory=None, frame_every: int | None = None,
-                 progress=None, *, _state=None):
+                 progress=None, *, overwrite: bool = False, _state=None):
         if not isinstance(parameters, EdmdParameters):
             raise TypeError(f"parameters must be EdmdParameters; got {type(parameters).__name__}")
+        if _state is None and not overwrite:
+            _refuse_existing(checkpoint=checkpoint, trajectory=trajectory)
         if frame_every is not None:
             frame_every = check_integer("frame_every", frame_every, 1)
             if trajectory is None:

@@ -57,6 +57,11 @@ def plot_equation_of_state(measurements_or_points, dim, ax=None):
 
     if dim not in (2, 3):
         raise ValueError(f"dim must be 2 or 3; got {dim!r}")
+    measurements_or_points = list(measurements_or_points)
+    for index, item in enumerate(measurements_or_points):
+        if getattr(item, "dim", dim) != dim:
+            raise ValueError(f"measurement {index} is of a {item.dim}-D system; dim is {dim}: plot each "
+                             "dimension against its own theory")
     points = _eos_points(measurements_or_points)
     top = max(MAX_PACKING_FRACTION[dim], 1.05 * float(points[:, 0].max()))
     eta = np.linspace(1e-3, min(top, 0.74), 300)

@@ -114,7 +114,8 @@ def _run_edmd(parameters, folder: Path, outputs: Mapping[str, Any]) -> dict:
     checkpoint = folder / POINT_CHECKPOINT
     run = _resumed(EdmdRun, checkpoint, parameters.resolved(), trajectory=trajectory)
     if run is None:
-        run = EdmdRun(parameters, checkpoint=checkpoint, trajectory=trajectory, frame_every=outputs.get("frame-every"))
+        run = EdmdRun(parameters, checkpoint=checkpoint, trajectory=trajectory, frame_every=outputs.get("frame-every"),
+                      overwrite=True)  # the point's own folder: a failed attempt's files are replaced
     run.run()
     files = [] if trajectory is None else [run.trajectory]
     if outputs.get("xyz") is not None:

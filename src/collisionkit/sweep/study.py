@@ -230,6 +230,8 @@ def _expand_range(name: str, spec: Mapping[str, Any]) -> tuple:
 
 
 def _expand_values(name: str, values: Any) -> tuple:
+    if isinstance(values, np.ndarray) and values.ndim == 1:  # np.linspace(...): its values as Python numbers
+        values = values.tolist()
     if isinstance(values, Mapping):
         return _expand_range(name, values)
     if isinstance(values, (list, tuple)):

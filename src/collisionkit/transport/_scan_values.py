@@ -11,6 +11,8 @@ from __future__ import annotations
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 
+import numpy as np
+
 from .._params import check_choice, check_real
 from ._validation import MAX_REDUCED_FIELD, check_reduced_frequency
 from .angular import SCATTERING_LAWS
@@ -35,6 +37,11 @@ def _waveform(value, reduced_frequency, reduced_field):
 
 
 def _reduced_fields(value) -> tuple[float, ...]:
+    """One E/N (Td) or several (a sequence or a 1-D numpy array), each checked, as a tuple of floats."""
+    if isinstance(value, np.ndarray):
+        if value.ndim > 1:
+            raise ValueError(f"reduced_field (E/N) must be one value or a 1-D array of them; got shape {value.shape}")
+        value = value.tolist()
     values = value if isinstance(value, Sequence) and not isinstance(value, str) else [value]
     if not values:
         raise ValueError("reduced_field (E/N) needs at least one value in Td")
