@@ -68,3 +68,23 @@ def test_screened_coulomb_ratio_rejects_bad_energies(energy, screening, words):
 def test_tables_refuse_bad_cross_sections(bad):
     with pytest.raises(ValueError, match="cross_section"):
         Process("elastic", [0, 1], [1e-20, bad])
+
+
+def test_wrong_types_in_processes_species_and_gases_are_named_not_python_errors():
+    # each raised a bare Python error ("'>' not supported between instances of 'str' and 'int'", "'Process' object
+    # is not iterable"), and a 2-D table was flattened silently
+    from collisionkit.transport import Gas, Process, Species
+
+    elastic = Process("elastic", [0, 1], [1e-20, 1e-20])
+    with pytest.raises(TypeError, match="elastic: screening_energy must be a number; got 'a'"):
+        Process("elastic", [0, 1], [1e-20, 1e-20], screening_energy="a")
+    with pytest.raises(TypeError, match="excitation: threshold must be a number"):
+        Process("excitation", [1, 2], [1e-20, 1e-20], threshold="1")
+    with pytest.raises(TypeError, match=r"species X: mass \(kg\) must be a number; got '1'"):
+        Species("X", "1", (elastic,))
+    with pytest.raises(ValueError, match="energy must be a 1-D table; got shape"):
+        Process("elastic", [[0, 1], [2, 3]], [[1e-20, 1e-20], [1, 1]])
+    one = Species("X", 1e-26, elastic)  # a single process (or species) is taken as one of them
+    assert one.processes == (elastic,) and Gas(one).species == (one,)
+    with pytest.raises(TypeError, match="species must be Species objects"):
+        Gas((elastic,))

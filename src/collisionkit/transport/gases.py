@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import numbers
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 
@@ -50,9 +51,20 @@ ELECTRON_MASS = constants.m_e
 AMU = constants.atomic_mass
 
 
+def _number(value, name: str, owner: str):
+    """``value`` if it is a real number (numpy's too), else a TypeError naming ``owner``'s ``name``."""
+    if isinstance(value, bool) or not isinstance(value, numbers.Real):
+        raise TypeError(f"{owner}: {name} must be a number; got {value!r}")
+    return value
+
+
 def _checked_table(energy, cross_section, label):
-    energy = _arrays.as_float_array(energy, f"{label} energy").reshape(-1)
-    cross_section = _arrays.as_float_array(cross_section, f"{label} cross_section").reshape(-1)
+    energy = _arrays.as_float_array(energy, f"{label} energy")
+    cross_section = _arrays.as_float_array(cross_section, f"{label} cross_section")
+    for name, table in (("energy", energy), ("cross_section", cross_section)):
+        if table.ndim > 1:
+            raise ValueError(f"{label}: {name} must be a 1-D table; got shape {table.shape}")
+    energy, cross_section = energy.reshape(-1), cross_section.reshape(-1)
     if energy.shape != cross_section.shape:
         raise ValueError(f"{label}: energy and cross_section must have the same length; got {energy.size} and {cross_section.size}")
     _arrays.require_finite(energy, f"{label} energy")
@@ -138,6 +150,8 @@ class Process:
         object.__setattr__(self, "energy", energy)
         object.__setattr__(self, "cross_section", sigma)
         object.__setattr__(self, "label", label)
+        for name in ("threshold", "rate_coefficient", "weight_ratio", "screening_energy"):
+            _number(getattr(self, name), name, label)
         for name, low in (("threshold", 0.0), ("rate_coefficient", 0.0), ("weight_ratio", 0.0)):
             value = float(getattr(self, name))
             if not (math.isfinite(value) and value >= low):
@@ -221,9 +235,10 @@ class Species:
     processes: tuple[Process, ...]
 
     def __post_init__(self):
+        _number(self.mass, "mass (kg)", f"species {self.name}")
         if not (self.mass > 0 and math.isfinite(self.mass)):
             raise ValueError(f"mass of {self.name} must be > 0 and finite (kg); got {self.mass}")
-        processes = tuple(self.processes)
+        processes = (self.processes,) if isinstance(self.processes, Process) else tuple(self.processes)
         if not processes:
             raise ValueError(f"species {self.name} needs at least one process")
         if not all(isinstance(p, Process) for p in processes):
@@ -247,9 +262,11 @@ class Gas:
     fractions: tuple[float, ...] = ()
 
     def __post_init__(self):
-        species = tuple(self.species)
+        species = (self.species,) if isinstance(self.species, Species) else tuple(self.species)
         if not species:
             raise ValueError("a gas needs at least one species")
+        if not all(isinstance(s, Species) for s in species):
+            raise TypeError(f"species must be Species objects; got {[type(s).__name__ for s in species]}")
         fractions = tuple(float(f) for f in self.fractions) or tuple(1.0 / len(species) for _ in species)
         if len(fractions) != len(species):
             raise ValueError(f"fractions must have one value per species ({len(species)}); got {len(fractions)}")
