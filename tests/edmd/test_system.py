@@ -440,3 +440,12 @@ def test_the_box_has_one_length_per_axis_and_is_a_copy(dim):
     box[0] *= 0.5
     assert system.packing_fraction == eta and system.box[0] == 2 * box[0]
     system.run(collisions=200)  # no overlap: the system kept its box
+
+
+def test_counts_may_be_whole_floats_as_users_write_them():
+    # run(collisions=1e4) was a TypeError, while EdmdParameters(particles=500.0) was accepted
+    system = square_system()
+    system.run(collisions=2e2)
+    assert system.collisions == 200
+    with pytest.raises(TypeError, match="collisions must be an integer"):
+        system.run(collisions=2.5)

@@ -93,3 +93,13 @@ def test_the_runaway_message_names_the_field_as_well_as_the_cross_sections():
         in above and "lower it" in above and "units slip" in above
     # within the tables, a step far longer than its collisions: an oscillating field's period too long
     assert "raise omega/N" in below and "units slip" in below and "ran away" not in below
+
+
+def test_whole_float_counts_are_taken_as_integers_and_fractions_refused():
+    # particles=1e5 was a TypeError in simulate_slab and simulate_swarm (a float), though 1e5 is how users write it
+    assert _validation.integer_in_range(1e5, "particles", 64) == 100_000
+    assert type(_validation.integer_in_range(64.0, "particles", 64)) is int
+    with pytest.raises(TypeError, match="particles must be an integer"):
+        _validation.integer_in_range(64.5, "particles", 64)
+    with pytest.raises(TypeError, match="particles must be an integer"):
+        _validation.integer_in_range(True, "particles", 0)

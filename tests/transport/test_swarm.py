@@ -239,7 +239,7 @@ def test_wrong_types_are_refused(args, kwargs, message):
         (dict(particles=0, points=5), ValueError, "particles must be an integer >= 1; got 0"),
         (dict(particles=-1, points=5), ValueError, "particles must be an integer >= 1; got -1"),
         (dict(particles=True, points=5), TypeError, "particles"),
-        (dict(points=5.0), TypeError, "points"),
+        (dict(points=5.5), TypeError, "points"),  # a whole float (5.0) counts as 5
         (dict(seed=-1, points=5), ValueError, "seed"),
         (dict(initial_energy=0.0, points=5), ValueError, "initial_energy"),
         (dict(reduced_magnetic_field=np.inf, points=5), ValueError, "reduced_magnetic_field"),

@@ -50,7 +50,10 @@ def is_integer(value):
 
 
 def integer_at_least(value, name, minimum):
-    """``value`` as an int >= ``minimum``; booleans and non-integers raise TypeError naming ``name``."""
+    """``value`` as an int >= ``minimum`` (a whole float such as 1e6 too, as :func:`collisionkit._params.check_integer`
+    takes it); booleans and other non-integers raise TypeError naming ``name``."""
+    if isinstance(value, float) and value.is_integer() and abs(value) < 2**53:
+        value = int(value)
     if not is_integer(value):
         raise TypeError(f"{name} must be an integer >= {minimum}; got {value!r}")
     if value < minimum:

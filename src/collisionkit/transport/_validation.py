@@ -39,8 +39,11 @@ def real_in_range(value, name, low=-math.inf, high=math.inf, *, inclusive=(False
 
 
 def integer_in_range(value, name, low, high=None):
-    """``value`` as an int in [low, high] (no upper end if ``high`` is None); bools are refused."""
+    """``value`` as an int in [low, high] (no upper end if ``high`` is None); a whole float such as 1e6 counts
+    (as :func:`collisionkit._params.check_integer` takes it), bools are refused."""
     allowed = f">= {low}" if high is None else f"in [{low}, {high}]"
+    if isinstance(value, float) and value.is_integer() and abs(value) < 2**53:
+        value = int(value)
     if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
         raise TypeError(f"{name} must be an integer {allowed}; got {value!r}")
     if not (value >= low and (high is None or value <= high)):
