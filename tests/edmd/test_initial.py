@@ -81,7 +81,7 @@ def test_random_fluid_checks_its_arguments(arguments, error, name):
         (dict(diameter=-1), ValueError, "diameter"),
         (dict(cells=True), TypeError, "cells"),
         (dict(cells=0), ValueError, "cells"),
-        (dict(cells=2.0), TypeError, "cells"),
+        (dict(cells=2.5), TypeError, "cells"),  # a whole float (2.0) counts as 2
         (dict(packing_fraction=math.nan), ValueError, "packing_fraction"),
         (dict(packing_fraction="0.3"), TypeError, "packing_fraction"),
     ],
@@ -130,13 +130,13 @@ def test_lattice_cells_gives_the_cells_of_a_lattice_of_that_many_sites(kind, dim
 @pytest.mark.parametrize(
     ("arguments", "error", "message"),
     [
-        (("fcc", 2, 500), ValueError, "--initial fcc is a 3D lattice; it cannot start a run with --dim 2"),
+        (("fcc", 2, 500), ValueError, "initial fcc is a 3D lattice; it cannot start a 2D run"),
         (("hexagonal", 2, 100), ValueError,
-         "--initial hexagonal needs particles = 2 * cells^2 (e.g. 18, 32, 50, 72); got 100"),
-        (("sc", 3, 30), ValueError, "--initial sc needs particles = 1 * cells^3 (e.g. 27, 64, 125, 216); got 30"),
+         "initial hexagonal needs particles = 2 * cells^2 (e.g. 18, 32, 50, 72); got 100"),
+        (("sc", 3, 30), ValueError, "initial sc needs particles = 1 * cells^3 (e.g. 27, 64, 125, 216); got 30"),
         (("bcc", 3, 16), ValueError, "kind must be one of"),
         (("sc", 4, 27), ValueError, "dim must be 2 or 3"),
-        (("sc", 3, 27.0), TypeError, "particles"),
+        (("sc", 3, 27.5), TypeError, "particles"),  # a whole float (27.0) counts as 27
     ],
 )
 def test_lattice_cells_names_what_is_wrong(arguments, error, message):

@@ -152,18 +152,18 @@ def lattice_cells(kind, dim, particles) -> int:
     >>> lattice_cells("hexagonal", 2, 100)
     Traceback (most recent call last):
     ...
-    ValueError: --initial hexagonal needs particles = 2 * cells^2 (e.g. 18, 32, 50, 72); got 100
+    ValueError: initial hexagonal needs particles = 2 * cells^2 (e.g. 18, 32, 50, 72); got 100
     """
     _lattice_kind(kind)
     dim = _checks.dimension(dim)
     particles = _checks.integer_at_least(particles, "particles", 1)
     if LATTICE_DIM[kind] != dim:
-        raise ValueError(f"--initial {kind} is a {LATTICE_DIM[kind]}D lattice; it cannot start a run with --dim {dim}")
+        raise ValueError(f"initial {kind} is a {LATTICE_DIM[kind]}D lattice; it cannot start a {dim}D run")
     basis = LATTICE_BASIS[kind]
     cells = max(1, round((particles / basis) ** (1.0 / dim)))
     if basis * cells**dim != particles:
         examples = ", ".join(str(basis * n**dim) for n in range(3, 7))
-        raise ValueError(f"--initial {kind} needs particles = {basis} * cells^{dim} (e.g. {examples}); got {particles}")
+        raise ValueError(f"initial {kind} needs particles = {basis} * cells^{dim} (e.g. {examples}); got {particles}")
     return cells
 
 
