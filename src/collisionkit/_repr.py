@@ -193,3 +193,52 @@ def initial_conditions_rows(ic):
         ("eccentricity", ic.orbit.eccentricity),
         ("time to periastron", ic.time_to_periastron),
     ]
+
+
+def _short(value) -> str:
+    """A field's value in a one-line repr: numbers and short texts as they are, containers by their size."""
+    if isinstance(value, np.ndarray):
+        if value.ndim == 0 or (value.ndim == 1 and value.size <= 4 and value.dtype.kind in "biuf"):
+            return _short(value.item()) if value.ndim == 0 else "[" + ", ".join(_short(item) for item in value) + "]"
+        return f"<array {value.shape} {value.dtype}>"
+    if isinstance(value, (bool, np.bool_, str)) or value is None:
+        return repr(value if not isinstance(value, np.bool_) else bool(value))
+    if isinstance(value, numbers.Integral):
+        return str(int(value))
+    if isinstance(value, numbers.Real):
+        value = float(value)
+        return repr(value) if not math.isfinite(value) else f"{value:.6g}"
+    if isinstance(value, (tuple, list)):
+        if len(value) <= 4 and all(isinstance(item, (numbers.Number, str)) for item in value):
+            return "(" + ", ".join(_short(item) for item in value) + ("," if len(value) == 1 else "") + ")"
+        return f"<{len(value)} items>"
+    if isinstance(value, dict):
+        return f"<{len(value)} entries>"
+    return f"<{type(value).__name__}>"
+
+
+def dataclass_repr(self) -> str:
+    """A one-line repr of a result dataclass: its scalar fields' values, its arrays by shape (none printed whole).
+
+    Set as the class's ``__repr__`` (the one ``dataclass`` writes prints
+    every array in full: a swarm result's ran to 8000 characters).
+
+    Examples
+    --------
+    >>> from dataclasses import dataclass
+    >>> import numpy as np
+    >>> @dataclass
+    ... class Result:
+    ...     mean_energy: float
+    ...     drift: np.ndarray
+    ...     spectrum: np.ndarray
+    ...     processes: tuple
+    ...     __repr__ = dataclass_repr
+    >>> Result(1.2345678, np.array([0.0, 0.0, -1e4]), np.zeros((200, 2)), ("elastic", "ionization"))
+    Result(mean_energy=1.23457, drift=[0, 0, -10000], spectrum=<array (200, 2) float64>, processes=('elastic', \
+'ionization'))
+    """
+    import dataclasses
+
+    shown = (f"{field.name}={_short(getattr(self, field.name))}" for field in dataclasses.fields(self) if field.repr)
+    return f"{type(self).__name__}({', '.join(shown)})"

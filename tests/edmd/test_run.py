@@ -340,3 +340,12 @@ def test_a_new_run_does_not_replace_another_run_s_checkpoint_or_trajectory_unles
     assert EdmdRun.resume(checkpoint).parameters.particles == 64  # the first run's, still resumable
     EdmdRun(other, checkpoint=checkpoint, overwrite=True).run()
     assert EdmdRun.resume(checkpoint).parameters.particles == 100
+
+
+def test_a_run_and_its_sampler_say_what_they_are_and_how_far_they_got():
+    run = EdmdRun(EdmdParameters(dim=2, particles=64, initial="square", collisions=400, blocks=2, seed=1))
+    assert repr(run) == ("EdmdRun(64 particles in 2D, eta=0.3, equilibrated 0 of 1280, measured 0 of 400 collisions, "
+                         "checkpoint=None)")
+    run.run()
+    assert "equilibrated 1280 of 1280, measured 400 of 400 collisions" in repr(run)
+    assert repr(run.sampler).startswith("Sampler(2 of 2 blocks of 200 collisions done, HardSphereSystem(64 discs")

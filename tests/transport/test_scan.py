@@ -153,3 +153,16 @@ def test_reduced_fields_may_be_a_numpy_array():
     assert SwarmParameters(model="reid", reduced_field=np.float64(3.0)).reduced_field == (3.0,)
     with pytest.raises(ValueError, match="1-D array"):
         SwarmParameters(model="reid", reduced_field=np.ones((2, 2)))
+
+
+def test_a_scan_and_a_result_have_short_reprs():
+    # a swarm result's repr printed every array (8000 characters); a scan's was <object at 0x...>
+    from collisionkit.transport import maxwell_model, simulate_swarm
+
+    assert repr(SwarmScan(SwarmParameters(model="maxwell", reduced_field=[5.0, 10.0]))) == \
+        "SwarmScan(E/N 5, 10 Td, 0 of 2 done, checkpoint=None)"
+    result = simulate_swarm(maxwell_model(), 5.0, particles=256, threads=1, collision_budget=1e5,
+                            tolerances={"mean_energy": 0.5})
+    text = repr(result)
+    assert text.startswith("SwarmResult(reduced_field=5, ") and len(text) < 2000 and "<array (" in text
+    assert f"mean_energy={result.mean_energy:.6g}," in text

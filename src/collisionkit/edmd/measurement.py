@@ -236,6 +236,9 @@ class Sampler:
         """All blocks done."""
         return self.done >= self.blocks
 
+    def __repr__(self) -> str:
+        return f"Sampler({self.done} of {self.blocks} blocks of {self.per_block} collisions done, {self.system!r})"
+
     def extend(self, blocks: int) -> None:
         """Plan ``blocks`` more blocks of the same length (the lags of the MSD's time origins stay as they were).
 

@@ -305,6 +305,12 @@ class EdmdRun:
         """True if this resumed run appends to the trajectory it wrote before (given again to :meth:`resume`)."""
         return self._continued
 
+    def __repr__(self) -> str:
+        p = self.parameters
+        return (f"EdmdRun({p.particles} particles in {p.dim}D, eta={p.packing_fraction:g}, equilibrated "
+                f"{self.equilibrated} of {p.equilibration}, measured {self.measured} of {p.collisions} collisions, "
+                f"checkpoint={None if self.checkpoint is None else str(self.checkpoint)!r})")
+
     @property
     def measured(self) -> int:
         """Pair collisions measured so far."""

@@ -297,6 +297,11 @@ class SwarmScan:
         self.gas = parameters.make_gas() if gas is None else parameters.physics_of(gas)
         self.results: list[SwarmResult] = list(results)
 
+    def __repr__(self) -> str:
+        fields = self.parameters.reduced_field
+        return (f"SwarmScan(E/N {', '.join(f'{value:g}' for value in fields)} Td, {len(self.results)} of {len(fields)} "
+                f"done, checkpoint={None if self.checkpoint is None else str(self.checkpoint)!r})")
+
     @property
     def finished(self) -> bool:
         """True once every E/N point has a result."""

@@ -28,6 +28,7 @@ import numpy as np
 from .._arrays import seed_value
 from .._kernels import transport as _k
 from ._validation import integer_in_range, real_in_range
+from .._repr import dataclass_repr
 
 __all__ = ["SlabResult", "simulate_slab", "INCIDENCES"]
 
@@ -55,6 +56,8 @@ class SlabResult:
     >>> round(result.transmission + result.reflection, 12)
     1.0
     """
+
+    __repr__ = dataclass_repr  # arrays by their shape, not printed whole
 
     thickness: float
     albedo: float

@@ -40,6 +40,7 @@ from ._tables import SHARING_CODES, build_tables
 from ._validation import integer_in_range, real_in_range, validate_swarm_setup
 from .gases import Gas
 from .swarm import REFERENCE_DENSITY, _field_record, _require_collisions
+from .._repr import dataclass_repr
 
 __all__ = ["SSTResult", "simulate_sst"]
 
@@ -64,6 +65,8 @@ class SSTResult:
     >>> r.position_N.shape == r.density.shape, r.window[1] / r.window[0]
     (True, 2.0)
     """
+
+    __repr__ = dataclass_repr  # arrays by their shape, not printed whole
 
     reduced_field: float
     gas_temperature: float

@@ -8,6 +8,8 @@ from dataclasses import MISSING, dataclass, field
 
 import numpy as np
 
+from .._repr import dataclass_repr
+
 __all__ = ["SwarmResult"]
 
 # the phase-resolved arrays of an oscillating field (empty for a static one)
@@ -62,6 +64,8 @@ class SwarmResult:
     >>> result.mean_energy > 0, result.drift_velocity_bulk.shape
     (True, (3,))
     """
+
+    __repr__ = dataclass_repr  # arrays by their shape, not printed whole
 
     reduced_field: float
     reduced_magnetic_field: float

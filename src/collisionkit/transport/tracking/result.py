@@ -26,6 +26,7 @@ from ._result_arrays import combined_values, field_arrays, values_from_arrays
 from ._result_statistics import arrival_sums, mean_and_error as _mean_and_error
 from ._result_statistics import polya_theta as _polya_theta  # noqa: F401 (the name polya_theta's example imports)
 from ._result_statistics import polya_theta_and_error, records_at_collector, swarm_coefficients
+from ..._repr import dataclass_repr
 
 __all__ = ["TrackingResult", "ratio_and_error"]
 
@@ -90,6 +91,8 @@ class TrackingResult:
     >>> result.gain, result.primaries
     (1.0, 20)
     """
+
+    __repr__ = dataclass_repr  # arrays by their shape, not printed whole
 
     primaries: int
     surfaces: tuple
