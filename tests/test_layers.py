@@ -19,6 +19,9 @@ WITHOUT_THE_EXTRAS = textwrap.dedent(
         sys.modules[name] = None  # import of any of them now raises ImportError
     import collisionkit
     from collisionkit import compat, edmd, encounters, kinematics, scattering, sweep, trajectory, transport
+    namespace = {}
+    exec("from collisionkit import *", namespace)  # every name of __all__, none of them needing an extra
+    assert {"edmd", "transport", "encounters", "trajectory", "resolve_contact"} <= set(namespace)
     from concurrent.futures import ThreadPoolExecutor
     study = {"command": "edmd", "seed": 4, "fixed": {"particles": 108, "initial": "fcc", "equilibration": 1000,
              "collisions": 2000, "blocks": 2}, "vary": {"packing-fraction": [0.1, 0.2]}}

@@ -8,7 +8,12 @@ The collision core is available at the top level::
 Modules: :mod:`collisionkit.collisions` (contact resolution and detection),
 :mod:`collisionkit.kinematics` (geometry and frames),
 :mod:`collisionkit.scattering` (hard-sphere and Rutherford laws),
-:mod:`collisionkit.compat.irfpy` (irfpy's collision API).
+:mod:`collisionkit.compat.irfpy` (irfpy's collision API); the domains
+:mod:`collisionkit.edmd` (event-driven dynamics), :mod:`collisionkit.transport`
+(Monte Carlo transport), :mod:`collisionkit.encounters` (two-body
+encounters); :mod:`collisionkit.sweep` (parameter studies),
+:mod:`collisionkit.trajectory` (GSD and XYZ files) and
+:mod:`collisionkit.plotting` (needs matplotlib).
 """
 
 from __future__ import annotations
@@ -17,7 +22,7 @@ import importlib
 from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:  # the names below, imported on first use (PEP 562)
-    from . import compat, encounters, kinematics, scattering, sweep, transport
+    from . import compat, edmd, encounters, kinematics, scattering, sweep, trajectory, transport
     from .collisions import RESTITUTION_MODELS, Contact, collide, resolve_contact, time_to_contact
     from .kinematics import (
         centre_of_mass_velocity, energy_transfer_fraction, from_centre_of_mass_frame, impact_angle_2d,
@@ -62,6 +67,7 @@ __all__ = [
     "centre_of_mass_velocity",
     "collide",
     "compat",
+    "edmd",
     "encounters",
     "energy_transfer_fraction",
     "from_centre_of_mass_frame",
@@ -82,5 +88,6 @@ __all__ = [
     "sweep",
     "time_to_contact",
     "to_centre_of_mass_frame",
+    "trajectory",
     "transport",
-]
+]  # not plotting: `from collisionkit import *` would need matplotlib, an extra
