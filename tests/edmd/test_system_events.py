@@ -247,3 +247,12 @@ def test_a_fixed_seed_trajectory_keeps_momentum_and_energy_to_round_off():
     assert np.all(np.abs(velocities.sum(axis=0) - start.sum(axis=0)) < bound)
     assert abs((velocities**2).sum() / (start**2).sum() - 1.0) < 2e-14
     system.check()
+
+
+def test_a_granular_gas_cooled_to_rest_is_not_said_to_be_unable_to_collide():
+    # restitution 0.8 and elastic_below 0: the gas cooled to kT ~ 1e-34, and the message blamed parallel paths
+    positions, box = edmd.lattice("square", 4, 0.3)
+    system = edmd.HardSphereSystem(positions, edmd.maxwell_boltzmann(np.ones(16), 2, seed=1), 0.5, box,
+                                   restitution=0.8, elastic_below=0.0)
+    with pytest.raises(RuntimeError, match=r"the inelastic gas has cooled almost to rest \(kT now .*raise elastic_below"):
+        system.run(collisions=200_000)

@@ -145,9 +145,14 @@ def no_collision_message(system, events, duration):
     >>> no_collision_message(system, 10**7, 1e6).split(":")[0]
     'no pair collision in 10000000 events and 1e+06 time units (100 mean free times of kinetic theory or more)'
     """
-    return (f"no pair collision in {events} events and {duration:.3g} time units ({QUIET_FREE_TIMES:g} mean free "
-            "times of kinetic theory or more): no pair can collide, it seems (e.g. particles on parallel paths, or "
-            "apart for good in a walled box); run(time=...) advances such a system by a stretch of time")
+    head = (f"no pair collision in {events} events and {duration:.3g} time units ({QUIET_FREE_TIMES:g} mean free "
+            "times of kinetic theory or more): ")
+    if np.any(system.restitution < 1.0) and system.elastic_below == 0.0:
+        return (f"{head}the inelastic gas has cooled almost to rest (kT now {system.temperature():.3g}; restitution "
+                "< 1 with elastic_below 0 loses energy at every contact, Haff's law, until round-off); raise "
+                "elastic_below (contacts slower than it are elastic) or the restitution")
+    return (f"{head}no pair can collide, it seems (e.g. particles on parallel paths, or apart for good in a walled "
+            "box); run(time=...) advances such a system by a stretch of time")
 
 
 def mean_free_time(system):
