@@ -79,7 +79,7 @@ def test_results_do_not_depend_on_threads_and_input_is_checked():
         ((1.0, True), {}, TypeError, "albedo .* not a bool"),
         ((1.0,), dict(mass_ratio=np.nan), ValueError, "mass_ratio"),
         ((1.0,), dict(particles=True), TypeError, "particles must be an integer >= 64"),
-        ((1.0,), dict(particles=1e5), TypeError, "particles must be an integer >= 64"),
+        ((1.0,), dict(particles=1e5 + 0.5), TypeError, "particles must be an integer >= 64"),  # 1e5 counts
         ((1.0,), dict(seed=-1), ValueError, "seed must be an integer >= 0"),
         ((1.0,), dict(angle_bins=0), ValueError, r"angle_bins must be an integer in \[1, 10000\]"),
         ((1.0,), dict(incidence=["normal"]), ValueError, "incidence"),
