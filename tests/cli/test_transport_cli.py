@@ -201,6 +201,38 @@ def test_a_swarm_sweep_killed_mid_way_resumes_from_its_checkpoint_as_if_never_st
     assert len(read_checkpoint(checkpoint, "swarm").state["results"]) == 2  # checkpoints went on to the same file
 
 
+def test_a_swarm_sweep_killed_within_a_point_goes_on_from_its_saved_state(tmp_path, monkeypatch):
+    straight = tmp_path / "straight.json"
+    assert runner.invoke(app, [*SWEEP, "--summary", str(straight)]).exit_code == 0
+
+    import collisionkit.transport.scan as scan
+
+    monkeypatch.setattr(scan, "SAVE_EVERY", 0.0)  # save the running point after every chunk of samples
+    save, running_saves = scan.SwarmScan.save, []
+
+    def killed_after_two_saves_of_the_first_point(self, path=None):
+        written = save(self, path)
+        if self.running_point is not None:
+            running_saves.append(self.running_point)
+            if len(running_saves) == 2:
+                raise KeyboardInterrupt  # Ctrl-C in the middle of the 12 Td point
+        return written
+
+    checkpoint = tmp_path / "sweep.npz"
+    monkeypatch.setattr(scan.SwarmScan, "save", killed_after_two_saves_of_the_first_point)
+    killed = runner.invoke(app, [*SWEEP, "--checkpoint", str(checkpoint)])
+    monkeypatch.setattr(scan.SwarmScan, "save", save)
+    assert killed.exit_code == 130 and running_saves == [0, 0]
+    assert (f"0 of 2 E/N points are saved in {checkpoint}, and E/N = 12 Td as it was at its last save"
+            in " ".join(killed.output.split()))
+    resumed_summary = tmp_path / "resumed.json"
+    resumed = runner.invoke(app, ["swarm", "--resume", str(checkpoint), "--summary", str(resumed_summary)])
+    assert resumed.exit_code == 0, resumed.output
+    assert f"E/N = 12 Td goes on from its state saved in {checkpoint}" in " ".join(resumed.output.split())
+    expected = [_physics(entry) for entry in json.loads(straight.read_text())["results"]]
+    assert [_physics(entry) for entry in json.loads(resumed_summary.read_text())["results"]] == expected
+
+
 def test_a_resumed_swarm_sweep_keeps_its_physics_options(tmp_path):
     checkpoint = tmp_path / "sweep.npz"
     assert runner.invoke(app, [*SWEEP[:4], "12", *SWEEP[5:], "--checkpoint", str(checkpoint)]).exit_code == 0

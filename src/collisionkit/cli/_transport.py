@@ -426,11 +426,12 @@ def swarm(
         help="Folder for plots and swarm.csv, a row per E/N (none if not given).")] = None,
     summary: Annotated[Path | None, typer.Option("--summary", help="Write the results as JSON to this file.")] = None,
     checkpoint: Annotated[Path | None, typer.Option(
-        help="Write the finished E/N points to this checkpoint after each one (atomically): a .npz file (a numpy zip "
-             "archive) for --resume.")] = None,
+        help="Write the finished E/N points to this checkpoint after each one, and the running point's state every "
+             "minute (atomically): a .npz file (a numpy zip archive) for --resume.")] = None,
     resume: Annotated[Path | None, typer.Option(
-        help="Continue the sweep saved in this checkpoint, with its options (only --summary, --out, --checkpoint may "
-             "change); skips its finished points; checkpoints go on to it unless --checkpoint is given.")] = None,
+        help="Continue the scan saved in this checkpoint, with its options (only --summary, --out, --checkpoint may "
+             "change): skips its finished points, goes on with a running one from its saved state; checkpoints go on "
+             "to it unless --checkpoint is given.")] = None,
     config: Annotated[Path | None, typer.Option(
         "--config", help="TOML file with these options (command line wins).")] = None,
     overwrite: OverwriteOption = None,
@@ -452,6 +453,8 @@ def swarm(
         values = option_values(SwarmOptions, config, given)
         refuse_checkpoint_suffix(values.get("checkpoint"))  # (a resumed scan goes on writing --resume's own file)
         scan, options = _resumed_scan(resume, values)
+        if scan.running_point is not None:
+            note(f"E/N = {options.e_n[scan.running_point]:g} Td goes on from its state saved in {resume}")
     _before_the_work(scan, options)
     results = scan.results
     try:
@@ -467,8 +470,10 @@ def swarm(
     except RuntimeError as failure:  # the engine's watchdog: a runaway particle (zero or tiny cross sections)
         raise run_failed(f"the scan stopped: {failure}") from None
     except (KeyboardInterrupt, OSError) as stop:
-        where = (f"{len(results)} of {len(options.e_n)} E/N points are saved in {options.checkpoint}; continue with "
-                 f"--resume {options.checkpoint}" if options.checkpoint is not None else
+        running = "" if scan.running_point is None else \
+            f", and E/N = {options.e_n[scan.running_point]:g} Td as it was at its last save"
+        where = (f"{len(results)} of {len(options.e_n)} E/N points are saved in {options.checkpoint}{running}; "
+                 f"continue with --resume {options.checkpoint}" if options.checkpoint is not None else
                  "no --checkpoint was given, so nothing is saved")
         if isinstance(stop, OSError):
             raise run_failed(f"the scan stopped: {stop}; {where}") from None

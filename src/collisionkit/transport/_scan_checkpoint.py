@@ -2,7 +2,9 @@
 
 :meth:`~collisionkit.transport.SwarmScan.resume` reads each saved point with
 :func:`_saved_result`: a damaged one is a CheckpointError naming the file,
-the result and the field.
+the result and the field. :func:`saved_running_point` reads the state of
+the point that was running, checked as far as it can be without the run
+(:func:`._run_snapshot.restore_run` checks the rest).
 """
 
 from __future__ import annotations
@@ -10,6 +12,7 @@ from __future__ import annotations
 import numpy as np
 
 from .._io import Checkpoint
+from ._run_snapshot import PREFIX
 from .swarm_result import SwarmResult
 
 
@@ -52,3 +55,26 @@ def _saved_shape(name: str, result: SwarmResult) -> tuple[int, ...]:
     if name.startswith("drift"):
         return (3,)
     return np.shape(result.eedf_energy)
+
+
+def saved_running_point(saved: Checkpoint, done: int, points: int) -> tuple[int, dict, dict] | None:
+    """The running point's ``(index, state, arrays)`` saved in a swarm checkpoint with ``done`` finished points out
+    of ``points``, or None if it holds none.
+
+    The point must be the first unfinished one; its state a mapping. A
+    damaged one is a CheckpointError naming the file.
+    """
+    running = saved.entry("running_point", "mapping", optional=True)
+    arrays = {name: value for name, value in saved.arrays.items() if name.startswith(PREFIX)}
+    if running is None:
+        if arrays:
+            raise saved.damaged(f"it holds a running point's arrays ({', '.join(sorted(arrays)[:3])} ...) but no "
+                                "running point")
+        return None
+    index, state = running.get("index"), running.get("run")
+    if index != done or isinstance(index, bool) or done >= points:
+        raise saved.damaged(f"its running point is number {index!r}, not the first unfinished one ({done} of "
+                            f"{points} are done)")
+    if not isinstance(state, dict):
+        raise saved.damaged(f"its running point's state must be a mapping; got {type(state).__name__}")
+    return done, state, arrays

@@ -247,6 +247,8 @@ class SwarmRun:
         self.histogram = None
         self.histogram_step = 0.0
         self.steady_found = False
+        self.found = False  # whether the MSER rule found the transient's end (else the window starts after it)
+        self.window_start = 0  # first sample of the steady window, once the transient ended
 
     def step(self):
         """Advance one sampling interval, control the population and record the group moments and tallies."""
@@ -354,7 +356,8 @@ class SwarmRun:
         series = np.column_stack([moments[..., 10].sum(axis=1), moments[..., 7:10].sum(axis=1)]) / count[:, None]
         return mser_truncation(series)
 
-    def until_converged(self, tolerances, budget, max_seconds, min_samples, energy_bins, progress, setup):
+    def until_converged(self, tolerances, budget, max_seconds, min_samples, energy_bins, progress, setup,
+                        on_chunk=None):
         """Run the transient, then measure until the tolerances are met or the budget is spent.
 
         The transient ends where the MSER rule finds it (:mod:`._steady`);
@@ -362,38 +365,38 @@ class SwarmRun:
         so a slow tail that the longer record resolves is cut too. The budget
         (collisions or seconds) is checked after every sample, so it is
         overshot by at most one sample, or by the two samples a result needs
-        at the least when the transient used it up.
+        at the least when the transient used it up. ``on_chunk(run)``, if
+        given, is called after each chunk of samples that does not end the
+        run: there the run's state can be saved (:mod:`._run_snapshot`), and
+        a run restored from it goes on exactly as this one.
         """
         def spent():
             return self.collisions >= budget or self.seconds >= max_seconds
 
-        start = None
-        while start is None and not spent():
-            for _ in range(STEPS_PER_CHUNK):
-                self.step()
-                if spent():
-                    break
-            if progress:
-                progress(min(1.0, self.collisions / budget))
-            start = self._steady_start()
-        found = start is not None
-        start = start if found else len(self.times)
-        self._grow()
-        self.steady_found = True
-        energies = self._current_energies()
-        self.histogram_step = 4.0 * energies.mean() / energy_bins
-        self.histogram = np.zeros(energy_bins + 1)  # the last slot counts energies beyond the last bin
+        if not self.steady_found:
+            start = None
+            while start is None and not spent():
+                for _ in range(STEPS_PER_CHUNK):
+                    self.step()
+                    if spent():
+                        break
+                if progress:
+                    progress(min(1.0, self.collisions / budget))
+                start = self._steady_start()
+                if start is None and on_chunk is not None:
+                    on_chunk(self)
+            self._end_transient(start, energy_bins)
         while True:
             for _ in range(STEPS_PER_CHUNK):
                 self.step()
-                if spent() and len(self.times) - start >= MIN_RESULT_SAMPLES:
+                if spent() and len(self.times) - self.window_start >= MIN_RESULT_SAMPLES:
                     break
-            if found:  # the longer record may resolve a slow tail: cut it too (at least half is kept)
+            if self.found:  # the longer record may resolve a slow tail: cut it too (at least half is kept)
                 cut = self._steady_start()
-                start = len(self.times) // 2 if cut is None else cut
-            samples = len(self.times) - start
+                self.window_start = len(self.times) // 2 if cut is None else cut
+            samples = len(self.times) - self.window_start
             if samples >= min_samples or spent():
-                result = self._result(start, setup, False)
+                result = self._result(self.window_start, setup, False)
                 converged = samples >= min_samples and all(
                     result.relative_error(name) < tol for name, tol in tolerances.items())
                 if converged or spent():
@@ -401,6 +404,19 @@ class SwarmRun:
                     return result
             if progress:
                 progress(min(1.0, self.collisions / budget))
+            if on_chunk is not None:
+                on_chunk(self)
+
+    def _end_transient(self, start, energy_bins):
+        """Start the steady window at sample ``start`` (None: the rule found no end, the window starts now), grow
+        the swarm to its full size and open the energy histogram."""
+        self.found = start is not None
+        self.window_start = start if self.found else len(self.times)
+        self._grow()
+        self.steady_found = True
+        energies = self._current_energies()
+        self.histogram_step = 4.0 * energies.mean() / energy_bins
+        self.histogram = np.zeros(energy_bins + 1)  # the last slot counts energies beyond the last bin
 
     def _current_energies(self):
         alive = self.swarm.alive

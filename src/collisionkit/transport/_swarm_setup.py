@@ -4,17 +4,24 @@
 the stepper and the estimators, :mod:`._tensors` or :mod:`._periodic`);
 :func:`run_to_steady_state` runs it until its tolerances are met and closes
 the stepper; :func:`with_field_settings` records the field's settings in the
-result. The module-level switches (``CHECK_BOUND``) and the reference
+result. Inside :func:`resumable_point` a run starts from a saved state and
+reports each chunk of samples (:class:`~collisionkit.transport.SwarmScan`'s
+checkpoints within a point). The module-level switches (``CHECK_BOUND``) and the reference
 density stay in :mod:`collisionkit.transport.swarm`, which passes them in.
 """
 
 from __future__ import annotations
 
 import os
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
+from contextvars import ContextVar
+from dataclasses import dataclass
 
 import numpy as np
 
 from ._periodic import PeriodicRun
+from ._run_snapshot import restore_run
 from ._swarm_run import Stepper, initial_swarm
 from ._tables import SHARING_CODES
 from ._tensors import TensorRun
@@ -25,6 +32,41 @@ from .swarm_result import SwarmResult
 # a particle (the whole of a run that relaxed with every particle)
 TRANSIENT_SHARE = 16
 TRANSIENT_PER_GROUP = 64
+
+
+@dataclass(frozen=True)
+class PointHooks:
+    """Where the next swarm run starts and whom it tells of its chunks (see :func:`resumable_point`)."""
+
+    saved: tuple[dict, dict] | None  # (state, arrays) of :func:`._run_snapshot.run_snapshot`, or None: a new run
+    on_chunk: Callable | None  # called with the run after each chunk of samples that does not end it
+
+
+# set only inside resumable_point (a context variable: each thread, e.g. a sweep's worker, has its own)
+_POINT_HOOKS: ContextVar[PointHooks | None] = ContextVar("swarm_point_hooks", default=None)
+
+
+@contextmanager
+def resumable_point(saved, on_chunk) -> Iterator[None]:
+    """Inside: the swarm run of :func:`~collisionkit.transport.simulate_swarm` starts from ``saved`` (skipping the
+    calibration; None: a new run) and calls ``on_chunk(run)`` after each chunk of samples that does not end it.
+
+    :class:`~collisionkit.transport.SwarmScan` saves the running point this
+    way without a second, private signature of ``simulate_swarm``.
+
+    Examples
+    --------
+    >>> with resumable_point(None, print):
+    ...     _POINT_HOOKS.get().saved is None
+    True
+    >>> _POINT_HOOKS.get() is None
+    True
+    """
+    token = _POINT_HOOKS.set(PointHooks(saved, on_chunk))
+    try:
+        yield
+    finally:
+        _POINT_HOOKS.reset(token)
 
 
 def new_run(tables, field_record, oscillating, reduced_frequency, particles, groups, seed, mass, initial_energy,
@@ -89,7 +131,8 @@ def new_run(tables, field_record, oscillating, reduced_frequency, particles, gro
 
 def run_to_steady_state(run, stepper, collisions_per_sample, tolerances, collision_budget, max_seconds, min_samples,
                         energy_bins, progress, conditions) -> SwarmResult:
-    """Calibrate the sample interval, run until the tolerances are met (or a limit is reached), close the stepper.
+    """Calibrate the sample interval (or restore a saved run: :func:`resumable_point`), run until the tolerances are
+    met (or a limit is reached), close the stepper.
 
     Parameters
     ----------
@@ -120,10 +163,14 @@ def run_to_steady_state(run, stepper, collisions_per_sample, tolerances, collisi
     >>> result.reduced_field, result.particles
     (10.0, 256)
     """
+    hooks = _POINT_HOOKS.get() or PointHooks(None, None)
     try:
-        run.calibrate(collisions_per_sample)
+        if hooks.saved is None:
+            run.calibrate(collisions_per_sample)
+        else:
+            restore_run(run, *hooks.saved)
         return run.until_converged(tolerances, collision_budget, max_seconds, min_samples, energy_bins, progress,
-                                   conditions)
+                                   conditions, hooks.on_chunk)
     finally:
         stepper.close()
 

@@ -4,8 +4,8 @@
 values, B/N, the gas temperature, the swarm size, the seed and the
 accuracy). :class:`SwarmScan` runs the E/N points in order with
 :func:`~collisionkit.transport.simulate_swarm`, writes a checkpoint after
-each finished point when asked (a crash loses at most the running point)
-and resumes from it::
+each finished point and every minute within a point when asked (a crash
+loses at most the last minute of work) and resumes from it, bit for bit::
 
     scan = SwarmScan(SwarmParameters(model="reid", reduced_field=[12, 24]), checkpoint="scan.npz")
     scan.run()                               # interrupted? then:
@@ -21,15 +21,19 @@ from __future__ import annotations
 
 import dataclasses
 import hashlib
+import math
+import time
 from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any, ClassVar
 
 from .._io import CheckpointError, exclusive, file_digest, read_checkpoint, write_checkpoint
 from .._params import Parameters, check_choice, check_unchanged, check_integer, check_real, check_seed
-from ._scan_checkpoint import _saved_result
+from ._run_snapshot import SnapshotMismatch, run_snapshot
+from ._scan_checkpoint import _saved_result, saved_running_point
 from ._scan_values import _paths, _populations, _reals, _reduced_fields, _reduced_frequency, _scattering, _strings
 from ._scan_values import _waveform
+from ._swarm_setup import resumable_point
 from ._validation import MAX_GAS_TEMPERATURE, MAX_REDUCED_MAGNETIC_FIELD
 from .angular import SCATTERING_LAWS
 from .catalogue import catalogue_files, catalogue_gas
@@ -40,6 +44,7 @@ from .swarm import SwarmResult, simulate_swarm
 __all__ = ["SwarmParameters", "SwarmScan", "swarm_summary"]
 
 CHECKPOINT_KIND = "swarm"
+SAVE_EVERY = 60.0  # seconds between saves of a running point, by default
 SHARING_MODES = ("equal", "uniform")
 
 
@@ -265,16 +270,25 @@ def gas_files_digest(paths) -> str | None:
         return file_digest(paths[0])
     return hashlib.sha256("\n".join(file_digest(path) for path in paths).encode()).hexdigest()
 class SwarmScan:
-    """Swarm runs at each E/N in turn, checkpointed after each finished point.
+    """Swarm runs at each E/N in turn, checkpointed after each finished point and within a long one.
 
     Parameters
     ----------
     parameters : SwarmParameters
     checkpoint : path, optional
-        Written (``.npz``, atomically) after every finished E/N point.
+        Written (``.npz``, atomically) after every finished E/N point, and
+        with the running point's whole state (particles, random streams,
+        records) at the end of the first chunk of samples after every
+        ``save_every`` seconds: a resumed scan goes on from there exactly
+        as the interrupted one would have.
     gas : Gas, optional
         A gas built in Python (default: ``parameters.make_gas()``); the
         parameters' ``scattering`` and ``populations`` apply to it too.
+    save_every : float, optional
+        Seconds between saves of the running point (default :data:`SAVE_EVERY`, 60; 0 saves
+        after every chunk of 25 samples). The last saved state is also kept
+        in memory (a copy of the particles): :meth:`run` called again after
+        an interruption goes on from it.
 
     Examples
     --------
@@ -289,18 +303,34 @@ class SwarmScan:
     """
 
     def __init__(self, parameters: SwarmParameters, checkpoint=None, gas: Gas | None = None,
-                 results: Sequence[SwarmResult] = ()):
+                 results: Sequence[SwarmResult] = (), save_every: float | None = None):
         if not isinstance(parameters, SwarmParameters):
             raise TypeError(f"parameters must be SwarmParameters; got {type(parameters).__name__}")
         self.parameters = parameters
         self.checkpoint = None if checkpoint is None else Path(checkpoint)
         self.gas = parameters.make_gas() if gas is None else parameters.physics_of(gas)
         self.results: list[SwarmResult] = list(results)
+        save_every = SAVE_EVERY if save_every is None else save_every
+        self.save_every = check_real("save_every (seconds)", save_every, 0.0, math.inf)
+        # the running point's last saved state: (index, state, arrays) of _run_snapshot.run_snapshot, and its file
+        self._running: tuple[int, dict, dict] | None = None
+        self._running_source: Path | None = None
 
     def __repr__(self) -> str:
         fields = self.parameters.reduced_field
         return (f"SwarmScan(E/N {', '.join(f'{value:g}' for value in fields)} Td, {len(self.results)} of {len(fields)} "
                 f"done, checkpoint={None if self.checkpoint is None else str(self.checkpoint)!r})")
+
+    @property
+    def running_point(self) -> int | None:
+        """Index of the E/N point whose state was saved while it ran (the next :meth:`run` goes on from it), or None.
+
+        Examples
+        --------
+        >>> SwarmScan(SwarmParameters(model="maxwell", reduced_field=[5.0, 10.0])).running_point is None
+        True
+        """
+        return None if self._running is None else self._running[0]
 
     @property
     def finished(self) -> bool:
@@ -353,15 +383,41 @@ class SwarmScan:
                     if progress is not None:
                         progress((done + fraction) / total)
 
-                self.results.append(simulate_swarm(
-                    self.gas, value, reduced_magnetic_field=p.reduced_magnetic_field, field_angle=p.field_angle,
-                    reduced_frequency=p.reduced_frequency, waveform=p.waveform, gas_temperature=p.gas_temperature,
-                    particles=p.particles, seed=p.seed, sharing=p.sharing, tolerances=self.tolerances(value),
-                    collision_budget=p.collision_budget, progress=report))
+                saved = self._running[1:] if self._running is not None and self._running[0] == done else None
+                try:
+                    with resumable_point(saved, self._point_saver(done)):
+                        result = simulate_swarm(
+                            self.gas, value, reduced_magnetic_field=p.reduced_magnetic_field,
+                            field_angle=p.field_angle, reduced_frequency=p.reduced_frequency, waveform=p.waveform,
+                            gas_temperature=p.gas_temperature, particles=p.particles, seed=p.seed,
+                            sharing=p.sharing, tolerances=self.tolerances(value),
+                            collision_budget=p.collision_budget, progress=report)
+                except SnapshotMismatch as error:
+                    raise CheckpointError(f"{self._running_source} is a damaged swarm checkpoint: its running point "
+                                          f"(E/N = {value:g} Td) cannot be restored: {error}") from None
+                self._running = None
+                self.results.append(result)
                 self.save()
         if progress is not None:
             progress(1.0)
         return self.results
+
+    def _point_saver(self, index: int) -> Callable | None:
+        """What saves the running point ``index`` after a chunk of samples, once ``save_every`` seconds have passed
+        since the last save (None without a checkpoint)."""
+        if self.checkpoint is None:
+            return None
+        last = time.monotonic()
+
+        def save_point(run):
+            nonlocal last
+            if time.monotonic() - last >= self.save_every:
+                self._running = (index, *run_snapshot(run))
+                self._running_source = self.checkpoint
+                self.save()
+                last = time.monotonic()
+
+        return save_point
 
     def save(self, path=None) -> Path | None:
         """Write the checkpoint (to ``path``, default the scan's checkpoint); None if there is none.
@@ -378,10 +434,15 @@ class SwarmScan:
             return None
         state = {"cross_sections_sha256": gas_files_digest(self.parameters.gas_files()),
                  "results": [result.to_dict() for result in self.results]}
-        return write_checkpoint(path, CHECKPOINT_KIND, self.parameters.to_dict(), state)
+        arrays = {}
+        if self._running is not None:
+            index, run_state, arrays = self._running
+            state["running_point"] = {"index": index, "run": run_state}
+        return write_checkpoint(path, CHECKPOINT_KIND, self.parameters.to_dict(), state, arrays)
 
     @classmethod
-    def resume(cls, path, checkpoint=None, gas: Gas | None = None, **given) -> SwarmScan:
+    def resume(cls, path, checkpoint=None, gas: Gas | None = None, save_every: float | None = None,
+               **given) -> SwarmScan:
         """The scan saved in ``path``, ready to run its unfinished points.
 
         Parameters
@@ -392,6 +453,8 @@ class SwarmScan:
             Where to write checkpoints from now on (default: ``path``).
         gas : Gas, optional
             The gas, if the scan was made with one built in Python.
+        save_every : float, optional
+            Seconds between saves of the running point (as in the constructor).
         \\*\\*given
             Parameters given again (Python names or flags): each must equal
             the saved one (a resumed scan keeps its physics).
@@ -429,7 +492,11 @@ class SwarmScan:
         if [r.reduced_field for r in results] != list(parameters.reduced_field[: len(results)]):
             raise CheckpointError(f"{path} holds results for E/N = {[r.reduced_field for r in results]}, not the "
                                   f"first points of its scan {list(parameters.reduced_field)}")
-        return cls(parameters, checkpoint=path if checkpoint is None else checkpoint, gas=gas, results=results)
+        scan = cls(parameters, checkpoint=path if checkpoint is None else checkpoint, gas=gas, results=results,
+                   save_every=save_every)
+        scan._running = saved_running_point(saved, len(results), len(parameters.reduced_field))
+        scan._running_source = path
+        return scan
 
     def summary(self, files: Sequence = ()) -> dict[str, Any]:
         """The scan's results: :func:`swarm_summary` of its parameters and results.
