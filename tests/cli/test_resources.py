@@ -119,6 +119,17 @@ def test_the_swarm_memory_estimate_covers_what_a_swarm_allocates():
     assert peak <= _memory.swarm_memory(particles, ionizing=False), peak
 
 
+def test_the_swarm_memory_estimate_with_a_checkpoint_covers_the_saved_running_point(tmp_path):
+    from collisionkit.transport import SwarmParameters, SwarmScan
+
+    particles = 20_000  # past the transient (run with a 16th of them) and saved after every chunk of samples
+    parameters = SwarmParameters(model="maxwell", reduced_field=[10.0], particles=particles, tolerance=0.001,
+                                 collision_budget=3e7)
+    peak = _traced_peak(lambda: SwarmScan(parameters, checkpoint=tmp_path / "scan.npz", save_every=0.0).run())
+    assert _memory.swarm_memory(particles, ionizing=False) < peak  # the saved state is a real cost
+    assert peak <= _memory.swarm_memory(particles, ionizing=False, checkpoint=True), peak
+
+
 # ------------------------------------------------------------------ item 7: compiling said, never timed
 
 

@@ -39,6 +39,9 @@ SWARM_BYTES_PER_PARTICLE = 200
 # a swarm in a gas that ionizes or attaches (its population controlled): 6.6 kB an electron resident at 100 000
 # and 400 000 electrons of the Lucas-Saelee gas at 500 Td; 3.5 kB at 100 Td, 12.3 kB at 2000 Td
 SWARM_IONIZING_BYTES_PER_PARTICLE = 6_700
+# with --checkpoint: the running point's saved state (a copy of the particles) and the file's bytes while it is
+# written: 205 B an electron more at the peak (tracemalloc, 20 000 electrons of the Maxwell model, 3e7 collisions)
+SWARM_CHECKPOINT_BYTES_PER_PARTICLE = 220
 MEMINFO = Path("/proc/meminfo")
 
 
@@ -98,15 +101,19 @@ def _may_run_cells(parameters) -> bool:
     return parameters.packing_fraction < cells_below_packing(parameters.dim, parameters.particles)
 
 
-def swarm_memory(particles: int, ionizing: bool) -> int:
-    """Bytes a swarm of ``particles`` electrons needs (measured; more if the gas ionizes or attaches).
+def swarm_memory(particles: int, ionizing: bool, checkpoint: bool = False) -> int:
+    """Bytes a swarm of ``particles`` electrons needs (measured; more if the gas ionizes or attaches, and with a
+    checkpoint, which saves the running point's particles).
 
     Examples
     --------
     >>> swarm_memory(10_000_000, ionizing=False) / 1e9, swarm_memory(10_000_000, ionizing=True) / 1e9
     (2.0, 67.0)
+    >>> swarm_memory(10_000_000, ionizing=False, checkpoint=True) / 1e9
+    4.2
     """
-    return particles * (SWARM_IONIZING_BYTES_PER_PARTICLE if ionizing else SWARM_BYTES_PER_PARTICLE)
+    per_particle = SWARM_IONIZING_BYTES_PER_PARTICLE if ionizing else SWARM_BYTES_PER_PARTICLE
+    return particles * (per_particle + (SWARM_CHECKPOINT_BYTES_PER_PARTICLE if checkpoint else 0))
 
 
 def size(count: float) -> str:

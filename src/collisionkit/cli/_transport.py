@@ -263,7 +263,7 @@ def _before_the_work(scan, options: SwarmOptions) -> None:
         require("matplotlib", "plot", "plots (--out)")
     ionizing = any(process.kind in ("ionization", "attachment") for _, process in scan.gas.processes)
     kind = " of a gas that ionizes or attaches" if ionizing else ""
-    refuse_beyond_memory(swarm_memory(options.particles, ionizing), f"--particles {options.particles}{kind}",
+    refuse_beyond_memory(swarm_memory(options.particles, ionizing, options.checkpoint is not None), f"--particles {options.particles}{kind}",
                          ": use fewer particles")
     if options.b_n == 0.0 and options.angle != 90.0:
         note(f"--angle {options.angle:g} has no effect without --B-N (no magnetic field)")
