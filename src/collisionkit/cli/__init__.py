@@ -151,6 +151,10 @@ from . import _transport  # noqa: E402
 
 _transport.register(app)
 
+from . import _slab  # noqa: E402
+
+_slab.register(app)
+
 from . import _track  # noqa: E402
 
 _track.register(app)
