@@ -11,6 +11,9 @@ collisions), real gases (LXCat files) and transport coefficients.
   for plots; :func:`diffusion_error_floor`;
 * :class:`SwarmScan` - the ``swarm`` command's E/N scan (:class:`SwarmParameters`),
   with checkpoint and resume;
+* :func:`two_term_boltzmann` - the two-term Boltzmann equation (as BOLSIG+
+  and LoKI-B solve it): the energy distribution, mobility, diffusion and
+  rates in milliseconds; :class:`TwoTermResult`;
 * :func:`simulate_slab` - transmission and reflection of a beam by a slab;
 * gases: :class:`Gas`, :class:`Species`, :class:`Process`, model gases
   (:func:`maxwell_model`, :func:`hard_sphere_gas`, :func:`reid_ramp`,
@@ -139,3 +142,8 @@ __all__ += [
 from ._waveform import read_waveform  # noqa: E402
 
 __all__ += ["read_waveform"]
+
+# the two-term Boltzmann equation (the approximation of BOLSIG+ and LoKI-B): the swarm's fast companion
+from .two_term import TwoTermResult, two_term_boltzmann  # noqa: E402
+
+__all__ += ["TwoTermResult", "two_term_boltzmann"]
