@@ -155,6 +155,10 @@ from . import _slab  # noqa: E402
 
 _slab.register(app)
 
+from . import _boltzmann  # noqa: E402
+
+_boltzmann.register(app)
+
 from . import _track  # noqa: E402
 
 _track.register(app)

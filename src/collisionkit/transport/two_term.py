@@ -58,6 +58,9 @@ DECADES = (10.0, 18.0)  # F0 falls by this many decades from its peak to the gri
 MAX_GRID_ADJUSTMENTS = 60
 MAX_GROWTH_ITERATIONS = 200
 GROWTH_TOLERANCE = 1e-10  # relative change of nu/N between iterations at convergence
+ROW_FIELDS = ("mean_energy", "mobility_N", "drift_velocity", "diffusion_N", "characteristic_energy",
+              "ionization_frequency_N", "attachment_frequency_N", "alpha_N", "eta_N", "power_balance", "max_energy",
+              "cells")
 
 
 @dataclass(frozen=True, repr=False)
@@ -145,6 +148,22 @@ class TwoTermResult:
         """
         return {name: (value.tolist() if isinstance(value, np.ndarray) else value)
                 for name, value in self.__dict__.items()}
+
+    def to_row(self) -> dict:
+        """The scalars as one flat row (a CSV line): ``E_N``, the moments, then ``rate_coefficient[<label>]`` per
+        process (named as in :meth:`SwarmResult.to_row <collisionkit.transport.SwarmResult.to_row>`).
+
+        Examples
+        --------
+        >>> from collisionkit.transport import reid_ramp, two_term_boltzmann
+        >>> row = two_term_boltzmann(reid_ramp(), 12.0, 0.0).to_row()
+        >>> list(row)[:3], [key for key in row if key.startswith("rate_coefficient")]
+        (['E_N', 'gas_temperature', 'mean_energy'], ['rate_coefficient[reid:excitation]'])
+        """
+        row = {"E_N": self.reduced_field, "gas_temperature": self.gas_temperature}
+        row |= {name: getattr(self, name) for name in ROW_FIELDS}
+        row |= {f"rate_coefficient[{label}]": rate for label, rate in self.rate_coefficients.items()}
+        return row
 
 
 @dataclass

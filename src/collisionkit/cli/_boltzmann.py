@@ -1,0 +1,201 @@
+"""The ``boltzmann`` subcommand: the two-term Boltzmann equation against E/N, BOLSIG+'s job.
+
+The gas options are the ``swarm`` command's (a model gas, a catalogue gas or
+LXCat files); each E/N is :func:`collisionkit.transport.two_term_boltzmann`,
+which a Python script calls the same way.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Annotated, Any, ClassVar, Literal
+
+import typer
+from pydantic import Field, field_validator, model_validator
+
+from ._common import (
+    INTERRUPTED_EXIT_CODE, Deliveries, Options, OverwriteOption, fail, load_options, print_table, progress_bar,
+    run_failed, say, warn,
+)
+from ._transport import MAX_GAS_TEMPERATURE, MAX_REDUCED_FIELD, _e_n_values, lxcat_notes
+
+ModelName = Literal["maxwell", "hard_sphere", "reid", "lucas_saelee"]
+BOLTZMANN_FILES = ("boltzmann.csv", "eedf.csv")  # --out: a row per E/N; the EEDFs (E/N, energy, F0)
+
+
+class BoltzmannOptions(Options):
+    """Options of ``collisionkit boltzmann``; the gas is chosen as for ``swarm``.
+
+    Examples
+    --------
+    >>> BoltzmannOptions.model_validate({"model": "reid", "e-n": [1, 12]}).e_n
+    [1.0, 12.0]
+    """
+
+    model: ModelName | None = None
+    gas: str | None = None
+    cross_sections: list[Path] | None = None
+    species: list[str] | None = None
+    fractions: list[float] | None = None
+    database: str | None = None
+    flags: ClassVar[dict[str, str]] = {"e_n": "--E-N"}
+    e_n: list[float] = Field(default=[12.0], min_length=1)
+    gas_temperature: float = Field(default=300.0, ge=0, le=MAX_GAS_TEMPERATURE, allow_inf_nan=False)
+    cells: int = Field(default=1000, ge=50, le=100_000)
+    sharing: Literal["equal", "uniform"] = "equal"
+    out: Path | None = None
+    summary: Path | None = None
+
+    output_files: ClassVar[tuple[str, ...]] = ("summary",)
+    output_folders: ClassVar[tuple[str, ...]] = ("out",)
+    input_files: ClassVar[tuple[str, ...]] = ("cross_sections",)
+
+    def folder_files(self, folder: str) -> tuple[str, ...]:
+        """The tables of ``--out`` (an earlier run's are not replaced without --overwrite)."""
+        return BOLTZMANN_FILES
+
+    @field_validator("cross_sections", mode="before")
+    @classmethod
+    def _one_file_is_a_list(cls, value: Any) -> Any:
+        """``cross-sections = "ar.txt"`` in a TOML file is a list of one."""
+        return [value] if isinstance(value, (str, Path)) else value
+
+    @field_validator("e_n")
+    @classmethod
+    def _fields_in_range(cls, values: list[float]) -> list[float]:
+        """Every E/N finite and in [0, MAX_REDUCED_FIELD] Td (named here as --E-N)."""
+        if not all(0.0 <= value <= MAX_REDUCED_FIELD for value in values):  # NaN fails too
+            raise ValueError(f"every E/N must be a finite number from 0 to {MAX_REDUCED_FIELD:g} Td")
+        return values
+
+    @model_validator(mode="after")
+    def _physics(self):
+        """The library's rules on the gas (one of model, gas, cross sections; a warm gas at E/N = 0)."""
+        self.parameters()
+        return self
+
+    def parameters(self):
+        """The gas and fields as :class:`collisionkit.transport.SwarmParameters` (its gas choice and checks).
+
+        Examples
+        --------
+        >>> BoltzmannOptions(model="reid").parameters().make_gas().species[0].name
+        'reid'
+        """
+        from ..transport.scan import SwarmParameters
+
+        return SwarmParameters(reduced_field=self.e_n, model=self.model, gas=self.gas,
+                               cross_sections=self.cross_sections, species=self.species, fractions=self.fractions,
+                               database=self.database, gas_temperature=self.gas_temperature, sharing=self.sharing)
+
+
+def _results(options: BoltzmannOptions) -> list:
+    """The two-term solution at each E/N, with a progress bar; Ctrl-C is exit 130 (nothing is lost but time)."""
+    from ..transport import two_term_boltzmann
+
+    try:
+        with lxcat_notes():
+            gas = options.parameters().make_gas()
+    except ValueError as error:
+        raise fail(str(error)) from None
+    results = []
+    try:
+        with progress_bar("E/N points", total=len(options.e_n)) as advance:
+            for value in options.e_n:
+                results.append(two_term_boltzmann(gas, value, options.gas_temperature, cells=options.cells,
+                                                  sharing=options.sharing))
+                advance(1)
+    except RuntimeError as failure:  # a growth iteration that cannot settle (attachment far above ionization)
+        raise run_failed(f"E/N = {options.e_n[len(results)]:g} Td: {failure}") from None
+    except KeyboardInterrupt:
+        warn(f"interrupted after {len(results)} of {len(options.e_n)} E/N points: each takes milliseconds to "
+             "seconds, so nothing is saved; run again")
+        raise typer.Exit(INTERRUPTED_EXIT_CODE) from None
+    return results
+
+
+def _print(results) -> None:
+    rows = [(f"{r.reduced_field:g}", f"{r.mean_energy:.5g}", f"{r.drift_velocity:.5g}", f"{r.diffusion_N:.5g}",
+             f"{r.characteristic_energy:.4g}", f"{r.alpha_N:.4g}", f"{r.eta_N:.4g}") for r in results]
+    print_table("two-term Boltzmann equation (flux values)",
+                ("E/N (Td)", "<e> (eV)", "W (m/s)", "N D (1/m/s)", "D/mu (eV)", "alpha/N (m^2)", "eta/N (m^2)"),
+                rows)
+
+
+def _write_tables(results, out: Path, deliveries: Deliveries) -> None:
+    from ..sweep import write_csv
+
+    deliveries.write(f"the folder {out}", lambda: out.mkdir(parents=True, exist_ok=True))
+    deliveries.write(f"the table {out / 'boltzmann.csv'}",
+                     lambda: write_csv(out / "boltzmann.csv", [result.to_row() for result in results]))
+    eedf_rows = [{"E_N": r.reduced_field, "energy": float(energy), "eedf": float(value)}
+                 for r in results for energy, value in zip(r.energy, r.eedf)]
+    deliveries.write(f"the table {out / 'eedf.csv'}", lambda: write_csv(out / "eedf.csv", eedf_rows))
+
+
+def boltzmann_summary(options: BoltzmannOptions, results, files=()) -> dict:
+    """The command's JSON summary: ``gas``, ``results`` (one :meth:`~collisionkit.transport.TwoTermResult.to_dict`
+    per E/N, with ``E_N``), ``files`` and ``parameters``.
+
+    Examples
+    --------
+    >>> from collisionkit.transport import two_term_boltzmann, reid_ramp
+    >>> options = BoltzmannOptions(model="reid", e_n=[12.0], gas_temperature=0.0)
+    >>> summary = boltzmann_summary(options, [two_term_boltzmann(reid_ramp(), 12.0, 0.0)])
+    >>> summary["gas"], summary["results"][0]["E_N"], summary["parameters"]["cells"]
+    ('reid', 12.0, 1000)
+    """
+    parameters = options.model_dump(mode="json", by_alias=True, exclude={"out", "summary", "overwrite"})
+    return {"gas": options.parameters().gas_name(),
+            "results": [result.to_dict() | {"E_N": result.reduced_field} for result in results],
+            "files": [str(path) for path in files], "parameters": parameters}
+
+
+def boltzmann(
+    model: Annotated[str | None, typer.Option(help="Model gas: maxwell, hard_sphere, reid, lucas_saelee.")] = None,
+    gas: Annotated[str | None, typer.Option(
+        help="Real gas by name (collisionkit gases lists them), or a mixture by mole fraction: "
+             "'Ar:0.9,N2:0.1'.")] = None,
+    cross_sections: Annotated[list[Path] | None, typer.Option(
+        "--cross-sections", help="LXCat cross-section file (repeat to join files).")] = None,
+    species: Annotated[list[str] | None, typer.Option(help="Species of the LXCat files to use (repeat).")] = None,
+    fractions: Annotated[list[float] | None, typer.Option(help="Their number fractions (repeat).")] = None,
+    database: Annotated[str | None, typer.Option(
+        help="Database to take a species from when the LXCat files hold it from several (e.g. Biagi).")] = None,
+    e_n: Annotated[list[str] | None, typer.Option(
+        "--E-N", help="E/N in Td, 0 to 1e6; repeat or comma list for a sweep.  \\[default: 12]")] = None,
+    gas_temperature: Annotated[float | None, typer.Option(
+        help="Gas temperature in K (0 to 1e5): thermal energy of the targets and Boltzmann populations of reversible "
+             "excitations (superelastic collisions).  \\[default: 300]")] = None,
+    cells: Annotated[int | None, typer.Option(
+        help="Cells of the energy grid (50 to 1e5); its top is found where the EEDF has fallen 10-18 decades.  "
+             "\\[default: 1000]")] = None,
+    sharing: Annotated[str | None, typer.Option(
+        help="Ionization energy sharing: equal or uniform.  \\[default: equal]")] = None,
+    out: Annotated[Path | None, typer.Option(
+        help="Folder for boltzmann.csv (a row per E/N: moments and every rate coefficient) and eedf.csv (E/N, "
+             "energy, F0).")] = None,
+    summary: Annotated[Path | None, typer.Option("--summary", help="Write the results as JSON to this file.")] = None,
+    config: Annotated[Path | None, typer.Option(
+        "--config", help="TOML file with these options (command line wins).")] = None,
+    overwrite: OverwriteOption = None,
+):
+    """The two-term Boltzmann equation (as BOLSIG+): EEDF, mean energy, mobility, diffusion and rate coefficients
+    against E/N, in milliseconds; the swarm command is its exact Monte Carlo check."""
+    given = dict(model=model, gas=gas, cross_sections=cross_sections, species=species, fractions=fractions,
+                 database=database, e_n=_e_n_values(e_n), gas_temperature=gas_temperature, cells=cells,
+                 sharing=sharing, out=out, summary=summary, overwrite=overwrite)
+    options = load_options(BoltzmannOptions, config, given)
+    results = _results(options)
+    _print(results)
+    deliveries = Deliveries("boltzmann")
+    if options.out is not None:
+        _write_tables(results, options.out, deliveries)
+    for path in deliveries.files:
+        say(f"wrote {path}")
+    deliveries.finish(options.summary, boltzmann_summary(options, results, deliveries.files))
+
+
+def register(app: typer.Typer) -> None:
+    """Add the ``boltzmann`` command to the ``collisionkit`` app."""
+    app.command("boltzmann")(boltzmann)

@@ -1,0 +1,45 @@
+"""Command line: ``collisionkit boltzmann``, the two-term Boltzmann equation against E/N."""
+
+import csv
+import json
+
+from typer.testing import CliRunner
+
+from collisionkit.cli import app
+from collisionkit.transport import reid_ramp, two_term_boltzmann
+
+runner = CliRunner()
+
+
+def test_a_scan_gives_the_librarys_results_in_the_summary_and_the_tables(tmp_path):
+    summary, out = tmp_path / "b.json", tmp_path / "out"
+    result = runner.invoke(app, ["boltzmann", "--model", "reid", "--E-N", "1,12", "--gas-temperature", "0",
+                                 "--summary", str(summary), "--out", str(out)])
+    assert result.exit_code == 0, result.output
+    entries = json.loads(summary.read_text())["results"]
+    assert [entry["E_N"] for entry in entries] == [1.0, 12.0]
+    for entry in entries:  # a Python script calling the library gets the same numbers
+        direct = two_term_boltzmann(reid_ramp(), entry["E_N"], 0.0)
+        assert entry["mean_energy"] == direct.mean_energy and entry["drift_velocity"] == direct.drift_velocity
+        assert entry["rate_coefficients"] == direct.rate_coefficients
+    with open(out / "boltzmann.csv", newline="") as table:
+        rows = list(csv.DictReader(table))
+    assert [float(row["E_N"]) for row in rows] == [1.0, 12.0]
+    assert float(rows[1]["rate_coefficient[reid:excitation]"]) == entries[1]["rate_coefficients"]["reid:excitation"]
+    with open(out / "eedf.csv", newline="") as table:
+        eedf = list(csv.DictReader(table))
+    assert len(eedf) == 2 * 1000 and {float(row["E_N"]) for row in eedf} == {1.0, 12.0}
+    assert "0.2736" in result.output  # the table: <e> at 12 Td
+    again = runner.invoke(app, ["boltzmann", "--model", "reid", "--E-N", "12", "--out", str(out)])
+    assert again.exit_code == 2 and "pass --overwrite" in " ".join(again.output.split())
+
+
+def test_a_config_file_gives_the_options(tmp_path):
+    config = tmp_path / "b.toml"
+    config.write_text('model = "lucas_saelee"\nE-N = [100]\ngas-temperature = 0\ncells = 400\nsharing = "uniform"\n')
+    summary = tmp_path / "b.json"
+    result = runner.invoke(app, ["boltzmann", "--config", str(config), "--summary", str(summary)])
+    assert result.exit_code == 0, result.output
+    data = json.loads(summary.read_text())
+    assert data["parameters"]["sharing"] == "uniform" and data["results"][0]["cells"] == 400
+    assert data["results"][0]["alpha_N"] > 0
