@@ -28,6 +28,8 @@ def test_demo_writes_summary_table_and_plots(tmp_path):
     assert core["energy_relative_error"] < 1e-13
     assert core["inelastic_loss_error"] < 1e-13
     assert core["time_to_contact_far"] == pytest.approx(1e8 - 1, rel=4e-16)
+    argon = data["sections"]["Monte Carlo transport"]["argon_50Td"]
+    assert argon["two_term_mean_energy"] == pytest.approx(6.221, rel=1e-3)  # solved in the demo (BOLOS: 6.221)
     assert json.loads((out / "summary.json").read_text()) == data
     for name in data["files"]:
         assert Path(name).stat().st_size > 1000
