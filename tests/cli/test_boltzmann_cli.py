@@ -29,6 +29,7 @@ def test_a_scan_gives_the_librarys_results_in_the_summary_and_the_tables(tmp_pat
     with open(out / "eedf.csv", newline="") as table:
         eedf = list(csv.DictReader(table))
     assert len(eedf) == 2 * 1000 and {float(row["E_N"]) for row in eedf} == {1.0, 12.0}
+    assert (out / "eedf.png").stat().st_size > 1000
     assert "0.2736" in result.output  # the table: <e> at 12 Td
     again = runner.invoke(app, ["boltzmann", "--model", "reid", "--E-N", "12", "--out", str(out)])
     assert again.exit_code == 2 and "pass --overwrite" in " ".join(again.output.split())

@@ -14,13 +14,14 @@ import typer
 from pydantic import Field, field_validator, model_validator
 
 from ._common import (
-    INTERRUPTED_EXIT_CODE, Deliveries, Options, OverwriteOption, fail, load_options, print_table, progress_bar,
+    INTERRUPTED_EXIT_CODE, Deliveries, Options, OverwriteOption, fail, load_options, note, print_table, progress_bar,
     run_failed, say, warn,
 )
 from ._transport import MAX_GAS_TEMPERATURE, MAX_REDUCED_FIELD, _e_n_values, lxcat_notes
 
 ModelName = Literal["maxwell", "hard_sphere", "reid", "lucas_saelee"]
-BOLTZMANN_FILES = ("boltzmann.csv", "eedf.csv")  # --out: a row per E/N; the EEDFs (E/N, energy, F0)
+# --out: a row per E/N; the EEDFs (E/N, energy, F0); their plot (with the plot extra)
+BOLTZMANN_FILES = ("boltzmann.csv", "eedf.csv", "eedf.png")
 
 
 class BoltzmannOptions(Options):
@@ -131,6 +132,16 @@ def _write_tables(results, out: Path, deliveries: Deliveries) -> None:
     eedf_rows = [{"E_N": r.reduced_field, "energy": float(energy), "eedf": float(value)}
                  for r in results for energy, value in zip(r.energy, r.eedf)]
     deliveries.write(f"the table {out / 'eedf.csv'}", lambda: write_csv(out / "eedf.csv", eedf_rows))
+    try:
+        import matplotlib
+    except ImportError:
+        note("no eedf.png: plots need matplotlib (pip install 'collisionkit[plot]'); the tables are written")
+        return
+    matplotlib.use("Agg")
+    from .. import plotting
+
+    deliveries.write(f"the plot {out / 'eedf.png'}",
+                     lambda: plotting.save(plotting.plot_two_term_eedf(results), out / "eedf.png"))
 
 
 def boltzmann_summary(options: BoltzmannOptions, results, files=()) -> dict:
@@ -173,8 +184,8 @@ def boltzmann(
     sharing: Annotated[str | None, typer.Option(
         help="Ionization energy sharing: equal or uniform.  \\[default: equal]")] = None,
     out: Annotated[Path | None, typer.Option(
-        help="Folder for boltzmann.csv (a row per E/N: moments and every rate coefficient) and eedf.csv (E/N, "
-             "energy, F0).")] = None,
+        help="Folder for boltzmann.csv (a row per E/N: moments and every rate coefficient), eedf.csv (E/N, "
+             "energy, F0) and eedf.png.")] = None,
     summary: Annotated[Path | None, typer.Option("--summary", help="Write the results as JSON to this file.")] = None,
     config: Annotated[Path | None, typer.Option(
         "--config", help="TOML file with these options (command line wins).")] = None,

@@ -46,6 +46,7 @@ from .sweep import plot_sweep
 from .tracking import plot_tracking_spectra, plot_tracks
 from .transport import (
     REID_PUBLISHED, plot_energy_distribution, plot_phase_resolved, plot_trajectories, plot_transport_coefficients,
+    plot_two_term_eedf,
 )
 
 __all__ = [
@@ -76,6 +77,7 @@ __all__ = [
     "plot_tracks",
     "plot_trajectories",
     "plot_transport_coefficients",
+    "plot_two_term_eedf",
     "save",
     "save_animation",
 ]

@@ -39,6 +39,32 @@ def plot_energy_distribution(results, ax=None):
     return ax
 
 
+def plot_two_term_eedf(results, ax=None):
+    """The two-term EEDFs F0(eps) (eV^-3/2, int eps^1/2 F0 = 1) of :func:`~collisionkit.transport.two_term_boltzmann`
+    results, on a log scale as BOLSIG+ users read them (a Maxwellian is a straight line).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from types import SimpleNamespace
+    >>> from collisionkit import plotting
+    >>> r = SimpleNamespace(energy=np.linspace(0.05, 10, 50), eedf=np.exp(-np.linspace(0.05, 10, 50)),
+    ...                     reduced_field=12.0)
+    >>> ax = plotting.plot_two_term_eedf([r])
+    >>> ax.get_yscale(), ax.get_ylabel()
+    ('log', 'F0 (eV^-3/2)')
+    """
+    ax = _axes(ax)
+    for r in results:
+        shown = r.eedf > 0
+        ax.plot(r.energy[shown], r.eedf[shown], label=f"E/N = {r.reduced_field:g} Td")
+    ax.set_yscale("log")
+    ax.set_xlabel("energy (eV)")
+    ax.set_ylabel("F0 (eV^-3/2)")
+    ax.legend()
+    return ax
+
+
 def plot_transport_coefficients(results, reference=REID_PUBLISHED, axes=None):
     """Mean energy, |bulk W|, N D_L and N D_T against E/N with error bars (and published Reid points).
 
