@@ -193,3 +193,24 @@ def test_chapman_enskog_for_discs_is_gass_first_sonine_times_his_factors():
 def test_enskog_transport_checks_its_arguments(arguments, name):
     with pytest.raises(ValueError, match=name):
         edmd.enskog_transport(**arguments)
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+def test_the_transport_theories_take_arrays_as_the_equations_of_state_do(dim):
+    # each element as the scalar call gives it; kT broadcast against eta; a float for scalars
+    eta = np.array([0.05, 0.2, 0.4])
+    kT = np.array([[1.0], [2.0]])
+    curves = edmd.enskog_transport(eta, kT=kT, dim=dim)
+    dilute = edmd.chapman_enskog_transport(eta, kT=kT, dim=dim)
+    for key in ("shear_viscosity", "bulk_viscosity", "thermal_conductivity", "self_diffusion"):
+        assert curves[key].shape == (2, 3) and dilute[key].shape == (2, 3)
+        for i, temperature in enumerate(kT[:, 0]):
+            for j, value in enumerate(eta):
+                assert curves[key][i, j] == edmd.enskog_transport(float(value), kT=temperature, dim=dim)[key]
+                assert dilute[key][i, j] == edmd.chapman_enskog_transport(float(value), kT=temperature,
+                                                                          dim=dim)[key]
+    assert isinstance(edmd.enskog_transport(0.2, dim=dim)["shear_viscosity"], float)
+    with pytest.raises(ValueError, match=r"the inputs' shapes \[\(3,\), \(2,\), \(\), \(\)\] do not broadcast"):
+        edmd.enskog_transport(eta, diameter=[1.0, 2.0], dim=dim)
+    with pytest.raises(ValueError, match="eta"):
+        edmd.enskog_transport([0.2, 0.95], dim=dim)

@@ -208,9 +208,22 @@ def _first_sonine(dim, diameter, mass, kT):
     Phys. Rev. E 59, 5895 (1999) at e = 1; 5/16, 75/64 and 3/8 over sqrt(pi) for spheres).
     """
     geometric = math.gamma(dim / 2) / (math.pi ** ((dim - 1) / 2) * diameter ** (dim - 1))
-    viscosity = (dim + 2) / 8 * geometric * math.sqrt(mass * kT)
+    viscosity = (dim + 2) / 8 * geometric * np.sqrt(mass * kT)
     conductivity = dim * (dim + 2) / (2 * (dim - 1)) * viscosity / mass
-    return viscosity, conductivity, dim / 4 * geometric * math.sqrt(kT / mass)
+    return viscosity, conductivity, dim / 4 * geometric * np.sqrt(kT / mass)
+
+
+def _as_given(values: dict) -> dict:
+    """Each value as a float if the inputs were scalars (a 0-d result), else as an array."""
+    return {key: float(value) if np.ndim(value) == 0 else np.asarray(value) for key, value in values.items()}
+
+
+def _broadcast(*values):
+    """The inputs broadcast against each other (a ValueError naming the shapes if they cannot be)."""
+    try:
+        return np.broadcast_arrays(*values)
+    except ValueError:
+        raise ValueError(f"the inputs' shapes {[np.shape(value) for value in values]} do not broadcast") from None
 
 
 def chapman_enskog_transport(density, diameter=1.0, mass=1.0, kT=1.0, dim=3):
@@ -230,17 +243,18 @@ def chapman_enskog_transport(density, diameter=1.0, mass=1.0, kT=1.0, dim=3):
 
     Parameters
     ----------
-    density : float
+    density : float or array_like
         Number density n (per volume, or per area for discs), finite and > 0.
-    diameter, mass, kT : float, optional
-        Finite and > 0.
+    diameter, mass, kT : float or array_like, optional
+        Finite and > 0; every input broadcasts against the others.
     dim : {3, 2}, optional
         Spheres (3) or discs (2).
 
     Returns
     -------
     dict
-        ``shear_viscosity``, ``bulk_viscosity``, ``thermal_conductivity``, ``self_diffusion``.
+        ``shear_viscosity``, ``bulk_viscosity``, ``thermal_conductivity``, ``self_diffusion``: floats for
+        scalar inputs, else arrays of the broadcast shape.
 
     Examples
     --------
@@ -249,19 +263,22 @@ def chapman_enskog_transport(density, diameter=1.0, mass=1.0, kT=1.0, dim=3):
     {'shear_viscosity': 0.17913, 'bulk_viscosity': 0.0, 'thermal_conductivity': 0.67769, 'self_diffusion': 2.11571}
     >>> round(chapman_enskog_transport(0.1, dim=2)["shear_viscosity"], 5)  # 1.022 / (2 sqrt(pi))
     0.2883
+    >>> chapman_enskog_transport([0.1, 0.2])["self_diffusion"].round(4)  # D0 falls as 1/n
+    array([2.1157, 1.0579])
     """
-    density = _checks.positive(density, "density")
-    diameter, mass, kT = (_checks.positive(value, name) for value, name in
+    density = _checks.positive(density, "density", scalar=False)
+    diameter, mass, kT = (_checks.positive(value, name, scalar=False) for value, name in
                           ((diameter, "diameter"), (mass, "mass"), (kT, "kT")))
     dim = _checks.dimension(dim)
+    density, diameter, mass, kT = _broadcast(density, diameter, mass, kT)
     viscosity, conductivity, density_diffusion = _first_sonine(dim, diameter, mass, kT)
     viscosity_factor, conductivity_factor = _SONINE_FACTORS[dim]
-    return {
+    return _as_given({
         "shear_viscosity": viscosity_factor * viscosity,
-        "bulk_viscosity": 0.0,
+        "bulk_viscosity": np.zeros_like(viscosity),
         "thermal_conductivity": conductivity_factor * conductivity,
         "self_diffusion": density_diffusion / density,
-    }
+    })
 
 
 def enskog_transport(eta, diameter=1.0, mass=1.0, kT=1.0, dim=3):
@@ -297,10 +314,10 @@ def enskog_transport(eta, diameter=1.0, mass=1.0, kT=1.0, dim=3):
 
     Parameters
     ----------
-    eta : float
+    eta : float or array_like
         Packing fraction, in (0, 0.6) for spheres and (0, 0.8) for discs.
-    diameter, mass, kT : float, optional
-        Finite and > 0.
+    diameter, mass, kT : float or array_like, optional
+        Finite and > 0; every input broadcasts against the others.
     dim : {3, 2}, optional
         Spheres (3) or discs (2).
 
@@ -308,7 +325,7 @@ def enskog_transport(eta, diameter=1.0, mass=1.0, kT=1.0, dim=3):
     -------
     dict
         ``shear_viscosity``, ``bulk_viscosity``, ``thermal_conductivity``, ``self_diffusion``, and the
-        contact value ``contact_value``.
+        contact value ``contact_value``: floats for scalar inputs, else arrays of the broadcast shape.
 
     Examples
     --------
@@ -320,11 +337,14 @@ def enskog_transport(eta, diameter=1.0, mass=1.0, kT=1.0, dim=3):
      'self_diffusion': 0.1959, 'contact_value': 2.1605}
     >>> round(enskog_transport(0.3, dim=2)["shear_viscosity"], 4)
     0.4962
+    >>> enskog_transport([0.1, 0.3, 0.5])["contact_value"].round(3)  # a curve in one call
+    array([1.303, 2.478, 6.   ])
     """
     dim = _checks.dimension(dim)
-    eta = _checks.bounded(eta, "eta", 0.0, _ENSKOG_PACKING_LIMIT[dim], closed=(False, False))
-    diameter, mass, kT = (_checks.positive(value, name) for value, name in
+    eta = _checks.bounded(eta, "eta", 0.0, _ENSKOG_PACKING_LIMIT[dim], closed=(False, False), scalar=False)
+    diameter, mass, kT = (_checks.positive(value, name, scalar=False) for value, name in
                           ((diameter, "diameter"), (mass, "mass"), (kT, "kT")))
+    eta, diameter, mass, kT = _broadcast(eta, diameter, mass, kT)
     viscosity, conductivity, density_diffusion = _first_sonine(dim, diameter, mass, kT)
     viscosity_factor, conductivity_factor = _SONINE_FACTORS[dim]
     chi = (1.0 - 0.5 * eta) / (1.0 - eta) ** 3 if dim == 3 else (1.0 - 7.0 * eta / 16.0) / (1.0 - eta) ** 2
@@ -332,14 +352,14 @@ def enskog_transport(eta, diameter=1.0, mass=1.0, kT=1.0, dim=3):
     collisional = 2.0 ** (2 * dim + 2) / (math.pi * (dim + 2)) * eta * eta * chi
     bulk = collisional * viscosity
     ball = math.pi ** (dim / 2) / math.gamma(dim / 2 + 1) * (diameter / 2) ** dim
-    return {
+    return _as_given({
         "shear_viscosity": viscosity_factor * viscosity / chi * (1.0 + transfer) ** 2 + dim / (dim + 2) * bulk,
         "bulk_viscosity": bulk,
         "thermal_conductivity": conductivity_factor * conductivity / chi * (1.0 + 1.5 * transfer) ** 2
         + (dim - 1) / (dim + 2) * collisional * conductivity,
         "self_diffusion": density_diffusion * ball / (eta * chi),
         "contact_value": chi,
-    }
+    })
 
 
 #: Yeh & Hummer's constant of the cubic periodic lattice (J. Phys. Chem. B 108, 15873 (2004)).
