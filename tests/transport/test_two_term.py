@@ -66,6 +66,15 @@ def test_the_maxwell_model_has_the_exact_maxwellian_to_second_order_in_the_cell(
     assert np.all((fine < coarse / 3.0) | (fine < 1e-8)), (coarse, fine)
 
 
+def test_the_maxwell_models_energy_coefficients_are_five_thirds_of_mobility_and_diffusion():
+    # a Maxwellian of constant collision frequency: mu_e = (5/3) mu and D_e = (5/3) D (by parts, Gamma(7/2)/Gamma(5/2));
+    # the momentum frequency is N k itself
+    result = two_term_boltzmann(maxwell_model(1e-13), 10.0, 0.0)
+    assert result.energy_mobility_N == pytest.approx(5.0 / 3.0 * result.mobility_N, rel=1e-5)
+    assert result.energy_diffusion_N == pytest.approx(5.0 / 3.0 * result.diffusion_N, rel=1e-5)
+    assert result.momentum_frequency_N == pytest.approx(1e-13, rel=1e-5)
+
+
 def test_the_maxwell_eedf_is_an_exponential_of_the_electron_temperature():
     result = two_term_boltzmann(maxwell_model(1e-13), 10.0, 0.0)
     kTe = maxwell_exact(1e-13, 10.0, 0.0)[0] / 1.5

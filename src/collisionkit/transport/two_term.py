@@ -59,13 +59,13 @@ MAX_GRID_ADJUSTMENTS = 60
 MAX_GROWTH_ITERATIONS = 200
 GROWTH_TOLERANCE = 1e-10  # relative change of nu/N between iterations at convergence
 ROW_FIELDS = ("mean_energy", "mobility_N", "drift_velocity", "diffusion_N", "characteristic_energy",
-              "ionization_frequency_N", "attachment_frequency_N", "alpha_N", "eta_N", "power_balance", "max_energy",
+              "energy_mobility_N", "energy_diffusion_N", "momentum_frequency_N", "ionization_frequency_N", "attachment_frequency_N", "alpha_N", "eta_N", "power_balance", "max_energy",
               "cells")
 
 
 @dataclass(frozen=True, repr=False)
 class TwoTermResult:
-    """The two-term solution at one E/N.
+    r"""The two-term solution at one E/N.
 
     Attributes
     ----------
@@ -76,21 +76,28 @@ class TwoTermResult:
     energy : ndarray
         Cell centres (eV).
     eedf : ndarray
-        :math:`F_0` (eV^-3/2) at those energies, :math:`\\int\\epsilon^{1/2}F_0\\,d\\epsilon = 1`.
+        :math:`F_0` (eV^-3/2) at those energies, :math:`\int\epsilon^{1/2}F_0\,d\epsilon = 1`.
     mean_energy : float
-        :math:`\\int\\epsilon^{3/2}F_0\\,d\\epsilon` (eV).
+        :math:`\int\epsilon^{3/2}F_0\,d\epsilon` (eV).
     mobility_N : float
-        :math:`\\mu N = -\\frac{\\gamma}{3}\\int\\frac{\\epsilon}{\\tilde\\sigma_m}\\frac{\\partial F_0}{\\partial\\epsilon}d\\epsilon`
+        :math:`\mu N = -\frac{\gamma}{3}\int\frac{\epsilon}{\tilde\sigma_m}\frac{\partial F_0}{\partial\epsilon}d\epsilon`
         (1/(V m s)).
     drift_velocity : float
-        :math:`\\mu N \\cdot E/N` (m/s, the flux drift along -E).
+        :math:`\mu N \cdot E/N` (m/s, the flux drift along -E).
     diffusion_N : float
-        :math:`DN = \\frac{\\gamma}{3}\\int\\frac{\\epsilon}{\\tilde\\sigma_m}F_0\\,d\\epsilon`
+        :math:`DN = \frac{\gamma}{3}\int\frac{\epsilon}{\tilde\sigma_m}F_0\,d\epsilon`
         (1/(m s); the flux diffusion, the same in every direction at this order).
     characteristic_energy : float
         D / mu (eV).
+    energy_mobility_N, energy_diffusion_N : float
+        The energy transport coefficients of fluid models,
+        :math:`\mu_\epsilon N = -\frac{\gamma}{3\bar\epsilon}\int\frac{\epsilon^2}{\tilde\sigma_m}\frac{\partial F_0}{\partial\epsilon}d\epsilon`
+        and :math:`D_\epsilon N = \frac{\gamma}{3\bar\epsilon}\int\frac{\epsilon^2}{\tilde\sigma_m}F_0\,d\epsilon`
+        (Hagelaar & Pitchford eqs. (61)-(62); 5/3 of mu N and D N for a Maxwellian of constant collision frequency).
+    momentum_frequency_N : float
+        :math:`\gamma\int\epsilon\,\sigma_m F_0\,d\epsilon` (m^3/s), every process's momentum transfer.
     rate_coefficients : dict
-        :math:`x k` with :math:`k = \\gamma\\int\\epsilon\\sigma F_0\\,d\\epsilon` and x the
+        :math:`x k` with :math:`k = \gamma\int\epsilon\sigma F_0\,d\epsilon` and x the
         process's share of the gas (the species' fraction, times its level's population for a
         reversible excitation and its inverse), per ``"species:label"`` (m^3/s), as
         :attr:`SwarmResult.rate_coefficients <collisionkit.transport.SwarmResult.rate_coefficients>`;
@@ -125,6 +132,9 @@ class TwoTermResult:
     drift_velocity: float
     diffusion_N: float
     characteristic_energy: float
+    energy_mobility_N: float = 0.0
+    energy_diffusion_N: float = 0.0
+    momentum_frequency_N: float = 0.0
     rate_coefficients: dict = field(default_factory=dict)
     ionization_frequency_N: float = 0.0
     attachment_frequency_N: float = 0.0
@@ -475,6 +485,11 @@ def _result(solution, reduced_field, gas_temperature, field_si, top, cells, iter
     mean_energy = float(eedf @ ((high**2.5 - low**2.5) / 2.5))
     mobility = float(-GAMMA / 3.0 * np.sum(inner / effective * np.diff(eedf)))
     diffusion = float(GAMMA / 3.0 * np.sum(eedf * _cell_integral(lambda e: e / _effective_at(solution, e), edges)))
+    energy_mobility = float(-GAMMA / (3.0 * mean_energy) * np.sum(inner**2 / effective * np.diff(eedf)))
+    energy_diffusion = float(GAMMA / (3.0 * mean_energy) * np.sum(
+        eedf * _cell_integral(lambda e: e**2 / _effective_at(solution, e), edges)))
+    momentum_frequency = float(GAMMA * np.sum(eedf * _cell_integral(
+        lambda e: e * sum(x * sigma(e) for x, sigma in collisions.momentum), edges)))
     rates, ionization, attachment, inelastic_power = {}, 0.0, 0.0, 0.0
     for label, kind, share, integral, threshold, weight_ratio in collisions.channels:
         if kind == "superelastic":
@@ -497,7 +512,8 @@ def _result(solution, reduced_field, gas_temperature, field_si, top, cells, iter
     return TwoTermResult(
         reduced_field=reduced_field, gas_temperature=gas_temperature, energy=solution["energy"], eedf=eedf,
         mean_energy=mean_energy, mobility_N=mobility, drift_velocity=drift_velocity, diffusion_N=diffusion,
-        characteristic_energy=diffusion / mobility if mobility > 0 else math.inf, rate_coefficients=rates,
+        characteristic_energy=diffusion / mobility if mobility > 0 else math.inf, energy_mobility_N=energy_mobility,
+        energy_diffusion_N=energy_diffusion, momentum_frequency_N=momentum_frequency, rate_coefficients=rates,
         ionization_frequency_N=ionization, attachment_frequency_N=attachment,
         alpha_N=ionization / drift_velocity if drift_velocity > 0 else 0.0,
         eta_N=attachment / drift_velocity if drift_velocity > 0 else 0.0,
