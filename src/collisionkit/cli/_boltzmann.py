@@ -8,23 +8,25 @@ which a Python script calls the same way.
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Annotated, Any, ClassVar, Literal
+from typing import Annotated, ClassVar, Literal
 
 import typer
-from pydantic import Field, field_validator, model_validator
+from pydantic import Field, model_validator
 
 from ._common import (
-    INTERRUPTED_EXIT_CODE, Deliveries, Options, OverwriteOption, fail, load_options, note, print_table, progress_bar,
+    INTERRUPTED_EXIT_CODE, Deliveries, OverwriteOption, fail, load_options, note, print_table, progress_bar,
     run_failed, say, warn,
 )
-from ._transport import MAX_GAS_TEMPERATURE, MAX_REDUCED_FIELD, _e_n_values, lxcat_notes
+from ._transport import (
+    MAX_GAS_TEMPERATURE, CrossSectionsOption, DatabaseOption, FractionsOption, GasOption, GasScanOptions, ModelOption,
+    ReducedFieldsOption, SharingOption, SpeciesOption, _e_n_values, lxcat_notes,
+)
 
-ModelName = Literal["maxwell", "hard_sphere", "reid", "lucas_saelee"]
 # --out: a row per E/N; the EEDFs (E/N, energy, F0); their plot (with the plot extra)
 BOLTZMANN_FILES = ("boltzmann.csv", "eedf.csv", "eedf.png")
 
 
-class BoltzmannOptions(Options):
+class BoltzmannOptions(GasScanOptions):
     """Options of ``collisionkit boltzmann``; the gas is chosen as for ``swarm``.
 
     Examples
@@ -33,14 +35,6 @@ class BoltzmannOptions(Options):
     [1.0, 12.0]
     """
 
-    model: ModelName | None = None
-    gas: str | None = None
-    cross_sections: list[Path] | None = None
-    species: list[str] | None = None
-    fractions: list[float] | None = None
-    database: str | None = None
-    flags: ClassVar[dict[str, str]] = {"e_n": "--E-N"}
-    e_n: list[float] = Field(default=[12.0], min_length=1)
     gas_temperature: float = Field(default=300.0, ge=0, le=MAX_GAS_TEMPERATURE, allow_inf_nan=False)
     cells: int = Field(default=1000, ge=50, le=100_000)
     sharing: Literal["equal", "uniform"] = "equal"
@@ -49,25 +43,10 @@ class BoltzmannOptions(Options):
 
     output_files: ClassVar[tuple[str, ...]] = ("summary",)
     output_folders: ClassVar[tuple[str, ...]] = ("out",)
-    input_files: ClassVar[tuple[str, ...]] = ("cross_sections",)
 
     def folder_files(self, folder: str) -> tuple[str, ...]:
         """The tables of ``--out`` (an earlier run's are not replaced without --overwrite)."""
         return BOLTZMANN_FILES
-
-    @field_validator("cross_sections", mode="before")
-    @classmethod
-    def _one_file_is_a_list(cls, value: Any) -> Any:
-        """``cross-sections = "ar.txt"`` in a TOML file is a list of one."""
-        return [value] if isinstance(value, (str, Path)) else value
-
-    @field_validator("e_n")
-    @classmethod
-    def _fields_in_range(cls, values: list[float]) -> list[float]:
-        """Every E/N finite and in [0, MAX_REDUCED_FIELD] Td (named here as --E-N)."""
-        if not all(0.0 <= value <= MAX_REDUCED_FIELD for value in values):  # NaN fails too
-            raise ValueError(f"every E/N must be a finite number from 0 to {MAX_REDUCED_FIELD:g} Td")
-        return values
 
     @model_validator(mode="after")
     def _physics(self):
@@ -163,26 +142,20 @@ def boltzmann_summary(options: BoltzmannOptions, results, files=()) -> dict:
 
 
 def boltzmann(
-    model: Annotated[str | None, typer.Option(help="Model gas: maxwell, hard_sphere, reid, lucas_saelee.")] = None,
-    gas: Annotated[str | None, typer.Option(
-        help="Real gas by name (collisionkit gases lists them), or a mixture by mole fraction: "
-             "'Ar:0.9,N2:0.1'.")] = None,
-    cross_sections: Annotated[list[Path] | None, typer.Option(
-        "--cross-sections", help="LXCat cross-section file (repeat to join files).")] = None,
-    species: Annotated[list[str] | None, typer.Option(help="Species of the LXCat files to use (repeat).")] = None,
-    fractions: Annotated[list[float] | None, typer.Option(help="Their number fractions (repeat).")] = None,
-    database: Annotated[str | None, typer.Option(
-        help="Database to take a species from when the LXCat files hold it from several (e.g. Biagi).")] = None,
-    e_n: Annotated[list[str] | None, typer.Option(
-        "--E-N", help="E/N in Td, 0 to 1e6; repeat or comma list for a sweep.  \\[default: 12]")] = None,
+    model: ModelOption = None,
+    gas: GasOption = None,
+    cross_sections: CrossSectionsOption = None,
+    species: SpeciesOption = None,
+    fractions: FractionsOption = None,
+    database: DatabaseOption = None,
+    e_n: ReducedFieldsOption = None,
     gas_temperature: Annotated[float | None, typer.Option(
         help="Gas temperature in K (0 to 1e5): thermal energy of the targets and Boltzmann populations of reversible "
              "excitations (superelastic collisions).  \\[default: 300]")] = None,
     cells: Annotated[int | None, typer.Option(
         help="Cells of the energy grid (50 to 1e5); its top is found where the EEDF has fallen 10-18 decades.  "
              "\\[default: 1000]")] = None,
-    sharing: Annotated[str | None, typer.Option(
-        help="Ionization energy sharing: equal or uniform.  \\[default: equal]")] = None,
+    sharing: SharingOption = None,
     out: Annotated[Path | None, typer.Option(
         help="Folder for boltzmann.csv (a row per E/N: moments and every rate coefficient), eedf.csv (E/N, "
              "energy, F0) and eedf.png.")] = None,

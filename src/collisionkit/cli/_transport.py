@@ -47,13 +47,13 @@ def refuse_checkpoint_suffix(path: Path | None, option: str = "--checkpoint") ->
                    f"got {str(path)!r}")
 
 
-class SwarmOptions(Options):
-    """Options of ``collisionkit swarm``; the physics is :class:`collisionkit.transport.SwarmParameters`.
+class GasScanOptions(Options):
+    """The gas and the E/N values of ``swarm`` and ``boltzmann``: a model gas, a catalogue gas or LXCat files.
 
     Examples
     --------
-    >>> SwarmOptions.model_validate({"model": "reid", "e-n": [12, 24]}).parameters().reduced_field
-    (12.0, 24.0)
+    >>> GasScanOptions.model_validate({"model": "reid", "e-n": [1, 12]}).e_n
+    [1.0, 12.0]
     """
 
     model: ModelName | None = None
@@ -62,8 +62,36 @@ class SwarmOptions(Options):
     species: list[str] | None = None
     fractions: list[float] | None = None
     database: str | None = None
-    flags: ClassVar[dict[str, str]] = {"e_n": "--E-N", "b_n": "--B-N", "omega_n": "--omega-N"}
     e_n: list[float] = Field(default=[12.0], min_length=1)
+
+    input_files: ClassVar[tuple[str, ...]] = ("cross_sections",)
+    flags: ClassVar[dict[str, str]] = {"e_n": "--E-N"}
+
+    @field_validator("cross_sections", mode="before")
+    @classmethod
+    def _one_file_is_a_list(cls, value: Any) -> Any:
+        """``cross-sections = "ar.txt"`` in a TOML file (and a saved checkpoint's single path) is a list of one."""
+        return [value] if isinstance(value, (str, Path)) else value
+
+    @field_validator("e_n")
+    @classmethod
+    def _fields_in_range(cls, values: list[float]) -> list[float]:
+        """Every E/N finite and in [0, MAX_REDUCED_FIELD] Td (the library's range, named here as --E-N)."""
+        if not all(0.0 <= value <= MAX_REDUCED_FIELD for value in values):  # NaN fails too
+            raise ValueError(f"every E/N must be a finite number from 0 to {MAX_REDUCED_FIELD:g} Td")
+        return values
+
+
+class SwarmOptions(GasScanOptions):
+    """Options of ``collisionkit swarm``; the physics is :class:`collisionkit.transport.SwarmParameters`.
+
+    Examples
+    --------
+    >>> SwarmOptions.model_validate({"model": "reid", "e-n": [12, 24]}).parameters().reduced_field
+    (12.0, 24.0)
+    """
+
+    flags: ClassVar[dict[str, str]] = {"e_n": "--E-N", "b_n": "--B-N", "omega_n": "--omega-N"}
     b_n: float = Field(default=0.0, ge=0, le=MAX_REDUCED_MAGNETIC_FIELD, allow_inf_nan=False)
     angle: float = Field(default=90.0, ge=0, le=180, allow_inf_nan=False)
     omega_n: float = Field(default=0.0, ge=0, allow_inf_nan=False)
@@ -82,7 +110,6 @@ class SwarmOptions(Options):
 
     output_files: ClassVar[tuple[str, ...]] = ("summary", "checkpoint")
     output_folders: ClassVar[tuple[str, ...]] = ("out",)
-    input_files: ClassVar[tuple[str, ...]] = ("cross_sections",)
 
     def folder_files(self, folder: str) -> tuple[str, ...]:
         """The plots and the table of ``--out`` (an earlier run's are not replaced without --overwrite)."""
@@ -117,20 +144,6 @@ class SwarmOptions(Options):
             return dict(values) | {"waveform": read_waveform(Path(values["waveform"]))}
         except ValueError as error:
             raise ValueError(f"--waveform: {error}") from None
-
-    @field_validator("cross_sections", mode="before")
-    @classmethod
-    def _one_file_is_a_list(cls, value: Any) -> Any:
-        """``cross-sections = "ar.txt"`` in a TOML file (and a saved checkpoint's single path) is a list of one."""
-        return [value] if isinstance(value, (str, Path)) else value
-
-    @field_validator("e_n")
-    @classmethod
-    def _fields_in_range(cls, values: list[float]) -> list[float]:
-        """Every E/N finite and in [0, MAX_REDUCED_FIELD] Td (the library's range, named here as --E-N)."""
-        if not all(0.0 <= value <= MAX_REDUCED_FIELD for value in values):  # NaN fails too
-            raise ValueError(f"every E/N must be a finite number from 0 to {MAX_REDUCED_FIELD:g} Td")
-        return values
 
     @field_validator("omega_n")
     @classmethod
@@ -379,19 +392,29 @@ def _swarm_plots(results, out: Path, deliveries: Deliveries, reid_benchmark: boo
         (out / "transport_coefficients.png").unlink(missing_ok=True)
 
 
+# the gas and E/N options of swarm and boltzmann (GasScanOptions)
+ModelOption = Annotated[str | None, typer.Option(help="Model gas: maxwell, hard_sphere, reid, lucas_saelee.")]
+GasOption = Annotated[str | None, typer.Option(
+    help="Real gas by name (collisionkit gases lists them), or a mixture by mole fraction: 'Ar:0.9,N2:0.1'.")]
+CrossSectionsOption = Annotated[list[Path] | None, typer.Option(
+    "--cross-sections", help="LXCat cross-section file (repeat to join files).")]
+SpeciesOption = Annotated[list[str] | None, typer.Option(help="Species of the LXCat files to use (repeat).")]
+FractionsOption = Annotated[list[float] | None, typer.Option(help="Their number fractions (repeat).")]
+DatabaseOption = Annotated[str | None, typer.Option(
+    help="Database to take a species from when the LXCat files hold it from several (e.g. Biagi).")]
+ReducedFieldsOption = Annotated[list[str] | None, typer.Option(
+    "--E-N", help="E/N in Td, 0 to 1e6; repeat or comma list for a sweep.  \\[default: 12]")]
+SharingOption = Annotated[str | None, typer.Option(help="Ionization energy sharing: equal or uniform.  \\[default: equal]")]
+
+
 def swarm(
-    model: Annotated[str | None, typer.Option(help="Model gas: maxwell, hard_sphere, reid, lucas_saelee.")] = None,
-    gas: Annotated[str | None, typer.Option(
-        help="Real gas by name (collisionkit gases lists them), or a mixture by mole fraction: "
-             "'Ar:0.9,N2:0.1'.")] = None,
-    cross_sections: Annotated[list[Path] | None, typer.Option(
-        "--cross-sections", help="LXCat cross-section file (repeat to join files).")] = None,
-    species: Annotated[list[str] | None, typer.Option(help="Species of the LXCat files to use (repeat).")] = None,
-    fractions: Annotated[list[float] | None, typer.Option(help="Their number fractions (repeat).")] = None,
-    database: Annotated[str | None, typer.Option(
-        help="Database to take a species from when the LXCat files hold it from several (e.g. Biagi).")] = None,
-    e_n: Annotated[list[str] | None, typer.Option(
-        "--E-N", help="E/N in Td, 0 to 1e6; repeat or comma list for a sweep.  \\[default: 12]")] = None,
+    model: ModelOption = None,
+    gas: GasOption = None,
+    cross_sections: CrossSectionsOption = None,
+    species: SpeciesOption = None,
+    fractions: FractionsOption = None,
+    database: DatabaseOption = None,
+    e_n: ReducedFieldsOption = None,
     b_n: Annotated[float | None, typer.Option(
         "--B-N", help="B/N in Hx (0 to 1e6, static), in the y-z plane at --angle from E (E along z).  "
                       "\\[default: 0]")] = None,
@@ -415,8 +438,7 @@ def swarm(
              "(0, 0.5].  \\[default: 0.002]")] = None,
     collision_budget: Annotated[float | None, typer.Option(
         help="Stop after this many real collisions per E/N (>= 1e4).  \\[default: 5e8]")] = None,
-    sharing: Annotated[str | None, typer.Option(
-        help="Ionization energy sharing: equal or uniform.  \\[default: equal]")] = None,
+    sharing: SharingOption = None,
     scattering: Annotated[str | None, typer.Option(
         help="Angular scattering law of every process: isotropic, okhrimovskyy, vahedi-surendra or forward (elastic "
              "tables are momentum transfer, converted; per process kind: a [scattering] table in --config).  "
