@@ -20,6 +20,7 @@ from collisionkit.transport import (
     Gas, Process, Species, hard_sphere_gas, lucas_saelee, maxwell_model, reid_ramp, two_term_boltzmann,
 )
 from collisionkit.transport import two_term
+from collisionkit.transport._two_term_collisions import collision_operator, gas_collisions
 from collisionkit.transport._two_term_operators import GAMMA, CrossSectionIntegral, drift_diffusion_matrix
 
 ME, E = constants.m_e, constants.e
@@ -145,10 +146,10 @@ def test_at_low_field_reids_ramp_matches_the_exact_swarm():
 def test_the_collision_operator_conserves_electrons_and_counts_ionization_and_attachment():
     attaching = Process("attachment", [0.0, 100.0], [1e-21, 1e-21], label="attach")
     gas = Gas((Species("X", HELIUM, lucas_saelee(0.5).species[0].processes + (attaching,)),))
-    collisions = two_term._collisions(gas, 0.0)
+    collisions = gas_collisions(gas, 0.0)
     edges = np.linspace(0.0, 60.0, 301)
     for sharing in ("equal", "uniform"):
-        operator, production = two_term._collision_operator(collisions, edges, sharing)
+        operator, production = collision_operator(collisions, edges, sharing)
         columns = np.asarray(operator.sum(axis=0)).ravel()
         # a column's sum is what a unit F0 in that cell gains the gas in electrons: ionization's one minus attachment
         np.testing.assert_allclose(columns, production, rtol=1e-12, atol=1e-12 * np.abs(production).max())
