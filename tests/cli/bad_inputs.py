@@ -244,6 +244,7 @@ BAD_INPUTS = [
     ("boltzmann", ["--model", "reid", "--cells", "10"], "--cells: Input should be greater than or equal to 50"),
     ("boltzmann", ["--model", "reid", "--cells", "many"], "invalid value for '--cells'"),
     ("boltzmann", ["--model", "reid", "--sharing", "half"], "sharing"),
+    ("boltzmann", ["--model", "reid", "--growth", "none"], "growth"),
     ("boltzmann", ["--model", "reid", "--out", "{file}"], "is a file, not a folder"),
     ("boltzmann", ["--model", "reid", "--summary", "{dir}"], "is a folder: give a file name"),
     ("boltzmann", ["--model", "reid", "--summary", "{file}"], "exists: pass --overwrite to replace it"),

@@ -6,7 +6,7 @@ import json
 from typer.testing import CliRunner
 
 from collisionkit.cli import app
-from collisionkit.transport import reid_ramp, two_term_boltzmann
+from collisionkit.transport import lucas_saelee, reid_ramp, two_term_boltzmann
 
 runner = CliRunner()
 
@@ -44,3 +44,17 @@ def test_a_config_file_gives_the_options(tmp_path):
     data = json.loads(summary.read_text())
     assert data["parameters"]["sharing"] == "uniform" and data["results"][0]["cells"] == 400
     assert data["results"][0]["alpha_N"] > 0
+
+
+def test_spatial_growth_is_chosen_and_its_limit_is_a_failed_run_not_a_traceback(tmp_path):
+    summary = tmp_path / "b.json"
+    result = runner.invoke(app, ["boltzmann", "--model", "lucas_saelee", "--E-N", "50", "--gas-temperature", "0",
+                                 "--growth", "spatial", "--summary", str(summary)])
+    assert result.exit_code == 0, result.output
+    entry = json.loads(summary.read_text())["results"][0]
+    temporal = two_term_boltzmann(lucas_saelee(0.5), 50.0, 0.0)
+    assert entry["growth"] == "spatial" and 0 < entry["alpha_N"] < temporal.alpha_N
+    beyond = runner.invoke(app, ["boltzmann", "--model", "lucas_saelee", "--E-N", "50,3000", "--gas-temperature", "0",
+                                 "--growth", "spatial"])
+    assert beyond.exit_code == 1 and "Traceback" not in beyond.output
+    assert "E/N = 3000 Td: no steady-state Townsend growth" in " ".join(beyond.output.split())

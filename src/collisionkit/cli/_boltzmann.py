@@ -38,6 +38,7 @@ class BoltzmannOptions(GasScanOptions):
     gas_temperature: float = Field(default=300.0, ge=0, le=MAX_GAS_TEMPERATURE, allow_inf_nan=False)
     cells: int = Field(default=1000, ge=50, le=100_000)
     sharing: Literal["equal", "uniform"] = "equal"
+    growth: Literal["temporal", "spatial"] = "temporal"
     out: Path | None = None
     summary: Path | None = None
 
@@ -83,9 +84,9 @@ def _results(options: BoltzmannOptions) -> list:
         with progress_bar("E/N points", total=len(options.e_n)) as advance:
             for value in options.e_n:
                 results.append(two_term_boltzmann(gas, value, options.gas_temperature, cells=options.cells,
-                                                  sharing=options.sharing))
+                                                  sharing=options.sharing, growth=options.growth))
                 advance(1)
-    except RuntimeError as failure:  # a growth iteration that cannot settle (attachment far above ionization)
+    except RuntimeError as failure:  # growth that cannot settle (attachment far above ionization; SST beyond its root)
         raise run_failed(f"E/N = {options.e_n[len(results)]:g} Td: {failure}") from None
     except KeyboardInterrupt:
         warn(f"interrupted after {len(results)} of {len(options.e_n)} E/N points: each takes milliseconds to "
@@ -94,10 +95,10 @@ def _results(options: BoltzmannOptions) -> list:
     return results
 
 
-def _print(results) -> None:
+def _print(results, growth: str) -> None:
     rows = [(f"{r.reduced_field:g}", f"{r.mean_energy:.5g}", f"{r.drift_velocity:.5g}", f"{r.diffusion_N:.5g}",
              f"{r.characteristic_energy:.4g}", f"{r.alpha_N:.4g}", f"{r.eta_N:.4g}") for r in results]
-    print_table("two-term Boltzmann equation (flux values)",
+    print_table(f"two-term Boltzmann equation, {growth} growth (flux values)",
                 ("E/N (Td)", "<e> (eV)", "W (m/s)", "N D (1/m/s)", "D/mu (eV)", "alpha/N (m^2)", "eta/N (m^2)"),
                 rows)
 
@@ -156,6 +157,9 @@ def boltzmann(
         help="Cells of the energy grid (50 to 1e5); its top is found where the EEDF has fallen 10-18 decades.  "
              "\\[default: 1000]")] = None,
     sharing: SharingOption = None,
+    growth: Annotated[str | None, typer.Option(
+        help="Growth of an ionizing or attaching swarm: temporal (alpha/N = k_i/W) or spatial (steady-state Townsend, "
+             "self-consistent alpha/N).  \\[default: temporal]")] = None,
     out: Annotated[Path | None, typer.Option(
         help="Folder for boltzmann.csv (a row per E/N: moments and every rate coefficient), eedf.csv (E/N, "
              "energy, F0) and eedf.png.")] = None,
@@ -168,10 +172,10 @@ def boltzmann(
     against E/N, in milliseconds; the swarm command is its exact Monte Carlo check."""
     given = dict(model=model, gas=gas, cross_sections=cross_sections, species=species, fractions=fractions,
                  database=database, e_n=_e_n_values(e_n), gas_temperature=gas_temperature, cells=cells,
-                 sharing=sharing, out=out, summary=summary, overwrite=overwrite)
+                 sharing=sharing, growth=growth, out=out, summary=summary, overwrite=overwrite)
     options = load_options(BoltzmannOptions, config, given)
     results = _results(options)
-    _print(results)
+    _print(results, options.growth)
     deliveries = Deliveries("boltzmann")
     if options.out is not None:
         _write_tables(results, options.out, deliveries)

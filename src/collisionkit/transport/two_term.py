@@ -51,6 +51,7 @@ from .swarm import TOWNSEND
 __all__ = ["TwoTermResult", "two_term_boltzmann"]
 
 SHARING = ("equal", "uniform")
+GROWTH_MODELS = ("temporal", "spatial")
 DECADES = (10.0, 18.0)  # F0 falls by this many decades from its peak to the grid's top energy
 MAX_GRID_ADJUSTMENTS = 60
 MAX_GROWTH_ITERATIONS = 200
@@ -102,10 +103,13 @@ class TwoTermResult:
     ionization_frequency_N, attachment_frequency_N : float
         Sums of the ionizing and attaching rate coefficients (m^3/s).
     alpha_N, eta_N : float
-        Townsend coefficients k / W of ionization and attachment (m^2), as BOLSIG+ gives them.
+        Townsend coefficients of ionization and attachment (m^2): k / W with temporal growth, as BOLSIG+
+        gives them; with spatial growth the self-consistent net :math:`\alpha_{eff}/N` split as the rates are.
     power_balance : float
-        (power from the field - power lost in collisions) / power from the field: zero but for the
-        discretisation (a check of the solution).
+        (power from the field - power lost in collisions and carried by the growth) / power from the
+        field: zero but for the discretisation (a check of the solution).
+    growth : str
+        The growth model, ``"temporal"`` or ``"spatial"``.
     max_energy : float
         Top of the energy grid (eV).
     cells : int
@@ -138,6 +142,7 @@ class TwoTermResult:
     alpha_N: float = 0.0
     eta_N: float = 0.0
     power_balance: float = 0.0
+    growth: str = "temporal"
     max_energy: float = 0.0
     cells: int = 0
     iterations: int = 0
@@ -174,7 +179,8 @@ class TwoTermResult:
 
 
 def two_term_boltzmann(gas: Gas, reduced_field: float, gas_temperature: float = 300.0, *, cells: int = 1000,
-                       max_energy: float | None = None, sharing: str = "equal") -> TwoTermResult:
+                       max_energy: float | None = None, sharing: str = "equal",
+                       growth: str = "temporal") -> TwoTermResult:
     r"""Solve the two-term Boltzmann equation of electrons in ``gas`` at ``reduced_field``.
 
     Parameters
@@ -199,6 +205,12 @@ def two_term_boltzmann(gas: Gas, reduced_field: float, gas_temperature: float = 
     sharing : {"equal", "uniform"}, optional
         How an ionization shares the energy left between the two electrons
         (as the swarm's ``sharing``).
+    growth : {"temporal", "spatial"}, optional
+        How a swarm that ionizes or attaches grows, as in BOLSIG+: in time
+        (a pulsed swarm; ``alpha_N = k_i / W``) or in space (steady-state
+        Townsend conditions, :math:`n \propto e^{\alpha z}`: ``alpha_N`` and
+        ``eta_N`` split the self-consistent :math:`\alpha_{eff}/N` as the
+        rates are). The same for a gas that does neither.
 
     Returns
     -------
@@ -224,14 +236,14 @@ def two_term_boltzmann(gas: Gas, reduced_field: float, gas_temperature: float = 
     >>> round(result.mean_energy, 4), round(result.drift_velocity / 1e4, 3)
     (0.2736, 7.028)
     """
-    reduced_field, gas_temperature, cells, max_energy, sharing = _checked(
-        gas, reduced_field, gas_temperature, cells, max_energy, sharing)
+    reduced_field, gas_temperature, cells, max_energy, sharing, growth_model = _checked(
+        gas, reduced_field, gas_temperature, cells, max_energy, sharing, growth)
     field_si = reduced_field * TOWNSEND
     kT = BOLTZMANN_EV * gas_temperature
     top = max_energy if max_energy is not None else _first_top(gas, kT)
-    iterations, growth = 0, 0.0
+    iterations, growth = 0, 0.0  # (the growth found on one grid is the next grid's first guess)
     for _ in range(MAX_GRID_ADJUSTMENTS):
-        solution, used = _solve_on_grid(gas, field_si, kT, cells, top, sharing, growth)
+        solution, used = _solve_on_grid(gas, field_si, kT, cells, top, sharing, growth_model, growth)
         growth = solution["growth"]  # the next grid's iteration starts from it
         iterations += used
         if max_energy is not None:
@@ -243,7 +255,7 @@ def two_term_boltzmann(gas: Gas, reduced_field: float, gas_temperature: float = 
     return _result(solution, reduced_field, gas_temperature, field_si, top, cells, iterations)
 
 
-def _checked(gas, reduced_field, gas_temperature, cells, max_energy, sharing):
+def _checked(gas, reduced_field, gas_temperature, cells, max_energy, sharing, growth):
     from .._params import check_choice, check_integer, check_real
 
     if not isinstance(gas, Gas):
@@ -264,7 +276,8 @@ def _checked(gas, reduced_field, gas_temperature, cells, max_energy, sharing):
     if max_energy is not None:
         max_energy = check_real("max_energy (eV)", max_energy, 0.0, 1e7, low_open=True)
     check_choice("sharing", sharing, SHARING)
-    return reduced_field, gas_temperature, cells, max_energy, sharing
+    check_choice("growth", growth, GROWTH_MODELS)
+    return reduced_field, gas_temperature, cells, max_energy, sharing, growth
 
 
 def _first_top(gas, kT):
@@ -291,9 +304,9 @@ def _adjusted_top(solution, top, decades):
     return max(min(end * 1.05, 0.9 * top), 2.0 * energy[1])
 
 
-def _solve_on_grid(gas, field_si, kT, cells, top, sharing, growth_guess=0.0):
-    """F0 on a grid of ``cells`` up to ``top``, with the net production nu/N found by the secant method on
-    nu - production(F0(nu)); returns (solution, linear solves)."""
+def _solve_on_grid(gas, field_si, kT, cells, top, sharing, growth_model, guess=0.0):
+    """F0 on a grid of ``cells`` up to ``top``, with the growth (nu/N in time, or alpha/N in space) that the
+    solution itself produces, found by the secant method; returns (solution, linear solves)."""
     edges = np.linspace(0.0, top, cells + 1)
     inner = edges[1:-1]
     collisions = gas_collisions(gas, kT)
@@ -302,23 +315,88 @@ def _solve_on_grid(gas, field_si, kT, cells, top, sharing, growth_guess=0.0):
     collision_matrix, production = collision_operator(collisions, edges, sharing)
     density = (edges[1:] ** 1.5 - edges[:-1] ** 1.5) / 1.5  # integral of eps^1/2 over each cell
     normalisation = sparse.csr_matrix(density[None, :])
+    spatial = _SpatialGrowth(edges, inner, sigma_m, collisions, field_si) if growth_model == "spatial" else None
 
     def eedf_at(growth):
-        effective = _effective_cross_section(sigma_m, growth, inner)
+        effective = sigma_m if spatial else _effective_cross_section(sigma_m, growth, inner)
         drift = -GAMMA * inner**2 * sigma_eps
         diffusion = GAMMA / 3.0 * field_si**2 * inner / effective + GAMMA * kT * inner**2 * sigma_eps
-        system = (drift_diffusion_matrix(drift, diffusion, edges[1] - edges[0]) - collision_matrix
-                  + sparse.diags(growth * density)).tocsr()
+        if spatial:
+            drift = drift + spatial.drift(growth)
+            extra = spatial.source(growth)
+        else:
+            extra = sparse.diags(growth * density)
+        system = (drift_diffusion_matrix(drift, diffusion, edges[1] - edges[0]) - collision_matrix + extra).tocsr()
         # the balances sum to zero (the system is singular): the normalisation replaces the bottom cell's
         rhs = np.zeros(cells)
         rhs[0] = 1.0
         return spsolve(sparse.vstack([normalisation, system[1:]], format="csc"), rhs), effective
 
-    growth, solves = _settled_growth(eedf_at, production, growth_guess)
+    def produced(eedf):
+        return spatial.alpha(eedf, production) if spatial else float(production @ eedf)
+
+    growth, solves = _settled_growth(eedf_at, produced, production, guess)
     eedf, effective = eedf_at(growth)
+    if spatial:
+        spatial.check(eedf, production)
     return {"eedf": np.maximum(eedf, 0.0), "energy": 0.5 * (edges[:-1] + edges[1:]), "edges": edges,
-            "growth": growth, "effective": effective, "collisions": collisions, "inner": inner,
-            "sigma_eps": sigma_eps, "kT": kT}, solves + 1
+            "growth": growth, "growth_model": growth_model, "effective": effective, "collisions": collisions,
+            "inner": inner, "sigma_eps": sigma_eps, "kT": kT, "production": float(production @ eedf)}, solves + 1
+
+
+class _SpatialGrowth:
+    r"""The terms of steady-state Townsend growth, :math:`n \propto e^{\alpha z}` along the drift.
+
+    With :math:`F_1 = (E\,\partial_\epsilon F_0 + \alpha F_0)/(N\sigma_m)` the
+    equation gains a drift :math:`-\frac{\gamma}{3}\frac{E}{N}\frac{\alpha}{N}\frac{\epsilon}{\sigma_m}`
+    and a source :math:`\frac{\alpha}{N}\frac{\gamma}{3}\frac{\epsilon}{\sigma_m}
+    (\frac{E}{N}\partial_\epsilon F_0 + \frac{\alpha}{N}F_0)` (Hagelaar & Pitchford 2005,
+    sec. 2.3), whose integral makes the growth consistent only if
+    :math:`\alpha W - \alpha^2 D = \bar\nu` (W and D the flux values): :meth:`alpha` solves it for the
+    smaller root. The source's derivative is the mean of the two edges' differences of a cell, so that
+    its sum over the cells is the discrete mobility's.
+    """
+
+    def __init__(self, edges, inner, sigma_m, collisions, field_si):
+        self.field = field_si
+        self.edge_weight = inner / sigma_m  # eps / sigma_m at the inner edges
+        self.cell_weight = _cell_integral(lambda e: e / sum(x * s(e) for x, s in collisions.momentum), edges)
+        n = edges.size - 1
+        half = 0.5 * self.edge_weight
+        # row i: (1/2)[w_up (F_{i+1} - F_i) + w_down (F_i - F_{i-1})]
+        diagonal = np.zeros(n)
+        diagonal[:-1] -= half
+        diagonal[1:] += half
+        self.derivative = sparse.diags([diagonal, half, -half], [0, 1, -1], shape=(n, n), format="csr")
+
+    def drift(self, alpha):
+        return -GAMMA / 3.0 * self.field * alpha * self.edge_weight
+
+    def source(self, alpha):
+        """Minus the source (it moves to the left-hand side of the system)."""
+        return -alpha * GAMMA / 3.0 * (self.field * self.derivative + alpha * sparse.diags(self.cell_weight))
+
+    def alpha(self, eedf, production):
+        """alpha/N from alpha W - alpha^2 D = nu with the flux W, N D and nu/N of ``eedf`` (the smaller root; at
+        the vertex W / 2D, the largest growth the relation allows, where it has none: see :meth:`check`)."""
+        drift, diffusion, net = self._moments(eedf, production)
+        discriminant = drift * drift - 4.0 * diffusion * net
+        if discriminant < 0.0:
+            return drift / (2.0 * diffusion)
+        return 2.0 * net / (drift + np.sqrt(discriminant))  # the smaller root, without cancellation
+
+    def check(self, eedf, production):
+        """A RuntimeError if the relation has no root for the settled F0: no steady-state Townsend growth."""
+        drift, diffusion, net = self._moments(eedf, production)
+        if drift * drift < 4.0 * diffusion * net * (1.0 - 1e-9):
+            raise RuntimeError(f"no steady-state Townsend growth: alpha W - alpha^2 D = nu has no root (W = "
+                               f"{drift:.3g} m/s, N D = {diffusion:.3g} /m/s, nu/N = {net:.3g} m^3/s, so 4 D nu / W^2 "
+                               f"= {4.0 * diffusion * net / drift**2:.3g} > 1): ionization outruns the drift, beyond "
+                               "the two-term SST model; use growth='temporal' or simulate_sst")
+
+    def _moments(self, eedf, production):
+        drift = -GAMMA / 3.0 * self.field * float(self.edge_weight @ np.diff(eedf))
+        return drift, GAMMA / 3.0 * float(self.cell_weight @ eedf), float(production @ eedf)
 
 
 def _effective_cross_section(sigma_m, growth, inner):
@@ -331,23 +409,23 @@ def _effective_cross_section(sigma_m, growth, inner):
     return effective
 
 
-def _settled_growth(eedf_at, production, guess=0.0):
-    """The nu/N at which the net production of F0(nu) is nu itself (secant iterations from ``guess``); and the
-    solves made."""
+def _settled_growth(eedf_at, produced, production, guess=0.0):
+    """The growth x (nu/N or alpha/N) that the F0 it gives produces again, ``produced(eedf_at(x)) == x``, by
+    secant iterations from ``guess``; and the solves made. No ionization or attachment: no growth."""
     if not np.any(production):
         return 0.0, 0
     previous = guess
-    previous_residual = float(production @ eedf_at(guess)[0]) - guess
+    previous_residual = produced(eedf_at(guess)[0]) - guess
     growth = guess + previous_residual  # a first fixed-point step
     for solves in range(2, MAX_GROWTH_ITERATIONS):
-        residual = float(production @ eedf_at(growth)[0]) - growth
+        residual = produced(eedf_at(growth)[0]) - growth
         if abs(residual) <= GROWTH_TOLERANCE * max(abs(growth), 1e-300):
             return growth, solves
         slope = (residual - previous_residual) / (growth - previous) if growth != previous else -1.0
         previous, previous_residual = growth, residual
-        growth = growth - residual / slope if slope < 0.0 else growth + residual  # (slope is about -1 + dP/dnu)
-    raise RuntimeError(f"the growth iteration did not settle in {MAX_GROWTH_ITERATIONS} solves (nu/N = "
-                       f"{growth:.3g} m^3/s)")
+        growth = growth - residual / slope if slope < 0.0 else growth + residual  # (slope is about -1 + dP/dx)
+    raise RuntimeError(f"the growth iteration did not settle in {MAX_GROWTH_ITERATIONS} solves (growth = "
+                       f"{growth:.3g})")
 
 
 def _result(solution, reduced_field, gas_temperature, field_si, top, cells, iterations) -> TwoTermResult:
@@ -379,8 +457,16 @@ def _result(solution, reduced_field, gas_temperature, field_si, top, cells, iter
                                                                            edges))
     drift_velocity = mobility * field_si
     field_power = drift_velocity * field_si  # eV m^3/s per electron and N
+    growth = solution["growth"]
+    if solution["growth_model"] == "temporal":
+        growth_power = growth * mean_energy  # new electrons are born cold: they dilute the mean energy
+        denominator = drift_velocity  # alpha = k_i / W
+    else:  # the energy the alpha terms carry: alpha [E/N (N D + <e> mu_e N) - alpha <e> D_e N]
+        growth_power = growth * (field_si * (diffusion + mean_energy * energy_mobility)
+                                 - growth * mean_energy * energy_diffusion)
+        net = ionization - attachment
+        denominator = net / growth if net != 0.0 and growth != 0.0 else drift_velocity
     elastic_power = _elastic_power(solution)
-    growth_power = solution["growth"] * mean_energy  # new electrons are born cold: they dilute the mean energy
     balance = (field_power - inelastic_power - elastic_power - growth_power) / field_power if field_power else 0.0
     return TwoTermResult(
         reduced_field=reduced_field, gas_temperature=gas_temperature, energy=solution["energy"], eedf=eedf,
@@ -388,14 +474,17 @@ def _result(solution, reduced_field, gas_temperature, field_si, top, cells, iter
         characteristic_energy=diffusion / mobility if mobility > 0 else math.inf, energy_mobility_N=energy_mobility,
         energy_diffusion_N=energy_diffusion, momentum_frequency_N=momentum_frequency, rate_coefficients=rates,
         ionization_frequency_N=ionization, attachment_frequency_N=attachment,
-        alpha_N=ionization / drift_velocity if drift_velocity > 0 else 0.0,
-        eta_N=attachment / drift_velocity if drift_velocity > 0 else 0.0,
+        alpha_N=ionization / denominator if denominator > 0 else 0.0,
+        eta_N=attachment / denominator if denominator > 0 else 0.0, growth=solution["growth_model"],
         power_balance=float(balance), max_energy=float(top), cells=cells, iterations=iterations)
 
 
 def _effective_at(solution, energy):
+    """The momentum-transfer cross section the moments divide by: with temporal growth plus (nu/N)/(gamma eps^1/2)."""
     collisions = solution["collisions"]
     sigma = sum(x * s(energy) for x, s in collisions.momentum)
+    if solution["growth_model"] != "temporal":
+        return sigma
     with np.errstate(divide="ignore"):
         return sigma + solution["growth"] / (GAMMA * np.sqrt(energy))
 
