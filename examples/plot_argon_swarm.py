@@ -7,9 +7,10 @@ that ships with collisionkit (``collisionkit swarm --gas Ar``; Yanguas-Gil,
 Cotrino and Alves, J. Phys. D 38, 1588 (2005)), compared with the drift
 velocities measured by Nakamura and Kurachi (J. Phys. D 21, 718 (1988); 1 %
 rms). The set itself predicts drift velocities 7-10 % above these
-measurements at 20-50 Td, as a two-term solution of the same file shows: the
-difference is the cross-section set's, not the Monte Carlo's (see the
-transport guide's table). Any other LXCat set can be compared the same way
+measurements at 20-50 Td, as the two-term solution of the same file shows
+(:func:`~collisionkit.transport.two_term_boltzmann`, milliseconds per point,
+drawn as a line): the difference is the cross-section set's, not the Monte
+Carlo's (see the transport guide's table). Any other LXCat set can be compared the same way
 (``read_lxcat`` or ``--cross-sections``).
 """
 
@@ -38,8 +39,13 @@ for result in results:
 measured_fields = np.array([10.0, 12.0, 14.0, 17.0, 20.0, 25.0, 30.0, 35.0, 40.0, 50.0])
 measured_drift = np.array([9.56, 11.7, 13.4, 16.3, 18.8, 22.4, 27.1, 31.1, 34.4, 41.2]) * 1e3
 
+two_term_fields = np.linspace(5.0, 55.0, 26)
+two_term_drift = [transport.two_term_boltzmann(argon, field, gas_temperature=300.0).drift_velocity
+                  for field in two_term_fields]
+
 figure, axes = plt.subplots()
 axes.plot(measured_fields, measured_drift, "o", mfc="none", label="measured (Nakamura & Kurachi 1988)")
+axes.plot(two_term_fields, two_term_drift, "-", lw=1, label="two-term equation, same set (flux W)")
 axes.errorbar(fields, [-r.drift_velocity_bulk[2] for r in results],
               yerr=[r.drift_velocity_bulk_error[2] for r in results], fmt="s", label="collisionkit, IST-Lisbon set")
 axes.set_xlabel("E/N (Td)")
