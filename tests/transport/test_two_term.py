@@ -284,3 +284,26 @@ def test_a_result_is_json_ready_and_has_a_short_repr():
     assert isinstance(data["eedf"], list) and len(data["eedf"]) == result.cells
     assert data["rate_coefficients"] == result.rate_coefficients
     assert len(repr(result)) < 600
+
+
+def test_a_gas_split_into_two_identical_species_gives_the_same_solution():
+    # the fractions weight every cross section: halves of the same species sum to the whole
+    ramp = reid_ramp()
+    twin = Gas.mixture({ramp: 0.5, Gas((Species("twin", ramp.species[0].mass, ramp.species[0].processes),)): 0.5})
+    whole, halves = two_term_boltzmann(ramp, 12.0, 0.0), two_term_boltzmann(twin, 12.0, 0.0)
+    assert halves.mean_energy == pytest.approx(whole.mean_energy, rel=1e-12)
+    assert halves.drift_velocity == pytest.approx(whole.drift_velocity, rel=1e-12)
+    assert halves.rate_coefficients["reid:excitation"] + halves.rate_coefficients["twin:excitation"] == (
+        pytest.approx(whole.rate_coefficients["reid:excitation"], rel=1e-12))
+
+
+def test_an_elastic_law_enters_through_its_momentum_transfer_cross_section():
+    # a momentum-transfer table is used as it is under any law; a screened Coulomb table is the integral cross
+    # section, times sigma_m / sigma (-> 1 when the screening energy is huge: isotropic)
+    ramp = reid_ramp()
+    isotropic = two_term_boltzmann(ramp, 12.0, 0.0)
+    assert two_term_boltzmann(ramp.with_scattering("okhrimovskyy"), 12.0, 0.0).mean_energy == isotropic.mean_energy
+    wide = two_term_boltzmann(ramp.with_scattering("screened_coulomb", screening_energy=1e9), 12.0, 0.0)
+    assert wide.mean_energy == pytest.approx(isotropic.mean_energy, rel=1e-6)
+    narrow = two_term_boltzmann(ramp.with_scattering("screened_coulomb", screening_energy=0.01), 12.0, 0.0)
+    assert narrow.drift_velocity > 1.1 * isotropic.drift_velocity  # forward scattering: less momentum lost
