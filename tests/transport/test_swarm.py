@@ -140,16 +140,32 @@ def test_ionization_makes_bulk_drift_exceed_flux_drift():
     assert r.eedf.sum() * (r.eedf_energy[1] - r.eedf_energy[0]) == pytest.approx(1.0 - r.eedf_above, rel=1e-12)
 
 
-def test_attachment_in_an_lxcat_mixture_is_counted():
+def test_attachment_in_an_lxcat_mixture_is_the_cross_section_integrated_over_the_runs_eedf():
+    """k_att = x_B int sigma_att(e) v(e) f(e) de, with the file's attachment cross section (1e-22 m^2 up to 1 eV,
+    linear to 0 at 100 eV) on half the gas, summed over the run's own EEDF (midpoint rule on its 200 bins), the
+    tail beyond the last edge (eedf_above, ~0.1 %) bounded by its fraction times the largest sigma v above the
+    edge. Tolerance 4 standard errors + 1 %: the binning of a smooth rate is worth < 0.5 % here (the constant
+    1e-20 m^2 elastic rate of B came out 0.2-0.5 % above its EEDF integral over seeds 2-4), and over 30 seeds
+    (3e6 collisions) (k_att - integral) / error scattered with sd 1.26, mean +0.4. Measured (seed 2, 2e7
+    collisions, ~3 s): k_att = 5.908e-17 +- 0.50 %, +0.48 % (0.95 sd) from the integral. The attachment cross
+    section x1.05 fails it (k_att 6.20e-17 against at most 6.13e-17); so would its species' fraction left out."""
     from pathlib import Path
 
     gas = read_lxcat(Path(__file__).parent.parent / "data" / "lxcat_new_mixture.txt", fractions=(0.5, 0.5))
-    r = simulate_swarm(gas, 50.0, particles=1600, seed=2, threads=2, tolerances={"mean_energy": 0.01},
-                       collision_budget=3e7)
-    assert r.attachment_frequency_N > 0
-    # attachment: 1e-22 m^2 on half the gas, so k_att = 0.5 * 1e-22 <v> up to the 1-100 eV ramp
-    speed = math.sqrt(2 * r.mean_energy * E / ME)
-    assert 0.05 * 0.5e-22 * speed < r.attachment_frequency_N < 2 * 0.5e-22 * speed
+    r = simulate_swarm(gas, 50.0, particles=1600, seed=2, threads=2, tolerances={"mean_energy": 1e-9},
+                       collision_budget=2e7)
+    k, error = r.attachment_frequency_N, r.attachment_frequency_N_error
+    assert k == r.rate_coefficients["B:E + B -> B-, Attachment"]
+    assert 0 < error < 0.01 * k
+
+    def sigma_v(energy):
+        return np.interp(energy, [0.0, 1.0, 100.0], [1e-22, 1e-22, 0.0]) * np.sqrt(2 * energy * E / ME)
+
+    width = r.eedf_energy[1] - r.eedf_energy[0]
+    integral = 0.5 * np.sum(sigma_v(r.eedf_energy) * r.eedf) * width
+    edge = r.eedf_energy[-1] + width / 2
+    tail = 0.5 * r.eedf_above * sigma_v(np.linspace(edge, 100.0, 1000)).max()
+    assert integral - 4 * error - 0.01 * k < k < integral + tail + 4 * error + 0.01 * k
 
 
 def test_screened_coulomb_scattering_runs_and_changes_the_drift():
