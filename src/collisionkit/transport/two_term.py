@@ -42,7 +42,8 @@ from scipy.sparse.linalg import spsolve
 
 from .._repr import dataclass_repr
 from ._two_term_collisions import collision_operator, gas_collisions
-from ._two_term_operators import GAMMA, drift_diffusion_matrix
+from ._two_term_growth import SpatialGrowth, effective_cross_section, settled_growth
+from ._two_term_operators import GAMMA, cell_integral, drift_diffusion_matrix
 from ._validation import MAX_GAS_TEMPERATURE, MAX_REDUCED_FIELD
 from .gases import Gas
 from .superelastic import BOLTZMANN_EV
@@ -54,8 +55,6 @@ SHARING = ("equal", "uniform")
 GROWTH_MODELS = ("temporal", "spatial")
 DECADES = (10.0, 18.0)  # F0 falls by this many decades from its peak to the grid's top energy
 MAX_GRID_ADJUSTMENTS = 60
-MAX_GROWTH_ITERATIONS = 200
-GROWTH_TOLERANCE = 1e-10  # relative change of nu/N between iterations at convergence
 ROW_FIELDS = ("mean_energy", "mobility_N", "drift_velocity", "diffusion_N", "characteristic_energy",
               "energy_mobility_N", "energy_diffusion_N", "momentum_frequency_N", "ionization_frequency_N", "attachment_frequency_N", "alpha_N", "eta_N", "power_balance", "max_energy",
               "cells")
@@ -315,10 +314,10 @@ def _solve_on_grid(gas, field_si, kT, cells, top, sharing, growth_model, guess=0
     collision_matrix, production = collision_operator(collisions, edges, sharing)
     density = (edges[1:] ** 1.5 - edges[:-1] ** 1.5) / 1.5  # integral of eps^1/2 over each cell
     normalisation = sparse.csr_matrix(density[None, :])
-    spatial = _SpatialGrowth(edges, inner, sigma_m, collisions, field_si) if growth_model == "spatial" else None
+    spatial = SpatialGrowth(edges, inner, sigma_m, collisions, field_si) if growth_model == "spatial" else None
 
     def eedf_at(growth):
-        effective = sigma_m if spatial else _effective_cross_section(sigma_m, growth, inner)
+        effective = sigma_m if spatial else effective_cross_section(sigma_m, growth, inner)
         drift = -GAMMA * inner**2 * sigma_eps
         diffusion = GAMMA / 3.0 * field_si**2 * inner / effective + GAMMA * kT * inner**2 * sigma_eps
         if spatial:
@@ -335,97 +334,13 @@ def _solve_on_grid(gas, field_si, kT, cells, top, sharing, growth_model, guess=0
     def produced(eedf):
         return spatial.alpha(eedf, production) if spatial else float(production @ eedf)
 
-    growth, solves = _settled_growth(eedf_at, produced, production, guess)
+    growth, solves = settled_growth(eedf_at, produced, production, guess)
     eedf, effective = eedf_at(growth)
     if spatial:
         spatial.check(eedf, production)
     return {"eedf": np.maximum(eedf, 0.0), "energy": 0.5 * (edges[:-1] + edges[1:]), "edges": edges,
             "growth": growth, "growth_model": growth_model, "effective": effective, "collisions": collisions,
             "inner": inner, "sigma_eps": sigma_eps, "kT": kT, "production": float(production @ eedf)}, solves + 1
-
-
-class _SpatialGrowth:
-    r"""The terms of steady-state Townsend growth, :math:`n \propto e^{\alpha z}` along the drift.
-
-    With :math:`F_1 = (E\,\partial_\epsilon F_0 + \alpha F_0)/(N\sigma_m)` the
-    equation gains a drift :math:`-\frac{\gamma}{3}\frac{E}{N}\frac{\alpha}{N}\frac{\epsilon}{\sigma_m}`
-    and a source :math:`\frac{\alpha}{N}\frac{\gamma}{3}\frac{\epsilon}{\sigma_m}
-    (\frac{E}{N}\partial_\epsilon F_0 + \frac{\alpha}{N}F_0)` (Hagelaar & Pitchford 2005,
-    sec. 2.3), whose integral makes the growth consistent only if
-    :math:`\alpha W - \alpha^2 D = \bar\nu` (W and D the flux values): :meth:`alpha` solves it for the
-    smaller root. The source's derivative is the mean of the two edges' differences of a cell, so that
-    its sum over the cells is the discrete mobility's.
-    """
-
-    def __init__(self, edges, inner, sigma_m, collisions, field_si):
-        self.field = field_si
-        self.edge_weight = inner / sigma_m  # eps / sigma_m at the inner edges
-        self.cell_weight = _cell_integral(lambda e: e / sum(x * s(e) for x, s in collisions.momentum), edges)
-        n = edges.size - 1
-        half = 0.5 * self.edge_weight
-        # row i: (1/2)[w_up (F_{i+1} - F_i) + w_down (F_i - F_{i-1})]
-        diagonal = np.zeros(n)
-        diagonal[:-1] -= half
-        diagonal[1:] += half
-        self.derivative = sparse.diags([diagonal, half, -half], [0, 1, -1], shape=(n, n), format="csr")
-
-    def drift(self, alpha):
-        return -GAMMA / 3.0 * self.field * alpha * self.edge_weight
-
-    def source(self, alpha):
-        """Minus the source (it moves to the left-hand side of the system)."""
-        return -alpha * GAMMA / 3.0 * (self.field * self.derivative + alpha * sparse.diags(self.cell_weight))
-
-    def alpha(self, eedf, production):
-        """alpha/N from alpha W - alpha^2 D = nu with the flux W, N D and nu/N of ``eedf`` (the smaller root; at
-        the vertex W / 2D, the largest growth the relation allows, where it has none: see :meth:`check`)."""
-        drift, diffusion, net = self._moments(eedf, production)
-        discriminant = drift * drift - 4.0 * diffusion * net
-        if discriminant < 0.0:
-            return drift / (2.0 * diffusion)
-        return 2.0 * net / (drift + np.sqrt(discriminant))  # the smaller root, without cancellation
-
-    def check(self, eedf, production):
-        """A RuntimeError if the relation has no root for the settled F0: no steady-state Townsend growth."""
-        drift, diffusion, net = self._moments(eedf, production)
-        if drift * drift < 4.0 * diffusion * net * (1.0 - 1e-9):
-            raise RuntimeError(f"no steady-state Townsend growth: alpha W - alpha^2 D = nu has no root (W = "
-                               f"{drift:.3g} m/s, N D = {diffusion:.3g} /m/s, nu/N = {net:.3g} m^3/s, so 4 D nu / W^2 "
-                               f"= {4.0 * diffusion * net / drift**2:.3g} > 1): ionization outruns the drift, beyond "
-                               "the two-term SST model; use growth='temporal' or simulate_sst")
-
-    def _moments(self, eedf, production):
-        drift = -GAMMA / 3.0 * self.field * float(self.edge_weight @ np.diff(eedf))
-        return drift, GAMMA / 3.0 * float(self.cell_weight @ eedf), float(production @ eedf)
-
-
-def _effective_cross_section(sigma_m, growth, inner):
-    """sigma_m + (nu/N) / (gamma eps^1/2) at the inner edges; a RuntimeError if it is not positive."""
-    effective = sigma_m + growth / (GAMMA * np.sqrt(inner))
-    if np.any(effective <= 0.0):
-        raise RuntimeError("the growth term made the effective momentum-transfer cross section negative at low "
-                           f"energies (net production nu/N = {growth:.3g} m^3/s, attachment dominated): the "
-                           "two-term temporal-growth model fails here; use simulate_swarm")
-    return effective
-
-
-def _settled_growth(eedf_at, produced, production, guess=0.0):
-    """The growth x (nu/N or alpha/N) that the F0 it gives produces again, ``produced(eedf_at(x)) == x``, by
-    secant iterations from ``guess``; and the solves made. No ionization or attachment: no growth."""
-    if not np.any(production):
-        return 0.0, 0
-    previous = guess
-    previous_residual = produced(eedf_at(guess)[0]) - guess
-    growth = guess + previous_residual  # a first fixed-point step
-    for solves in range(2, MAX_GROWTH_ITERATIONS):
-        residual = produced(eedf_at(growth)[0]) - growth
-        if abs(residual) <= GROWTH_TOLERANCE * max(abs(growth), 1e-300):
-            return growth, solves
-        slope = (residual - previous_residual) / (growth - previous) if growth != previous else -1.0
-        previous, previous_residual = growth, residual
-        growth = growth - residual / slope if slope < 0.0 else growth + residual  # (slope is about -1 + dP/dx)
-    raise RuntimeError(f"the growth iteration did not settle in {MAX_GROWTH_ITERATIONS} solves (growth = "
-                       f"{growth:.3g})")
 
 
 def _result(solution, reduced_field, gas_temperature, field_si, top, cells, iterations) -> TwoTermResult:
@@ -435,11 +350,11 @@ def _result(solution, reduced_field, gas_temperature, field_si, top, cells, iter
     low, high = edges[:-1], edges[1:]
     mean_energy = float(eedf @ ((high**2.5 - low**2.5) / 2.5))
     mobility = float(-GAMMA / 3.0 * np.sum(inner / effective * np.diff(eedf)))
-    diffusion = float(GAMMA / 3.0 * np.sum(eedf * _cell_integral(lambda e: e / _effective_at(solution, e), edges)))
+    diffusion = float(GAMMA / 3.0 * np.sum(eedf * cell_integral(lambda e: e / _effective_at(solution, e), edges)))
     energy_mobility = float(-GAMMA / (3.0 * mean_energy) * np.sum(inner**2 / effective * np.diff(eedf)))
     energy_diffusion = float(GAMMA / (3.0 * mean_energy) * np.sum(
-        eedf * _cell_integral(lambda e: e**2 / _effective_at(solution, e), edges)))
-    momentum_frequency = float(GAMMA * np.sum(eedf * _cell_integral(
+        eedf * cell_integral(lambda e: e**2 / _effective_at(solution, e), edges)))
+    momentum_frequency = float(GAMMA * np.sum(eedf * cell_integral(
         lambda e: e * sum(x * sigma(e) for x, sigma in collisions.momentum), edges)))
     rates, ionization, attachment, inelastic_power = {}, 0.0, 0.0, 0.0
     for label, kind, share, integral, threshold, weight_ratio in collisions.channels:
@@ -453,7 +368,7 @@ def _result(solution, reduced_field, gas_temperature, field_si, top, cells, iter
         ionization += rate if kind == "ionization" else 0.0
         if kind == "attachment":  # the attached electron takes its energy with it
             attachment += rate
-            inelastic_power += GAMMA * share * float(eedf @ _cell_integral(lambda e: e * integral.integrand(e),
+            inelastic_power += GAMMA * share * float(eedf @ cell_integral(lambda e: e * integral.integrand(e),
                                                                            edges))
     drift_velocity = mobility * field_si
     field_power = drift_velocity * field_si  # eV m^3/s per electron and N
@@ -487,15 +402,6 @@ def _effective_at(solution, energy):
         return sigma
     with np.errstate(divide="ignore"):
         return sigma + solution["growth"] / (GAMMA * np.sqrt(energy))
-
-
-def _cell_integral(function, edges, order=4):
-    """Gauss-Legendre integral of ``function`` over each cell."""
-    nodes, weights = np.polynomial.legendre.leggauss(order)
-    half = 0.5 * (edges[1:] - edges[:-1])
-    middle = 0.5 * (edges[1:] + edges[:-1])
-    points = middle[:, None] + half[:, None] * nodes[None, :]
-    return (function(points) * weights[None, :]).sum(axis=1) * half
 
 
 def _elastic_power(solution):
