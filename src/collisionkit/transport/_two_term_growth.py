@@ -1,4 +1,4 @@
-"""How a swarm that ionizes or attaches grows, in the two-term equation of :mod:`collisionkit.transport.two_term`.
+r"""How a swarm that ionizes or attaches grows, in the two-term equation of :mod:`collisionkit.transport.two_term`.
 
 Temporal growth (a pulsed swarm) adds :math:`(\bar\nu/N)/(\gamma\epsilon^{1/2})`
 to the momentum-transfer cross section (:func:`effective_cross_section`);

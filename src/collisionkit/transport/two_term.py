@@ -42,8 +42,9 @@ from scipy.sparse.linalg import spsolve
 
 from .._repr import dataclass_repr
 from ._two_term_collisions import collision_operator, gas_collisions
-from ._two_term_growth import SpatialGrowth, effective_cross_section, settled_growth
-from ._two_term_operators import GAMMA, cell_integral, drift_diffusion_matrix
+from ._two_term_electrons import MIN_COULOMB_LOGARITHM, ElectronCollisions
+from ._two_term_growth import MAX_GROWTH_ITERATIONS, SpatialGrowth, effective_cross_section, settled_growth
+from ._two_term_operators import GAMMA, cell_integral, central_flux_matrix, drift_diffusion_matrix
 from ._validation import MAX_GAS_TEMPERATURE, MAX_REDUCED_FIELD
 from .gases import Gas
 from .superelastic import BOLTZMANN_EV
@@ -55,9 +56,15 @@ SHARING = ("equal", "uniform")
 GROWTH_MODELS = ("temporal", "spatial")
 DECADES = (10.0, 18.0)  # F0 falls by this many decades from its peak to the grid's top energy
 MAX_GRID_ADJUSTMENTS = 60
+MAX_EE_ITERATIONS = 200
+# n_e/N up to which the electron-electron collisions are solved and tested; beyond it electron-ion collisions
+# (not in the model) matter as much
+MAX_IONIZATION_DEGREE = 0.01
+EE_ENERGY_TOLERANCE = 1e-10  # net energy the electrons exchange among themselves, relative to what they move
+EE_TOLERANCE = 1e-7  # largest change of F0 between electron-electron rounds, relative to its peak
 ROW_FIELDS = ("mean_energy", "mobility_N", "drift_velocity", "diffusion_N", "characteristic_energy",
               "energy_mobility_N", "energy_diffusion_N", "momentum_frequency_N", "ionization_frequency_N", "attachment_frequency_N", "alpha_N", "eta_N", "power_balance", "max_energy",
-              "cells")
+              "cells", "ionization_degree", "electron_density", "coulomb_logarithm")
 
 
 @dataclass(frozen=True, repr=False)
@@ -113,7 +120,11 @@ class TwoTermResult:
         Top of the energy grid (eV).
     cells : int
     iterations : int
-        Linear solves made (the grid's adjustment and the growth's iteration).
+        Linear solves made (the grid's adjustment, the growth's and the electron-electron iterations).
+    ionization_degree, electron_density : float
+        :math:`n_e/N` and :math:`n_e` (m^-3) of the electron-electron collisions (0 without them).
+    coulomb_logarithm : float
+        Their :math:`\ln\Lambda` at the solution's mean energy (0 without them).
 
     Examples
     --------
@@ -145,6 +156,9 @@ class TwoTermResult:
     max_energy: float = 0.0
     cells: int = 0
     iterations: int = 0
+    ionization_degree: float = 0.0
+    electron_density: float = 0.0
+    coulomb_logarithm: float = 0.0
 
     __repr__ = dataclass_repr
 
@@ -178,8 +192,8 @@ class TwoTermResult:
 
 
 def two_term_boltzmann(gas: Gas, reduced_field: float, gas_temperature: float = 300.0, *, cells: int = 1000,
-                       max_energy: float | None = None, sharing: str = "equal",
-                       growth: str = "temporal") -> TwoTermResult:
+                       max_energy: float | None = None, sharing: str = "equal", growth: str = "temporal",
+                       ionization_degree: float = 0.0, electron_density: float | None = None) -> TwoTermResult:
     r"""Solve the two-term Boltzmann equation of electrons in ``gas`` at ``reduced_field``.
 
     Parameters
@@ -210,6 +224,15 @@ def two_term_boltzmann(gas: Gas, reduced_field: float, gas_temperature: float = 
         Townsend conditions, :math:`n \propto e^{\alpha z}`: ``alpha_N`` and
         ``eta_N`` split the self-consistent :math:`\alpha_{eff}/N` as the
         rates are). The same for a gas that does neither.
+    ionization_degree : float, optional
+        :math:`n_e/N`, in [0, 0.01]: above 0 the electrons also collide with
+        each other (Coulomb collisions, the Fokker-Planck operator of
+        :mod:`~collisionkit.transport._two_term_electrons`, as BOLSIG+ and
+        LoKI-B), which pulls the distribution towards a Maxwellian; they
+        matter from about 1e-6 (low E/N) to 1e-3.
+    electron_density : float, optional
+        :math:`n_e` (m^-3, in (0, 1e32]) for the Coulomb logarithm; needed
+        with ``ionization_degree`` > 0 and only then.
 
     Returns
     -------
@@ -221,7 +244,8 @@ def two_term_boltzmann(gas: Gas, reduced_field: float, gas_temperature: float = 
         At the first argument of the wrong kind or out of range (named).
     RuntimeError
         If the growth iteration does not settle (a gas that attaches far
-        faster than it ionizes may drive :math:`\tilde\sigma_m` negative).
+        faster than it ionizes may drive :math:`\tilde\sigma_m` negative),
+        or the electron-electron iteration does not.
 
     Examples
     --------
@@ -237,21 +261,45 @@ def two_term_boltzmann(gas: Gas, reduced_field: float, gas_temperature: float = 
     """
     reduced_field, gas_temperature, cells, max_energy, sharing, growth_model = _checked(
         gas, reduced_field, gas_temperature, cells, max_energy, sharing, growth)
+    electrons = _checked_electrons(ionization_degree, electron_density)
     field_si = reduced_field * TOWNSEND
     kT = BOLTZMANN_EV * gas_temperature
     top = max_energy if max_energy is not None else _first_top(gas, kT)
     iterations, growth = 0, 0.0  # (the growth found on one grid is the next grid's first guess)
+    # the electrons collide with each other only once the grid holds the distribution (their energy exchange
+    # is exact only where F0 has fallen far at the top), then the grid is checked again with them
+    colliding = max_energy is not None
     for _ in range(MAX_GRID_ADJUSTMENTS):
-        solution, used = _solve_on_grid(gas, field_si, kT, cells, top, sharing, growth_model, growth)
+        solution, used = _solve_on_grid(gas, field_si, kT, cells, top, sharing, growth_model, growth,
+                                        electrons if colliding else None)
         growth = solution["growth"]  # the next grid's iteration starts from it
         iterations += used
         if max_energy is not None:
             break
         decades = _decades(solution["eedf"])
         if DECADES[0] <= decades <= DECADES[1]:
-            break
+            if colliding or electrons is None:
+                break
+            colliding = True
+            continue
         top = _adjusted_top(solution, top, decades)
     return _result(solution, reduced_field, gas_temperature, field_si, top, cells, iterations)
+
+
+def _checked_electrons(ionization_degree, electron_density):
+    """(ionization degree, electron density) if the electrons collide with each other, else None."""
+    from .._params import check_real
+
+    ionization_degree = check_real("ionization_degree (n_e/N)", ionization_degree, 0.0, MAX_IONIZATION_DEGREE)
+    if ionization_degree == 0.0:
+        if electron_density is not None:
+            raise ValueError("electron_density is used only with ionization_degree > 0 (electron-electron "
+                             "collisions); give both or neither")
+        return None
+    if electron_density is None:
+        raise ValueError("ionization_degree > 0 needs electron_density (m^-3, in (0, 1e32]) for the Coulomb "
+                         "logarithm")
+    return ionization_degree, check_real("electron_density (m^-3)", electron_density, 0.0, 1e32, low_open=True)
 
 
 def _checked(gas, reduced_field, gas_temperature, cells, max_energy, sharing, growth):
@@ -303,9 +351,10 @@ def _adjusted_top(solution, top, decades):
     return max(min(end * 1.05, 0.9 * top), 2.0 * energy[1])
 
 
-def _solve_on_grid(gas, field_si, kT, cells, top, sharing, growth_model, guess=0.0):
+def _solve_on_grid(gas, field_si, kT, cells, top, sharing, growth_model, guess=0.0, electrons=None):
     """F0 on a grid of ``cells`` up to ``top``, with the growth (nu/N in time, or alpha/N in space) that the
-    solution itself produces, found by the secant method; returns (solution, linear solves)."""
+    solution itself produces, found by the secant method, and with the electron-electron collisions of
+    ``electrons`` (ionization degree, electron density) by iteration; returns (solution, linear solves)."""
     edges = np.linspace(0.0, top, cells + 1)
     inner = edges[1:-1]
     collisions = gas_collisions(gas, kT)
@@ -315,6 +364,7 @@ def _solve_on_grid(gas, field_si, kT, cells, top, sharing, growth_model, guess=0
     density = (edges[1:] ** 1.5 - edges[:-1] ** 1.5) / 1.5  # integral of eps^1/2 over each cell
     normalisation = sparse.csr_matrix(density[None, :])
     spatial = SpatialGrowth(edges, inner, sigma_m, collisions, field_si) if growth_model == "spatial" else None
+    among_electrons = [0.0]  # the electron-electron collisions' flux divergence (a matrix once they collide)
 
     def eedf_at(growth):
         effective = sigma_m if spatial else effective_cross_section(sigma_m, growth, inner)
@@ -325,7 +375,8 @@ def _solve_on_grid(gas, field_si, kT, cells, top, sharing, growth_model, guess=0
             extra = spatial.source(growth)
         else:
             extra = sparse.diags(growth * density)
-        system = (drift_diffusion_matrix(drift, diffusion, edges[1] - edges[0]) - collision_matrix + extra).tocsr()
+        system = (drift_diffusion_matrix(drift, diffusion, edges[1] - edges[0]) - collision_matrix + extra
+                  + among_electrons[0]).tocsr()
         # the balances sum to zero (the system is singular): the normalisation replaces the bottom cell's
         rhs = np.zeros(cells)
         rhs[0] = 1.0
@@ -334,13 +385,78 @@ def _solve_on_grid(gas, field_si, kT, cells, top, sharing, growth_model, guess=0
     def produced(eedf):
         return spatial.alpha(eedf, production) if spatial else float(production @ eedf)
 
-    growth, solves = settled_growth(eedf_at, produced, production, guess)
-    eedf, effective = eedf_at(growth)
+    def settled(growth):
+        growth, used = settled_growth(eedf_at, produced, production, growth)
+        eedf, effective = eedf_at(growth)
+        return np.maximum(eedf, 0.0), effective, growth, used + 1
+
+    eedf, effective, growth, solves = settled(guess)
+    coulomb = ElectronCollisions(*electrons, edges) if electrons else None
+    if coulomb is not None:
+        eedf, effective, growth, used = _with_electron_collisions(coulomb, among_electrons, settled, eedf, growth)
+        solves += used
     if spatial:
         spatial.check(eedf, production)
-    return {"eedf": np.maximum(eedf, 0.0), "energy": 0.5 * (edges[:-1] + edges[1:]), "edges": edges,
+    return {"eedf": eedf, "energy": 0.5 * (edges[:-1] + edges[1:]), "edges": edges,
             "growth": growth, "growth_model": growth_model, "effective": effective, "collisions": collisions,
-            "inner": inner, "sigma_eps": sigma_eps, "kT": kT, "production": float(production @ eedf)}, solves + 1
+            "inner": inner, "sigma_eps": sigma_eps, "kT": kT, "production": float(production @ eedf),
+            "coulomb": coulomb}, solves
+
+
+def _with_electron_collisions(coulomb, among_electrons, settled, eedf, growth):
+    """Solve again with the electron-electron coefficients of the last F0 until F0 settles (its largest change
+    below ``EE_TOLERANCE`` of its peak); returns (eedf, effective cross section, growth, solves).
+
+    Coefficients from the last F0 act on the next as a heat bath at the last F0's temperature, so the plain
+    iteration crawls where the electrons collide with each other far more than with the gas (the gas moves
+    their temperature a little each round). So each round scales the diffusion of the electron-electron
+    operator by the factor that makes it exchange no net energy with the F0 it gives (secant iteration):
+    the temperature is then set by the field and the gas at once, and the rounds only settle the shape.
+    The factor is 1 at the solution, where the operator conserves energy exactly.
+    """
+    solves, change, scale = 0, math.inf, 1.0
+    for _ in range(MAX_EE_ITERATIONS):
+        drift, diffusion = coulomb.coefficients(eedf)
+        if coulomb.coulomb_logarithm < MIN_COULOMB_LOGARITHM:
+            raise ValueError(f"electron_density: the Coulomb logarithm is {coulomb.coulomb_logarithm:.3g} (< "
+                             f"{MIN_COULOMB_LOGARITHM:g}) at n_e = {coulomb.electron_density:.3g} m^-3 and this "
+                             "mean energy: too dense for the weakly coupled (Fokker-Planck) electron collisions")
+
+        def exchanged(scale):
+            among_electrons[0] = central_flux_matrix(drift, scale * diffusion, coulomb.width)
+            solution = settled(growth)
+            return solution, coulomb.exchanged_fraction(drift, scale * diffusion, solution[0])
+
+        solution, used, scale = _energy_neutral(exchanged, scale)
+        solves += used
+        change = float(np.max(np.abs(solution[0] - eedf)) / np.max(eedf))
+        eedf, effective, growth = solution[0], solution[1], solution[2]
+        if change <= EE_TOLERANCE:
+            return eedf, effective, growth, solves
+    raise RuntimeError(f"the electron-electron iteration did not settle in {MAX_EE_ITERATIONS} rounds (last "
+                       f"change {change:.2g} of the peak)")
+
+
+def _energy_neutral(exchanged, start=1.0):
+    """The solution at the diffusion scale where ``exchanged(scale)`` (the energy the electrons exchange among
+    themselves, relative to what they move) vanishes, by the secant method from ``start``; and the solves made
+    and the scale."""
+    previous_scale, (solution, previous) = start, exchanged(start)
+    solves = solution[3]
+    scale = start * (1.0 + 1e-3)
+    for _ in range(MAX_GROWTH_ITERATIONS):
+        if abs(previous) <= EE_ENERGY_TOLERANCE:
+            return solution, solves, previous_scale
+        solution, residual = exchanged(scale)
+        solves += solution[3]
+        if residual == previous:  # round-off: nothing left to gain
+            break
+        slope = (residual - previous) / (scale - previous_scale)
+        previous_scale, previous = scale, residual
+        scale -= residual / slope
+    if abs(previous) <= 10.0 * EE_ENERGY_TOLERANCE:
+        return solution, solves, previous_scale
+    raise RuntimeError(f"the electron-electron energy balance did not settle (last imbalance {previous:.2g})")
 
 
 def _result(solution, reduced_field, gas_temperature, field_si, top, cells, iterations) -> TwoTermResult:
@@ -382,7 +498,10 @@ def _result(solution, reduced_field, gas_temperature, field_si, top, cells, iter
         net = ionization - attachment
         denominator = net / growth if net != 0.0 and growth != 0.0 else drift_velocity
     elastic_power = _elastic_power(solution)
-    balance = (field_power - inelastic_power - elastic_power - growth_power) / field_power if field_power else 0.0
+    coulomb = solution["coulomb"]  # the electrons' energy exchange among themselves: zero but for the top cell
+    among_electrons = coulomb.power(eedf) if coulomb is not None else 0.0
+    balance = ((field_power - inelastic_power - elastic_power - growth_power - among_electrons) / field_power
+               if field_power else 0.0)
     return TwoTermResult(
         reduced_field=reduced_field, gas_temperature=gas_temperature, energy=solution["energy"], eedf=eedf,
         mean_energy=mean_energy, mobility_N=mobility, drift_velocity=drift_velocity, diffusion_N=diffusion,
@@ -391,7 +510,17 @@ def _result(solution, reduced_field, gas_temperature, field_si, top, cells, iter
         ionization_frequency_N=ionization, attachment_frequency_N=attachment,
         alpha_N=ionization / denominator if denominator > 0 else 0.0,
         eta_N=attachment / denominator if denominator > 0 else 0.0, growth=solution["growth_model"],
-        power_balance=float(balance), max_energy=float(top), cells=cells, iterations=iterations)
+        power_balance=float(balance), max_energy=float(top), cells=cells, iterations=iterations,
+        **_electron_fields(coulomb, eedf))
+
+
+def _electron_fields(coulomb, eedf):
+    """The result's fields of the electron-electron collisions (zeros without them)."""
+    if coulomb is None:
+        return {}
+    coulomb.coefficients(eedf)  # its Coulomb logarithm at this F0
+    return {"ionization_degree": coulomb.ionization_degree, "electron_density": coulomb.electron_density,
+            "coulomb_logarithm": coulomb.coulomb_logarithm}
 
 
 def _effective_at(solution, energy):
