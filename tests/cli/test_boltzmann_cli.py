@@ -58,3 +58,35 @@ def test_spatial_growth_is_chosen_and_its_limit_is_a_failed_run_not_a_traceback(
                                  "--growth", "spatial"])
     assert beyond.exit_code == 1 and "Traceback" not in beyond.output
     assert "E/N = 3000 Td: no steady-state Townsend growth" in " ".join(beyond.output.split())
+
+
+def test_electron_electron_collisions_are_the_librarys(tmp_path):
+    """--ionization-degree and --electron-density reach the library: the summary and the table hold its numbers,
+    and the CLI's limit is the library's."""
+    from collisionkit.cli import _boltzmann
+    from collisionkit.transport import hard_sphere_gas, two_term
+
+    assert _boltzmann.MAX_IONIZATION_DEGREE == two_term.MAX_IONIZATION_DEGREE
+    summary, out = tmp_path / "b.json", tmp_path / "out"
+    result = runner.invoke(app, ["boltzmann", "--model", "hard_sphere", "--E-N", "10", "--gas-temperature", "0",
+                                 "--ionization-degree", "1e-3", "--electron-density", "1e18", "--summary",
+                                 str(summary), "--out", str(out)])
+    assert result.exit_code == 0, result.output
+    entry = json.loads(summary.read_text())["results"][0]
+    direct = two_term_boltzmann(hard_sphere_gas(), 10.0, 0.0, ionization_degree=1e-3, electron_density=1e18)
+    assert entry["mean_energy"] == direct.mean_energy and entry["coulomb_logarithm"] == direct.coulomb_logarithm
+    assert entry["ionization_degree"] == 1e-3 and entry["coulomb_logarithm"] > 2.0
+    with open(out / "boltzmann.csv", newline="") as table:
+        row = next(csv.DictReader(table))
+    assert float(row["electron_density"]) == 1e18 and float(row["mean_energy"]) == direct.mean_energy
+    assert "electron-electron collisions at n_e/N = 0.001" in " ".join(result.output.split())
+
+
+def test_a_plasma_too_dense_for_the_coulomb_logarithm_is_one_line_naming_the_density():
+    """ln(Lambda) depends on the solution's mean energy, so it is known only once an E/N is solved: a one-line error
+    naming --electron-density (exit 2), no traceback."""
+    result = runner.invoke(app, ["boltzmann", "--model", "hard_sphere", "--E-N", "5", "--ionization-degree", "1e-3",
+                                 "--electron-density", "1e31"])
+    assert result.exit_code == 2 and "Traceback" not in result.output
+    errors = [line for line in result.output.splitlines() if line.startswith("error:")]
+    assert len(errors) == 1 and "E/N = 5 Td: --electron-density: the Coulomb logarithm is" in errors[0]

@@ -14,14 +14,15 @@ import typer
 from pydantic import Field, model_validator
 
 from ._common import (
-    INTERRUPTED_EXIT_CODE, Deliveries, OverwriteOption, fail, load_options, note, print_table, progress_bar,
-    run_failed, say, warn,
+    INTERRUPTED_EXIT_CODE, Deliveries, OverwriteOption, fail, load_options, named_as_option, note, print_table,
+    progress_bar, run_failed, say, warn,
 )
 from ._transport import (
     MAX_GAS_TEMPERATURE, CrossSectionsOption, DatabaseOption, FractionsOption, GasOption, GasScanOptions, ModelOption,
     ReducedFieldsOption, SharingOption, SpeciesOption, _e_n_values, lxcat_notes,
 )
 
+MAX_IONIZATION_DEGREE = 0.01  # transport.two_term's (not imported: the library loads only when a command runs)
 # --out: a row per E/N; the EEDFs (E/N, energy, F0); their plot (with the plot extra)
 BOLTZMANN_FILES = ("boltzmann.csv", "eedf.csv", "eedf.png")
 
@@ -39,6 +40,8 @@ class BoltzmannOptions(GasScanOptions):
     cells: int = Field(default=1000, ge=50, le=100_000)
     sharing: Literal["equal", "uniform"] = "equal"
     growth: Literal["temporal", "spatial"] = "temporal"
+    ionization_degree: float = Field(default=0.0, ge=0, le=MAX_IONIZATION_DEGREE, allow_inf_nan=False)
+    electron_density: float | None = Field(default=None, gt=0, le=1e32, allow_inf_nan=False)
     out: Path | None = None
     summary: Path | None = None
 
@@ -51,8 +54,15 @@ class BoltzmannOptions(GasScanOptions):
 
     @model_validator(mode="after")
     def _physics(self):
-        """The library's rules on the gas (one of model, gas, cross sections; a warm gas at E/N = 0)."""
+        """The library's rules on the gas (one of model, gas, cross sections; a warm gas at E/N = 0) and on the
+        electron-electron collisions (a degree and a density, or neither)."""
         self.parameters()
+        if self.ionization_degree > 0.0 and self.electron_density is None:
+            raise ValueError("--ionization-degree > 0 needs --electron-density (m^-3, in (0, 1e32]) for the "
+                             "Coulomb logarithm")
+        if self.ionization_degree == 0.0 and self.electron_density is not None:
+            raise ValueError("--electron-density is used only with --ionization-degree > 0 (electron-electron "
+                             "collisions); give both or neither")
         return self
 
     def parameters(self):
@@ -83,11 +93,15 @@ def _results(options: BoltzmannOptions) -> list:
     try:
         with progress_bar("E/N points", total=len(options.e_n)) as advance:
             for value in options.e_n:
-                results.append(two_term_boltzmann(gas, value, options.gas_temperature, cells=options.cells,
-                                                  sharing=options.sharing, growth=options.growth))
+                results.append(two_term_boltzmann(
+                    gas, value, options.gas_temperature, cells=options.cells, sharing=options.sharing,
+                    growth=options.growth, ionization_degree=options.ionization_degree,
+                    electron_density=options.electron_density))
                 advance(1)
     except RuntimeError as failure:  # growth that cannot settle (attachment far above ionization; SST beyond its root)
         raise run_failed(f"E/N = {options.e_n[len(results)]:g} Td: {failure}") from None
+    except ValueError as error:  # a Coulomb logarithm below 2 at the solution's mean energy
+        raise fail(f"E/N = {options.e_n[len(results)]:g} Td: {named_as_option(str(error), BoltzmannOptions)}") from None
     except KeyboardInterrupt:
         warn(f"interrupted after {len(results)} of {len(options.e_n)} E/N points: each takes milliseconds to "
              "seconds, so nothing is saved; run again")
@@ -95,10 +109,11 @@ def _results(options: BoltzmannOptions) -> list:
     return results
 
 
-def _print(results, growth: str) -> None:
+def _print(results, growth: str, ionization_degree: float = 0.0) -> None:
     rows = [(f"{r.reduced_field:g}", f"{r.mean_energy:.5g}", f"{r.drift_velocity:.5g}", f"{r.diffusion_N:.5g}",
              f"{r.characteristic_energy:.4g}", f"{r.alpha_N:.4g}", f"{r.eta_N:.4g}") for r in results]
-    print_table(f"two-term Boltzmann equation, {growth} growth (flux values)",
+    colliding = f", electron-electron collisions at n_e/N = {ionization_degree:g}" if ionization_degree else ""
+    print_table(f"two-term Boltzmann equation, {growth} growth{colliding} (flux values)",
                 ("E/N (Td)", "<e> (eV)", "W (m/s)", "N D (1/m/s)", "D/mu (eV)", "alpha/N (m^2)", "eta/N (m^2)"),
                 rows)
 
@@ -160,6 +175,11 @@ def boltzmann(
     growth: Annotated[str | None, typer.Option(
         help="Growth of an ionizing or attaching swarm: temporal (alpha/N = k_i/W) or spatial (steady-state Townsend, "
              "self-consistent alpha/N).  \\[default: temporal]")] = None,
+    ionization_degree: Annotated[float | None, typer.Option(
+        help="n_e/N (0 to 0.01): above 0 the electrons also collide with each other (Coulomb collisions, as BOLSIG+ "
+             "and LoKI-B), which pulls the EEDF towards a Maxwellian.  \\[default: 0]")] = None,
+    electron_density: Annotated[float | None, typer.Option(
+        help="n_e in m^-3 (0 to 1e32) for the Coulomb logarithm; needed with --ionization-degree.")] = None,
     out: Annotated[Path | None, typer.Option(
         help="Folder for boltzmann.csv (a row per E/N: moments and every rate coefficient), eedf.csv (E/N, "
              "energy, F0) and eedf.png.")] = None,
@@ -172,10 +192,11 @@ def boltzmann(
     against E/N, in milliseconds; the swarm command is its exact Monte Carlo check."""
     given = dict(model=model, gas=gas, cross_sections=cross_sections, species=species, fractions=fractions,
                  database=database, e_n=_e_n_values(e_n), gas_temperature=gas_temperature, cells=cells,
-                 sharing=sharing, growth=growth, out=out, summary=summary, overwrite=overwrite)
+                 sharing=sharing, growth=growth, ionization_degree=ionization_degree,
+                 electron_density=electron_density, out=out, summary=summary, overwrite=overwrite)
     options = load_options(BoltzmannOptions, config, given)
     results = _results(options)
-    _print(results, options.growth)
+    _print(results, options.growth, options.ionization_degree)
     deliveries = Deliveries("boltzmann")
     if options.out is not None:
         _write_tables(results, options.out, deliveries)
