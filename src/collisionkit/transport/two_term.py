@@ -268,10 +268,11 @@ def two_term_boltzmann(gas: Gas, reduced_field: float, gas_temperature: float = 
     iterations, growth = 0, 0.0  # (the growth found on one grid is the next grid's first guess)
     # the electrons collide with each other only once the grid holds the distribution (their energy exchange
     # is exact only where F0 has fallen far at the top), then the grid is checked again with them
-    colliding = max_energy is not None
+    colliding, solution = max_energy is not None, {"coulomb": None}
     for _ in range(MAX_GRID_ADJUSTMENTS):
+        start = (solution["energy"], solution["eedf"]) if colliding and solution["coulomb"] is not None else None
         solution, used = _solve_on_grid(gas, field_si, kT, cells, top, sharing, growth_model, growth,
-                                        electrons if colliding else None)
+                                        electrons if colliding else None, start)
         growth = solution["growth"]  # the next grid's iteration starts from it
         iterations += used
         if max_energy is not None:
@@ -351,10 +352,11 @@ def _adjusted_top(solution, top, decades):
     return max(min(end * 1.05, 0.9 * top), 2.0 * energy[1])
 
 
-def _solve_on_grid(gas, field_si, kT, cells, top, sharing, growth_model, guess=0.0, electrons=None):
+def _solve_on_grid(gas, field_si, kT, cells, top, sharing, growth_model, guess=0.0, electrons=None, start=None):
     """F0 on a grid of ``cells`` up to ``top``, with the growth (nu/N in time, or alpha/N in space) that the
     solution itself produces, found by the secant method, and with the electron-electron collisions of
-    ``electrons`` (ionization degree, electron density) by iteration; returns (solution, linear solves)."""
+    ``electrons`` (ionization degree, electron density) by iteration from ``start`` (energies and F0 of another
+    grid's solution) if given; returns (solution, linear solves)."""
     edges = np.linspace(0.0, top, cells + 1)
     inner = edges[1:-1]
     collisions = gas_collisions(gas, kT)
@@ -390,8 +392,12 @@ def _solve_on_grid(gas, field_si, kT, cells, top, sharing, growth_model, guess=0
         eedf, effective = eedf_at(growth)
         return np.maximum(eedf, 0.0), effective, growth, used + 1
 
-    eedf, effective, growth, solves = settled(guess)
     coulomb = ElectronCollisions(*electrons, edges) if electrons else None
+    if coulomb is not None and start is not None:  # the last grid's F0 with the collisions, on this grid
+        eedf, growth, solves = np.interp(0.5 * (edges[:-1] + edges[1:]), *start, right=0.0), guess, 0
+        eedf /= float(eedf @ density)
+    else:
+        eedf, effective, growth, solves = settled(guess)
     if coulomb is not None:
         eedf, effective, growth, used = _with_electron_collisions(coulomb, among_electrons, settled, eedf, growth)
         solves += used
@@ -410,11 +416,12 @@ def _with_electron_collisions(coulomb, among_electrons, settled, eedf, growth):
     Coefficients from the last F0 act on the next as a heat bath at the last F0's temperature, so the plain
     iteration crawls where the electrons collide with each other far more than with the gas (the gas moves
     their temperature a little each round). So each round scales the diffusion of the electron-electron
-    operator by the factor that makes it exchange no net energy with the F0 it gives (secant iteration):
-    the temperature is then set by the field and the gas at once, and the rounds only settle the shape.
-    The factor is 1 at the solution, where the operator conserves energy exactly.
+    operator by the factor that makes it exchange no net energy with the F0 it gives (secant iteration,
+    to 1e-4 of the last round's change): the temperature is then set by the field and the gas at
+    once, and the rounds only settle the shape. The factor is 1 at the solution, where the operator
+    conserves energy exactly.
     """
-    solves, change, scale = 0, math.inf, 1.0
+    solves, change, scale, slope = 0, math.inf, 1.0, None
     for _ in range(MAX_EE_ITERATIONS):
         drift, diffusion = coulomb.coefficients(eedf)
         if coulomb.coulomb_logarithm < MIN_COULOMB_LOGARITHM:
@@ -427,7 +434,8 @@ def _with_electron_collisions(coulomb, among_electrons, settled, eedf, growth):
             solution = settled(growth)
             return solution, coulomb.exchanged_fraction(drift, scale * diffusion, solution[0])
 
-        solution, used, scale = _energy_neutral(exchanged, scale)
+        tolerance = max(EE_ENERGY_TOLERANCE, 1e-4 * min(change, 0.1))
+        solution, used, scale, slope = _energy_neutral(exchanged, scale, slope, tolerance)
         solves += used
         change = float(np.max(np.abs(solution[0] - eedf)) / np.max(eedf))
         eedf, effective, growth = solution[0], solution[1], solution[2]
@@ -437,26 +445,25 @@ def _with_electron_collisions(coulomb, among_electrons, settled, eedf, growth):
                        f"change {change:.2g} of the peak)")
 
 
-def _energy_neutral(exchanged, start=1.0):
+def _energy_neutral(exchanged, start, slope, tolerance):
     """The solution at the diffusion scale where ``exchanged(scale)`` (the energy the electrons exchange among
-    themselves, relative to what they move) vanishes, by the secant method from ``start``; and the solves made
-    and the scale."""
-    previous_scale, (solution, previous) = start, exchanged(start)
+    themselves, relative to what they move) is below ``tolerance``, by the secant method from ``start`` (with the
+    last round's ``slope`` if known); returns (solution, solves, scale, slope)."""
+    scale, (solution, residual) = start, exchanged(start)
     solves = solution[3]
-    scale = start * (1.0 + 1e-3)
     for _ in range(MAX_GROWTH_ITERATIONS):
-        if abs(previous) <= EE_ENERGY_TOLERANCE:
-            return solution, solves, previous_scale
-        solution, residual = exchanged(scale)
+        if abs(residual) <= tolerance:
+            return solution, solves, scale, slope
+        following = scale - residual / slope if slope else scale * (1.0 + 1e-3)
+        solution, next_residual = exchanged(following)
         solves += solution[3]
-        if residual == previous:  # round-off: nothing left to gain
+        if next_residual == residual:  # round-off: nothing left to gain
             break
-        slope = (residual - previous) / (scale - previous_scale)
-        previous_scale, previous = scale, residual
-        scale -= residual / slope
-    if abs(previous) <= 10.0 * EE_ENERGY_TOLERANCE:
-        return solution, solves, previous_scale
-    raise RuntimeError(f"the electron-electron energy balance did not settle (last imbalance {previous:.2g})")
+        slope = (next_residual - residual) / (following - scale)
+        scale, residual = following, next_residual
+    if abs(residual) <= 10.0 * tolerance:
+        return solution, solves, scale, slope
+    raise RuntimeError(f"the electron-electron energy balance did not settle (last imbalance {residual:.2g})")
 
 
 def _result(solution, reduced_field, gas_temperature, field_si, top, cells, iterations) -> TwoTermResult:
