@@ -221,7 +221,9 @@ def dataclass_repr(self) -> str:
     """A one-line repr of a result dataclass: its scalar fields' values, its arrays by shape (none printed whole).
 
     Set as the class's ``__repr__`` (the one ``dataclass`` writes prints
-    every array in full: a swarm result's ran to 8000 characters).
+    every array in full: a swarm result's ran to 8000 characters). A field
+    of an optional feature, ``field(default=..., metadata={"optional": True})``,
+    is shown only when it differs from its default.
 
     Examples
     --------
@@ -240,5 +242,6 @@ def dataclass_repr(self) -> str:
     """
     import dataclasses
 
-    shown = (f"{field.name}={_short(getattr(self, field.name))}" for field in dataclasses.fields(self) if field.repr)
+    shown = (f"{field.name}={_short(getattr(self, field.name))}" for field in dataclasses.fields(self)
+             if field.repr and not (field.metadata.get("optional") and getattr(self, field.name) == field.default))
     return f"{type(self).__name__}({', '.join(shown)})"

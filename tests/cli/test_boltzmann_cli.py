@@ -90,3 +90,16 @@ def test_a_plasma_too_dense_for_the_coulomb_logarithm_is_one_line_naming_the_den
     assert result.exit_code == 2 and "Traceback" not in result.output
     errors = [line for line in result.output.splitlines() if line.startswith("error:")]
     assert len(errors) == 1 and "E/N = 5 Td: --electron-density: the Coulomb logarithm is" in errors[0]
+
+
+def test_a_high_frequency_field_is_the_librarys(tmp_path):
+    summary = tmp_path / "b.json"
+    result = runner.invoke(app, ["boltzmann", "--model", "hard_sphere", "--E-N", "10", "--gas-temperature", "0",
+                                 "--omega-N", "1e-14", "--summary", str(summary)])
+    assert result.exit_code == 0, result.output
+    entry = json.loads(summary.read_text())["results"][0]
+    from collisionkit.transport import hard_sphere_gas
+
+    direct = two_term_boltzmann(hard_sphere_gas(), 10.0, 0.0, omega_N=1e-14)
+    assert entry["omega_N"] == 1e-14 and entry["mean_energy"] == direct.mean_energy
+    assert "E/N the amplitude at omega/N = 1e-14" in " ".join(result.output.split())

@@ -120,6 +120,7 @@ def test_weak_electron_collisions_change_nothing():
     assert weak.mean_energy == pytest.approx(plain.mean_energy, rel=1e-8)
     assert weak.mobility_N == pytest.approx(plain.mobility_N, rel=1e-8)
     assert weak.coulomb_logarithm > 0.0 and plain.coulomb_logarithm == 0.0
+    assert "ionization_degree=1e-12" in repr(weak) and "ionization_degree" not in repr(plain)  # shown when set
 
 
 def test_without_a_field_the_electrons_take_the_gas_temperature():

@@ -11,7 +11,7 @@ from pathlib import Path
 from typing import Annotated, ClassVar, Literal
 
 import typer
-from pydantic import Field, model_validator
+from pydantic import Field, field_validator, model_validator
 
 from ._common import (
     INTERRUPTED_EXIT_CODE, Deliveries, OverwriteOption, fail, load_options, named_as_option, note, print_table,
@@ -19,7 +19,7 @@ from ._common import (
 )
 from ._transport import (
     MAX_GAS_TEMPERATURE, CrossSectionsOption, DatabaseOption, FractionsOption, GasOption, GasScanOptions, ModelOption,
-    ReducedFieldsOption, SharingOption, SpeciesOption, _e_n_values, lxcat_notes,
+    ReducedFieldsOption, SharingOption, SpeciesOption, _e_n_values, checked_frequency, lxcat_notes,
 )
 
 MAX_IONIZATION_DEGREE = 0.01  # transport.two_term's (not imported: the library loads only when a command runs)
@@ -42,15 +42,23 @@ class BoltzmannOptions(GasScanOptions):
     growth: Literal["temporal", "spatial"] = "temporal"
     ionization_degree: float = Field(default=0.0, ge=0, le=MAX_IONIZATION_DEGREE, allow_inf_nan=False)
     electron_density: float | None = Field(default=None, gt=0, le=1e32, allow_inf_nan=False)
+    omega_n: float = Field(default=0.0, ge=0, allow_inf_nan=False)
     out: Path | None = None
     summary: Path | None = None
 
+    flags: ClassVar[dict[str, str]] = {"e_n": "--E-N", "omega_n": "--omega-N"}
     output_files: ClassVar[tuple[str, ...]] = ("summary",)
     output_folders: ClassVar[tuple[str, ...]] = ("out",)
 
     def folder_files(self, folder: str) -> tuple[str, ...]:
         """The tables of ``--out`` (an earlier run's are not replaced without --overwrite)."""
         return BOLTZMANN_FILES
+
+    @field_validator("omega_n")
+    @classmethod
+    def _frequency_in_range(cls, value: float) -> float:
+        """omega/N 0 (a DC field) or the swarm's range."""
+        return checked_frequency(value)
 
     @model_validator(mode="after")
     def _physics(self):
@@ -63,6 +71,9 @@ class BoltzmannOptions(GasScanOptions):
         if self.ionization_degree == 0.0 and self.electron_density is not None:
             raise ValueError("--electron-density is used only with --ionization-degree > 0 (electron-electron "
                              "collisions); give both or neither")
+        if self.omega_n > 0.0 and self.growth == "spatial":
+            raise ValueError("--growth spatial (steady-state Townsend) is for a DC field; with --omega-N use "
+                             "--growth temporal")
         return self
 
     def parameters(self):
@@ -96,7 +107,7 @@ def _results(options: BoltzmannOptions) -> list:
                 results.append(two_term_boltzmann(
                     gas, value, options.gas_temperature, cells=options.cells, sharing=options.sharing,
                     growth=options.growth, ionization_degree=options.ionization_degree,
-                    electron_density=options.electron_density))
+                    electron_density=options.electron_density, omega_N=options.omega_n))
                 advance(1)
     except RuntimeError as failure:  # growth that cannot settle (attachment far above ionization; SST beyond its root)
         raise run_failed(f"E/N = {options.e_n[len(results)]:g} Td: {failure}") from None
@@ -109,11 +120,13 @@ def _results(options: BoltzmannOptions) -> list:
     return results
 
 
-def _print(results, growth: str, ionization_degree: float = 0.0) -> None:
+def _print(results, options: BoltzmannOptions) -> None:
     rows = [(f"{r.reduced_field:g}", f"{r.mean_energy:.5g}", f"{r.drift_velocity:.5g}", f"{r.diffusion_N:.5g}",
              f"{r.characteristic_energy:.4g}", f"{r.alpha_N:.4g}", f"{r.eta_N:.4g}") for r in results]
-    colliding = f", electron-electron collisions at n_e/N = {ionization_degree:g}" if ionization_degree else ""
-    print_table(f"two-term Boltzmann equation, {growth} growth{colliding} (flux values)",
+    colliding = (f", electron-electron collisions at n_e/N = {options.ionization_degree:g}"
+                 if options.ionization_degree else "")
+    oscillating = f", E/N the amplitude at omega/N = {options.omega_n:g} rad m^3/s" if options.omega_n else ""
+    print_table(f"two-term Boltzmann equation, {options.growth} growth{colliding}{oscillating} (flux values)",
                 ("E/N (Td)", "<e> (eV)", "W (m/s)", "N D (1/m/s)", "D/mu (eV)", "alpha/N (m^2)", "eta/N (m^2)"),
                 rows)
 
@@ -180,6 +193,10 @@ def boltzmann(
              "and LoKI-B), which pulls the EEDF towards a Maxwellian.  \\[default: 0]")] = None,
     electron_density: Annotated[float | None, typer.Option(
         help="n_e in m^-3 (0 to 1e32) for the Coulomb logarithm; needed with --ionization-degree.")] = None,
+    omega_n: Annotated[float | None, typer.Option(
+        "--omega-N", help="omega/N in rad m^3/s, 0 (DC) or 1e-20 to 1e-8: a high-frequency field E0 cos(omega t), "
+                          "--E-N its amplitude E0/N (as swarm's; BOLSIG+ takes the RMS value), faster than the "
+                          "electrons' energy relaxation.  \\[default: 0]")] = None,
     out: Annotated[Path | None, typer.Option(
         help="Folder for boltzmann.csv (a row per E/N: moments and every rate coefficient), eedf.csv (E/N, "
              "energy, F0) and eedf.png.")] = None,
@@ -193,10 +210,10 @@ def boltzmann(
     given = dict(model=model, gas=gas, cross_sections=cross_sections, species=species, fractions=fractions,
                  database=database, e_n=_e_n_values(e_n), gas_temperature=gas_temperature, cells=cells,
                  sharing=sharing, growth=growth, ionization_degree=ionization_degree,
-                 electron_density=electron_density, out=out, summary=summary, overwrite=overwrite)
+                 electron_density=electron_density, omega_n=omega_n, out=out, summary=summary, overwrite=overwrite)
     options = load_options(BoltzmannOptions, config, given)
     results = _results(options)
-    _print(results, options.growth, options.ionization_degree)
+    _print(results, options)
     deliveries = Deliveries("boltzmann")
     if options.out is not None:
         _write_tables(results, options.out, deliveries)

@@ -47,6 +47,21 @@ def refuse_checkpoint_suffix(path: Path | None, option: str = "--checkpoint") ->
                    f"got {str(path)!r}")
 
 
+def checked_frequency(value: float) -> float:
+    """omega/N 0 (static) or in REDUCED_FREQUENCY_RANGE (the library's range), else a ValueError with the range.
+
+    Examples
+    --------
+    >>> checked_frequency(1e-14)
+    1e-14
+    """
+    low, high = REDUCED_FREQUENCY_RANGE
+    if value != 0.0 and not low <= value <= high:
+        slow = f" ({QUASI_STATIC})" if value < low else ""
+        raise ValueError(f"must be 0 (a static field) or from {low:g} to {high:g} rad m^3/s{slow}")
+    return value
+
+
 class GasScanOptions(Options):
     """The gas and the E/N values of ``swarm`` and ``boltzmann``: a model gas, a catalogue gas or LXCat files.
 
@@ -149,11 +164,7 @@ class SwarmOptions(GasScanOptions):
     @classmethod
     def _frequency_in_range(cls, value: float) -> float:
         """omega/N 0 (static) or in REDUCED_FREQUENCY_RANGE (the library's range, named here as --omega-N)."""
-        low, high = REDUCED_FREQUENCY_RANGE
-        if value != 0.0 and not low <= value <= high:
-            slow = f" ({QUASI_STATIC})" if value < low else ""
-            raise ValueError(f"must be 0 (a static field) or from {low:g} to {high:g} rad m^3/s{slow}")
-        return value
+        return checked_frequency(value)
 
     @field_validator("scattering", mode="before")
     @classmethod

@@ -48,7 +48,7 @@ from ._two_term_collisions import collision_operator, gas_collisions
 from ._two_term_electrons import MIN_COULOMB_LOGARITHM, ElectronCollisions
 from ._two_term_growth import MAX_GROWTH_ITERATIONS, SpatialGrowth, effective_cross_section, settled_growth
 from ._two_term_operators import GAMMA, cell_integral, central_flux_matrix, drift_diffusion_matrix
-from ._validation import MAX_GAS_TEMPERATURE, MAX_REDUCED_FIELD
+from ._validation import MAX_GAS_TEMPERATURE, MAX_REDUCED_FIELD, check_reduced_frequency
 from .gases import Gas
 from .superelastic import BOLTZMANN_EV
 from .swarm import TOWNSEND
@@ -67,7 +67,7 @@ EE_ENERGY_TOLERANCE = 1e-10  # net energy the electrons exchange among themselve
 EE_TOLERANCE = 1e-7  # largest change of F0 between electron-electron rounds, relative to its peak
 ROW_FIELDS = ("mean_energy", "mobility_N", "drift_velocity", "diffusion_N", "characteristic_energy",
               "energy_mobility_N", "energy_diffusion_N", "momentum_frequency_N", "ionization_frequency_N", "attachment_frequency_N", "alpha_N", "eta_N", "power_balance", "max_energy",
-              "cells", "ionization_degree", "electron_density", "coulomb_logarithm")
+              "cells", "ionization_degree", "electron_density", "coulomb_logarithm", "omega_N")
 
 
 @dataclass(frozen=True, repr=False)
@@ -128,6 +128,8 @@ class TwoTermResult:
         :math:`n_e/N` and :math:`n_e` (m^-3) of the electron-electron collisions (0 without them).
     coulomb_logarithm : float
         Their :math:`\ln\Lambda` at the solution's mean energy (0 without them).
+    omega_N : float
+        :math:`\omega/N` of a high-frequency field (rad m^3/s; 0 for a DC field).
 
     Examples
     --------
@@ -159,9 +161,11 @@ class TwoTermResult:
     max_energy: float = 0.0
     cells: int = 0
     iterations: int = 0
-    ionization_degree: float = 0.0
-    electron_density: float = 0.0
-    coulomb_logarithm: float = 0.0
+    # shown in the repr only when set (electron-electron collisions, a high-frequency field)
+    ionization_degree: float = field(default=0.0, metadata={"optional": True})
+    electron_density: float = field(default=0.0, metadata={"optional": True})
+    coulomb_logarithm: float = field(default=0.0, metadata={"optional": True})
+    omega_N: float = field(default=0.0, metadata={"optional": True})
 
     __repr__ = dataclass_repr
 
@@ -196,7 +200,8 @@ class TwoTermResult:
 
 def two_term_boltzmann(gas: Gas, reduced_field: float, gas_temperature: float = 300.0, *, cells: int = 1000,
                        max_energy: float | None = None, sharing: str = "equal", growth: str = "temporal",
-                       ionization_degree: float = 0.0, electron_density: float | None = None) -> TwoTermResult:
+                       ionization_degree: float = 0.0, electron_density: float | None = None,
+                       omega_N: float = 0.0) -> TwoTermResult:
     r"""Solve the two-term Boltzmann equation of electrons in ``gas`` at ``reduced_field``.
 
     Parameters
@@ -238,6 +243,17 @@ def two_term_boltzmann(gas: Gas, reduced_field: float, gas_temperature: float = 
     electron_density : float, optional
         :math:`n_e` (m^-3, in (0, 1e32]) for the Coulomb logarithm; needed
         with ``ionization_degree`` > 0 and only then.
+    omega_N : float, optional
+        :math:`\omega/N` (rad m^3/s; 0, or 1e-20 to 1e-8 as the swarm's) of
+        a high-frequency field :math:`E_0\cos\omega t`, ``reduced_field``
+        its amplitude :math:`E_0/N` (as the swarm's ``reduced_frequency``;
+        BOLSIG+ takes the RMS value :math:`E_0/\sqrt2 N`). The distribution is
+        the steady one of a field much faster than the electrons' energy
+        relaxation: the field heats as
+        :math:`\tilde D = \frac{\gamma}{3}\frac{E_0^2}{2N^2}\frac{\epsilon\tilde\sigma_m}{\tilde\sigma_m^2
+        + q^2/\epsilon}`, :math:`q = \omega/(N\gamma)` (Hagelaar & Pitchford 2005,
+        eq. (16)). The mobility, diffusion and drift are then those a DC field
+        would give this distribution (as BOLSIG+ reports them); temporal growth only.
 
     Returns
     -------
@@ -267,6 +283,10 @@ def two_term_boltzmann(gas: Gas, reduced_field: float, gas_temperature: float = 
     reduced_field, gas_temperature, cells, max_energy, sharing, growth_model = _checked(
         gas, reduced_field, gas_temperature, cells, max_energy, sharing, growth)
     electrons = _checked_electrons(ionization_degree, electron_density)
+    omega_N = check_reduced_frequency(omega_N, "omega_N (omega/N, rad m^3/s)")
+    if omega_N and growth_model == "spatial":
+        raise ValueError("growth='spatial' (steady-state Townsend) is for a DC field; a high-frequency field "
+                         "(omega_N > 0) takes growth='temporal'")
     field_si = reduced_field * TOWNSEND
     kT = BOLTZMANN_EV * gas_temperature
     top = max_energy if max_energy is not None else _first_top(gas, kT)
@@ -276,7 +296,7 @@ def two_term_boltzmann(gas: Gas, reduced_field: float, gas_temperature: float = 
     colliding, solution = max_energy is not None, {"coulomb": None}
     for _ in range(MAX_GRID_ADJUSTMENTS):
         start = (solution["energy"], solution["eedf"]) if colliding and solution["coulomb"] is not None else None
-        solution, used = _solve_on_grid(gas, field_si, kT, cells, top, sharing, growth_model, growth,
+        solution, used = _solve_on_grid(gas, (field_si, omega_N), kT, cells, top, sharing, growth_model, growth,
                                         electrons if colliding else None, start)
         growth = solution["growth"]  # the next grid's iteration starts from it
         iterations += used
@@ -289,7 +309,7 @@ def two_term_boltzmann(gas: Gas, reduced_field: float, gas_temperature: float = 
             colliding = True
             continue
         top = _adjusted_top(solution, top, decades)
-    return _result(solution, reduced_field, gas_temperature, field_si, top, cells, iterations)
+    return _result(solution, reduced_field, gas_temperature, field_si, top, cells, iterations, omega_N)
 
 
 def _checked_electrons(ionization_degree, electron_density):
@@ -357,11 +377,12 @@ def _adjusted_top(solution, top, decades):
     return max(min(end * 1.05, 0.9 * top), 2.0 * energy[1])
 
 
-def _solve_on_grid(gas, field_si, kT, cells, top, sharing, growth_model, guess=0.0, electrons=None, start=None):
-    """F0 on a grid of ``cells`` up to ``top``, with the growth (nu/N in time, or alpha/N in space) that the
+def _solve_on_grid(gas, field, kT, cells, top, sharing, growth_model, guess=0.0, electrons=None, start=None):
+    """F0 on a grid of ``cells`` up to ``top`` in ``field`` (E in V m^2, omega/N), with the growth (nu/N in time, or alpha/N in space) that the
     solution itself produces, found by the secant method, and with the electron-electron collisions of
     ``electrons`` (ionization degree, electron density) by iteration from ``start`` (energies and F0 of another
     grid's solution) if given; returns (solution, linear solves)."""
+    field_si, omega_N = field
     edges = np.linspace(0.0, top, cells + 1)
     inner = edges[1:-1]
     collisions = gas_collisions(gas, kT)
@@ -376,7 +397,8 @@ def _solve_on_grid(gas, field_si, kT, cells, top, sharing, growth_model, guess=0
     def eedf_at(growth):
         effective = sigma_m if spatial else effective_cross_section(sigma_m, growth, inner)
         drift = -GAMMA * inner**2 * sigma_eps
-        diffusion = GAMMA / 3.0 * field_si**2 * inner / effective + GAMMA * kT * inner**2 * sigma_eps
+        heating = _field_diffusion(field_si, omega_N, inner, effective)
+        diffusion = heating + GAMMA * kT * inner**2 * sigma_eps
         if spatial:
             drift = drift + spatial.drift(growth)
             extra = spatial.source(growth)
@@ -387,7 +409,7 @@ def _solve_on_grid(gas, field_si, kT, cells, top, sharing, growth_model, guess=0
         # the balances sum to zero (the system is singular): the normalisation replaces the bottom cell's
         rhs = np.zeros(cells)
         rhs[0] = 1.0
-        return spsolve(sparse.vstack([normalisation, system[1:]], format="csc"), rhs), effective
+        return spsolve(sparse.vstack([normalisation, system[1:]], format="csc"), rhs), (effective, heating)
 
     def produced(eedf):
         return spatial.alpha(eedf, production) if spatial else float(production @ eedf)
@@ -409,7 +431,8 @@ def _solve_on_grid(gas, field_si, kT, cells, top, sharing, growth_model, guess=0
     if spatial:
         spatial.check(eedf, production)
     return {"eedf": eedf, "energy": 0.5 * (edges[:-1] + edges[1:]), "edges": edges,
-            "growth": growth, "growth_model": growth_model, "effective": effective, "collisions": collisions,
+            "growth": growth, "growth_model": growth_model, "effective": effective[0],
+            "field_diffusion": effective[1], "omega_N": omega_N, "collisions": collisions,
             "inner": inner, "sigma_eps": sigma_eps, "kT": kT, "production": float(production @ eedf),
             "coulomb": coulomb}, solves
 
@@ -471,7 +494,7 @@ def _energy_neutral(exchanged, start, slope, tolerance):
     raise RuntimeError(f"the electron-electron energy balance did not settle (last imbalance {residual:.2g})")
 
 
-def _result(solution, reduced_field, gas_temperature, field_si, top, cells, iterations) -> TwoTermResult:
+def _result(solution, reduced_field, gas_temperature, field_si, top, cells, iterations, omega_N) -> TwoTermResult:
     """The moments of F0: mean energy, mobility, diffusion, rates, the power balance."""
     eedf, edges, inner = solution["eedf"], solution["edges"], solution["inner"]
     effective, collisions = solution["effective"], solution["collisions"]
@@ -499,7 +522,8 @@ def _result(solution, reduced_field, gas_temperature, field_si, top, cells, iter
             inelastic_power += GAMMA * share * float(eedf @ cell_integral(lambda e: e * integral.integrand(e),
                                                                            edges))
     drift_velocity = mobility * field_si
-    field_power = drift_velocity * field_si  # eV m^3/s per electron and N
+    # eV m^3/s per electron and N: -sum D_field dF0 over the inner edges (mobility E^2/N^2 in a DC field)
+    field_power = float(-np.sum(solution["field_diffusion"] * np.diff(eedf)))
     growth = solution["growth"]
     if solution["growth_model"] == "temporal":
         growth_power = growth * mean_energy  # new electrons are born cold: they dilute the mean energy
@@ -522,7 +546,7 @@ def _result(solution, reduced_field, gas_temperature, field_si, top, cells, iter
         ionization_frequency_N=ionization, attachment_frequency_N=attachment,
         alpha_N=ionization / denominator if denominator > 0 else 0.0,
         eta_N=attachment / denominator if denominator > 0 else 0.0, growth=solution["growth_model"],
-        power_balance=float(balance), max_energy=float(top), cells=cells, iterations=iterations,
+        power_balance=float(balance), max_energy=float(top), cells=cells, iterations=iterations, omega_N=omega_N,
         **_electron_fields(coulomb, eedf))
 
 
@@ -533,6 +557,17 @@ def _electron_fields(coulomb, eedf):
     coulomb.coefficients(eedf)  # its Coulomb logarithm at this F0
     return {"ionization_degree": coulomb.ionization_degree, "electron_density": coulomb.electron_density,
             "coulomb_logarithm": coulomb.coulomb_logarithm}
+
+
+def _field_diffusion(field_si, omega_N, inner, effective):
+    r"""The field's diffusion in energy at the inner edges: :math:`\frac{\gamma}{3}(E/N)^2\epsilon/\tilde\sigma_m`, or
+    for a high-frequency field of amplitude E (its mean square :math:`E^2/2`)
+    :math:`\frac{\gamma}{3}\frac{(E/N)^2}{2}\frac{\epsilon\tilde\sigma_m}{\tilde\sigma_m^2 + q^2/\epsilon}`,
+    :math:`q = \omega/(N\gamma)` (Hagelaar & Pitchford 2005, eq. (16))."""
+    if omega_N == 0.0:
+        return GAMMA / 3.0 * field_si**2 * inner / effective
+    q = omega_N / GAMMA
+    return GAMMA / 3.0 * 0.5 * field_si**2 * inner * effective / (effective**2 + q * q / inner)
 
 
 def _effective_at(solution, energy):
