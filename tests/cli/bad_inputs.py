@@ -253,6 +253,8 @@ BAD_INPUTS = [
     ("boltzmann", ["--model", "reid", "--electron-density", "1e18"], "--electron-density is used only with"),
     ("boltzmann", ["--model", "reid", "--ionization-degree", "1e-3", "--electron-density", "0"],
      "--electron-density: Input should be greater than 0"),
+    ("boltzmann", ["--model", "reid", "--E-N", "0", "--gas-temperature", "1e-300"],
+     "--gas-temperature must be 0 or from 1e-06 to 100000 K"),
     ("boltzmann", ["--model", "reid", "--omega-N", "1e-3"], "--omega-N: must be 0 (a static field) or from 1e-20"),
     ("boltzmann", ["--model", "reid", "--omega-N", "-1e-14"], "--omega-N: Input should be greater than or equal to 0"),
     ("boltzmann", ["--model", "reid", "--omega-N", "1e-14", "--growth", "spatial"], "--growth spatial"),

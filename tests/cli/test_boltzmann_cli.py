@@ -54,10 +54,18 @@ def test_spatial_growth_is_chosen_and_its_limit_is_a_failed_run_not_a_traceback(
     entry = json.loads(summary.read_text())["results"][0]
     temporal = two_term_boltzmann(lucas_saelee(0.5), 50.0, 0.0)
     assert entry["growth"] == "spatial" and 0 < entry["alpha_N"] < temporal.alpha_N
-    beyond = runner.invoke(app, ["boltzmann", "--model", "lucas_saelee", "--E-N", "50,3000", "--gas-temperature", "0",
-                                 "--growth", "spatial"])
+    kept, out = tmp_path / "kept.json", tmp_path / "out"
+    beyond = runner.invoke(app, ["boltzmann", "--model", "lucas_saelee", "--E-N", "50,3000,100", "--gas-temperature",
+                                 "0", "--growth", "spatial", "--summary", str(kept), "--out", str(out)])
     assert beyond.exit_code == 1 and "Traceback" not in beyond.output
-    assert "E/N = 3000 Td: no steady-state Townsend growth" in " ".join(beyond.output.split())
+    said = " ".join(beyond.output.split())
+    assert "E/N = 3000 Td: no steady-state Townsend growth" in said and "use --growth temporal" in said
+    # the points solved before and after the failure are written, the failure is in the summary
+    data = json.loads(kept.read_text())
+    assert [entry["E_N"] for entry in data["results"]] == [50.0, 100.0]
+    assert data["failed"][0]["E_N"] == 3000.0 and "no steady-state Townsend growth" in data["failed"][0]["reason"]
+    with open(out / "boltzmann.csv", newline="") as table:
+        assert [float(row["E_N"]) for row in csv.DictReader(table)] == [50.0, 100.0]
 
 
 def test_electron_electron_collisions_are_the_librarys(tmp_path):
@@ -67,6 +75,7 @@ def test_electron_electron_collisions_are_the_librarys(tmp_path):
     from collisionkit.transport import hard_sphere_gas, two_term
 
     assert _boltzmann.MAX_IONIZATION_DEGREE == two_term.MAX_IONIZATION_DEGREE
+    assert _boltzmann.MIN_GAS_TEMPERATURE == two_term.MIN_GAS_TEMPERATURE
     summary, out = tmp_path / "b.json", tmp_path / "out"
     result = runner.invoke(app, ["boltzmann", "--model", "hard_sphere", "--E-N", "10", "--gas-temperature", "0",
                                  "--ionization-degree", "1e-3", "--electron-density", "1e18", "--summary",
@@ -103,3 +112,33 @@ def test_a_high_frequency_field_is_the_librarys(tmp_path):
     direct = two_term_boltzmann(hard_sphere_gas(), 10.0, 0.0, omega_N=1e-14)
     assert entry["omega_N"] == 1e-14 and entry["mean_energy"] == direct.mean_energy
     assert "E/N the amplitude at omega/N = 1e-14" in " ".join(result.output.split())
+
+
+def test_the_solvers_warnings_are_shown_and_kept_in_the_summary(tmp_path):
+    """Argon at 1e4 Td: 2 % of the electrons above its tables' 1000 eV is a warning line and a summary entry."""
+    summary = tmp_path / "b.json"
+    result = runner.invoke(app, ["boltzmann", "--gas", "Ar", "--E-N", "100,10000", "--summary", str(summary)])
+    assert result.exit_code == 0, result.output
+    assert "E/N = 10000 Td: 2 % of the electrons lie above 1000 eV" in " ".join(result.output.split())
+    data = json.loads(summary.read_text())
+    assert len(data["warnings"]) == 1 and data["failed"] == []
+
+
+def test_ctrl_c_keeps_the_points_already_solved(tmp_path, monkeypatch):
+    """Ctrl-C during the second point: the first is written to the summary, exit 130."""
+    from collisionkit.cli import _boltzmann
+
+    original = _boltzmann.BoltzmannRun.solve
+
+    def interrupted_at_the_second(self, gas, value, options):
+        if self.results:
+            raise KeyboardInterrupt
+        original(self, gas, value, options)
+
+    monkeypatch.setattr(_boltzmann.BoltzmannRun, "solve", interrupted_at_the_second)
+    summary = tmp_path / "b.json"
+    result = runner.invoke(app, ["boltzmann", "--model", "reid", "--E-N", "1,12,24", "--gas-temperature", "0",
+                                 "--summary", str(summary)])
+    assert result.exit_code == 130
+    assert "interrupted after 1 of 3 E/N points: the finished ones are written" in " ".join(result.output.split())
+    assert [entry["E_N"] for entry in json.loads(summary.read_text())["results"]] == [1.0]

@@ -14,15 +14,17 @@ import typer
 from pydantic import Field, field_validator, model_validator
 
 from ._common import (
-    INTERRUPTED_EXIT_CODE, Deliveries, OverwriteOption, fail, load_options, named_as_option, note, print_table,
-    progress_bar, run_failed, say, warn,
+    INTERRUPTED_EXIT_CODE, Deliveries, OverwriteOption, error, fail, load_options, named_as_option, note,
+    print_table, progress_bar, run_failed, say, warn,
 )
 from ._transport import (
     MAX_GAS_TEMPERATURE, CrossSectionsOption, DatabaseOption, FractionsOption, GasOption, GasScanOptions, ModelOption,
     ReducedFieldsOption, SharingOption, SpeciesOption, _e_n_values, checked_frequency, lxcat_notes,
 )
 
-MAX_IONIZATION_DEGREE = 0.01  # transport.two_term's (not imported: the library loads only when a command runs)
+# transport.two_term's (not imported: the library loads only when a command runs)
+MAX_IONIZATION_DEGREE = 0.01
+MIN_GAS_TEMPERATURE = 1e-6  # K, if not 0
 # --out: a row per E/N; the EEDFs (E/N, energy, F0); their plot (with the plot extra)
 BOLTZMANN_FILES = ("boltzmann.csv", "eedf.csv", "eedf.png")
 
@@ -71,6 +73,9 @@ class BoltzmannOptions(GasScanOptions):
         if self.ionization_degree == 0.0 and self.electron_density is not None:
             raise ValueError("--electron-density is used only with --ionization-degree > 0 (electron-electron "
                              "collisions); give both or neither")
+        if 0.0 < self.gas_temperature < MIN_GAS_TEMPERATURE:
+            raise ValueError(f"--gas-temperature must be 0 or from {MIN_GAS_TEMPERATURE:g} to "
+                             f"{MAX_GAS_TEMPERATURE:g} K; got {self.gas_temperature:g}")
         if self.omega_n > 0.0 and self.growth == "spatial":
             raise ValueError("--growth spatial (steady-state Townsend) is for a DC field; with --omega-N use "
                              "--growth temporal")
@@ -91,33 +96,86 @@ class BoltzmannOptions(GasScanOptions):
                                database=self.database, gas_temperature=self.gas_temperature, sharing=self.sharing)
 
 
-def _results(options: BoltzmannOptions) -> list:
-    """The two-term solution at each E/N, with a progress bar; Ctrl-C is exit 130 (nothing is lost but time)."""
-    from ..transport import two_term_boltzmann
+# the library's spellings in its messages, as a user of this command writes them
+_CLI_SPELLINGS = (("growth='temporal'", "--growth temporal"), ("growth='spatial'", "--growth spatial"),
+                  ("use simulate_swarm", "use the Monte Carlo swarm (collisionkit swarm)"),
+                  ("simulate_sst", "the Monte Carlo (collisionkit.transport.simulate_sst)"),
+                  ("max_energy", "the grid's top"))
 
+
+def _as_cli(message: str) -> str:
+    """A library message with its argument spellings written as this command's options."""
+    message = named_as_option(message, BoltzmannOptions)
+    for library, cli in _CLI_SPELLINGS:
+        message = message.replace(library, cli)
+    return message
+
+
+class BoltzmannRun:
+    """The two-term solutions of a scan, the E/N points that failed (with why) and the solver's warnings.
+
+    Examples
+    --------
+    >>> from collisionkit.transport import lucas_saelee
+    >>> run = BoltzmannRun()
+    >>> options = BoltzmannOptions(model="lucas_saelee", gas_temperature=0.0, growth="spatial")
+    >>> for value in (50.0, 3000.0):
+    ...     run.solve(lucas_saelee(0.5), value, options)
+    >>> len(run.results), run.failed[0]["E_N"], "--growth temporal" in run.failed[0]["reason"]
+    (1, 3000.0, True)
+    """
+
+    def __init__(self):
+        self.results, self.failed, self.warnings = [], [], []
+        self.interrupted = False  # Ctrl-C stopped the scan
+
+    def solve(self, gas, value: float, options: BoltzmannOptions) -> None:
+        """Solve at one E/N, keeping a failure (the growth or the electron-electron iteration does not settle)
+        as this point's result, and the warnings as notes. A ValueError (an input the solution shows wrong: a
+        Coulomb logarithm below 2) propagates."""
+        import warnings
+
+        from ..transport import TwoTermWarning, two_term_boltzmann
+
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always", TwoTermWarning)
+            try:
+                self.results.append(two_term_boltzmann(
+                    gas, value, options.gas_temperature, cells=options.cells, sharing=options.sharing,
+                    growth=options.growth, ionization_degree=options.ionization_degree,
+                    electron_density=options.electron_density, omega_N=options.omega_n))
+            except RuntimeError as failure:
+                self.failed.append({"E_N": value, "reason": _as_cli(str(failure))})
+        for note_of_solver in caught:
+            if issubclass(note_of_solver.category, TwoTermWarning):
+                self.warnings.append(_as_cli(str(note_of_solver.message)))
+            else:
+                warnings.warn_explicit(note_of_solver.message, note_of_solver.category, note_of_solver.filename,
+                                       note_of_solver.lineno)
+
+
+def _results(options: BoltzmannOptions) -> BoltzmannRun:
+    """The two-term solution at each E/N, with a progress bar. A point that fails is kept as a failure and the
+    scan goes on; Ctrl-C stops it, keeping the points solved (the caller writes them, then exits 130)."""
     try:
         with lxcat_notes():
             gas = options.parameters().make_gas()
     except ValueError as error:
         raise fail(str(error)) from None
-    results = []
+    run = BoltzmannRun()
     try:
         with progress_bar("E/N points", total=len(options.e_n)) as advance:
             for value in options.e_n:
-                results.append(two_term_boltzmann(
-                    gas, value, options.gas_temperature, cells=options.cells, sharing=options.sharing,
-                    growth=options.growth, ionization_degree=options.ionization_degree,
-                    electron_density=options.electron_density, omega_N=options.omega_n))
+                run.solve(gas, value, options)
                 advance(1)
-    except RuntimeError as failure:  # growth that cannot settle (attachment far above ionization; SST beyond its root)
-        raise run_failed(f"E/N = {options.e_n[len(results)]:g} Td: {failure}") from None
-    except ValueError as error:  # a Coulomb logarithm below 2 at the solution's mean energy
-        raise fail(f"E/N = {options.e_n[len(results)]:g} Td: {named_as_option(str(error), BoltzmannOptions)}") from None
+    except ValueError as error:  # a Coulomb logarithm below 2 at the solution's mean energy: the density is wrong
+        value = options.e_n[len(run.results) + len(run.failed)]
+        raise fail(f"E/N = {value:g} Td: {_as_cli(str(error))}") from None
     except KeyboardInterrupt:
-        warn(f"interrupted after {len(results)} of {len(options.e_n)} E/N points: each takes milliseconds to "
-             "seconds, so nothing is saved; run again")
-        raise typer.Exit(INTERRUPTED_EXIT_CODE) from None
-    return results
+        done = len(run.results) + len(run.failed)
+        warn(f"interrupted after {done} of {len(options.e_n)} E/N points: the finished ones are written")
+        run.interrupted = True
+    return run
 
 
 def _print(results, options: BoltzmannOptions) -> None:
@@ -152,9 +210,10 @@ def _write_tables(results, out: Path, deliveries: Deliveries) -> None:
                      lambda: plotting.save(plotting.plot_two_term_eedf(results), out / "eedf.png"))
 
 
-def boltzmann_summary(options: BoltzmannOptions, results, files=()) -> dict:
+def boltzmann_summary(options: BoltzmannOptions, results, files=(), run: BoltzmannRun | None = None) -> dict:
     """The command's JSON summary: ``gas``, ``results`` (one :meth:`~collisionkit.transport.TwoTermResult.to_dict`
-    per E/N, with ``E_N``), ``files`` and ``parameters``.
+    per E/N solved, with ``E_N``), ``failed`` (``E_N`` and ``reason`` of each point that failed), ``warnings``
+    (the solver's, about results to read with care), ``files`` and ``parameters``.
 
     Examples
     --------
@@ -167,6 +226,7 @@ def boltzmann_summary(options: BoltzmannOptions, results, files=()) -> dict:
     parameters = options.model_dump(mode="json", by_alias=True, exclude={"out", "summary", "overwrite"})
     return {"gas": options.parameters().gas_name(),
             "results": [result.to_dict() | {"E_N": result.reduced_field} for result in results],
+            "failed": run.failed if run else [], "warnings": run.warnings if run else [],
             "files": [str(path) for path in files], "parameters": parameters}
 
 
@@ -206,20 +266,31 @@ def boltzmann(
     overwrite: OverwriteOption = None,
 ):
     """The two-term Boltzmann equation (as BOLSIG+): EEDF, mean energy, mobility, diffusion and rate coefficients
-    against E/N, in milliseconds; the swarm command is its exact Monte Carlo check."""
+    against E/N (milliseconds per E/N for model gases, 0.1-0.7 s for the shipped LXCat gases); the swarm command
+    is its exact Monte Carlo check."""
     given = dict(model=model, gas=gas, cross_sections=cross_sections, species=species, fractions=fractions,
                  database=database, e_n=_e_n_values(e_n), gas_temperature=gas_temperature, cells=cells,
                  sharing=sharing, growth=growth, ionization_degree=ionization_degree,
                  electron_density=electron_density, omega_n=omega_n, out=out, summary=summary, overwrite=overwrite)
     options = load_options(BoltzmannOptions, config, given)
-    results = _results(options)
-    _print(results, options)
+    run = _results(options)
+    for message in run.warnings:
+        warn(message)
+    if run.results:
+        _print(run.results, options)
     deliveries = Deliveries("boltzmann")
-    if options.out is not None:
-        _write_tables(results, options.out, deliveries)
+    if options.out is not None and run.results:
+        _write_tables(run.results, options.out, deliveries)
     for path in deliveries.files:
         say(f"wrote {path}")
-    deliveries.finish(options.summary, boltzmann_summary(options, results, deliveries.files))
+    deliveries.finish(options.summary, boltzmann_summary(options, run.results, deliveries.files, run))
+    if run.interrupted:
+        raise typer.Exit(INTERRUPTED_EXIT_CODE)
+    if run.failed:
+        for failure in run.failed[:-1]:
+            error(f"E/N = {failure['E_N']:g} Td: {failure['reason']}")
+        last = run.failed[-1]
+        raise run_failed(f"E/N = {last['E_N']:g} Td: {last['reason']}")
 
 
 def register(app: typer.Typer) -> None:

@@ -13,7 +13,7 @@ collisions), real gases (LXCat files) and transport coefficients.
   with checkpoint and resume;
 * :func:`two_term_boltzmann` - the two-term Boltzmann equation (as BOLSIG+
   and LoKI-B solve it): the energy distribution, mobility, diffusion and
-  rates in milliseconds; :class:`TwoTermResult`;
+  rates in milliseconds to a second; :class:`TwoTermResult`;
 * :func:`simulate_slab` - transmission and reflection of a beam by a slab;
 * gases: :class:`Gas`, :class:`Species`, :class:`Process`, model gases
   (:func:`maxwell_model`, :func:`hard_sphere_gas`, :func:`reid_ramp`,
@@ -144,6 +144,6 @@ from ._waveform import read_waveform  # noqa: E402
 __all__ += ["read_waveform"]
 
 # the two-term Boltzmann equation (the approximation of BOLSIG+ and LoKI-B): the swarm's fast companion
-from .two_term import TwoTermResult, two_term_boltzmann  # noqa: E402
+from .two_term import TwoTermResult, TwoTermWarning, two_term_boltzmann  # noqa: E402
 
-__all__ += ["TwoTermResult", "two_term_boltzmann"]
+__all__ += ["TwoTermResult", "TwoTermWarning", "two_term_boltzmann"]

@@ -84,16 +84,34 @@ def effective_cross_section(sigma_m, growth, inner):
     return effective
 
 
-def settled_growth(eedf_at, produced, production, guess=0.0):
+def settled_growth(eedf_at, produced, production, guess=0.0, ceiling=None):
     """The growth x (nu/N or alpha/N) that the F0 it gives produces again, ``produced(eedf_at(x)) == x``, by
-    secant iterations from ``guess``; and the solves made. No ionization or attachment: no growth."""
+    secant iterations from ``guess``; and the solves made. No ionization or attachment: no growth.
+
+    Below the solution the equation gains more electrons than it loses and has no positive steady state: the
+    solve returns a distribution with negative cells, useless for the next step. So an invalid start is
+    replaced by ``ceiling``, a growth no distribution can exceed (from above the equation loses electrons and
+    F0 stays positive), and a step that lands on an invalid distribution goes back halfway to the last valid
+    one (temporal growth, with a ``ceiling``).
+    """
     if not np.any(production):
         return 0.0, 0
-    previous = guess
-    previous_residual = produced(eedf_at(guess)[0]) - guess
-    growth = guess + previous_residual  # a first fixed-point step
-    for solves in range(2, MAX_GROWTH_ITERATIONS):
-        residual = produced(eedf_at(growth)[0]) - growth
+    solves, strict = 1, ceiling is not None
+    previous, previous_residual = guess, _residual(eedf_at, produced, guess, strict)
+    if previous_residual is None and ceiling is not None and ceiling > guess:
+        previous, previous_residual = ceiling, _residual(eedf_at, produced, ceiling, strict)
+        solves += 1
+    if previous_residual is None:
+        raise RuntimeError(f"no positive distribution at the growth's first guess ({previous:.3g}): the two-term "
+                           "model fails here (a grid top far above the distribution, or attachment far above "
+                           "ionization); use simulate_swarm")
+    growth = previous + previous_residual  # a first fixed-point step
+    while solves < MAX_GROWTH_ITERATIONS:
+        residual = _residual(eedf_at, produced, growth, strict)
+        solves += 1
+        if residual is None:  # overshot into the region without a steady state
+            growth = 0.5 * (growth + previous)
+            continue
         if abs(residual) <= GROWTH_TOLERANCE * max(abs(growth), 1e-300):
             return growth, solves
         slope = (residual - previous_residual) / (growth - previous) if growth != previous else -1.0
@@ -101,3 +119,18 @@ def settled_growth(eedf_at, produced, production, guess=0.0):
         growth = growth - residual / slope if slope < 0.0 else growth + residual  # (slope is about -1 + dP/dx)
     raise RuntimeError(f"the growth iteration did not settle in {MAX_GROWTH_ITERATIONS} solves (growth = "
                        f"{growth:.3g})")
+
+
+def _residual(eedf_at, produced, growth, strict):
+    """produced(F0) - growth for the F0 of ``growth``; if ``strict``, None where that F0 is not a distribution
+    (negative cells beyond round-off, or a growth term that makes the effective cross section negative).
+    Spatial growth is not strict: its secant steps through such F0 to the solution."""
+    if not strict:
+        return produced(eedf_at(growth)[0]) - growth
+    try:
+        eedf = eedf_at(growth)[0]
+    except RuntimeError:
+        return None
+    if np.min(eedf) < -1e-8 * np.max(eedf):
+        return None
+    return produced(eedf) - growth

@@ -1,4 +1,4 @@
-r"""The two-term Boltzmann equation of electrons in a gas: the steady energy distribution in milliseconds.
+r"""The two-term Boltzmann equation of electrons in a gas: the steady energy distribution in milliseconds to a second.
 
 :func:`two_term_boltzmann` solves the classical two-term approximation of the
 electron Boltzmann equation in a uniform DC field, as BOLSIG+ and LoKI-B do
@@ -53,7 +53,7 @@ from .gases import Gas
 from .superelastic import BOLTZMANN_EV
 from .swarm import TOWNSEND
 
-__all__ = ["TwoTermResult", "two_term_boltzmann"]
+__all__ = ["TwoTermResult", "TwoTermWarning", "two_term_boltzmann"]
 
 SHARING = ("equal", "uniform")
 GROWTH_MODELS = ("temporal", "spatial")
@@ -68,6 +68,29 @@ EE_TOLERANCE = 1e-7  # largest change of F0 between electron-electron rounds, re
 ROW_FIELDS = ("mean_energy", "mobility_N", "drift_velocity", "diffusion_N", "characteristic_energy",
               "energy_mobility_N", "energy_diffusion_N", "momentum_frequency_N", "ionization_frequency_N", "attachment_frequency_N", "alpha_N", "eta_N", "power_balance", "max_energy",
               "cells", "ionization_degree", "electron_density", "coulomb_logarithm", "omega_N")
+
+
+# a solution is reported doubtful when its power balance is off by more than this (1000 cells: 1e-5 - 1e-4), or
+# when more than BEYOND_TABLES of its electrons lie above the highest energy of the gas's cross-section tables
+MIN_GAS_TEMPERATURE = 1e-6  # K, if not 0 (at E = 0, 1e-300 K made the grid's matrix singular)
+POWER_BALANCE_WARNING = 1e-2
+BEYOND_TABLES = 1e-3
+
+
+class TwoTermWarning(UserWarning):
+    """A two-term solution to read with care: its power does not balance (a coarse grid or a top that cuts the
+    distribution) or its electrons reach beyond the cross sections' tables.
+
+    Examples
+    --------
+    >>> import warnings
+    >>> from collisionkit.transport import catalogue_gas, two_term_boltzmann
+    >>> with warnings.catch_warnings(record=True) as caught:
+    ...     warnings.simplefilter("always")
+    ...     result = two_term_boltzmann(catalogue_gas("Ar"), 1e4)
+    >>> "above 1000 eV" in str(caught[0].message)
+    True
+    """
 
 
 @dataclass(frozen=True, repr=False)
@@ -309,7 +332,35 @@ def two_term_boltzmann(gas: Gas, reduced_field: float, gas_temperature: float = 
             colliding = True
             continue
         top = _adjusted_top(solution, top, decades)
-    return _result(solution, reduced_field, gas_temperature, field_si, top, cells, iterations, omega_N)
+    result = _result(solution, reduced_field, gas_temperature, field_si, top, cells, iterations, omega_N)
+    _warn_if_doubtful(result, gas, solution, max_energy is not None)
+    return result
+
+
+def _warn_if_doubtful(result, gas, solution, top_given):
+    """A :class:`TwoTermWarning` for a solution whose power does not balance, whose top cuts the distribution, or
+    whose electrons reach beyond the cross-section tables."""
+    import warnings
+
+    if abs(result.power_balance) > POWER_BALANCE_WARNING:
+        warnings.warn(f"E/N = {result.reduced_field:g} Td: the power balance is off by "
+                      f"{abs(result.power_balance):.2g} of the field's power: refine the grid (cells = "
+                      f"{result.cells}) or fit its top to the distribution (max_energy = {result.max_energy:.4g} eV; "
+                      "left out, it is found)", TwoTermWarning,
+                      stacklevel=3)
+    decades = _decades(result.eedf)
+    if top_given and decades < DECADES[0]:
+        warnings.warn(f"E/N = {result.reduced_field:g} Td: F0 falls only {decades:.3g} decades across the grid "
+                      f"(max_energy = {result.max_energy:.4g} eV): the top cuts the distribution; leave max_energy "
+                      "out to have it found", TwoTermWarning, stacklevel=3)
+    tops = [float(process.energy[-1]) for _, process in gas.processes if len(process.energy)]
+    if tops:
+        edges = solution["edges"]
+        above = float(np.sum(solution["eedf"] * np.diff(np.maximum(edges, max(tops)) ** 1.5 / 1.5)))
+        if above > BEYOND_TABLES:
+            warnings.warn(f"E/N = {result.reduced_field:g} Td: {100 * above:.2g} % of the electrons lie above "
+                          f"{max(tops):g} eV, the highest energy of the gas's cross-section tables (continued as "
+                          "constants beyond it)", TwoTermWarning, stacklevel=3)
 
 
 def _checked_electrons(ionization_degree, electron_density):
@@ -343,6 +394,9 @@ def _checked(gas, reduced_field, gas_temperature, cells, max_energy, sharing, gr
                                  f"isotropic; got {process.superelastic_scattering!r} (use simulate_swarm)")
     reduced_field = check_real("reduced_field (E/N, Td)", reduced_field, 0.0, MAX_REDUCED_FIELD)
     gas_temperature = check_real("gas_temperature (K)", gas_temperature, 0.0, MAX_GAS_TEMPERATURE)
+    if 0.0 < gas_temperature < MIN_GAS_TEMPERATURE:
+        raise ValueError(f"gas_temperature (K) must be 0 or from {MIN_GAS_TEMPERATURE:g} to {MAX_GAS_TEMPERATURE:g}; "
+                         f"got {gas_temperature:g} (a Maxwellian this cold does not fit a grid of double precision)")
     if reduced_field == 0.0 and gas_temperature == 0.0:
         raise ValueError("E/N = 0 in a gas at 0 K has no steady state: give gas_temperature > 0 or E/N > 0")
     cells = check_integer("cells", cells, 50, 100_000)
@@ -414,8 +468,11 @@ def _solve_on_grid(gas, field, kT, cells, top, sharing, growth_model, guess=0.0,
     def produced(eedf):
         return spatial.alpha(eedf, production) if spatial else float(production @ eedf)
 
+    # nu/N <= max over cells of the production per electron in the cell (F0 constant in it, sum density F0 = 1)
+    ceiling = None if spatial else float(np.max(production / density))
+
     def settled(growth):
-        growth, used = settled_growth(eedf_at, produced, production, growth)
+        growth, used = settled_growth(eedf_at, produced, production, growth, ceiling)
         eedf, effective = eedf_at(growth)
         return np.maximum(eedf, 0.0), effective, growth, used + 1
 
