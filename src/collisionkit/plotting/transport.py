@@ -39,9 +39,18 @@ def plot_energy_distribution(results, ax=None):
     return ax
 
 
+# above this many curves the E/N is a colour on a colour bar, not a legend entry
+LEGEND_CURVES = 8
+
+
 def plot_two_term_eedf(results, ax=None):
     """The two-term EEDFs F0(eps) (eV^-3/2, int eps^1/2 F0 = 1) of :func:`~collisionkit.transport.two_term_boltzmann`
     results, on a log scale as BOLSIG+ users read them (a Maxwellian is a straight line).
+
+    Up to ``LEGEND_CURVES`` curves are named in a legend; more are coloured
+    by E/N (logarithmic) on a colour bar. The energy axis is logarithmic
+    when the mean energies span more than a decade (else the low-E/N curves
+    hide against the axis), and F0 is shown down to 1e-12 of its highest peak.
 
     Examples
     --------
@@ -54,14 +63,33 @@ def plot_two_term_eedf(results, ax=None):
     >>> ax.get_yscale(), ax.get_ylabel()
     ('log', 'F0 (eV^-3/2)')
     """
+    from matplotlib import cm, colors
+
     ax = _axes(ax)
+    fields = [r.reduced_field for r in results]
+    many = len(results) > LEGEND_CURVES
+    positive = min(fields, default=0.0) > 0.0
+    norm = (colors.LogNorm if positive else colors.Normalize)(vmin=min(fields, default=0.0),
+                                                                vmax=max(fields, default=1.0))
+    means = [getattr(r, "mean_energy", None) for r in results]
+    logarithmic = all(m is not None and m > 0 for m in means) and max(means, default=1.0) > 10.0 * min(means,
+                                                                                                      default=1.0)
     for r in results:
-        shown = r.eedf > 0
-        ax.plot(r.energy[shown], r.eedf[shown], label=f"E/N = {r.reduced_field:g} Td")
+        shown = (r.eedf > 0) & ((r.energy > 0) if logarithmic else True)
+        style = {"color": cm.viridis(norm(r.reduced_field))} if many else {"label": f"E/N = {r.reduced_field:g} Td"}
+        ax.plot(r.energy[shown], r.eedf[shown], **style)
     ax.set_yscale("log")
+    if logarithmic:
+        ax.set_xscale("log")
+    peak = max((float(np.max(r.eedf)) for r in results), default=0.0)
+    if peak > 0:
+        ax.set_ylim(bottom=1e-12 * peak)
     ax.set_xlabel("energy (eV)")
     ax.set_ylabel("F0 (eV^-3/2)")
-    ax.legend()
+    if many:
+        ax.figure.colorbar(cm.ScalarMappable(norm=norm, cmap="viridis"), ax=ax, label="E/N (Td)")
+    elif results:
+        ax.legend()
     return ax
 
 
