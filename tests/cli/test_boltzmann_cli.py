@@ -30,6 +30,9 @@ def test_a_scan_gives_the_librarys_results_in_the_summary_and_the_tables(tmp_pat
         eedf = list(csv.DictReader(table))
     assert len(eedf) == 2 * 1000 and {float(row["E_N"]) for row in eedf} == {1.0, 12.0}
     assert (out / "eedf.png").stat().st_size > 1000
+    units = json.loads(summary.read_text())["units"]  # every column of the table has its unit
+    assert all(column in units or column.startswith("rate_coefficient[") for column in rows[0])
+    assert units["eedf"] == "eV^-3/2" and units["mean_energy"] == "eV"
     assert "0.2736" in result.output  # the table: <e> at 12 Td
     again = runner.invoke(app, ["boltzmann", "--model", "reid", "--E-N", "12", "--out", str(out)])
     assert again.exit_code == 2 and "pass --overwrite" in " ".join(again.output.split())
@@ -142,3 +145,43 @@ def test_ctrl_c_keeps_the_points_already_solved(tmp_path, monkeypatch):
     assert result.exit_code == 130
     assert "interrupted after 1 of 3 E/N points: the finished ones are written" in " ".join(result.output.split())
     assert [entry["E_N"] for entry in json.loads(summary.read_text())["results"]] == [1.0]
+
+
+REVERSIBLE = """\
+MOMENTUM
+X
+ 1e-4
+-----
+ 0 1e-19
+ 100 1e-19
+-----
+EXCITATION
+X <-> X*
+ 0.5 / 3.0
+-----
+ 0.5 0
+ 1 1e-20
+ 100 1e-20
+-----
+"""
+
+
+def test_level_populations_come_from_a_config_table_as_for_swarm(tmp_path):
+    """A config's [populations] sets the upper level of a reversible excitation (as swarm's; boltzmann refused it):
+    a populated level feeds superelastic collisions, which heat the electrons."""
+    from collisionkit.transport import read_lxcat
+
+    (tmp_path / "x.txt").write_text(REVERSIBLE)
+    config, summary = tmp_path / "b.toml", tmp_path / "b.json"
+    label = [f"{s.name}:{p.label}" for s in read_lxcat(tmp_path / "x.txt").species for p in s.processes][1]
+    config.write_text(f'cross-sections = ["{tmp_path / "x.txt"}"]\nE-N = [1]\ngas-temperature = 0\n'
+                      f'[populations]\n"{label}" = 0.1\n')
+    result = runner.invoke(app, ["boltzmann", "--config", str(config), "--summary", str(summary)])
+    assert result.exit_code == 0, result.output
+    data = json.loads(summary.read_text())
+    assert data["parameters"]["populations"] == {label: 0.1}
+    cold = runner.invoke(app, ["boltzmann", "--cross-sections", str(tmp_path / "x.txt"), "--E-N", "1",
+                               "--gas-temperature", "0", "--summary", str(tmp_path / "c.json")])
+    assert cold.exit_code == 0, cold.output
+    unpopulated = json.loads((tmp_path / "c.json").read_text())["results"][0]["mean_energy"]
+    assert data["results"][0]["mean_energy"] > 1.05 * unpopulated

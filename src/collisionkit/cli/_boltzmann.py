@@ -45,6 +45,7 @@ class BoltzmannOptions(GasScanOptions):
     ionization_degree: float = Field(default=0.0, ge=0, le=MAX_IONIZATION_DEGREE, allow_inf_nan=False)
     electron_density: float | None = Field(default=None, gt=0, le=1e32, allow_inf_nan=False)
     omega_n: float = Field(default=0.0, ge=0, allow_inf_nan=False)
+    populations: dict[str, float] | None = None  # a config file's [populations] table, as swarm's
     out: Path | None = None
     summary: Path | None = None
 
@@ -93,7 +94,8 @@ class BoltzmannOptions(GasScanOptions):
 
         return SwarmParameters(reduced_field=self.e_n, model=self.model, gas=self.gas,
                                cross_sections=self.cross_sections, species=self.species, fractions=self.fractions,
-                               database=self.database, gas_temperature=self.gas_temperature, sharing=self.sharing)
+                               database=self.database, gas_temperature=self.gas_temperature, sharing=self.sharing,
+                               populations=self.populations)
 
 
 # the library's spellings in its messages, as a user of this command writes them
@@ -213,7 +215,8 @@ def _write_tables(results, out: Path, deliveries: Deliveries) -> None:
 def boltzmann_summary(options: BoltzmannOptions, results, files=(), run: BoltzmannRun | None = None) -> dict:
     """The command's JSON summary: ``gas``, ``results`` (one :meth:`~collisionkit.transport.TwoTermResult.to_dict`
     per E/N solved, with ``E_N``), ``failed`` (``E_N`` and ``reason`` of each point that failed), ``warnings``
-    (the solver's, about results to read with care), ``files`` and ``parameters``.
+    (the solver's, about results to read with care), ``units`` (of every result and CSV column), ``files`` and
+    ``parameters``.
 
     Examples
     --------
@@ -223,10 +226,12 @@ def boltzmann_summary(options: BoltzmannOptions, results, files=(), run: Boltzma
     >>> summary["gas"], summary["results"][0]["E_N"], summary["parameters"]["cells"]
     ('reid', 12.0, 1000)
     """
+    from ..transport.two_term import UNITS
+
     parameters = options.model_dump(mode="json", by_alias=True, exclude={"out", "summary", "overwrite"})
     return {"gas": options.parameters().gas_name(),
             "results": [result.to_dict() | {"E_N": result.reduced_field} for result in results],
-            "failed": run.failed if run else [], "warnings": run.warnings if run else [],
+            "failed": run.failed if run else [], "warnings": run.warnings if run else [], "units": UNITS,
             "files": [str(path) for path in files], "parameters": parameters}
 
 
@@ -258,8 +263,9 @@ def boltzmann(
                           "--E-N its amplitude E0/N (as swarm's; BOLSIG+ takes the RMS value), faster than the "
                           "electrons' energy relaxation.  \\[default: 0]")] = None,
     out: Annotated[Path | None, typer.Option(
-        help="Folder for boltzmann.csv (a row per E/N: moments and every rate coefficient), eedf.csv (E/N, "
-             "energy, F0) and eedf.png.")] = None,
+        help="Folder for boltzmann.csv (a row per E/N: moments and every rate coefficient; SI units, energies in "
+             "eV, E/N in Td: the summary's units lists them), eedf.csv (E/N in Td, energy in eV, F0 in eV^-3/2 "
+             "with the integral of eps^1/2 F0 equal to 1) and eedf.png.")] = None,
     summary: Annotated[Path | None, typer.Option("--summary", help="Write the results as JSON to this file.")] = None,
     config: Annotated[Path | None, typer.Option(
         "--config", help="TOML file with these options (command line wins).")] = None,

@@ -70,6 +70,15 @@ ROW_FIELDS = ("mean_energy", "mobility_N", "drift_velocity", "diffusion_N", "cha
               "cells", "ionization_degree", "electron_density", "coulomb_logarithm", "omega_N")
 
 
+# the units of TwoTermResult's fields and of the columns of its rows (rate_coefficient[...] in m^3/s)
+UNITS = {"E_N": "Td", "reduced_field": "Td", "gas_temperature": "K", "energy": "eV", "eedf": "eV^-3/2",
+         "mean_energy": "eV", "mobility_N": "1/(V m s)", "drift_velocity": "m/s", "diffusion_N": "1/(m s)",
+         "characteristic_energy": "eV", "energy_mobility_N": "1/(V m s)", "energy_diffusion_N": "1/(m s)",
+         "momentum_frequency_N": "m^3/s", "rate_coefficients": "m^3/s", "rate_coefficient[...]": "m^3/s",
+         "ionization_frequency_N": "m^3/s", "attachment_frequency_N": "m^3/s", "alpha_N": "m^2", "eta_N": "m^2",
+         "power_balance": "1", "max_energy": "eV", "cells": "1", "iterations": "1", "ionization_degree": "1",
+         "electron_density": "m^-3", "coulomb_logarithm": "1", "omega_N": "rad m^3/s"}
+
 # a solution is reported doubtful when its power balance is off by more than this (1000 cells: 1e-5 - 1e-4), or
 # when more than BEYOND_TABLES of its electrons lie above the highest energy of the gas's cross-section tables
 MIN_GAS_TEMPERATURE = 1e-6  # K, if not 0 (at E = 0, 1e-300 K made the grid's matrix singular)
