@@ -255,6 +255,8 @@ BAD_INPUTS = [
      "--electron-density: Input should be greater than 0"),
     ("boltzmann", ["--model", "reid", "--E-N", "0", "--gas-temperature", "1e-300"],
      "--gas-temperature must be 0 or from 1e-06 to 100000 K"),
+    ("boltzmann", ["--model", "reid", "--max-energy", "0"], "--max-energy: Input should be greater than 0"),
+    ("boltzmann", ["--model", "reid", "--max-energy", "1e9"], "--max-energy: Input should be less than or equal to"),
     ("boltzmann", ["--model", "reid", "--omega-N", "1e-3"], "--omega-N: must be 0 (a static field) or from 1e-20"),
     ("boltzmann", ["--model", "reid", "--omega-N", "-1e-14"], "--omega-N: Input should be greater than or equal to 0"),
     ("boltzmann", ["--model", "reid", "--omega-N", "1e-14", "--growth", "spatial"], "--growth spatial"),

@@ -185,3 +185,13 @@ def test_level_populations_come_from_a_config_table_as_for_swarm(tmp_path):
     assert cold.exit_code == 0, cold.output
     unpopulated = json.loads((tmp_path / "c.json").read_text())["results"][0]["mean_energy"]
     assert data["results"][0]["mean_energy"] > 1.05 * unpopulated
+
+
+def test_the_grid_top_can_be_set_and_a_doubtful_one_is_a_warning(tmp_path):
+    summary = tmp_path / "b.json"
+    result = runner.invoke(app, ["boltzmann", "--model", "reid", "--E-N", "12", "--gas-temperature", "0",
+                                 "--max-energy", "1000", "--summary", str(summary)])
+    assert result.exit_code == 0, result.output
+    data = json.loads(summary.read_text())
+    assert data["results"][0]["max_energy"] == 1000.0 and data["parameters"]["max-energy"] == 1000.0
+    assert "the power balance is off by" in data["warnings"][0] and "(--max-energy 1000 eV" in data["warnings"][0]

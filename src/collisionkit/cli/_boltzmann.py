@@ -40,6 +40,7 @@ class BoltzmannOptions(GasScanOptions):
 
     gas_temperature: float = Field(default=300.0, ge=0, le=MAX_GAS_TEMPERATURE, allow_inf_nan=False)
     cells: int = Field(default=1000, ge=50, le=100_000)
+    max_energy: float | None = Field(default=None, gt=0, le=1e7, allow_inf_nan=False)
     sharing: Literal["equal", "uniform"] = "equal"
     growth: Literal["temporal", "spatial"] = "temporal"
     ionization_degree: float = Field(default=0.0, ge=0, le=MAX_IONIZATION_DEGREE, allow_inf_nan=False)
@@ -102,7 +103,7 @@ class BoltzmannOptions(GasScanOptions):
 _CLI_SPELLINGS = (("growth='temporal'", "--growth temporal"), ("growth='spatial'", "--growth spatial"),
                   ("use simulate_swarm", "use the Monte Carlo swarm (collisionkit swarm)"),
                   ("simulate_sst", "the Monte Carlo (collisionkit.transport.simulate_sst)"),
-                  ("max_energy", "the grid's top"))
+                  ("max_energy =", "--max-energy"), ("max_energy", "--max-energy"), ("cells =", "--cells"))
 
 
 def _as_cli(message: str) -> str:
@@ -143,7 +144,8 @@ class BoltzmannRun:
             warnings.simplefilter("always", TwoTermWarning)
             try:
                 self.results.append(two_term_boltzmann(
-                    gas, value, options.gas_temperature, cells=options.cells, sharing=options.sharing,
+                    gas, value, options.gas_temperature, cells=options.cells, max_energy=options.max_energy,
+                    sharing=options.sharing,
                     growth=options.growth, ionization_degree=options.ionization_degree,
                     electron_density=options.electron_density, omega_N=options.omega_n))
             except RuntimeError as failure:
@@ -249,6 +251,9 @@ def boltzmann(
     cells: Annotated[int | None, typer.Option(
         help="Cells of the energy grid (50 to 1e5); its top is found where the EEDF has fallen 10-18 decades.  "
              "\\[default: 1000]")] = None,
+    max_energy: Annotated[float | None, typer.Option(
+        help="Top of the energy grid in eV (0 to 1e7), the same for every E/N; by default it is found for each "
+             "E/N where the EEDF has fallen 10-18 decades.")] = None,
     sharing: SharingOption = None,
     growth: Annotated[str | None, typer.Option(
         help="Growth of an ionizing or attaching swarm: temporal (alpha/N = k_i/W) or spatial (steady-state Townsend, "
@@ -276,6 +281,7 @@ def boltzmann(
     is its exact Monte Carlo check."""
     given = dict(model=model, gas=gas, cross_sections=cross_sections, species=species, fractions=fractions,
                  database=database, e_n=_e_n_values(e_n), gas_temperature=gas_temperature, cells=cells,
+                 max_energy=max_energy,
                  sharing=sharing, growth=growth, ionization_degree=ionization_degree,
                  electron_density=electron_density, omega_n=omega_n, out=out, summary=summary, overwrite=overwrite)
     options = load_options(BoltzmannOptions, config, given)
