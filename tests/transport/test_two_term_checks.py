@@ -64,3 +64,21 @@ def test_a_coarse_grid_is_reported(argon):
 def test_a_gas_too_cold_for_the_grid_is_refused(temperature):
     with pytest.raises(ValueError, match="gas_temperature .K. must be 0 or from 1e-06"):
         two_term_boltzmann(reid_ramp(), 0.0, temperature)
+
+
+def test_the_power_fractions_close_the_balance_and_name_every_process(argon):
+    """The field's power split into elastic recoil, each process (its rate times its threshold; an attachment
+    also takes the electron's energy), the growth and the electrons' exchange: they sum to 1 - power_balance, every
+    process of the gas has its entry, and in argon at 100 Td the ionization takes the share its rate gives
+    (k_i * 15.76 eV / (W E/N), computed here from the reported numbers)."""
+    result, _ = quietly(argon, 100.0)
+    fractions = result.power_fractions
+    assert sum(fractions.values()) == pytest.approx(1.0 - result.power_balance, abs=1e-12)
+    assert set(result.rate_coefficients) <= set(fractions) and {"elastic", "growth"} <= set(fractions)
+    ionization = [label for label in result.rate_coefficients if "ioniz" in label.lower()]
+    field_power = result.drift_velocity * result.reduced_field * 1e-21
+    expected = sum(result.rate_coefficients[label] for label in ionization) * 15.7596 / field_power
+    assert sum(fractions[label] for label in ionization) == pytest.approx(expected, rel=1e-3)
+    assert 0.0 < fractions["elastic"] < 0.1 and abs(fractions["electron-electron"]) == 0.0
+    row = result.to_row()
+    assert row["power_fraction[elastic]"] == fractions["elastic"]

@@ -76,7 +76,7 @@ UNITS = {"E_N": "Td", "reduced_field": "Td", "gas_temperature": "K", "energy": "
          "characteristic_energy": "eV", "energy_mobility_N": "1/(V m s)", "energy_diffusion_N": "1/(m s)",
          "momentum_frequency_N": "m^3/s", "rate_coefficients": "m^3/s", "rate_coefficient[...]": "m^3/s",
          "ionization_frequency_N": "m^3/s", "attachment_frequency_N": "m^3/s", "alpha_N": "m^2", "eta_N": "m^2",
-         "power_balance": "1", "max_energy": "eV", "cells": "1", "iterations": "1", "ionization_degree": "1",
+         "power_balance": "1", "power_fractions": "1", "power_fraction[...]": "1", "max_energy": "eV", "cells": "1", "iterations": "1", "ionization_degree": "1",
          "electron_density": "m^-3", "coulomb_logarithm": "1", "omega_N": "rad m^3/s"}
 
 # a solution is reported doubtful when its power balance is off by more than this (1000 cells: 1e-5 - 1e-4), or
@@ -149,6 +149,11 @@ class TwoTermResult:
     power_balance : float
         (power from the field - power lost in collisions and carried by the growth) / power from the
         field: zero but for the discretisation (a check of the solution).
+    power_fractions : dict
+        Where the field's power goes, as fractions of it (BOLSIG+'s and LoKI-B's power balance):
+        ``"elastic"`` (recoil, net of the gas's thermal motion), every inelastic process by its label
+        (negative for a superelastic one, which gives energy back), ``"growth"`` (carried by the growth
+        terms) and ``"electron-electron"`` (zero but for the discretisation); they sum to 1 - power_balance.
     growth : str
         The growth model, ``"temporal"`` or ``"spatial"``.
     max_energy : float
@@ -189,6 +194,7 @@ class TwoTermResult:
     alpha_N: float = 0.0
     eta_N: float = 0.0
     power_balance: float = 0.0
+    power_fractions: dict = field(default_factory=dict)
     growth: str = "temporal"
     max_energy: float = 0.0
     cells: int = 0
@@ -215,7 +221,8 @@ class TwoTermResult:
 
     def to_row(self) -> dict:
         """The scalars as one flat row (a CSV line): ``E_N``, the moments, then ``rate_coefficient[<label>]`` per
-        process (named as in :meth:`SwarmResult.to_row <collisionkit.transport.SwarmResult.to_row>`).
+        process (named as in :meth:`SwarmResult.to_row <collisionkit.transport.SwarmResult.to_row>`), then
+        ``power_fraction[<name>]`` per entry of :attr:`power_fractions`.
 
         Examples
         --------
@@ -227,6 +234,7 @@ class TwoTermResult:
         row = {"E_N": self.reduced_field, "gas_temperature": self.gas_temperature}
         row |= {name: getattr(self, name) for name in ROW_FIELDS}
         row |= {f"rate_coefficient[{label}]": rate for label, rate in self.rate_coefficients.items()}
+        row |= {f"power_fraction[{name}]": share for name, share in self.power_fractions.items()}
         return row
 
 
@@ -573,20 +581,10 @@ def _result(solution, reduced_field, gas_temperature, field_si, top, cells, iter
         eedf * cell_integral(lambda e: e**2 / _effective_at(solution, e), edges)))
     momentum_frequency = float(GAMMA * np.sum(eedf * cell_integral(
         lambda e: e * sum(x * sigma(e) for x, sigma in collisions.momentum), edges)))
-    rates, ionization, attachment, inelastic_power = {}, 0.0, 0.0, 0.0
-    for label, kind, share, integral, threshold, weight_ratio in collisions.channels:
-        if kind == "superelastic":
-            rate = GAMMA * share / weight_ratio * float(eedf @ integral(low + threshold, high + threshold))
-            inelastic_power -= rate * threshold
-        else:
-            rate = GAMMA * share * float(eedf @ integral(low, high))
-            inelastic_power += rate * threshold
-        rates[label] = rate
-        ionization += rate if kind == "ionization" else 0.0
-        if kind == "attachment":  # the attached electron takes its energy with it
-            attachment += rate
-            inelastic_power += GAMMA * share * float(eedf @ cell_integral(lambda e: e * integral.integrand(e),
-                                                                           edges))
+    rates, losses = _rates_and_losses(solution)
+    ionization = sum(rates[label] for label, kind, *_ in collisions.channels if kind == "ionization")
+    attachment = sum(rates[label] for label, kind, *_ in collisions.channels if kind == "attachment")
+    inelastic_power = sum(losses.values())
     drift_velocity = mobility * field_si
     # eV m^3/s per electron and N: -sum D_field dF0 over the inner edges (mobility E^2/N^2 in a DC field)
     field_power = float(-np.sum(solution["field_diffusion"] * np.diff(eedf)))
@@ -604,6 +602,8 @@ def _result(solution, reduced_field, gas_temperature, field_si, top, cells, iter
     among_electrons = coulomb.power(eedf) if coulomb is not None else 0.0
     balance = ((field_power - inelastic_power - elastic_power - growth_power - among_electrons) / field_power
                if field_power else 0.0)
+    shares = {"elastic": elastic_power, **losses, "growth": growth_power, "electron-electron": among_electrons}
+    power_fractions = {name: value / field_power for name, value in shares.items()} if field_power else {}
     return TwoTermResult(
         reduced_field=reduced_field, gas_temperature=gas_temperature, energy=solution["energy"], eedf=eedf,
         mean_energy=mean_energy, mobility_N=mobility, drift_velocity=drift_velocity, diffusion_N=diffusion,
@@ -612,7 +612,7 @@ def _result(solution, reduced_field, gas_temperature, field_si, top, cells, iter
         ionization_frequency_N=ionization, attachment_frequency_N=attachment,
         alpha_N=ionization / denominator if denominator > 0 else 0.0,
         eta_N=attachment / denominator if denominator > 0 else 0.0, growth=solution["growth_model"],
-        power_balance=float(balance), max_energy=float(top), cells=cells, iterations=iterations, omega_N=omega_N,
+        power_balance=float(balance), power_fractions=power_fractions, max_energy=float(top), cells=cells, iterations=iterations, omega_N=omega_N,
         **_electron_fields(coulomb, eedf))
 
 
@@ -623,6 +623,24 @@ def _electron_fields(coulomb, eedf):
     coulomb.coefficients(eedf)  # its Coulomb logarithm at this F0
     return {"ionization_degree": coulomb.ionization_degree, "electron_density": coulomb.electron_density,
             "coulomb_logarithm": coulomb.coulomb_logarithm}
+
+
+def _rates_and_losses(solution):
+    """Every process's rate coefficient (by label, m^3/s) and the power it takes from the electrons per electron
+    and N (eV m^3/s; negative for a superelastic one, which gives; an attachment takes the electron's energy)."""
+    eedf, edges = solution["eedf"], solution["edges"]
+    low, high = edges[:-1], edges[1:]
+    rates, losses = {}, {}
+    for label, kind, share, integral, threshold, weight_ratio in solution["collisions"].channels:
+        if kind == "superelastic":
+            rates[label] = GAMMA * share / weight_ratio * float(eedf @ integral(low + threshold, high + threshold))
+            losses[label] = -rates[label] * threshold
+        else:
+            rates[label] = GAMMA * share * float(eedf @ integral(low, high))
+            losses[label] = rates[label] * threshold
+        if kind == "attachment":
+            losses[label] += GAMMA * share * float(eedf @ cell_integral(lambda e: e * integral.integrand(e), edges))
+    return rates, losses
 
 
 def _field_diffusion(field_si, omega_N, inner, effective):
