@@ -42,12 +42,16 @@ import math
 import numpy as np
 from scipy import constants
 
+from ._two_term_growth import MAX_GROWTH_ITERATIONS
 from ._two_term_operators import GAMMA, central_flux_matrix
 
-__all__ = ["ElectronCollisions", "coulomb_logarithm"]
+__all__ = ["ElectronCollisions", "coulomb_logarithm", "with_electron_collisions"]
 
 # a / ln(Lambda) (eV^3/2 m^3/s with energies in eV): e^2 gamma / (24 pi eps0^2)
 COULOMB_FACTOR = constants.e**2 * GAMMA / (24.0 * math.pi * constants.epsilon_0**2)
+MAX_EE_ITERATIONS = 200
+EE_ENERGY_TOLERANCE = 1e-10  # net energy the electrons exchange among themselves, relative to what they move
+EE_TOLERANCE = 1e-7  # largest change of F0 between electron-electron rounds, relative to its peak
 MIN_COULOMB_LOGARITHM = 2.0  # below it the plasma is not weakly coupled: the Fokker-Planck operator fails
 
 
@@ -157,3 +161,60 @@ class ElectronCollisions:
         drift, diffusion = self.coefficients(eedf)
         flux = drift * 0.5 * (eedf[:-1] + eedf[1:]) - diffusion * np.diff(eedf) / self.width
         return float(-np.sum(flux) * self.width)
+
+
+def with_electron_collisions(coulomb, among_electrons, settled, eedf, growth):
+    """Solve again with the electron-electron coefficients of the last F0 until F0 settles (its largest change
+    below ``EE_TOLERANCE`` of its peak); returns (eedf, effective cross section, growth, solves).
+
+    Coefficients from the last F0 act on the next as a heat bath at the last F0's temperature, so the plain
+    iteration crawls where the electrons collide with each other far more than with the gas (the gas moves
+    their temperature a little each round). So each round scales the diffusion of the electron-electron
+    operator by the factor that makes it exchange no net energy with the F0 it gives (secant iteration,
+    to 1e-4 of the last round's change): the temperature is then set by the field and the gas at
+    once, and the rounds only settle the shape. The factor is 1 at the solution, where the operator
+    conserves energy exactly.
+    """
+    solves, change, scale, slope = 0, math.inf, 1.0, None
+    for _ in range(MAX_EE_ITERATIONS):
+        drift, diffusion = coulomb.coefficients(eedf)
+        if coulomb.coulomb_logarithm < MIN_COULOMB_LOGARITHM:
+            raise ValueError(f"electron_density: the Coulomb logarithm is {coulomb.coulomb_logarithm:.3g} (< "
+                             f"{MIN_COULOMB_LOGARITHM:g}) at n_e = {coulomb.electron_density:.3g} m^-3 and this "
+                             "mean energy: too dense for the weakly coupled (Fokker-Planck) electron collisions")
+
+        def exchanged(scale):
+            among_electrons[0] = central_flux_matrix(drift, scale * diffusion, coulomb.width)
+            solution = settled(growth)
+            return solution, coulomb.exchanged_fraction(drift, scale * diffusion, solution[0])
+
+        tolerance = max(EE_ENERGY_TOLERANCE, 1e-4 * min(change, 0.1))
+        solution, used, scale, slope = _energy_neutral(exchanged, scale, slope, tolerance)
+        solves += used
+        change = float(np.max(np.abs(solution[0] - eedf)) / np.max(eedf))
+        eedf, effective, growth = solution[0], solution[1], solution[2]
+        if change <= EE_TOLERANCE:
+            return eedf, effective, growth, solves
+    raise RuntimeError(f"the electron-electron iteration did not settle in {MAX_EE_ITERATIONS} rounds (last "
+                       f"change {change:.2g} of the peak)")
+
+
+def _energy_neutral(exchanged, start, slope, tolerance):
+    """The solution at the diffusion scale where ``exchanged(scale)`` (the energy the electrons exchange among
+    themselves, relative to what they move) is below ``tolerance``, by the secant method from ``start`` (with the
+    last round's ``slope`` if known); returns (solution, solves, scale, slope)."""
+    scale, (solution, residual) = start, exchanged(start)
+    solves = solution[3]
+    for _ in range(MAX_GROWTH_ITERATIONS):
+        if abs(residual) <= tolerance:
+            return solution, solves, scale, slope
+        following = scale - residual / slope if slope else scale * (1.0 + 1e-3)
+        solution, next_residual = exchanged(following)
+        solves += solution[3]
+        if next_residual == residual:  # round-off: nothing left to gain
+            break
+        slope = (next_residual - residual) / (following - scale)
+        scale, residual = following, next_residual
+    if abs(residual) <= 10.0 * tolerance:
+        return solution, solves, scale, slope
+    raise RuntimeError(f"the electron-electron energy balance did not settle (last imbalance {residual:.2g})")

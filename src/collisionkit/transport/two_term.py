@@ -45,9 +45,10 @@ from scipy.sparse.linalg import spsolve
 
 from .._repr import dataclass_repr
 from ._two_term_collisions import collision_operator, gas_collisions
-from ._two_term_electrons import MIN_COULOMB_LOGARITHM, ElectronCollisions
-from ._two_term_growth import MAX_GROWTH_ITERATIONS, SpatialGrowth, effective_cross_section, settled_growth
-from ._two_term_operators import GAMMA, cell_integral, central_flux_matrix, drift_diffusion_matrix
+from ._two_term_electrons import ElectronCollisions, with_electron_collisions
+from ._two_term_moments import field_diffusion, moments
+from ._two_term_growth import SpatialGrowth, effective_cross_section, settled_growth
+from ._two_term_operators import GAMMA, drift_diffusion_matrix
 from ._validation import MAX_GAS_TEMPERATURE, MAX_REDUCED_FIELD, check_reduced_frequency
 from .gases import Gas
 from .superelastic import BOLTZMANN_EV
@@ -59,12 +60,9 @@ SHARING = ("equal", "uniform")
 GROWTH_MODELS = ("temporal", "spatial")
 DECADES = (10.0, 18.0)  # F0 falls by this many decades from its peak to the grid's top energy
 MAX_GRID_ADJUSTMENTS = 60
-MAX_EE_ITERATIONS = 200
 # n_e/N up to which the electron-electron collisions are solved and tested; beyond it electron-ion collisions
 # (not in the model) matter as much
 MAX_IONIZATION_DEGREE = 0.01
-EE_ENERGY_TOLERANCE = 1e-10  # net energy the electrons exchange among themselves, relative to what they move
-EE_TOLERANCE = 1e-7  # largest change of F0 between electron-electron rounds, relative to its peak
 ROW_FIELDS = ("mean_energy", "mobility_N", "drift_velocity", "diffusion_N", "characteristic_energy",
               "energy_mobility_N", "energy_diffusion_N", "momentum_frequency_N", "ionization_frequency_N", "attachment_frequency_N", "alpha_N", "eta_N", "power_balance", "max_energy",
               "cells", "ionization_degree", "electron_density", "coulomb_logarithm", "omega_N")
@@ -349,7 +347,8 @@ def two_term_boltzmann(gas: Gas, reduced_field: float, gas_temperature: float = 
             colliding = True
             continue
         top = _adjusted_top(solution, top, decades)
-    result = _result(solution, reduced_field, gas_temperature, field_si, top, cells, iterations, omega_N)
+    result = TwoTermResult(reduced_field=reduced_field, gas_temperature=gas_temperature, max_energy=float(top),
+                           cells=cells, iterations=iterations, **moments(solution, field_si))
     _warn_if_doubtful(result, gas, solution, max_energy is not None)
     return result
 
@@ -468,7 +467,7 @@ def _solve_on_grid(gas, field, kT, cells, top, sharing, growth_model, guess=0.0,
     def eedf_at(growth):
         effective = sigma_m if spatial else effective_cross_section(sigma_m, growth, inner)
         drift = -GAMMA * inner**2 * sigma_eps
-        heating = _field_diffusion(field_si, omega_N, inner, effective)
+        heating = field_diffusion(field_si, omega_N, inner, effective)
         diffusion = heating + GAMMA * kT * inner**2 * sigma_eps
         if spatial:
             drift = drift + spatial.drift(growth)
@@ -500,7 +499,7 @@ def _solve_on_grid(gas, field, kT, cells, top, sharing, growth_model, guess=0.0,
     else:
         eedf, effective, growth, solves = settled(guess)
     if coulomb is not None:
-        eedf, effective, growth, used = _with_electron_collisions(coulomb, among_electrons, settled, eedf, growth)
+        eedf, effective, growth, used = with_electron_collisions(coulomb, among_electrons, settled, eedf, growth)
         solves += used
     if spatial:
         spatial.check(eedf, production)
@@ -509,167 +508,3 @@ def _solve_on_grid(gas, field, kT, cells, top, sharing, growth_model, guess=0.0,
             "field_diffusion": effective[1], "omega_N": omega_N, "collisions": collisions,
             "inner": inner, "sigma_eps": sigma_eps, "kT": kT, "production": float(production @ eedf),
             "coulomb": coulomb}, solves
-
-
-def _with_electron_collisions(coulomb, among_electrons, settled, eedf, growth):
-    """Solve again with the electron-electron coefficients of the last F0 until F0 settles (its largest change
-    below ``EE_TOLERANCE`` of its peak); returns (eedf, effective cross section, growth, solves).
-
-    Coefficients from the last F0 act on the next as a heat bath at the last F0's temperature, so the plain
-    iteration crawls where the electrons collide with each other far more than with the gas (the gas moves
-    their temperature a little each round). So each round scales the diffusion of the electron-electron
-    operator by the factor that makes it exchange no net energy with the F0 it gives (secant iteration,
-    to 1e-4 of the last round's change): the temperature is then set by the field and the gas at
-    once, and the rounds only settle the shape. The factor is 1 at the solution, where the operator
-    conserves energy exactly.
-    """
-    solves, change, scale, slope = 0, math.inf, 1.0, None
-    for _ in range(MAX_EE_ITERATIONS):
-        drift, diffusion = coulomb.coefficients(eedf)
-        if coulomb.coulomb_logarithm < MIN_COULOMB_LOGARITHM:
-            raise ValueError(f"electron_density: the Coulomb logarithm is {coulomb.coulomb_logarithm:.3g} (< "
-                             f"{MIN_COULOMB_LOGARITHM:g}) at n_e = {coulomb.electron_density:.3g} m^-3 and this "
-                             "mean energy: too dense for the weakly coupled (Fokker-Planck) electron collisions")
-
-        def exchanged(scale):
-            among_electrons[0] = central_flux_matrix(drift, scale * diffusion, coulomb.width)
-            solution = settled(growth)
-            return solution, coulomb.exchanged_fraction(drift, scale * diffusion, solution[0])
-
-        tolerance = max(EE_ENERGY_TOLERANCE, 1e-4 * min(change, 0.1))
-        solution, used, scale, slope = _energy_neutral(exchanged, scale, slope, tolerance)
-        solves += used
-        change = float(np.max(np.abs(solution[0] - eedf)) / np.max(eedf))
-        eedf, effective, growth = solution[0], solution[1], solution[2]
-        if change <= EE_TOLERANCE:
-            return eedf, effective, growth, solves
-    raise RuntimeError(f"the electron-electron iteration did not settle in {MAX_EE_ITERATIONS} rounds (last "
-                       f"change {change:.2g} of the peak)")
-
-
-def _energy_neutral(exchanged, start, slope, tolerance):
-    """The solution at the diffusion scale where ``exchanged(scale)`` (the energy the electrons exchange among
-    themselves, relative to what they move) is below ``tolerance``, by the secant method from ``start`` (with the
-    last round's ``slope`` if known); returns (solution, solves, scale, slope)."""
-    scale, (solution, residual) = start, exchanged(start)
-    solves = solution[3]
-    for _ in range(MAX_GROWTH_ITERATIONS):
-        if abs(residual) <= tolerance:
-            return solution, solves, scale, slope
-        following = scale - residual / slope if slope else scale * (1.0 + 1e-3)
-        solution, next_residual = exchanged(following)
-        solves += solution[3]
-        if next_residual == residual:  # round-off: nothing left to gain
-            break
-        slope = (next_residual - residual) / (following - scale)
-        scale, residual = following, next_residual
-    if abs(residual) <= 10.0 * tolerance:
-        return solution, solves, scale, slope
-    raise RuntimeError(f"the electron-electron energy balance did not settle (last imbalance {residual:.2g})")
-
-
-def _result(solution, reduced_field, gas_temperature, field_si, top, cells, iterations, omega_N) -> TwoTermResult:
-    """The moments of F0: mean energy, mobility, diffusion, rates, the power balance."""
-    eedf, edges, inner = solution["eedf"], solution["edges"], solution["inner"]
-    effective, collisions = solution["effective"], solution["collisions"]
-    low, high = edges[:-1], edges[1:]
-    mean_energy = float(eedf @ ((high**2.5 - low**2.5) / 2.5))
-    mobility = float(-GAMMA / 3.0 * np.sum(inner / effective * np.diff(eedf)))
-    diffusion = float(GAMMA / 3.0 * np.sum(eedf * cell_integral(lambda e: e / _effective_at(solution, e), edges)))
-    energy_mobility = float(-GAMMA / (3.0 * mean_energy) * np.sum(inner**2 / effective * np.diff(eedf)))
-    energy_diffusion = float(GAMMA / (3.0 * mean_energy) * np.sum(
-        eedf * cell_integral(lambda e: e**2 / _effective_at(solution, e), edges)))
-    momentum_frequency = float(GAMMA * np.sum(eedf * cell_integral(
-        lambda e: e * sum(x * sigma(e) for x, sigma in collisions.momentum), edges)))
-    rates, losses = _rates_and_losses(solution)
-    ionization = sum(rates[label] for label, kind, *_ in collisions.channels if kind == "ionization")
-    attachment = sum(rates[label] for label, kind, *_ in collisions.channels if kind == "attachment")
-    inelastic_power = sum(losses.values())
-    drift_velocity = mobility * field_si
-    # eV m^3/s per electron and N: -sum D_field dF0 over the inner edges (mobility E^2/N^2 in a DC field)
-    field_power = float(-np.sum(solution["field_diffusion"] * np.diff(eedf)))
-    growth = solution["growth"]
-    if solution["growth_model"] == "temporal":
-        growth_power = growth * mean_energy  # new electrons are born cold: they dilute the mean energy
-        denominator = drift_velocity  # alpha = k_i / W
-    else:  # the energy the alpha terms carry: alpha [E/N (N D + <e> mu_e N) - alpha <e> D_e N]
-        growth_power = growth * (field_si * (diffusion + mean_energy * energy_mobility)
-                                 - growth * mean_energy * energy_diffusion)
-        net = ionization - attachment
-        denominator = net / growth if net != 0.0 and growth != 0.0 else drift_velocity
-    elastic_power = _elastic_power(solution)
-    coulomb = solution["coulomb"]  # the electrons' energy exchange among themselves: zero but for the top cell
-    among_electrons = coulomb.power(eedf) if coulomb is not None else 0.0
-    balance = ((field_power - inelastic_power - elastic_power - growth_power - among_electrons) / field_power
-               if field_power else 0.0)
-    shares = {"elastic": elastic_power, **losses, "growth": growth_power, "electron-electron": among_electrons}
-    power_fractions = {name: value / field_power for name, value in shares.items()} if field_power else {}
-    return TwoTermResult(
-        reduced_field=reduced_field, gas_temperature=gas_temperature, energy=solution["energy"], eedf=eedf,
-        mean_energy=mean_energy, mobility_N=mobility, drift_velocity=drift_velocity, diffusion_N=diffusion,
-        characteristic_energy=diffusion / mobility if mobility > 0 else math.inf, energy_mobility_N=energy_mobility,
-        energy_diffusion_N=energy_diffusion, momentum_frequency_N=momentum_frequency, rate_coefficients=rates,
-        ionization_frequency_N=ionization, attachment_frequency_N=attachment,
-        alpha_N=ionization / denominator if denominator > 0 else 0.0,
-        eta_N=attachment / denominator if denominator > 0 else 0.0, growth=solution["growth_model"],
-        power_balance=float(balance), power_fractions=power_fractions, max_energy=float(top), cells=cells, iterations=iterations, omega_N=omega_N,
-        **_electron_fields(coulomb, eedf))
-
-
-def _electron_fields(coulomb, eedf):
-    """The result's fields of the electron-electron collisions (zeros without them)."""
-    if coulomb is None:
-        return {}
-    coulomb.coefficients(eedf)  # its Coulomb logarithm at this F0
-    return {"ionization_degree": coulomb.ionization_degree, "electron_density": coulomb.electron_density,
-            "coulomb_logarithm": coulomb.coulomb_logarithm}
-
-
-def _rates_and_losses(solution):
-    """Every process's rate coefficient (by label, m^3/s) and the power it takes from the electrons per electron
-    and N (eV m^3/s; negative for a superelastic one, which gives; an attachment takes the electron's energy)."""
-    eedf, edges = solution["eedf"], solution["edges"]
-    low, high = edges[:-1], edges[1:]
-    rates, losses = {}, {}
-    for label, kind, share, integral, threshold, weight_ratio in solution["collisions"].channels:
-        if kind == "superelastic":
-            rates[label] = GAMMA * share / weight_ratio * float(eedf @ integral(low + threshold, high + threshold))
-            losses[label] = -rates[label] * threshold
-        else:
-            rates[label] = GAMMA * share * float(eedf @ integral(low, high))
-            losses[label] = rates[label] * threshold
-        if kind == "attachment":
-            losses[label] += GAMMA * share * float(eedf @ cell_integral(lambda e: e * integral.integrand(e), edges))
-    return rates, losses
-
-
-def _field_diffusion(field_si, omega_N, inner, effective):
-    r"""The field's diffusion in energy at the inner edges: :math:`\frac{\gamma}{3}(E/N)^2\epsilon/\tilde\sigma_m`, or
-    for a high-frequency field of amplitude E (its mean square :math:`E^2/2`)
-    :math:`\frac{\gamma}{3}\frac{(E/N)^2}{2}\frac{\epsilon\tilde\sigma_m}{\tilde\sigma_m^2 + q^2/\epsilon}`,
-    :math:`q = \omega/(N\gamma)` (Hagelaar & Pitchford 2005, eq. (16))."""
-    if omega_N == 0.0:
-        return GAMMA / 3.0 * field_si**2 * inner / effective
-    q = omega_N / GAMMA
-    return GAMMA / 3.0 * 0.5 * field_si**2 * inner * effective / (effective**2 + q * q / inner)
-
-
-def _effective_at(solution, energy):
-    """The momentum-transfer cross section the moments divide by: with temporal growth plus (nu/N)/(gamma eps^1/2)."""
-    collisions = solution["collisions"]
-    sigma = sum(x * s(energy) for x, s in collisions.momentum)
-    if solution["growth_model"] != "temporal":
-        return sigma
-    with np.errstate(divide="ignore"):
-        return sigma + solution["growth"] / (GAMMA * np.sqrt(energy))
-
-
-def _elastic_power(solution):
-    """Net power lost in elastic recoil: the flux the drift term carries, :math:`\\int (-\\tilde W F_0 + \\gamma kT
-    \\epsilon^2\\sigma_\\epsilon \\partial_\\epsilon F_0)d\\epsilon`, on the grid's inner edges."""
-    eedf, edges, inner = solution["eedf"], solution["edges"], solution["inner"]
-    width = edges[1] - edges[0]
-    sigma_eps, kT = solution["sigma_eps"], solution["kT"]
-    at_edges = 0.5 * (eedf[:-1] + eedf[1:])
-    slope = np.diff(eedf) / width
-    return float(np.sum(GAMMA * inner**2 * sigma_eps * (at_edges + kT * slope)) * width)
