@@ -35,26 +35,46 @@ def test_the_closed_form_mean_cosine_is_the_integral_of_the_sampled_distribution
     assert float(mean_scattering_cosine(law, energy)) == pytest.approx(sampled, rel=1e-8, abs=1e-10)
 
 
-@pytest.mark.parametrize("law", ["okhrimovskyy", "vahedi-surendra"])
+@pytest.mark.parametrize("law", ["okhrimovskyy", "vahedi-surendra", "screened_coulomb"])
 @pytest.mark.parametrize("energy", [0.3, 5.0, 100.0])
 def test_the_sampled_cosines_follow_the_published_densities(law, energy):
-    """P(cos chi > c(u)) = u: the density of each paper integrated (quad) from the kernel's cosine for u up to 1.
+    """P(cos chi > c(u)) = u (screened Coulomb: P(cos chi < c(u)) = u): each paper's density integrated (quad) from
+    the kernel's cosine c(u).
 
     Okhrimovskyy et al. (2002): p(mu) = (1 - xi^2) / (2 (1 - xi mu)^2); Vahedi & Surendra (1995):
-    1 - mu has the density (e/2) / ((1 + e (1 - mu)/2) ln(1 + e)) on [0, 2] (e in eV)."""
+    1 - mu has the density (e/2) / ((1 + e (1 - mu)/2) ln(1 + e)) on [0, 2] (e in eV); Wentzel's screened
+    Coulomb law (Z. Phys. 40, 590 (1927); collisionkit.transport.angular): p(mu) = 2 eta (1 + eta) /
+    (1 + 2 eta - mu)^2, eta = e_s / (4 e), here with e_s = 1 eV (eta = 0.83, 0.05, 0.0025), whose inversion
+    runs the other way (u -> 0 is backscattering, c(0) = -1), so there P(cos chi < c(u)) = u. Tolerance
+    1e-9 relative: quad's accuracy, not statistics (no sampling). Can fail (scratch copy): eta 1 % larger in the
+    density gives 0.01005-0.01010 for u = 0.01, the kernel's cosine at twice the screening energy (eta =
+    e_s / (2 e)) 0.005-0.007, and c(1 - u) (the inversion's orientation) 0.99."""
+    peak = []  # where quad should look: the screened Coulomb density is a peak eta wide at mu = 1
     if law == "okhrimovskyy":
         xi = float(okhrimovskyy_parameter(energy))
 
         def density(mu):
             return (1 - xi**2) / (2 * (1 - xi * mu) ** 2)
-    else:
+    elif law == "vahedi-surendra":
         def density(mu):
             return (energy / 2) / ((1 + energy * (1 - mu) / 2) * math.log1p(energy))
-    total, _ = integrate.quad(density, -1.0, 1.0)
+    else:
+        eta = 1.0 / (4 * energy)  # the screening energy of _kernel_cosine, 1 eV
+
+        def density(mu):
+            return 2 * eta * (1 + eta) / (1 + 2 * eta - mu) ** 2
+        peak = [max(-0.5, 1 - 10 * eta)]
+    total, _ = integrate.quad(density, -1.0, 1.0, points=peak or None, limit=200)
     assert total == pytest.approx(1.0, rel=1e-10)
     for u in (0.01, 0.2, 0.5, 0.77, 0.99):
-        above, _ = integrate.quad(density, _kernel_cosine(law, energy, u), 1.0, epsabs=1e-13)
-        assert above == pytest.approx(u, rel=1e-9)
+        c = _kernel_cosine(law, energy, u)
+        if law == "screened_coulomb":
+            below, _ = integrate.quad(density, -1.0, c, points=[x for x in peak if x < c] or None, epsabs=1e-13,
+                                      limit=200)
+            assert below == pytest.approx(u, rel=1e-9)
+        else:
+            above, _ = integrate.quad(density, c, 1.0, epsabs=1e-13)
+            assert above == pytest.approx(u, rel=1e-9)
 
 
 @pytest.mark.parametrize("law", LAWS)
