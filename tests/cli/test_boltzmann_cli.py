@@ -195,3 +195,19 @@ def test_the_grid_top_can_be_set_and_a_doubtful_one_is_a_warning(tmp_path):
     data = json.loads(summary.read_text())
     assert data["results"][0]["max_energy"] == 1000.0 and data["parameters"]["max-energy"] == 1000.0
     assert "the power balance is off by" in data["warnings"][0] and "(--max-energy 1000 eV" in data["warnings"][0]
+
+
+def test_the_summary_says_what_the_numbers_came_from(tmp_path):
+    import hashlib
+
+    from collisionkit import __version__
+    from collisionkit.transport import catalogue_files
+
+    summary = tmp_path / "b.json"
+    result = runner.invoke(app, ["boltzmann", "--gas", "Ar", "--E-N", "100", "--summary", str(summary)])
+    assert result.exit_code == 0, result.output
+    provenance = json.loads(summary.read_text())["provenance"]
+    (argon,) = catalogue_files("Ar")
+    assert provenance["collisionkit"] == __version__
+    assert provenance["cross_sections"] == [{"path": str(argon),
+                                             "sha256": hashlib.sha256(argon.read_bytes()).hexdigest()}]

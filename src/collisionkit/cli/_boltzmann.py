@@ -217,8 +217,8 @@ def _write_tables(results, out: Path, deliveries: Deliveries) -> None:
 def boltzmann_summary(options: BoltzmannOptions, results, files=(), run: BoltzmannRun | None = None) -> dict:
     """The command's JSON summary: ``gas``, ``results`` (one :meth:`~collisionkit.transport.TwoTermResult.to_dict`
     per E/N solved, with ``E_N``), ``failed`` (``E_N`` and ``reason`` of each point that failed), ``warnings``
-    (the solver's, about results to read with care), ``units`` (of every result and CSV column), ``files`` and
-    ``parameters``.
+    (the solver's, about results to read with care), ``units`` (of every result and CSV column), ``provenance``
+    (collisionkit's version, the cross-section files with their SHA-256), ``files`` and ``parameters``.
 
     Examples
     --------
@@ -234,7 +234,17 @@ def boltzmann_summary(options: BoltzmannOptions, results, files=(), run: Boltzma
     return {"gas": options.parameters().gas_name(),
             "results": [result.to_dict() | {"E_N": result.reduced_field} for result in results],
             "failed": run.failed if run else [], "warnings": run.warnings if run else [], "units": UNITS,
-            "files": [str(path) for path in files], "parameters": parameters}
+            "provenance": _provenance(options), "files": [str(path) for path in files], "parameters": parameters}
+
+
+def _provenance(options: BoltzmannOptions) -> dict:
+    """What the numbers came from: collisionkit's version and each cross-section file with its SHA-256."""
+    from .. import __version__
+    from .._io import file_digest
+
+    return {"collisionkit": __version__,
+            "cross_sections": [{"path": str(path), "sha256": file_digest(path)}
+                               for path in options.parameters().gas_files()]}
 
 
 def boltzmann(
