@@ -129,16 +129,16 @@ def test_the_solvers_warnings_are_shown_and_kept_in_the_summary(tmp_path):
 
 def test_ctrl_c_keeps_the_points_already_solved(tmp_path, monkeypatch):
     """Ctrl-C during the second point: the first is written to the summary, exit 130."""
-    from collisionkit.cli import _boltzmann
+    from collisionkit.transport import TwoTermScan
 
-    original = _boltzmann.BoltzmannRun.solve
+    original = TwoTermScan.solve
 
-    def interrupted_at_the_second(self, gas, value, options):
+    def interrupted_at_the_second(self, value):
         if self.results:
             raise KeyboardInterrupt
-        original(self, gas, value, options)
+        original(self, value)
 
-    monkeypatch.setattr(_boltzmann.BoltzmannRun, "solve", interrupted_at_the_second)
+    monkeypatch.setattr(TwoTermScan, "solve", interrupted_at_the_second)
     summary = tmp_path / "b.json"
     result = runner.invoke(app, ["boltzmann", "--model", "reid", "--E-N", "1,12,24", "--gas-temperature", "0",
                                  "--summary", str(summary)])

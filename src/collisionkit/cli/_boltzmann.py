@@ -114,72 +114,32 @@ def _as_cli(message: str) -> str:
     return message
 
 
-class BoltzmannRun:
-    """The two-term solutions of a scan, the E/N points that failed (with why) and the solver's warnings.
+def _scan(options: BoltzmannOptions):
+    """The scan at every E/N, with a progress bar (:class:`collisionkit.transport.TwoTermScan`, which a Python
+    script runs the same way). A point that fails is kept as a failure and the scan goes on; Ctrl-C stops it,
+    keeping the points solved (the caller writes them, then exits 130). Returns (scan, interrupted)."""
+    from ..transport import TwoTermScan
 
-    Examples
-    --------
-    >>> from collisionkit.transport import lucas_saelee
-    >>> run = BoltzmannRun()
-    >>> options = BoltzmannOptions(model="lucas_saelee", gas_temperature=0.0, growth="spatial")
-    >>> for value in (50.0, 3000.0):
-    ...     run.solve(lucas_saelee(0.5), value, options)
-    >>> len(run.results), run.failed[0]["E_N"], "--growth temporal" in run.failed[0]["reason"]
-    (1, 3000.0, True)
-    """
-
-    def __init__(self):
-        self.results, self.failed, self.warnings = [], [], []
-        self.interrupted = False  # Ctrl-C stopped the scan
-
-    def solve(self, gas, value: float, options: BoltzmannOptions) -> None:
-        """Solve at one E/N, keeping a failure (the growth or the electron-electron iteration does not settle)
-        as this point's result, and the warnings as notes. A ValueError (an input the solution shows wrong: a
-        Coulomb logarithm below 2) propagates."""
-        import warnings
-
-        from ..transport import TwoTermWarning, two_term_boltzmann
-
-        with warnings.catch_warnings(record=True) as caught:
-            warnings.simplefilter("always", TwoTermWarning)
-            try:
-                self.results.append(two_term_boltzmann(
-                    gas, value, options.gas_temperature, cells=options.cells, max_energy=options.max_energy,
-                    sharing=options.sharing,
-                    growth=options.growth, ionization_degree=options.ionization_degree,
-                    electron_density=options.electron_density, omega_N=options.omega_n))
-            except RuntimeError as failure:
-                self.failed.append({"E_N": value, "reason": _as_cli(str(failure))})
-        for note_of_solver in caught:
-            if issubclass(note_of_solver.category, TwoTermWarning):
-                self.warnings.append(_as_cli(str(note_of_solver.message)))
-            else:
-                warnings.warn_explicit(note_of_solver.message, note_of_solver.category, note_of_solver.filename,
-                                       note_of_solver.lineno)
-
-
-def _results(options: BoltzmannOptions) -> BoltzmannRun:
-    """The two-term solution at each E/N, with a progress bar. A point that fails is kept as a failure and the
-    scan goes on; Ctrl-C stops it, keeping the points solved (the caller writes them, then exits 130)."""
     try:
         with lxcat_notes():
             gas = options.parameters().make_gas()
     except ValueError as error:
         raise fail(str(error)) from None
-    run = BoltzmannRun()
+    scan = TwoTermScan(gas, options.e_n, gas_temperature=options.gas_temperature, cells=options.cells,
+                       max_energy=options.max_energy, sharing=options.sharing, growth=options.growth,
+                       ionization_degree=options.ionization_degree, electron_density=options.electron_density,
+                       omega_N=options.omega_n)
     try:
         with progress_bar("E/N points", total=len(options.e_n)) as advance:
-            for value in options.e_n:
-                run.solve(gas, value, options)
-                advance(1)
+            scan.run(progress=lambda: advance(1))
     except ValueError as error:  # a Coulomb logarithm below 2 at the solution's mean energy: the density is wrong
-        value = options.e_n[len(run.results) + len(run.failed)]
+        value = options.e_n[len(scan.results) + len(scan.failed)]
         raise fail(f"E/N = {value:g} Td: {_as_cli(str(error))}") from None
     except KeyboardInterrupt:
-        done = len(run.results) + len(run.failed)
+        done = len(scan.results) + len(scan.failed)
         warn(f"interrupted after {done} of {len(options.e_n)} E/N points: the finished ones are written")
-        run.interrupted = True
-    return run
+        return scan, True
+    return scan, False
 
 
 def _print(results, options: BoltzmannOptions) -> None:
@@ -193,15 +153,12 @@ def _print(results, options: BoltzmannOptions) -> None:
                 rows)
 
 
-def _write_tables(results, out: Path, deliveries: Deliveries) -> None:
-    from ..sweep import write_csv
+def _write_tables(scan, out: Path, deliveries: Deliveries) -> None:
+    from .._io import write_csv
 
     deliveries.write(f"the folder {out}", lambda: out.mkdir(parents=True, exist_ok=True))
-    deliveries.write(f"the table {out / 'boltzmann.csv'}",
-                     lambda: write_csv(out / "boltzmann.csv", [result.to_row() for result in results]))
-    eedf_rows = [{"E_N": r.reduced_field, "energy": float(energy), "eedf": float(value)}
-                 for r in results for energy, value in zip(r.energy, r.eedf)]
-    deliveries.write(f"the table {out / 'eedf.csv'}", lambda: write_csv(out / "eedf.csv", eedf_rows))
+    deliveries.write(f"the table {out / 'boltzmann.csv'}", lambda: write_csv(out / "boltzmann.csv", scan.table()))
+    deliveries.write(f"the table {out / 'eedf.csv'}", lambda: write_csv(out / "eedf.csv", scan.eedf_table()))
     try:
         import matplotlib
     except ImportError:
@@ -211,30 +168,28 @@ def _write_tables(results, out: Path, deliveries: Deliveries) -> None:
     from .. import plotting
 
     deliveries.write(f"the plot {out / 'eedf.png'}",
-                     lambda: plotting.save(plotting.plot_two_term_eedf(results), out / "eedf.png"))
+                     lambda: plotting.save(plotting.plot_two_term_eedf(scan.results), out / "eedf.png"))
 
 
-def boltzmann_summary(options: BoltzmannOptions, results, files=(), run: BoltzmannRun | None = None) -> dict:
-    """The command's JSON summary: ``gas``, ``results`` (one :meth:`~collisionkit.transport.TwoTermResult.to_dict`
-    per E/N solved, with ``E_N``), ``failed`` (``E_N`` and ``reason`` of each point that failed), ``warnings``
-    (the solver's, about results to read with care), ``units`` (of every result and CSV column), ``provenance``
+def boltzmann_summary(options: BoltzmannOptions, scan, files=()) -> dict:
+    """The command's JSON summary: ``gas``, the scan's :meth:`~collisionkit.transport.TwoTermScan.summary`
+    (``results``, ``failed``, ``warnings`` with the options' spellings, ``units``), ``provenance``
     (collisionkit's version, the cross-section files with their SHA-256), ``files`` and ``parameters``.
 
     Examples
     --------
-    >>> from collisionkit.transport import two_term_boltzmann, reid_ramp
+    >>> from collisionkit.transport import TwoTermScan, reid_ramp
     >>> options = BoltzmannOptions(model="reid", e_n=[12.0], gas_temperature=0.0)
-    >>> summary = boltzmann_summary(options, [two_term_boltzmann(reid_ramp(), 12.0, 0.0)])
+    >>> summary = boltzmann_summary(options, TwoTermScan(reid_ramp(), [12.0], gas_temperature=0.0).run())
     >>> summary["gas"], summary["results"][0]["E_N"], summary["parameters"]["cells"]
     ('reid', 12.0, 1000)
     """
-    from ..transport.two_term import UNITS
-
     parameters = options.model_dump(mode="json", by_alias=True, exclude={"out", "summary", "overwrite"})
-    return {"gas": options.parameters().gas_name(),
-            "results": [result.to_dict() | {"E_N": result.reduced_field} for result in results],
-            "failed": run.failed if run else [], "warnings": run.warnings if run else [], "units": UNITS,
-            "provenance": _provenance(options), "files": [str(path) for path in files], "parameters": parameters}
+    found = scan.summary()
+    found["failed"] = [failure | {"reason": _as_cli(failure["reason"])} for failure in found["failed"]]
+    found["warnings"] = [_as_cli(message) for message in found["warnings"]]
+    return {"gas": options.parameters().gas_name(), **found, "provenance": _provenance(options),
+            "files": [str(path) for path in files], "parameters": parameters}
 
 
 def _provenance(options: BoltzmannOptions) -> dict:
@@ -295,24 +250,24 @@ def boltzmann(
                  sharing=sharing, growth=growth, ionization_degree=ionization_degree,
                  electron_density=electron_density, omega_n=omega_n, out=out, summary=summary, overwrite=overwrite)
     options = load_options(BoltzmannOptions, config, given)
-    run = _results(options)
-    for message in run.warnings:
-        warn(message)
-    if run.results:
-        _print(run.results, options)
+    scan, interrupted = _scan(options)
+    for message in scan.warnings:
+        warn(_as_cli(message))
+    if scan.results:
+        _print(scan.results, options)
     deliveries = Deliveries("boltzmann")
-    if options.out is not None and run.results:
-        _write_tables(run.results, options.out, deliveries)
+    if options.out is not None and scan.results:
+        _write_tables(scan, options.out, deliveries)
     for path in deliveries.files:
         say(f"wrote {path}")
-    deliveries.finish(options.summary, boltzmann_summary(options, run.results, deliveries.files, run))
-    if run.interrupted:
+    deliveries.finish(options.summary, boltzmann_summary(options, scan, deliveries.files))
+    if interrupted:
         raise typer.Exit(INTERRUPTED_EXIT_CODE)
-    if run.failed:
-        for failure in run.failed[:-1]:
-            error(f"E/N = {failure['E_N']:g} Td: {failure['reason']}")
-        last = run.failed[-1]
-        raise run_failed(f"E/N = {last['E_N']:g} Td: {last['reason']}")
+    if scan.failed:
+        reasons = [f"E/N = {failure['E_N']:g} Td: {_as_cli(failure['reason'])}" for failure in scan.failed]
+        for reason in reasons[:-1]:
+            error(reason)
+        raise run_failed(reasons[-1])
 
 
 def register(app: typer.Typer) -> None:

@@ -13,7 +13,8 @@ collisions), real gases (LXCat files) and transport coefficients.
   with checkpoint and resume;
 * :func:`two_term_boltzmann` - the two-term Boltzmann equation (as BOLSIG+
   and LoKI-B solve it): the energy distribution, mobility, diffusion and
-  rates in milliseconds to a second; :class:`TwoTermResult`;
+  rates in milliseconds to a second; :class:`TwoTermResult`; :class:`TwoTermScan`, the
+  ``boltzmann`` command's E/N scan and its tables;
 * :func:`simulate_slab` - transmission and reflection of a beam by a slab;
 * gases: :class:`Gas`, :class:`Species`, :class:`Process`, model gases
   (:func:`maxwell_model`, :func:`hard_sphere_gas`, :func:`reid_ramp`,
@@ -147,3 +148,6 @@ __all__ += ["read_waveform"]
 from .two_term import TwoTermResult, TwoTermWarning, two_term_boltzmann  # noqa: E402
 
 __all__ += ["TwoTermResult", "TwoTermWarning", "two_term_boltzmann"]
+from .two_term_scan import TwoTermScan  # noqa: E402
+
+__all__ += ["TwoTermScan"]
