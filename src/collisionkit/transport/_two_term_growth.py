@@ -105,6 +105,8 @@ def settled_growth(eedf_at, produced, production, guess=0.0, ceiling=None):
         raise RuntimeError(f"no positive distribution at the growth's first guess ({previous:.3g}): the two-term "
                            "model fails here (a grid top far above the distribution, or attachment far above "
                            "ionization); use simulate_swarm")
+    if guess != 0.0 and previous == guess and abs(previous_residual) <= GROWTH_TOLERANCE * abs(guess):
+        return guess, solves  # (the guess is the last grid's or round's growth: often settled already)
     growth = previous + previous_residual  # a first fixed-point step
     while solves < MAX_GROWTH_ITERATIONS:
         residual = _residual(eedf_at, produced, growth, strict)

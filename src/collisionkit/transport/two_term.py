@@ -488,9 +488,19 @@ def _solve_on_grid(gas, field, kT, cells, top, sharing, growth_model, guess=0.0,
     ceiling = None if spatial else float(np.max(production / density))
 
     def settled(growth):
-        growth, used = settled_growth(eedf_at, produced, production, growth, ceiling)
-        eedf, effective = eedf_at(growth)
-        return np.maximum(eedf, 0.0), effective, growth, used + 1
+        last = {}  # the iteration's last solve: the settled growth's F0, not solved again
+
+        def remembered(value):
+            last.clear()
+            last[value] = eedf_at(value)
+            return last[value]
+
+        growth, used = settled_growth(remembered, produced, production, growth, ceiling)
+        if growth not in last:
+            remembered(growth)
+            used += 1
+        eedf, effective = last[growth]
+        return np.maximum(eedf, 0.0), effective, growth, used
 
     coulomb = ElectronCollisions(*electrons, edges) if electrons else None
     if coulomb is not None and start is not None:  # the last grid's F0 with the collisions, on this grid
