@@ -277,3 +277,21 @@ def test_a_folder_that_takes_no_more_files_loses_no_result(tmp_path, monkeypatch
     assert [row["status"] for row in results.table] == ["ok", "ok", "ok"]
     assert all(row["orbit.deflection_angle"] > 0 for row in results.table)
     assert caught.value.errno == 28 and "could not be written in" in str(caught.value)
+
+
+def test_a_two_term_scan_is_swept_like_the_other_commands(tmp_path):
+    """boltzmann points: the library's numbers in the table, mean_energy its main result, a failed point recorded."""
+    from collisionkit.transport import lucas_saelee, two_term_boltzmann
+
+    study = {"command": "boltzmann", "seed": 0, "replicas": 1,
+             "fixed": {"model": "lucas_saelee", "gas-temperature": 0.0, "growth": "spatial"},
+             "vary": {"E-N": [50.0, 3000.0, 100.0]}}
+    results = serial_run(study, tmp_path)
+    rows = read_table(tmp_path / "results.csv")
+    assert [row["status"] for row in rows] == ["ok", "failed", "ok"]
+    assert float(rows[0]["mean_energy"]) == two_term_boltzmann(lucas_saelee(0.5), 50.0, 0.0,
+                                                               growth="spatial").mean_energy
+    assert "E/N = 3000 Td: no steady-state Townsend growth" in rows[1]["error"]
+    summary = json.loads((tmp_path / "points" / "p0002-r00" / "summary.json").read_text())
+    assert summary["parameters"]["reduced_field"] == [100.0] and summary["provenance"]["cross_sections"] == []
+    assert sweep.sweep_command("boltzmann").main == "mean_energy" and len(results.table) == 3

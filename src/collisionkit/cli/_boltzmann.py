@@ -194,12 +194,9 @@ def boltzmann_summary(options: BoltzmannOptions, scan, files=()) -> dict:
 
 def _provenance(options: BoltzmannOptions) -> dict:
     """What the numbers came from: collisionkit's version and each cross-section file with its SHA-256."""
-    from .. import __version__
-    from .._io import file_digest
+    from ..transport.two_term_scan import provenance
 
-    return {"collisionkit": __version__,
-            "cross_sections": [{"path": str(path), "sha256": file_digest(path)}
-                               for path in options.parameters().gas_files()]}
+    return provenance(options.parameters().gas_files())
 
 
 def boltzmann(

@@ -23,6 +23,7 @@ MAIN_RESULTS = {
     "slab": "transmission",
     "encounter": "orbit.deflection_angle",
     "track": "gain",
+    "boltzmann": "mean_energy",
 }
 
 
@@ -177,6 +178,21 @@ def _run_encounter(parameters, folder: Path, outputs: Mapping[str, Any]) -> dict
     return summary | {"files": [str(path) for path in files]}
 
 
+def _boltzmann_parameters():
+    from ..transport import TwoTermParameters
+
+    return TwoTermParameters
+
+
+def _run_boltzmann(parameters, folder: Path, outputs: Mapping[str, Any]) -> dict:
+    from ..transport import run_two_term, two_term_summary
+
+    scan = run_two_term(parameters)  # milliseconds to seconds a point: no checkpoint
+    if scan.failed:  # a point without a solution is a failed point of the study (as the command's exit 1)
+        raise RuntimeError("; ".join(f"E/N = {failure['E_N']:g} Td: {failure['reason']}" for failure in scan.failed))
+    return two_term_summary(parameters, scan)
+
+
 def _track_parameters():
     from ..transport.tracking import TrackParameters
 
@@ -199,6 +215,7 @@ _COMMANDS = {
     "encounter": SweepCommand("encounter", _encounter_parameters, _run_encounter,
                               files=("initial_conditions.json", "initial_conditions.txt")),
     "track": SweepCommand("track", _track_parameters, _run_track),
+    "boltzmann": SweepCommand("boltzmann", _boltzmann_parameters, _run_boltzmann),
 }
 
 
@@ -208,7 +225,7 @@ def sweep_commands() -> tuple[str, ...]:
     Examples
     --------
     >>> sweep_commands()
-    ('edmd', 'encounter', 'slab', 'swarm', 'track')
+    ('boltzmann', 'edmd', 'encounter', 'slab', 'swarm', 'track')
     """
     return tuple(sorted(_COMMANDS))
 

@@ -148,6 +148,6 @@ __all__ += ["read_waveform"]
 from .two_term import TwoTermResult, TwoTermWarning, two_term_boltzmann  # noqa: E402
 
 __all__ += ["TwoTermResult", "TwoTermWarning", "two_term_boltzmann"]
-from .two_term_scan import TwoTermScan  # noqa: E402
+from .two_term_scan import TwoTermParameters, TwoTermScan, run_two_term, two_term_summary  # noqa: E402
 
-__all__ += ["TwoTermScan"]
+__all__ += ["TwoTermParameters", "TwoTermScan", "run_two_term", "two_term_summary"]
