@@ -292,3 +292,25 @@ def test_output_paths_stored_in_a_swarm_checkpoint_are_never_used(tmp_path, monk
     result = invoke(["swarm", "--resume", checkpoint])
     assert result.exit_code == 0, result.output
     assert victim.read_text() == "precious" and not (tmp_path / "elsewhere").exists()
+
+
+@pytest.mark.parametrize(
+    ("arguments", "name"),
+    [
+        (["boltzmann", "--model", "reid", "--E-N", "10"], "boltzmann.csv"),
+        (["boltzmann", "--model", "reid", "--E-N", "10"], "eedf.png"),
+        (SWARM, "swarm.csv"),
+        (SWARM, "eedf.png"),
+    ],
+)
+def test_an_output_file_that_its_out_folder_also_writes_is_refused_before_any_work(tmp_path, arguments, name):
+    # boltzmann --out fresh --summary fresh/boltzmann.csv exited 0, and boltzmann.csv then held the JSON summary
+    out = tmp_path / "fresh"
+    result = invoke([*arguments, "--out", out, "--summary", out / name])
+    assert result.exit_code == 2, result.output
+    message = said(result)
+    assert f"--summary {out / name}" in message and f"--out {out}" in message, message
+    assert list(tmp_path.iterdir()) == []
+    other = invoke([*arguments, "--out", out, "--summary", out / "summary.json"])  # a file of its own: fine
+    assert other.exit_code == 0, other.output
+    assert json.loads((out / "summary.json").read_text())["results"]

@@ -352,6 +352,7 @@ def check_paths(options: Options, keep: Collection[Path] = ()) -> None:
     for option, path in folders.items():
         check_output_folder(path, option)
     refuse_clashes(outputs | folders)
+    refuse_files_of_folders(options, outputs)
     keep = {Path(path).resolve() for path in keep}
     for option, path in outputs.items():
         refuse_to_replace(path, option, options.overwrite, keep)
@@ -360,6 +361,39 @@ def check_paths(options: Options, keep: Collection[Path] = ()) -> None:
             if name not in options.unwritten():
                 refuse_earlier_run(getattr(options, name), f"--{_dashed(name)}", options.folder_files(name),
                                    options.overwrite)
+
+
+def refuse_files_of_folders(options: Options, outputs: Mapping[str, Path | None]) -> None:
+    """Stop (exit 2) if an output file (``{"--summary": path}``) is one of the files an output folder's run writes.
+
+    ``--out fresh --summary fresh/boltzmann.csv`` would have the table and
+    the summary replace each other; no file is written before this check.
+
+    Examples
+    --------
+    >>> from typing import ClassVar
+    >>> class Run(Options):
+    ...     out: Path | None = None
+    ...     summary: Path | None = None
+    ...     output_folders: ClassVar = ("out",)
+    ...     def folder_files(self, folder):
+    ...         return ("table.csv",)
+    >>> refuse_files_of_folders(Run(out="plots", summary="plots/summary.json"), {"--summary": Path("plots/summary.json")})
+    >>> try:
+    ...     refuse_files_of_folders(Run(out="plots"), {"--summary": Path("plots/table.csv")})
+    ... except Exception as stop:
+    ...     print(type(stop).__name__, stop.exit_code)
+    Exit 2
+    """
+    for name in type(options).output_folders:
+        folder = getattr(options, name)
+        if folder is None or name in options.unwritten():
+            continue
+        written = {(Path(folder) / file).resolve(): file for file in options.folder_files(name)}
+        for option, path in outputs.items():
+            if path is not None and Path(path).resolve() in written:
+                raise fail(f"{option} {path} is the file {written[Path(path).resolve()]} that --{_dashed(name)} "
+                           f"{folder} writes: one would replace the other; name another file for {option}")
 
 
 def _field_name(model: type[Options], key: str) -> str:
