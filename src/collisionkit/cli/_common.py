@@ -25,6 +25,7 @@ from typing import Annotated, Any, ClassVar, Union, get_args, get_origin
 import typer
 from pydantic import BaseModel, ConfigDict, ValidationError, model_validator
 from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn, TimeRemainingColumn
+from rich import box
 from rich.table import Table
 
 from ._files import (
@@ -439,10 +440,49 @@ def fraction_reporter(advance, total: float):
 
 
 def print_table(title: str, columns: Iterable[str], rows: Iterable[Iterable[Any]]) -> None:
-    """Print a rich table with the given column headers and rows."""
-    table = Table(title=title)
-    for column in columns:
-        table.add_column(column)
-    for row in rows:
-        table.add_row(*(str(cell) for cell in row))
+    """Print a rich table with the given column headers and rows, every character of every cell shown.
+
+    A console too narrow for the table (``COLUMNS=60``; stdout redirected
+    to a file: 80 columns) wraps a cell at its spaces, each column at least
+    as wide as its longest word; if even that does not fit in boxes, the
+    table drops its borders and padding, and only if that does not fit
+    either a word longer than its column folds onto the next line. No
+    number is ever cut short with an ellipsis ("6.1541e…").
+
+    Examples
+    --------
+    >>> print_table("run", ("E/N (Td)", "W (m/s)"), [(10, "6.1541e+04")])  # doctest: +SKIP
+    """
+    headers = [str(column) for column in columns]
+    cells = [[str(cell) for cell in row] for row in rows]
+    boxed = dict(box=box.HEAVY_HEAD), len(headers) + 1 + 2 * len(headers)  # the borders and a space each side
+    compact = dict(box=box.SIMPLE_HEAD, show_edge=False, padding=0), len(headers) - 1  # a space between columns
+    for (style, spacing) in (boxed, compact):
+        widths = _column_widths(headers, cells, console.width - spacing)
+        if widths is not None:
+            break
+    table = Table(title=title, **style)
+    for header, width in zip(headers, widths or [None] * len(headers)):
+        table.add_column(header, overflow="fold", width=width)
+    for row in cells:
+        table.add_row(*row)
     console.print(table)
+
+
+def _column_widths(headers: list[str], rows: list[list[str]], room: int) -> list[int | None] | None:
+    """Widths of the columns that keep every word whole in ``room`` characters: None each if every column fits as
+    it is (rich lays it out), None if the longest words alone do not fit."""
+    columns = list(zip(headers, *rows))
+    natural = [max(len(text) for text in column) for column in columns]
+    if sum(natural) <= room:
+        return [None] * len(columns)
+    widths = [max(len(word) for text in column for word in [*text.split(), ""]) for column in columns]
+    if sum(widths) > room:
+        return None
+    spare = room - sum(widths)
+    while spare > 0 and widths != natural:  # the room left, a character at a time to each column still wrapping
+        for index, width in enumerate(widths):
+            if spare > 0 and width < natural[index]:
+                widths[index] += 1
+                spare -= 1
+    return widths
