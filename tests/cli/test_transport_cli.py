@@ -509,3 +509,23 @@ def test_an_angle_without_b_is_noted():
                                  "--particles", "640", "--tolerance", "0.1", "--collision-budget", "1e5"])
     assert result.exit_code == 0, result.output
     assert "note: --angle 30 has no effect without --B-N" in " ".join(result.output.split())
+
+
+@pytest.mark.parametrize("command", [
+    ["swarm", "--particles", "128", "--tolerance", "0.5", "--collision-budget", "1e4"],
+    ["boltzmann"],
+])
+def test_a_gas_chosen_on_the_command_line_replaces_the_config_files_gas(tmp_path, command):
+    # model = "reid" in a config and --gas Ar on the command line: "give exactly one of model, gas and cross_sections"
+    config, summary = tmp_path / "run.toml", tmp_path / "s.json"
+    config.write_text('model = "reid"\nspecies = ["N2"]\nfractions = [1.0]\ndatabase = "Biagi"\nE-N = [10]\n')
+    result = runner.invoke(app, [*command, "--config", str(config), "--gas", "Ar", "--summary", str(summary)])
+    assert result.exit_code == 0, result.output
+    assert json.loads(summary.read_text())["gas"] == "Ar"
+    config.write_text('gas = "Ar"\nE-N = [10]\n')  # and the other way round
+    result = runner.invoke(app, [*command, "--config", str(config), "--model", "reid", "--summary", str(summary),
+                                 "--overwrite"])
+    assert result.exit_code == 0, result.output
+    assert json.loads(summary.read_text())["gas"] == "reid"
+    both = runner.invoke(app, [*command, "--model", "reid", "--gas", "Ar"])  # both on the command line: still refused
+    assert both.exit_code == 2 and "give exactly one of" in both.output

@@ -115,6 +115,9 @@ class Options(BaseModel):
     input_files: ClassVar[tuple[str, ...]] = ()
     # the command-line spelling of options whose flag is not ``--`` and the dashed name (``--E-N`` for ``e_n``)
     flags: ClassVar[dict[str, str]] = {}
+    # (choices, group): when the command line gives any of the choices, the config file's whole group is dropped
+    # (``--gas Ar`` replaces a config's ``model``, and its ``species`` and ``fractions`` with it)
+    chosen_together: ClassVar[tuple[tuple[tuple[str, ...], tuple[str, ...]], ...]] = ()
 
     overwrite: bool = False
 
@@ -294,7 +297,25 @@ def load_options(model: type[Options], config: Path | None, given: Mapping[str, 
 
 
 def option_values(model: type[Options], config: Path | None, given: Mapping[str, Any]) -> dict[str, Any]:
-    """The options a TOML file and the command line set, by field name, not yet validated (the command line wins)."""
+    """The options a TOML file and the command line set, by field name, not yet validated (the command line wins).
+
+    A choice the command line makes replaces the config file's whole group
+    (``model.chosen_together``): ``--gas Ar`` drops a config's ``model``,
+    ``species`` and ``fractions`` instead of clashing with them.
+
+    Examples
+    --------
+    >>> from typing import ClassVar
+    >>> class Run(Options):
+    ...     model: str | None = None
+    ...     gas: str | None = None
+    ...     chosen_together: ClassVar = ((("model", "gas"), ("model", "gas")),)
+    >>> import pathlib, tempfile
+    >>> config = pathlib.Path(tempfile.mkdtemp()) / "run.toml"
+    >>> _ = config.write_text('model = "reid"\\n')
+    >>> option_values(Run, config, {"gas": "Ar", "model": None})
+    {'gas': 'Ar'}
+    """
     values: dict[str, Any] = {}
     if config is not None:
         spelled: dict[str, str] = {}
@@ -304,7 +325,12 @@ def option_values(model: type[Options], config: Path | None, given: Mapping[str,
                 raise fail(f"config file {config} sets {name!r} twice: as {spelled[name]!r} and as {key!r}")
             spelled[name] = key
             values[name] = value
-    values.update({key: value for key, value in given.items() if value is not None})
+    given = {key: value for key, value in given.items() if value is not None}
+    for choices, group in model.chosen_together:
+        if any(name in given for name in choices):
+            for name in group:
+                values.pop(name, None)
+    values.update(given)
     return values
 
 

@@ -81,6 +81,9 @@ class GasScanOptions(Options):
 
     input_files: ClassVar[tuple[str, ...]] = ("cross_sections",)
     flags: ClassVar[dict[str, str]] = {"e_n": "--E-N"}
+    # a gas chosen on the command line replaces the config file's gas, with its species, fractions and database
+    chosen_together: ClassVar = ((("model", "gas", "cross_sections"),
+                                  ("model", "gas", "cross_sections", "species", "fractions", "database")),)
 
     @field_validator("cross_sections", mode="before")
     @classmethod
