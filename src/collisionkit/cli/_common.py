@@ -278,7 +278,52 @@ def _describe(error: Mapping[str, Any], model: type[Options] | None = None) -> s
         if where:
             return f"{where}: {message} (got {error.get('input')!r})"
         return message if model is None else named_as_option(message, model)
+    bounded = _range_of(model, error["loc"]) if error["type"] in _BOUND_ERRORS else None
+    if bounded is not None:
+        return f"{where}: must be {bounded}; got {_number_text(error.get('input'))}"
     return f"{where or 'options'}: {error['msg']} (got {error.get('input')!r})"
+
+
+_BOUND_ERRORS = ("greater_than", "greater_than_equal", "less_than", "less_than_equal")
+
+
+def _number_text(value: Any) -> str:
+    """An int as it is, a float as %g (1e+07, 0.5), anything else as its repr."""
+    if isinstance(value, float):
+        return f"{value:g}"
+    return str(value) if isinstance(value, int) else repr(value)
+
+
+def _range_of(model: type[Options] | None, loc: tuple) -> str | None:
+    """The whole range of an option with a lower and an upper bound ("from 50 to 100000", "above 0 and at most
+    0.5"), from the model's field constraints; None for an option with one bound or none.
+
+    Examples
+    --------
+    >>> from pydantic import Field
+    >>> class Run(Options):
+    ...     cells: int = Field(default=1000, ge=50, le=100_000)
+    ...     tolerance: float = Field(default=0.01, gt=0, le=0.5)
+    ...     seed: int = Field(default=1, ge=0)
+    >>> _range_of(Run, ("cells",)), _range_of(Run, ("tolerance",)), _range_of(Run, ("seed",))
+    ('from 50 to 100000', 'above 0 and at most 0.5', None)
+    """
+    if model is None or len(loc) != 1 or loc[0] not in model.model_fields:
+        return None
+    bounds = {}
+    for constraint in model.model_fields[loc[0]].metadata:
+        for kind in ("ge", "gt", "le", "lt"):
+            if getattr(constraint, kind, None) is not None:
+                bounds[kind] = _number_text(getattr(constraint, kind))
+    low = "ge" if "ge" in bounds else "gt" if "gt" in bounds else None
+    high = "le" if "le" in bounds else "lt" if "lt" in bounds else None
+    if low is None or high is None:
+        return None
+    if (low, high) == ("ge", "le"):
+        return f"from {bounds['ge']} to {bounds['le']}"
+    lower = f"at least {bounds['ge']}" if low == "ge" else f"above {bounds['gt']}"
+    upper = f"at most {bounds['le']}" if high == "le" else f"below {bounds['lt']}"
+    return f"{lower} and {upper}"
 
 
 def load_options(model: type[Options], config: Path | None, given: Mapping[str, Any]):
