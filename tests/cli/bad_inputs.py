@@ -164,6 +164,10 @@ BAD_INPUTS = [
     ("swarm", ["--model", "reid", "--tolerance", "nan"], "--tolerance: Input should be a finite number"),
     ("swarm", ["--model", "reid", "--checkpoint", "s.json"], "--checkpoint must end in .npz"),
     ("swarm", ["--model", "reid", "--E-N", "12,abc"], "--E-N: 'abc' is not a number"),
+    # the library's argument names: "(cross_sections)", "fractions: give one per species"
+    ("swarm", ["--gas", "Ar", "--species", "Ar"], "pick gases from LXCat files (--cross-sections)"),
+    ("swarm", ["--cross-sections", "{file}", "--species", "N2", "--species", "Ar", "--fractions", "0.9"],
+     "--fractions: give one per --species (2: N2, Ar); got 1"),
     # an empty item was dropped silently, and --E-N '' gave pydantic's "List should have at least 1 item"
     ("swarm", ["--model", "reid", "--E-N", "10,,20"], "--E-N: an empty item in '10,,20'"),
     ("swarm", ["--model", "reid", "--E-N", ""], "--E-N: give at least one E/N value (Td, 0 to 1e6)"),
@@ -245,6 +249,9 @@ BAD_INPUTS = [
     ("boltzmann", ["--model", "reid", "--database", "Biagi"], "species, fractions and database pick gases from LXCat"),
     ("boltzmann", ["--model", "reid", "--E-N", "-3"], "--E-N: every E/N must be a finite number from 0 to 1e+06 Td"),
     ("boltzmann", ["--model", "reid", "--E-N", "12,abc"], "--E-N: 'abc' is not a number"),
+    ("boltzmann", ["--gas", "Ar", "--species", "Ar"], "pick gases from LXCat files (--cross-sections)"),
+    ("boltzmann", ["--cross-sections", "{file}", "--species", "N2", "--species", "Ar", "--fractions", "0.9"],
+     "--fractions: give one per --species (2: N2, Ar); got 1"),
     ("boltzmann", ["--model", "reid", "--E-N", "10,,20"], "--E-N: an empty item in '10,,20'"),
     ("boltzmann", ["--model", "reid", "--E-N", ""], "--E-N: give at least one E/N value (Td, 0 to 1e6)"),
     ("boltzmann", ["--model", "reid", "--E-N", "1:10:3:lin"], "--E-N: '1:10:3:lin' is not a range"),

@@ -125,7 +125,7 @@ def test_swarm_refuses_species_and_fractions_with_a_model_gas():
     for extra in (["--species", "Ar"], ["--fractions", "0.5"]):
         result = runner.invoke(app, ["swarm", "--model", "reid", *extra, *quick], env={"COLUMNS": "200"})
         assert result.exit_code == 2, result.output
-        assert "species, fractions and database pick gases from LXCat files (cross_sections)" in result.output
+        assert "species, fractions and database pick gases from LXCat files (--cross-sections)" in result.output
 
 
 def test_a_single_value_in_the_config_is_a_list_of_one(tmp_path):
@@ -529,3 +529,22 @@ def test_a_gas_chosen_on_the_command_line_replaces_the_config_files_gas(tmp_path
     assert json.loads(summary.read_text())["gas"] == "reid"
     both = runner.invoke(app, [*command, "--model", "reid", "--gas", "Ar"])  # both on the command line: still refused
     assert both.exit_code == 2 and "give exactly one of" in both.output
+
+
+@pytest.mark.parametrize("command", ["swarm", "boltzmann"])
+def test_the_fractions_help_gives_the_default(command):
+    import re
+
+    shown = re.sub(r"[│\s]+", " ", runner.invoke(app, [command, "--help"]).output)  # the help's box, folded lines
+    assert "--fractions <list[float]> Their number fractions (repeat), one per species. [default: equal fractions]" \
+        in shown, shown
+
+
+def test_fractions_that_do_not_match_the_files_species_are_named_as_the_option(tmp_path):
+    import collisionkit.transport
+
+    data = Path(collisionkit.transport.__file__).parent / "data"
+    both = ["--cross-sections", str(data / "IST-Lisbon_N2.txt"), "--cross-sections", str(data / "IST-Lisbon_Ar.txt"),
+            "--fractions", "0.9"]
+    result = runner.invoke(app, ["swarm", *both])
+    assert result.exit_code == 2 and "error: --fractions: give one per species" in result.output, result.output

@@ -83,14 +83,21 @@ def named_as_option(message: str, model: type[Options], renamed: Mapping[str, st
     '--packing-fraction must lie in (0, 0.5]; got 0.6'
     >>> named_as_option("k must be finite", Run)
     'k must be finite'
+    >>> named_as_option("these pick gases from LXCat files (packing_fraction)", Run)
+    'these pick gases from LXCat files (--packing-fraction)'
     """
+
+    def flag(name: str) -> str | None:
+        name = (renamed or {}).get(name, name)
+        return model.flags.get(name, f"--{_dashed(name)}") if name in model.model_fields else None
+
+    # a library argument named alone in parentheses: "... from LXCat files (cross_sections)"
+    message = re.sub(r"\(([A-Za-z_][A-Za-z0-9_]*)\)", lambda found: f"({flag(found.group(1)) or found.group(1)})",
+                     message)
     leading = re.match(r"[A-Za-z_][A-Za-z0-9_]*", message)
-    if leading is None:
+    if leading is None or flag(leading.group()) is None:
         return message
-    name = (renamed or {}).get(leading.group(), leading.group())
-    if name not in model.model_fields:
-        return message
-    return model.flags.get(name, f"--{_dashed(name)}") + message[leading.end():]
+    return flag(leading.group()) + message[leading.end():]
 
 
 class Options(BaseModel):

@@ -12,7 +12,8 @@ from pydantic import Field, field_validator, model_validator
 
 from .._io import FileLockedError
 from ._common import (
-    INTERRUPTED_EXIT_CODE, Deliveries, Options, OverwriteOption, fail, fraction_reporter, load_options, note,
+    INTERRUPTED_EXIT_CODE, Deliveries, Options, OverwriteOption, fail, fraction_reporter, load_options, named_as_option,
+    note,
     option_values, print_table, progress_bar, refuse_folder, require, run_failed, say, validate_options, warn,
 )
 from ._memory import refuse_beyond_memory, swarm_memory
@@ -90,6 +91,14 @@ class GasScanOptions(Options):
     def _one_file_is_a_list(cls, value: Any) -> Any:
         """``cross-sections = "ar.txt"`` in a TOML file (and a saved checkpoint's single path) is a list of one."""
         return [value] if isinstance(value, (str, Path)) else value
+
+    @model_validator(mode="after")
+    def _a_fraction_per_species(self):
+        """--fractions, one per --species (the library's message names its arguments, not the options)."""
+        if self.species is not None and self.fractions is not None and len(self.fractions) != len(self.species):
+            raise ValueError(f"--fractions: give one per --species ({len(self.species)}: {', '.join(self.species)}); "
+                             f"got {len(self.fractions)}")
+        return self
 
     @field_validator("e_n")
     @classmethod
@@ -321,8 +330,8 @@ def _new_scan(options: SwarmOptions):
     try:
         with lxcat_notes():
             return SwarmScan(options.parameters(), checkpoint=options.checkpoint)
-    except ValueError as error:
-        raise fail(str(error)) from None
+    except ValueError as error:  # the gas read from its files: "fractions: give one per species" is --fractions
+        raise fail(named_as_option(str(error), SwarmOptions)) from None
 
 
 def _resumed_scan(resume: Path, given: dict):
@@ -471,7 +480,8 @@ GasOption = Annotated[str | None, typer.Option(
 CrossSectionsOption = Annotated[list[Path] | None, typer.Option(
     "--cross-sections", help="LXCat cross-section file (repeat to join files).")]
 SpeciesOption = Annotated[list[str] | None, typer.Option(help="Species of the LXCat files to use (repeat).")]
-FractionsOption = Annotated[list[float] | None, typer.Option(help="Their number fractions (repeat).")]
+FractionsOption = Annotated[list[float] | None, typer.Option(
+    help="Their number fractions (repeat), one per species.  \\[default: equal fractions]")]
 DatabaseOption = Annotated[str | None, typer.Option(
     help="Database to take a species from when the LXCat files hold it from several (e.g. Biagi).")]
 ReducedFieldsOption = Annotated[list[str] | None, typer.Option(
