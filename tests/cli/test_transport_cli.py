@@ -531,6 +531,21 @@ def test_a_gas_chosen_on_the_command_line_replaces_the_config_files_gas(tmp_path
     assert both.exit_code == 2 and "give exactly one of" in both.output
 
 
+def test_files_on_the_command_line_replace_the_config_files_files_with_their_species_only(tmp_path):
+    # the config's species picked from its own files; species in a config without files pick from the command line's
+    from collisionkit.cli._common import load_options
+    from collisionkit.cli._transport import SwarmOptions
+
+    config, reid = tmp_path / "run.toml", DATA / "lxcat_classic_reid.txt"
+    config.write_text(f'cross-sections = "{tmp_path / "other.txt"}"\nspecies = ["N2"]\nfractions = [1.0]\n'
+                      'database = "Biagi"\n')
+    options = load_options(SwarmOptions, config, {"cross_sections": [reid]})
+    assert (options.cross_sections, options.species, options.fractions, options.database) == ([reid], None, None, None)
+    config.write_text('model = "reid"\nspecies = ["Ar"]\n')
+    options = load_options(SwarmOptions, config, {"cross_sections": [reid]})
+    assert (options.model, options.cross_sections, options.species) == (None, [reid], ["Ar"])
+
+
 @pytest.mark.parametrize("command", ["swarm", "boltzmann"])
 def test_the_fractions_help_gives_the_default(command):
     import re

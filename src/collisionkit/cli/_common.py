@@ -125,6 +125,9 @@ class Options(BaseModel):
     # (choices, group): when the command line gives any of the choices, the config file's whole group is dropped
     # (``--gas Ar`` replaces a config's ``model``, and its ``species`` and ``fractions`` with it)
     chosen_together: ClassVar[tuple[tuple[tuple[str, ...], tuple[str, ...]], ...]] = ()
+    # options that qualify another in a config file: dropped with it (a config's ``species`` pick from its own
+    # ``cross_sections``; with no ``cross_sections`` of its own they pick from the command line's files)
+    goes_with: ClassVar[dict[str, tuple[str, ...]]] = {}
 
     overwrite: bool = False
 
@@ -353,7 +356,10 @@ def option_values(model: type[Options], config: Path | None, given: Mapping[str,
 
     A choice the command line makes replaces the config file's whole group
     (``model.chosen_together``): ``--gas Ar`` drops a config's ``model``,
-    ``species`` and ``fractions`` instead of clashing with them.
+    ``species`` and ``fractions`` instead of clashing with them. A config
+    option dropped takes the options that qualify it along
+    (``model.goes_with``): ``--cross-sections b.txt`` drops a config's
+    ``cross_sections`` with the ``species`` that picked from them.
 
     Examples
     --------
@@ -367,6 +373,17 @@ def option_values(model: type[Options], config: Path | None, given: Mapping[str,
     >>> _ = config.write_text('model = "reid"\\n')
     >>> option_values(Run, config, {"gas": "Ar", "model": None})
     {'gas': 'Ar'}
+    >>> class Files(Options):
+    ...     files: list[str] | None = None
+    ...     species: list[str] | None = None
+    ...     chosen_together: ClassVar = ((("files",), ("files",)),)
+    ...     goes_with: ClassVar = {"files": ("species",)}
+    >>> _ = config.write_text('files = ["a.txt"]\\nspecies = ["N2"]\\n')
+    >>> option_values(Files, config, {"files": ["b.txt"]})
+    {'files': ['b.txt']}
+    >>> _ = config.write_text('species = ["N2"]\\n')  # for whatever files the command line names
+    >>> option_values(Files, config, {"files": ["b.txt"]})
+    {'species': ['N2'], 'files': ['b.txt']}
     """
     values: dict[str, Any] = {}
     if config is not None:
@@ -381,7 +398,10 @@ def option_values(model: type[Options], config: Path | None, given: Mapping[str,
     for choices, group in model.chosen_together:
         if any(name in given for name in choices):
             for name in group:
-                values.pop(name, None)
+                if name in values:
+                    del values[name]
+                    for qualifier in model.goes_with.get(name, ()):
+                        values.pop(qualifier, None)
     values.update(given)
     return values
 

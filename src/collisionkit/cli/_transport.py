@@ -82,9 +82,12 @@ class GasScanOptions(Options):
 
     input_files: ClassVar[tuple[str, ...]] = ("cross_sections",)
     flags: ClassVar[dict[str, str]] = {"e_n": "--E-N"}
-    # a gas chosen on the command line replaces the config file's gas, with its species, fractions and database
-    chosen_together: ClassVar = ((("model", "gas", "cross_sections"),
-                                  ("model", "gas", "cross_sections", "species", "fractions", "database")),)
+    # a gas chosen on the command line replaces the config file's gas: its model, gas or LXCat files with their
+    # species, fractions and database; a model or catalogue gas has no LXCat selectors at all, while selectors in a
+    # config without files of its own pick from the command line's --cross-sections
+    chosen_together: ClassVar = ((("model", "gas", "cross_sections"), ("model", "gas", "cross_sections")),
+                                 (("model", "gas"), ("species", "fractions", "database")))
+    goes_with: ClassVar = {"cross_sections": ("species", "fractions", "database")}
 
     @field_validator("cross_sections", mode="before")
     @classmethod
