@@ -230,3 +230,13 @@ def test_an_empty_e_n_list_in_a_config_file_says_what_to_give(tmp_path):
     config.write_text('model = "reid"\nE-N = []\n')
     result = runner.invoke(app, ["boltzmann", "--config", str(config)])
     assert result.exit_code == 2 and "--E-N: give at least one E/N value (Td, 0 to 1e6)" in result.output
+
+
+def test_minus_zero_e_n_is_zero_in_the_table_and_the_summary(tmp_path):
+    # --E-N 10,-0 printed "-0" for E/N and for W, and the summary held "E_N": -0.0
+    summary = tmp_path / "b.json"
+    result = runner.invoke(app, ["boltzmann", "--model", "reid", "--E-N", "10,-0", "--summary", str(summary)],
+                           env={"COLUMNS": "200"})
+    assert result.exit_code == 0, result.output
+    assert "-0 " not in result.stdout and "-0.0" not in summary.read_text(), result.stdout
+    assert [entry["E_N"] for entry in json.loads(summary.read_text())["results"]] == [10.0, 0.0]
