@@ -125,7 +125,7 @@ def test_swarm_refuses_species_and_fractions_with_a_model_gas():
     for extra in (["--species", "Ar"], ["--fractions", "0.5"]):
         result = runner.invoke(app, ["swarm", "--model", "reid", *extra, *quick], env={"COLUMNS": "200"})
         assert result.exit_code == 2, result.output
-        assert "species, fractions and database pick gases from LXCat files (--cross-sections)" in result.output
+        assert "--species, --fractions and --database pick gases from LXCat files (--cross-sections)" in result.output
 
 
 def test_a_single_value_in_the_config_is_a_list_of_one(tmp_path):
@@ -555,11 +555,12 @@ def test_the_fractions_help_gives_the_default(command):
         in shown, shown
 
 
-def test_fractions_that_do_not_match_the_files_species_are_named_as_the_option(tmp_path):
+@pytest.mark.parametrize("command", ["swarm", "boltzmann"])
+def test_fractions_that_do_not_match_the_files_species_are_named_as_the_option(tmp_path, command):
     import collisionkit.transport
 
     data = Path(collisionkit.transport.__file__).parent / "data"
     both = ["--cross-sections", str(data / "IST-Lisbon_N2.txt"), "--cross-sections", str(data / "IST-Lisbon_Ar.txt"),
             "--fractions", "0.9"]
-    result = runner.invoke(app, ["swarm", *both])
+    result = runner.invoke(app, [command, *both])
     assert result.exit_code == 2 and "error: --fractions: give one per species" in result.output, result.output

@@ -85,6 +85,13 @@ def named_as_option(message: str, model: type[Options], renamed: Mapping[str, st
     'k must be finite'
     >>> named_as_option("these pick gases from LXCat files (packing_fraction)", Run)
     'these pick gases from LXCat files (--packing-fraction)'
+    >>> class Gas(Options):
+    ...     species: list[str] | None = None
+    ...     fractions: list[float] | None = None
+    >>> named_as_option("species and fractions pick gases", Gas)
+    '--species and --fractions pick gases'
+    >>> named_as_option("species and atoms differ", Gas)  # not all options: only the first word is one
+    '--species and atoms differ'
     """
 
     def flag(name: str) -> str | None:
@@ -94,10 +101,15 @@ def named_as_option(message: str, model: type[Options], renamed: Mapping[str, st
     # a library argument named alone in parentheses: "... from LXCat files (cross_sections)"
     message = re.sub(r"\(([A-Za-z_][A-Za-z0-9_]*)\)", lambda found: f"({flag(found.group(1)) or found.group(1)})",
                      message)
-    leading = re.match(r"[A-Za-z_][A-Za-z0-9_]*", message)
-    if leading is None or flag(leading.group()) is None:
+    # the arguments it starts with: "packing_fraction must ...", "species, fractions and database pick ..."
+    word = r"[A-Za-z_][A-Za-z0-9_]*"
+    listed = re.match(rf"{word}(?:, {word})*(?: and {word})?(?![A-Za-z0-9_])", message)
+    names = re.findall(word, listed.group().replace(" and ", ", ")) if listed else []
+    if not names or flag(names[0]) is None:
         return message
-    return flag(leading.group()) + message[leading.end():]
+    if any(flag(name) is None for name in names):  # "k and c must ..." with c not an option: only the first
+        listed = re.match(word, message)
+    return re.sub(word, lambda found: flag(found.group()) or found.group(), listed.group()) + message[listed.end():]
 
 
 class Options(BaseModel):

@@ -306,6 +306,10 @@ SWARM_OUTPUTS = ("out", "summary", "checkpoint", "overwrite")  # what a resumed 
 def lxcat_notes():
     """Show the notes of an LXCat read (skipped blocks, clipped values: LXCatWarning) as one-line notes.
 
+    A ``ValueError`` making the gas (an ``LXCatError`` among them) keeps its
+    type, its message naming the options (``--fractions``), not the
+    library's arguments (``fractions``).
+
     Examples
     --------
     >>> import warnings
@@ -319,6 +323,9 @@ def lxcat_notes():
         warnings.simplefilter("always", LXCatWarning)
         try:
             yield
+        except ValueError as refused:  # the gas read from its files: "fractions: give one per species" is --fractions
+            refused.args = (named_as_option(str(refused), GasScanOptions), *refused.args[1:])
+            raise
         finally:
             for item in caught:
                 if issubclass(item.category, LXCatWarning):
