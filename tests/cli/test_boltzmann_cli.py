@@ -211,3 +211,32 @@ def test_the_summary_says_what_the_numbers_came_from(tmp_path):
     assert provenance["collisionkit"] == __version__
     assert provenance["cross_sections"] == [{"path": str(argon),
                                              "sha256": hashlib.sha256(argon.read_bytes()).hexdigest()}]
+
+
+def test_e_n_ranges_give_evenly_or_logarithmically_spaced_values_and_minus_zero_is_zero(tmp_path):
+    # BOLSIG+ and LoKI-B users expect ranges; --E-N 10,-0 printed "-0"
+    summary = tmp_path / "b.json"
+    result = runner.invoke(app, ["boltzmann", "--model", "reid", "--E-N", "1:1000:4:log,0:10:3", "--E-N", "-0",
+                                 "--summary", str(summary)])
+    assert result.exit_code == 0, result.output
+    values = [entry["E_N"] for entry in json.loads(summary.read_text())["results"]]
+    assert values == [1.0, 10.0, 100.0, 1000.0, 0.0, 5.0, 10.0, 0.0]
+    assert "-0" not in result.stdout
+    assert "START:STOP:COUNT:log" in " ".join(runner.invoke(app, ["boltzmann", "--help"]).output.split())
+
+
+def test_an_empty_e_n_list_in_a_config_file_says_what_to_give(tmp_path):
+    config = tmp_path / "b.toml"
+    config.write_text('model = "reid"\nE-N = []\n')
+    result = runner.invoke(app, ["boltzmann", "--config", str(config)])
+    assert result.exit_code == 2 and "--E-N: give at least one E/N value (Td, 0 to 1e6)" in result.output
+
+
+def test_minus_zero_e_n_is_zero_in_the_table_and_the_summary(tmp_path):
+    # --E-N 10,-0 printed "-0" for E/N and for W, and the summary held "E_N": -0.0
+    summary = tmp_path / "b.json"
+    result = runner.invoke(app, ["boltzmann", "--model", "reid", "--E-N", "10,-0", "--summary", str(summary)],
+                           env={"COLUMNS": "200"})
+    assert result.exit_code == 0, result.output
+    assert "-0 " not in result.stdout and "-0.0" not in summary.read_text(), result.stdout
+    assert [entry["E_N"] for entry in json.loads(summary.read_text())["results"]] == [10.0, 0.0]

@@ -172,3 +172,40 @@ def test_messages_print_colon_words_as_written_not_as_emoji(capsys):
 
     _messages.error("bad --gas Ar:x:0.5 (a :smile: path)")
     assert "Ar:x:0.5 (a :smile: path)" in " ".join(capsys.readouterr().err.split())
+
+
+BOLTZMANN_HEADERS = ("E/N (Td)", "<e> (eV)", "W (m/s)", "N D (1/m/s)", "D/mu (eV)", "alpha/N (m^2)", "eta/N (m^2)")
+BOLTZMANN_ROWS = [("10", "0.24695", "64496", "1.3426e+24", "0.2082", "0", "0"),
+                  ("1000", "5.0213", "1.4348e+05", "8.9198e+23", "6.217", "1.2345e-22", "0")]
+SWARM_HEADERS = ("E/N (Td)", "mean energy (eV)", "bulk W (m/s)", "N D_L (1/m/s)", "N D_T (1/m/s)")
+SWARM_ROWS = [("12", "0.95123 ± 0.0021", "-6.1541e+04 ± 1.2e+02", "5.8213e+23 ± 3.1e+21", "1.0312e+24 ± 4.4e+21")]
+
+
+def _printed_table(monkeypatch, capsys, width, headers, rows):
+    from collisionkit.cli import _common, _messages
+
+    monkeypatch.setattr(_messages.console, "width", width)
+    _common.print_table("results", headers, rows)
+    return capsys.readouterr().out
+
+
+@pytest.mark.parametrize("width", [30, 45, 60, 80, 200])
+@pytest.mark.parametrize(("headers", "rows"), [(BOLTZMANN_HEADERS, BOLTZMANN_ROWS), (SWARM_HEADERS, SWARM_ROWS)])
+def test_a_table_never_drops_a_character_of_a_cell_at_any_width(monkeypatch, capsys, width, headers, rows):
+    # with stdout redirected or COLUMNS=80/60, rich cut cells short: "6.1541e…"
+    from collections import Counter
+
+    printed = _printed_table(monkeypatch, capsys, width, headers, rows)
+    assert "…" not in printed
+    shown = Counter(printed.replace(" ", "").replace("\n", ""))
+    wanted = Counter("".join([*headers, *(cell for row in rows for cell in row)]).replace(" ", ""))
+    assert not wanted - shown, (width, printed)  # every character of every cell and header, folded or not
+    assert max(len(line) for line in printed.splitlines()) <= width
+
+
+@pytest.mark.parametrize("width", [60, 80])
+def test_a_narrow_table_keeps_every_number_whole_on_one_line(monkeypatch, capsys, width):
+    printed = _printed_table(monkeypatch, capsys, width, BOLTZMANN_HEADERS, BOLTZMANN_ROWS)
+    for row in BOLTZMANN_ROWS:
+        for cell in row:
+            assert cell in printed, (cell, printed)

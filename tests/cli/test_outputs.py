@@ -292,3 +292,51 @@ def test_output_paths_stored_in_a_swarm_checkpoint_are_never_used(tmp_path, monk
     result = invoke(["swarm", "--resume", checkpoint])
     assert result.exit_code == 0, result.output
     assert victim.read_text() == "precious" and not (tmp_path / "elsewhere").exists()
+
+
+@pytest.mark.parametrize(
+    ("arguments", "name"),
+    [
+        (["boltzmann", "--model", "reid", "--E-N", "10"], "boltzmann.csv"),
+        (["boltzmann", "--model", "reid", "--E-N", "10"], "eedf.png"),
+        (SWARM, "swarm.csv"),
+        (SWARM, "eedf.png"),
+    ],
+)
+def test_an_output_file_that_its_out_folder_also_writes_is_refused_before_any_work(tmp_path, arguments, name):
+    # boltzmann --out fresh --summary fresh/boltzmann.csv exited 0, and boltzmann.csv then held the JSON summary
+    out = tmp_path / "fresh"
+    result = invoke([*arguments, "--out", out, "--summary", out / name])
+    assert result.exit_code == 2, result.output
+    message = said(result)
+    assert f"--summary {out / name}" in message and f"--out {out}" in message, message
+    assert list(tmp_path.iterdir()) == []
+    other = invoke([*arguments, "--out", out, "--summary", out / "summary.json"])  # a file of its own: fine
+    assert other.exit_code == 0, other.output
+    assert json.loads((out / "summary.json").read_text())["results"]
+
+
+TRACK_DEVICE = """[gas]\nmodel = "maxwell"\ndensity = 1e25\ntemperature = 0.0\n[geometry]\nkind = "parallel-plate"
+gap = 1e-4\nvoltage = 0.2\n[source]\nelectrons = 4\nposition = [0.0, 0.0, 5e-5]\n"""
+
+
+@pytest.mark.parametrize(
+    ("arguments", "option", "name"),
+    [
+        ([*EDMD, "--plots"], "--summary", "snapshot.png"),
+        (ENCOUNTER, "--summary", "initial_conditions.json"),
+        (["track", "--config", "{device}"], "--summary", "tracks.png"),
+    ],
+)
+def test_any_output_file_that_an_out_folder_also_writes_is_refused_before_any_work(tmp_path, arguments, option, name):
+    # edmd, encounter and track: the same clash as boltzmann --out fresh --summary fresh/boltzmann.csv (a
+    # --checkpoint or --xyz cannot clash: they must end in .npz and .xyz, which no --out folder writes)
+    device = tmp_path / "device.toml"
+    device.write_text(TRACK_DEVICE)
+    out = tmp_path / "fresh"
+    arguments = [str(device) if argument == "{device}" else argument for argument in arguments]
+    result = invoke([*arguments, "--out", out, option, out / name])
+    assert result.exit_code == 2, result.output
+    message = said(result)
+    assert f"{option} {out / name}" in message and f"--out {out}" in message, message
+    assert not out.exists()

@@ -125,7 +125,7 @@ def test_swarm_refuses_species_and_fractions_with_a_model_gas():
     for extra in (["--species", "Ar"], ["--fractions", "0.5"]):
         result = runner.invoke(app, ["swarm", "--model", "reid", *extra, *quick], env={"COLUMNS": "200"})
         assert result.exit_code == 2, result.output
-        assert "species, fractions and database pick gases from LXCat files (cross_sections)" in result.output
+        assert "--species, --fractions and --database pick gases from LXCat files (--cross-sections)" in result.output
 
 
 def test_a_single_value_in_the_config_is_a_list_of_one(tmp_path):
@@ -509,3 +509,58 @@ def test_an_angle_without_b_is_noted():
                                  "--particles", "640", "--tolerance", "0.1", "--collision-budget", "1e5"])
     assert result.exit_code == 0, result.output
     assert "note: --angle 30 has no effect without --B-N" in " ".join(result.output.split())
+
+
+@pytest.mark.parametrize("command", [
+    ["swarm", "--particles", "128", "--tolerance", "0.5", "--collision-budget", "1e4"],
+    ["boltzmann"],
+])
+def test_a_gas_chosen_on_the_command_line_replaces_the_config_files_gas(tmp_path, command):
+    # model = "reid" in a config and --gas Ar on the command line: "give exactly one of model, gas and cross_sections"
+    config, summary = tmp_path / "run.toml", tmp_path / "s.json"
+    config.write_text('model = "reid"\nspecies = ["N2"]\nfractions = [1.0]\ndatabase = "Biagi"\nE-N = [10]\n')
+    result = runner.invoke(app, [*command, "--config", str(config), "--gas", "Ar", "--summary", str(summary)])
+    assert result.exit_code == 0, result.output
+    assert json.loads(summary.read_text())["gas"] == "Ar"
+    config.write_text('gas = "Ar"\nE-N = [10]\n')  # and the other way round
+    result = runner.invoke(app, [*command, "--config", str(config), "--model", "reid", "--summary", str(summary),
+                                 "--overwrite"])
+    assert result.exit_code == 0, result.output
+    assert json.loads(summary.read_text())["gas"] == "reid"
+    both = runner.invoke(app, [*command, "--model", "reid", "--gas", "Ar"])  # both on the command line: still refused
+    assert both.exit_code == 2 and "give exactly one of" in both.output
+
+
+def test_files_on_the_command_line_replace_the_config_files_files_with_their_species_only(tmp_path):
+    # the config's species picked from its own files; species in a config without files pick from the command line's
+    from collisionkit.cli._common import load_options
+    from collisionkit.cli._transport import SwarmOptions
+
+    config, reid = tmp_path / "run.toml", DATA / "lxcat_classic_reid.txt"
+    config.write_text(f'cross-sections = "{tmp_path / "other.txt"}"\nspecies = ["N2"]\nfractions = [1.0]\n'
+                      'database = "Biagi"\n')
+    options = load_options(SwarmOptions, config, {"cross_sections": [reid]})
+    assert (options.cross_sections, options.species, options.fractions, options.database) == ([reid], None, None, None)
+    config.write_text('model = "reid"\nspecies = ["Ar"]\n')
+    options = load_options(SwarmOptions, config, {"cross_sections": [reid]})
+    assert (options.model, options.cross_sections, options.species) == (None, [reid], ["Ar"])
+
+
+@pytest.mark.parametrize("command", ["swarm", "boltzmann"])
+def test_the_fractions_help_gives_the_default(command):
+    import re
+
+    shown = re.sub(r"[│\s]+", " ", runner.invoke(app, [command, "--help"]).output)  # the help's box, folded lines
+    assert "--fractions <list[float]> Their number fractions (repeat), one per species. [default: equal fractions]" \
+        in shown, shown
+
+
+@pytest.mark.parametrize("command", ["swarm", "boltzmann"])
+def test_fractions_that_do_not_match_the_files_species_are_named_as_the_option(tmp_path, command):
+    import collisionkit.transport
+
+    data = Path(collisionkit.transport.__file__).parent / "data"
+    both = ["--cross-sections", str(data / "IST-Lisbon_N2.txt"), "--cross-sections", str(data / "IST-Lisbon_Ar.txt"),
+            "--fractions", "0.9"]
+    result = runner.invoke(app, [command, *both])
+    assert result.exit_code == 2 and "error: --fractions: give one per species" in result.output, result.output

@@ -126,8 +126,8 @@ def test_a_device_file_value_is_named_as_the_file_spells_it(tmp_path, line, word
     said = _refused(runner.invoke(app, ["track", "--config", str(device)]), words)
     assert "--gap" not in said and "--geometry" not in said and "--wire-radius" not in said
     device.write_text('[gas]\nmodel = "reid"\ntemperature = 1e9\n[geometry]\ngap = 1e-3\n')
-    _refused(runner.invoke(app, ["track", "--config", str(device)]), "[gas] temperature: Input should be less than "
-             "or equal to 100000")
+    _refused(runner.invoke(app, ["track", "--config", str(device)]), "[gas] temperature: must be from 0 to 100000; "
+             "got 1e+09")
 
 
 ALPHA_N = 2.806e-22  # m^2: Lucas-Saelee (F = 1) at 10 Td, as tests/transport/test_tracking.py

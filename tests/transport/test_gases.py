@@ -88,3 +88,14 @@ def test_wrong_types_in_processes_species_and_gases_are_named_not_python_errors(
     assert one.processes == (elastic,) and Gas(one).species == (one,)
     with pytest.raises(TypeError, match="species must be Species objects"):
         Gas((elastic,))
+
+
+def test_a_catalogue_gas_has_a_compact_repr_naming_its_species():
+    # repr(catalogue_gas("N2")) was 161 491 characters: every cross-section table in full
+    from collisionkit.transport import catalogue_gas
+
+    gas = catalogue_gas("N2")
+    assert len(repr(gas)) < 300 and "N2" in repr(gas), repr(gas)
+    assert repr(gas) == f"Gas(species=['N2'], fractions=[1.0], processes={len(gas.processes)})"
+    assert len(repr(gas.species[0])) < 300 and "N2" in repr(gas.species[0])
+    assert all(len(repr(process)) < 300 for _, process in gas.processes)

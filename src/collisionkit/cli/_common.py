@@ -25,6 +25,7 @@ from typing import Annotated, Any, ClassVar, Union, get_args, get_origin
 import typer
 from pydantic import BaseModel, ConfigDict, ValidationError, model_validator
 from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn, TimeRemainingColumn
+from rich import box
 from rich.table import Table
 
 from ._files import (
@@ -82,14 +83,33 @@ def named_as_option(message: str, model: type[Options], renamed: Mapping[str, st
     '--packing-fraction must lie in (0, 0.5]; got 0.6'
     >>> named_as_option("k must be finite", Run)
     'k must be finite'
+    >>> named_as_option("these pick gases from LXCat files (packing_fraction)", Run)
+    'these pick gases from LXCat files (--packing-fraction)'
+    >>> class Gas(Options):
+    ...     species: list[str] | None = None
+    ...     fractions: list[float] | None = None
+    >>> named_as_option("species and fractions pick gases", Gas)
+    '--species and --fractions pick gases'
+    >>> named_as_option("species and atoms differ", Gas)  # not all options: only the first word is one
+    '--species and atoms differ'
     """
-    leading = re.match(r"[A-Za-z_][A-Za-z0-9_]*", message)
-    if leading is None:
+
+    def flag(name: str) -> str | None:
+        name = (renamed or {}).get(name, name)
+        return model.flags.get(name, f"--{_dashed(name)}") if name in model.model_fields else None
+
+    # a library argument named alone in parentheses: "... from LXCat files (cross_sections)"
+    message = re.sub(r"\(([A-Za-z_][A-Za-z0-9_]*)\)", lambda found: f"({flag(found.group(1)) or found.group(1)})",
+                     message)
+    # the arguments it starts with: "packing_fraction must ...", "species, fractions and database pick ..."
+    word = r"[A-Za-z_][A-Za-z0-9_]*"
+    listed = re.match(rf"{word}(?:, {word})*(?: and {word})?(?![A-Za-z0-9_])", message)
+    names = re.findall(word, listed.group().replace(" and ", ", ")) if listed else []
+    if not names or flag(names[0]) is None:
         return message
-    name = (renamed or {}).get(leading.group(), leading.group())
-    if name not in model.model_fields:
-        return message
-    return model.flags.get(name, f"--{_dashed(name)}") + message[leading.end():]
+    if any(flag(name) is None for name in names):  # "k and c must ..." with c not an option: only the first
+        listed = re.match(word, message)
+    return re.sub(word, lambda found: flag(found.group()) or found.group(), listed.group()) + message[listed.end():]
 
 
 class Options(BaseModel):
@@ -114,6 +134,12 @@ class Options(BaseModel):
     input_files: ClassVar[tuple[str, ...]] = ()
     # the command-line spelling of options whose flag is not ``--`` and the dashed name (``--E-N`` for ``e_n``)
     flags: ClassVar[dict[str, str]] = {}
+    # (choices, group): when the command line gives any of the choices, the config file's whole group is dropped
+    # (``--gas Ar`` replaces a config's ``model``, and its ``species`` and ``fractions`` with it)
+    chosen_together: ClassVar[tuple[tuple[tuple[str, ...], tuple[str, ...]], ...]] = ()
+    # options that qualify another in a config file: dropped with it (a config's ``species`` pick from its own
+    # ``cross_sections``; with no ``cross_sections`` of its own they pick from the command line's files)
+    goes_with: ClassVar[dict[str, tuple[str, ...]]] = {}
 
     overwrite: bool = False
 
@@ -274,7 +300,52 @@ def _describe(error: Mapping[str, Any], model: type[Options] | None = None) -> s
         if where:
             return f"{where}: {message} (got {error.get('input')!r})"
         return message if model is None else named_as_option(message, model)
+    bounded = _range_of(model, error["loc"]) if error["type"] in _BOUND_ERRORS else None
+    if bounded is not None:
+        return f"{where}: must be {bounded}; got {_number_text(error.get('input'))}"
     return f"{where or 'options'}: {error['msg']} (got {error.get('input')!r})"
+
+
+_BOUND_ERRORS = ("greater_than", "greater_than_equal", "less_than", "less_than_equal")
+
+
+def _number_text(value: Any) -> str:
+    """An int as it is, a float as %g (1e+07, 0.5), anything else as its repr."""
+    if isinstance(value, float):
+        return f"{value:g}"
+    return str(value) if isinstance(value, int) else repr(value)
+
+
+def _range_of(model: type[Options] | None, loc: tuple) -> str | None:
+    """The whole range of an option with a lower and an upper bound ("from 50 to 100000", "above 0 and at most
+    0.5"), from the model's field constraints; None for an option with one bound or none.
+
+    Examples
+    --------
+    >>> from pydantic import Field
+    >>> class Run(Options):
+    ...     cells: int = Field(default=1000, ge=50, le=100_000)
+    ...     tolerance: float = Field(default=0.01, gt=0, le=0.5)
+    ...     seed: int = Field(default=1, ge=0)
+    >>> _range_of(Run, ("cells",)), _range_of(Run, ("tolerance",)), _range_of(Run, ("seed",))
+    ('from 50 to 100000', 'above 0 and at most 0.5', None)
+    """
+    if model is None or len(loc) != 1 or loc[0] not in model.model_fields:
+        return None
+    bounds = {}
+    for constraint in model.model_fields[loc[0]].metadata:
+        for kind in ("ge", "gt", "le", "lt"):
+            if getattr(constraint, kind, None) is not None:
+                bounds[kind] = _number_text(getattr(constraint, kind))
+    low = "ge" if "ge" in bounds else "gt" if "gt" in bounds else None
+    high = "le" if "le" in bounds else "lt" if "lt" in bounds else None
+    if low is None or high is None:
+        return None
+    if (low, high) == ("ge", "le"):
+        return f"from {bounds['ge']} to {bounds['le']}"
+    lower = f"at least {bounds['ge']}" if low == "ge" else f"above {bounds['gt']}"
+    upper = f"at most {bounds['le']}" if high == "le" else f"below {bounds['lt']}"
+    return f"{lower} and {upper}"
 
 
 def load_options(model: type[Options], config: Path | None, given: Mapping[str, Any]):
@@ -293,7 +364,39 @@ def load_options(model: type[Options], config: Path | None, given: Mapping[str, 
 
 
 def option_values(model: type[Options], config: Path | None, given: Mapping[str, Any]) -> dict[str, Any]:
-    """The options a TOML file and the command line set, by field name, not yet validated (the command line wins)."""
+    """The options a TOML file and the command line set, by field name, not yet validated (the command line wins).
+
+    A choice the command line makes replaces the config file's whole group
+    (``model.chosen_together``): ``--gas Ar`` drops a config's ``model``,
+    ``species`` and ``fractions`` instead of clashing with them. A config
+    option dropped takes the options that qualify it along
+    (``model.goes_with``): ``--cross-sections b.txt`` drops a config's
+    ``cross_sections`` with the ``species`` that picked from them.
+
+    Examples
+    --------
+    >>> from typing import ClassVar
+    >>> class Run(Options):
+    ...     model: str | None = None
+    ...     gas: str | None = None
+    ...     chosen_together: ClassVar = ((("model", "gas"), ("model", "gas")),)
+    >>> import pathlib, tempfile
+    >>> config = pathlib.Path(tempfile.mkdtemp()) / "run.toml"
+    >>> _ = config.write_text('model = "reid"\\n')
+    >>> option_values(Run, config, {"gas": "Ar", "model": None})
+    {'gas': 'Ar'}
+    >>> class Files(Options):
+    ...     files: list[str] | None = None
+    ...     species: list[str] | None = None
+    ...     chosen_together: ClassVar = ((("files",), ("files",)),)
+    ...     goes_with: ClassVar = {"files": ("species",)}
+    >>> _ = config.write_text('files = ["a.txt"]\\nspecies = ["N2"]\\n')
+    >>> option_values(Files, config, {"files": ["b.txt"]})
+    {'files': ['b.txt']}
+    >>> _ = config.write_text('species = ["N2"]\\n')  # for whatever files the command line names
+    >>> option_values(Files, config, {"files": ["b.txt"]})
+    {'species': ['N2'], 'files': ['b.txt']}
+    """
     values: dict[str, Any] = {}
     if config is not None:
         spelled: dict[str, str] = {}
@@ -303,7 +406,15 @@ def option_values(model: type[Options], config: Path | None, given: Mapping[str,
                 raise fail(f"config file {config} sets {name!r} twice: as {spelled[name]!r} and as {key!r}")
             spelled[name] = key
             values[name] = value
-    values.update({key: value for key, value in given.items() if value is not None})
+    given = {key: value for key, value in given.items() if value is not None}
+    for choices, group in model.chosen_together:
+        if any(name in given for name in choices):
+            for name in group:
+                if name in values:
+                    del values[name]
+                    for qualifier in model.goes_with.get(name, ()):
+                        values.pop(qualifier, None)
+    values.update(given)
     return values
 
 
@@ -352,6 +463,7 @@ def check_paths(options: Options, keep: Collection[Path] = ()) -> None:
     for option, path in folders.items():
         check_output_folder(path, option)
     refuse_clashes(outputs | folders)
+    refuse_files_of_folders(options, outputs)
     keep = {Path(path).resolve() for path in keep}
     for option, path in outputs.items():
         refuse_to_replace(path, option, options.overwrite, keep)
@@ -360,6 +472,39 @@ def check_paths(options: Options, keep: Collection[Path] = ()) -> None:
             if name not in options.unwritten():
                 refuse_earlier_run(getattr(options, name), f"--{_dashed(name)}", options.folder_files(name),
                                    options.overwrite)
+
+
+def refuse_files_of_folders(options: Options, outputs: Mapping[str, Path | None]) -> None:
+    """Stop (exit 2) if an output file (``{"--summary": path}``) is one of the files an output folder's run writes.
+
+    ``--out fresh --summary fresh/boltzmann.csv`` would have the table and
+    the summary replace each other; no file is written before this check.
+
+    Examples
+    --------
+    >>> from typing import ClassVar
+    >>> class Run(Options):
+    ...     out: Path | None = None
+    ...     summary: Path | None = None
+    ...     output_folders: ClassVar = ("out",)
+    ...     def folder_files(self, folder):
+    ...         return ("table.csv",)
+    >>> refuse_files_of_folders(Run(out="plots", summary="plots/summary.json"), {"--summary": Path("plots/summary.json")})
+    >>> try:
+    ...     refuse_files_of_folders(Run(out="plots"), {"--summary": Path("plots/table.csv")})
+    ... except Exception as stop:
+    ...     print(type(stop).__name__, stop.exit_code)
+    Exit 2
+    """
+    for name in type(options).output_folders:
+        folder = getattr(options, name)
+        if folder is None or name in options.unwritten():
+            continue
+        written = {(Path(folder) / file).resolve(): file for file in options.folder_files(name)}
+        for option, path in outputs.items():
+            if path is not None and Path(path).resolve() in written:
+                raise fail(f"{option} {path} is the file {written[Path(path).resolve()]} that --{_dashed(name)} "
+                           f"{folder} writes: one would replace the other; name another file for {option}")
 
 
 def _field_name(model: type[Options], key: str) -> str:
@@ -405,10 +550,49 @@ def fraction_reporter(advance, total: float):
 
 
 def print_table(title: str, columns: Iterable[str], rows: Iterable[Iterable[Any]]) -> None:
-    """Print a rich table with the given column headers and rows."""
-    table = Table(title=title)
-    for column in columns:
-        table.add_column(column)
-    for row in rows:
-        table.add_row(*(str(cell) for cell in row))
+    """Print a rich table with the given column headers and rows, every character of every cell shown.
+
+    A console too narrow for the table (``COLUMNS=60``; stdout redirected
+    to a file: 80 columns) wraps a cell at its spaces, each column at least
+    as wide as its longest word; if even that does not fit in boxes, the
+    table drops its borders and padding, and only if that does not fit
+    either a word longer than its column folds onto the next line. No
+    number is ever cut short with an ellipsis ("6.1541e…").
+
+    Examples
+    --------
+    >>> print_table("run", ("E/N (Td)", "W (m/s)"), [(10, "6.1541e+04")])  # doctest: +SKIP
+    """
+    headers = [str(column) for column in columns]
+    cells = [[str(cell) for cell in row] for row in rows]
+    boxed = dict(box=box.HEAVY_HEAD), len(headers) + 1 + 2 * len(headers)  # the borders and a space each side
+    compact = dict(box=box.SIMPLE_HEAD, show_edge=False, padding=0), len(headers) - 1  # a space between columns
+    for (style, spacing) in (boxed, compact):
+        widths = _column_widths(headers, cells, console.width - spacing)
+        if widths is not None:
+            break
+    table = Table(title=title, **style)
+    for header, width in zip(headers, widths or [None] * len(headers)):
+        table.add_column(header, overflow="fold", width=width)
+    for row in cells:
+        table.add_row(*row)
     console.print(table)
+
+
+def _column_widths(headers: list[str], rows: list[list[str]], room: int) -> list[int | None] | None:
+    """Widths of the columns that keep every word whole in ``room`` characters: None each if every column fits as
+    it is (rich lays it out), None if the longest words alone do not fit."""
+    columns = list(zip(headers, *rows))
+    natural = [max(len(text) for text in column) for column in columns]
+    if sum(natural) <= room:
+        return [None] * len(columns)
+    widths = [max(len(word) for text in column for word in [*text.split(), ""]) for column in columns]
+    if sum(widths) > room:
+        return None
+    spare = room - sum(widths)
+    while spare > 0 and widths != natural:  # the room left, a character at a time to each column still wrapping
+        for index, width in enumerate(widths):
+            if spare > 0 and width < natural[index]:
+                widths[index] += 1
+                spare -= 1
+    return widths

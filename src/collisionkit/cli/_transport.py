@@ -12,7 +12,8 @@ from pydantic import Field, field_validator, model_validator
 
 from .._io import FileLockedError
 from ._common import (
-    INTERRUPTED_EXIT_CODE, Deliveries, Options, OverwriteOption, fail, fraction_reporter, load_options, note,
+    INTERRUPTED_EXIT_CODE, Deliveries, Options, OverwriteOption, fail, fraction_reporter, load_options, named_as_option,
+    note,
     option_values, print_table, progress_bar, refuse_folder, require, run_failed, say, validate_options, warn,
 )
 from ._memory import refuse_beyond_memory, swarm_memory
@@ -77,10 +78,16 @@ class GasScanOptions(Options):
     species: list[str] | None = None
     fractions: list[float] | None = None
     database: str | None = None
-    e_n: list[float] = Field(default=[12.0], min_length=1)
+    e_n: list[float] = Field(default=[12.0])
 
     input_files: ClassVar[tuple[str, ...]] = ("cross_sections",)
     flags: ClassVar[dict[str, str]] = {"e_n": "--E-N"}
+    # a gas chosen on the command line replaces the config file's gas: its model, gas or LXCat files with their
+    # species, fractions and database; a model or catalogue gas has no LXCat selectors at all, while selectors in a
+    # config without files of its own pick from the command line's --cross-sections
+    chosen_together: ClassVar = ((("model", "gas", "cross_sections"), ("model", "gas", "cross_sections")),
+                                 (("model", "gas"), ("species", "fractions", "database")))
+    goes_with: ClassVar = {"cross_sections": ("species", "fractions", "database")}
 
     @field_validator("cross_sections", mode="before")
     @classmethod
@@ -88,13 +95,23 @@ class GasScanOptions(Options):
         """``cross-sections = "ar.txt"`` in a TOML file (and a saved checkpoint's single path) is a list of one."""
         return [value] if isinstance(value, (str, Path)) else value
 
+    @model_validator(mode="after")
+    def _a_fraction_per_species(self):
+        """--fractions, one per --species (the library's message names its arguments, not the options)."""
+        if self.species is not None and self.fractions is not None and len(self.fractions) != len(self.species):
+            raise ValueError(f"--fractions: give one per --species ({len(self.species)}: {', '.join(self.species)}); "
+                             f"got {len(self.fractions)}")
+        return self
+
     @field_validator("e_n")
     @classmethod
     def _fields_in_range(cls, values: list[float]) -> list[float]:
         """Every E/N finite and in [0, MAX_REDUCED_FIELD] Td (the library's range, named here as --E-N)."""
+        if not values:
+            raise ValueError(f"give at least one E/N value (Td, 0 to {_short(MAX_REDUCED_FIELD)})")
         if not all(0.0 <= value <= MAX_REDUCED_FIELD for value in values):  # NaN fails too
             raise ValueError(f"every E/N must be a finite number from 0 to {MAX_REDUCED_FIELD:g} Td")
-        return values
+        return [value + 0.0 for value in values]  # -0 is 0
 
 
 class SwarmOptions(GasScanOptions):
@@ -209,18 +226,74 @@ class SwarmOptions(GasScanOptions):
                                scattering=self.scattering, populations=self.populations)
 
 
+MAX_E_N_COUNT = 100_000  # values of one START:STOP:COUNT range
+E_N_FORMS = "numbers, comma lists, START:STOP:COUNT or START:STOP:COUNT:log"
+
+
 def _e_n_values(raw: list[str] | None) -> list[float] | None:
+    """The E/N values of ``--E-N`` items: numbers, comma lists and ranges; a bad item is exit 2 naming --E-N.
+
+    ``START:STOP:COUNT`` gives COUNT values from START to STOP evenly spaced,
+    ``START:STOP:COUNT:log`` logarithmically spaced (START and STOP above 0);
+    each value is rounded to 12 significant digits (10, not 10.000000000000002).
+
+    Examples
+    --------
+    >>> _e_n_values(["10,20", "0:100:3", "1:1000:4:log", "-0"])
+    [10.0, 20.0, 0.0, 50.0, 100.0, 1.0, 10.0, 100.0, 1000.0, 0.0]
+    """
     if raw is None:
         return None
+    items = [part.strip() for item in raw for part in str(item).split(",")]
+    if all(not item for item in items):
+        raise fail(f"--E-N: give at least one E/N value (Td, 0 to {_short(MAX_REDUCED_FIELD)})")
     values = []
-    for item in raw:
-        for part in str(item).split(","):
-            if part.strip():
-                try:
-                    values.append(float(part))
-                except ValueError:
-                    raise fail(f"--E-N: {part!r} is not a number (Td)") from None
-    return values
+    for item, given in ((item, given) for given in raw for item in str(given).split(",")):
+        item = item.strip()
+        if not item:
+            raise fail(f"--E-N: an empty item in {given!r}; give {E_N_FORMS}, separated by commas")
+        values.extend(_range_values(item) if ":" in item else [_number(item, item)])
+    return [value + 0.0 for value in values]  # -0 is 0
+
+
+def _short(value: float) -> str:
+    """1e6, not 1e+06."""
+    return f"{value:g}".replace("e+0", "e").replace("e+", "e")
+
+
+def _number(text: str, item: str) -> float:
+    try:
+        return float(text)
+    except ValueError:
+        raise fail(f"--E-N: {text!r} is not a number (Td)" + (f" in {item!r}" if text != item else "")) from None
+
+
+def _range_values(item: str) -> list[float]:
+    """The values of ``START:STOP:COUNT`` (evenly spaced) or ``START:STOP:COUNT:log`` (logarithmically)."""
+    import numpy as np
+
+    parts = item.split(":")
+    if len(parts) not in (3, 4) or (len(parts) == 4 and parts[3].strip().lower() != "log"):
+        raise fail(f"--E-N: {item!r} is not a range; give START:STOP:COUNT (evenly spaced) or START:STOP:COUNT:log "
+                   "(logarithmically spaced)")
+    start, stop = (_number(part.strip(), item) for part in parts[:2])
+    try:
+        count = int(parts[2].strip())
+    except ValueError:
+        count = 0
+    if not 2 <= count <= MAX_E_N_COUNT:
+        raise fail(f"--E-N: the COUNT of {item!r} must be a whole number from 2 to {MAX_E_N_COUNT}")
+    for value in (start, stop):
+        if not 0.0 <= value <= MAX_REDUCED_FIELD:  # NaN fails too
+            raise fail(f"--E-N: every E/N must be a finite number from 0 to {MAX_REDUCED_FIELD:g} Td; "
+                       f"got {value:g} in {item!r}")
+    if len(parts) == 4:
+        if start == 0.0 or stop == 0.0:
+            raise fail(f"--E-N: a logarithmic range needs START and STOP above 0; got {item!r}")
+        spaced = np.geomspace(start, stop, count)
+    else:
+        spaced = np.linspace(start, stop, count)
+    return [float(f"{value:.12g}") for value in spaced]
 
 
 # the files of a swarm run's --out: the EEDF, the table, the coefficients against E/N (a scan), W and <e> against the
@@ -232,6 +305,10 @@ SWARM_OUTPUTS = ("out", "summary", "checkpoint", "overwrite")  # what a resumed 
 @contextmanager
 def lxcat_notes():
     """Show the notes of an LXCat read (skipped blocks, clipped values: LXCatWarning) as one-line notes.
+
+    A ``ValueError`` making the gas (an ``LXCatError`` among them) keeps its
+    type, its message naming the options (``--fractions``), not the
+    library's arguments (``fractions``).
 
     Examples
     --------
@@ -246,6 +323,9 @@ def lxcat_notes():
         warnings.simplefilter("always", LXCatWarning)
         try:
             yield
+        except ValueError as refused:  # the gas read from its files: "fractions: give one per species" is --fractions
+            refused.args = (named_as_option(str(refused), GasScanOptions), *refused.args[1:])
+            raise
         finally:
             for item in caught:
                 if issubclass(item.category, LXCatWarning):
@@ -260,8 +340,8 @@ def _new_scan(options: SwarmOptions):
     try:
         with lxcat_notes():
             return SwarmScan(options.parameters(), checkpoint=options.checkpoint)
-    except ValueError as error:
-        raise fail(str(error)) from None
+    except ValueError as error:  # the gas read from its files: "fractions: give one per species" is --fractions
+        raise fail(named_as_option(str(error), SwarmOptions)) from None
 
 
 def _resumed_scan(resume: Path, given: dict):
@@ -410,11 +490,14 @@ GasOption = Annotated[str | None, typer.Option(
 CrossSectionsOption = Annotated[list[Path] | None, typer.Option(
     "--cross-sections", help="LXCat cross-section file (repeat to join files).")]
 SpeciesOption = Annotated[list[str] | None, typer.Option(help="Species of the LXCat files to use (repeat).")]
-FractionsOption = Annotated[list[float] | None, typer.Option(help="Their number fractions (repeat).")]
+FractionsOption = Annotated[list[float] | None, typer.Option(
+    help="Their number fractions (repeat), one per species.  \\[default: equal fractions]")]
 DatabaseOption = Annotated[str | None, typer.Option(
     help="Database to take a species from when the LXCat files hold it from several (e.g. Biagi).")]
 ReducedFieldsOption = Annotated[list[str] | None, typer.Option(
-    "--E-N", help="E/N in Td, 0 to 1e6; repeat or comma list for a sweep.  \\[default: 12]")]
+    "--E-N", help="E/N in Td, 0 to 1e6; repeat or comma list for a sweep; START:STOP:COUNT gives COUNT values from "
+                  "START to STOP evenly spaced, START:STOP:COUNT:log logarithmically spaced (START > 0), e.g. "
+                  "1:1000:7:log.  \\[default: 12]")]
 SharingOption = Annotated[str | None, typer.Option(help="Ionization energy sharing: equal or uniform.  \\[default: equal]")]
 
 

@@ -84,14 +84,20 @@ __all__ = [
 
 
 def save(ax, path):
-    """Save the figure holding ``ax`` to ``path`` and close it.
+    """Save the figure holding ``ax`` to ``path``, atomically, and close it.
+
+    The image is drawn into a temporary file beside ``path`` that then
+    replaces it (``os.replace``): a reader, or a crash at any instant, sees
+    the old file or the new one, never half an image; if drawing fails, the
+    temporary file is removed and an existing ``path`` is left as it was.
 
     Parameters
     ----------
     ax : matplotlib Axes
         Any axes of the figure to save.
     path : str or Path
-        The image file; its suffix (``.png``, ``.pdf``, ``.svg``, ...) sets the format.
+        The image file; its suffix (``.png``, ``.pdf``, ``.svg``, ...) sets the format (none: matplotlib's
+        default format, ``savefig.format``).
 
     Returns
     -------
@@ -104,12 +110,19 @@ def save(ax, path):
     >>> from collisionkit import plotting
     >>> folder = tempfile.TemporaryDirectory()
     >>> path = plotting.save(plotting.plot_deflection_laws(), pathlib.Path(folder.name) / "laws.png")
-    >>> path.read_bytes()[1:4]
-    b'PNG'
+    >>> path.read_bytes()[1:4], [p.name for p in path.parent.iterdir()]
+    (b'PNG', ['laws.png'])
     """
+    from pathlib import Path
+
+    from .._io import atomic_replacement
+
     figure = ax.figure
-    figure.savefig(path, dpi=120)
-    plt.close(figure)
+    image_format = Path(path).suffix[1:].lower() or plt.rcParams["savefig.format"]
+    try:
+        # the temporary file's name ends in .tmp: the format is the target's, given explicitly
+        with atomic_replacement(path) as temporary:
+            figure.savefig(temporary, dpi=120, format=image_format)
+    finally:
+        plt.close(figure)
     return path
-
-

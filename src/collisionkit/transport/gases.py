@@ -139,6 +139,11 @@ class Process:
     superelastic_scattering: str = "isotropic"
     population: float | None = None
 
+    def __repr__(self) -> str:
+        """A line, not the table: ``Process('excitation', label='ramp', threshold=0.2, points=2)``."""
+        return (f"Process({self.kind!r}, label={self.label!r}, threshold={float(self.threshold):g}, "
+                f"points={len(self.energy)})")
+
     def __post_init__(self):
         if self.kind not in PROCESS_KINDS:
             raise ValueError(f"kind must be one of {PROCESS_KINDS}; got {self.kind!r}")
@@ -245,6 +250,10 @@ class Species:
             raise TypeError(f"processes of {self.name} must be Process objects")
         object.__setattr__(self, "processes", processes)
 
+    def __repr__(self) -> str:
+        """A line, not the tables: ``Species('N2', mass=4.652e-26, processes=26)``."""
+        return f"Species({self.name!r}, mass={self.mass:.4g}, processes={len(self.processes)})"
+
 
 @dataclass(frozen=True, eq=False)
 class Gas:
@@ -274,6 +283,11 @@ class Gas:
             raise ValueError(f"fractions must be >= 0 and sum to 1; got {fractions}")
         object.__setattr__(self, "species", species)
         object.__setattr__(self, "fractions", fractions)
+
+    def __repr__(self) -> str:
+        """A line, not the tables: ``Gas(species=['N2'], fractions=[1.0], processes=26)``."""
+        return (f"Gas(species={[member.name for member in self.species]!r}, "
+                f"fractions={[float(fraction) for fraction in self.fractions]!r}, processes={len(self.processes)})")
 
     @classmethod
     def mixture(cls, parts) -> "Gas":
