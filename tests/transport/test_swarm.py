@@ -284,26 +284,45 @@ REID = {
 }
 
 
-def _close_to_one_of(value, references, tolerance):
-    return min(abs(value / ref - 1) for ref in references) < tolerance
+# the last digit LoKI-MC quotes (<e>, W, N D_T, N D_L): a rounding of sd digit / sqrt(12)
+REID_DIGIT = np.array([1e-4, 10.0, 1e21, 1e20])
+
+
+def _reid_reference(e_over_n):
+    """The mean of the published values at e_over_n and its standard uncertainty, per column: the sample sd of
+    the values listed (|LoKI-MC - MultiBolt| / sqrt(2)) with the rounding of the last digit in quadrature."""
+    published = np.array(list(REID[e_over_n].values()))
+    return published.mean(axis=0), np.hypot(published.std(axis=0, ddof=1), REID_DIGIT / math.sqrt(12))
 
 
 @pytest.mark.slow
 @pytest.mark.parametrize("e_over_n", sorted(REID))
 def test_reids_ramp_matches_published_transport_coefficients(e_over_n):
+    """<e>, bulk W, N D_T and N D_L against the mean of LoKI-MC and MultiBolt (REID above). Tolerance 4 combined
+    standard errors, 4 sqrt(s_run^2 + s_pub^2): s_run the run's reported error, s_pub the published values' spread
+    (_reid_reference; 0.03-0.8 %, largest at 1 Td, where W and N D_T differ by 0.6 % and 1.1 % between the
+    codes). Bands: <e> 0.19-0.81 %, W 0.12-1.9 %, N D 2.9-6.1 % (was 0.5 % and 3 % from the nearer value, the
+    3 % ~2.5 run sd for the bulk D's, at their floor ~sqrt(2.4 / N) = 1.1 % with 20000 electrons). Each run stops
+    at its tolerances (4-8e7 collisions, 5-9 s CPU). Measured, seeds 7-10 at 1, 12, 24 Td (12 runs): every value
+    within 2.2 combined sd (seed 7: 1 Td <e> +0.08 %, 1.7 sd; W +0.60 %, 1.3 sd; the D's within 1.7 sd; 12 Td
+    all within 0.6 sd; 24 Td <e> -0.18 %, W +0.19 %, 0.9 and 0.8 sd, both next to LoKI-MC, which is itself
+    Monte Carlo). Can fail (scratch copy, seed 7): <e> references x1.01 or x0.99 fail at every E/N (4.1-22 sd);
+    W x1.01 at 12 Td, x0.99 at 12 and 24 Td (1 Td's band is 1.9 %); both D's x1.07 or x0.93 at every E/N.
+    Raspopovic et al. 1999 (validation-data.md's third row) is not listed: an older Monte Carlo, up to 0.8 % off
+    the two codes in <e> and W at 24 Td."""
     r = simulate_swarm(reid_ramp(), e_over_n, gas_temperature=0.0, particles=20000, seed=7, threads=2,
                        tolerances={"mean_energy": 1.5e-3, "drift_velocity_bulk": 1.5e-3,
                                    "diffusion_L_N": 0.015, "diffusion_T_N": 0.015},
                        collision_budget=4e8)
-    published = REID[e_over_n].values()
-    # statistical errors small enough for the 0.5 % and 3 % tolerances to mean something
-    assert r.relative_error("mean_energy") < 1.5e-3
-    assert r.relative_error("drift_velocity_bulk") < 1.5e-3
-    assert r.relative_error("diffusion_L_N") < 0.015 and r.relative_error("diffusion_T_N") < 0.015
-    assert _close_to_one_of(r.mean_energy, [p[0] for p in published], 0.005)
-    assert _close_to_one_of(-r.drift_velocity_bulk[2], [p[1] for p in published], 0.005)
-    assert _close_to_one_of(r.diffusion_T_N, [p[2] for p in published], 0.03)
-    assert _close_to_one_of(r.diffusion_L_N, [p[3] for p in published], 0.03)
+    reference, published_sd = _reid_reference(e_over_n)
+    measured = np.array([r.mean_energy, -r.drift_velocity_bulk[2], r.diffusion_T_N, r.diffusion_L_N])
+    errors = np.array([r.mean_energy_error, r.drift_velocity_bulk_error[2], r.diffusion_T_N_error,
+                       r.diffusion_L_N_error])
+    # the run met its tolerances (relative to its values): errors small enough for the comparison to mean something
+    assert r.converged and np.all(errors <= np.array([1.5e-3, 1.5e-3, 0.015, 0.015]) * measured), errors / measured
+    combined = np.hypot(errors, published_sd)
+    sigmas = (measured - reference) / combined
+    assert np.all(np.abs(sigmas) <= 4), dict(zip(["<e>", "W bulk", "N D_T", "N D_L"], sigmas.round(2)))
 
 
 # Lucas-Saelee model at 10 Td, B = 0, m/M = 1e-3, gas at 0 K: LoKI-MC benchmark calculations (Dias et al., Comput.
