@@ -174,8 +174,8 @@ def test_collision_frequency_mean_free_time_and_path_of_a_dilute_gas(dilute_sphe
     # Maxwell: <v> = sqrt(8 kT / (pi m)), within 4 standard errors of the 200 block ends' mean speeds (0.05 %:
     # the total energy is fixed, so a snapshot's mean speed scatters 4x less than 256 free speeds would) plus
     # 0.04 % (at fixed energy and momentum <v> of 256 particles is 0.033 % above Maxwell's). Seeds 6-21: +0.02 % on
-    # average, error 0.041-0.049 %; seed 6 +0.051 % (1.0 sd; tolerance 0.24 %, was 2 %)
-    system, m = dilute_spheres[:2]
+    # average, error 0.041-0.049 %; seed 6 +0.051 % (1.0 sd; tolerance 0.24 %, was 2 %). Maxwell's <v> x1.003 fails
+    # it (-0.25 % against 0.24 %; scratch copy)
     block_means = m.speeds.reshape(-1, system.count).mean(axis=1)
     assert block_means.size == 200
     speed_error = block_means.std(ddof=1) / math.sqrt(block_means.size)
@@ -196,9 +196,10 @@ def test_self_diffusion_of_a_dilute_gas_is_the_published_one(dilute_spheres):
     the finite size (Yeh-Hummer with Enskog's viscosity puts D of N = 256 in this box 2.8 % below the infinite
     system's; the NIST rows do not say their N) and the published uncertainty. D's error comes from 8 groups of
     particles (7 degrees of freedom), hence the 3 % is not left out. Measured: seed 6 D = 2.037 +- 1.4 %,
-    +0.1 % from the reference (0.1 sd); seeds 6-21: -3.0 % to +1.2 %, mean -1.2 % (the finite size), their
-    scatter 1.15 %, errors 0.6-1.7 %; tolerance 5.4-10 % (was [0.8, 1.25] D_E, i.e. -23 % to +20 %). Can fail
-    (scratch copy, seed 6): the reference x1.1 (-9.0 % against 8.8 %) and x0.9 (+11 %); D with d -> 2 d (-50 %)."""
+    +0.14 % from the reference (0.1 sd); seeds 6-21: -3.0 % to +1.2 %, mean -1.2 % (the finite size), their
+    scatter 1.15 %, errors 0.6-1.7 %; tolerance 5.5-9.9 % (seed 6: 8.7 %; was [0.8, 1.25] D_E, i.e. -23 % to
+    +20 %). Can fail (scratch copy, seed 6): the reference x1.1 (-9.0 % against 8.2 %) and x0.9 (+11.3 % against
+    9.3 %); D with d -> 2 d (-50 %)."""
     system, m, density, g = dilute_spheres
     eta = math.pi / 6 * density
     assert eta == pytest.approx(0.05, rel=1e-9)
