@@ -58,7 +58,7 @@ def test_python_m_collisionkit_runs_the_same_command_line():
     assert done.returncode == 2
     assert "Traceback" not in done.stderr
     assert done.stderr.strip().splitlines() == [
-        "error: invalid options: --particles: Input should be greater than or equal to 2 (got 1)"]
+        "error: invalid options: --particles: must be from 2 to 100000000; got 1"]
 
 
 def test_import_collisionkit_loads_nothing_heavy():
