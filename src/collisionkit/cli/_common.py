@@ -561,7 +561,11 @@ def print_table(title: str, columns: Iterable[str], rows: Iterable[Iterable[Any]
 
     Examples
     --------
-    >>> print_table("run", ("E/N (Td)", "W (m/s)"), [(10, "6.1541e+04")])  # doctest: +SKIP
+    In 15 characters the two columns below get 5 and 10: "6.1541e+04" whole, the header wrapped at its
+    space (the output itself depends on the terminal, so the example shows the widths):
+
+    >>> _column_widths(["E/N (Td)", "W (m/s)"], [["10", "6.1541e+04"]], 15)
+    [5, 10]
     """
     headers = [str(column) for column in columns]
     cells = [[str(cell) for cell in row] for row in rows]
