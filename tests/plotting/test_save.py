@@ -46,3 +46,17 @@ def test_the_suffix_still_sets_the_format(tmp_path, name, magic):
     target = plotting.save(plotting.plot_deflection_laws(), tmp_path / name)
     assert target.read_bytes().startswith(magic)
     assert [path.name for path in tmp_path.iterdir()] == [name]
+
+
+def test_a_missing_folder_is_an_error_and_no_folder_is_made(tmp_path):
+    """As matplotlib's savefig: a mistyped folder fails instead of being created (the demo's and Deliveries'
+    doctests write to /no/such/folder to show the failure, and found it made by an earlier run)."""
+    import matplotlib.pyplot as plt
+    import pytest
+
+    from collisionkit import plotting
+
+    figure, ax = plt.subplots()
+    with pytest.raises(FileNotFoundError, match="does not exist"):
+        plotting.save(ax, tmp_path / "missing" / "plot.png")
+    assert list(tmp_path.iterdir()) == []

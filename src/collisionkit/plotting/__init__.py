@@ -90,6 +90,7 @@ def save(ax, path):
     replaces it (``os.replace``): a reader, or a crash at any instant, sees
     the old file or the new one, never half an image; if drawing fails, the
     temporary file is removed and an existing ``path`` is left as it was.
+    Its folder must exist (FileNotFoundError otherwise, as ``savefig``).
 
     Parameters
     ----------
@@ -119,6 +120,9 @@ def save(ax, path):
 
     figure = ax.figure
     image_format = Path(path).suffix[1:].lower() or plt.rcParams["savefig.format"]
+    if not Path(path).parent.is_dir():  # as matplotlib's savefig: no folder is made (a mistyped path fails)
+        plt.close(figure)
+        raise FileNotFoundError(f"No such file or directory: {path} (its folder does not exist)")
     try:
         # the temporary file's name ends in .tmp: the format is the target's, given explicitly
         with atomic_replacement(path) as temporary:
