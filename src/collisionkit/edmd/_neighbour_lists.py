@@ -121,6 +121,8 @@ class NeighbourLists:
             return
         self.synchronise()
         list_scale = self.scale0 + LIST_SCALE_MARGIN if self.growth > 0 else self.scale0
+        if self.params[_k.P_WELL_WIDTH] != 0.0:
+            list_scale *= self.params[_k.P_WELL_WIDTH]  # a pair inside its well or entering it is listed
         shell, ncell, widths = self._list_geometry(list_scale)
         self.params[_k.P_SHELL] = shell
         self.params[_k.P_LIST_SCALE] = list_scale
@@ -162,7 +164,7 @@ class NeighbourLists:
             return
         _k.predict_all(
             self.p, self.book, self.anchor_time, self.neighbours, self.neighbour_count, self.geom, self.dim, self.params, self.queue,
-            self.tree, self.leaves, self.acc,
+            self.tree, self.leaves, self.acc, self.bonds, self.bond_count,
         )
 
     def _pair_gap(self):
@@ -254,6 +256,7 @@ class NeighbourLists:
         self._mass = self._mass[order]
         self._species = self._species[order]
         self.ids = self.ids[order]  # a new array: a transport measurement tells a re-sort by it
+        self._renumber_bonds(order)
         self.book[:] = 0.0
         self.book[:, _k.TARGET] = _k.LIST_TARGET
         copy_masses_and_species(self)

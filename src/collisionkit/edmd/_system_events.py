@@ -94,6 +94,8 @@ def stall_message(system, target):
     'inelastic collapse'
     """
     when = f"{stall_limit(system.count)} events in a row at time {system.elapsed + system.time:.17g}"
+    if target <= _k.WELL_TARGET_BASE and system.well_width is not None:  # the codes below the walls' of the lists
+        return f"the event loop stalled: {when}, at the edge of a square well (a bug: please report it)"
     if target <= CROSSING_BASE:
         return f"the event loop stalled: {when}, cell crossings (no particle moves)"
     if target < _k.LIST_TARGET:  # a wall
@@ -213,6 +215,7 @@ def run_event_loop(system, collisions, t_stop):
     left, quiet, quiet_since = collisions, 0, system.time
     while True:
         made, events = system.collisions, system.acc[_k.ACC_EVENTS]
+        edges = system.acc[_k.ACC_CAPTURES:_k.ACC_BOUNCES + 1].sum()  # a pair bound in its well need never collide
         if system._engine_code == ENGINE_CELLS:
             system.time, system._still, longest, stop, target = run_crossing_kernel(
                 system, system.time, system._still, left, EVENTS_PER_CALL, t_stop, stall_limit(system.count))
@@ -222,7 +225,7 @@ def run_event_loop(system, collisions, t_stop):
                 system.book, system.anchor_time, system._image, system.cell_of, system.neighbours,
                 system.neighbour_count, system.cell_members, system.cell_count, system.cell_points, system.ncell,
                 system.geom, system.dim, system.restitution, system.params, system.queue, system.tree,
-                system.leaves, system.acc,
+                system.leaves, system.acc, system.bonds, system.bond_count,
             )
         made = system.collisions - made
         if stop == _k.STOP_STALLED:
@@ -232,7 +235,7 @@ def run_event_loop(system, collisions, t_stop):
         if stop != _k.STOP_EVENTS:
             return system.time
         left -= made
-        if made:
+        if made or system.acc[_k.ACC_CAPTURES:_k.ACC_BOUNCES + 1].sum() != edges:
             quiet, quiet_since = 0, system.time
         else:
             quiet += int(system.acc[_k.ACC_EVENTS] - events)

@@ -131,6 +131,7 @@ def restart_clock(system):
         system.tree[:, 0] -= shift
         system.pending[:, PENDING_TIME] -= shift  # the cell-crossing engine's absolute times too
         system.params[_k.P_SCALE0] += system.growth * shift
+        system._restart_well_clock(shift)
         system._shear_clock(shift)
         system.elapsed += shift
         system.time = 0.0

@@ -25,6 +25,7 @@ from .._kernels.edmd.crossings import CROSSING_BASE
 from ._cell_crossings import ENGINE_CELLS, ENGINE_LISTS, crossing_grid
 from ._neighbour_lists import CELLS_PER_PARTICLE
 from ._system_setup import RESTITUTION_LAWS, aligned_zeros, next_power_of_two
+from ._wells import check_bonds, check_well_parameters
 
 CHECKPOINT_KIND = "hard-sphere-system"
 
@@ -34,19 +35,20 @@ class Checkpoints:
 
     _ARRAYS = ("p", "_mass", "_species", "_image", "ids", "acc", "geom", "params", "restitution", "book", "anchor_time",
                "cell_of", "ncell", "queue", "tree", "neighbours", "neighbour_count", "cell_members", "cell_count",
-               "cell_points", "pending")
+               "cell_points", "pending", "bonds", "bond_count")
     _SCALARS = ("dim", "time", "elapsed", "leaves", "last_sort", "_shell_request", "_engine_code")
     # layout of the engine's arrays in a checkpoint; raise it when they change (2: bookkeeping records, block queue;
     # 3: the transport sums in the accumulator; 4: Lees-Edwards shear and its thermostat in the parameters and the
     # accumulator; 5: under shear, cells as high as the list radius and the pairs across the y faces listed within
     # a capsule; 6: under shear, anchors carried by the flow, the cells in its frame, the lists' times; 7: the
-    # cell-crossing engine, its pending collisions and the engine's code)
-    STATE_FORMAT = 7
+    # cell-crossing engine, its pending collisions and the engine's code; 8: square wells, their parameters, counts
+    # and the record of pairs inside)
+    STATE_FORMAT = 8
     # older formats a restore still reads: format 2 lacks the transport sums, which start at 0 (only their changes
     # over a measurement have a meaning, and a format-2 run measured none); formats 2 and 3 were never sheared, and
     # formats 4 and 5 are read only unsheared (their sheared lists and cells are kept differently); formats before 7
-    # ran the list engine
-    READABLE_FORMATS = (2, 3, 4, 5, 6, 7)
+    # ran the list engine; formats before 8 had no wells
+    READABLE_FORMATS = (2, 3, 4, 5, 6, 7, 8)
 
     def state_dict(self):
         """Every array and number needed to continue the run bit for bit.
@@ -94,6 +96,9 @@ class Checkpoints:
             state = dict(state) | {"pending": np.zeros((count, 3)), "_engine_code": np.asarray(ENGINE_LISTS)}
         if written < 6:
             state = dict(state) | {"anchor_time": np.zeros(1)}  # never sheared (refused below if it was)
+        if written < 8:  # hard spheres: an empty record of pairs inside wells
+            count = np.shape(state["p"])[0] if "p" in state else 0
+            state = dict(state) | {"bonds": np.zeros((count, 1), np.int32), "bond_count": np.zeros(count, np.int32)}
         missing = [name for name in (*cls._ARRAYS, *cls._SCALARS, "restitution_law") if name not in state]
         if missing:
             raise CheckpointError(f"the state has no array {', '.join(map(repr, missing))}")
@@ -104,9 +109,10 @@ class Checkpoints:
                                   f"this collisionkit keeps differently (format {cls.STATE_FORMAT}): restart the "
                                   "sheared run")
         if written < cls.STATE_FORMAT:
-            arrays["acc"] = _padded(arrays["acc"], (_k.ACC_SIZE_WITHOUT_TRANSPORT, _k.ACC_SIZE_WITHOUT_THERMOSTAT),
-                                    _k.ACC_SIZE)
-            arrays["params"] = _padded(arrays["params"], (_k.P_SIZE_WITHOUT_SHEAR, _k.P_SIZE_WITHOUT_FRAME), _k.P_SIZE)
+            arrays["acc"] = _padded(arrays["acc"], (_k.ACC_SIZE_WITHOUT_TRANSPORT, _k.ACC_SIZE_WITHOUT_THERMOSTAT,
+                                                    _k.ACC_SIZE_WITHOUT_WELL), _k.ACC_SIZE)
+            arrays["params"] = _padded(arrays["params"], (_k.P_SIZE_WITHOUT_SHEAR, _k.P_SIZE_WITHOUT_FRAME,
+                                                          _k.P_SIZE_WITHOUT_WELL), _k.P_SIZE)
         check_state(arrays, {name: state[name] for name in (*cls._SCALARS, "restitution_law")})
         system = cls.__new__(cls)
         for name, array in arrays.items():
@@ -173,13 +179,14 @@ _DTYPES = {"p": np.float64, "_mass": np.float64, "_species": np.int64, "_image":
            "acc": np.float64, "geom": np.float64, "params": np.float64, "restitution": np.float64, "book": np.float64,
            "anchor_time": np.float64, "cell_of": np.int32, "ncell": np.int64, "queue": np.float64, "tree": np.float64, "neighbours": np.uint32,
            "neighbour_count": np.int32, "cell_members": np.int32, "cell_count": np.int32, "cell_points": np.float32,
-           "pending": np.float64}
+           "pending": np.float64, "bonds": np.int32, "bond_count": np.int32}
 # accumulator slots that count (whole numbers), and those sized by a run that stopped to grow a row (<= N + 1)
-_COUNTERS = (_k.ACC_PAIR_COLLISIONS, _k.ACC_WALL_COLLISIONS, _k.ACC_LIST_REBUILDS, _k.ACC_STALE_EVENTS, _k.ACC_EVENTS)
+_COUNTERS = (_k.ACC_PAIR_COLLISIONS, _k.ACC_WALL_COLLISIONS, _k.ACC_LIST_REBUILDS, _k.ACC_STALE_EVENTS, _k.ACC_EVENTS,
+             _k.ACC_WELL_PAIRS, _k.ACC_CAPTURES, _k.ACC_ESCAPES, _k.ACC_BOUNCES)
 _OVERFLOWS = (_k.ACC_LIST_OVERFLOW, _k.ACC_CELL_OVERFLOW)
 _PARAMETERS = (_k.P_SCALE0, _k.P_GROWTH, _k.P_LAW, _k.P_LAW_SPEED, _k.P_LAW_EXPONENT, _k.P_ELASTIC_BELOW,
                _k.P_WALL_RESTITUTION, _k.P_SHELL, _k.P_LIST_SCALE, _k.P_SHEAR_RATE, _k.P_SHEAR_OFFSET, _k.P_SHEAR_SWEEP,
-               _k.P_SHEAR_REACH, _k.P_THERMOSTAT, _k.P_SHEAR_FRAME)
+               _k.P_SHEAR_REACH, _k.P_THERMOSTAT, _k.P_SHEAR_FRAME, _k.P_WELL_WIDTH, _k.P_WELL_DEPTH)
 _TRANSPORT_SUMS = tuple(range(_k.ACC_STRESS, _k.ACC_SIZE))
 _TOTALS = (_k.ACC_VIRIAL, _k.ACC_ENERGY_LOST, _k.ACC_WALL_IMPULSE, *_COUNTERS, *_OVERFLOWS, *_TRANSPORT_SUMS)
 
@@ -276,7 +283,10 @@ def check_state(arrays, scalars):
         _require(params[[_k.P_GROWTH, _k.P_SHEAR_RATE]] == 0, "params", "must hold no growth and no shear for "
                  "the cell-crossing engine")
         _require(geom[_k.G_GRAVITY] == 0, "geom", "must hold no gravity for the cell-crossing engine")
-    _check_book(arrays, p, dim, geom, acc[_k.ACC_EVENTS], cells_engine)
+    wells = params[_k.P_WELL_WIDTH] != 0.0
+    _require(~wells | ~cells_engine, "params", "must hold no well width for the cell-crossing engine")
+    _check_book(arrays, p, dim, geom, acc[_k.ACC_EVENTS], cells_engine, wells)
+    check_bonds(arrays, count, wells, acc[_k.ACC_WELL_PAIRS])
     # saved as a run stopped to grow a list row or a cell (in a progress callback): the restore rebuilds them all
     rebuilt = bool(np.any(overflows > 0))
     if cells_engine:
@@ -310,6 +320,7 @@ def _check_parameters(arrays, law, p, geom, dim):
     _require(0 <= params[_k.P_WALL_RESTITUTION] <= 1, "params", "must hold a wall restitution in [0, 1]")
     _require(params[_k.P_LAW] == RESTITUTION_LAWS[law], "params", f"must hold the law of restitution_law {law!r}")
     _check_shear(params, geom, dim)
+    check_well_parameters(params, geom)
     _require(params[_k.P_LIST_SCALE] >= params[_k.P_SCALE0] * (1 - 1e-9), "params",
              "must hold a list scale >= the radius scale")
     _require(np.isfinite(p[:, _k.R]) & (p[:, _k.R] > 0), "p", "must hold radii > 0")
@@ -383,7 +394,7 @@ def _check_in_box(points, name, geom, dim, shell):
     _require((points >= -margin) & (points <= box + margin), name, "must hold points inside the box")
 
 
-def _check_book(arrays, p, dim, geom, events, cells_engine):
+def _check_book(arrays, p, dim, geom, events, cells_engine, wells):
     """The bookkeeping records: next event (partner, wall, list or cell crossing), event numbers, anchor, mass, species."""
     count = p.shape[0]
     book = _array(arrays, "book", (count, 8))
@@ -398,8 +409,11 @@ def _check_book(arrays, p, dim, geom, events, cells_engine):
         _require(_whole(target) & (partner | crossing | wall), "book",
                  f"must hold next events with a partner in [0, {count}), a cell crossing or a wall")
     else:
-        _require(_whole(target) & (partner | (target == _k.LIST_TARGET) | wall), "book",
-                 f"must hold next events with a partner in [0, {count}), a list rebuild or a wall")
+        edge = _k.WELL_TARGET_BASE - target
+        edge = wells & (edge >= 0) & (edge < count) & (edge != np.arange(count))
+        _require(_whole(target) & (partner | (target == _k.LIST_TARGET) | wall | edge), "book",
+                 f"must hold next events with a partner in [0, {count}), a list rebuild, a wall"
+                 + (" or a well's edge" if wells else ""))
     numbers = book[:, [_k.PREDICTED_AT, _k.CHANGED_AT]]
     _require(_whole(numbers) & (numbers >= 0) & (numbers <= events), "book",
              f"must hold event numbers in [0, {events:.0f}]")

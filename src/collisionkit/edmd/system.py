@@ -21,7 +21,7 @@ import numpy as np
 from .._kernels import edmd as _k
 from .._repr import hard_sphere_system_rows, html_table
 from . import _checks, _system_run, _system_setup
-from ._cell_crossings import CellCrossings
+from ._cell_crossings import ENGINE_LISTS, CellCrossings
 from ._neighbour_lists import NeighbourLists
 from ._particle_state import ParticleState
 from ._shear import THERMOSTAT_INTERVAL, ShearFlow, shear_parameters  # noqa: F401 (THERMOSTAT_INTERVAL: as before)
@@ -30,6 +30,7 @@ from ._system_parameters import SystemParameters
 from ._system_setup import RESTITUTION_LAWS
 from ._system_run import SORT_INTERVAL
 from ._system_state import Checkpoints
+from ._wells import SquareWells, well_parameters
 from .theory import packing_fraction
 
 __all__ = [
@@ -105,7 +106,8 @@ class OverlapError(ValueError, RuntimeError):
     """
 
 
-class HardSphereSystem(SystemParameters, ParticleState, NeighbourLists, CellCrossings, Checkpoints, ShearFlow):
+class HardSphereSystem(SystemParameters, ParticleState, NeighbourLists, CellCrossings, Checkpoints, ShearFlow,
+                       SquareWells):
     """N hard spheres (3D) or discs (2D) in a box, advanced event by event.
 
     Parameters
@@ -183,6 +185,16 @@ class HardSphereSystem(SystemParameters, ParticleState, NeighbourLists, CellCros
         0.5 for discs up to 32000 particles, 0.22 and 0.28 at 10^6
         (:func:`~collisionkit.edmd._cell_crossings.cells_below_packing`),
         else "lists". The choice is :attr:`engine`.
+    well_width : float, optional
+        Square wells (default None: hard spheres): each pair attracts with
+        depth ``well_depth`` from contact out to ``well_width`` times its
+        contact distance, lambda in (1, 5]; the potential energy is
+        -epsilon per pair inside (:meth:`potential_energy`), conserved with
+        the kinetic energy event by event (Alder & Wainwright, J. Chem.
+        Phys. 31, 459 (1959)). Needs straight flights of fixed radii: no
+        gravity or shear; the lists engine.
+    well_depth : float, optional
+        epsilon > 0 (default 1), in the units of m v^2.
 
     Examples
     --------
@@ -216,6 +228,8 @@ class HardSphereSystem(SystemParameters, ParticleState, NeighbourLists, CellCros
         shear_rate=0.0,
         thermostat=None,
         engine="auto",
+        well_width=None,
+        well_depth=1.0,
         *,
         _growth=0.0,
         _scale=1.0,
@@ -242,11 +256,15 @@ class HardSphereSystem(SystemParameters, ParticleState, NeighbourLists, CellCros
                                                                 self.params[_k.P_WALL_RESTITUTION], gravity, box)
         self.params[_k.P_ELASTIC_BELOW] = _checks.bounded(elastic_below, "elastic_below", 0.0)
         shear_parameters(self, shear_rate, thermostat)
+        well_parameters(self, well_width, well_depth, gravity, _growth, self.shear_rate, engine)
         if self.shear_rate != 0.0:
             self._add_streaming()
         self._engine_code = _system_setup.engine_choice(engine, radius, box, periodic, gravity, _growth, _scale,
                                                         self.shear_rate)
+        if self.well_width is not None:
+            self._engine_code = ENGINE_LISTS  # the cell-crossing engine has no wells ("cells" was refused)
         _system_setup.allocate_engine_arrays(self)
+        self._start_wells()
         self._refresh_lists()
         _system_setup.check_walls(self)
         gap = self._sheared_gap() if self.shear_rate != 0.0 else self._pair_gap()
@@ -308,6 +326,7 @@ class HardSphereSystem(SystemParameters, ParticleState, NeighbourLists, CellCros
         if gap < -tolerance * float(np.max(self.radius)):
             raise OverlapError(f"overlap of {-gap:.3g} found at time {self.elapsed + self.time:.6g}")
         self._check_anchor_drift(tolerance)
+        self._check_wells(tolerance)
         return gap
 
     def _time_to_next_event(self):

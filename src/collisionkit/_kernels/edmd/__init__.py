@@ -64,6 +64,7 @@ columns and slots), :mod:`.motion` (flight, minimum images),
 :mod:`.prediction` (contact, list and wall times), :mod:`.queue` (the event
 tree), :mod:`.cells` and :mod:`.neighbour_lists`, :mod:`.exact`
 (error-free sums and products), :mod:`.contacts` (resolving a collision),
+:mod:`.wells` (square wells: edge events and the record of pairs inside),
 :mod:`.loop` (the event loop) and
 :mod:`.measurement` (gaps, drift, pair distances, Helfand moments). Every pair collision
 also adds its momentum and energy transfer to the transport sums of the
@@ -77,6 +78,18 @@ or returns an array: all are compiled without reference counting
 from __future__ import annotations
 
 from .layout import (
+    ACC_BOUNCES,
+    ACC_CAPTURES,
+    ACC_ESCAPES,
+    ACC_SIZE_WITHOUT_WELL,
+    ACC_WELL_PAIR_TIME,
+    ACC_WELL_PAIRS,
+    ACC_WELL_SINCE,
+    P_SIZE_WITHOUT_WELL,
+    P_WELL_DEPTH,
+    P_WELL_WIDTH,
+    WELL_TARGET_BASE,
+    well_target,
     ACC_CELL_OVERFLOW,
     ACC_ENERGY_LOST,
     ACC_ENERGY_IMAGE,
@@ -155,6 +168,8 @@ from .prediction import first_root_from_below, pair_contact_time
 from .queue import queue_update, tree_build
 
 __all__ = [
+    "ACC_BOUNCES", "ACC_CAPTURES", "ACC_ESCAPES", "ACC_SIZE_WITHOUT_WELL", "ACC_WELL_PAIR_TIME", "ACC_WELL_PAIRS",
+    "ACC_WELL_SINCE", "P_SIZE_WITHOUT_WELL", "P_WELL_DEPTH", "P_WELL_WIDTH", "WELL_TARGET_BASE", "well_target",
     "ACC_CELL_OVERFLOW", "ACC_ENERGY_IMAGE", "ACC_ENERGY_LOST", "ACC_EVENTS", "ACC_HEAT", "ACC_LIST_OVERFLOW",
     "ACC_LIST_REBUILDS", "ACC_MOMENTUM_IMAGE", "ACC_PAIR_COLLISIONS", "ACC_SIZE", "ACC_SIZE_WITHOUT_THERMOSTAT", "ACC_SIZE_WITHOUT_TRANSPORT",
     "ACC_STALE_EVENTS", "ACC_STRESS", "ACC_THERMOSTAT", "ACC_VIRIAL", "ACC_WALL_COLLISIONS", "ACC_WALL_IMPULSE",

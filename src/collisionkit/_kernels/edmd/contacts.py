@@ -92,10 +92,10 @@ def collide_pair(p, i, j, b, geom, scale, growth, restitution, params, acc):
     # the impulse on j is -(1 + e) mu ratio r; its energy change dp . (v + v') / 2 from j's velocity before
     push = -(1.0 + e) * reduced * ratio  # > 0: j is pushed along r, away from i
     gain = push * (rx * (p[j, V] + slide) + ry * p[j, V + 1] + rz * p[j, V + 2]) + 0.5 * push * push * rr / mj
-    _add_transfer(acc, push, gain, rx, ry, rz)
+    add_transfer(acc, push, gain, rx, ry, rz)
     # the pair meets across a periodic face: Erpenbeck's image terms (none under shear: no Helfand moments there)
     if (rx != dx or ry != dy or rz != dz) and params[P_SHEAR_RATE] == 0.0:
-        _add_image_terms(acc, push, gain, rx, ry, rz, dx, dy, dz, geom)
+        add_image_terms(acc, push, gain, rx, ry, rz, dx, dy, dz, geom)
     p[i, V] += share_i * rx
     p[i, V + 1] += share_i * ry
     p[i, V + 2] += share_i * rz
@@ -110,7 +110,7 @@ def collide_pair(p, i, j, b, geom, scale, growth, restitution, params, acc):
 
 
 @inline_kernel
-def _add_transfer(acc, push, gain, rx, ry, rz):
+def add_transfer(acc, push, gain, rx, ry, rz):
     """Add a collision's momentum and energy transfer (impulse ``push r`` and energy ``gain`` given to j) to the sums.
 
     The collisional stress gets ``push r_a r_b`` (the impulse on j times the
@@ -135,7 +135,7 @@ def _add_transfer(acc, push, gain, rx, ry, rz):
 
 
 @inline_kernel
-def _add_image_terms(acc, push, gain, rx, ry, rz, dx, dy, dz, geom):
+def add_image_terms(acc, push, gain, rx, ry, rz, dx, dy, dz, geom):
     """Erpenbeck's image terms of a collision across a periodic face (r the minimum image, d = x_j - x_i stored).
 
     The Helfand moment of the stored positions jumps by the transfer times

@@ -55,11 +55,15 @@ P_SHEAR_SWEEP = 11  # clock time of the next sweep: the frame time moves there a
 P_SHEAR_REACH = 12
 P_THERMOSTAT = 13  # kT the peculiar velocities are rescaled to under shear (0: no thermostat)
 P_SHEAR_FRAME = 14  # the frame time t_f: clock time at which the co-moving frame coincides with the lab frame
-P_SIZE = 15
+# square wells (.wells): a pair attracts with depth P_WELL_DEPTH between contact and P_WELL_WIDTH times contact
+P_WELL_WIDTH = 15  # lambda > 1, the well's outer radius in contact distances (0: hard spheres, no well)
+P_WELL_DEPTH = 16  # epsilon > 0, the energy a pair gains entering its well
+P_SIZE = 17
 # the parameter array's size before the shear entries (checkpoints of engine formats 2 and 3), before the frame time
 # (format 5)
 P_SIZE_WITHOUT_SHEAR = 9
 P_SIZE_WITHOUT_FRAME = 14
+P_SIZE_WITHOUT_WELL = 15
 # the strain G (t - t_f) at which the frame time moves on (a sweep): the cells are scanned (1 + strain) list radii
 # along x around a particle's anchor
 SHEAR_SWEEP_STRAIN = 0.25
@@ -89,7 +93,17 @@ ACC_HEAT = 16  # 3 slots: the collisional energy transfer sum dE_j r_a
 ACC_MOMENTUM_IMAGE = 19  # 9 slots, 3 a + b: sum dp_j,a (r - (x_j - x_i))_b over collisions - sum m v_a dx_b over wraps
 ACC_ENERGY_IMAGE = 28  # 3 slots: sum dE_j (r - (x_j - x_i))_a over collisions - sum (m v^2 / 2) dx_a over wraps
 ACC_THERMOSTAT = 31  # kinetic energy the thermostat of a sheared system removed (negative: added)
-ACC_SIZE = 32
+# square wells: the pairs inside their wells now, the time integral of that number up to ACC_WELL_SINCE (the clock
+# time of its last change), and the well events by outcome
+ACC_WELL_PAIRS = 32
+ACC_WELL_PAIR_TIME = 33
+ACC_WELL_SINCE = 34
+ACC_CAPTURES = 35  # a pair entered its well
+ACC_ESCAPES = 36  # a pair left its well
+ACC_BOUNCES = 37  # a pair too slow to leave was turned back at the well's edge
+ACC_SIZE = 38
+# the accumulator's size before the square-well slots (checkpoints of engine formats 4 to 7)
+ACC_SIZE_WITHOUT_WELL = 32
 # the accumulator's size before the thermostat slot (checkpoints of engine format 3)
 ACC_SIZE_WITHOUT_THERMOSTAT = 31
 # the accumulator's size before the transport sums (checkpoints of engine format 2)
@@ -141,4 +155,14 @@ LAW_BRIDGES = 1  # e = min(1, (u_n / u_c)^-exponent), Bridges, Hatzes & Lin, Nat
 def wall_target(face):
     """TARGET code of a collision with wall ``face`` (2 * axis + 1 upper, 2 * axis lower); its own inverse."""
     return -2 - face
+
+
+# TARGET codes at and below this are well events (.wells): the edge of the well of i and partner well_target(code)
+WELL_TARGET_BASE = -8
+
+
+@kernel
+def well_target(partner):
+    """TARGET code of an event at the edge of the square well shared with ``partner``; its own inverse."""
+    return WELL_TARGET_BASE - partner
 

@@ -11,13 +11,15 @@ from .._memory import prefetch
 from .contacts import bounce_off_wall, collide_pair
 from .layout import (
     ACC_CELL_OVERFLOW, ACC_EVENTS, ACC_LIST_REBUILDS, ACC_STALE_EVENTS, CHANGED_AT, LIST_TARGET, P_GROWTH, P_SCALE0,
-    P_SHEAR_RATE, P_SHEAR_SWEEP, PREDICTED_AT, PREFETCH_FROM, PREFETCH_REBUILDS_FROM, SHEAR_SWEEP_STRAIN,
-    STOP_COLLISIONS, STOP_EVENTS, STOP_NO_EVENT, STOP_OVERFLOW, STOP_STALLED, STOP_TIME, TARGET, wall_target,
+    P_SHEAR_RATE, P_SHEAR_SWEEP, P_WELL_WIDTH, PREDICTED_AT, PREFETCH_FROM, PREFETCH_REBUILDS_FROM,
+    SHEAR_SWEEP_STRAIN, STOP_COLLISIONS, STOP_EVENTS, STOP_NO_EVENT, STOP_OVERFLOW, STOP_STALLED, STOP_TIME, TARGET,
+    WELL_TARGET_BASE, wall_target, well_target,
 )
 from .motion import advance
 from .neighbour_lists import prefetch_rebuild, rebuild_list, sweep_frame
 from .prediction import predict
 from .queue import likely_next, prefetch_queue_entry, queue_update, tree_build
+from .wells import cross_well_edge, predict_in_wells
 
 
 @inline_kernel
@@ -38,16 +40,26 @@ def _prefetch_neighbours(i, p, neighbours, neighbour_count):
 
 
 @inline_kernel
-def _repredict(p, i, b, anchor_time, neighbours, neighbour_count, geom, dim, params, queue, tree, leaves, event):
+def _predict(p, i, b, anchor_time, neighbours, neighbour_count, bonds, bond_count, geom, dim, params, event):
+    """Predict i's next event (i at its own time): hard spheres, or square wells if the system has them."""
+    if params[P_WELL_WIDTH] != 0.0:
+        return predict_in_wells(p, i, b, anchor_time, neighbours, neighbour_count, bonds, bond_count, geom, dim,
+                                params, event)
+    return predict(p, i, b, anchor_time, neighbours, neighbour_count, geom, dim, params, event)
+
+
+@inline_kernel
+def _repredict(p, i, b, anchor_time, neighbours, neighbour_count, bonds, bond_count, geom, dim, params, queue, tree,
+               leaves, event):
     """Predict i's next event (i at its own time) and queue it."""
-    queue_update(i, predict(p, i, b, anchor_time, neighbours, neighbour_count, geom, dim, params, event), queue, tree,
-                 leaves)
+    queue_update(i, _predict(p, i, b, anchor_time, neighbours, neighbour_count, bonds, bond_count, geom, dim, params,
+                             event), queue, tree, leaves)
 
 
 @kernel
 def run_events(t, still, max_pair_collisions, max_events, t_stop, stall_limit, p, b, anchor_time, image, cell_of,
                neighbours, neighbour_count, cell_members, cell_count, cell_points, ncell, geom, dim, restitution,
-               params, queue, tree, leaves, acc):
+               params, queue, tree, leaves, acc, bonds, bond_count):
     """Process events until ``max_pair_collisions`` collisions, ``max_events`` events or time ``t_stop``.
 
     ``still`` is the number of events in a row at time ``t`` so far (the
@@ -142,6 +154,16 @@ def run_events(t, still, max_pair_collisions, max_events, t_stop, stall_limit, p
                     b[j, CHANGED_AT] = event
                     done += 1
                 partner = j
+        elif target <= WELL_TARGET_BASE:
+            j = well_target(target)
+            if b[j, CHANGED_AT] > b[i, PREDICTED_AT]:
+                acc[ACC_STALE_EVENTS] += 1.0
+            else:
+                advance(p, j, t, geom, dim)
+                if cross_well_edge(p, i, j, b, geom, params, bonds, bond_count, acc, t):
+                    b[i, CHANGED_AT] = event
+                    b[j, CHANGED_AT] = event
+                partner = j
         elif target == LIST_TARGET:
             acc[ACC_LIST_REBUILDS] += 1.0
             if not rebuild_list(p, i, b, anchor_time, cell_of, neighbours, neighbour_count, cell_members, cell_count,
@@ -161,18 +183,20 @@ def run_events(t, still, max_pair_collisions, max_events, t_stop, stall_limit, p
                                  cell_points, ncell, geom, dim)
         # one call site, so the inlined prediction is compiled once
         for q in range(1 if partner < 0 else 2):
-            _repredict(p, i if q == 0 else partner, b, anchor_time, neighbours, neighbour_count, geom, dim, params,
-                       queue, tree, leaves, event)
+            _repredict(p, i if q == 0 else partner, b, anchor_time, neighbours, neighbour_count, bonds, bond_count,
+                       geom, dim, params, queue, tree, leaves, event)
     acc[ACC_EVENTS] = event
     return t, still, longest, stop, target
 
 
 @kernel
-def predict_all(p, b, anchor_time, neighbours, neighbour_count, geom, dim, params, queue, tree, leaves, acc):
+def predict_all(p, b, anchor_time, neighbours, neighbour_count, geom, dim, params, queue, tree, leaves, acc, bonds,
+                bond_count):
     """Predict every particle's next event (all at their own times) and rebuild the tree."""
     event = int(acc[ACC_EVENTS])
     for i in range(p.shape[0]):
-        queue[i] = predict(p, i, b, anchor_time, neighbours, neighbour_count, geom, dim, params, event)
+        queue[i] = _predict(p, i, b, anchor_time, neighbours, neighbour_count, bonds, bond_count, geom, dim, params,
+                            event)
     for padding in range(p.shape[0], queue.shape[0]):
         queue[padding] = math.inf
     tree_build(tree, queue, leaves)

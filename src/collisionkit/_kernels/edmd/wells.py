@@ -1,0 +1,247 @@
+"""Square wells: a pair's events at the edge of its well, and the record of which pairs are inside.
+
+The pair potential is a hard core at the contact distance sigma and a well
+of depth epsilon out to lambda sigma (``P_WELL_WIDTH`` lambda,
+``P_WELL_DEPTH`` epsilon): u(r) = inf for r < sigma, -epsilon for
+sigma <= r < lambda sigma, 0 beyond (Alder & Wainwright, J. Chem. Phys. 31,
+459 (1959); the events as in DynamO, Bannerman, Sargant & Lue, J. Comput.
+Chem. 32, 3329 (2011)). At the well's edge only the normal relative
+velocity u_n = r.u / |r| changes, by energy conservation with the reduced
+mass mu:
+
+* entering (u_n < 0): u_n' = -sqrt(u_n^2 + 2 epsilon / mu), kinetic energy +epsilon;
+* leaving (u_n > 0) with mu u_n^2 / 2 > epsilon: u_n' = sqrt(u_n^2 - 2 epsilon / mu), -epsilon;
+* else a bounce back into the well: u_n' = -u_n.
+
+Which pairs are inside is a record, not a distance: after an event the pair
+sits on the edge within round-off, where the distance cannot tell a pair
+that just entered from one that just left (DynamO keeps the same record).
+Each particle lists its partners inside (``bonds[i, :bond_count[i]]``,
+symmetric); the prediction reads it only for pairs within ``WELL_BAND`` of
+an edge, every other pair being plainly inside or outside by its distance.
+"""
+
+from __future__ import annotations
+
+import math
+
+# no EDMD kernel allocates or returns an array: all of them borrow, without reference counting
+from ..._jit import borrowing_inline_kernel as inline_kernel
+from .contacts import add_image_terms, add_transfer
+from .exact import sure_approach
+from .layout import (
+    ACC_BOUNCES, ACC_CAPTURES, ACC_ESCAPES, ACC_VIRIAL, ACC_WELL_PAIR_TIME, ACC_WELL_PAIRS, ACC_WELL_SINCE, G_BOX,
+    MASS, P_SCALE0, P_WELL_DEPTH, P_WELL_WIDTH, PREDICTED_AT, R, T, TARGET, V, X, well_target,
+)
+from .motion import half_box, minimum_image, pair_image
+from .prediction import SMALL_BOX_DIAMETERS, contact_before, first_root_from_below, predict_boundary
+
+# relative band of |r|^2 around the well's edge (lambda sigma)^2 within which a pair's side is read from the record:
+# positions carry round-off of a few units in the last place of the box length, 1e-14 of |r|^2 at most
+WELL_BAND = 1e-9
+# the relative spacing of doubles
+_LAST_PLACE = 2.0**-52
+
+
+@inline_kernel
+def bonded(i, j, bonds, bond_count):
+    """True if i and j are inside their well (j in i's record)."""
+    for m in range(bond_count[i]):
+        if bonds[i, m] == j:
+            return True
+    return False
+
+
+@inline_kernel
+def _unlist(i, j, bonds, bond_count):
+    """Remove j from i's record (order not kept)."""
+    last = bond_count[i] - 1
+    for m in range(last + 1):
+        if bonds[i, m] == j:
+            bonds[i, m] = bonds[i, last]
+            bond_count[i] = last
+            return
+
+
+@inline_kernel
+def _count_change(acc, t, change):
+    """Add ``change`` (+-1) to the pairs inside, first carrying their time integral up to time t."""
+    acc[ACC_WELL_PAIR_TIME] += acc[ACC_WELL_PAIRS] * (t - acc[ACC_WELL_SINCE])
+    acc[ACC_WELL_SINCE] = t
+    acc[ACC_WELL_PAIRS] += change
+
+
+@inline_kernel
+def first_event_in_wells(p, i, neighbours, neighbour_count, bonds, bond_count, geom, scale, width, horizon):
+    """Earliest event of i (at its own time) with its list before ``horizon``: a core contact or a well's edge.
+
+    Returns (time from i's time, partner, True for the edge of a well), or
+    (inf, -1, False). A pair inside its well (``r < lambda sigma``, or by
+    the record near the edge) meets either at the core, which comes first
+    if it comes at all (:func:`.prediction.contact_before`), or at the
+    edge on its way out: the later root of ``|r + u tau| = lambda sigma``
+    (:func:`.prediction.first_root_from_below`). A pair outside can only
+    enter: the contact time at lambda sigma.
+    """
+    t = p[i, T]
+    xi, yi, zi = p[i, X], p[i, X + 1], p[i, X + 2]
+    vxi, vyi, vzi = p[i, V], p[i, V + 1], p[i, V + 2]
+    ri = p[i, R]
+    lx, ly, lz = geom[G_BOX, 0], geom[G_BOX, 1], geom[G_BOX, 2]
+    hx, hy, hz = half_box(geom, 0), half_box(geom, 1), half_box(geom, 2)
+    across_often = min(hx, hy, hz) < SMALL_BOX_DIAMETERS * ri * scale
+    best = horizon
+    partner = -1
+    edge = False
+    for m in range(neighbour_count[i]):
+        j = neighbours[i, m]
+        dt = t - p[j, T]
+        rx = p[j, X] + p[j, V] * dt - xi
+        ry = p[j, X + 1] + p[j, V + 1] * dt - yi
+        rz = p[j, X + 2] + p[j, V + 2] * dt - zi
+        if across_often:
+            rx, ry, rz = pair_image(rx, lx, hx), pair_image(ry, ly, hy), pair_image(rz, lz, hz)
+        else:
+            rx, ry, rz = minimum_image(rx, lx, hx), minimum_image(ry, ly, hy), minimum_image(rz, lz, hz)
+        ux = p[j, V] - vxi
+        uy = p[j, V + 1] - vyi
+        uz = p[j, V + 2] - vzi
+        sigma = (ri + p[j, R]) * scale
+        reach = sigma * width
+        outside = rx * rx + ry * ry + rz * rz - reach * reach
+        inside = outside < 0.0
+        if abs(outside) <= WELL_BAND * reach * reach:
+            inside = bonded(i, j, bonds, bond_count)
+        if inside:
+            tau = contact_before(rx, ry, rz, ux, uy, uz, sigma, best)
+            if tau < best:
+                best, partner, edge = tau, j, False
+                continue
+            # no core contact before best: the way out, if it comes first
+            tau = first_root_from_below(ux * ux + uy * uy + uz * uz, 2.0 * (rx * ux + ry * uy + rz * uz), outside)
+            if tau < best:
+                best, partner, edge = tau, j, True
+        else:
+            tau = contact_before(rx, ry, rz, ux, uy, uz, reach, best)
+            if tau < best:
+                best, partner, edge = tau, j, True
+    if partner < 0:
+        return math.inf, -1, False
+    return best, partner, edge
+
+
+@inline_kernel
+def cross_well_edge(p, i, j, b, geom, params, bonds, bond_count, acc, t):
+    """Resolve the event of i and j (both at time t) at the edge of their well; False if nothing happens.
+
+    A pair outside that does not approach, or inside that does not recede,
+    is left alone (a stale edge event). Otherwise only the normal relative
+    velocity changes (see the module docstring), the record and the count
+    of pairs inside follow, and the impulse joins the virial and the
+    transport sums as a collision's does (:mod:`.contacts`).
+    """
+    dx = p[j, X] - p[i, X]
+    dy = p[j, X + 1] - p[i, X + 1]
+    dz = p[j, X + 2] - p[i, X + 2]
+    rx = minimum_image(dx, geom[G_BOX, 0], half_box(geom, 0))
+    ry = minimum_image(dy, geom[G_BOX, 1], half_box(geom, 1))
+    rz = minimum_image(dz, geom[G_BOX, 2], half_box(geom, 2))
+    ux = p[j, V] - p[i, V]
+    uy = p[j, V + 1] - p[i, V + 1]
+    uz = p[j, V + 2] - p[i, V + 2]
+    approach = sure_approach(rx * ux + ry * uy + rz * uz, rx, ry, rz, ux, uy, uz, 0.0)
+    inside = bonded(i, j, bonds, bond_count)
+    if (inside and approach <= 0.0) or ((not inside) and approach >= 0.0):
+        return False
+    mi = b[i, MASS]
+    mj = b[j, MASS]
+    reduced = mi * mj / (mi + mj)
+    rr = rx * rx + ry * ry + rz * rz
+    distance = math.sqrt(rr)
+    normal_squared = approach * approach / rr  # u_n^2
+    barrier = 2.0 * params[P_WELL_DEPTH] / reduced  # u_n^2 a pair gains entering, or needs to leave
+    # the change of u_n, written without the cancellation of sqrt(a) - sqrt(b)
+    if not inside:
+        change = -barrier / (math.sqrt(normal_squared + barrier) + math.sqrt(normal_squared))
+        bonds[i, bond_count[i]] = j
+        bond_count[i] += 1
+        bonds[j, bond_count[j]] = i
+        bond_count[j] += 1
+        _count_change(acc, t, 1.0)
+        acc[ACC_CAPTURES] += 1.0
+    elif normal_squared > barrier:
+        change = -barrier / (math.sqrt(normal_squared - barrier) + math.sqrt(normal_squared))
+        _unlist(i, j, bonds, bond_count)
+        _unlist(j, i, bonds, bond_count)
+        _count_change(acc, t, -1.0)
+        acc[ACC_ESCAPES] += 1.0
+    else:
+        change = -2.0 * math.sqrt(normal_squared)
+        acc[ACC_BOUNCES] += 1.0
+    push = reduced * change / distance  # the impulse on j is push r (< 0: towards i)
+    gain = push * (rx * p[j, V] + ry * p[j, V + 1] + rz * p[j, V + 2]) + 0.5 * push * push * rr / mj
+    add_transfer(acc, push, gain, rx, ry, rz)
+    if rx != dx or ry != dy or rz != dz:
+        add_image_terms(acc, push, gain, rx, ry, rz, dx, dy, dz, geom)
+    share_i = push / mi
+    share_j = push / mj
+    p[i, V] -= share_i * rx
+    p[i, V + 1] -= share_i * ry
+    p[i, V + 2] -= share_i * rz
+    p[j, V] += share_j * rx
+    p[j, V + 1] += share_j * ry
+    p[j, V + 2] += share_j * rz
+    if not inside or normal_squared <= barrier:  # the pair is inside now: it must approach
+        _turn_inwards(p, i, j, rx, ry, rz, mj / (mi + mj), mi / (mi + mj), rr)
+    acc[ACC_VIRIAL] += push * rr
+    return True
+
+
+@inline_kernel
+def _turn_inwards(p, i, j, rx, ry, rz, share_i, share_j, rr):
+    """Make sure a pair left inside its well at the edge approaches: else its next event would be leaving, at once.
+
+    A bounce of a pair grazing the edge (u_n of round-off) can leave the
+    sign of r.u unchanged; a kick along r from the velocities' last place,
+    doubled until the approach test agrees, turns it in (as
+    :func:`.contacts._separate` pushes a colliding pair apart). ``share_i``
+    and ``share_j`` are m_j / M and m_i / M: the kick keeps the momentum.
+    """
+    kick = 0.0
+    while True:
+        ux = p[j, V] - p[i, V]
+        uy = p[j, V + 1] - p[i, V + 1]
+        uz = p[j, V + 2] - p[i, V + 2]
+        if sure_approach(rx * ux + ry * uy + rz * uz, rx, ry, rz, ux, uy, uz, 0.0) < 0.0:
+            return
+        if kick == 0.0:
+            speed = 0.0
+            for k in range(3):
+                speed = max(speed, abs(p[i, V + k]), abs(p[j, V + k]))
+            kick = _LAST_PLACE * max(speed, _LAST_PLACE) / math.sqrt(rr)
+        else:
+            kick *= 2.0
+        for k in range(3):
+            x = rx if k == 0 else (ry if k == 1 else rz)
+            p[i, V + k] += share_i * kick * x
+            p[j, V + k] -= share_j * kick * x
+
+
+@inline_kernel
+def predict_in_wells(p, i, b, anchor_time, neighbours, neighbour_count, bonds, bond_count, geom, dim, params, event):
+    """:func:`.prediction.predict` with square wells: the boundary event, then the pair events before it.
+
+    Records the event's target in ``b`` (a partner, a well's edge
+    :func:`.layout.well_target`, the list or a wall) and returns its
+    absolute time. Wells go with fixed radii and straight flights (no
+    compression, gravity or shear: the system refuses them together).
+    """
+    boundary, target = predict_boundary(p, i, b, anchor_time, geom, dim, params)
+    pair, partner, edge = first_event_in_wells(p, i, neighbours, neighbour_count, bonds, bond_count, geom,
+                                               params[P_SCALE0], params[P_WELL_WIDTH], boundary)
+    b[i, PREDICTED_AT] = event
+    if partner >= 0:
+        b[i, TARGET] = well_target(partner) if edge else partner
+        return p[i, T] + pair
+    b[i, TARGET] = target
+    return p[i, T] + boundary

@@ -1,0 +1,254 @@
+"""Square-well attraction of a :class:`~collisionkit.edmd.HardSphereSystem`: parameters, energies, the pairs inside.
+
+Each pair attracts with depth epsilon between contact (sigma, the sum of
+the radii) and lambda sigma; the kernels' :mod:`collisionkit._kernels.edmd.wells`
+resolves the events at the well's edge and keeps the record of the pairs
+inside (``bonds``, ``bond_count``), which this mixin starts, renumbers,
+checks and reads.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy.spatial import cKDTree
+
+from .._io import CheckpointError
+from .._kernels import edmd as _k
+from . import _checks
+
+# the widest well accepted, in contact distances (wider wells make lists of hundreds: use a smooth potential)
+MAX_WELL_WIDTH = 5.0
+
+
+def well_parameters(system, well_width, well_depth, gravity, growth, shear_rate, engine):
+    """Check the square-well arguments and store them in ``system.params``; None leaves hard spheres.
+
+    Wells need straight flights of fixed radii in the lists engine: no
+    gravity, compression, shear, or the cell-crossing engine.
+    """
+    if well_width is None:
+        return
+    width = _checks.bounded(well_width, "well_width", 1.0, MAX_WELL_WIDTH, closed=(False, True))
+    depth = _checks.positive(well_depth, "well_depth")
+    clashes = [(np.any(gravity), "gravity"), (growth != 0.0, "compression"), (shear_rate != 0.0, "shear_rate"),
+               (engine == "cells", 'engine="cells"')]
+    for clash, name in clashes:
+        if clash:
+            raise ValueError(f"well_width: square wells run without {name} (straight flights of fixed radii in the "
+                             "lists engine)")
+    system.params[_k.P_WELL_WIDTH] = width
+    system.params[_k.P_WELL_DEPTH] = depth
+
+
+def record_width(radius, scale, width, dim, count):
+    """Row length of the record of pairs inside: a bound on the particles whose centres fit within a well.
+
+    Non-overlapping particles of the smallest radius a with centres within
+    D = lambda 2 a_max of a centre fill at most the ball of radius D + a:
+    ((D + a) / a)^d of them.
+    """
+    smallest = float(np.min(radius)) * scale
+    reach = width * 2.0 * float(np.max(radius)) * scale
+    return max(1, min(count - 1, int(((reach + smallest) / smallest) ** dim) + 1))
+
+
+def pairs_inside(positions, radius, box, periodic, width):
+    """The pairs (i < j) closer than lambda (r_i + r_j), minimum images on the periodic axes: an (M, 2) array."""
+    positions = np.asarray(positions, dtype=float)
+    reach = width * 2.0 * float(np.max(radius))
+    # a walled axis as a period too long to wrap any pair within reach
+    boxsize = np.where(periodic, box, box + 2.0 * reach + 1.0)
+    tree = cKDTree(np.mod(positions, boxsize), boxsize=boxsize)
+    pairs = tree.query_pairs(reach, output_type="ndarray")
+    if pairs.size == 0:
+        return pairs.reshape(0, 2)
+    separation = positions[pairs[:, 1]] - positions[pairs[:, 0]]
+    separation -= np.where(periodic, box * np.round(separation / box), 0.0)
+    distance = np.sqrt(np.sum(separation**2, axis=1))
+    return pairs[distance < width * (radius[pairs[:, 0]] + radius[pairs[:, 1]])]
+
+
+def bond_arrays(pairs, count, row):
+    """The kernels' record of ``pairs`` inside: partners per particle (int32, count x row) and their numbers."""
+    bonds = np.zeros((count, row), dtype=np.int32)
+    bond_count = np.zeros(count, dtype=np.int32)
+    for i, j in pairs:
+        bonds[i, bond_count[i]] = j
+        bond_count[i] += 1
+        bonds[j, bond_count[j]] = i
+        bond_count[j] += 1
+    return bonds, bond_count
+
+
+class SquareWells:
+    """The square-well attraction of :class:`~collisionkit.edmd.HardSphereSystem` (a mixin)."""
+
+    @property
+    def well_width(self):
+        """lambda, the wells' outer radius in contact distances; None for hard spheres."""
+        width = float(self.params[_k.P_WELL_WIDTH])
+        return width if width != 0.0 else None
+
+    @property
+    def well_depth(self) -> float:
+        """epsilon, the depth of the wells (0 for hard spheres)."""
+        return float(self.params[_k.P_WELL_DEPTH]) if self.well_width else 0.0
+
+    @property
+    def well_pairs(self) -> int:
+        """Pairs inside their wells now."""
+        return int(self.acc[_k.ACC_WELL_PAIRS])
+
+    @property
+    def well_events(self) -> dict:
+        """Events at the wells' edges so far, by outcome: ``captures``, ``escapes``, ``bounces``."""
+        return {"captures": int(self.acc[_k.ACC_CAPTURES]), "escapes": int(self.acc[_k.ACC_ESCAPES]),
+                "bounces": int(self.acc[_k.ACC_BOUNCES])}
+
+    def potential_energy(self) -> float:
+        """-epsilon times the pairs inside their wells (0 for hard spheres).
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from collisionkit.edmd import HardSphereSystem
+        >>> positions = [[1.0, 1.0], [2.2, 1.0], [5.0, 5.0]]    # the first two within 1.5 diameters
+        >>> system = HardSphereSystem(positions, np.zeros((3, 2)), 0.5, 10.0, well_width=1.5, well_depth=2.0)
+        >>> system.potential_energy()
+        -2.0
+        """
+        return -self.well_depth * self.well_pairs
+
+    def total_energy(self) -> float:
+        """Kinetic plus potential energy: conserved by elastic square-well (and hard-sphere) dynamics.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from collisionkit.edmd import lattice, maxwell_boltzmann, HardSphereSystem
+        >>> positions, box = lattice("fcc", 3, 0.2)
+        >>> system = HardSphereSystem(positions, maxwell_boltzmann(np.ones(108), 3, seed=1), 0.5, box,
+        ...                           well_width=1.5)
+        >>> before = system.total_energy()
+        >>> _ = system.run(collisions=3000)
+        >>> abs(system.total_energy() - before) < 1e-11 * abs(before)
+        True
+        """
+        return self.kinetic_energy() + self.potential_energy()
+
+    def well_pair_time(self) -> float:
+        """Time integral of the number of pairs inside their wells, from the system's start to now.
+
+        Over a stretch of time its change divided by the stretch is the
+        mean number of pairs inside, and -epsilon times that per particle
+        the mean potential energy per particle.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from collisionkit.edmd import HardSphereSystem
+        >>> positions = [[1.0, 1.0], [2.2, 1.0], [5.0, 5.0]]
+        >>> system = HardSphereSystem(positions, np.zeros((3, 2)), 0.5, 10.0, well_width=1.5)
+        >>> system.run(time=2.0)
+        0
+        >>> system.well_pair_time()    # one pair inside (at rest) for 2 time units
+        2.0
+        """
+        since = float(self.acc[_k.ACC_WELL_SINCE])
+        return float(self.acc[_k.ACC_WELL_PAIR_TIME]) + self.well_pairs * (self.time - since)
+
+    def _restart_well_clock(self, shift):
+        """The clock moves back by ``shift``: carry the integral up to now and restart its time at 0."""
+        self.acc[_k.ACC_WELL_PAIR_TIME] += self.acc[_k.ACC_WELL_PAIRS] * (shift - self.acc[_k.ACC_WELL_SINCE])
+        self.acc[_k.ACC_WELL_SINCE] = 0.0
+
+    def _start_wells(self):
+        """The record of the pairs inside their wells at the start (none, a row of 1, for hard spheres)."""
+        count = self.count
+        width = self.well_width
+        if width is None:
+            self.bonds, self.bond_count = np.zeros((count, 1), dtype=np.int32), np.zeros(count, dtype=np.int32)
+            return
+        scale = self.scale0
+        radius = self.p[:, _k.R]
+        pairs = pairs_inside(self.p[:, : self.dim], radius * scale, self.box, self.periodic, width)
+        row = record_width(radius, scale, width, self.dim, count)
+        self.bonds, self.bond_count = bond_arrays(pairs, count, row)
+        self.acc[_k.ACC_WELL_PAIRS] = len(pairs)
+
+    def _renumber_bonds(self, order):
+        """Follow a renumbering of the particles (``order[new] = old``) in the record of pairs inside."""
+        new_number = np.empty_like(order)
+        new_number[order] = np.arange(order.size)
+        self.bonds = np.ascontiguousarray(new_number[self.bonds[order]].astype(np.int32))
+        self.bond_count = np.ascontiguousarray(self.bond_count[order])
+
+    def _check_wells(self, tolerance):
+        """RuntimeError if the record of pairs inside disagrees with the distances now (particles synchronised).
+
+        Pairs within ``tolerance`` (relative) of a well's edge may be on
+        either side: their side is the record's.
+        """
+        width = self.well_width
+        if width is None:
+            return
+        positions = self.p[:, : self.dim]  # memory order, as the record
+        radius = self.p[:, _k.R] * self.scale
+        box, periodic = self.box, self.periodic
+        inner = {tuple(pair) for pair in pairs_inside(positions, radius * (1 - tolerance), box, periodic, width)}
+        outer = {tuple(pair) for pair in pairs_inside(positions, radius * (1 + tolerance), box, periodic, width)}
+        recorded = set()
+        for i in range(self.count):
+            for j in self.bonds[i, : self.bond_count[i]]:
+                recorded.add((min(i, int(j)), max(i, int(j))))
+        if not inner <= recorded <= outer or len(recorded) != self.well_pairs:
+            raise RuntimeError(f"the record of pairs inside their wells ({len(recorded)}, counted {self.well_pairs}) "
+                               f"disagrees with their distances ({len(inner)} to {len(outer)} inside)")
+
+
+
+# ------------------------------------------------------------------ checks of a restored state
+
+
+def _refuse(name, what):
+    raise CheckpointError(f"array {name!r} {what}")
+
+
+def check_well_parameters(params, geom):
+    """A restored state's well width and depth: none (0, 0), or lambda in (1, MAX_WELL_WIDTH] and epsilon > 0.
+
+    Wells also mean no growth, shear or gravity (as the constructor refuses).
+    """
+    width, depth = params[_k.P_WELL_WIDTH], params[_k.P_WELL_DEPTH]
+    if width == 0.0:
+        if depth != 0.0:
+            _refuse("params", "must hold no well depth without a well width")
+        return
+    if not (1.0 < width <= MAX_WELL_WIDTH and 0.0 < depth < np.inf):
+        _refuse("params", f"must hold a well width in (1, {MAX_WELL_WIDTH:g}] and a well depth > 0")
+    if params[_k.P_GROWTH] != 0.0 or params[_k.P_SHEAR_RATE] != 0.0 or np.any(geom[_k.G_GRAVITY] != 0.0):
+        _refuse("params", "must hold no growth, shear or gravity with square wells")
+
+
+def check_bonds(arrays, count, wells, pairs_inside_count):
+    """The record of pairs inside wells: shapes, partners in range, no self or repeat, symmetric, counted.
+
+    Without wells it must be empty.
+    """
+    bonds, bond_count = arrays["bonds"], arrays["bond_count"]
+    if bonds.dtype != np.int32 or bonds.ndim != 2 or bonds.shape[0] != count or bonds.shape[1] < 1:
+        _refuse("bonds", f"must hold int32 of shape ({count}, n); got {bonds.dtype} of shape {bonds.shape}")
+    if bond_count.dtype != np.int32 or bond_count.shape != (count,):
+        _refuse("bond_count", f"must hold int32 of shape ({count},); got {bond_count.dtype} of shape "
+                f"{bond_count.shape}")
+    if np.any(bond_count < 0) or np.any(bond_count > bonds.shape[1]) or (not wells and np.any(bond_count)):
+        _refuse("bond_count", f"must hold counts in [0, {bonds.shape[1]}], and 0 without wells")
+    owners = np.repeat(np.arange(count), bond_count)
+    partners = bonds[np.arange(bonds.shape[1])[None, :] < bond_count[:, None]]
+    if np.any((partners < 0) | (partners >= count) | (partners == owners)):
+        _refuse("bonds", f"must hold partners in [0, {count}), none a particle's own")
+    forward = set(zip(owners.tolist(), partners.tolist()))
+    if len(forward) != partners.size or forward != {(j, i) for i, j in forward}:
+        _refuse("bonds", "must hold each pair once in each partner's row")
+    if partners.size != 2 * pairs_inside_count:
+        _refuse("acc", f"must count the pairs inside wells as the record does ({partners.size // 2})")
