@@ -19,7 +19,9 @@ from ._transport import transport_measurement
 from .theory import _ball_volume
 
 # what the sampler records at the end of each block (temperature: kT at the end; temperature_mean: its time average)
-RECORDS = ("temperature", "temperature_mean", "compressibility", "pressure", "frequency", "time", "msd", "msd_groups")
+# potential_energy: the time average of the square wells' potential energy per particle (0 for hard spheres)
+RECORDS = ("temperature", "temperature_mean", "compressibility", "pressure", "frequency", "time", "msd", "msd_groups",
+           "potential_energy")
 # and, under shear, the xy element of the pressure tensor (kinetic plus collisional), its collisional part and the
 # energy the thermostat removed
 SHEAR_RECORDS = ("shear_stress", "collisional_shear_stress", "thermostat_energy")
@@ -36,7 +38,7 @@ def block_start(system) -> dict:
     (0, True)
     """
     return {"virial": system.virial, "collisions": system.collisions, "time": system.elapsed,
-            "shear": shear_totals(system), "thermostat": system.thermostat_energy}
+            "shear": shear_totals(system), "thermostat": system.thermostat_energy, "wells": system.well_pair_time()}
 
 
 def record_block(sampler, start, kT_after, kT, duration) -> None:
@@ -55,6 +57,7 @@ def record_block(sampler, start, kT_after, kT, duration) -> None:
     record["compressibility"].append(1.0 + virial / (dim * count * kT * duration))
     record["pressure"].append((count * kT + virial / (dim * duration)) / system.volume)
     record["frequency"].append(2.0 * (system.collisions - start["collisions"]) / (count * duration))
+    record["potential_energy"].append(-system.well_depth * (system.well_pair_time() - start["wells"]) / (count * duration))
     record["time"].append(system.elapsed - sampler.start_time)
     unwrapped = system.positions(unwrapped=True)
     axes = sampler._diffusion_axes()
@@ -150,6 +153,8 @@ def observables(sampler) -> dict:
         diffusion_coefficient=diffusion,
         diffusion_coefficient_error=diffusion_error,
         energy_lost=float(system.energy_lost - sampler.start_lost),
+        potential_energy=float(np.mean(record["potential_energy"])),
+        potential_energy_error=_msd.block_error(record["potential_energy"]),
         contact_value=contact,
         contact_value_error=contact_error,
         speeds=speeds,

@@ -76,6 +76,7 @@ def restore_sampler(sampler, system, state) -> None:
     # ... or before the mean kT and the thermostat's energy were: unknown for the blocks done
     done = len(sampler.records["msd"])
     sampler.records.setdefault("temperature_mean", [math.nan] * done)
+    sampler.records.setdefault("potential_energy", [0.0] * done)  # saved before square wells: hard spheres, none
     if "shear_stress" in sampler.records:
         sampler.records.setdefault("thermostat_energy", [math.nan] * done)
     sampler.speeds = [row for row in np.array(state["sampler_speeds"])]

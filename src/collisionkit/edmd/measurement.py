@@ -42,7 +42,11 @@ class Measurement:
     every block end as a time origin, lags up to ``blocks // 2`` blocks, at
     most 8; its error from the scatter of 8 groups of particles,
     ``_msd.MSD_GROUPS``, since overlapping origins give no independent blocks),
-    ``energy_lost``, ``contact_value`` (g at contact); arrays ``speeds`` (a
+    ``energy_lost``, ``contact_value`` (g at contact), ``potential_energy``
+    (square wells: the time average of the potential energy per particle,
+    -epsilon times the pairs inside per particle, with its error; 0 for hard
+    spheres; ``temperature_mean`` is then the exact time average of kT,
+    which Z and the pressure use); arrays ``speeds`` (a
     sample), ``rdf_r``, ``rdf`` (g(r)), ``msd_time``, ``msd``, ``block_*`` per
     block; ``wall_seconds`` is the wall clock of the measurement (events and
     sampling, not compiling), so ``collisions_per_second`` is the rate a run
@@ -117,6 +121,8 @@ class Measurement:
     block_temperature_mean: np.ndarray | None = field(default=None, repr=False)
     thermostat_energy: float = math.nan
     viscous_heating: float = math.nan
+    potential_energy: float = 0.0
+    potential_energy_error: float = 0.0
 
     @property
     def collisions_per_second(self) -> float:
@@ -145,6 +151,9 @@ class Measurement:
                 "shear_rate", "shear_stress", "shear_stress_error", "collisional_shear_stress",
                 "collisional_shear_stress_error", "shear_viscosity", "shear_viscosity_error", "temperature_mean",
                 "temperature_mean_error", "thermostat_energy", "viscous_heating")}
+        if self.potential_energy != 0.0 or self.potential_energy_error != 0.0:
+            result |= {key: getattr(self, key) for key in (
+                "potential_energy", "potential_energy_error", "temperature_mean", "temperature_mean_error")}
         if self.transport is not None:
             result |= {"self_diffusion": self.diffusion_coefficient,
                        "self_diffusion_error": self.diffusion_coefficient_error} | self.transport.summary()
@@ -216,6 +225,9 @@ class Sampler:
         self.speeds = []
         if not isinstance(transport, (bool, np.bool_)):
             raise TypeError(f"transport must be True or False; got {transport!r}")
+        if transport and system.well_width is not None:
+            raise ValueError("transport cannot be measured with square wells yet (the energy's Helfand moment would "
+                             "need the pairs' potential energy): measure without transport=True")
         if transport and system.shear_rate != 0.0:
             raise ValueError("transport cannot be measured under shear (the Einstein-Helfand relations hold in "
                              "equilibrium); the sheared system's shear viscosity comes from its stress")
@@ -298,7 +310,10 @@ class Sampler:
         area = self._run_block_events(progress)
         kT_after = system.temperature()
         duration = system.elapsed - start["time"]
-        # the time average of kT: under shear from the sampled energy, else the mean of the block's ends
+        if system.well_width is not None and duration > 0:
+            # exactly: K = E + epsilon n(t) with E conserved and n the pairs inside, whose integral the engine keeps
+            area = system.total_energy() * duration + system.well_depth * (system.well_pair_time() - start["wells"])
+        # the time average of kT: under shear or with wells from the energy's integral, else the mean of the block's ends
         kT = 0.5 * (kT_before + kT_after) if area is None or not duration > 0 else 2.0 * area / (dim * count * duration)
         if not (duration > 0.0 and kT > 0.0):
             raise RuntimeError(

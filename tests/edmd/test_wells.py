@@ -1,0 +1,157 @@
+"""Square wells: the edge events against energy and momentum conservation, the record of pairs inside, checkpoints."""
+
+import math
+
+import numpy as np
+import pytest
+
+from collisionkit import edmd
+from collisionkit._io import CheckpointError
+
+from .systems import fcc_system, hexagonal_system
+
+MASSES = np.array([1.0, 3.0])
+REDUCED = MASSES.prod() / MASSES.sum()
+
+
+def head_on_pair(separation, relative_speed, depth=1.0):
+    """Two discs of diameter 1 (masses 1 and 3) on a line along x, relative velocity ``relative_speed`` (> 0 apart)."""
+    positions = [[5.0, 10.0], [5.0 + separation, 10.0]]
+    # velocities with zero total momentum: v1 = -m2 u / M, v2 = m1 u / M
+    velocities = [[-MASSES[1] * relative_speed / MASSES.sum(), 0.0], [MASSES[0] * relative_speed / MASSES.sum(), 0.0]]
+    return edmd.HardSphereSystem(positions, velocities, 0.5, 20.0, masses=MASSES, well_width=1.5, well_depth=depth)
+
+
+def relative_speed(system):
+    velocities = system.velocities()
+    return float(velocities[1, 0] - velocities[0, 0])
+
+
+def test_capture_speeds_the_pair_up_by_the_well_depth():
+    # approaching at 1.5 from 4 apart: the edge (1.5) at t = 2.5 / 1.5, the core 0.5 further on
+    system = head_on_pair(4.0, -1.5)
+    system.run(time=1.7)
+    assert system.well_pairs == 1 and system.well_events["captures"] == 1
+    # mu u'^2 / 2 = mu u^2 / 2 + epsilon
+    assert relative_speed(system) == pytest.approx(-math.sqrt(1.5**2 + 2.0 / REDUCED), rel=1e-14)
+    assert system.potential_energy() == -1.0
+    np.testing.assert_allclose(system.momentum(), 0.0, atol=1e-15)
+
+
+def test_a_pair_that_collided_inside_escapes_at_its_first_speed():
+    system = head_on_pair(4.0, -1.5)
+    system.run(time=4.0)
+    assert system.collisions == 1 and system.well_events == {"captures": 1, "escapes": 1, "bounces": 0}
+    assert relative_speed(system) == pytest.approx(1.5, rel=1e-14)
+    assert system.well_pairs == 0 and system.potential_energy() == 0.0
+
+
+def test_a_fast_pair_inside_escapes_losing_the_well_depth():
+    system = head_on_pair(1.2, 2.0)
+    system.run(time=1.0)
+    assert system.well_events == {"captures": 0, "escapes": 1, "bounces": 0}
+    assert relative_speed(system) == pytest.approx(math.sqrt(4.0 - 2.0 / REDUCED), rel=1e-14)
+
+
+def test_a_slow_pair_stays_bound_bouncing_between_core_and_edge():
+    # mu u^2 / 2 = 0.09375 < epsilon: trapped for ever, |u| kept
+    system = head_on_pair(1.2, 0.5)
+    before = system.total_energy()
+    system.run(time=200.0)
+    events = system.well_events
+    assert events["escapes"] == 0 and events["bounces"] > 50 and abs(events["bounces"] - system.collisions) <= 1
+    assert system.well_pairs == 1
+    assert abs(relative_speed(system)) == pytest.approx(0.5, rel=1e-12)
+    assert system.total_energy() == pytest.approx(before, rel=1e-13)
+
+
+def test_a_bound_pair_never_colliding_is_not_taken_for_a_stall():
+    # a pair bound in its well orbits without touching the core: a run by collisions would wait for ever, a run by
+    # time goes on, events at the edge counting as progress
+    positions = [[5.0, 5.0], [6.3, 5.0]]
+    velocities = [[0.0, -0.05], [0.0, 0.05]]
+    system = edmd.HardSphereSystem(positions, velocities, 0.5, 20.0, well_width=1.5, well_depth=1.0)
+    system.run(time=2000.0)
+    assert system.well_pairs == 1 and system.well_events["bounces"] > 0
+
+
+@pytest.mark.parametrize("make", [fcc_system, hexagonal_system])
+def test_dense_fluid_conserves_energy_and_momentum_to_round_off(make):
+    system = make(eta=0.3, seed=4, well_width=1.5, well_depth=1.0)
+    energy, momentum = system.total_energy(), system.momentum()
+    system.run(collisions=25 * system.count)
+    system.run(collisions=system.count)  # starts by renumbering the particles in cell order (after 20 N collisions)
+    events = system.well_events
+    assert min(events.values()) > system.count  # every kind of edge event happened, many times
+    assert system.total_energy() == pytest.approx(energy, rel=1e-12)
+    np.testing.assert_allclose(system.momentum(), momentum, atol=1e-12 * system.count)
+    system.check()  # no overlap, and the record agrees with the distances (also after the renumbering sorts)
+    assert system.last_sort > 0
+
+
+def test_the_record_follows_a_checkpoint_bit_for_bit(tmp_path):
+    system = fcc_system(cells=3, eta=0.3, well_width=1.7, well_depth=0.5)
+    system.run(collisions=2000)
+    path = tmp_path / "wells.npz"
+    system.save(path)
+    restored = edmd.HardSphereSystem.load(path)
+    system.run(collisions=3000)
+    restored.run(collisions=3000)
+    assert (restored.velocities() == system.velocities()).all()
+    assert restored.well_pairs == system.well_pairs and restored.well_events == system.well_events
+    assert restored.well_pair_time() == system.well_pair_time()
+
+
+def test_a_checkpoint_with_a_one_sided_record_is_refused():
+    system = fcc_system(cells=3, eta=0.3, well_width=1.5)
+    state = system.state_dict()
+    i = int(np.flatnonzero(state["bond_count"])[0])
+    state["bond_count"] = state["bond_count"].copy()
+    state["bond_count"][i] -= 1
+    with pytest.raises(CheckpointError, match="bonds"):
+        edmd.HardSphereSystem.from_state_dict(state)
+
+
+def test_hard_sphere_checkpoints_carry_no_record():
+    state = fcc_system(cells=3).state_dict()
+    assert not state["bond_count"].any()
+    state["bond_count"] = state["bond_count"].copy()
+    state["bond_count"][0] = 1
+    with pytest.raises(CheckpointError, match="bond_count"):
+        edmd.HardSphereSystem.from_state_dict(state)
+
+
+def test_well_pair_time_integrates_across_clock_restarts():
+    positions = [[1.0, 1.0], [2.2, 1.0], [5.0, 5.0]]
+    system = edmd.HardSphereSystem(positions, np.zeros((3, 2)), 0.5, 10.0, well_width=1.5)
+    system.run(time=1.5)
+    system.synchronise()
+    system.run(time=1.0)
+    assert system.well_pair_time() == pytest.approx(2.5, rel=1e-15)
+
+
+@pytest.mark.parametrize(("options", "message"), [
+    ({"well_width": 1.0}, "well_width must be"),
+    ({"well_width": 6.0}, "well_width must be"),
+    ({"well_width": math.nan}, "well_width must be"),
+    ({"well_width": 1.5, "well_depth": 0.0}, "well_depth must be"),
+    ({"well_width": 1.5, "well_depth": -1.0}, "well_depth must be"),
+    ({"well_width": 1.5, "gravity": [0.0, -1.0]}, "without gravity"),
+    ({"well_width": 1.5, "shear_rate": 0.1}, "without shear_rate"),
+    ({"well_width": 1.5, "engine": "cells"}, 'without engine="cells"'),
+])
+def test_bad_well_arguments_are_refused_by_name(options, message):
+    with pytest.raises(ValueError, match=message):
+        hexagonal_system(cells=6, **options)
+
+
+def test_transport_is_refused_with_wells():
+    with pytest.raises(ValueError, match="square wells"):
+        edmd.Sampler(hexagonal_system(cells=6, well_width=1.5), collisions=100, blocks=2, transport=True)
+
+
+def test_hard_spheres_report_no_potential_energy():
+    system = hexagonal_system(cells=6)
+    measurement = edmd.measure(system, collisions=2000, blocks=2)
+    assert system.well_width is None and system.potential_energy() == 0.0
+    assert measurement.potential_energy == 0.0 and "potential_energy" not in measurement.summary()
