@@ -262,9 +262,10 @@ class Counter:
 
         def run_events(*args):
             neighbours = args[11]
+            args = args[:-2]  # the square wells' record (bonds, bond_count): the counting loop runs hard spheres only
             return counting_run_events(*args, counter.tally, np.zeros(neighbours.shape[1], dtype=neighbours.dtype))
 
-        def predict_all(p, b, anchor_time, neighbours, neighbour_count, *rest):
+        def predict_all(p, b, anchor_time, neighbours, neighbour_count, *rest):  # the wells' record last in rest
             counter.full_predictions += 1
             counter.full_tests += float(neighbour_count[: p.shape[0]].sum())
             return engine_predict_all(p, b, anchor_time, neighbours, neighbour_count, *rest)
