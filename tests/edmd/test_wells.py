@@ -155,3 +155,10 @@ def test_hard_spheres_report_no_potential_energy():
     measurement = edmd.measure(system, collisions=2000, blocks=2)
     assert system.well_width is None and system.potential_energy() == 0.0
     assert measurement.potential_energy == 0.0 and "potential_energy" not in measurement.summary()
+
+
+def test_a_checkpoint_with_a_record_narrower_than_the_lists_is_refused():
+    state = fcc_system(cells=3, eta=0.3, well_width=1.5).state_dict()
+    state["bonds"] = np.ascontiguousarray(state["bonds"][:, :1])
+    with pytest.raises(CheckpointError, match="as wide as the neighbour lists"):
+        edmd.HardSphereSystem.from_state_dict(state)

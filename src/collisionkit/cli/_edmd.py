@@ -56,6 +56,8 @@ class EdmdOptions(Options):
     shear_rate: float = Field(default=0.0, ge=0, allow_inf_nan=False)
     thermostat: bool = False
     engine: EngineName = "auto"
+    well_width: float | None = Field(default=None, allow_inf_nan=False)  # its range: the library's message
+    well_depth: float = Field(default=1.0, allow_inf_nan=False)
     summary: Path | None = None
     trajectory: Path | None = None
     frame_every: int | None = Field(default=None, ge=1)
@@ -348,6 +350,14 @@ def edmd(
         str | None,
         typer.Option(metavar="[auto|lists|cells]", help=engine_help()),
     ] = None,
+    well_width: Annotated[
+        float | None,
+        typer.Option(help=_help("Square wells: each pair attracts with depth --well-depth out to this many contact distances (lambda in (1, 5]). The equilibration holds kT = 1 by rescaling; the measurement runs at constant energy and reports the mean potential energy per particle and the mean kT; not with --shear-rate, --transport or --engine cells.", "none, hard spheres")),
+    ] = None,
+    well_depth: Annotated[
+        float | None,
+        typer.Option(help=_help("Depth epsilon of the square wells in units of kT (0 to 1000): the reduced temperature is T* = 1 / depth.", "1")),
+    ] = None,
     summary: Annotated[Path | None, typer.Option("--summary", help="Write the results as JSON to this file.")] = None,
     trajectory: Annotated[
         Path | None, typer.Option(help="Write frames to this GSD file (HOOMD, OVITO, freud read it).")
@@ -375,14 +385,14 @@ def edmd(
     ] = None,
     overwrite: OverwriteOption = None,
 ):
-    """Event-driven MD of hard spheres (3D) or discs (2D): pressure, collision frequency, g(r), diffusion; viscosity and thermal conductivity with --transport.
+    """Event-driven MD of hard spheres (3D) or discs (2D), or square-well fluids (--well-width): pressure, collision frequency, g(r), diffusion; viscosity and thermal conductivity with --transport.
 
     Units: diameter 1, mass 1, initial kT = 1.
     """
     given = dict(
         dim=dim, particles=particles, packing_fraction=packing_fraction, restitution=restitution,
         elastic_below=elastic_below, equilibration=equilibration, collisions=collisions, blocks=blocks, seed=seed, initial=initial,
-        transport=transport, yeh_hummer=yeh_hummer, shear_rate=shear_rate, thermostat=thermostat, engine=engine, summary=summary, trajectory=trajectory, frame_every=frame_every, xyz=xyz, out=out, plots=plots,
+        transport=transport, yeh_hummer=yeh_hummer, shear_rate=shear_rate, thermostat=thermostat, engine=engine, well_width=well_width, well_depth=well_depth, summary=summary, trajectory=trajectory, frame_every=frame_every, xyz=xyz, out=out, plots=plots,
         checkpoint=checkpoint, overwrite=overwrite,
     )  # fmt: skip
     if resume is None:

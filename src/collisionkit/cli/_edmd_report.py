@@ -23,6 +23,8 @@ def _theory_column(result: dict) -> tuple[str, str, str, str]:
         if result.get("elastic_below") and result["temperature"] > BARELY_COOLED:  # the floor made it elastic
             return "elastic floor: nearly all contacts elastic", "", "barely cools (elastic floor)", "> 0 (small)"
         return "no equilibrium (inelastic)", "", "cools (Haff)", "> 0"
+    if result.get("well_width"):
+        return "(square wells: see the virial expansion)", "", "1 while equilibrating, then the mean below", "0 (elastic)"
     z = f"{result['compressibility_factor_theory']:.5g} ({result['theory']})"
     omega = f"{result['collision_frequency_from_pressure']:.5g} (Enskog, from Z)"
     if result.get("shear_rate"):
@@ -45,7 +47,7 @@ def rows(result: dict) -> list[tuple[str, str, str]]:
         return f"{result[key]:.5g} ± {result[key + '_error']:.2g}"
 
     z, omega, kT, lost = _theory_column(result)
-    return _shear_rows(result, pm) + _transport_rows(result, pm) + [
+    return _shear_rows(result, pm) + _transport_rows(result, pm) + _well_rows(result, pm) + [
         ("compressibility factor Z = PV/NkT", pm("compressibility_factor"), z),
         ("collision frequency per particle", pm("collision_frequency"), omega),
         ("temperature kT (final)", f"{result['temperature']:.6g}", kT),
@@ -56,6 +58,19 @@ def rows(result: dict) -> list[tuple[str, str, str]]:
         ("pair collisions (measured)", str(result["collisions"]), f"after {result['equilibration_collisions']} equilibration"),
         ("collisions per second", f"{result['collisions_per_second']:.4g}",
          f"wall clock, measurement (no compiling), {result['engine']} engine"),
+    ]
+
+
+def _well_rows(result: dict, pm) -> list[tuple[str, str, str]]:
+    """The rows of a square-well run (--well-width): potential energy, mean kT, T*, the events at the wells' edges."""
+    if not result.get("well_width"):
+        return []
+    return [
+        ("potential energy per particle U/N", pm("potential_energy"),
+         f"-epsilon per pair inside (lambda {result['well_width']:g}, epsilon {result['well_depth']:g})"),
+        ("temperature kT (time mean)", pm("temperature_mean"), f"T* = kT/epsilon = {result['reduced_temperature']:.5g}"),
+        ("well events: captures / escapes / bounces",
+         f"{result['well_captures']} / {result['well_escapes']} / {result['well_bounces']}", "since the start"),
     ]
 
 

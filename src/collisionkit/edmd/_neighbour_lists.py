@@ -151,6 +151,7 @@ class NeighbourLists:
                 self._grow_lists(needed)
             else:
                 break
+        self._fit_bonds_to_lists()
         self._predict_all()
 
     def _predict_all(self):
@@ -164,7 +165,7 @@ class NeighbourLists:
             return
         _k.predict_all(
             self.p, self.book, self.anchor_time, self.neighbours, self.neighbour_count, self.geom, self.dim, self.params, self.queue,
-            self.tree, self.leaves, self.acc, self.bonds, self.bond_count,
+            self.tree, self.leaves, self.acc, *self._well_record(),
         )
 
     def _pair_gap(self):
@@ -195,6 +196,7 @@ class NeighbourLists:
         """Widen the neighbour-list rows to hold ``needed`` entries with room to spare."""
         self.neighbours = np.zeros((self.count, self._room_for(needed)), dtype=np.uint32)
         self.neighbour_count[:] = 0
+        self._fit_bonds_to_lists()
 
     def _grow_cells(self, needed):
         """(Re)allocate the cells with ``needed`` slots each, with room to spare."""

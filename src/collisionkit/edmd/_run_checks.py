@@ -15,6 +15,7 @@ from typing import Any
 
 from .._params import check_choice, check_integer, check_real, check_seed
 from ._cell_crossings import ENGINE_NAMES
+from ._wells import MAX_WELL_WIDTH
 from .initial import LATTICE_DIM, lattice_cells
 from .theory import MAX_PACKING_FRACTION
 
@@ -25,6 +26,8 @@ MAX_SPEED = 1e3
 # the largest shear rate, in sqrt(kT/m) / sigma: a box of 10 diameters then slides at 10^4 thermal speeds, where an
 # inelastic gas is heated 10^6-fold; typical granular and rheology runs use 0.01 to 5
 MAX_SHEAR_RATE = 1e3
+# the deepest well, in units of the kT = 1 a run equilibrates at (T* = 1e-3: far below any phase transition)
+MAX_WELL_DEPTH = 1e3
 # the most pair collisions of a run's equilibration or measurement: about 3 years at 10^6 a second
 MAX_COLLISIONS = 10**14
 
@@ -83,6 +86,15 @@ def checked_parameters(p) -> dict[str, Any]:
     if p.yeh_hummer and not (p.transport and p.dim == 3):
         raise ValueError("yeh_hummer needs transport (the correction uses the measured shear viscosity) and dim 3 "
                          "(its constant is the cubic lattice's)")
+    if p.well_width is not None:
+        values["well_width"] = check_real("well_width", p.well_width, 1.0, MAX_WELL_WIDTH, low_open=True)
+        clashes = ((shear_rate != 0.0, "shear_rate", "wells run in a fluid at rest"),
+                   (p.transport, "transport", "the heat flux would need the pairs' potential energy"),
+                   (p.engine == "cells", "engine cells", "the cell-crossing engine has no wells: use lists or auto"))
+        for clash, name, why in clashes:
+            if clash:
+                raise ValueError(f"well_width cannot be combined with {name} ({why})")
+    values["well_depth"] = check_real("well_depth", p.well_depth, 0.0, MAX_WELL_DEPTH, low_open=True)
     if p.engine == "cells" and shear_rate != 0.0:  # what HardSphereSystem refuses, said before any work
         raise ValueError("engine cells cannot be combined with shear_rate: the cell-crossing engine runs straight "
                          "flights only (use engine lists or auto)")

@@ -59,7 +59,9 @@ def edmd_summary(run, measurement, files: Sequence = ()) -> dict[str, Any]:
         "seed": p.seed,
         "blocks": p.blocks,
         "equilibration_collisions": run.equilibrated,
-        "energy_lost_total": run.initial_energy - system.kinetic_energy(),
+        # with wells the equilibration's rescaling changes the energy: only the collisions' own loss is a loss
+        "energy_lost_total": (run.initial_energy - system.kinetic_energy() if p.well_width is None
+                              else system.energy_lost),
         "elastic": p.restitution == 1.0,
         "elastic_below": system.elastic_below,
         "engine": system.engine,  # the one that ran: "lists" or "cells" (parameters' "auto" resolved)
@@ -69,7 +71,11 @@ def edmd_summary(run, measurement, files: Sequence = ()) -> dict[str, Any]:
     # before it was recorded), else (elastic: constant) the final kT
     kT = measurement.temperature_mean if sheared else math.nan
     kT = kT if math.isfinite(kT) else measurement.temperature
-    if p.restitution == 1.0:
+    if p.well_width is not None:
+        result |= {"well_width": p.well_width, "well_depth": p.well_depth, "reduced_temperature":
+                   measurement.temperature_mean / p.well_depth} | {f"well_{kind}": count for kind, count in
+                                                                  system.well_events.items()}
+    elif p.restitution == 1.0:  # hard spheres: the equation of state
         name, equation = equation_of_state(p.dim)
         eta, Z = measurement.packing_fraction, measurement.compressibility_factor
         theory = float(equation(eta))

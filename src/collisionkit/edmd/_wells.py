@@ -40,18 +40,6 @@ def well_parameters(system, well_width, well_depth, gravity, growth, shear_rate,
     system.params[_k.P_WELL_DEPTH] = depth
 
 
-def record_width(radius, scale, width, dim, count):
-    """Row length of the record of pairs inside: a bound on the particles whose centres fit within a well.
-
-    Non-overlapping particles of the smallest radius a with centres within
-    D = lambda 2 a_max of a centre fill at most the ball of radius D + a:
-    ((D + a) / a)^d of them.
-    """
-    smallest = float(np.min(radius)) * scale
-    reach = width * 2.0 * float(np.max(radius)) * scale
-    return max(1, min(count - 1, int(((reach + smallest) / smallest) ** dim) + 1))
-
-
 def pairs_inside(positions, radius, box, periodic, width):
     """The pairs (i < j) closer than lambda (r_i + r_j), minimum images on the periodic axes: an (M, 2) array."""
     positions = np.asarray(positions, dtype=float)
@@ -104,6 +92,10 @@ class SquareWells:
         """Events at the wells' edges so far, by outcome: ``captures``, ``escapes``, ``bounces``."""
         return {"captures": int(self.acc[_k.ACC_CAPTURES]), "escapes": int(self.acc[_k.ACC_ESCAPES]),
                 "bounces": int(self.acc[_k.ACC_BOUNCES])}
+
+    def _well_record(self):
+        """(bonds, bond_count) for the event loop; (None, None) for hard spheres, whose loop has no wells' code."""
+        return (None, None) if self.well_width is None else (self.bonds, self.bond_count)
 
     def potential_energy(self) -> float:
         """-epsilon times the pairs inside their wells (0 for hard spheres).
@@ -169,12 +161,24 @@ class SquareWells:
         if width is None:
             self.bonds, self.bond_count = np.zeros((count, 1), dtype=np.int32), np.zeros(count, dtype=np.int32)
             return
-        scale = self.scale0
-        radius = self.p[:, _k.R]
-        pairs = pairs_inside(self.p[:, : self.dim], radius * scale, self.box, self.periodic, width)
-        row = record_width(radius, scale, width, self.dim, count)
+        radius = self.p[:, _k.R] * self.scale0
+        pairs = pairs_inside(self.p[:, : self.dim], radius, self.box, self.periodic, width)
+        row = max(1, int(np.bincount(pairs.ravel(), minlength=count).max(initial=0)))
         self.bonds, self.bond_count = bond_arrays(pairs, count, row)
         self.acc[_k.ACC_WELL_PAIRS] = len(pairs)
+
+    def _fit_bonds_to_lists(self):
+        """Widen the record's rows to the neighbour lists' (a pair inside its well is listed: never more per row).
+
+        The kernels add a pair to the record without a bounds check: this
+        keeps room for every listed partner.
+        """
+        width = self.neighbours.shape[1]
+        if self.well_width is None or self.bonds.shape[1] >= width:
+            return
+        wider = np.zeros((self.count, width), dtype=np.int32)
+        wider[:, : self.bonds.shape[1]] = self.bonds
+        self.bonds = wider
 
     def _renumber_bonds(self, order):
         """Follow a renumbering of the particles (``order[new] = old``) in the record of pairs inside."""
@@ -233,11 +237,15 @@ def check_well_parameters(params, geom):
 def check_bonds(arrays, count, wells, pairs_inside_count):
     """The record of pairs inside wells: shapes, partners in range, no self or repeat, symmetric, counted.
 
-    Without wells it must be empty.
+    Without wells it must be empty; with wells its rows as wide as the
+    neighbour lists' at least (the kernels add partners without a bounds
+    check, relying on it).
     """
     bonds, bond_count = arrays["bonds"], arrays["bond_count"]
     if bonds.dtype != np.int32 or bonds.ndim != 2 or bonds.shape[0] != count or bonds.shape[1] < 1:
         _refuse("bonds", f"must hold int32 of shape ({count}, n); got {bonds.dtype} of shape {bonds.shape}")
+    if wells and bonds.shape[1] < np.shape(arrays["neighbours"])[-1]:
+        _refuse("bonds", "must hold rows as wide as the neighbour lists'")
     if bond_count.dtype != np.int32 or bond_count.shape != (count,):
         _refuse("bond_count", f"must hold int32 of shape ({count},); got {bond_count.dtype} of shape "
                 f"{bond_count.shape}")

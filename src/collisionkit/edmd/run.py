@@ -101,6 +101,18 @@ class EdmdParameters(Parameters):
         The event engine of the system (:class:`~collisionkit.edmd.HardSphereSystem`,
         ``engine``); "cells" not with ``shear_rate``. The summary's ``engine``
         is the one that ran ("auto": cells for dilute straight flights).
+    well_width : float, optional
+        Square wells of this width lambda in (1, 5] (in diameters; default
+        None: hard spheres): :class:`~collisionkit.edmd.HardSphereSystem`'s
+        ``well_width``. The equilibration then holds kT = 1 by rescaling the
+        velocities after every chunk of N pair collisions; the measurement
+        runs at constant energy, and the summary's ``temperature_mean`` is
+        its exact time-mean kT and ``potential_energy`` the mean potential
+        energy per particle. Not with ``shear_rate``, ``transport`` or
+        engine "cells".
+    well_depth : float
+        epsilon > 0 of the wells, in units of the kT = 1 the run equilibrates
+        at: the reduced temperature is T* = 1 / ``well_depth``.
 
     Examples
     --------
@@ -127,6 +139,8 @@ class EdmdParameters(Parameters):
     shear_rate: float = 0.0
     thermostat: bool = False
     engine: str = "auto"
+    well_width: float | None = None
+    well_depth: float = 1.0
 
     def __post_init__(self):
         for name, value in checked_parameters(self).items():  # (._run_checks: every value, the rules between them)
@@ -180,7 +194,8 @@ def _initial_system(parameters: EdmdParameters, progress: Callable[[float], Any]
         positions, box = lattice(p.initial, lattice_cells(p.initial, p.dim, p.particles), p.packing_fraction)
         velocities = maxwell_boltzmann(np.ones(p.particles), p.dim, kT=1.0, seed=p.seed)
     return HardSphereSystem(positions, velocities, 0.5, box, restitution=p.restitution, elastic_below=p.elastic_below,
-                            shear_rate=p.shear_rate, thermostat=1.0 if p.thermostat else None, engine=p.engine)
+                            shear_rate=p.shear_rate, thermostat=1.0 if p.thermostat else None, engine=p.engine,
+                            well_width=p.well_width, well_depth=p.well_depth)
 
 
 def _refuse_existing(**files) -> None:
@@ -389,6 +404,8 @@ class EdmdRun:
                 if done == 0:
                     raise RuntimeError("the system stopped colliding during equilibration")
                 self.equilibrated += done
+                if p.well_width is not None:  # a square-well fluid equilibrates at kT = 1
+                    self.system.rescale_temperature(1.0)
                 self._chunk_done(files)
             if self.sampler is None:
                 self.sampler = Sampler(self.system, p.collisions, p.blocks, transport=p.transport)
