@@ -106,7 +106,9 @@ def hard_sphere_system_rows(system, packing_fraction):
         ("kT", float(system.temperature())),
         ("pair collisions", int(system.collisions)),
         ("time", float(system.elapsed + system.time)),
-    ]
+    ] + ([("square wells: width, depth, pairs inside", f"{system.well_width:g}, {system.well_depth:g}, "
+                                                          f"{system.well_pairs}")]
+         if getattr(system, "well_width", None) else [])
 
 
 def measurement_rows(measurement):

@@ -162,3 +162,10 @@ def test_a_checkpoint_with_a_record_narrower_than_the_lists_is_refused():
     state["bonds"] = np.ascontiguousarray(state["bonds"][:, :1])
     with pytest.raises(CheckpointError, match="as wide as the neighbour lists"):
         edmd.HardSphereSystem.from_state_dict(state)
+
+
+def test_the_system_shows_its_wells():
+    system = hexagonal_system(cells=6, well_width=1.5, well_depth=2.0)
+    assert "well_width=1.5, well_depth=2" in repr(system)
+    assert "square wells: width, depth, pairs inside" in system._repr_html_()
+    assert "well" not in repr(hexagonal_system(cells=6))

@@ -426,7 +426,8 @@ class HardSphereSystem(SystemParameters, ParticleState, NeighbourLists, CellCros
         kind = "spheres" if self.dim == 3 else "discs"
         return (
             f"HardSphereSystem({self.count} {kind}, eta={self.packing_fraction:.4f}, "
-            f"collisions={self.collisions}, time={self.elapsed + self.time:.6g})"
+            + (f"well_width={self.well_width:g}, well_depth={self.well_depth:g}, " if self.well_width else "")
+            + f"collisions={self.collisions}, time={self.elapsed + self.time:.6g})"
         )
 
     def _repr_html_(self):

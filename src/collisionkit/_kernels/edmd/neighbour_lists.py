@@ -309,8 +309,8 @@ def prefetch_rebuild(i, b, cell_of, neighbours, neighbour_count, cell_members, c
 
 
 @inline_kernel
-def _drop_from_list(j, i, neighbours, neighbour_count):
-    """Remove i from j's list (order not kept)."""
+def drop_from_list(j, i, neighbours, neighbour_count):
+    """Remove i from j's list (order not kept; also the square wells' record of pairs inside, :mod:`.wells`)."""
     last = neighbour_count[j] - 1
     for m in range(last + 1):
         if neighbours[j, m] == i:
@@ -336,7 +336,7 @@ def rebuild_list(p, i, b, anchor_time, cell_of, neighbours, neighbour_count, cel
         prefetch(neighbours, neighbours[i, m])
         prefetch(neighbour_count, neighbours[i, m])
     for m in range(neighbour_count[i]):
-        _drop_from_list(neighbours[i, m], i, neighbours, neighbour_count)
+        drop_from_list(neighbours[i, m], i, neighbours, neighbour_count)
     cell_remove(i, cell_of, cell_members, cell_count, cell_points)
     if not cell_insert(i, cell, b, p[i, R], cell_of, cell_members, cell_count, cell_points):
         acc[ACC_CELL_OVERFLOW] = cell_count[cell] + 1

@@ -34,6 +34,7 @@ from .layout import (
     MASS, P_SCALE0, P_WELL_DEPTH, P_WELL_WIDTH, PREDICTED_AT, R, T, TARGET, V, X, well_target,
 )
 from .motion import half_box, minimum_image, pair_image
+from .neighbour_lists import drop_from_list
 from .prediction import SMALL_BOX_DIAMETERS, contact_before, first_root_from_below, predict_boundary
 
 # relative band of |r|^2 around the well's edge (lambda sigma)^2 within which a pair's side is read from the record:
@@ -50,17 +51,6 @@ def bonded(i, j, bonds, bond_count):
         if bonds[i, m] == j:
             return True
     return False
-
-
-@inline_kernel
-def _unlist(i, j, bonds, bond_count):
-    """Remove j from i's record (order not kept)."""
-    last = bond_count[i] - 1
-    for m in range(last + 1):
-        if bonds[i, m] == j:
-            bonds[i, m] = bonds[i, last]
-            bond_count[i] = last
-            return
 
 
 @inline_kernel
@@ -171,8 +161,8 @@ def cross_well_edge(p, i, j, b, geom, params, bonds, bond_count, acc, t):
         acc[ACC_CAPTURES] += 1.0
     elif normal_squared > barrier:
         change = -barrier / (math.sqrt(normal_squared - barrier) + math.sqrt(normal_squared))
-        _unlist(i, j, bonds, bond_count)
-        _unlist(j, i, bonds, bond_count)
+        drop_from_list(i, j, bonds, bond_count)
+        drop_from_list(j, i, bonds, bond_count)
         _count_change(acc, t, -1.0)
         acc[ACC_ESCAPES] += 1.0
     else:
