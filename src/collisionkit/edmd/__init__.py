@@ -37,7 +37,7 @@ from .run import EdmdParameters, EdmdRun
 from ._shear import THERMOSTAT_INTERVAL
 from .system import (
     DEFAULT_SHELL, DENSE_PACKING, DENSE_SHELL, DILUTE_PACKING, LIST_NEIGHBOURS, RESTITUTION_LAWS, SORT_INTERVAL,
-    HardSphereSystem, OverlapError, default_shell,
+    HardSphereSystem, OverlapError, default_shell, well_shell,
 )
 from .theory import (
     MAX_PACKING_FRACTION,
@@ -86,6 +86,7 @@ __all__ = [
     "carnahan_starling",
     "chapman_enskog_transport",
     "default_shell",
+    "well_shell",
     "enskog_collision_frequency",
     "enskog_transport",
     "granular_shear_flow",

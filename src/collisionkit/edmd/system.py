@@ -56,6 +56,39 @@ LIST_NEIGHBOURS = 10.0
 DILUTE_PACKING = {2: 0.5, 3: DENSE_PACKING}
 
 
+# square wells: the default shell makes a list's ball of radius lambda sigma + shell hold WELL_LIST_NEIGHBOURS
+# particles on average, and is at least WELL_MIN_SHELL diameters. Collisions plus edge events per CPU second, lambda
+# = 1.5, N = 1372, kT = 1 (shell in diameters: events/s): rho sigma^3 = 0.5: 0.15: 0.57 M, 0.30: 0.75 M, 0.45:
+# 0.76 M, 0.70: 0.67 M, 1.05 (the hard spheres' 0.7 of the list diameter): 0.57 M; rho = 0.1: 0.45: 0.63 M, 1.05:
+# 0.83 M, 1.5: 0.83 M; rho = 0.8: 0.15: 0.58 M, 0.30: 0.70 M, 0.45: 0.66 M
+WELL_LIST_NEIGHBOURS = 15.0
+WELL_MIN_SHELL = 0.3
+
+
+def well_shell(radii, box, width) -> float:
+    r"""The default neighbour-list shell of a square-well system, in units of its largest list diameter.
+
+    The shell s (in lengths) whose ball of radius :math:`\lambda \sigma + s`
+    holds :math:`K` = :data:`WELL_LIST_NEIGHBOURS` particles on average,
+    :math:`s = (K / (n V_1))^{1/d} - \lambda \sigma`, at least
+    :data:`WELL_MIN_SHELL` diameters; divided by the list diameter
+    :math:`\lambda \sigma`, the unit of ``neighbour_shell`` with wells.
+
+    Examples
+    --------
+    >>> round(well_shell(np.full(1372, 0.5), np.full(3, 14.0), 1.5), 3)  # n sigma^3 = 0.5: shell 0.43 sigma
+    0.285
+    """
+    radii, box = np.asarray(radii, dtype=float), np.asarray(box, dtype=float)
+    dim = box.size
+    diameter = 2.0 * float(np.max(radii))
+    unit_ball = math.pi if dim == 2 else 4.0 * math.pi / 3.0
+    density = radii.size / float(np.prod(box))
+    shell = max(WELL_MIN_SHELL * diameter, (WELL_LIST_NEIGHBOURS / (density * unit_ball)) ** (1.0 / dim)
+                - width * diameter)
+    return shell / (width * diameter)
+
+
 def default_shell(radii, box, homogeneous=True) -> float:
     r"""The neighbour-list shell a system gets by default, in units of its largest diameter.
 
@@ -158,6 +191,9 @@ class HardSphereSystem(SystemParameters, ParticleState, NeighbourLists, CellCros
         at eta = 0.45 in benchmarks/bench_edmd.py; wider in dilute systems
         so that a list holds about 10 particles, :func:`default_shell`; the
         same under shear).
+        With square wells the lists reach lambda times the contact distance
+        plus the shell, and the shell is in units of that list diameter
+        (default: :func:`well_shell`, 0.3-0.45 diameters in liquids).
         A wider shell means longer lists but fewer rebuilds. Only speed
         depends on it; in small periodic boxes it is narrowed so that twice
         the list radius stays below the box.
@@ -242,11 +278,6 @@ class HardSphereSystem(SystemParameters, ParticleState, NeighbourLists, CellCros
         )
         self.restitution_law = restitution_law
         gravity = _system_setup.gravity_vector(gravity, self.dim)
-        if neighbour_shell is None:
-            homogeneous = _growth == 0.0 and not np.any(gravity)
-            neighbour_shell = default_shell(radius * float(_scale), box, homogeneous)
-        self._shell_request = _checks.positive(neighbour_shell, "neighbour_shell")
-
         self.geom = _system_setup.geometry(box, periodic, gravity)
         self.params[_k.P_SCALE0] = float(_scale)
         self.params[_k.P_GROWTH] = float(_growth)
@@ -257,6 +288,12 @@ class HardSphereSystem(SystemParameters, ParticleState, NeighbourLists, CellCros
         self.params[_k.P_ELASTIC_BELOW] = _checks.bounded(elastic_below, "elastic_below", 0.0)
         shear_parameters(self, shear_rate, thermostat)
         well_parameters(self, well_width, well_depth, gravity, _growth, self.shear_rate, engine)
+        if neighbour_shell is None and self.well_width is not None:
+            neighbour_shell = well_shell(radius * float(_scale), box, self.well_width)
+        elif neighbour_shell is None:
+            homogeneous = _growth == 0.0 and not np.any(gravity)
+            neighbour_shell = default_shell(radius * float(_scale), box, homogeneous)
+        self._shell_request = _checks.positive(neighbour_shell, "neighbour_shell")
         if self.shear_rate != 0.0:
             self._add_streaming()
         self._engine_code = _system_setup.engine_choice(engine, radius, box, periodic, gravity, _growth, _scale,
