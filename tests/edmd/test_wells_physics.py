@@ -5,8 +5,8 @@ energy per particle U/(N epsilon) = (1 + x) [rho dB2/dx + (rho^2 / 2)
 dB3/dx] + O(rho^3), x = exp(epsilon / kT) - 1 (from beta A_ex / N = B2 rho
 + B3 rho^2 / 2 + ..., dx / d beta = epsilon (1 + x)). B2 = b0 [1 - x
 (lambda^d - 1)] exactly. B3 in 3D (lambda <= 2) is Kihara's polynomial
-(Barker & Henderson, J. Chem. Phys. 47, 4714 (1967); Hirschfelder, Curtiss
-& Bird, Molecular Theory of Gases and Liquids, 1954); in 2D at lambda = 1.5
+(:func:`collisionkit.edmd.square_well_third_virial`), checked here against a
+quadrature and Monte Carlo integration; in 2D at lambda = 1.5
 its coefficients come from a quadrature over lens areas, each confirmed by
 Monte Carlo integration of -(1/3) int f12 f13 f23 to 1e-3 and the hard-disc
 limit 4/3 - sqrt(3)/pi exactly. The B4 rho^3 terms left out are 1e-4 at
@@ -26,15 +26,6 @@ WIDTH = 1.5
 TRUNCATION = 5e-4
 
 
-def kihara_b3(x):
-    """B3 / b0^2 of 3D square wells of width lambda = WIDTH (<= 2) and its derivative in x."""
-    lam = WIDTH
-    c1 = lam**6 - 18 * lam**4 + 32 * lam**3 - 15
-    c2 = 2 * lam**6 - 36 * lam**4 + 32 * lam**3 + 18 * lam**2 - 16
-    c3 = 6 * lam**6 - 18 * lam**4 + 18 * lam**2 - 6
-    return (5 - c1 * x - c2 * x**2 - c3 * x**3) / 8, (-c1 - 2 * c2 * x - 3 * c3 * x**2) / 8
-
-
 def discs_b3(x):
     """B3 / b0^2 of square-well discs of width 1.5 and its derivative in x (the quadrature's polynomial)."""
     coefficients = (4 / 3 - math.sqrt(3) / math.pi, -1.27010820, 1.59593312, -0.31085170)
@@ -44,23 +35,53 @@ def discs_b3(x):
 
 def virial_predictions(dim, rho, kT):
     """(Z, U / N epsilon) to second order in density at temperature kT (epsilon = 1)."""
+    if dim == 3:
+        return edmd.square_well_low_density(rho, kT, WIDTH)
     x = math.expm1(1.0 / kT)
-    b0 = 2 * math.pi / 3 if dim == 3 else math.pi / 2
-    b3, b3_slope = kihara_b3(x) if dim == 3 else discs_b3(x)
-    b2 = b0 * (1 - x * (WIDTH**dim - 1))
-    b2_slope = -b0 * (WIDTH**dim - 1)
-    z = 1 + b2 * rho + b0**2 * b3 * rho**2
-    energy = (1 + x) * (rho * b2_slope + 0.5 * rho**2 * b0**2 * b3_slope)
+    b0 = math.pi / 2
+    b3, b3_slope = discs_b3(x)
+    z = 1 + edmd.square_well_second_virial(WIDTH, kT, dim=2) * rho + b0**2 * b3 * rho**2
+    energy = (1 + x) * (-rho * b0 * (WIDTH**2 - 1) + 0.5 * rho**2 * b0**2 * b3_slope)
     return z, energy
 
 
-def test_the_polynomials_reduce_to_hard_spheres_and_discs():
-    assert kihara_b3(0.0)[0] == 5 / 8
+@pytest.mark.parametrize(("kT", "quadrature", "monte_carlo", "error"), [
+    (1.0, 1.304554, 1.292, 0.019), (2.0, 2.491807, 2.4911, 0.0031), (3.0, 1.780488, 1.7796, 0.0022)])
+def test_kihara_third_virial_against_direct_integration(kT, quadrature, monte_carlo, error):
+    # B3 = -(1/3) int int f12 f13 f23 at lambda = 1.5 (sigma = 1): by a quadrature over the overlap volumes of
+    # spheres, and by Monte Carlo (6e7 samples, its standard error), both independent of Kihara's polynomial
+    b3 = edmd.square_well_third_virial(1.5, kT)
+    assert b3 == pytest.approx(quadrature, rel=1e-6)
+    assert b3 == pytest.approx(monte_carlo, abs=4 * error)
+
+
+def test_the_virial_coefficients_reduce_to_hard_spheres_and_discs():
+    b0 = 2 * math.pi / 3
+    assert edmd.square_well_third_virial(1.5, 1.0, depth=1e-15) == pytest.approx(5 / 8 * b0**2, rel=1e-12)
+    assert edmd.square_well_second_virial(1.5, 1.0, depth=1e-15) == pytest.approx(b0, rel=1e-12)
     assert discs_b3(0.0)[0] == 4 / 3 - math.sqrt(3) / math.pi
-    # Kihara's B3 at T* = 2 (3D) and the quadrature's (2D), as independently integrated by Monte Carlo
-    x = math.expm1(0.5)
-    assert kihara_b3(x)[0] * (2 * math.pi / 3) ** 2 == pytest.approx(2.4911, abs=3 * 0.0031)
-    assert discs_b3(x)[0] * (math.pi / 2) ** 2 == pytest.approx(1.3430, abs=3 * 0.0026)
+    # the discs' quadrature polynomial at T* = 2, as independently integrated by Monte Carlo
+    assert discs_b3(math.expm1(0.5))[0] * (math.pi / 2) ** 2 == pytest.approx(1.3430, abs=3 * 0.0026)
+
+
+def test_the_energy_is_minus_kT_squared_times_the_temperature_derivative():
+    # U/N = -kT^2 d/dT [B2 rho + B3 rho^2 / 2] (central difference), the same second-order truncation
+    rho, kT, h = 0.05, 2.0, 1e-4
+
+    def reduced_free_energy(t):
+        return edmd.square_well_second_virial(1.5, t) * rho + edmd.square_well_third_virial(1.5, t) * rho**2 / 2
+
+    derivative = (reduced_free_energy(kT + h) - reduced_free_energy(kT - h)) / (2 * h)
+    assert edmd.square_well_low_density(rho, kT, 1.5)[1] == pytest.approx(-kT**2 * derivative, rel=1e-7)
+
+
+def test_bad_square_well_theory_arguments_are_refused_by_name():
+    with pytest.raises(ValueError, match="width must be in"):
+        edmd.square_well_third_virial(2.5, 1.0)
+    with pytest.raises(ValueError, match="kT"):
+        edmd.square_well_second_virial(1.5, 0.0)
+    with pytest.raises(ValueError, match="dim must be 2 or 3"):
+        edmd.square_well_second_virial(1.5, 1.0, dim=4)
 
 
 @pytest.mark.slow

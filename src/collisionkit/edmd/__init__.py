@@ -50,6 +50,9 @@ from .theory import (
     hansen_goos,
     henderson,
     packing_fraction,
+    square_well_low_density,
+    square_well_second_virial,
+    square_well_third_virial,
     yeh_hummer_correction,
 )
 
@@ -99,5 +102,8 @@ __all__ = [
     "measure",
     "packing_fraction",
     "random_fluid",
+    "square_well_low_density",
+    "square_well_second_virial",
+    "square_well_third_virial",
     "yeh_hummer_correction",
 ]
