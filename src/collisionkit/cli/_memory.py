@@ -34,6 +34,9 @@ EDMD_CELLS_BYTES_PER_PARTICLE = 2_800
 # the measurement's record of the speeds, per particle and block: 3.8 kB a particle with 200 blocks against
 # 0.7 kB with 10 (N = 108 000, fcc): 16.4 B per particle and block
 EDMD_BYTES_PER_PARTICLE_AND_BLOCK = 17
+# square wells: longer lists and the record of pairs inside, as wide as them: 360 B a particle at n sigma^3 = 0.05,
+# 216 at 0.5, 224 at 0.9 (lambda 1.5, N = 32000; hard spheres' lists: 64 B), twice while a checkpoint is written
+EDMD_WELL_BYTES_PER_PARTICLE = 720
 # a swarm: 189 B an electron resident (178 B traced) at 100 000 and 400 000 electrons of the Maxwell model
 SWARM_BYTES_PER_PARTICLE = 200
 # a swarm in a gas that ionizes or attaches (its population controlled): 6.6 kB an electron resident at 100 000
@@ -81,12 +84,16 @@ def edmd_memory(parameters, lattice: bool = False) -> int:
     247.0
     >>> round(edmd_memory(EdmdParameters(particles=1_000_188, initial="fcc")) / 1e9, 2)
     1.77
+    >>> round(edmd_memory(EdmdParameters(particles=1_000_188, initial="fcc", well_width=1.5)) / 1e9, 2)
+    2.49
     """
     per_particle = EDMD_LATTICE_BYTES_PER_PARTICLE
     if parameters.initial == "random" and not lattice:
         per_particle = max(per_particle, EDMD_RANDOM_BYTES_PER_PARTICLE)
     if _may_run_cells(parameters):
         per_particle = max(per_particle, EDMD_CELLS_BYTES_PER_PARTICLE)
+    if getattr(parameters, "well_width", None) is not None:
+        per_particle += EDMD_WELL_BYTES_PER_PARTICLE
     return round(parameters.particles * (per_particle + EDMD_BYTES_PER_PARTICLE_AND_BLOCK * parameters.blocks))
 
 
@@ -94,8 +101,8 @@ def _may_run_cells(parameters) -> bool:
     """Whether the run may take the cell-crossing engine (asked for, or auto below its packing fraction, unsheared)."""
     if parameters.engine == "cells":
         return True
-    if parameters.engine != "auto" or parameters.shear_rate != 0.0:
-        return False
+    if parameters.engine != "auto" or parameters.shear_rate != 0.0 or getattr(parameters, "well_width", None):
+        return False  # (square wells run the lists)
     from ..edmd._cell_crossings import cells_below_packing
 
     return parameters.packing_fraction < cells_below_packing(parameters.dim, parameters.particles)
