@@ -136,7 +136,6 @@ def test_well_pair_time_integrates_across_clock_restarts():
     ({"well_width": math.nan}, "well_width must be"),
     ({"well_width": 1.5, "well_depth": 0.0}, "well_depth must be"),
     ({"well_width": 1.5, "well_depth": -1.0}, "well_depth must be"),
-    ({"well_width": 1.5, "gravity": [0.0, -1.0]}, "without gravity"),
     ({"well_width": 1.5, "shear_rate": 0.1}, "without shear_rate"),
     ({"well_width": 1.5, "engine": "cells"}, 'without engine="cells"'),
 ])
@@ -169,3 +168,18 @@ def test_the_system_shows_its_wells():
     assert "well_width=1.5, well_depth=2" in repr(system)
     assert "square wells: width, depth, pairs inside" in system._repr_html_()
     assert "well" not in repr(hexagonal_system(cells=6))
+
+
+def test_sticky_spheres_settling_under_gravity_conserve_energy_with_their_fall():
+    # walls below and above, gravity down: kinetic + wells' - sum m g . x is conserved; pairs fall into wells
+    positions, box = edmd.lattice("hexagonal", 10, 0.2)
+    box = box + 1.0
+    system = edmd.HardSphereSystem(positions + 0.5, edmd.maxwell_boltzmann(np.ones(len(positions)), 2, seed=5), 0.5,
+                                   box, periodic=[True, False], gravity=[0.0, -0.5], well_width=1.5, well_depth=0.5)
+    energy = system.total_energy()
+    height = system.positions()[:, 1].mean()
+    system.run(collisions=30 * system.count)
+    assert system.total_energy() == pytest.approx(energy, rel=1e-12)
+    assert system.wall_collisions > 0 and system.well_events["captures"] > system.count
+    assert system.positions()[:, 1].mean() < height  # it settled
+    system.check()

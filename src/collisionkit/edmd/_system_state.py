@@ -320,7 +320,7 @@ def _check_parameters(arrays, law, p, geom, dim):
     _require(0 <= params[_k.P_WALL_RESTITUTION] <= 1, "params", "must hold a wall restitution in [0, 1]")
     _require(params[_k.P_LAW] == RESTITUTION_LAWS[law], "params", f"must hold the law of restitution_law {law!r}")
     _check_shear(params, geom, dim)
-    check_well_parameters(params, geom)
+    check_well_parameters(params)
     _require(params[_k.P_LIST_SCALE] >= params[_k.P_SCALE0] * (1 - 1e-9), "params",
              "must hold a list scale >= the radius scale")
     _require(np.isfinite(p[:, _k.R]) & (p[:, _k.R] > 0), "p", "must hold radii > 0")

@@ -23,19 +23,18 @@ MAX_WELL_WIDTH = 5.0
 def well_parameters(system, well_width, well_depth, gravity, growth, shear_rate, engine):
     """Check the square-well arguments and store them in ``system.params``; None leaves hard spheres.
 
-    Wells need straight flights of fixed radii in the lists engine: no
-    gravity, compression, shear, or the cell-crossing engine.
+    Wells need fixed radii in the lists engine (no compression, shear or
+    cell-crossing engine); gravity is allowed (relative motion stays straight).
     """
     if well_width is None:
         return
     width = _checks.bounded(well_width, "well_width", 1.0, MAX_WELL_WIDTH, closed=(False, True))
     depth = _checks.positive(well_depth, "well_depth")
-    clashes = [(np.any(gravity), "gravity"), (growth != 0.0, "compression"), (shear_rate != 0.0, "shear_rate"),
-               (engine == "cells", 'engine="cells"')]
+    clashes = [(growth != 0.0, "compression"), (shear_rate != 0.0, "shear_rate"), (engine == "cells", 'engine="cells"')]
     for clash, name in clashes:
         if clash:
-            raise ValueError(f"well_width: square wells run without {name} (straight flights of fixed radii in the "
-                             "lists engine)")
+            raise ValueError(f"well_width: square wells run without {name} (fixed radii, no shear, in the lists "
+                             "engine)")
     system.params[_k.P_WELL_WIDTH] = width
     system.params[_k.P_WELL_DEPTH] = depth
 
@@ -112,7 +111,10 @@ class SquareWells:
         return -self.well_depth * self.well_pairs
 
     def total_energy(self) -> float:
-        """Kinetic plus potential energy: conserved by elastic square-well (and hard-sphere) dynamics.
+        """Kinetic plus potential energy (the wells', and under gravity -sum m g . x): conserved when elastic.
+
+        Under gravity the positions are the unwrapped ones (a periodic axis
+        along g adds m g L at every crossing, as the fall it stands for).
 
         Examples
         --------
@@ -126,7 +128,11 @@ class SquareWells:
         >>> abs(system.total_energy() - before) < 1e-11 * abs(before)
         True
         """
-        return self.kinetic_energy() + self.potential_energy()
+        energy = self.kinetic_energy() + self.potential_energy()
+        gravity = self.geom[_k.G_GRAVITY, : self.dim]
+        if np.any(gravity != 0.0):
+            energy -= float(np.sum(self.mass[:, None] * gravity * self.positions(unwrapped=True)))
+        return energy
 
     def well_pair_time(self) -> float:
         """Time integral of the number of pairs inside their wells, from the system's start to now.
@@ -218,10 +224,10 @@ def _refuse(name, what):
     raise CheckpointError(f"array {name!r} {what}")
 
 
-def check_well_parameters(params, geom):
+def check_well_parameters(params):
     """A restored state's well width and depth: none (0, 0), or lambda in (1, MAX_WELL_WIDTH] and epsilon > 0.
 
-    Wells also mean no growth, shear or gravity (as the constructor refuses).
+    Wells also mean no growth or shear (as the constructor refuses).
     """
     width, depth = params[_k.P_WELL_WIDTH], params[_k.P_WELL_DEPTH]
     if width == 0.0:
@@ -230,8 +236,8 @@ def check_well_parameters(params, geom):
         return
     if not (1.0 < width <= MAX_WELL_WIDTH and 0.0 < depth < np.inf):
         _refuse("params", f"must hold a well width in (1, {MAX_WELL_WIDTH:g}] and a well depth > 0")
-    if params[_k.P_GROWTH] != 0.0 or params[_k.P_SHEAR_RATE] != 0.0 or np.any(geom[_k.G_GRAVITY] != 0.0):
-        _refuse("params", "must hold no growth, shear or gravity with square wells")
+    if params[_k.P_GROWTH] != 0.0 or params[_k.P_SHEAR_RATE] != 0.0:
+        _refuse("params", "must hold no growth or shear with square wells")
 
 
 def check_bonds(arrays, count, wells, pairs_inside_count):

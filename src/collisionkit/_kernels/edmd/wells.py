@@ -31,6 +31,7 @@ from .contacts import add_image_terms, add_transfer
 from .exact import sure_approach
 from .layout import (
     ACC_BOUNCES, ACC_CAPTURES, ACC_ESCAPES, ACC_VIRIAL, ACC_WELL_PAIR_TIME, ACC_WELL_PAIRS, ACC_WELL_SINCE, G_BOX,
+    G_GRAVITY,
     MASS, P_SCALE0, P_WELL_DEPTH, P_WELL_WIDTH, PREDICTED_AT, R, T, TARGET, V, X, well_target,
 )
 from .motion import half_box, minimum_image, pair_image
@@ -80,6 +81,9 @@ def first_event_in_wells(p, i, neighbours, neighbour_count, bonds, bond_count, g
     lx, ly, lz = geom[G_BOX, 0], geom[G_BOX, 1], geom[G_BOX, 2]
     hx, hy, hz = half_box(geom, 0), half_box(geom, 1), half_box(geom, 2)
     across_often = min(hx, hy, hz) < SMALL_BOX_DIAMETERS * ri * scale
+    # under uniform gravity both partners fall alike: their relative motion is a straight line from i's time
+    gx, gy, gz = 0.5 * geom[G_GRAVITY, 0], 0.5 * geom[G_GRAVITY, 1], 0.5 * geom[G_GRAVITY, 2]
+    falling = gx != 0.0 or gy != 0.0 or gz != 0.0
     best = horizon
     partner = -1
     edge = False
@@ -96,6 +100,13 @@ def first_event_in_wells(p, i, neighbours, neighbour_count, bonds, bond_count, g
         ux = p[j, V] - vxi
         uy = p[j, V + 1] - vyi
         uz = p[j, V + 2] - vzi
+        if falling:  # j's fall since its own time, as .prediction.predict_pairs takes it
+            rx += gx * dt * dt
+            ry += gy * dt * dt
+            rz += gz * dt * dt
+            ux += 2.0 * gx * dt
+            uy += 2.0 * gy * dt
+            uz += 2.0 * gz * dt
         sigma = (ri + p[j, R]) * scale
         reach = sigma * width
         outside = rx * rx + ry * ry + rz * rz - reach * reach
@@ -223,8 +234,8 @@ def predict_in_wells(p, i, b, anchor_time, neighbours, neighbour_count, bonds, b
 
     Records the event's target in ``b`` (a partner, a well's edge
     :func:`.layout.well_target`, the list or a wall) and returns its
-    absolute time. Wells go with fixed radii and straight flights (no
-    compression, gravity or shear: the system refuses them together).
+    absolute time. Wells go with fixed radii (no compression) and no
+    shear; under gravity the pairs' relative motion is still straight.
     """
     boundary, target = predict_boundary(p, i, b, anchor_time, geom, dim, params)
     pair, partner, edge = first_event_in_wells(p, i, neighbours, neighbour_count, bonds, bond_count, geom,
