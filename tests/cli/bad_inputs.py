@@ -72,6 +72,7 @@ BAD_INPUTS = [
     ("edmd", ["--well-width", "1.5", "--transport"], "--well-width cannot be combined with transport"),
     ("edmd", ["--well-width", "1.5", "--shear-rate", "0.1"], "--well-width cannot be combined with shear_rate"),
     ("edmd", ["--well-width", "1.5", "--engine", "cells"], "--well-width cannot be combined with engine cells"),
+    ("edmd", ["--well-width", "1.5", "--restitution", "0.9"], "--well-width cannot be combined with restitution below 1"),
     ("edmd", ["--summary", "{dir}"], "is a folder: give a file name"),
     ("edmd", ["--trajectory", "frames.txt"], "--trajectory must end in .gsd"),
     ("edmd", ["--trajectory", "{file}.gsd", "--frame-every", "0"], "--frame-every"),

@@ -7,6 +7,7 @@ import pytest
 
 from collisionkit import edmd
 from collisionkit._io import CheckpointError
+from collisionkit._kernels import edmd as kernels
 
 from .systems import fcc_system, hexagonal_system
 
@@ -36,11 +37,17 @@ def test_capture_speeds_the_pair_up_by_the_well_depth():
     assert relative_speed(system) == pytest.approx(-math.sqrt(1.5**2 + 2.0 / REDUCED), rel=1e-14)
     assert system.potential_energy() == -1.0
     np.testing.assert_allclose(system.momentum(), 0.0, atol=1e-15)
+    # the virial: the impulse on the second disc along r times r, mu (u_n' - u_n) |r| with |r| = lambda sigma
+    assert system.virial == pytest.approx(REDUCED * (-math.sqrt(1.5**2 + 2.0 / REDUCED) + 1.5) * 1.5, rel=1e-12)
 
 
 def test_a_pair_that_collided_inside_escapes_at_its_first_speed():
     system = head_on_pair(4.0, -1.5)
-    system.run(time=4.0)
+    system.run(time=1.0)
+    system.synchronise()  # the clock restarts: the pairs' time integral must carry over
+    system.run(time=3.0)
+    # inside from the capture at 2.5 / 1.5 to the escape 2 * 0.5 / |u'| later (core at sigma, back out at 1.5 sigma)
+    assert system.well_pair_time() == pytest.approx(1.0 / math.sqrt(1.5**2 + 2.0 / REDUCED), rel=1e-12)
     assert system.collisions == 1 and system.well_events == {"captures": 1, "escapes": 1, "bounces": 0}
     assert relative_speed(system) == pytest.approx(1.5, rel=1e-14)
     assert system.well_pairs == 0 and system.potential_energy() == 0.0
@@ -138,6 +145,8 @@ def test_well_pair_time_integrates_across_clock_restarts():
     ({"well_width": 1.5, "well_depth": -1.0}, "well_depth must be"),
     ({"well_width": 1.5, "shear_rate": 0.1}, "without shear_rate"),
     ({"well_width": 1.5, "engine": "cells"}, 'without engine="cells"'),
+    ({"well_width": 1.5, "restitution": 0.9}, "without restitution or wall_restitution below 1"),
+    ({"well_width": 1.5, "wall_restitution": 0.9, "periodic": False}, "without restitution or wall_restitution"),
 ])
 def test_bad_well_arguments_are_refused_by_name(options, message):
     with pytest.raises(ValueError, match=message):
@@ -183,3 +192,52 @@ def test_sticky_spheres_settling_under_gravity_conserve_energy_with_their_fall()
     assert system.wall_collisions > 0 and system.well_events["captures"] > system.count
     assert system.positions()[:, 1].mean() < height  # it settled
     system.check()
+
+
+def test_a_pair_gliding_along_the_edge_of_its_well_bounces_along_it():
+    # inside (by 1e-12), moving along the edge: chords shorter than round-off, the edge outside by round-off at the
+    # next event, r.u = 0 exactly at the first; it leaves at the chord's far end and bounces back in, again and again
+    # (a whispering-gallery orbit: about 3e5 bounces a unit of time here), never stalling
+    system = edmd.HardSphereSystem([[5.0, 5.0], [6.5 - 1e-12, 5.0]], [[0.0, 0.0], [0.0, 1.0]], 0.5, 20.0,
+                                   well_width=1.5)
+    assert system.well_pairs == 1
+    energy = system.total_energy()
+    system.run(time=1e-3)
+    assert system.well_pairs == 1 and system.well_events["escapes"] == 0 and system.well_events["bounces"] > 100
+    assert system.total_energy() == pytest.approx(energy, rel=1e-12)
+    exactly = edmd.HardSphereSystem([[5.0, 5.0], [6.5, 5.0]], [[0.0, 0.0], [0.0, 1.0]], 0.5, 20.0, well_width=1.5)
+    assert exactly.well_pairs == 0  # r = lambda sigma exactly is outside (r < lambda sigma is inside)
+
+
+def test_time_to_leave_takes_the_later_root_and_the_edge_cases():
+    from collisionkit._kernels.edmd.wells import time_to_leave
+    # |r + u t|^2 = w^2 with r = (0.5, 0), u = (1, 0), w = 1.5: t = 1 (and -2)
+    assert time_to_leave(1.0, 0.5, 0.25 - 2.25) == pytest.approx(1.0, rel=1e-15)
+    assert time_to_leave(1.0, -0.5, 0.25 - 2.25) == pytest.approx(2.0, rel=1e-15)
+    assert time_to_leave(1.0, 1e-9, 1e-16) == 0.0  # at the edge, receding: now
+    assert time_to_leave(1.0, -1e-8, 1e-15) == pytest.approx(2e-8, rel=1e-6)  # grazing chord despite round-off
+    assert time_to_leave(0.0, 0.0, -1.0) == math.inf
+
+
+def test_a_checkpoint_recording_pairs_that_are_not_neighbours_is_refused():
+    system = fcc_system(cells=3, eta=0.3, well_width=1.5)
+    state = system.state_dict()
+    state["bonds"], state["bond_count"] = state["bonds"].copy(), state["bond_count"].copy()
+    listed = set(state["neighbours"][0, : state["neighbour_count"][0]].tolist())
+    far = next(j for j in range(1, system.count) if j not in listed)  # a phantom pair, symmetric and counted
+    for owner, partner in ((0, far), (far, 0)):
+        state["bonds"][owner, state["bond_count"][owner]] = partner
+        state["bond_count"][owner] += 1
+    state["acc"] = state["acc"].copy()
+    state["acc"][kernels.ACC_WELL_PAIRS] += 1
+    with pytest.raises(CheckpointError, match="neighbour lists"):
+        edmd.HardSphereSystem.from_state_dict(state)
+
+
+def test_a_restored_record_has_its_unused_slots_cleared():
+    system = fcc_system(cells=3, eta=0.3, well_width=1.5)
+    state = system.state_dict()
+    state["bonds"] = state["bonds"].copy()
+    state["bonds"][state["bond_count"] == 0, -1] = 10**6  # garbage beyond the counts (a re-sort would index it)
+    restored = edmd.HardSphereSystem.from_state_dict(state)
+    assert restored.bonds.max() < restored.count

@@ -215,7 +215,8 @@ def run_event_loop(system, collisions, t_stop):
     left, quiet, quiet_since = collisions, 0, system.time
     while True:
         made, events = system.collisions, system.acc[_k.ACC_EVENTS]
-        edges = system.acc[_k.ACC_CAPTURES:_k.ACC_BOUNCES + 1].sum()  # a pair bound in its well need never collide
+        # captures and escapes are progress (a pair bound in its well need never collide); bounces alone are not
+        edges = system.acc[_k.ACC_CAPTURES] + system.acc[_k.ACC_ESCAPES]
         if system._engine_code == ENGINE_CELLS:
             system.time, system._still, longest, stop, target = run_crossing_kernel(
                 system, system.time, system._still, left, EVENTS_PER_CALL, t_stop, stall_limit(system.count))
@@ -235,7 +236,7 @@ def run_event_loop(system, collisions, t_stop):
         if stop != _k.STOP_EVENTS:
             return system.time
         left -= made
-        if made or system.acc[_k.ACC_CAPTURES:_k.ACC_BOUNCES + 1].sum() != edges:
+        if made or system.acc[_k.ACC_CAPTURES] + system.acc[_k.ACC_ESCAPES] != edges:
             quiet, quiet_since = 0, system.time
         else:
             quiet += int(system.acc[_k.ACC_EVENTS] - events)

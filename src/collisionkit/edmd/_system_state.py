@@ -125,6 +125,7 @@ class Checkpoints:
             setattr(system, name, np.asarray(state[name]).item())
         system.restitution_law = str(state["restitution_law"])
         system._grow_overflowed_storage()  # saved as a run stopped to grow a row: grow it, as that run did next
+        system._check_record_against_lists()
         system._still = 0  # the collapse watch starts afresh
         return system
 
@@ -285,6 +286,8 @@ def check_state(arrays, scalars):
         _require(geom[_k.G_GRAVITY] == 0, "geom", "must hold no gravity for the cell-crossing engine")
     wells = params[_k.P_WELL_WIDTH] != 0.0
     _require(~wells | ~cells_engine, "params", "must hold no well width for the cell-crossing engine")
+    _require(~wells | (np.all(arrays["restitution"] == 1.0) & (params[_k.P_WALL_RESTITUTION] == 1.0)), "restitution",
+             "must hold 1 everywhere with square wells (elastic)")
     _check_book(arrays, p, dim, geom, acc[_k.ACC_EVENTS], cells_engine, wells)
     check_bonds(arrays, count, wells, acc[_k.ACC_WELL_PAIRS])
     # saved as a run stopped to grow a list row or a cell (in a progress callback): the restore rebuilds them all

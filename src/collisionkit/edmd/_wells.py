@@ -18,9 +18,11 @@ from . import _checks
 
 # the widest well accepted, in contact distances (wider wells make lists of hundreds: use a smooth potential)
 MAX_WELL_WIDTH = 5.0
+# rows of the record checked at once against the lists of a restored state (a rows x width x width comparison)
+RECORD_CHECK_ROWS = 4096
 
 
-def well_parameters(system, well_width, well_depth, gravity, growth, shear_rate, engine):
+def well_parameters(system, well_width, well_depth, gravity, growth, shear_rate, engine):  # noqa: ARG001 (gravity)
     """Check the square-well arguments and store them in ``system.params``; None leaves hard spheres.
 
     Wells need fixed radii in the lists engine (no compression, shear or
@@ -30,11 +32,13 @@ def well_parameters(system, well_width, well_depth, gravity, growth, shear_rate,
         return
     width = _checks.bounded(well_width, "well_width", 1.0, MAX_WELL_WIDTH, closed=(False, True))
     depth = _checks.positive(well_depth, "well_depth")
-    clashes = [(growth != 0.0, "compression"), (shear_rate != 0.0, "shear_rate"), (engine == "cells", 'engine="cells"')]
+    inelastic = bool(np.any(system.restitution != 1.0)) or system.params[_k.P_WALL_RESTITUTION] != 1.0
+    clashes = [(growth != 0.0, "compression"), (shear_rate != 0.0, "shear_rate"), (engine == "cells", 'engine="cells"'),
+               (inelastic, "restitution or wall_restitution below 1 (their energy balance is not kept with wells)")]
     for clash, name in clashes:
         if clash:
-            raise ValueError(f"well_width: square wells run without {name} (fixed radii, no shear, in the lists "
-                             "engine)")
+            raise ValueError(f"well_width: square wells run without {name} (elastic, fixed radii, no shear, in the "
+                             "lists engine)")
     system.params[_k.P_WELL_WIDTH] = width
     system.params[_k.P_WELL_DEPTH] = depth
 
@@ -45,7 +49,9 @@ def pairs_inside(positions, radius, box, periodic, width):
     reach = width * 2.0 * float(np.max(radius))
     # a walled axis as a period too long to wrap any pair within reach
     boxsize = np.where(periodic, box, box + 2.0 * reach + 1.0)
-    tree = cKDTree(np.mod(positions, boxsize), boxsize=boxsize)
+    wrapped = np.mod(positions, boxsize)
+    wrapped[wrapped >= boxsize] = 0.0  # -tiny mod L rounds to L, which cKDTree refuses
+    tree = cKDTree(wrapped, boxsize=boxsize)
     pairs = tree.query_pairs(reach, output_type="ndarray")
     if pairs.size == 0:
         return pairs.reshape(0, 2)
@@ -192,6 +198,27 @@ class SquareWells:
         new_number[order] = np.arange(order.size)
         self.bonds = np.ascontiguousarray(new_number[self.bonds[order]].astype(np.int32))
         self.bond_count = np.ascontiguousarray(self.bond_count[order])
+
+    def _check_record_against_lists(self):
+        """CheckpointError unless every pair in the restored record is in its owner's neighbour list; unused slots 0.
+
+        A pair inside its well is always listed: a record that is not a
+        subset of the lists is damaged (and could outgrow its rows, which
+        the kernels fill without a bounds check). Checked in chunks of rows.
+        """
+        if self.well_width is None:
+            return
+        columns = np.arange(self.bonds.shape[1])
+        self.bonds[columns[None, :] >= self.bond_count[:, None]] = 0
+        listed_columns = np.arange(self.neighbours.shape[1])
+        for start in range(0, self.count, RECORD_CHECK_ROWS):
+            rows = slice(start, start + RECORD_CHECK_ROWS)
+            recorded = columns[None, :] < self.bond_count[rows, None]
+            listed = listed_columns[None, :] < self.neighbour_count[rows, None]
+            found = (self.bonds[rows, :, None] == self.neighbours[rows, None, :]) & listed[:, None, :]
+            if np.any(recorded & ~found.any(axis=2)):
+                raise CheckpointError("array 'bonds' must hold only pairs in each other's neighbour lists (a pair "
+                                      "inside its well is always listed)")
 
     def _check_wells(self, tolerance):
         """RuntimeError if the record of pairs inside disagrees with the distances now (particles synchronised).

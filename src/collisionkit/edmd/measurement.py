@@ -15,6 +15,7 @@ from time import perf_counter
 
 import numpy as np
 
+from .._kernels import edmd as _k
 from .._repr import html_table, measurement_rows
 from . import _checks, _msd, _pair_distribution
 from ._sampler_records import RECORDS, SHEAR_RECORDS, block_start, observables, record_block
@@ -310,8 +311,9 @@ class Sampler:
         area = self._run_block_events(progress)
         kT_after = system.temperature()
         duration = system.elapsed - start["time"]
-        if system.well_width is not None and duration > 0:
+        if system.well_width is not None and duration > 0 and not np.any(system.geom[_k.G_GRAVITY] != 0.0):
             # exactly: K = E + epsilon n(t) with E conserved and n the pairs inside, whose integral the engine keeps
+            # (under gravity the fall changes K too: the mean of the block's ends, as for hard spheres)
             area = system.total_energy() * duration + system.well_depth * (system.well_pair_time() - start["wells"])
         # the time average of kT: under shear or with wells from the energy's integral, else the mean of the block's ends
         kT = 0.5 * (kT_before + kT_after) if area is None or not duration > 0 else 2.0 * area / (dim * count * duration)

@@ -36,7 +36,7 @@ from .layout import (
 )
 from .motion import half_box, minimum_image, pair_image
 from .neighbour_lists import drop_from_list
-from .prediction import SMALL_BOX_DIAMETERS, contact_before, first_root_from_below, predict_boundary
+from .prediction import SMALL_BOX_DIAMETERS, contact_before, predict_boundary
 
 # relative band of |r|^2 around the well's edge (lambda sigma)^2 within which a pair's side is read from the record:
 # positions carry round-off of a few units in the last place of the box length, 1e-14 of |r|^2 at most
@@ -63,6 +63,28 @@ def _count_change(acc, t, change):
 
 
 @inline_kernel
+def time_to_leave(uu, ru, outside):
+    """Time until a pair inside its well reaches the edge on its way out: the later root of uu t^2 + 2 ru t + outside.
+
+    ``outside`` = |r|^2 - (lambda sigma)^2 is <= 0 for a pair inside, or
+    round-off above 0 at the edge, where the record says inside: it is
+    taken as 0 there (on the edge). A receding pair on the edge leaves at
+    once (0); an approaching one crosses its chord, -2 ru / uu (a pair
+    gliding along the edge: round-off would otherwise leave no chord at
+    all, and its exit "now" would never happen, an approaching pair not
+    leaving). Written without cancellation; infinite for a pair at rest
+    relative to each other.
+    """
+    if uu == 0.0:
+        return math.inf
+    outside = min(outside, 0.0)
+    root = math.sqrt(ru * ru - uu * outside)
+    if ru > 0.0:
+        return -outside / (ru + root)
+    return (root - ru) / uu
+
+
+@inline_kernel
 def first_event_in_wells(p, i, neighbours, neighbour_count, bonds, bond_count, geom, scale, width, horizon):
     """Earliest event of i (at its own time) with its list before ``horizon``: a core contact or a well's edge.
 
@@ -71,7 +93,7 @@ def first_event_in_wells(p, i, neighbours, neighbour_count, bonds, bond_count, g
     the record near the edge) meets either at the core, which comes first
     if it comes at all (:func:`.prediction.contact_before`), or at the
     edge on its way out: the later root of ``|r + u tau| = lambda sigma``
-    (:func:`.prediction.first_root_from_below`). A pair outside can only
+    (:func:`time_to_leave`). A pair outside can only
     enter: the contact time at lambda sigma.
     """
     t = p[i, T]
@@ -119,7 +141,7 @@ def first_event_in_wells(p, i, neighbours, neighbour_count, bonds, bond_count, g
                 best, partner, edge = tau, j, False
                 continue
             # no core contact before best: the way out, if it comes first
-            tau = first_root_from_below(ux * ux + uy * uy + uz * uz, 2.0 * (rx * ux + ry * uy + rz * uz), outside)
+            tau = time_to_leave(ux * ux + uy * uy + uz * uz, rx * ux + ry * uy + rz * uz, outside)
             if tau < best:
                 best, partner, edge = tau, j, True
         else:
@@ -135,8 +157,8 @@ def first_event_in_wells(p, i, neighbours, neighbour_count, bonds, bond_count, g
 def cross_well_edge(p, i, j, b, geom, params, bonds, bond_count, acc, t):
     """Resolve the event of i and j (both at time t) at the edge of their well; False if nothing happens.
 
-    A pair outside that does not approach, or inside that does not recede,
-    is left alone (a stale edge event). Otherwise only the normal relative
+    A pair outside that does not approach, or inside that approaches, is
+    left alone (a stale edge event). Otherwise only the normal relative
     velocity changes (see the module docstring), the record and the count
     of pairs inside follow, and the impulse joins the virial and the
     transport sums as a collision's does (:mod:`.contacts`).
@@ -152,7 +174,8 @@ def cross_well_edge(p, i, j, b, geom, params, bonds, bond_count, acc, t):
     uz = p[j, V + 2] - p[i, V + 2]
     approach = sure_approach(rx * ux + ry * uy + rz * uz, rx, ry, rz, ux, uy, uz, 0.0)
     inside = bonded(i, j, bonds, bond_count)
-    if (inside and approach <= 0.0) or ((not inside) and approach >= 0.0):
+    # (a pair inside moving along the edge, r.u = 0 exactly, is leaving for the prediction: it bounces, turned in)
+    if (inside and approach < 0.0) or ((not inside) and approach >= 0.0):
         return False
     mi = b[i, MASS]
     mj = b[j, MASS]
