@@ -227,8 +227,9 @@ class HardSphereSystem(SystemParameters, ParticleState, NeighbourLists, CellCros
         contact distance, lambda in (1, 5]; the potential energy is
         -epsilon per pair inside (:meth:`potential_energy`), conserved with
         the kinetic energy event by event (Alder & Wainwright, J. Chem.
-        Phys. 31, 459 (1959)). Needs fixed radii and no shear (the lists
-        engine); gravity is allowed.
+        Phys. 31, 459 (1959)). Needs elastic contacts (restitution and
+        wall_restitution 1), fixed radii and no shear (the lists engine);
+        gravity is allowed.
     well_depth : float, optional
         epsilon > 0 (default 1), in the units of m v^2.
 
