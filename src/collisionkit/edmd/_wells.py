@@ -22,7 +22,7 @@ MAX_WELL_WIDTH = 5.0
 RECORD_CHECK_ROWS = 4096
 
 
-def well_parameters(system, well_width, well_depth, gravity, growth, shear_rate, engine):  # noqa: ARG001 (gravity)
+def well_parameters(system, well_width, well_depth, growth, shear_rate, engine):
     """Check the square-well arguments and store them in ``system.params``; None leaves hard spheres.
 
     Wells need fixed radii in the lists engine (no compression, shear or
@@ -63,13 +63,14 @@ def pairs_inside(positions, radius, box, periodic, width):
 
 def bond_arrays(pairs, count, row):
     """The kernels' record of ``pairs`` inside: partners per particle (int32, count x row) and their numbers."""
+    owners = np.concatenate([pairs[:, 0], pairs[:, 1]])
+    partners = np.concatenate([pairs[:, 1], pairs[:, 0]])
+    order = np.argsort(owners, kind="stable")
+    owners, partners = owners[order], partners[order]
+    bond_count = np.bincount(owners, minlength=count).astype(np.int32)
+    first = np.cumsum(bond_count) - bond_count  # each owner's first entry in the sorted list
     bonds = np.zeros((count, row), dtype=np.int32)
-    bond_count = np.zeros(count, dtype=np.int32)
-    for i, j in pairs:
-        bonds[i, bond_count[i]] = j
-        bond_count[i] += 1
-        bonds[j, bond_count[j]] = i
-        bond_count[j] += 1
+    bonds[owners, np.arange(owners.size) - first[owners]] = partners
     return bonds, bond_count
 
 
@@ -232,12 +233,11 @@ class SquareWells:
         positions = self.p[:, : self.dim]  # memory order, as the record
         radius = self.p[:, _k.R] * self.scale
         box, periodic = self.box, self.periodic
-        inner = {tuple(pair) for pair in pairs_inside(positions, radius * (1 - tolerance), box, periodic, width)}
-        outer = {tuple(pair) for pair in pairs_inside(positions, radius * (1 + tolerance), box, periodic, width)}
-        recorded = set()
-        for i in range(self.count):
-            for j in self.bonds[i, : self.bond_count[i]]:
-                recorded.add((min(i, int(j)), max(i, int(j))))
+        inner = set(map(tuple, pairs_inside(positions, radius * (1 - tolerance), box, periodic, width).tolist()))
+        outer = set(map(tuple, pairs_inside(positions, radius * (1 + tolerance), box, periodic, width).tolist()))
+        owners = np.repeat(np.arange(self.count), self.bond_count)
+        partners = self.bonds[np.arange(self.bonds.shape[1])[None, :] < self.bond_count[:, None]]
+        recorded = set(zip(np.minimum(owners, partners).tolist(), np.maximum(owners, partners).tolist()))
         if not inner <= recorded <= outer or len(recorded) != self.well_pairs:
             raise RuntimeError(f"the record of pairs inside their wells ({len(recorded)}, counted {self.well_pairs}) "
                                f"disagrees with their distances ({len(inner)} to {len(outer)} inside)")

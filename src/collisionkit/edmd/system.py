@@ -288,7 +288,7 @@ class HardSphereSystem(SystemParameters, ParticleState, NeighbourLists, CellCros
                                                                 self.params[_k.P_WALL_RESTITUTION], gravity, box)
         self.params[_k.P_ELASTIC_BELOW] = _checks.bounded(elastic_below, "elastic_below", 0.0)
         shear_parameters(self, shear_rate, thermostat)
-        well_parameters(self, well_width, well_depth, gravity, _growth, self.shear_rate, engine)
+        well_parameters(self, well_width, well_depth, _growth, self.shear_rate, engine)
         if neighbour_shell is None and self.well_width is not None:
             neighbour_shell = well_shell(radius * float(_scale), box, self.well_width)
         elif neighbour_shell is None:
