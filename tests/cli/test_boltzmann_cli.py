@@ -232,6 +232,20 @@ def test_an_empty_e_n_list_in_a_config_file_says_what_to_give(tmp_path):
     assert result.exit_code == 2 and "--E-N: give at least one E/N value (Td, 0 to 1e6)" in result.output
 
 
+def test_a_config_file_takes_the_command_lines_e_n_ranges(tmp_path):
+    # E-N = "1:24:3" was refused ("must be a number or a list of numbers"): ranges were command-line only
+    config = tmp_path / "b.toml"
+    summary = tmp_path / "b.json"
+    config.write_text('model = "reid"\ngas-temperature = 0\nE-N = ["0.5", "1:24:3"]\n')
+    result = runner.invoke(app, ["boltzmann", "--config", str(config), "--summary", str(summary), "--out",
+                                 str(tmp_path / "out")])
+    assert result.exit_code == 0, result.output
+    assert [entry["E_N"] for entry in json.loads(summary.read_text())["results"]] == [0.5, 1.0, 12.5, 24.0]
+    config.write_text('model = "reid"\nE-N = "1:24:x"\n')
+    result = runner.invoke(app, ["boltzmann", "--config", str(config)])
+    assert result.exit_code == 2 and "--E-N: the COUNT of '1:24:x' must be a whole number" in result.output
+
+
 def test_minus_zero_e_n_is_zero_in_the_table_and_the_summary(tmp_path):
     # --E-N 10,-0 printed "-0" for E/N and for W, and the summary held "E_N": -0.0
     summary = tmp_path / "b.json"
@@ -240,3 +254,10 @@ def test_minus_zero_e_n_is_zero_in_the_table_and_the_summary(tmp_path):
     assert result.exit_code == 0, result.output
     assert "-0 " not in result.stdout and "-0.0" not in summary.read_text(), result.stdout
     assert [entry["E_N"] for entry in json.loads(summary.read_text())["results"]] == [10.0, 0.0]
+
+
+def test_a_config_e_n_of_the_wrong_kind_is_refused_by_name(tmp_path):
+    config = tmp_path / "b.toml"
+    config.write_text('model = "reid"\nE-N = true\n')
+    result = runner.invoke(app, ["boltzmann", "--config", str(config)])
+    assert result.exit_code == 2 and "--E-N: must be numbers (Td) or text as on the command line" in result.output

@@ -134,6 +134,8 @@ class Options(BaseModel):
     input_files: ClassVar[tuple[str, ...]] = ()
     # the command-line spelling of options whose flag is not ``--`` and the dashed name (``--E-N`` for ``e_n``)
     flags: ClassVar[dict[str, str]] = {}
+    # number options a config file may also give in the command line's text forms (``E-N = "1:1000:7:log"``)
+    text_forms: ClassVar[tuple[str, ...]] = ()
     # (choices, group): when the command line gives any of the choices, the config file's whole group is dropped
     # (``--gas Ar`` replaces a config's ``model``, and its ``species`` and ``fractions`` with it)
     chosen_together: ClassVar[tuple[tuple[tuple[str, ...], tuple[str, ...]], ...]] = ()
@@ -170,13 +172,15 @@ class Options(BaseModel):
 
         (``seed = true`` became seed 1, ``packing-fraction = "0.3"`` 0.3, ``plots = "yes"`` True and
         ``E-N = ["5"]`` [5.0].) A single value of a list option (``E-N = 5``, ``species = "Ar"``) is a list of one.
+        Options in ``text_forms`` take the command line's text forms too (``E-N = "1:1000:7:log"``): their own
+        validators parse them.
         """
         if not isinstance(values, dict):
             return values
         values = dict(values)
         for key, value in values.items():
             field = cls.model_fields.get(key) or cls.model_fields.get(str(key).replace("-", "_"))
-            if field is None:
+            if field is None or str(key).replace("-", "_") in cls.text_forms:
                 continue
             kinds, item = _plain_types(field.annotation), _list_item(field.annotation)
             single = (int, float) if item is float else item

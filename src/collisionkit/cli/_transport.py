@@ -17,7 +17,7 @@ from ._common import (
     option_values, print_table, progress_bar, refuse_folder, require, run_failed, say, validate_options, warn,
 )
 from ._memory import refuse_beyond_memory, swarm_memory
-from ._reduced_fields import MAX_REDUCED_FIELD, _e_n_values, _short  # noqa: F401 (boltzmann takes _e_n_values here)
+from ._reduced_fields import E_N_FORMS, MAX_REDUCED_FIELD, _e_n_values, _short  # noqa: F401 (boltzmann takes _e_n_values here)
 from ._warmup import warm_up
 
 ModelName = Literal["maxwell", "hard_sphere", "reid", "lucas_saelee"]
@@ -82,6 +82,7 @@ class GasScanOptions(Options):
 
     input_files: ClassVar[tuple[str, ...]] = ("cross_sections",)
     flags: ClassVar[dict[str, str]] = {"e_n": "--E-N"}
+    text_forms: ClassVar[tuple[str, ...]] = ("e_n",)
     # a gas chosen on the command line replaces the config file's gas: its model, gas or LXCat files with their
     # species, fractions and database; a model or catalogue gas has no LXCat selectors at all, while selectors in a
     # config without files of its own pick from the command line's --cross-sections
@@ -102,6 +103,25 @@ class GasScanOptions(Options):
             raise ValueError(f"--fractions: give one per --species ({len(self.species)}: {', '.join(self.species)}); "
                              f"got {len(self.fractions)}")
         return self
+
+    @field_validator("e_n", mode="before")
+    @classmethod
+    def _ranges_as_on_the_command_line(cls, value: Any) -> Any:
+        """A config's ``E-N`` may use the command line's forms: ``"1:1000:7:log"``, ``"10, 20"`` or a list with them.
+
+        Examples
+        --------
+        >>> GasScanOptions.model_validate({"model": "reid", "e-n": "1:100:3"}).e_n
+        [1.0, 50.5, 100.0]
+        >>> GasScanOptions.model_validate({"model": "reid", "e-n": [5, "10:30:3"]}).e_n
+        [5.0, 10.0, 20.0, 30.0]
+        """
+        items = value if isinstance(value, list) else [value]
+        if any(isinstance(item, bool) or not isinstance(item, (int, float, str)) for item in items):
+            raise ValueError(f"must be numbers (Td) or text as on the command line ({E_N_FORMS})")
+        if any(isinstance(item, str) for item in items):
+            return _e_n_values([str(item) for item in items])
+        return items
 
     @field_validator("e_n")
     @classmethod

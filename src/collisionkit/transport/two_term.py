@@ -306,6 +306,16 @@ def two_term_boltzmann(gas: Gas, reduced_field: float, gas_temperature: float = 
         faster than it ionizes may drive :math:`\tilde\sigma_m` negative),
         or the electron-electron iteration does not.
 
+    Warns
+    -----
+    TwoTermWarning
+        If the power balance is off by more than 1 % of the field's power
+        (``POWER_BALANCE_WARNING``: refine ``cells``), if a ``max_energy``
+        given cuts the distribution (F0 falls fewer than ``DECADES[0]`` = 10
+        decades across the grid), or if more than 0.1 % of the electrons lie above the
+        highest energy of the gas's tables (``BEYOND_TABLES``). The result is
+        returned all the same.
+
     Examples
     --------
     Reid's ramp at 12 Td, 0 K: the two-term equation is 2-3 % above the
