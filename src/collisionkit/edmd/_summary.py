@@ -72,6 +72,9 @@ def edmd_summary(run, measurement, files: Sequence = ()) -> dict[str, Any]:
     kT = measurement.temperature_mean if sheared else math.nan
     kT = kT if math.isfinite(kT) else measurement.temperature
     if p.well_width is not None:
+        # by the parameters, not by value: a run whose pairs never met a well still reports U/N = 0 +- 0
+        result |= {key: getattr(measurement, key) for key in (
+            "potential_energy", "potential_energy_error", "temperature_mean", "temperature_mean_error")}
         result |= {"well_width": p.well_width, "well_depth": p.well_depth, "reduced_temperature":
                    measurement.temperature_mean / p.well_depth} | {f"well_{kind}": count for kind, count in
                                                                   system.well_events.items()}
