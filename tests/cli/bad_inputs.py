@@ -69,7 +69,6 @@ BAD_INPUTS = [
     ("edmd", ["--well-width", "wide"], "invalid value for '--well-width'"),
     ("edmd", ["--well-depth", "0", "--well-width", "1.5"], "--well-depth must be in (0, 1000]"),
     ("edmd", ["--well-depth", "-2"], "--well-depth must be in (0, 1000]"),
-    ("edmd", ["--well-width", "1.5", "--transport"], "--well-width cannot be combined with transport"),
     ("edmd", ["--well-width", "1.5", "--shear-rate", "0.1"], "--well-width cannot be combined with shear_rate"),
     ("edmd", ["--well-width", "1.5", "--engine", "cells"], "--well-width cannot be combined with engine cells"),
     ("edmd", ["--well-width", "1.5", "--restitution", "0.9"], "--well-width cannot be combined with restitution below 1"),

@@ -153,11 +153,6 @@ def test_bad_well_arguments_are_refused_by_name(options, message):
         hexagonal_system(cells=6, **options)
 
 
-def test_transport_is_refused_with_wells():
-    with pytest.raises(ValueError, match="square wells"):
-        edmd.Sampler(hexagonal_system(cells=6, well_width=1.5), collisions=100, blocks=2, transport=True)
-
-
 def test_hard_spheres_report_no_potential_energy():
     system = hexagonal_system(cells=6)
     measurement = edmd.measure(system, collisions=2000, blocks=2)

@@ -352,7 +352,7 @@ def edmd(
     ] = None,
     well_width: Annotated[
         float | None,
-        typer.Option(help=_help("Square wells: each pair attracts with depth --well-depth out to this many contact distances (lambda in (1, 5]). The equilibration holds kT = 1 by rescaling; the measurement runs at constant energy and reports the mean potential energy per particle and the mean kT; not with --shear-rate, --transport or --engine cells.", "none, hard spheres")),
+        typer.Option(help=_help("Square wells: each pair attracts with depth --well-depth out to this many contact distances (lambda in (1, 5]). The equilibration holds kT = 1 by rescaling; the measurement runs at constant energy and reports the mean potential energy per particle and the mean kT (--transport: the coefficients at that kT, the heat flux carrying the pairs' potential energy); not with --shear-rate or --engine cells.", "none, hard spheres")),
     ] = None,
     well_depth: Annotated[
         float | None,

@@ -39,6 +39,14 @@ from .system import (
     DEFAULT_SHELL, DENSE_PACKING, DENSE_SHELL, DILUTE_PACKING, LIST_NEIGHBOURS, RESTITUTION_LAWS, SORT_INTERVAL,
     HardSphereSystem, OverlapError, default_shell, well_shell,
 )
+from .square_well_theory import (
+    square_well_collision_integral,
+    square_well_deflection,
+    square_well_dilute_transport,
+    square_well_low_density,
+    square_well_second_virial,
+    square_well_third_virial,
+)
 from .theory import (
     MAX_PACKING_FRACTION,
     YEH_HUMMER_XI,
@@ -50,9 +58,6 @@ from .theory import (
     hansen_goos,
     henderson,
     packing_fraction,
-    square_well_low_density,
-    square_well_second_virial,
-    square_well_third_virial,
     yeh_hummer_correction,
 )
 

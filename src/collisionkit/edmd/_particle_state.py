@@ -193,6 +193,11 @@ class ParticleState:
 
         They are :math:`\sum_i m_i v_{ia} x_{ib}` and
         :math:`\sum_i \tfrac12 m_i v_i^2 x_{ia}` over the stored positions x
+        (with square wells the energy is kinetic plus potential, each particle
+        carrying half of its pairs' -epsilon: the moment adds
+        :math:`-\tfrac{\epsilon}{2}\sum_i n_i x_{ia}` over the unwrapped
+        positions, n_i the pairs i is in, and the transfers at the wells'
+        edges are the partners' whole energy changes)
         plus Erpenbeck's image terms the event loop accumulates: with
         periodic images the plain moment of positions jumps by the transfer
         times a box length when a pair collides across a face (and, for
@@ -224,8 +229,13 @@ class ParticleState:
         _k.stored_helfand_moments(self.p, self.book, self.time, stored)
         dim = self.dim
         momentum = (stored[:9] + self.acc[_k.ACC_MOMENTUM_IMAGE : _k.ACC_MOMENTUM_IMAGE + 9]).reshape(3, 3)
-        energy = stored[9:] + self.acc[_k.ACC_ENERGY_IMAGE : _k.ACC_ENERGY_IMAGE + 3]
-        return momentum[:dim, :dim], energy[:dim]
+        energy = stored[9:dim + 9] + self.acc[_k.ACC_ENERGY_IMAGE : _k.ACC_ENERGY_IMAGE + dim]
+        if self.well_width is not None:  # the potential energy's part: -epsilon/2 sum_i n_i x_i (unwrapped)
+            ahead = (self.time - self.p[:, _k.T])[:, None]
+            unwrapped = (self.p[:, _k.X : _k.X + dim] + self.p[:, _k.V : _k.V + dim] * ahead
+                         + self._image * self.box[:dim])
+            energy = energy - 0.5 * self.well_depth * (self.bond_count @ unwrapped)
+        return momentum[:dim, :dim], energy
 
     def set_velocities(self, velocities):
         """Replace all velocities (at the current time) and re-predict every event.

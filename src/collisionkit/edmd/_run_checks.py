@@ -89,8 +89,7 @@ def checked_parameters(p) -> dict[str, Any]:
     if p.well_width is not None:
         values["well_width"] = check_real("well_width", p.well_width, 1.0, MAX_WELL_WIDTH, low_open=True)
         clashes = ((shear_rate != 0.0, "shear_rate", "wells run in a fluid at rest"),
-                   (p.transport, "transport", "the heat flux would need the pairs' potential energy"),
-                   (p.engine == "cells", "engine cells", "the cell-crossing engine has no wells: use lists or auto"),
+                    (p.engine == "cells", "engine cells", "the cell-crossing engine has no wells: use lists or auto"),
                    (values["restitution"] != 1.0, "restitution below 1", "wells keep the energy of elastic pairs"))
         for clash, name, why in clashes:
             if clash:

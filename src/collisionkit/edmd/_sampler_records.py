@@ -131,6 +131,7 @@ def observables(sampler) -> dict:
     contact, contact_error = _pair_distribution.contact_value(centres, rdf, sampler.histogram, diameter)
     durations = np.diff(msd_time)
     block_kT = np.asarray(record["temperature_mean"], dtype=float)
+    temperature_mean = float(np.sum(block_kT * durations) / np.sum(durations))
     return dict(
         dim=dim,
         particles=count,
@@ -165,11 +166,12 @@ def observables(sampler) -> dict:
         block_temperature=np.asarray(record["temperature"]),
         block_compressibility=np.asarray(record["compressibility"]),
         block_frequency=np.asarray(record["frequency"]),
-        temperature_mean=float(np.sum(block_kT * durations) / np.sum(durations)),
+        temperature_mean=temperature_mean,
         temperature_mean_error=_msd.block_error(block_kT),
         block_temperature_mean=block_kT,
         transport=None if sampler.transport is None else transport_measurement(
-            sampler.transport, sampler.done, 1.0 / omega, system.volume, count),
+            sampler.transport, sampler.done, 1.0 / omega, system.volume, count,
+            None if system.well_width is None else temperature_mean),
         **shear_results(system.shear_rate, record, system.volume * durations),
     )
 

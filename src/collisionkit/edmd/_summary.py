@@ -132,16 +132,23 @@ def _shear_summary(run, measurement, kT: float, lost_total: float) -> dict[str, 
 
 
 def _transport_summary(run, measurement) -> dict[str, Any]:
-    """Enskog's transport coefficients and, asked for, D corrected to the infinite system (Yeh-Hummer)."""
+    """Enskog's transport coefficients (hard spheres) and, asked for, D corrected to the infinite system (Yeh-Hummer).
+
+    Square wells get no Enskog keys (its theory is of hard spheres) and the
+    correction at the measured mean kT (theirs changes at every capture).
+    """
     p, transport = run.parameters, measurement.transport
-    enskog = _enskog(run, measurement)
-    result = {f"{key}_enskog": enskog[key] for key in
-              ("shear_viscosity", "bulk_viscosity", "thermal_conductivity", "self_diffusion")}
+    result = {}
+    if p.well_width is None:
+        enskog = _enskog(run, measurement)
+        result = {f"{key}_enskog": enskog[key] for key in
+                  ("shear_viscosity", "bulk_viscosity", "thermal_conductivity", "self_diffusion")}
     eta, eta_error = transport.shear_viscosity, transport.shear_viscosity_error
     if p.yeh_hummer:
         correction = error = math.nan  # a viscosity measured <= 0 (noise) gives no correction
+        kT = measurement.temperature if p.well_width is None else measurement.temperature_mean
         if eta > 0:
-            correction = float(yeh_hummer_correction(eta, float(run.system.box[0]), measurement.temperature))
+            correction = float(yeh_hummer_correction(eta, float(run.system.box[0]), kT))
             error = math.hypot(measurement.diffusion_coefficient_error, correction * eta_error / eta)
         result |= {"yeh_hummer_correction": correction,
                    "self_diffusion_infinite": measurement.diffusion_coefficient + correction,

@@ -313,11 +313,15 @@ def _shear(change):
 
 
 def transport_measurement(sampler: TransportSampler, blocks: int, free_time: float, volume: float,
-                          particles: int) -> TransportMeasurement:
+                          particles: int, kT: float | None = None) -> TransportMeasurement:
     """The transport coefficients of the first ``blocks`` finished blocks of ``sampler`` (see :mod:`._helfand`).
 
     ``free_time`` is the measured mean free time (the window's unit),
-    ``volume`` the box's, ``particles`` N (the interdiffusion's norm).
+    ``volume`` the box's, ``particles`` N (the interdiffusion's norm),
+    ``kT`` the temperature of the Einstein relations: by default the
+    sampler's, kT when it started (constant for hard spheres); with square
+    wells, whose kinetic energy changes at every capture and escape, the
+    measured time mean.
 
     Examples
     --------
@@ -329,7 +333,8 @@ def transport_measurement(sampler: TransportSampler, blocks: int, free_time: flo
     >>> transport_measurement(sampler, 2, free_time_estimate(system), system.volume, 108).interval == sampler.interval
     True
     """
-    dim, kT, interval = sampler.system.dim, sampler.kT, sampler.interval
+    dim, interval = sampler.system.dim, sampler.interval
+    kT = sampler.kT if kT is None else kT
     square = dim * dim
     moments = np.asarray(sampler.moments)
     block_of = np.asarray(sampler.block_of)

@@ -226,9 +226,6 @@ class Sampler:
         self.speeds = []
         if not isinstance(transport, (bool, np.bool_)):
             raise TypeError(f"transport must be True or False; got {transport!r}")
-        if transport and system.well_width is not None:
-            raise ValueError("transport cannot be measured with square wells yet (the energy's Helfand moment would "
-                             "need the pairs' potential energy): measure without transport=True")
         if transport and system.shear_rate != 0.0:
             raise ValueError("transport cannot be measured under shear (the Einstein-Helfand relations hold in "
                              "equilibrium); the sheared system's shear viscosity comes from its stress")

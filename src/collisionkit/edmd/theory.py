@@ -1,5 +1,5 @@
-"""Hard-sphere and hard-disc theory: equations of state, Enskog's collision rate and transport, packing fractions;
-the square-well fluid's virial coefficients.
+"""Hard-sphere and hard-disc theory: equations of state, Enskog's collision rate and transport, packing fractions
+(the square-well fluid's: :mod:`~collisionkit.edmd.square_well_theory`).
 
 The references an EDMD run is checked against, and the packing-fraction
 limits of the engine's random fluids (:data:`MAX_PACKING_FRACTION`).
@@ -24,9 +24,6 @@ __all__ = [
     "hansen_goos",
     "henderson",
     "packing_fraction",
-    "square_well_low_density",
-    "square_well_second_virial",
-    "square_well_third_virial",
     "yeh_hummer_correction",
 ]
 
@@ -471,97 +468,3 @@ def granular_shear_flow(restitution, shear_rate, density, dim=3, diameter=1.0, m
     normal = 1 - cooling / momentum
     viscosity = density * kT * normal / (momentum * per_root_temperature * math.sqrt(kT))
     return {"reduced_shear_rate": reduced, "temperature": kT, "viscosity": viscosity, "normal_stress_yy": normal}
-
-
-def _well_excess(width, kT, depth):
-    """(lambda, x = exp(epsilon / kT) - 1) of square wells, checked: lambda > 1, kT > 0, epsilon > 0."""
-    width = _checks.bounded(width, "width", 1.0, closed=(False, False))
-    kT = _checks.positive(kT, "kT")
-    depth = _checks.positive(depth, "depth")
-    return width, math.expm1(depth / kT)
-
-
-def square_well_second_virial(width, kT, dim=3, diameter=1.0, depth=1.0):
-    r"""Second virial coefficient of square wells: :math:`B_2 = b_0 [1 - x (\lambda^d - 1)]`, exact.
-
-    From :math:`B_2 = -\frac{1}{2} \int f(r)\, d^d r` with the Mayer function
-    f = -1 inside the core and :math:`x = e^{\epsilon / kT} - 1` in the
-    well; :math:`b_0 = 2 \pi \sigma^3 / 3` (spheres) or :math:`\pi \sigma^2 / 2`
-    (discs). ``width`` is lambda (> 1), ``depth`` epsilon.
-
-    Examples
-    --------
-    >>> round(square_well_second_virial(1.5, 2.0), 5)   # T* = 2: attraction wins, B2 < 0
-    -1.13247
-    """
-    width, x = _well_excess(width, kT, depth)
-    dim = _checks.integer_at_least(dim, "dim", 2)
-    if dim not in (2, 3):
-        raise ValueError(f"dim must be 2 or 3; got {dim}")
-    diameter = _checks.positive(diameter, "diameter")
-    b0 = 2.0 * math.pi * diameter**3 / 3.0 if dim == 3 else math.pi * diameter**2 / 2.0
-    return b0 * (1.0 - x * (width**dim - 1.0))
-
-
-def _kihara_polynomial(width):
-    """Coefficients c0..c3 of 8 B3 / b0^2 = sum c_k x^k for spheres with wells of width lambda <= 2."""
-    lam = width
-    return (5.0, -(lam**6 - 18 * lam**4 + 32 * lam**3 - 15), -(2 * lam**6 - 36 * lam**4 + 32 * lam**3 + 18 * lam**2 - 16),
-            -(6 * lam**6 - 18 * lam**4 + 18 * lam**2 - 6))
-
-
-def square_well_third_virial(width, kT, diameter=1.0, depth=1.0):
-    r"""Third virial coefficient of square-well spheres, 1 < lambda <= 2 (Kihara's polynomial).
-
-    :math:`B_3 / b_0^2 = \frac{1}{8} [5 - c_1 x - c_2 x^2 - c_3 x^3]` with
-    :math:`c_1 = \lambda^6 - 18 \lambda^4 + 32 \lambda^3 - 15`,
-    :math:`c_2 = 2 \lambda^6 - 36 \lambda^4 + 32 \lambda^3 + 18 \lambda^2 - 16`,
-    :math:`c_3 = 6 \lambda^6 - 18 \lambda^4 + 18 \lambda^2 - 6` and
-    :math:`x = e^{\epsilon / kT} - 1` (T. Kihara, 1943; J. A. Barker and
-    D. Henderson, J. Chem. Phys. 47, 4714 (1967); Hirschfelder, Curtiss &
-    Bird, *Molecular Theory of Gases and Liquids*, 1954). Hard spheres (x = 0):
-    :math:`5 b_0^2 / 8`.
-
-    Examples
-    --------
-    >>> round(square_well_third_virial(1.5, 2.0), 5)
-    2.49181
-    """
-    width, x = _well_excess(width, kT, depth)
-    if width > 2.0:
-        raise ValueError(f"width must be in (1, 2] (Kihara's polynomial holds there); got {width}")
-    b0 = 2.0 * math.pi * _checks.positive(diameter, "diameter") ** 3 / 3.0
-    return b0**2 * sum(c * x**k for k, c in enumerate(_kihara_polynomial(width))) / 8.0
-
-
-def square_well_low_density(density, kT, width, diameter=1.0, depth=1.0):
-    r"""Z and the potential energy per particle of square-well spheres to second order in the density.
-
-    :math:`Z = 1 + B_2 \rho + B_3 \rho^2` and, from
-    :math:`\beta A_{ex} / N = B_2 \rho + B_3 \rho^2 / 2` with
-    :math:`dx / d\beta = \epsilon (1 + x)`,
-    :math:`U / N = \epsilon (1 + x) [\rho\, dB_2/dx + \frac{\rho^2}{2} dB_3/dx]`
-    (:func:`square_well_second_virial`, :func:`square_well_third_virial`;
-    1 < lambda <= 2). The terms left out are :math:`O(\rho^3)`: about 1e-4 at
-    :math:`\rho \sigma^3 = 0.05`.
-
-    Returns
-    -------
-    (float, float)
-        Z and U/N.
-
-    Examples
-    --------
-    >>> z, energy = square_well_low_density(0.05, 2.0, 1.5)
-    >>> round(z, 5), round(energy, 5)
-    (0.94961, -0.40222)
-    """
-    density = _checks.bounded(density, "density", 0.0)
-    width, x = _well_excess(width, kT, depth)
-    b2 = square_well_second_virial(width, kT, 3, diameter, depth)
-    b3 = square_well_third_virial(width, kT, diameter, depth)
-    b0 = 2.0 * math.pi * diameter**3 / 3.0
-    b2_slope = -b0 * (width**3 - 1.0)
-    b3_slope = b0**2 * sum(k * c * x ** (k - 1) for k, c in enumerate(_kihara_polynomial(width)) if k) / 8.0
-    z = 1.0 + b2 * density + b3 * density**2
-    return z, depth * (1.0 + x) * (density * b2_slope + 0.5 * density**2 * b3_slope)

@@ -165,7 +165,7 @@ def run_events(t, still, max_pair_collisions, max_events, t_stop, stall_limit, p
                     acc[ACC_STALE_EVENTS] += 1.0
                 else:
                     advance(p, j, t, geom, dim)
-                    if cross_well_edge(p, i, j, b, geom, params, bonds, bond_count, acc, t):
+                    if cross_well_edge(p, i, j, b, geom, params, bonds, bond_count, image, acc, t):
                         b[i, CHANGED_AT] = event
                         b[j, CHANGED_AT] = event
                     partner = j

@@ -30,9 +30,8 @@ from ..._jit import borrowing_inline_kernel as inline_kernel
 from .contacts import add_image_terms, add_transfer
 from .exact import sure_approach
 from .layout import (
-    ACC_BOUNCES, ACC_CAPTURES, ACC_ESCAPES, ACC_VIRIAL, ACC_WELL_PAIR_TIME, ACC_WELL_PAIRS, ACC_WELL_SINCE, G_BOX,
-    G_GRAVITY,
-    MASS, P_SCALE0, P_WELL_DEPTH, P_WELL_WIDTH, PREDICTED_AT, R, T, TARGET, V, X, well_target,
+    ACC_BOUNCES, ACC_CAPTURES, ACC_ENERGY_IMAGE, ACC_ESCAPES, ACC_VIRIAL, ACC_WELL_PAIR_TIME, ACC_WELL_PAIRS,
+    ACC_WELL_SINCE, G_BOX, G_GRAVITY, MASS, P_SCALE0, P_WELL_DEPTH, P_WELL_WIDTH, PREDICTED_AT, R, T, TARGET, V, X, well_target,
 )
 from .motion import half_box, minimum_image, pair_image
 from .neighbour_lists import drop_from_list
@@ -154,7 +153,7 @@ def first_event_in_wells(p, i, neighbours, neighbour_count, bonds, bond_count, g
 
 
 @inline_kernel
-def cross_well_edge(p, i, j, b, geom, params, bonds, bond_count, acc, t):
+def cross_well_edge(p, i, j, b, geom, params, bonds, bond_count, image, acc, t):
     """Resolve the event of i and j (both at time t) at the edge of their well; False if nothing happens.
 
     A pair outside that does not approach, or inside that approaches, is
@@ -162,6 +161,17 @@ def cross_well_edge(p, i, j, b, geom, params, bonds, bond_count, acc, t):
     velocity changes (see the module docstring), the record and the count
     of pairs inside follow, and the impulse joins the virial and the
     transport sums as a collision's does (:mod:`.contacts`).
+
+    The energy transfer of the heat sums is j's whole energy change: its
+    kinetic gain plus half the pair's change of potential energy (each
+    partner carries half of its pairs' energies), -epsilon/2 entering and
+    +epsilon/2 leaving, so that the energy's Helfand moment is that of
+    kinetic plus potential energy (Bannerman & Lue, J. Chem. Phys. 133,
+    124506 (2010)). Its potential part, -epsilon/2 sum_i n_i x_i over the
+    unwrapped positions x + image L (n_i the pairs i is in), is added where
+    the moment is read; it jumps by -epsilon/2 (x_i + x_j) at a capture,
+    whose part outside the transfer times the minimum image, the partners'
+    image counters times the box, is taken back in the image slots here.
     """
     dx = p[j, X] - p[i, X]
     dy = p[j, X + 1] - p[i, X + 1]
@@ -185,6 +195,7 @@ def cross_well_edge(p, i, j, b, geom, params, bonds, bond_count, acc, t):
     normal_squared = approach * approach / rr  # u_n^2
     barrier = 2.0 * params[P_WELL_DEPTH] / reduced  # u_n^2 a pair gains entering, or needs to leave
     # the change of u_n, written without the cancellation of sqrt(a) - sqrt(b)
+    half_depth = 0.5 * params[P_WELL_DEPTH]
     if not inside:
         change = -barrier / (math.sqrt(normal_squared + barrier) + math.sqrt(normal_squared))
         bonds[i, bond_count[i]] = j
@@ -193,20 +204,27 @@ def cross_well_edge(p, i, j, b, geom, params, bonds, bond_count, acc, t):
         bond_count[j] += 1
         _count_change(acc, t, 1.0)
         acc[ACC_CAPTURES] += 1.0
+        potential_gain = -half_depth  # j's half of the pair's potential energy change
     elif normal_squared > barrier:
         change = -barrier / (math.sqrt(normal_squared - barrier) + math.sqrt(normal_squared))
         drop_from_list(i, j, bonds, bond_count)
         drop_from_list(j, i, bonds, bond_count)
         _count_change(acc, t, -1.0)
         acc[ACC_ESCAPES] += 1.0
+        potential_gain = half_depth
     else:
         change = -2.0 * math.sqrt(normal_squared)
         acc[ACC_BOUNCES] += 1.0
+        potential_gain = 0.0
     push = reduced * change / distance  # the impulse on j is push r (< 0: towards i)
-    gain = push * (rx * p[j, V] + ry * p[j, V + 1] + rz * p[j, V + 2]) + 0.5 * push * push * rr / mj
+    kinetic_gain = push * (rx * p[j, V] + ry * p[j, V + 1] + rz * p[j, V + 2]) + 0.5 * push * push * rr / mj
+    gain = kinetic_gain + potential_gain
     add_transfer(acc, push, gain, rx, ry, rz)
     if rx != dx or ry != dy or rz != dz:
         add_image_terms(acc, push, gain, rx, ry, rz, dx, dy, dz, geom)
+    if potential_gain != 0.0:
+        for a in range(image.shape[1]):
+            acc[ACC_ENERGY_IMAGE + a] -= potential_gain * (image[i, a] + image[j, a]) * geom[G_BOX, a]
     share_i = push / mi
     share_j = push / mj
     p[i, V] -= share_i * rx
