@@ -106,9 +106,22 @@ def hard_sphere_system_rows(system, packing_fraction):
         ("kT", float(system.temperature())),
         ("pair collisions", int(system.collisions)),
         ("time", float(system.elapsed + system.time)),
-    ] + ([("square wells: width, depth, pairs inside", f"{system.well_width:g}, {system.well_depth:g}, "
-                                                          f"{system.well_pairs}")]
-         if getattr(system, "well_width", None) else [])
+    ] + ([("square wells: width, depth, pairs inside", f"{number_or_table(system.well_width)}, "
+                                                          f"{number_or_table(system.well_depth)}, {system.well_pairs}")]
+         if getattr(system, "well_width", None) is not None else [])
+
+
+def number_or_table(value) -> str:
+    """A number as %g; a matrix per species pair as its range.
+
+    Examples
+    --------
+    >>> number_or_table(1.5), number_or_table([[1.0, 0.0], [0.0, 2.0]])
+    ('1.5', '0 to 2 by species pair')
+    """
+    if np.ndim(value) == 0:
+        return f"{value:g}"
+    return f"{np.min(value):g} to {np.max(value):g} by species pair"
 
 
 def measurement_rows(measurement):

@@ -466,3 +466,15 @@ def test_square_wells_report_their_energy_and_temperature_and_resume_bit_for_bit
     # (D's lags are planned from the blocks a sampler starts with: 1 lag for 2 blocks, 2 for 4)
     lags = ("diffusion_coefficient", "diffusion_coefficient_error")
     assert physics(tmp_path / "part.json", lags) == physics(tmp_path / "whole.json", lags)
+
+
+def test_square_wells_with_transport_report_the_coefficients_without_hard_sphere_theory(tmp_path):
+    result = invoke("--particles", 108, "--equilibration", 25_000, "--collisions", 20_000, "--blocks", 2, "--seed", 5,
+                    "--well-width", 1.5, "--well-depth", 0.5, "--transport", "--summary", tmp_path / "s.json",
+                    "--out", tmp_path / "out")
+    assert result.exit_code == 0, result.output
+    assert "thermal conductivity" in result.output and "potential energy per particle" in result.output
+    summary = json.loads((tmp_path / "s.json").read_text())
+    assert summary["thermal_conductivity"] > 0 and summary["shear_viscosity"] > 0
+    assert not [key for key in summary if key.endswith("_enskog")]  # Enskog's theory is of hard spheres
+    assert (tmp_path / "out" / "helfand_moments.png").stat().st_size > 0

@@ -195,8 +195,8 @@ class ParticleState:
         :math:`\sum_i \tfrac12 m_i v_i^2 x_{ia}` over the stored positions x
         (with square wells the energy is kinetic plus potential, each particle
         carrying half of its pairs' -epsilon: the moment adds
-        :math:`-\tfrac{\epsilon}{2}\sum_i n_i x_{ia}` over the unwrapped
-        positions, n_i the pairs i is in, and the transfers at the wells'
+        :math:`-\tfrac{1}{2}\sum_i \epsilon_i x_{ia}` over the unwrapped
+        positions, epsilon_i the depths of the wells i is in summed, and the transfers at the wells'
         edges are the partners' whole energy changes)
         plus Erpenbeck's image terms the event loop accumulates: with
         periodic images the plain moment of positions jumps by the transfer
@@ -230,11 +230,11 @@ class ParticleState:
         dim = self.dim
         momentum = (stored[:9] + self.acc[_k.ACC_MOMENTUM_IMAGE : _k.ACC_MOMENTUM_IMAGE + 9]).reshape(3, 3)
         energy = stored[9:dim + 9] + self.acc[_k.ACC_ENERGY_IMAGE : _k.ACC_ENERGY_IMAGE + dim]
-        if self.well_width is not None:  # the potential energy's part: -epsilon/2 sum_i n_i x_i (unwrapped)
+        if self.well_width is not None:  # the potential energy's part: -1/2 sum_i (sum of i's depths) x_i (unwrapped)
             ahead = (self.time - self.p[:, _k.T])[:, None]
             unwrapped = (self.p[:, _k.X : _k.X + dim] + self.p[:, _k.V : _k.V + dim] * ahead
                          + self._image * self.box[:dim])
-            energy = energy - 0.5 * self.well_depth * (self.bond_count @ unwrapped)
+            energy = energy - 0.5 * (self._bound_energies() @ unwrapped)
         return momentum[:dim, :dim], energy
 
     def set_velocities(self, velocities):

@@ -38,7 +38,7 @@ def block_start(system) -> dict:
     (0, True)
     """
     return {"virial": system.virial, "collisions": system.collisions, "time": system.elapsed,
-            "shear": shear_totals(system), "thermostat": system.thermostat_energy, "wells": system.well_pair_time()}
+            "shear": shear_totals(system), "thermostat": system.thermostat_energy, "wells": system.well_energy_time()}
 
 
 def record_block(sampler, start, kT_after, kT, duration) -> None:
@@ -57,7 +57,7 @@ def record_block(sampler, start, kT_after, kT, duration) -> None:
     record["compressibility"].append(1.0 + virial / (dim * count * kT * duration))
     record["pressure"].append((count * kT + virial / (dim * duration)) / system.volume)
     record["frequency"].append(2.0 * (system.collisions - start["collisions"]) / (count * duration))
-    record["potential_energy"].append(-system.well_depth * (system.well_pair_time() - start["wells"]) / (count * duration))
+    record["potential_energy"].append(-(system.well_energy_time() - start["wells"]) / (count * duration))
     record["time"].append(system.elapsed - sampler.start_time)
     unwrapped = system.positions(unwrapped=True)
     axes = sampler._diffusion_axes()

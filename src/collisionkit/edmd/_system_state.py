@@ -25,7 +25,7 @@ from .._kernels.edmd.crossings import CROSSING_BASE
 from ._cell_crossings import ENGINE_CELLS, ENGINE_LISTS, crossing_grid
 from ._neighbour_lists import CELLS_PER_PARTICLE
 from ._system_setup import RESTITUTION_LAWS, aligned_zeros, next_power_of_two
-from ._wells import check_bonds, check_well_parameters
+from ._wells import check_bonds, check_well_parameters, upgraded_well_state
 
 CHECKPOINT_KIND = "hard-sphere-system"
 
@@ -42,13 +42,14 @@ class Checkpoints:
     # accumulator; 5: under shear, cells as high as the list radius and the pairs across the y faces listed within
     # a capsule; 6: under shear, anchors carried by the flow, the cells in its frame, the lists' times; 7: the
     # cell-crossing engine, its pending collisions and the engine's code; 8: square wells, their parameters, counts
-    # and the record of pairs inside)
-    STATE_FORMAT = 8
+    # and the record of pairs inside; 9: square wells per species pair, a table after the parameters, and the
+    # depths of the pairs inside summed)
+    STATE_FORMAT = 9
     # older formats a restore still reads: format 2 lacks the transport sums, which start at 0 (only their changes
     # over a measurement have a meaning, and a format-2 run measured none); formats 2 and 3 were never sheared, and
     # formats 4 and 5 are read only unsheared (their sheared lists and cells are kept differently); formats before 7
-    # ran the list engine; formats before 8 had no wells
-    READABLE_FORMATS = (2, 3, 4, 5, 6, 7, 8)
+    # ran the list engine; formats before 8 had no wells; format 8 had one well for every pair
+    READABLE_FORMATS = (2, 3, 4, 5, 6, 7, 8, 9)
 
     def state_dict(self):
         """Every array and number needed to continue the run bit for bit.
@@ -110,9 +111,13 @@ class Checkpoints:
                                   "sheared run")
         if written < cls.STATE_FORMAT:
             arrays["acc"] = _padded(arrays["acc"], (_k.ACC_SIZE_WITHOUT_TRANSPORT, _k.ACC_SIZE_WITHOUT_THERMOSTAT,
-                                                    _k.ACC_SIZE_WITHOUT_WELL), _k.ACC_SIZE)
+                                                    _k.ACC_SIZE_WITHOUT_WELL, _k.ACC_SIZE_WITHOUT_WELL_ENERGY),
+                                    _k.ACC_SIZE)
             arrays["params"] = _padded(arrays["params"], (_k.P_SIZE_WITHOUT_SHEAR, _k.P_SIZE_WITHOUT_FRAME,
-                                                          _k.P_SIZE_WITHOUT_WELL), _k.P_SIZE)
+                                                          _k.P_SIZE_WITHOUT_WELL, _k.P_SIZE_WITHOUT_WELL_TABLE),
+                                       _k.P_SIZE)
+            if arrays["params"].shape == (_k.P_SIZE,) and arrays["acc"].shape == (_k.ACC_SIZE,):
+                upgraded_well_state(arrays, written)
         check_state(arrays, {name: state[name] for name in (*cls._SCALARS, "restitution_law")})
         system = cls.__new__(cls)
         for name, array in arrays.items():
@@ -187,7 +192,8 @@ _COUNTERS = (_k.ACC_PAIR_COLLISIONS, _k.ACC_WALL_COLLISIONS, _k.ACC_LIST_REBUILD
 _OVERFLOWS = (_k.ACC_LIST_OVERFLOW, _k.ACC_CELL_OVERFLOW)
 _PARAMETERS = (_k.P_SCALE0, _k.P_GROWTH, _k.P_LAW, _k.P_LAW_SPEED, _k.P_LAW_EXPONENT, _k.P_ELASTIC_BELOW,
                _k.P_WALL_RESTITUTION, _k.P_SHELL, _k.P_LIST_SCALE, _k.P_SHEAR_RATE, _k.P_SHEAR_OFFSET, _k.P_SHEAR_SWEEP,
-               _k.P_SHEAR_REACH, _k.P_THERMOSTAT, _k.P_SHEAR_FRAME, _k.P_WELL_WIDTH, _k.P_WELL_DEPTH)
+               _k.P_SHEAR_REACH, _k.P_THERMOSTAT, _k.P_SHEAR_FRAME, _k.P_WELL_WIDTH, _k.P_WELL_DEPTH,
+               _k.P_WELL_SPECIES)
 _TRANSPORT_SUMS = tuple(range(_k.ACC_STRESS, _k.ACC_SIZE))
 _TOTALS = (_k.ACC_VIRIAL, _k.ACC_ENERGY_LOST, _k.ACC_WALL_IMPULSE, *_COUNTERS, *_OVERFLOWS, *_TRANSPORT_SUMS)
 
@@ -314,7 +320,8 @@ def _check_geometry(arrays, dim):
 
 def _check_parameters(arrays, law, p, geom, dim):
     """The collision law, radius scale and neighbour-list shell, each in its range."""
-    params = _array(arrays, "params", (_k.P_SIZE,))
+    params = _array(arrays, "params", (None,))  # (a well table may follow the P_SIZE parameters)
+    _require(params.ndim == 1 and params.size >= _k.P_SIZE, "params", f"must hold at least {_k.P_SIZE} entries")
     positive = params[[_k.P_SCALE0, _k.P_LAW_SPEED, _k.P_LAW_EXPONENT, _k.P_SHELL, _k.P_LIST_SCALE]]
     _require(np.isfinite(params[[*_PARAMETERS]]), "params", "must hold finite numbers")
     _require(positive > 0, "params", "must hold a radius scale, law speed and exponent, shell and list scale > 0")
@@ -323,7 +330,7 @@ def _check_parameters(arrays, law, p, geom, dim):
     _require(0 <= params[_k.P_WALL_RESTITUTION] <= 1, "params", "must hold a wall restitution in [0, 1]")
     _require(params[_k.P_LAW] == RESTITUTION_LAWS[law], "params", f"must hold the law of restitution_law {law!r}")
     _check_shear(params, geom, dim)
-    check_well_parameters(params)
+    check_well_parameters(params, p, arrays)
     _require(params[_k.P_LIST_SCALE] >= params[_k.P_SCALE0] * (1 - 1e-9), "params",
              "must hold a list scale >= the radius scale")
     _require(np.isfinite(p[:, _k.R]) & (p[:, _k.R] > 0), "p", "must hold radii > 0")

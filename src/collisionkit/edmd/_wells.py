@@ -22,16 +22,44 @@ MAX_WELL_WIDTH = 5.0
 RECORD_CHECK_ROWS = 4096
 
 
-def well_parameters(system, well_width, well_depth, growth, shear_rate, engine):
-    """Check the square-well arguments and store them in ``system.params``; None leaves hard spheres.
+def _pair_matrix(value, name, species_count):
+    """A number (a 0-d array) or a symmetric square matrix covering ``species_count`` species, checked."""
+    matrix = _checks.real_array(value, name)
+    if matrix.ndim == 0:
+        return matrix
+    if matrix.ndim != 2 or matrix.shape[0] != matrix.shape[1] or matrix.shape[0] < species_count:
+        raise ValueError(f"{name} must be a number or a square matrix covering the {species_count} species; got "
+                         f"shape {matrix.shape}")
+    if not np.array_equal(matrix, matrix.T):
+        raise ValueError(f"{name} must be a symmetric matrix (the well of a and b is that of b and a)")
+    return matrix
 
+
+def well_parameters(system, well_width, well_depth, growth, shear_rate, engine):
+    """Check the square-well arguments and store them in ``system.params`` (with the table); None: hard spheres.
+
+    ``well_width`` and ``well_depth`` are numbers (every pair) or symmetric
+    matrices over the species (a depth of 0: that pair has no well).
     Wells need fixed radii in the lists engine (no compression, shear or
     cell-crossing engine); gravity is allowed (relative motion stays straight).
     """
     if well_width is None:
         return
-    width = _checks.bounded(well_width, "well_width", 1.0, MAX_WELL_WIDTH, closed=(False, True))
-    depth = _checks.positive(well_depth, "well_depth")
+    species_count = int(system._species.max()) + 1
+    width, depth = _pair_matrix(well_width, "well_width", species_count), _pair_matrix(well_depth, "well_depth",
+                                                                                       species_count)
+    size = max([m.shape[0] for m in (width, depth) if m.ndim == 2], default=species_count)
+    width, depth = (np.full((size, size), float(m)) if m.ndim == 0 else m for m in (width, depth))
+    if width.shape != depth.shape:
+        raise ValueError(f"well_width and well_depth must cover the same species; got shapes {width.shape} and "
+                         f"{depth.shape}")
+    wrong = ~((width > 1.0) & (width <= MAX_WELL_WIDTH))  # (NaN is wrong too)
+    if np.any(wrong):
+        raise ValueError(f"well_width must be in (1, {MAX_WELL_WIDTH:g}]; got {width[wrong][0]}")
+    if not (np.all(np.isfinite(depth) & (depth >= 0.0)) and np.any(depth > 0.0)) or (np.ndim(well_depth) == 0
+                                                                                     and not depth[0, 0] > 0.0):
+        raise ValueError(f"well_depth must be finite and > 0 (a matrix: >= 0, 0 for a pair without a well, some "
+                         f"pair > 0); got {well_depth!r}")
     inelastic = bool(np.any(system.restitution != 1.0)) or system.params[_k.P_WALL_RESTITUTION] != 1.0
     clashes = [(growth != 0.0, "compression"), (shear_rate != 0.0, "shear_rate"), (engine == "cells", 'engine="cells"'),
                (inelastic, "restitution or wall_restitution below 1 (their energy balance is not kept with wells)")]
@@ -39,14 +67,26 @@ def well_parameters(system, well_width, well_depth, growth, shear_rate, engine):
         if clash:
             raise ValueError(f"well_width: square wells run without {name} (elastic, fixed radii, no shear, in the "
                              "lists engine)")
-    system.params[_k.P_WELL_WIDTH] = width
-    system.params[_k.P_WELL_DEPTH] = depth
+    system.params = np.concatenate([system.params[: _k.P_SIZE], np.stack([width, depth], axis=-1).ravel()])
+    system.params[_k.P_WELL_WIDTH] = float(np.max(width[depth > 0.0]))  # the lists reach the widest real well
+    system.params[_k.P_WELL_DEPTH] = float(np.max(depth))
+    system.params[_k.P_WELL_SPECIES] = width.shape[0]
 
 
-def pairs_inside(positions, radius, box, periodic, width):
-    """The pairs (i < j) closer than lambda (r_i + r_j), minimum images on the periodic axes: an (M, 2) array."""
+def well_table(params):
+    """The (S, S, 2) table of (lambda_ab, epsilon_ab) in ``params``; None for hard spheres."""
+    species = int(params[_k.P_WELL_SPECIES])
+    if species == 0:
+        return None
+    return params[_k.P_SIZE : _k.P_SIZE + 2 * species * species].reshape(species, species, 2)
+
+
+def pairs_inside(positions, radius, box, periodic, table, species):
+    """The pairs (i < j) closer than lambda_ab (r_i + r_j) with epsilon_ab > 0 (minimum images on the periodic
+    axes), an (M, 2) array; ``table`` the (S, S, 2) well table, ``species`` per particle."""
     positions = np.asarray(positions, dtype=float)
-    reach = width * 2.0 * float(np.max(radius))
+    widths, depths = table[..., 0], table[..., 1]
+    reach = float(np.max(widths)) * 2.0 * float(np.max(radius))
     # a walled axis as a period too long to wrap any pair within reach
     boxsize = np.where(periodic, box, box + 2.0 * reach + 1.0)
     wrapped = np.mod(positions, boxsize)
@@ -58,7 +98,9 @@ def pairs_inside(positions, radius, box, periodic, width):
     separation = positions[pairs[:, 1]] - positions[pairs[:, 0]]
     separation -= np.where(periodic, box * np.round(separation / box), 0.0)
     distance = np.sqrt(np.sum(separation**2, axis=1))
-    return pairs[distance < width * (radius[pairs[:, 0]] + radius[pairs[:, 1]])]
+    a, b = species[pairs[:, 0]], species[pairs[:, 1]]
+    inside = (distance < widths[a, b] * (radius[pairs[:, 0]] + radius[pairs[:, 1]])) & (depths[a, b] > 0.0)
+    return pairs[inside]
 
 
 def bond_arrays(pairs, count, row):
@@ -79,14 +121,41 @@ class SquareWells:
 
     @property
     def well_width(self):
-        """lambda, the wells' outer radius in contact distances; None for hard spheres."""
-        width = float(self.params[_k.P_WELL_WIDTH])
-        return width if width != 0.0 else None
+        """lambda, the wells' outer radius in contact distances: a number, or the (S, S) matrix per species pair
+        where they differ; None for hard spheres."""
+        return self._well_entry(0)
 
     @property
-    def well_depth(self) -> float:
-        """epsilon, the depth of the wells (0 for hard spheres)."""
-        return float(self.params[_k.P_WELL_DEPTH]) if self.well_width else 0.0
+    def well_depth(self):
+        """epsilon, the depth of the wells: a number, or the (S, S) matrix per species pair where they differ (0 for
+        hard spheres)."""
+        depth = self._well_entry(1)
+        return 0.0 if depth is None else depth
+
+    @property
+    def well_table(self):
+        """The (S, S, 2) table of (lambda_ab, epsilon_ab) per species pair (a copy); None for hard spheres.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from collisionkit.edmd import HardSphereSystem
+        >>> positions = [[1.0, 1.0], [4.0, 1.0], [7.0, 1.0]]
+        >>> depths = [[1.0, 0.0], [0.0, 2.0]]    # no well between the species
+        >>> system = HardSphereSystem(positions, np.zeros((3, 2)), 0.5, 10.0, species=[0, 1, 1], well_width=1.5,
+        ...                           well_depth=depths)
+        >>> system.well_table[..., 1].tolist(), system.well_width
+        ([[1.0, 0.0], [0.0, 2.0]], 1.5)
+        """
+        table = well_table(self.params)
+        return None if table is None else table.copy()
+
+    def _well_entry(self, column):
+        table = well_table(self.params)
+        if table is None:
+            return None
+        entries = table[..., column]
+        return float(entries[0, 0]) if np.all(entries == entries[0, 0]) else entries.copy()
 
     @property
     def well_pairs(self) -> int:
@@ -104,7 +173,7 @@ class SquareWells:
         return (None, None) if self.well_width is None else (self.bonds, self.bond_count)
 
     def potential_energy(self) -> float:
-        """-epsilon times the pairs inside their wells (0 for hard spheres).
+        """Minus the depths epsilon_ab of the pairs inside their wells, summed (0 for hard spheres).
 
         Examples
         --------
@@ -115,7 +184,17 @@ class SquareWells:
         >>> system.potential_energy()
         -2.0
         """
-        return -self.well_depth * self.well_pairs
+        return -0.5 * float(np.sum(self._bound_energies()))
+
+    def _bound_energies(self):
+        """Per particle (memory order): the depths of the wells it is inside, summed (zeros for hard spheres)."""
+        table = well_table(self.params)
+        if table is None:
+            return np.zeros(self.count)
+        species = self.book[:, _k.SPECIES].astype(np.intp)
+        recorded = np.arange(self.bonds.shape[1])[None, :] < self.bond_count[:, None]
+        depths = table[species[:, None], species[self.bonds], 1]
+        return np.sum(np.where(recorded, depths, 0.0), axis=1)
 
     def total_energy(self) -> float:
         """Kinetic plus potential energy (the wells', and under gravity -sum m g . x): conserved when elastic.
@@ -162,23 +241,47 @@ class SquareWells:
         since = float(self.acc[_k.ACC_WELL_SINCE])
         return float(self.acc[_k.ACC_WELL_PAIR_TIME]) + self.well_pairs * (self.time - since)
 
+    def well_energy_time(self) -> float:
+        """Time integral of the depths of the pairs inside their wells (minus the potential energy), start to now.
+
+        Over a stretch of time its change divided by the stretch and by N is
+        minus the mean potential energy per particle.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from collisionkit.edmd import HardSphereSystem
+        >>> positions = [[1.0, 1.0], [2.2, 1.0], [5.0, 5.0]]
+        >>> system = HardSphereSystem(positions, np.zeros((3, 2)), 0.5, 10.0, well_width=1.5, well_depth=0.5)
+        >>> system.run(time=2.0)
+        0
+        >>> system.well_energy_time()    # one pair of depth 0.5 inside (at rest) for 2 time units
+        1.0
+        """
+        since = float(self.acc[_k.ACC_WELL_SINCE])
+        return float(self.acc[_k.ACC_WELL_ENERGY_TIME]) + float(self.acc[_k.ACC_WELL_ENERGY]) * (self.time - since)
+
     def _restart_well_clock(self, shift):
-        """The clock moves back by ``shift``: carry the integral up to now and restart its time at 0."""
-        self.acc[_k.ACC_WELL_PAIR_TIME] += self.acc[_k.ACC_WELL_PAIRS] * (shift - self.acc[_k.ACC_WELL_SINCE])
+        """The clock moves back by ``shift``: carry the integrals up to now and restart their time at 0."""
+        elapsed = shift - self.acc[_k.ACC_WELL_SINCE]
+        self.acc[_k.ACC_WELL_PAIR_TIME] += self.acc[_k.ACC_WELL_PAIRS] * elapsed
+        self.acc[_k.ACC_WELL_ENERGY_TIME] += self.acc[_k.ACC_WELL_ENERGY] * elapsed
         self.acc[_k.ACC_WELL_SINCE] = 0.0
 
     def _start_wells(self):
         """The record of the pairs inside their wells at the start (none, a row of 1, for hard spheres)."""
         count = self.count
-        width = self.well_width
-        if width is None:
+        table = well_table(self.params)
+        if table is None:
             self.bonds, self.bond_count = np.zeros((count, 1), dtype=np.int32), np.zeros(count, dtype=np.int32)
             return
         radius = self.p[:, _k.R] * self.scale0
-        pairs = pairs_inside(self.p[:, : self.dim], radius, self.box, self.periodic, width)
+        species = self.book[:, _k.SPECIES].astype(np.intp)
+        pairs = pairs_inside(self.p[:, : self.dim], radius, self.box, self.periodic, table, species)
         row = max(1, int(np.bincount(pairs.ravel(), minlength=count).max(initial=0)))
         self.bonds, self.bond_count = bond_arrays(pairs, count, row)
         self.acc[_k.ACC_WELL_PAIRS] = len(pairs)
+        self.acc[_k.ACC_WELL_ENERGY] = float(np.sum(table[species[pairs[:, 0]], species[pairs[:, 1]], 1]))
 
     def _fit_bonds_to_lists(self):
         """Widen the record's rows to the neighbour lists' (a pair inside its well is listed: never more per row).
@@ -220,6 +323,10 @@ class SquareWells:
             if np.any(recorded & ~found.any(axis=2)):
                 raise CheckpointError("array 'bonds' must hold only pairs in each other's neighbour lists (a pair "
                                       "inside its well is always listed)")
+        recorded_energy = -self.potential_energy()
+        if abs(self.acc[_k.ACC_WELL_ENERGY] - recorded_energy) > 1e-9 * max(1.0, recorded_energy):
+            raise CheckpointError(f"array 'acc' must hold the depths of the pairs inside their wells summed as the "
+                                  f"record does ({recorded_energy!r})")
 
     def _check_wells(self, tolerance):
         """RuntimeError if the record of pairs inside disagrees with the distances now (particles synchronised).
@@ -227,20 +334,26 @@ class SquareWells:
         Pairs within ``tolerance`` (relative) of a well's edge may be on
         either side: their side is the record's.
         """
-        width = self.well_width
-        if width is None:
+        table = well_table(self.params)
+        if table is None:
             return
         positions = self.p[:, : self.dim]  # memory order, as the record
         radius = self.p[:, _k.R] * self.scale
-        box, periodic = self.box, self.periodic
-        inner = set(map(tuple, pairs_inside(positions, radius * (1 - tolerance), box, periodic, width).tolist()))
-        outer = set(map(tuple, pairs_inside(positions, radius * (1 + tolerance), box, periodic, width).tolist()))
+        box, periodic, species = self.box, self.periodic, self.book[:, _k.SPECIES].astype(np.intp)
+        inner = set(map(tuple, pairs_inside(positions, radius * (1 - tolerance), box, periodic, table,
+                                            species).tolist()))
+        outer = set(map(tuple, pairs_inside(positions, radius * (1 + tolerance), box, periodic, table,
+                                            species).tolist()))
         owners = np.repeat(np.arange(self.count), self.bond_count)
         partners = self.bonds[np.arange(self.bonds.shape[1])[None, :] < self.bond_count[:, None]]
         recorded = set(zip(np.minimum(owners, partners).tolist(), np.maximum(owners, partners).tolist()))
         if not inner <= recorded <= outer or len(recorded) != self.well_pairs:
             raise RuntimeError(f"the record of pairs inside their wells ({len(recorded)}, counted {self.well_pairs}) "
                                f"disagrees with their distances ({len(inner)} to {len(outer)} inside)")
+        counted, recorded_energy = float(self.acc[_k.ACC_WELL_ENERGY]), -self.potential_energy()
+        if abs(counted - recorded_energy) > 1e-9 * max(1.0, recorded_energy):
+            raise RuntimeError(f"the depths of the pairs inside their wells sum to {recorded_energy!r} by the record "
+                               f"but to {counted!r} by the engine's count")
 
 
 
@@ -251,20 +364,49 @@ def _refuse(name, what):
     raise CheckpointError(f"array {name!r} {what}")
 
 
-def check_well_parameters(params):
-    """A restored state's well width and depth: none (0, 0), or lambda in (1, MAX_WELL_WIDTH] and epsilon > 0.
+def check_well_parameters(params, p, arrays):
+    """A restored state's wells: none (no table, 0 width and depth), or a table over the species (those of the
+    bookkeeping records) of lambda_ab in (1, MAX_WELL_WIDTH] and epsilon_ab >= 0, symmetric, some epsilon > 0,
+    whose widest real well and deepest well the parameters hold.
 
     Wells also mean no growth or shear (as the constructor refuses).
     """
-    width, depth = params[_k.P_WELL_WIDTH], params[_k.P_WELL_DEPTH]
-    if width == 0.0:
-        if depth != 0.0:
-            _refuse("params", "must hold no well depth without a well width")
+    size = int(params[_k.P_WELL_SPECIES]) if np.isfinite(params[_k.P_WELL_SPECIES]) else -1
+    if size != params[_k.P_WELL_SPECIES] or size < 0 or params.size != _k.P_SIZE + 2 * size * size:
+        _refuse("params", f"must hold a well table of S x S pairs after its {_k.P_SIZE} entries (S = "
+                f"{params[_k.P_WELL_SPECIES]!r}; {params.size} entries in all)")
+    if size == 0:
+        if params[_k.P_WELL_WIDTH] != 0.0 or params[_k.P_WELL_DEPTH] != 0.0:
+            _refuse("params", "must hold no well width or depth without a well table")
         return
-    if not (1.0 < width <= MAX_WELL_WIDTH and 0.0 < depth < np.inf):
-        _refuse("params", f"must hold a well width in (1, {MAX_WELL_WIDTH:g}] and a well depth > 0")
+    table = well_table(params)
+    width, depth = table[..., 0], table[..., 1]
+    if not (np.all((width > 1.0) & (width <= MAX_WELL_WIDTH)) and np.all(np.isfinite(depth) & (depth >= 0.0))
+            and np.any(depth > 0.0) and np.array_equal(table, table.transpose(1, 0, 2))):
+        _refuse("params", f"must hold a symmetric well table of widths in (1, {MAX_WELL_WIDTH:g}] and depths >= 0, "
+                "some > 0")
+    if params[_k.P_WELL_WIDTH] != np.max(width[depth > 0.0]) or params[_k.P_WELL_DEPTH] != np.max(depth):
+        _refuse("params", "must hold the well table's widest well and deepest depth")
+    book = arrays["book"]
+    if book.ndim == 2 and book.shape == (p.shape[0], 8) and np.any(book[:, _k.SPECIES] >= size):
+        _refuse("book", f"must hold species the well table covers (below {size})")
     if params[_k.P_GROWTH] != 0.0 or params[_k.P_SHEAR_RATE] != 0.0:
         _refuse("params", "must hold no growth or shear with square wells")
+
+
+def upgraded_well_state(arrays, written):
+    """The wells of a format-8 state (one width and depth in the parameters, counted pairs) in this format's form:
+    a table over the restitution matrix's species and the depths' sums (depth times the counts)."""
+    params, acc = arrays["params"], arrays["acc"]
+    width, depth = params[_k.P_WELL_WIDTH], params[_k.P_WELL_DEPTH]
+    if written >= 9 or width == 0.0:
+        return
+    species = arrays["restitution"].shape[0]
+    table = np.tile(np.array([width, depth]), species * species)
+    params[_k.P_WELL_SPECIES] = species
+    arrays["params"] = np.concatenate([params, table])
+    acc[_k.ACC_WELL_ENERGY] = depth * acc[_k.ACC_WELL_PAIRS]
+    acc[_k.ACC_WELL_ENERGY_TIME] = depth * acc[_k.ACC_WELL_PAIR_TIME]
 
 
 def check_bonds(arrays, count, wells, pairs_inside_count):

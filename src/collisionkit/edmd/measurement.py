@@ -309,9 +309,10 @@ class Sampler:
         kT_after = system.temperature()
         duration = system.elapsed - start["time"]
         if system.well_width is not None and duration > 0 and not np.any(system.geom[_k.G_GRAVITY] != 0.0):
-            # exactly: K = E + epsilon n(t) with E conserved and n the pairs inside, whose integral the engine keeps
+            # exactly: K = E - U(t) with E conserved and -U the depths of the pairs inside, whose integral the engine
+            # keeps
             # (under gravity the fall changes K too: the mean of the block's ends, as for hard spheres)
-            area = system.total_energy() * duration + system.well_depth * (system.well_pair_time() - start["wells"])
+            area = system.total_energy() * duration + (system.well_energy_time() - start["wells"])
         # the time average of kT: under shear or with wells from the energy's integral, else the mean of the block's ends
         kT = 0.5 * (kT_before + kT_after) if area is None or not duration > 0 else 2.0 * area / (dim * count * duration)
         if not (duration > 0.0 and kT > 0.0):

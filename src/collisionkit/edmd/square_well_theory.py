@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
 from scipy import integrate
 
 from . import _checks
@@ -20,6 +21,7 @@ __all__ = [
     "square_well_deflection",
     "square_well_dilute_transport",
     "square_well_low_density",
+    "square_well_mixture_second_virial",
     "square_well_second_virial",
     "square_well_third_virial",
 ]
@@ -53,6 +55,44 @@ def square_well_second_virial(width, kT, dim=3, diameter=1.0, depth=1.0):
     diameter = _checks.positive(diameter, "diameter")
     b0 = 2.0 * math.pi * diameter**3 / 3.0 if dim == 3 else math.pi * diameter**2 / 2.0
     return b0 * (1.0 - x * (width**dim - 1.0))
+
+
+def square_well_mixture_second_virial(fractions, kT, widths, depths, diameters=1.0, dim=3):
+    r"""Second virial coefficient of a square-well mixture: :math:`B_2 = \sum_{ab} x_a x_b B_2^{ab}`, exact.
+
+    :math:`B_2^{ab}` is :func:`square_well_second_virial` of the pair's
+    contact distance sigma_ab (``diameters``, e.g. r_a + r_b), width
+    lambda_ab and depth epsilon_ab (a depth of 0: hard cores only); each of
+    ``widths``, ``depths``, ``diameters`` is a number or a symmetric (S, S)
+    matrix, ``fractions`` the S mole fractions (normalised here). Then
+    :math:`Z = 1 + B_2 \rho + O(\rho^2)` (McQuarrie, *Statistical
+    Mechanics*, sec. 12-6).
+
+    Examples
+    --------
+    >>> one = square_well_second_virial(1.5, 2.0)
+    >>> bool(abs(square_well_mixture_second_virial([0.3, 0.7], 2.0, 1.5, 1.0) - one) < 1e-12)   # alike species
+    True
+    >>> round(square_well_mixture_second_virial([0.5, 0.5], 2.0, 1.5, [[1.0, 0.0], [0.0, 1.0]]), 5)  # no A-B well
+    0.48096
+    """
+    fractions = np.asarray(fractions, dtype=float)
+    if fractions.ndim != 1 or fractions.size < 1 or not np.all(np.isfinite(fractions) & (fractions >= 0)) \
+            or not fractions.sum() > 0:
+        raise ValueError(f"fractions must be a sequence of mole fractions >= 0, some > 0; got {fractions!r}")
+    fractions = fractions / fractions.sum()
+    size = fractions.size
+    widths, depths, diameters = (np.broadcast_to(np.asarray(value, dtype=float), (size, size))
+                                 for value in (widths, depths, diameters))
+    total = 0.0
+    for a in range(size):
+        for b in range(size):
+            if depths[a, b] == 0.0:  # hard cores only: b0, whatever the well's width
+                pair = (2.0 * math.pi * diameters[a, b] ** 3 / 3.0 if dim == 3 else math.pi * diameters[a, b] ** 2 / 2.0)
+            else:
+                pair = square_well_second_virial(widths[a, b], kT, dim, diameters[a, b], depths[a, b])
+            total += fractions[a] * fractions[b] * pair
+    return total
 
 
 def _kihara_polynomial(width):

@@ -19,7 +19,7 @@ import math
 import numpy as np
 
 from .._kernels import edmd as _k
-from .._repr import hard_sphere_system_rows, html_table
+from .._repr import hard_sphere_system_rows, html_table, number_or_table
 from . import _checks, _system_run, _system_setup
 from ._cell_crossings import ENGINE_LISTS, CellCrossings
 from ._neighbour_lists import NeighbourLists
@@ -221,17 +221,18 @@ class HardSphereSystem(SystemParameters, ParticleState, NeighbourLists, CellCros
         0.5 for discs up to 32000 particles, 0.22 and 0.28 at 10^6
         (:func:`~collisionkit.edmd._cell_crossings.cells_below_packing`),
         else "lists". The choice is :attr:`engine`.
-    well_width : float, optional
+    well_width : float or array_like, shape (S, S), optional
         Square wells (default None: hard spheres): each pair attracts with
         depth ``well_depth`` from contact out to ``well_width`` times its
         contact distance, lambda in (1, 5]; the potential energy is
         -epsilon per pair inside (:meth:`potential_energy`), conserved with
         the kinetic energy event by event (Alder & Wainwright, J. Chem.
-        Phys. 31, 459 (1959)). Needs elastic contacts (restitution and
-        wall_restitution 1), fixed radii and no shear (the lists engine);
-        gravity is allowed.
-    well_depth : float, optional
-        epsilon > 0 (default 1), in the units of m v^2.
+        Phys. 31, 459 (1959)). A symmetric matrix gives lambda per species
+        pair. Needs elastic contacts (restitution and wall_restitution 1),
+        fixed radii and no shear (the lists engine); gravity is allowed.
+    well_depth : float or array_like, shape (S, S), optional
+        epsilon > 0 (default 1), in the units of m v^2; a symmetric matrix
+        per species pair, >= 0 (0: that pair has no well, only its core).
 
     Examples
     --------
@@ -290,7 +291,7 @@ class HardSphereSystem(SystemParameters, ParticleState, NeighbourLists, CellCros
         shear_parameters(self, shear_rate, thermostat)
         well_parameters(self, well_width, well_depth, _growth, self.shear_rate, engine)
         if neighbour_shell is None and self.well_width is not None:
-            neighbour_shell = well_shell(radius * float(_scale), box, self.well_width)
+            neighbour_shell = well_shell(radius * float(_scale), box, float(self.params[_k.P_WELL_WIDTH]))
         elif neighbour_shell is None:
             homogeneous = _growth == 0.0 and not np.any(gravity)
             neighbour_shell = default_shell(radius * float(_scale), box, homogeneous)
@@ -464,7 +465,8 @@ class HardSphereSystem(SystemParameters, ParticleState, NeighbourLists, CellCros
         kind = "spheres" if self.dim == 3 else "discs"
         return (
             f"HardSphereSystem({self.count} {kind}, eta={self.packing_fraction:.4f}, "
-            + (f"well_width={self.well_width:g}, well_depth={self.well_depth:g}, " if self.well_width else "")
+            + (f"well_width={number_or_table(self.well_width)}, well_depth={number_or_table(self.well_depth)}, "
+               if self.well_width is not None else "")
             + f"collisions={self.collisions}, time={self.elapsed + self.time:.6g})"
         )
 

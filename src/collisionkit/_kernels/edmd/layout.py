@@ -55,15 +55,18 @@ P_SHEAR_SWEEP = 11  # clock time of the next sweep: the frame time moves there a
 P_SHEAR_REACH = 12
 P_THERMOSTAT = 13  # kT the peculiar velocities are rescaled to under shear (0: no thermostat)
 P_SHEAR_FRAME = 14  # the frame time t_f: clock time at which the co-moving frame coincides with the lab frame
-# square wells (.wells): a pair attracts with depth P_WELL_DEPTH between contact and P_WELL_WIDTH times contact
-P_WELL_WIDTH = 15  # lambda > 1, the well's outer radius in contact distances (0: hard spheres, no well)
-P_WELL_DEPTH = 16  # epsilon > 0, the energy a pair gains entering its well
-P_SIZE = 17
+# square wells (.wells): a pair of species a and b attracts with depth epsilon_ab between contact and lambda_ab
+# times contact; the table of (lambda_ab, epsilon_ab) follows the parameters (well_slot), S x S pairs of entries
+P_WELL_WIDTH = 15  # the widest lambda > 1 in the table (the lists' reach; 0: hard spheres, no well)
+P_WELL_DEPTH = 16  # the deepest epsilon > 0 in the table
+P_WELL_SPECIES = 17  # S, the species the table covers (0: no table)
+P_SIZE = 18
 # the parameter array's size before the shear entries (checkpoints of engine formats 2 and 3), before the frame time
 # (format 5)
 P_SIZE_WITHOUT_SHEAR = 9
 P_SIZE_WITHOUT_FRAME = 14
 P_SIZE_WITHOUT_WELL = 15
+P_SIZE_WITHOUT_WELL_TABLE = 17  # format 8: one width and depth for every pair
 # the strain G (t - t_f) at which the frame time moves on (a sweep): the cells are scanned (1 + strain) list radii
 # along x around a particle's anchor
 SHEAR_SWEEP_STRAIN = 0.25
@@ -101,7 +104,11 @@ ACC_WELL_SINCE = 34
 ACC_CAPTURES = 35  # a pair entered its well
 ACC_ESCAPES = 36  # a pair left its well
 ACC_BOUNCES = 37  # a pair too slow to leave was turned back at the well's edge
-ACC_SIZE = 38
+ACC_WELL_ENERGY = 38  # the depths of the pairs inside summed (minus the potential energy)
+ACC_WELL_ENERGY_TIME = 39  # its time integral up to ACC_WELL_SINCE
+ACC_SIZE = 40
+# the accumulator's size before the wells' energy slots (checkpoints of engine format 8)
+ACC_SIZE_WITHOUT_WELL_ENERGY = 38
 # the accumulator's size before the square-well slots (checkpoints of engine formats 4 to 7)
 ACC_SIZE_WITHOUT_WELL = 32
 # the accumulator's size before the thermostat slot (checkpoints of engine format 3)
@@ -166,3 +173,9 @@ def well_target(partner):
     """TARGET code of an event at the edge of the square well shared with ``partner``; its own inverse."""
     return WELL_TARGET_BASE - partner
 
+
+
+@kernel
+def well_slot(species, a, b):
+    """Index in the parameters of lambda_ab (epsilon_ab follows) for a table of ``species`` species."""
+    return P_SIZE + 2 * (a * species + b)

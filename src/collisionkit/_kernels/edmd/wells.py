@@ -1,8 +1,8 @@
 """Square wells: a pair's events at the edge of its well, and the record of which pairs are inside.
 
 The pair potential is a hard core at the contact distance sigma and a well
-of depth epsilon out to lambda sigma (``P_WELL_WIDTH`` lambda,
-``P_WELL_DEPTH`` epsilon): u(r) = inf for r < sigma, -epsilon for
+of depth epsilon out to lambda sigma (per species pair: the table after
+the parameters, :func:`.layout.well_slot`): u(r) = inf for r < sigma, -epsilon for
 sigma <= r < lambda sigma, 0 beyond (Alder & Wainwright, J. Chem. Phys. 31,
 459 (1959); the events as in DynamO, Bannerman, Sargant & Lue, J. Comput.
 Chem. 32, 3329 (2011)). At the well's edge only the normal relative
@@ -30,8 +30,9 @@ from ..._jit import borrowing_inline_kernel as inline_kernel
 from .contacts import add_image_terms, add_transfer
 from .exact import sure_approach
 from .layout import (
-    ACC_BOUNCES, ACC_CAPTURES, ACC_ENERGY_IMAGE, ACC_ESCAPES, ACC_VIRIAL, ACC_WELL_PAIR_TIME, ACC_WELL_PAIRS,
-    ACC_WELL_SINCE, G_BOX, G_GRAVITY, MASS, P_SCALE0, P_WELL_DEPTH, P_WELL_WIDTH, PREDICTED_AT, R, T, TARGET, V, X, well_target,
+    ACC_BOUNCES, ACC_CAPTURES, ACC_ENERGY_IMAGE, ACC_ESCAPES, ACC_VIRIAL, ACC_WELL_ENERGY, ACC_WELL_ENERGY_TIME,
+    ACC_WELL_PAIR_TIME, ACC_WELL_PAIRS, ACC_WELL_SINCE, G_BOX, G_GRAVITY, MASS, P_SCALE0, P_WELL_SPECIES,
+    PREDICTED_AT, R, SPECIES, T, TARGET, V, X, well_slot, well_target,
 )
 from .motion import half_box, minimum_image, pair_image
 from .neighbour_lists import drop_from_list
@@ -54,11 +55,22 @@ def bonded(i, j, bonds, bond_count):
 
 
 @inline_kernel
-def _count_change(acc, t, change):
-    """Add ``change`` (+-1) to the pairs inside, first carrying their time integral up to time t."""
-    acc[ACC_WELL_PAIR_TIME] += acc[ACC_WELL_PAIRS] * (t - acc[ACC_WELL_SINCE])
+def pair_well(params, b, i, j):
+    """(lambda, epsilon) of the pair i, j: the table's entry for their species (epsilon 0: no well)."""
+    slot = well_slot(int(params[P_WELL_SPECIES]), int(b[i, SPECIES]), int(b[j, SPECIES]))
+    return params[slot], params[slot + 1]
+
+
+@inline_kernel
+def _count_change(acc, t, change, depth):
+    """Add ``change`` (+-1) to the pairs inside and ``change * depth`` to their depths, first carrying both time
+    integrals up to time t."""
+    elapsed = t - acc[ACC_WELL_SINCE]
+    acc[ACC_WELL_PAIR_TIME] += acc[ACC_WELL_PAIRS] * elapsed
+    acc[ACC_WELL_ENERGY_TIME] += acc[ACC_WELL_ENERGY] * elapsed
     acc[ACC_WELL_SINCE] = t
     acc[ACC_WELL_PAIRS] += change
+    acc[ACC_WELL_ENERGY] += change * depth
 
 
 @inline_kernel
@@ -84,7 +96,7 @@ def time_to_leave(uu, ru, outside):
 
 
 @inline_kernel
-def first_event_in_wells(p, i, neighbours, neighbour_count, bonds, bond_count, geom, scale, width, horizon):
+def first_event_in_wells(p, i, b, neighbours, neighbour_count, bonds, bond_count, geom, params, horizon):
     """Earliest event of i (at its own time) with its list before ``horizon``: a core contact or a well's edge.
 
     Returns (time from i's time, partner, True for the edge of a well), or
@@ -93,9 +105,11 @@ def first_event_in_wells(p, i, neighbours, neighbour_count, bonds, bond_count, g
     if it comes at all (:func:`.prediction.contact_before`), or at the
     edge on its way out: the later root of ``|r + u tau| = lambda sigma``
     (:func:`time_to_leave`). A pair outside can only
-    enter: the contact time at lambda sigma.
+    enter: the contact time at lambda sigma. A pair whose species share no
+    well (epsilon 0) only meets at the core.
     """
     t = p[i, T]
+    scale = params[P_SCALE0]
     xi, yi, zi = p[i, X], p[i, X + 1], p[i, X + 2]
     vxi, vyi, vzi = p[i, V], p[i, V + 1], p[i, V + 2]
     ri = p[i, R]
@@ -129,6 +143,12 @@ def first_event_in_wells(p, i, neighbours, neighbour_count, bonds, bond_count, g
             uy += 2.0 * gy * dt
             uz += 2.0 * gz * dt
         sigma = (ri + p[j, R]) * scale
+        width, depth = pair_well(params, b, i, j)
+        if depth == 0.0:
+            tau = contact_before(rx, ry, rz, ux, uy, uz, sigma, best)
+            if tau < best:
+                best, partner, edge = tau, j, False
+            continue
         reach = sigma * width
         outside = rx * rx + ry * ry + rz * rz - reach * reach
         inside = outside < 0.0
@@ -193,23 +213,24 @@ def cross_well_edge(p, i, j, b, geom, params, bonds, bond_count, image, acc, t):
     rr = rx * rx + ry * ry + rz * rz
     distance = math.sqrt(rr)
     normal_squared = approach * approach / rr  # u_n^2
-    barrier = 2.0 * params[P_WELL_DEPTH] / reduced  # u_n^2 a pair gains entering, or needs to leave
+    depth = pair_well(params, b, i, j)[1]
+    barrier = 2.0 * depth / reduced  # u_n^2 a pair gains entering, or needs to leave
     # the change of u_n, written without the cancellation of sqrt(a) - sqrt(b)
-    half_depth = 0.5 * params[P_WELL_DEPTH]
+    half_depth = 0.5 * depth
     if not inside:
         change = -barrier / (math.sqrt(normal_squared + barrier) + math.sqrt(normal_squared))
         bonds[i, bond_count[i]] = j
         bond_count[i] += 1
         bonds[j, bond_count[j]] = i
         bond_count[j] += 1
-        _count_change(acc, t, 1.0)
+        _count_change(acc, t, 1.0, depth)
         acc[ACC_CAPTURES] += 1.0
         potential_gain = -half_depth  # j's half of the pair's potential energy change
     elif normal_squared > barrier:
         change = -barrier / (math.sqrt(normal_squared - barrier) + math.sqrt(normal_squared))
         drop_from_list(i, j, bonds, bond_count)
         drop_from_list(j, i, bonds, bond_count)
-        _count_change(acc, t, -1.0)
+        _count_change(acc, t, -1.0, depth)
         acc[ACC_ESCAPES] += 1.0
         potential_gain = half_depth
     else:
@@ -279,8 +300,8 @@ def predict_in_wells(p, i, b, anchor_time, neighbours, neighbour_count, bonds, b
     shear; under gravity the pairs' relative motion is still straight.
     """
     boundary, target = predict_boundary(p, i, b, anchor_time, geom, dim, params)
-    pair, partner, edge = first_event_in_wells(p, i, neighbours, neighbour_count, bonds, bond_count, geom,
-                                               params[P_SCALE0], params[P_WELL_WIDTH], boundary)
+    pair, partner, edge = first_event_in_wells(p, i, b, neighbours, neighbour_count, bonds, bond_count, geom, params,
+                                               boundary)
     b[i, PREDICTED_AT] = event
     if partner >= 0:
         b[i, TARGET] = well_target(partner) if edge else partner
