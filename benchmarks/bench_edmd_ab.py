@@ -33,10 +33,13 @@ def load_copy(source: Path, name: str, scratch: Path):
     return importlib.import_module(f"{name}.edmd")
 
 
-def fcc_system(edmd, particles: int, eta: float):
-    """An FCC start of about ``particles`` spheres (radius 0.5) at packing fraction ``eta``, run 5 N collisions."""
+def fcc_system(edmd, particles: int, eta: float, well_width: float | None = None):
+    """An FCC start of about ``particles`` spheres (radius 0.5) at packing fraction ``eta`` (with square wells of
+    depth kT if ``well_width`` is given), run 5 N collisions."""
     positions, box = edmd.lattice("fcc", round((particles / 4) ** (1 / 3)), eta)
-    system = edmd.HardSphereSystem(positions, edmd.maxwell_boltzmann(np.ones(len(positions)), 3, seed=1), 0.5, box)
+    wells = {} if well_width is None else {"well_width": well_width, "well_depth": 1.0}
+    system = edmd.HardSphereSystem(positions, edmd.maxwell_boltzmann(np.ones(len(positions)), 3, seed=1), 0.5, box,
+                                   **wells)
     system.run(collisions=5 * len(positions))
     return system
 
@@ -55,10 +58,12 @@ def alternate(systems: dict, chunk: int, rounds: int) -> dict:
 
 def table(seconds: dict, chunk: int, args, load: tuple) -> str:
     base = next(iter(seconds))
-    lines = [f"# EDMD A/B in one process: N ~ {args.particles}, eta {args.eta}",
+    wells = "" if args.well_width is None else f" --well-width {args.well_width}"
+    lines = [f"# EDMD A/B in one process: N ~ {args.particles}, eta {args.eta}"
+             + ("" if args.well_width is None else f", square wells lambda {args.well_width}, depth kT"),
              "",
              f"Command: `python benchmarks/bench_edmd_ab.py --baseline {' '.join(args.baseline)} --particles "
-             f"{args.particles} --eta {args.eta} --chunk {chunk} --rounds {args.rounds}`; load average "
+             f"{args.particles} --eta {args.eta}{wells} --chunk {chunk} --rounds {args.rounds}`; load average "
              f"{load[0]:.2f} {load[1]:.2f} {load[2]:.2f} after.",
              "",
              f"| code | ns per collision, median (fastest round) | ratio to {base}: median (quartiles) |",
@@ -79,6 +84,8 @@ def main() -> None:
     parser.add_argument("--eta", type=float, default=0.45)
     parser.add_argument("--chunk", type=float, default=2e5, help="collisions per turn")
     parser.add_argument("--rounds", type=int, default=40)
+    parser.add_argument("--well-width", type=float, default=None,
+                        help="square wells of this width and depth kT (both revisions must have them)")
     parser.add_argument("--output", default=None, help="stem of the result files in benchmarks/results")
     args = parser.parse_args()
     if args.rounds < 2 or args.chunk < 1 or args.particles < 4 or not 0 < args.eta < 0.74:
@@ -93,7 +100,7 @@ def main() -> None:
         systems = {}
         for number, (label, source) in enumerate(sources.items()):
             systems[label] = fcc_system(load_copy(source, f"collisionkit_ab{number}", scratch), args.particles,
-                                        args.eta)
+                                        args.eta, args.well_width)
         seconds = alternate(systems, chunk, args.rounds)
     text = table(seconds, chunk, args, os.getloadavg())
     stem = args.output or f"edmd_ab_{args.particles}"

@@ -107,11 +107,27 @@ def test_the_mixture_checkpoint_resumes_bit_for_bit(tmp_path):
     np.testing.assert_array_equal(copy.well_table[..., 1], DEPTHS)
 
 
-def test_a_format_8_square_well_state_is_read_as_a_table_of_one_well():
+def test_a_recorded_pair_whose_species_share_no_well_is_refused():
+    """Species 0 and 2 share no well (epsilon_02 = 0): a record holding such a pair is damaged."""
+    state = {name: np.array(value) for name, value in _mixture().state_dict().items()}
+    species = state["book"][:, kernels.SPECIES].astype(int)
+    i = int(np.flatnonzero(species == 0)[0])
+    j = next(k for k in state["neighbours"][i, : state["neighbour_count"][i]] if species[k] == 2)
+    for owner, partner in ((i, j), (j, i)):
+        state["bonds"][owner, state["bond_count"][owner]] = partner
+        state["bond_count"][owner] += 1
+    state["acc"][kernels.ACC_WELL_PAIRS] += 1
+    with pytest.raises(CheckpointError, match="share a well"):
+        edmd.HardSphereSystem.from_state_dict(state)
+
+
+@pytest.mark.parametrize("species", [None, [0, 1]])
+def test_a_format_8_square_well_state_is_read_as_a_table_of_one_well(species):
     """Format 8 kept one width and depth in the parameters and counted pairs: read, it continues bit for bit."""
     positions, box = edmd.lattice("fcc", 3, 0.3)
+    labels = None if species is None else np.arange(108) % 2
     system = edmd.HardSphereSystem(positions, edmd.maxwell_boltzmann(np.ones(108), 3, seed=3), 0.5, box,
-                                   well_width=1.5, well_depth=0.7)
+                                   species=labels, well_width=1.5, well_depth=0.7)
     system.run(collisions=2000)
     state = system.state_dict()
     old = dict(state) | {"format": np.asarray(8), "params": state["params"][: kernels.P_SIZE_WITHOUT_WELL_TABLE],
@@ -124,9 +140,11 @@ def test_a_format_8_square_well_state_is_read_as_a_table_of_one_well():
 
 
 @pytest.mark.parametrize(("change", "message"), [
-    (lambda s: s["params"].__setitem__(kernels.P_SIZE + 3, 9.0), "well table"),  # lambda_01 != lambda_10
+    (lambda s: s["params"].__setitem__(kernels.P_SIZE + 2, 1.25), "well table"),  # lambda_01 != lambda_10
+    (lambda s: s["params"].__setitem__(kernels.P_SIZE + 3, 0.6), "well table"),  # epsilon_01 != epsilon_10
     (lambda s: s["params"].__setitem__(kernels.P_WELL_SPECIES, 2.0), "well table of S x S"),
     (lambda s: s["acc"].__setitem__(kernels.ACC_WELL_ENERGY, s["acc"][kernels.ACC_WELL_ENERGY] + 0.5), "depths"),
+    (lambda s: s["params"].__setitem__(kernels.P_WELL_WIDTH, 1.6), "widest well"),
 ])
 def test_a_damaged_mixture_state_is_refused(change, message):
     state = {name: np.array(value) for name, value in _mixture().state_dict().items()}
@@ -143,11 +161,34 @@ def test_a_damaged_mixture_state_is_refused(change, message):
     ({"well_depth": [[0.0, 0.0], [0.0, 0.0]]}, "some pair > 0"),
     ({"well_depth": [[1.0, 0.0], [0.0, np.nan]]}, "well_depth must be"),
     ({"well_width": [[1.5, 1.2], [1.2, 1.5]], "well_depth": np.ones((3, 3))}, "cover the same species"),
+    ({"well_depth": np.diag([0.0, 0.0, 1.0])}, "species present"),  # the only well is species 2's, and none is here
 ])
 def test_bad_well_tables_are_refused_by_name(options, message):
     arguments = {"well_width": 1.5, "well_depth": 1.0} | options
     with pytest.raises(ValueError, match=message):
         edmd.HardSphereSystem([[1.0, 1.0], [4.0, 4.0]], np.zeros((2, 2)), 0.5, 10.0, species=[0, 1], **arguments)
+
+
+def test_an_absent_species_wide_well_does_not_widen_the_lists():
+    """Species 2 (wide wells) is in the table but not in the box: the lists reach the present species' 1.2."""
+    widths = [[1.2, 1.2, 3.0], [1.2, 1.2, 3.0], [3.0, 3.0, 3.0]]
+    positions, box = edmd.lattice("fcc", 3, 0.3)
+    system = edmd.HardSphereSystem(positions, edmd.maxwell_boltzmann(np.ones(108), 3, seed=1), 0.5, box,
+                                   species=np.arange(108) % 2, well_width=widths, well_depth=1.0)
+    assert system.params[kernels.P_WELL_WIDTH] == 1.2
+
+
+@pytest.mark.parametrize(("arguments", "message"), [
+    ({"kT": -1.0}, "kT"),
+    ({"dim": 7}, "dim"),
+    ({"diameters": -1.0}, "diameters"),
+    ({"depths": [[1.0, 0.2], [0.3, 1.0]]}, "symmetric"),
+    ({"widths": 0.9}, "widths > 1"),
+])
+def test_the_mixture_second_virial_refuses_bad_input(arguments, message):
+    options = {"kT": 1.0, "widths": 1.5, "depths": [[1.0, 0.0], [0.0, 0.0]]} | arguments
+    with pytest.raises(ValueError, match=message):
+        edmd.square_well_mixture_second_virial([0.5, 0.5], **options)
 
 
 def test_the_mixture_second_virial_is_the_fraction_weighted_pair_sum():

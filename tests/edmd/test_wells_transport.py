@@ -45,14 +45,19 @@ def test_the_helfand_moments_change_alike_from_any_origin(dim):
     np.testing.assert_allclose(momentum_shifted, momentum, rtol=0, atol=1e-8 * np.abs(momentum).max())
 
 
-def test_the_energy_moment_of_a_resting_bound_pair_is_still():
-    """A pair at rest inside its well, alone: no flux, so the moment (kinetic 0, potential -epsilon/2 times both
-    positions) does not change as the clock runs, and it is -epsilon/2 (x_i + x_j) itself."""
-    system = edmd.HardSphereSystem([[4.0, 5.0, 5.0], [5.2, 5.0, 5.0]], np.zeros((2, 3)), 0.5, [10.0] * 3,
+def test_the_energy_moment_of_a_drifting_bound_pair_moves_with_its_energy():
+    """A bound pair at rest relative to each other, drifting at v = 0.3 along y: the moment is
+    sum_i (m v^2/2 - epsilon/2) x_i, so it changes by 2 (m v^2/2 - epsilon/2) v t over a time t (the energy
+    carried along), and it starts as that sum itself."""
+    system = edmd.HardSphereSystem([[4.0, 5.0, 5.0], [5.2, 5.0, 5.0]], [[0, 0.3, 0], [0, 0.3, 0]], 0.5, [10.0] * 3,
                                    well_width=1.5, well_depth=2.0)
-    _, energy = system.helfand_moments()
-    np.testing.assert_allclose(energy, -1.0 * np.array([9.2, 10.0, 10.0]), rtol=1e-15)
-    assert system.well_pairs == 1
+    each = 0.5 * 0.3**2 - 1.0
+    _, start = system.helfand_moments()
+    np.testing.assert_allclose(start, each * np.array([9.2, 10.0, 10.0]), rtol=1e-15)
+    system.run(time=30.0)  # y wraps the periodic box: the moment goes on smoothly
+    _, after = system.helfand_moments()
+    np.testing.assert_allclose(after - start, [0.0, 2.0 * each * 0.3 * 30.0, 0.0], atol=1e-12)
+    assert system.well_pairs == 1 and np.any(system.image != 0)
 
 
 @pytest.mark.parametrize("impact", [0.0, 0.3, 0.9, 1.2, 1.4, 1.49, 1.6])
@@ -112,13 +117,23 @@ def test_the_transport_measurement_takes_the_given_temperature():
 
 
 def test_a_square_well_measurement_reports_transport_at_its_mean_temperature():
-    system = hexagonal_system(cells=8, well_width=1.5)
-    system.run(collisions=2000)
-    measurement = edmd.measure(system, collisions=200 * 64, blocks=2, transport=True)
-    summary = measurement.summary()
-    assert math.isfinite(summary["thermal_conductivity"]) and summary["thermal_conductivity"] > 0
-    assert measurement.transport.fits["thermal_conductivity"].value == summary["thermal_conductivity"]
-    assert measurement.temperature_mean != measurement.temperature  # kT changes at every capture and escape
+    """Dense discs with deep wells, started far from their equilibrium energy split: the kT at the measurement's
+    start and its time mean differ by percents, and the coefficients are those of the mean."""
+    from collisionkit.edmd._transport import transport_measurement
+
+    system = hexagonal_system(cells=8, eta=0.5, well_width=1.5, well_depth=3.0)
+    sampler = edmd.Sampler(system, collisions=300 * system.count, blocks=2, transport=True)
+    while not sampler.finished:
+        sampler.run_block()
+    measurement = sampler.result()
+    start_kT, mean_kT = sampler.transport.kT, measurement.temperature_mean
+    assert abs(start_kT / mean_kT - 1.0) > 0.02
+    free_time = measurement.mean_free_time
+    at_mean = transport_measurement(sampler.transport, 2, free_time, system.volume, system.count, kT=mean_kT)
+    at_start = transport_measurement(sampler.transport, 2, free_time, system.volume, system.count)
+    for key in ("shear_viscosity", "thermal_conductivity"):
+        assert getattr(measurement.transport, key) == pytest.approx(getattr(at_mean, key), rel=1e-12)
+        assert getattr(measurement.transport, key) != pytest.approx(getattr(at_start, key), rel=1e-3)
 
 
 @pytest.mark.slow
@@ -140,3 +155,14 @@ def test_the_dilute_square_well_gas_follows_chapman_enskog():
         assert error < 0.05 * value, (key, value, error)
         assert abs(value - theory[key]) <= 4.0 * error + 0.02 * theory[key], (key, value, error, theory[key])
         assert hard[key] - value > 4.0 * error, (key, value, error, hard[key])
+
+
+@pytest.mark.parametrize(("arguments", "message"), [
+    ((-0.1, 1.0, 1.5), "impact"),
+    ((0.5, 0.0, 1.5), "energy"),
+    ((0.5, 1.0, 0.9), "width"),
+    ((0.5, 1.0, 1.5, 1.0, -1.0), "depth"),
+])
+def test_the_deflection_refuses_bad_input_by_name(arguments, message):
+    with pytest.raises(ValueError, match=message):
+        edmd.square_well_deflection(*arguments)

@@ -135,9 +135,11 @@ class SystemParameters:
     def collisional_heat_transfer(self):
         r"""The collisional energy transfer sum so far, shape (d,): :math:`\sum_{coll} \Delta E_j\, r_a`.
 
-        The kinetic energy gained by one partner j times the minimum-image
-        separation r = x_j - x_i at contact: over a stretch of time, the
-        collisional part of the heat flux times the volume (elastic spheres).
+        The energy gained by one partner j times the minimum-image
+        separation r = x_j - x_i at contact (kinetic; at a well's edge plus
+        j's half of the pair's potential-energy change): over a stretch of
+        time, the collisional part of the energy flux times the volume
+        (elastic spheres).
 
         Examples
         --------

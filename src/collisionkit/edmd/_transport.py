@@ -248,6 +248,12 @@ class TransportMeasurement:
     mean of the full pressure tensor; ``vacf`` the normalised velocity
     autocorrelation <v(0).v(t)>/<v^2> at ``vacf_time``.
 
+    In a mixture ``thermal_conductivity`` is the coefficient of the total
+    energy flux: the partial enthalpies the species carry as they
+    interdiffuse are not taken out, so it is the thermal conductivity
+    proper only where the species' energies per particle are alike (a
+    single species, or like masses without wells between unlike species).
+
     Examples
     --------
     >>> from collisionkit.edmd import measure, random_fluid

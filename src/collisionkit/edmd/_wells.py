@@ -67,14 +67,34 @@ def well_parameters(system, well_width, well_depth, growth, shear_rate, engine):
         if clash:
             raise ValueError(f"well_width: square wells run without {name} (elastic, fixed radii, no shear, in the "
                              "lists engine)")
-    system.params = np.concatenate([system.params[: _k.P_SIZE], np.stack([width, depth], axis=-1).ravel()])
-    system.params[_k.P_WELL_WIDTH] = float(np.max(width[depth > 0.0]))  # the lists reach the widest real well
+    table = np.stack([width, depth], axis=-1)
+    if np.all(table == table[0, 0]):  # one well for every pair: a table of one entry, read without the species
+        table = table[:1, :1]
+    widest = widest_well(table, np.unique(system._species))
+    if widest == 0.0:
+        raise ValueError("well_depth must be > 0 for some pair of the species present (the others' wells never act)")
+    system.params = np.concatenate([system.params[: _k.P_SIZE], table.ravel()])
+    system.params[_k.P_WELL_WIDTH] = widest  # the lists reach the widest well that acts
     system.params[_k.P_WELL_DEPTH] = float(np.max(depth))
-    system.params[_k.P_WELL_SPECIES] = width.shape[0]
+    system.params[_k.P_WELL_SPECIES] = table.shape[0]
+
+
+def table_species(table, species):
+    """The rows of ``table`` the ``species`` read: their own, or row 0 of a table of one entry (every pair's)."""
+    species = np.asarray(species, dtype=np.intp)
+    return species if table.shape[0] > 1 else np.zeros_like(species)
+
+
+def widest_well(table, present):
+    """The largest lambda_ab among pairs of the ``present`` species with a well (epsilon_ab > 0); 0 if none."""
+    present = np.unique(table_species(table, present))
+    sub = table[np.ix_(present, present)]
+    acting = sub[..., 1] > 0.0
+    return float(np.max(sub[..., 0][acting])) if np.any(acting) else 0.0
 
 
 def well_table(params):
-    """The (S, S, 2) table of (lambda_ab, epsilon_ab) in ``params``; None for hard spheres."""
+    """The (S, S, 2) table of (lambda_ab, epsilon_ab) in ``params`` ((1, 1, 2): every pair's); None without wells."""
     species = int(params[_k.P_WELL_SPECIES])
     if species == 0:
         return None
@@ -98,6 +118,7 @@ def pairs_inside(positions, radius, box, periodic, table, species):
     separation = positions[pairs[:, 1]] - positions[pairs[:, 0]]
     separation -= np.where(periodic, box * np.round(separation / box), 0.0)
     distance = np.sqrt(np.sum(separation**2, axis=1))
+    species = table_species(table, species)
     a, b = species[pairs[:, 0]], species[pairs[:, 1]]
     inside = (distance < widths[a, b] * (radius[pairs[:, 0]] + radius[pairs[:, 1]])) & (depths[a, b] > 0.0)
     return pairs[inside]
@@ -135,6 +156,9 @@ class SquareWells:
     @property
     def well_table(self):
         """The (S, S, 2) table of (lambda_ab, epsilon_ab) per species pair (a copy); None for hard spheres.
+
+        One well for every pair is a table of one entry, (1, 1, 2), whatever
+        the species.
 
         Examples
         --------
@@ -188,13 +212,10 @@ class SquareWells:
 
     def _bound_energies(self):
         """Per particle (memory order): the depths of the wells it is inside, summed (zeros for hard spheres)."""
-        table = well_table(self.params)
-        if table is None:
-            return np.zeros(self.count)
-        species = self.book[:, _k.SPECIES].astype(np.intp)
-        recorded = np.arange(self.bonds.shape[1])[None, :] < self.bond_count[:, None]
-        depths = table[species[:, None], species[self.bonds], 1]
-        return np.sum(np.where(recorded, depths, 0.0), axis=1)
+        energies = np.zeros(self.count)
+        if self.well_width is not None:
+            _k.bound_energies(self.book, self.bonds, self.bond_count, self.params, energies)
+        return energies
 
     def total_energy(self) -> float:
         """Kinetic plus potential energy (the wells', and under gravity -sum m g . x): conserved when elastic.
@@ -281,7 +302,8 @@ class SquareWells:
         row = max(1, int(np.bincount(pairs.ravel(), minlength=count).max(initial=0)))
         self.bonds, self.bond_count = bond_arrays(pairs, count, row)
         self.acc[_k.ACC_WELL_PAIRS] = len(pairs)
-        self.acc[_k.ACC_WELL_ENERGY] = float(np.sum(table[species[pairs[:, 0]], species[pairs[:, 1]], 1]))
+        rows = table_species(table, species)
+        self.acc[_k.ACC_WELL_ENERGY] = float(np.sum(table[rows[pairs[:, 0]], rows[pairs[:, 1]], 1]))
 
     def _fit_bonds_to_lists(self):
         """Widen the record's rows to the neighbour lists' (a pair inside its well is listed: never more per row).
@@ -323,6 +345,12 @@ class SquareWells:
             if np.any(recorded & ~found.any(axis=2)):
                 raise CheckpointError("array 'bonds' must hold only pairs in each other's neighbour lists (a pair "
                                       "inside its well is always listed)")
+        table = well_table(self.params)
+        rows = table_species(table, self.book[:, _k.SPECIES])
+        owners = np.repeat(np.arange(self.count), self.bond_count)
+        partners = self.bonds[columns[None, :] < self.bond_count[:, None]]
+        if np.any(table[rows[owners], rows[partners], 1] <= 0.0):
+            raise CheckpointError("array 'bonds' must hold only pairs whose species share a well (depth > 0)")
         recorded_energy = -self.potential_energy()
         if abs(self.acc[_k.ACC_WELL_ENERGY] - recorded_energy) > 1e-9 * max(1.0, recorded_energy):
             raise CheckpointError(f"array 'acc' must hold the depths of the pairs inside their wells summed as the "
@@ -385,26 +413,29 @@ def check_well_parameters(params, p, arrays):
             and np.any(depth > 0.0) and np.array_equal(table, table.transpose(1, 0, 2))):
         _refuse("params", f"must hold a symmetric well table of widths in (1, {MAX_WELL_WIDTH:g}] and depths >= 0, "
                 "some > 0")
-    if params[_k.P_WELL_WIDTH] != np.max(width[depth > 0.0]) or params[_k.P_WELL_DEPTH] != np.max(depth):
-        _refuse("params", "must hold the well table's widest well and deepest depth")
     book = arrays["book"]
-    if book.ndim == 2 and book.shape == (p.shape[0], 8) and np.any(book[:, _k.SPECIES] >= size):
-        _refuse("book", f"must hold species the well table covers (below {size})")
+    if book.ndim != 2 or book.shape != (p.shape[0], 8) or not np.all(np.isfinite(book[:, _k.SPECIES])):
+        return  # the bookkeeping checks name what is wrong with it
+    species = book[:, _k.SPECIES]
+    if np.any((species < 0) | (species != np.round(species))) or (size > 1 and np.any(species >= size)):
+        _refuse("book", f"must hold species the well table covers (whole numbers below {size})")
+    widest = widest_well(table, np.unique(species).astype(np.intp))
+    if widest == 0.0 or params[_k.P_WELL_WIDTH] != widest or params[_k.P_WELL_DEPTH] != np.max(depth):
+        _refuse("params", "must hold the widest well acting between the species present (some must act) and the "
+                "table's deepest depth")
     if params[_k.P_GROWTH] != 0.0 or params[_k.P_SHEAR_RATE] != 0.0:
         _refuse("params", "must hold no growth or shear with square wells")
 
 
 def upgraded_well_state(arrays, written):
     """The wells of a format-8 state (one width and depth in the parameters, counted pairs) in this format's form:
-    a table over the restitution matrix's species and the depths' sums (depth times the counts)."""
+    a table of one entry (every pair's well) and the depths' sums (depth times the counts)."""
     params, acc = arrays["params"], arrays["acc"]
     width, depth = params[_k.P_WELL_WIDTH], params[_k.P_WELL_DEPTH]
     if written >= 9 or width == 0.0:
         return
-    species = arrays["restitution"].shape[0]
-    table = np.tile(np.array([width, depth]), species * species)
-    params[_k.P_WELL_SPECIES] = species
-    arrays["params"] = np.concatenate([params, table])
+    params[_k.P_WELL_SPECIES] = 1
+    arrays["params"] = np.concatenate([params, [width, depth]])
     acc[_k.ACC_WELL_ENERGY] = depth * acc[_k.ACC_WELL_PAIRS]
     acc[_k.ACC_WELL_ENERGY_TIME] = depth * acc[_k.ACC_WELL_PAIR_TIME]
 

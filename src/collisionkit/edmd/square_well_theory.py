@@ -82,8 +82,13 @@ def square_well_mixture_second_virial(fractions, kT, widths, depths, diameters=1
         raise ValueError(f"fractions must be a sequence of mole fractions >= 0, some > 0; got {fractions!r}")
     fractions = fractions / fractions.sum()
     size = fractions.size
-    widths, depths, diameters = (np.broadcast_to(np.asarray(value, dtype=float), (size, size))
-                                 for value in (widths, depths, diameters))
+    kT = _checks.positive(kT, "kT")
+    if dim not in (2, 3):
+        raise ValueError(f"dim must be 2 or 3; got {dim!r}")
+    widths, depths, diameters = (_pair_table(value, name, size) for value, name in
+                                 ((widths, "widths"), (depths, "depths"), (diameters, "diameters")))
+    if not (np.all(diameters > 0.0) and np.all(depths >= 0.0) and np.all((widths > 1.0) | (depths == 0.0))):
+        raise ValueError("diameters must be > 0, depths >= 0 and widths > 1 where a pair has a well")
     total = 0.0
     for a in range(size):
         for b in range(size):
@@ -92,7 +97,18 @@ def square_well_mixture_second_virial(fractions, kT, widths, depths, diameters=1
             else:
                 pair = square_well_second_virial(widths[a, b], kT, dim, diameters[a, b], depths[a, b])
             total += fractions[a] * fractions[b] * pair
-    return total
+    return float(total)
+
+
+def _pair_table(value, name, size):
+    """A number or a symmetric (size, size) matrix of finite numbers as a (size, size) array."""
+    array = np.asarray(value, dtype=float)
+    if array.ndim not in (0, 2) or (array.ndim == 2 and array.shape != (size, size)):
+        raise ValueError(f"{name} must be a number or a ({size}, {size}) matrix; got shape {array.shape}")
+    table = np.broadcast_to(array, (size, size))
+    if not (np.all(np.isfinite(table)) and np.array_equal(table, table.T)):
+        raise ValueError(f"{name} must hold finite numbers, symmetric in the species")
+    return table
 
 
 def _kihara_polynomial(width):
@@ -177,11 +193,15 @@ def square_well_deflection(impact, energy, width, diameter=1.0, depth=1.0):
 
     Examples
     --------
-    >>> round(square_well_deflection(0.0, 1.0, 1.5), 12)   # head on: straight back
-    3.141592653589793
+    >>> square_well_deflection(0.0, 1.0, 1.5) == math.pi   # head on: straight back
+    True
     >>> round(square_well_deflection(1.4, 1.0, 1.5), 5)    # grazes through the well, bent towards the partner
     -0.68183
     """
+    impact = _checks.bounded(impact, "impact", 0.0)
+    energy, diameter, depth = (_checks.positive(value, name) for value, name in
+                               ((energy, "energy"), (diameter, "diameter"), (depth, "depth")))
+    width = _checks.bounded(width, "width", 1.0, closed=(False, False))
     outer = width * diameter
     if impact >= outer:
         return 0.0

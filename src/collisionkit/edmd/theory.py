@@ -13,6 +13,13 @@ import numpy as np
 
 from . import _checks
 
+# the square-well theory moved to .square_well_theory (not documented here twice: not in __all__); kept importable
+from .square_well_theory import (  # noqa: F401
+    square_well_low_density,
+    square_well_second_virial,
+    square_well_third_virial,
+)
+
 __all__ = [
     "MAX_PACKING_FRACTION",
     "YEH_HUMMER_XI",

@@ -166,6 +166,7 @@ from .layout import (
     wall_target,
 )
 from .loop import predict_all, run_events
+from .wells import bound_energies
 from .measurement import (
     largest_anchor_drift, min_gap, pair_distance_counts, stored_helfand_moments, synchronise, wall_gap,
 )
@@ -188,7 +189,7 @@ __all__ = [
     "P_WALL_RESTITUTION", "PREDICTED_AT", "SHEAR_SWEEP_STRAIN", "SHEAR_X_EXCURSION",
     "QUEUE_BLOCK", "R", "SPECIES", "STALLED_EVENTS", "STOP_COLLISIONS", "STOP_EVENTS", "STOP_NO_EVENT",
     "STOP_OVERFLOW", "STOP_STALLED", "STOP_TIME", "STRESS_PAIRS", "T", "TARGET", "TREE_LEVELS_PREFETCHED", "V", "X",
-    "anchor_all", "build_all_lists", "first_root_from_below", "largest_anchor_drift", "min_gap", "pair_contact_time",
+    "anchor_all", "bound_energies", "build_all_lists", "first_root_from_below", "largest_anchor_drift", "min_gap", "pair_contact_time",
     "pair_distance_counts", "predict_all", "queue_update", "run_events", "stored_helfand_moments", "synchronise",
     "tree_build", "wall_gap", "wall_target",
 ]

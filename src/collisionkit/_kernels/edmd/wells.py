@@ -27,11 +27,12 @@ import math
 
 # no EDMD kernel allocates or returns an array: all of them borrow, without reference counting
 from ..._jit import borrowing_inline_kernel as inline_kernel
+from ..._jit import borrowing_kernel as kernel
 from .contacts import add_image_terms, add_transfer
 from .exact import sure_approach
 from .layout import (
     ACC_BOUNCES, ACC_CAPTURES, ACC_ENERGY_IMAGE, ACC_ESCAPES, ACC_VIRIAL, ACC_WELL_ENERGY, ACC_WELL_ENERGY_TIME,
-    ACC_WELL_PAIR_TIME, ACC_WELL_PAIRS, ACC_WELL_SINCE, G_BOX, G_GRAVITY, MASS, P_SCALE0, P_WELL_SPECIES,
+    ACC_WELL_PAIR_TIME, ACC_WELL_PAIRS, ACC_WELL_SINCE, G_BOX, G_GRAVITY, MASS, P_SCALE0, P_SIZE, P_WELL_SPECIES,
     PREDICTED_AT, R, SPECIES, T, TARGET, V, X, well_slot, well_target,
 )
 from .motion import half_box, minimum_image, pair_image
@@ -56,8 +57,13 @@ def bonded(i, j, bonds, bond_count):
 
 @inline_kernel
 def pair_well(params, b, i, j):
-    """(lambda, epsilon) of the pair i, j: the table's entry for their species (epsilon 0: no well)."""
-    slot = well_slot(int(params[P_WELL_SPECIES]), int(b[i, SPECIES]), int(b[j, SPECIES]))
+    """(lambda, epsilon) of the pair i, j: the table's entry for their species (epsilon 0: no well).
+
+    A table of one entry (S = 1) is every pair's well: the species are not
+    read (their records are another cache line per partner).
+    """
+    species = int(params[P_WELL_SPECIES])
+    slot = P_SIZE if species == 1 else well_slot(species, int(b[i, SPECIES]), int(b[j, SPECIES]))
     return params[slot], params[slot + 1]
 
 
@@ -308,3 +314,13 @@ def predict_in_wells(p, i, b, anchor_time, neighbours, neighbour_count, bonds, b
         return p[i, T] + pair
     b[i, TARGET] = target
     return p[i, T] + boundary
+
+
+@kernel
+def bound_energies(b, bonds, bond_count, params, out):
+    """``out[i]``: the depths epsilon_ab of the wells particle i is inside (its record), summed; i in memory order."""
+    for i in range(bond_count.shape[0]):
+        total = 0.0
+        for m in range(bond_count[i]):
+            total += pair_well(params, b, i, bonds[i, m])[1]
+        out[i] = total
