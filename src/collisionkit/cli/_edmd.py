@@ -58,6 +58,9 @@ class EdmdOptions(Options):
     engine: EngineName = "auto"
     well_width: float | None = Field(default=None, allow_inf_nan=False)  # its range: the library's message
     well_depth: float = Field(default=1.0, allow_inf_nan=False)
+    fractions: list[float] | None = None  # a mixture; its ranges and rules: the library's messages
+    diameters: list[float] | None = None
+    masses: list[float] | None = None
     summary: Path | None = None
     trajectory: Path | None = None
     frame_every: int | None = Field(default=None, ge=1)
@@ -105,7 +108,9 @@ class EdmdOptions(Options):
         """
         from ..edmd import EdmdParameters
 
-        return EdmdParameters(**{name: getattr(self, name) for name in EdmdParameters.names()})
+        values = {name: getattr(self, name) for name in EdmdParameters.names()}
+        return EdmdParameters(**values | {name: None if values[name] is None else tuple(values[name])
+                                          for name in ("fractions", "diameters", "masses")})
 
 
 def _refuse_beyond_memory(parameters) -> None:
@@ -358,6 +363,18 @@ def edmd(
         float | None,
         typer.Option(help=_help("Depth epsilon of the square wells in units of kT (0 to 1000): the reduced temperature is T* = 1 / depth.", "1")),
     ] = None,
+    fractions: Annotated[
+        list[float] | None,
+        typer.Option(help=_help("A mixture: the number fraction of each species (repeat: --fractions 0.5 --fractions 0.5; summing to 1). Needs --initial random; the summary compares Z with the BMCSL (spheres) or SYH (discs) equation of state.", "one species")),
+    ] = None,
+    diameters: Annotated[
+        list[float] | None,
+        typer.Option(help=_help("With --fractions: each species' diameter (repeat), relative to the largest, which is 1 (the others 0.1 to 1).", "all 1")),
+    ] = None,
+    masses: Annotated[
+        list[float] | None,
+        typer.Option(help=_help("With --fractions: each species' mass (repeat), 1e-3 to 1e3.", "all 1")),
+    ] = None,
     summary: Annotated[Path | None, typer.Option("--summary", help="Write the results as JSON to this file.")] = None,
     trajectory: Annotated[
         Path | None, typer.Option(help="Write frames to this GSD file (HOOMD, OVITO, freud read it).")
@@ -385,14 +402,14 @@ def edmd(
     ] = None,
     overwrite: OverwriteOption = None,
 ):
-    """Event-driven MD of hard spheres (3D) or discs (2D), or square-well fluids (--well-width): pressure, collision frequency, g(r), diffusion; viscosity and thermal conductivity with --transport.
+    """Event-driven MD of hard spheres (3D) or discs (2D), their mixtures (--fractions), or square-well fluids (--well-width): pressure, collision frequency, g(r), diffusion; viscosity and thermal conductivity with --transport.
 
-    Units: diameter 1, mass 1, initial kT = 1.
+    Units: diameter 1 (the largest species'), mass 1, initial kT = 1.
     """
     given = dict(
         dim=dim, particles=particles, packing_fraction=packing_fraction, restitution=restitution,
         elastic_below=elastic_below, equilibration=equilibration, collisions=collisions, blocks=blocks, seed=seed, initial=initial,
-        transport=transport, yeh_hummer=yeh_hummer, shear_rate=shear_rate, thermostat=thermostat, engine=engine, well_width=well_width, well_depth=well_depth, summary=summary, trajectory=trajectory, frame_every=frame_every, xyz=xyz, out=out, plots=plots,
+        transport=transport, yeh_hummer=yeh_hummer, shear_rate=shear_rate, thermostat=thermostat, engine=engine, well_width=well_width, well_depth=well_depth, fractions=fractions, diameters=diameters, masses=masses, summary=summary, trajectory=trajectory, frame_every=frame_every, xyz=xyz, out=out, plots=plots,
         checkpoint=checkpoint, overwrite=overwrite,
     )  # fmt: skip
     if resume is None:

@@ -26,7 +26,10 @@ def _theory_column(result: dict) -> tuple[str, str, str, str]:
     if result.get("well_width"):
         return "(square wells: see the virial expansion)", "", "1 while equilibrating, then the mean below", "0 (elastic)"
     z = f"{result['compressibility_factor_theory']:.5g} ({result['theory']})"
-    omega = f"{result['collision_frequency_from_pressure']:.5g} (Enskog, from Z)"
+    if "collision_frequency_from_pressure" in result:
+        omega = f"{result['collision_frequency_from_pressure']:.5g} (Enskog, from Z)"
+    else:  # a mixture: Enskog's rate with the equation of state's contact values
+        omega = f"{result['collision_frequency_theory']:.5g} (Enskog, {result['theory'].split()[0]} contacts)"
     if result.get("shear_rate"):
         kT = "1 at each rescaling (thermostat)" if result["thermostat"] else "rises (viscous heating)"
         return z, omega, kT, "0 (elastic); total: " + ("thermostat - heating" if result["thermostat"] else "- heating")
@@ -47,18 +50,30 @@ def rows(result: dict) -> list[tuple[str, str, str]]:
         return f"{result[key]:.5g} ± {result[key + '_error']:.2g}"
 
     z, omega, kT, lost = _theory_column(result)
-    return _shear_rows(result, pm) + _transport_rows(result, pm) + _well_rows(result, pm) + [
+    contact = [("g(r) at contact", pm("contact_value"), "")] if "contact_value" in result else []
+    return _shear_rows(result, pm) + _transport_rows(result, pm) + _well_rows(result, pm) + _species_rows(result) + [
         ("compressibility factor Z = PV/NkT", pm("compressibility_factor"), z),
         ("collision frequency per particle", pm("collision_frequency"), omega),
         ("temperature kT (final)", f"{result['temperature']:.6g}", kT),
         ("mean free path", pm("mean_free_path"), ""),
         ("diffusion coefficient", pm("diffusion_coefficient"), "from the MSD"),
-        ("g(r) at contact", pm("contact_value"), ""),
+        *contact,
         ("energy lost (measurement / total)", f"{result['energy_lost']:.5g} / {result['energy_lost_total']:.5g}", lost),
         ("pair collisions (measured)", str(result["collisions"]), f"after {result['equilibration_collisions']} equilibration"),
         ("collisions per second", f"{result['collisions_per_second']:.4g}",
          f"wall clock, measurement (no compiling), {result['engine']} engine"),
     ]
+
+
+def _species_rows(result: dict) -> list[tuple[str, str, str]]:
+    """The row of a mixture (--fractions): the particles of each species, their diameters and masses."""
+    if "species_counts" not in result:
+        return []
+    p = result["parameters"]
+    count = len(p["fractions"])
+    diameters, masses = p["diameters"] or [1.0] * count, p["masses"] or [1.0] * count
+    kinds = ", ".join(f"{n} x (d {d:g}, m {m:g})" for n, d, m in zip(result["species_counts"], diameters, masses))
+    return [("species: particles x (diameter, mass)", kinds, f"{count} species")]
 
 
 def _well_rows(result: dict, pm) -> list[tuple[str, str, str]]:
@@ -126,14 +141,18 @@ def _plots(run, measurement, out: Path, deliveries: Deliveries) -> None:
     matplotlib.use("Agg")
     from .. import plotting
 
-    system = run.system
+    system, p = run.system, run.parameters
     figures = []
-    if run.parameters.restitution == 1.0:
+    composition = [count / p.particles for count in p.species_counts]  # as run: the fractions rounded to particles
+    mixture = None if p.fractions is None else (composition, p.diameters or (1.0,) * len(composition))
+    masses = {"mass": p.masses or 1.0, "fractions": composition if p.masses else None}
+    if p.restitution == 1.0:
         m = measurement
         point = [(m.packing_fraction, m.compressibility_factor, m.compressibility_factor_error)]
-        figures.append(("equation_of_state.png", lambda: plotting.plot_equation_of_state(point, system.dim)))
+        figures.append(("equation_of_state.png", lambda: plotting.plot_equation_of_state(point, system.dim,
+                                                                                       mixture=mixture)))
     figures.append(("speed_distribution.png", lambda: plotting.plot_speed_distribution(
-        measurement.speeds, measurement.temperature, system.dim)))
+        measurement.speeds, measurement.temperature, system.dim, **masses)))
     figures.append(("snapshot.png", lambda: plotting.plot_snapshot(system.positions(), system.radius,
                                                                     system.box[: system.dim])))
     figures.append(("radial_distribution.png", lambda: plotting.plot_radial_distribution(measurement.rdf_r,

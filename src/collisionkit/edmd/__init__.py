@@ -14,6 +14,7 @@ blocks of event times; lazily updated particles).
 
 Modules: :mod:`~collisionkit.edmd.theory` (equations of state, Enskog's
 collision rate, packing fractions and their limits),
+:mod:`~collisionkit.edmd.mixture_theory` (the same for mixtures),
 :mod:`~collisionkit.edmd.initial` (velocities, lattices, compressed random
 fluids), :mod:`~collisionkit.edmd.system` (the system and its event loop),
 :mod:`~collisionkit.edmd.measurement` (block-averaged observables; with
@@ -38,6 +39,9 @@ from ._shear import THERMOSTAT_INTERVAL
 from .system import (
     DEFAULT_SHELL, DENSE_PACKING, DENSE_SHELL, DILUTE_PACKING, LIST_NEIGHBOURS, RESTITUTION_LAWS, SORT_INTERVAL,
     HardSphereSystem, OverlapError, default_shell, well_shell,
+)
+from .mixture_theory import (
+    MIXTURE_EQUATION_OF_STATE, mixture_collision_frequency, mixture_compressibility, mixture_contact_values,
 )
 from .square_well_theory import (
     square_well_collision_integral,
@@ -78,6 +82,7 @@ __all__ = [
     "LIST_NEIGHBOURS",
     "LIST_SCALE_MARGIN",
     "MAX_PACKING_FRACTION",
+    "MIXTURE_EQUATION_OF_STATE",
     "MSD_FIT_FROM",
     "MSD_GROUPS",
     "MSD_MAX_LAGS",
@@ -106,6 +111,9 @@ __all__ = [
     "lattice_cells",
     "maxwell_boltzmann",
     "measure",
+    "mixture_collision_frequency",
+    "mixture_compressibility",
+    "mixture_contact_values",
     "packing_fraction",
     "random_fluid",
     "square_well_collision_integral",

@@ -13,10 +13,13 @@ from __future__ import annotations
 import math
 from typing import Any
 
+import numpy as np
+
 from .._params import check_choice, check_integer, check_real, check_seed
 from ._cell_crossings import ENGINE_NAMES
 from ._wells import MAX_WELL_WIDTH
 from .initial import LATTICE_DIM, lattice_cells
+from .mixture_theory import FRACTION_SUM_TOLERANCE
 from .theory import MAX_PACKING_FRACTION
 
 INITIAL_STATES = ("random", *LATTICE_DIM)
@@ -30,6 +33,11 @@ MAX_SHEAR_RATE = 1e3
 MAX_WELL_DEPTH = 1e3
 # the most pair collisions of a run's equilibration or measurement: about 3 years at 10^6 a second
 MAX_COLLISIONS = 10**14
+# a mixture's smallest diameter, relative to the largest (the unit): the neighbour lists are rebuilt from cells of
+# the largest diameter, so a small particle's rebuild scans ~ratio^-d times its own neighbours
+MIN_DIAMETER = 0.1
+MASS_RANGE = (1e-3, 1e3)
+MAX_SPECIES = 26
 
 
 def checked_parameters(p) -> dict[str, Any]:
@@ -95,10 +103,83 @@ def checked_parameters(p) -> dict[str, Any]:
             if clash:
                 raise ValueError(f"well_width cannot be combined with {name} ({why})")
     values["well_depth"] = check_real("well_depth", p.well_depth, 0.0, MAX_WELL_DEPTH, low_open=True)
+    values |= _checked_species(p, values["particles"])
     if p.engine == "cells" and shear_rate != 0.0:  # what HardSphereSystem refuses, said before any work
         raise ValueError("engine cells cannot be combined with shear_rate: the cell-crossing engine runs straight "
                          "flights only (use engine lists or auto)")
     return values
+
+
+def _reals(name: str, value, count: int | None, low: float, high: float, low_open=False) -> tuple[float, ...]:
+    """``value`` as a tuple of floats in [low, high], one per species (``count`` of them if given)."""
+    if isinstance(value, (str, bytes)) or not hasattr(value, "__len__"):
+        raise ValueError(f"{name} must be a sequence of numbers, one per species; got {value!r}")
+    if count is not None and len(value) != count:
+        raise ValueError(f"{name} must give one value per species ({count}, as fractions does); got {len(value)}")
+    return tuple(check_real(f"{name}[{index}]", item, low, high, low_open=low_open) for index, item in enumerate(value))
+
+
+def _checked_species(p, particles: int) -> dict[str, Any]:
+    """A mixture's fractions, diameters and masses checked (tuples of floats), with the rules between them."""
+    if p.fractions is None:
+        for name in ("diameters", "masses"):
+            if getattr(p, name) is not None:
+                raise ValueError(f"{name} needs fractions (the species' number fractions, which {name} follows)")
+        return {}
+    fractions = _reals("fractions", p.fractions, None, 0.0, 1.0, low_open=True)
+    if not 1 <= len(fractions) <= MAX_SPECIES:
+        raise ValueError(f"fractions must give 1 to {MAX_SPECIES} species; got {len(fractions)}")
+    if abs(sum(fractions) - 1.0) > FRACTION_SUM_TOLERANCE:
+        raise ValueError(f"fractions must sum to 1; got {list(fractions)} (sum {sum(fractions):.9g})")
+    values: dict[str, Any] = {"fractions": fractions}
+    counts = species_counts(particles, fractions)
+    if min(counts) < 1:
+        raise ValueError(f"fractions {list(fractions)} leave a species without particles among {particles} "
+                         f"(counts {list(counts)}): raise particles or a fraction")
+    if p.diameters is not None:
+        diameters = values["diameters"] = _reals("diameters", p.diameters, len(fractions), MIN_DIAMETER, 1.0)
+        if max(diameters) != 1.0:
+            raise ValueError(f"diameters are relative to the largest species (the unit of length): the largest must "
+                             f"be 1; got {list(diameters)}")
+    if p.masses is not None:
+        values["masses"] = _reals("masses", p.masses, len(fractions), *MASS_RANGE)
+    if p.initial != "random":
+        raise ValueError(f"fractions (a mixture) needs initial random (a lattice holds one species); got initial "
+                         f"{p.initial}")
+    return values
+
+
+def species_counts(particles: int, fractions) -> tuple[int, ...]:
+    """``particles`` split by the number ``fractions``: floor(N x_i), the rest one each to the largest remainders.
+
+    Ties go to the earlier species; no fractions: one species of all.
+
+    Examples
+    --------
+    >>> species_counts(10, (0.25, 0.75)), species_counts(7, (1 / 3, 1 / 3, 1 / 3)), species_counts(5, None)
+    ((3, 7), (3, 2, 2), (5,))
+    """
+    if fractions is None:
+        return (particles,)
+    shares = [particles * fraction / sum(fractions) for fraction in fractions]
+    counts = [int(share) for share in shares]
+    by_remainder = sorted(range(len(shares)), key=lambda index: (counts[index] - shares[index], index))
+    for index in by_remainder[: particles - sum(counts)]:
+        counts[index] += 1
+    return tuple(counts)
+
+
+def _species_fit(parameters, system) -> bool:
+    """True if the system's particles are the parameters' species: their counts, diameters and masses."""
+    counts = parameters.species_counts
+    species = np.asarray(system.species)
+    if system.count != parameters.particles or species.min() < 0 or species.max() >= len(counts):
+        return False
+    if tuple(np.bincount(species, minlength=len(counts))) != counts:
+        return False
+    diameters = np.asarray(parameters.diameters or (1.0,) * len(counts))[species]
+    masses = np.asarray(parameters.masses or (1.0,) * len(counts))[species]
+    return bool(np.array_equal(2.0 * np.asarray(system.radius), diameters) and np.array_equal(system.mass, masses))
 
 
 def check_saved_run(saved, sampler, parameters, system) -> None:
@@ -107,6 +188,8 @@ def check_saved_run(saved, sampler, parameters, system) -> None:
     if parameters.engine != "auto" and system.engine != parameters.engine:
         raise saved.damaged(f"its system runs the {system.engine} engine, its parameters ask for engine "
                             f"{parameters.engine}")
+    if not _species_fit(parameters, system):
+        raise saved.damaged("its particles' species, diameters or masses are not those its parameters give")
     if sampler is None:
         return
     lengths = {len(values) for values in sampler.records.values()} | {len(sampler.speeds)}

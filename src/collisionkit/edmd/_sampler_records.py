@@ -12,6 +12,8 @@ and path, and, under shear, the stress, viscosity and energy budget.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from . import _msd, _pair_distribution
@@ -129,6 +131,8 @@ def observables(sampler) -> dict:
     omega_error = _msd.block_error(record["frequency"])
     diameter = 2.0 * float(np.max(system.radius))
     contact, contact_error = _pair_distribution.contact_value(centres, rdf, sampler.histogram, diameter)
+    if np.ptp(system.radius) > 0:  # unlike diameters: g(r) sums pairs of several contact distances
+        contact = contact_error = math.nan
     durations = np.diff(msd_time)
     block_kT = np.asarray(record["temperature_mean"], dtype=float)
     temperature_mean = float(np.sum(block_kT * durations) / np.sum(durations))

@@ -25,6 +25,7 @@ import math
 from collections.abc import Callable, Sequence
 from typing import Any
 
+from .mixture_theory import MIXTURE_EQUATION_OF_STATE, mixture_collision_frequency, mixture_compressibility
 from .theory import (
     carnahan_starling, enskog_collision_frequency, enskog_transport, hansen_goos, henderson, yeh_hummer_correction,
 )
@@ -78,6 +79,8 @@ def edmd_summary(run, measurement, files: Sequence = ()) -> dict[str, Any]:
         result |= {"well_width": p.well_width, "well_depth": p.well_depth, "reduced_temperature":
                    measurement.temperature_mean / p.well_depth} | {f"well_{kind}": count for kind, count in
                                                                   system.well_events.items()}
+    elif p.restitution == 1.0 and p.fractions is not None:  # a mixture: its equation of state
+        result |= _mixture_theory(p, measurement, kT if sheared else 1.0)
     elif p.restitution == 1.0:  # hard spheres: the equation of state
         name, equation = equation_of_state(p.dim)
         eta, Z = measurement.packing_fraction, measurement.compressibility_factor
@@ -92,6 +95,10 @@ def edmd_summary(run, measurement, files: Sequence = ()) -> dict[str, Any]:
         }
         if p.dim == 3:
             result["compressibility_factor_carnahan_starling"] = float(carnahan_starling(eta))
+    if p.fractions is not None:
+        result["species_counts"] = list(p.species_counts)
+        if not math.isfinite(result["contact_value"]):  # unlike diameters: no one contact distance (Measurement)
+            del result["contact_value"], result["contact_value_error"]
     if measurement.transport is not None:
         result |= _transport_summary(run, measurement)
     if sheared:
@@ -101,6 +108,21 @@ def edmd_summary(run, measurement, files: Sequence = ()) -> dict[str, Any]:
     result["files"] = [str(path) for path in files]
     result["parameters"] = p.to_dict()
     return result
+
+
+def _mixture_theory(p, measurement, kT: float) -> dict[str, Any]:
+    """Z against the mixture's equation of state (BMCSL, SYH) and Enskog's collision frequency with its contacts."""
+    # the composition as run: the fractions rounded to whole particles
+    species = ([count / p.particles for count in p.species_counts], p.diameters or (1.0,) * len(p.fractions))
+    eta, Z = measurement.packing_fraction, measurement.compressibility_factor
+    theory = mixture_compressibility(eta, *species, dim=p.dim)
+    return {
+        "theory": MIXTURE_EQUATION_OF_STATE[p.dim],
+        "compressibility_factor_theory": theory,
+        "compressibility_factor_relative_deviation": Z / theory - 1.0,
+        "compressibility_factor_deviation_sigmas": _in_sigmas(Z - theory, measurement.compressibility_factor_error),
+        "collision_frequency_theory": mixture_collision_frequency(eta, *species, p.masses or 1.0, p.dim, kT),
+    }
 
 
 def _enskog(run, measurement, kT=None) -> dict[str, float]:
@@ -119,10 +141,11 @@ def _shear_summary(run, measurement, kT: float, lost_total: float) -> dict[str, 
     """
     system = run.system
     collisions, thermostat = system.energy_lost, system.thermostat_energy
-    return {
+    result = {}
+    if run.parameters.fractions is None:  # the zero-rate limit of one species' viscosity, at the mean kT
+        result["shear_viscosity_enskog"] = _enskog(run, measurement, kT)["shear_viscosity"]
+    return result | {
         "thermostat": run.parameters.thermostat,
-        # the zero-rate limit of the sheared fluid's viscosity, at the time-averaged temperature
-        "shear_viscosity_enskog": _enskog(run, measurement, kT)["shear_viscosity"],
         # G in units of the measured collision frequency per particle: shear thinning sets in beyond about 0.1
         "reduced_shear_rate": run.parameters.shear_rate / measurement.collision_frequency,
         "energy_lost_collisions_total": collisions,
@@ -134,12 +157,13 @@ def _shear_summary(run, measurement, kT: float, lost_total: float) -> dict[str, 
 def _transport_summary(run, measurement) -> dict[str, Any]:
     """Enskog's transport coefficients (hard spheres) and, asked for, D corrected to the infinite system (Yeh-Hummer).
 
-    Square wells get no Enskog keys (its theory is of hard spheres) and the
-    correction at the measured mean kT (theirs changes at every capture).
+    Square wells and mixtures get no Enskog keys (its theory here is of one
+    species of hard spheres); wells the correction at the measured mean kT
+    (theirs changes at every capture).
     """
     p, transport = run.parameters, measurement.transport
     result = {}
-    if p.well_width is None:
+    if p.well_width is None and p.fractions is None:
         enskog = _enskog(run, measurement)
         result = {f"{key}_enskog": enskog[key] for key in
                   ("shear_viscosity", "bulk_viscosity", "thermal_conductivity", "self_diffusion")}

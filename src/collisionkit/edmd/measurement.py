@@ -43,7 +43,8 @@ class Measurement:
     every block end as a time origin, lags up to ``blocks // 2`` blocks, at
     most 8; its error from the scatter of 8 groups of particles,
     ``_msd.MSD_GROUPS``, since overlapping origins give no independent blocks),
-    ``energy_lost``, ``contact_value`` (g at contact), ``potential_energy``
+    ``energy_lost``, ``contact_value`` (g at contact; NaN for unlike diameters, whose
+    pairs touch at several distances), ``potential_energy``
     (square wells: the time average of the potential energy per particle,
     -epsilon times the pairs inside per particle, with its error; 0 for hard
     spheres; ``temperature_mean`` is then the exact time average of kT,

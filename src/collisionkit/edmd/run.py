@@ -31,7 +31,7 @@ from typing import Any
 import numpy as np
 
 from .._params import Parameters, check_integer
-from ._run_checks import checked_parameters
+from ._run_checks import checked_parameters, species_counts
 from ._run_files import RunFiles
 from ._run_state import CHECKPOINT_KIND, restore_run, resume_arguments, save_run  # noqa: F401 (CHECKPOINT_KIND)
 from ._summary import BARELY_COOLED, cooling_note, edmd_summary  # noqa: F401 (BARELY_COOLED: the CLI's)
@@ -113,6 +113,18 @@ class EdmdParameters(Parameters):
     well_depth : float
         epsilon > 0 of the wells, in units of the kT = 1 the run equilibrates
         at: the reduced temperature is T* = 1 / ``well_depth``.
+    fractions : sequence of float, optional
+        A mixture: the number fractions of its species (> 0, summing to 1;
+        default None: one species). The counts are N x_i rounded by the
+        largest remainders (:attr:`species_counts`), each at least 1. Needs
+        ``initial`` "random". The summary then compares Z with the BMCSL
+        (spheres) or SYH (discs) equation of state and the collision
+        frequency with Enskog's for mixtures (:mod:`~collisionkit.edmd.mixture_theory`).
+    diameters : sequence of float, optional
+        One per species, relative to the largest, which is the unit of
+        length: the largest is 1, the others in [0.1, 1] (default: all 1).
+    masses : sequence of float, optional
+        One per species, in [1e-3, 1e3] (default: all 1, the unit of mass).
 
     Examples
     --------
@@ -141,6 +153,9 @@ class EdmdParameters(Parameters):
     engine: str = "auto"
     well_width: float | None = None
     well_depth: float = 1.0
+    fractions: tuple[float, ...] | None = None
+    diameters: tuple[float, ...] | None = None
+    masses: tuple[float, ...] | None = None
 
     def __post_init__(self):
         for name, value in checked_parameters(self).items():  # (._run_checks: every value, the rules between them)
@@ -173,6 +188,17 @@ class EdmdParameters(Parameters):
         return self.replace(collisions=collisions, equilibration=equilibration, seed=seed)
 
     @property
+    def species_counts(self) -> tuple[int, ...]:
+        """The particles of each species: N x_i rounded by the largest remainders (one species: N).
+
+        Examples
+        --------
+        >>> EdmdParameters(particles=10, fractions=(0.25, 0.75), diameters=(1.0, 0.5)).species_counts
+        (3, 7)
+        """
+        return species_counts(self.particles, self.fractions)
+
+    @property
     def total_collisions(self) -> int:
         """Pair collisions of the whole (resolved) run: equilibration and whole blocks.
 
@@ -187,15 +213,20 @@ class EdmdParameters(Parameters):
 def _initial_system(parameters: EdmdParameters, progress: Callable[[float], Any] | None = None) -> HardSphereSystem:
     """The starting state: a compressed random fluid or a lattice with Maxwell-Boltzmann velocities."""
     p = parameters
+    species = np.repeat(np.arange(len(p.species_counts)), p.species_counts)
+    diameters = np.asarray(p.diameters or (1.0,) * len(p.species_counts))[species]
+    masses = np.asarray(p.masses or (1.0,) * len(p.species_counts))[species]
     if p.initial == "random":
-        fluid = random_fluid(p.dim, p.particles, p.packing_fraction, seed=p.seed, progress=progress)
+        fluid = random_fluid(p.dim, p.particles, p.packing_fraction, seed=p.seed, diameters=diameters, masses=masses,
+                             progress=progress)
         positions, velocities, box = fluid.positions(), fluid.velocities(), fluid.box[: p.dim]
-    else:
+    else:  # one species (the checks): unit diameters and masses
         positions, box = lattice(p.initial, lattice_cells(p.initial, p.dim, p.particles), p.packing_fraction)
-        velocities = maxwell_boltzmann(np.ones(p.particles), p.dim, kT=1.0, seed=p.seed)
-    return HardSphereSystem(positions, velocities, 0.5, box, restitution=p.restitution, elastic_below=p.elastic_below,
-                            shear_rate=p.shear_rate, thermostat=1.0 if p.thermostat else None, engine=p.engine,
-                            well_width=p.well_width, well_depth=p.well_depth)
+        velocities = maxwell_boltzmann(masses, p.dim, kT=1.0, seed=p.seed)
+    return HardSphereSystem(positions, velocities, diameters / 2.0, box, masses, species=species,
+                            restitution=p.restitution, elastic_below=p.elastic_below, shear_rate=p.shear_rate,
+                            thermostat=1.0 if p.thermostat else None, engine=p.engine, well_width=p.well_width,
+                            well_depth=p.well_depth)
 
 
 def _refuse_existing(**files) -> None:

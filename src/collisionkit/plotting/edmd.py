@@ -29,7 +29,7 @@ def _eos_points(measurements_or_points):
     return np.array(rows, dtype=float)
 
 
-def plot_equation_of_state(measurements_or_points, dim, ax=None):
+def plot_equation_of_state(measurements_or_points, dim, ax=None, mixture=None):
     """Measured compressibility factors Z = PV/(NkT) with error bars on the theory curve.
 
     Parameters
@@ -41,6 +41,10 @@ def plot_equation_of_state(measurements_or_points, dim, ax=None):
         3: hard spheres against Hansen-Goos (2016) and Carnahan-Starling;
         2: hard discs against Henderson (1975).
     ax : matplotlib Axes, optional
+    mixture : (fractions, diameters), optional
+        A mixture's number fractions and diameters: the curve is then its
+        equation of state (BMCSL for spheres, SYH for discs:
+        :func:`~collisionkit.edmd.mixture_compressibility`).
 
     Returns
     -------
@@ -52,8 +56,11 @@ def plot_equation_of_state(measurements_or_points, dim, ax=None):
     >>> ax = plotting.plot_equation_of_state([(0.2, 2.41, 0.01), (0.4, 6.95, 0.03)], dim=3)
     >>> [text.get_text() for text in ax.get_legend().get_texts()]
     ['Hansen-Goos (2016)', 'Carnahan-Starling', 'EDMD']
+    >>> ax = plotting.plot_equation_of_state([(0.3, 3.5, 0.02)], dim=3, mixture=([0.5, 0.5], [1.0, 0.5]))
+    >>> [text.get_text() for text in ax.get_legend().get_texts()]
+    ['BMCSL (Mansoori et al. 1971)', 'EDMD']
     """
-    from ..edmd import MAX_PACKING_FRACTION, carnahan_starling, hansen_goos, henderson
+    from ..edmd import MAX_PACKING_FRACTION, carnahan_starling, hansen_goos, henderson, mixture_compressibility
 
     if dim not in (2, 3):
         raise ValueError(f"dim must be 2 or 3; got {dim!r}")
@@ -66,13 +73,22 @@ def plot_equation_of_state(measurements_or_points, dim, ax=None):
     top = max(MAX_PACKING_FRACTION[dim], 1.05 * float(points[:, 0].max()))
     eta = np.linspace(1e-3, min(top, 0.74), 300)
     curves = [("Hansen-Goos (2016)", hansen_goos), ("Carnahan-Starling", carnahan_starling)]
+    if dim == 2:
+        curves = [("Henderson (1975)", henderson)]
+    if mixture is not None:
+        from ..edmd import MIXTURE_EQUATION_OF_STATE
+
+        fractions, diameters = mixture
+        mixture_compressibility(0.0, fractions, diameters, dim)  # checks the species before drawing
+        curves = [(MIXTURE_EQUATION_OF_STATE[dim], np.vectorize(
+            lambda value: mixture_compressibility(value, fractions, diameters, dim)))]
     ax = _axes(ax)
-    for (label, equation), style in zip(curves if dim == 3 else [("Henderson (1975)", henderson)], ("-", "--")):
+    for (label, equation), style in zip(curves, ("-", "--")):
         ax.plot(eta, equation(eta), style, color="k" if style == "-" else "0.5", lw=1, label=label)
     ax.errorbar(points[:, 0], points[:, 1], yerr=points[:, 2], fmt="o", color="C3", capsize=3, label="EDMD")
     ax.set_xlabel(r"packing fraction $\eta$")
     ax.set_ylabel(r"$Z = PV/(NkT)$")
-    ax.set_title("hard spheres" if dim == 3 else "hard discs")
+    ax.set_title(("hard spheres" if dim == 3 else "hard discs") + ("" if mixture is None else ", mixture"))
     ax.legend()
     return ax
 
@@ -101,7 +117,7 @@ def maxwell_boltzmann_speed_density(speed, kT, dim, mass=1.0):
     return 4.0 * np.pi * speed**2 * (mass / (2.0 * np.pi * kT)) ** 1.5 * boltzmann
 
 
-def plot_speed_distribution(speeds, kT, dim, mass=1.0, ax=None):
+def plot_speed_distribution(speeds, kT, dim, mass=1.0, ax=None, fractions=None):
     """Histogram of speeds against the Maxwell-Boltzmann speed density at ``kT``.
 
     Parameters
@@ -112,8 +128,12 @@ def plot_speed_distribution(speeds, kT, dim, mass=1.0, ax=None):
         Temperature of the reference curve (> 0).
     dim : {2, 3}
         Maxwell distribution in 3D, Rayleigh in 2D.
-    mass : float
+    mass : float or sequence of float
+        The particles' mass, or one per species of a mixture (with ``fractions``).
     ax : matplotlib Axes, optional
+    fractions : sequence of float, optional
+        A mixture's number fractions, one per ``mass``: the curve is then
+        the sum over species of x_i f(v; m_i), each at ``kT``.
 
     Returns
     -------
@@ -127,16 +147,27 @@ def plot_speed_distribution(speeds, kT, dim, mass=1.0, ax=None):
     >>> ax = plotting.plot_speed_distribution(speeds, kT=1.0, dim=2)
     >>> len(ax.patches) > 10, len(ax.lines)
     (True, 1)
+    >>> ax = plotting.plot_speed_distribution(speeds, kT=1.0, dim=2, mass=[1.0, 4.0], fractions=[0.5, 0.5])
+    >>> ax.get_legend().get_texts()[1].get_text()
+    'Rayleigh (2D Maxwell), mixture, kT = 1'
     """
     speeds = np.asarray(speeds, dtype=float).ravel()
     if speeds.size == 0:
         raise ValueError("speeds must hold at least one speed")
-    maxwell_boltzmann_speed_density(0.0, kT, dim, mass)  # checks kT, dim and mass
+    masses = np.atleast_1d(np.asarray(mass, dtype=float))
+    weights = np.ones(1) if fractions is None else np.asarray(fractions, dtype=float)
+    if masses.ndim != 1 or weights.shape != masses.shape or not np.all(weights > 0):
+        raise ValueError(f"mass must be a number, or one per species with fractions (> 0) of the same length; got "
+                         f"mass {mass!r}, fractions {fractions!r}")
+    for each in masses:
+        maxwell_boltzmann_speed_density(0.0, kT, dim, float(each))  # checks kT, dim and the masses
     ax = _axes(ax)
     ax.hist(speeds, bins=min(60, max(10, int(np.sqrt(speeds.size)))), density=True, color="C0", alpha=0.6, label="EDMD")
-    v = np.linspace(0.0, max(float(speeds.max()), 4.0 * np.sqrt(kT / mass)), 300)
+    v = np.linspace(0.0, max(float(speeds.max()), 4.0 * np.sqrt(kT / masses.min())), 300)
     law = "Maxwell" if dim == 3 else "Rayleigh (2D Maxwell)"
-    ax.plot(v, maxwell_boltzmann_speed_density(v, kT, dim, mass), "k", lw=1.2, label=f"{law}, kT = {kT:.4g}")
+    density = sum(w * maxwell_boltzmann_speed_density(v, kT, dim, float(m)) for w, m in zip(weights / weights.sum(),
+                                                                                          masses))
+    ax.plot(v, density, "k", lw=1.2, label=f"{law}{'' if fractions is None else ', mixture'}, kT = {kT:.4g}")
     ax.set_xlabel(f"speed $v$ / {THERMAL_SPEED}")
     ax.set_ylabel(f"probability density (1 / {THERMAL_SPEED})")
     ax.legend()

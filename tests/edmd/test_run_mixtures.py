@@ -1,0 +1,130 @@
+"""collisionkit.edmd.run with mixtures (fractions, diameters, masses): checks, the particles, summary, checkpoints."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from collisionkit import edmd
+from collisionkit._io import read_checkpoint, write_checkpoint
+from collisionkit.edmd import EdmdParameters, EdmdRun
+from collisionkit.edmd._run_checks import species_counts
+
+BINARY = dict(particles=120, packing_fraction=0.3, fractions=(0.25, 0.75), diameters=(1.0, 0.6), masses=(1.0, 0.3),
+              equilibration=2_000, collisions=4_000, blocks=4, seed=5)
+
+
+@given(particles=st.integers(2, 10_000), weights=st.lists(st.floats(0.01, 1.0), min_size=1, max_size=6))
+@settings(max_examples=200, deadline=None)
+def test_species_counts_split_the_particles_by_the_largest_remainders(particles, weights):
+    fractions = [weight / sum(weights) for weight in weights]
+    counts = species_counts(particles, fractions)
+    assert sum(counts) == particles
+    assert all(abs(count - particles * fraction) < 1.0 for count, fraction in zip(counts, fractions))
+
+
+@pytest.mark.parametrize(
+    ("values", "words"),
+    [
+        ({"fractions": (0.5, 0.6)}, "fractions must sum to 1; got [0.5, 0.6]"),
+        ({"fractions": (0.0, 1.0)}, "fractions[0] must be in (0, 1]; got 0"),
+        ({"fractions": "0.5"}, "fractions must be a sequence of numbers"),
+        ({"fractions": (1.0 / 27,) * 27}, "fractions must give 1 to 26 species; got 27"),
+        ({"fractions": (0.999, 0.001), "particles": 100}, "leave a species without particles among 100"),
+        ({"fractions": (0.5, 0.5), "diameters": (1.0,)}, "diameters must give one value per species (2"),
+        ({"fractions": (0.5, 0.5), "diameters": (1.0, 0.09)}, "diameters[1] must be in [0.1, 1]"),
+        ({"fractions": (0.5, 0.5), "diameters": (0.9, 0.5)}, "the largest must be 1"),
+        ({"fractions": (0.5, 0.5), "masses": (1.0, 1e4)}, "masses[1] must be in [0.001, 1000]"),
+        ({"diameters": (1.0, 0.5)}, "diameters needs fractions"),
+        ({"masses": (1.0,)}, "masses needs fractions"),
+        ({"fractions": (0.5, 0.5), "initial": "fcc", "particles": 108}, "needs initial random"),
+    ],
+)
+def test_bad_mixtures_name_the_parameter_and_what_it_allows(values, words):
+    with pytest.raises(ValueError) as caught:
+        EdmdParameters(**values)
+    assert words in str(caught.value)
+
+
+def test_the_run_holds_each_species_with_its_diameter_and_mass_and_conserves_energy():
+    run = EdmdRun(EdmdParameters(**BINARY))
+    system = run.system
+    assert run.parameters.species_counts == (30, 90)
+    assert np.array_equal(np.bincount(system.species), [30, 90])
+    assert np.array_equal(2 * system.radius, np.where(system.species == 0, 1.0, 0.6))
+    assert np.array_equal(system.mass, np.where(system.species == 0, 1.0, 0.3))
+    assert edmd.packing_fraction(system.radius, system.box[:3]) == pytest.approx(0.3, rel=1e-12)
+    energy = run.system.kinetic_energy()
+    momentum = (system.mass[:, None] * system.velocities()).sum(axis=0)
+    run.run()
+    assert run.system.kinetic_energy() == pytest.approx(energy, rel=1e-12)
+    np.testing.assert_allclose((system.mass[:, None] * system.velocities()).sum(axis=0), momentum, atol=1e-11)
+
+
+def test_a_mixture_s_summary_compares_with_the_mixture_theory_at_the_composition_run():
+    run = EdmdRun(EdmdParameters(**BINARY)).run()
+    summary = run.summary()
+    composition = [0.25, 0.75]  # 30 and 90 of 120
+    assert summary["species_counts"] == [30, 90]
+    assert summary["theory"] == "BMCSL (Mansoori et al. 1971)"
+    theory = edmd.mixture_compressibility(summary["packing_fraction"], composition, [1.0, 0.6])
+    assert summary["compressibility_factor_theory"] == theory
+    assert summary["compressibility_factor_relative_deviation"] == summary["compressibility_factor"] / theory - 1
+    assert summary["collision_frequency_theory"] == edmd.mixture_collision_frequency(
+        summary["packing_fraction"], composition, [1.0, 0.6], [1.0, 0.3], 3, 1.0)
+    # one species' formulas do not hold: no Z -> omega relation, no single contact distance
+    for key in ("collision_frequency_from_pressure", "contact_value", "compressibility_factor_carnahan_starling"):
+        assert key not in summary
+    assert summary["parameters"]["fractions"] == [0.25, 0.75]
+    assert math.isnan(run.measurement().contact_value)
+
+
+def test_one_species_given_as_a_mixture_runs_the_same_trajectory_as_one_species():
+    plain = EdmdRun(EdmdParameters(**BINARY | dict(fractions=None, diameters=None, masses=None))).run()
+    as_mixture = EdmdRun(EdmdParameters(**BINARY | dict(fractions=(1.0,), diameters=(1.0,), masses=(1.0,)))).run()
+    assert np.array_equal(plain.system.positions(), as_mixture.system.positions())
+    assert "contact_value" in plain.summary() and "contact_value" in as_mixture.summary()
+    assert as_mixture.summary()["theory"] == "BMCSL (Mansoori et al. 1971)"
+
+
+def test_a_disc_mixture_is_compared_with_the_syh_equation_of_state():
+    run = EdmdRun(EdmdParameters(**BINARY | dict(dim=2, packing_fraction=0.5))).run()
+    summary = run.summary()
+    assert summary["theory"] == "SYH (Santos et al. 1999)"
+    assert summary["compressibility_factor_theory"] == edmd.mixture_compressibility(
+        summary["packing_fraction"], [0.25, 0.75], [1.0, 0.6], dim=2)
+
+
+def test_a_mixture_resumes_bit_for_bit_and_keeps_its_species(tmp_path):
+    straight = EdmdRun(EdmdParameters(**BINARY)).run()
+    path = tmp_path / "run.npz"
+    run = EdmdRun(EdmdParameters(**BINARY), checkpoint=path)
+    run.save()
+    resumed = EdmdRun.resume(path, fractions=[0.25, 0.75], diameters=(1.0, 0.6))  # given again: must agree
+    resumed.run()
+    assert np.array_equal(resumed.system.positions(), straight.system.positions())
+    assert resumed.summary()["compressibility_factor"] == straight.summary()["compressibility_factor"]
+    with pytest.raises(ValueError, match="masses = .* differs from the checkpoint"):
+        EdmdRun.resume(path, masses=(1.0, 0.5))
+
+
+@pytest.mark.parametrize("change", [dict(fractions=[0.5, 0.5]), dict(masses=[1.0, 0.4]), dict(diameters=[1.0, 0.5]),
+                                    dict(fractions=None, diameters=None, masses=None)])
+def test_a_checkpoint_whose_particles_are_not_its_parameters_species_is_refused(tmp_path, change):
+    path = tmp_path / "run.npz"
+    EdmdRun(EdmdParameters(**BINARY), checkpoint=path).save()
+    saved = read_checkpoint(path, "edmd")
+    write_checkpoint(path, "edmd", saved.parameters | change, saved.state, saved.arrays)
+    with pytest.raises(ValueError, match="species, diameters or masses are not those its parameters give"):
+        EdmdRun.resume(path)
+
+
+def test_a_mixture_s_transport_run_reports_its_interdiffusion_and_no_one_species_enskog_values():
+    parameters = EdmdParameters(**BINARY | dict(transport=True, collisions=12_000, blocks=4))
+    summary = EdmdRun(parameters).run().summary()
+    assert math.isfinite(summary["interdiffusion"]) and summary["interdiffusion_error"] > 0
+    assert not [key for key in summary if key.endswith("_enskog")]
