@@ -478,3 +478,21 @@ def test_square_wells_with_transport_report_the_coefficients_without_hard_sphere
     assert summary["thermal_conductivity"] > 0 and summary["shear_viscosity"] > 0
     assert not [key for key in summary if key.endswith("_enskog")]  # Enskog's theory is of hard spheres
     assert (tmp_path / "out" / "helfand_moments.png").stat().st_size > 0
+
+
+def test_a_mixture_from_a_config_file_reports_its_species_and_theory_and_resumes(tmp_path):
+    config = tmp_path / "mixture.toml"
+    config.write_text("particles = 120\nfractions = [0.25, 0.75]\ndiameters = [1.0, 0.6]\nmasses = [1.0, 0.3]\n"
+                      "equilibration = 2000\ncollisions = 4000\nblocks = 4\nseed = 5\n")
+    result = invoke("--config", config, "--summary", tmp_path / "s.json", "--out", tmp_path / "out",
+                    "--checkpoint", tmp_path / "c.npz")
+    assert result.exit_code == 0, result.output
+    assert "species" in result.output and "BMCSL" in result.output and "at contact" not in result.output
+    summary = json.loads((tmp_path / "s.json").read_text())
+    assert summary["species_counts"] == [30, 90] and summary["parameters"]["masses"] == [1.0, 0.3]
+    assert summary["theory"] == "BMCSL (Mansoori et al. 1971)"
+    assert (tmp_path / "out" / "equation_of_state.png").stat().st_size > 0
+    again = invoke("--resume", tmp_path / "c.npz", "--fractions", 0.25, "--fractions", 0.75, "--no-plots")
+    assert again.exit_code == 0, again.output
+    other = invoke("--resume", tmp_path / "c.npz", "--masses", 1, "--masses", 0.5, "--no-plots")
+    assert other.exit_code == 2 and "masses" in other.output and "differs from the checkpoint" in other.output

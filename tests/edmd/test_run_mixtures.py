@@ -128,3 +128,13 @@ def test_a_mixture_s_transport_run_reports_its_interdiffusion_and_no_one_species
     summary = EdmdRun(parameters).run().summary()
     assert math.isfinite(summary["interdiffusion"]) and summary["interdiffusion_error"] > 0
     assert not [key for key in summary if key.endswith("_enskog")]
+
+
+def test_a_sheared_mixture_reports_its_viscosity_without_one_species_enskog_value():
+    from collisionkit.cli._edmd_report import rows
+
+    run = EdmdRun(EdmdParameters(**BINARY | dict(shear_rate=0.2, thermostat=True, collisions=8_000)))
+    summary = run.run().summary()
+    assert math.isfinite(summary["shear_viscosity"]) and "shear_viscosity_enskog" not in summary
+    assert summary["species_counts"] == [30, 90]
+    assert rows(summary)[0][2] == "shear rate G = 0.2"  # the theory column without Enskog's value

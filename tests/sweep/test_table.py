@@ -87,3 +87,19 @@ def test_points_csv_has_a_row_per_point_with_every_result_and_its_error(tmp_path
     files = sweep.write_outputs(study.__class__("swarm", seed=0, fixed={"model": "reid"}, vary={"E-N": [10.0, 20.0]},
                                                 main="mean_energy"), tmp_path, table)
     assert (tmp_path / "points.csv") in files and (tmp_path / "points.csv").read_text().count("\n") == 3
+
+
+def test_an_option_varied_through_lists_gives_its_points_table_and_plot(tmp_path):
+    """``vary = {diameters = [[1, 0.5], [1, 0.8]]}`` (a list option): points grouped by the lists, drawn as categories."""
+    study = sweep.Study("edmd", seed=0, fixed={"fractions": [0.5, 0.5]}, vary={"diameters": [[1.0, 0.5], [1.0, 0.8]]},
+                        main="compressibility_factor")
+    records = [_record({"compressibility_factor": z, "compressibility_factor_error": 0.05}, r)
+               | {"point": p, "parameters": {"diameters": d}}
+               for p, d in enumerate([[1.0, 0.5], [1.0, 0.8]]) for r, z in ((0, 3.5 + p), (1, 3.6 + p))]
+    table = sweep.results_table(study, records)
+    points = sweep.points_table(study, table)
+    assert [point["diameters"] for point in points] == [[1.0, 0.5], [1.0, 0.8]]
+    assert [point["compressibility_factor"] for point in points] == pytest.approx([3.55, 4.55])
+    assert [point["n"] for point in sweep.aggregate(table, "compressibility_factor", ["diameters"])] == [2, 2]
+    files = sweep.write_outputs(study, tmp_path, table)
+    assert tmp_path / "main_result.png" in files and '"[1.0, 0.8]",2' in (tmp_path / "points.csv").read_text()

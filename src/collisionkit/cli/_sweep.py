@@ -102,16 +102,15 @@ def _point_rows(results) -> list[tuple]:
     names = list(study.vary)
     means = {}
     if study.main is not None:
-        means = {tuple(row[name] for name in names): row for row in core.aggregate(results.table, study.main, names)}
+        means = {core.group_key(row, names): row for row in core.aggregate(results.table, study.main, names)}
     rows = []
     for parameters in core.expand(study):
-        key = tuple(parameters[name] for name in names)
         ok = sum(1 for row in results.table if row["status"] == "ok" and all(row[n] == v for n, v in parameters.items()))
-        mean = means.get(key)
+        mean = means.get(core.group_key(parameters, names))
         shown = _format(mean["mean"], mean["error"]) if mean else "-"
         if mean and mean["disagree"]:
             shown += " (replicas disagree)"
-        rows.append((*key, f"{ok}/{study.replicas}", shown))
+        rows.append((*(parameters[name] for name in names), f"{ok}/{study.replicas}", shown))
     return rows
 
 

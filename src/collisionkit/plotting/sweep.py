@@ -24,6 +24,12 @@ def _with_finite(groups, key):
     return {values: group for values, group in kept.items() if group}
 
 
+def _axis_value(value):
+    """A varied option's value as matplotlib draws it: a list option's (``diameters = [1, 0.6]``) as its text, a
+    category on the axis."""
+    return str(list(value)) if isinstance(value, (list, tuple)) else value
+
+
 def plot_sweep(points, x, y, series=(), title=None, ax=None):
     """A study's result ``y`` against the varied option ``x``: mean across replicas, standard error bars.
 
@@ -64,11 +70,14 @@ def plot_sweep(points, x, y, series=(), title=None, ax=None):
     >>> ax = plotting.plot_sweep(points, "eta", "Z")
     >>> [text.get_text() for text in ax.get_legend().get_texts()]
     ['theory', 'measured']
+    >>> points = [{"diameters": [1.0, d], "mean": z, "error": 0.01} for d, z in ((0.5, 3.5), (0.8, 3.9))]
+    >>> [label.get_text() for label in plotting.plot_sweep(points, "diameters", "Z").get_xticklabels()]
+    ['[1.0, 0.5]', '[1.0, 0.8]']
     """
     series = list(series)
     groups = {}
     for point in points:
-        groups.setdefault(tuple(point[name] for name in series), []).append(point)
+        groups.setdefault(tuple(_axis_value(point[name]) for name in series), []).append(point)
     measured = _with_finite(groups, "mean")
     if not measured:
         raise ValueError(f"points hold no finite mean of {y!r}")
@@ -77,10 +86,10 @@ def plot_sweep(points, x, y, series=(), title=None, ax=None):
     for values, group in measured.items():
         errors = np.nan_to_num(np.array([point.get("error", np.nan) for point in group], dtype=float))
         label = _sweep_label(series, values) or ("measured" if expected else None)
-        bars = ax.errorbar([point[x] for point in group], [point["mean"] for point in group], yerr=errors,
+        bars = ax.errorbar([_axis_value(point[x]) for point in group], [point["mean"] for point in group], yerr=errors,
                            fmt="o-", capsize=3, label=label)  # fmt: skip
         if values in expected:
-            line = [(point[x], point["theory"]) for point in expected[values]]
+            line = [(_axis_value(point[x]), point["theory"]) for point in expected[values]]
             colour = bars.lines[0].get_color() if series else "k"
             ax.plot(*zip(*line), "--", color=colour, lw=1, label=f"{label}, theory" if series else "theory")
     ax.set_xlabel(x)

@@ -49,7 +49,7 @@ from .execute import (
 )
 from .study import Study, expand, load_study, study_from_dict
 from .statistics import combine_replicas
-from .table import aggregate, points_table, results_table, write_csv, write_outputs, write_parquet
+from .table import aggregate, group_key, points_table, results_table, write_csv, write_outputs, write_parquet
 from .tasks import PointTask, check_command, point_name, point_seed, point_tasks
 
 __all__ = [
@@ -60,6 +60,7 @@ __all__ = [
     "StudyResults",
     "SweepCommand",
     "aggregate",
+    "group_key",
     "check_command",
     "check_folder",
     "combine_replicas",

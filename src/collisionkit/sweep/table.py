@@ -153,8 +153,23 @@ def aggregate(table: Iterable[Mapping[str, Any]], key: str, by: Iterable[str]) -
     for row in table:
         value = row.get(key)
         if row.get("status") == "ok" and _is_number(value) and math.isfinite(value):
-            groups.setdefault(tuple(row[name] for name in by), []).append(row)
-    return [dict(zip(by, values)) | combine_rows(rows, key) for values, rows in groups.items()]
+            groups.setdefault(group_key(row, by), []).append(row)
+    return [{name: rows[0][name] for name in by} | combine_rows(rows, key) for rows in groups.values()]
+
+
+def group_key(row: Mapping[str, Any], names: Iterable[str]) -> tuple:
+    """The values of ``names`` in ``row`` as a dictionary key: a list option's value (``diameters = [1, 0.6]``) as a
+    tuple.
+
+    Examples
+    --------
+    >>> group_key({"fractions": [0.5, 0.5], "seed": 1}, ["fractions", "seed"])
+    ((0.5, 0.5), 1)
+    """
+    def hashable(value):
+        return tuple(map(hashable, value)) if isinstance(value, list) else value
+
+    return tuple(hashable(row[name]) for name in names)
 
 
 def points_table(study: Study, table: list[Mapping[str, Any]]) -> list[dict[str, Any]]:
@@ -179,12 +194,12 @@ def points_table(study: Study, table: list[Mapping[str, Any]]) -> list[dict[str,
                   and any(_is_number(row.get(column)) for row in table)]
     points: dict[tuple, dict[str, Any]] = {}
     for row in table:
-        key = tuple(row[name] for name in names)
-        point = points.setdefault(key, dict(zip(names, key)) | {"replicas_ok": 0, "disagreeing": ""})
+        point = points.setdefault(group_key(row, names), {name: row[name] for name in names} |
+                                  {"replicas_ok": 0, "disagreeing": ""})
         point["replicas_ok"] += row.get("status") == "ok"
     for quantity in quantities:
         for combined in aggregate(table, quantity, names):
-            point = points[tuple(combined[name] for name in names)]
+            point = points[group_key(combined, names)]
             point[quantity], point[f"{quantity}_error"] = combined["mean"], combined["error"]
             if combined["disagree"]:
                 point["disagreeing"] = ";".join(filter(None, [point["disagreeing"], quantity]))
@@ -232,10 +247,10 @@ def _plot_main(study: Study, path: Path, table: list[Mapping[str, Any]]) -> Path
     along_x = next((group for group in study.zip if x in group), (x,))  # zipped options move with x
     series = [name for name in study.vary if name not in along_x]
     points = aggregate(table, study.main, [*series, x])
-    theory = {tuple(point[name] for name in [*series, x]): point["mean"]
+    theory = {group_key(point, [*series, x]): point["mean"]
               for point in aggregate(table, f"{study.main}_theory", [*series, x])}  # e.g. edmd's Z_theory
     for point in points:
-        expected = theory.get(tuple(point[name] for name in [*series, x]))
+        expected = theory.get(group_key(point, [*series, x]))
         if expected is not None:
             point["theory"] = expected
     ax = plotting.plot_sweep(points, x, study.main, series=series, title=f"collisionkit {study.command}")
