@@ -263,6 +263,12 @@ BAD_INPUTS = [
     ("slab", ["--summary", "{dir}"], "is a folder: give a file name"),
     ("slab", ["--summary", "{file}"], "exists: pass --overwrite to replace it"),
     ("slab", ["--config", "{dir}"], "is a folder, not a file"),
+    ("slab", ["--checkpoint", "c.txt"], "--checkpoint must end in .npz"),
+    ("slab", ["--checkpoint", "{dir}"], "is a folder: give a file name"),
+    ("slab", ["--checkpoint", "{file}"], "exists: continue the run it holds with --resume"),
+    ("slab", ["--resume", "{dir}"], "is a folder, not a file"),
+    ("slab", ["--resume", "{missing}"], "checkpoint not found"),
+    ("slab", ["--resume", "{file}"], "is not a checkpoint"),
     ("slab", ["--overwrite=1"], "does not take a value"),
     # boltzmann (the gas options are swarm's)
     ("boltzmann", ["--model", "argon"], "model"),

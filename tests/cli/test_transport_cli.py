@@ -276,15 +276,46 @@ def test_a_new_sweep_does_not_overwrite_an_existing_checkpoint(tmp_path):
 
 def test_ctrl_c_stops_a_slab_run_with_exit_130_and_says_nothing_is_saved(monkeypatch):
     # typer ended an interrupted slab run with 130 and no word
-    from collisionkit import transport
+    from collisionkit.transport import SlabRun
 
     def interrupted(*args, **kwargs):
         raise KeyboardInterrupt
 
-    monkeypatch.setattr(transport, "run_slab", interrupted)
+    monkeypatch.setattr(SlabRun, "run", interrupted)
     result = runner.invoke(app, ["slab", "--thickness", "1", "--particles", "1000"])
     assert result.exit_code == 130
-    assert "warning: interrupted: a slab run keeps no checkpoint" in " ".join(result.output.split())
+    assert ("warning: interrupted after 0 of 1000 histories: no --checkpoint was given, so nothing is saved"
+            in " ".join(result.output.split()))
+
+
+def test_a_slab_run_interrupted_resumes_from_its_checkpoint_as_if_never_stopped(tmp_path, monkeypatch):
+    from collisionkit.transport import SlabRun, _slab_batches
+
+    options = ["--thickness", "8", "--albedo", "0.9", "--particles", "40000", "--seed", "4"]
+    whole = runner.invoke(app, ["slab", *options, "--summary", str(tmp_path / "whole.json")])
+    assert whole.exit_code == 0, whole.output
+    real = SlabRun.run
+
+    def stopped_a_third_in(run, progress=None, threads=None):
+        def stop(fraction):
+            if fraction > 0.3:
+                raise KeyboardInterrupt
+
+        return real(run, progress=stop, threads=threads)
+
+    monkeypatch.setattr(_slab_batches, "PROGRESS_SECONDS", 0.001)
+    monkeypatch.setattr(SlabRun, "run", stopped_a_third_in)
+    checkpoint = tmp_path / "slab.npz"
+    first = runner.invoke(app, ["slab", *options, "--checkpoint", str(checkpoint)])
+    assert first.exit_code == 130 and f"continue with --resume {checkpoint}" in " ".join(first.output.split())
+    monkeypatch.undo()
+    other = runner.invoke(app, ["slab", "--resume", str(checkpoint), "--albedo", "0.5"])
+    assert other.exit_code == 2 and "albedo = 0.5 differs from the checkpoint" in " ".join(other.output.split())
+    resumed = runner.invoke(app, ["slab", "--resume", str(checkpoint), "--summary", str(tmp_path / "part.json")])
+    assert resumed.exit_code == 0, resumed.output
+    assert "going on from" in resumed.output
+    a, b = (json.loads((tmp_path / name).read_text()) for name in ("whole.json", "part.json"))
+    assert {k: v for k, v in a.items() if k != "files"} == {k: v for k, v in b.items() if k != "files"}
 
 
 def test_swarm_at_zero_field_relaxes_to_the_default_gas_temperature_of_300_k(tmp_path):

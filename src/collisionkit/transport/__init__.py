@@ -15,7 +15,8 @@ collisions), real gases (LXCat files) and transport coefficients.
   and LoKI-B solve it): the energy distribution, mobility, diffusion and
   rates in milliseconds to a second; :class:`TwoTermResult`; :class:`TwoTermScan`, the
   ``boltzmann`` command's E/N scan and its tables;
-* :func:`simulate_slab` - transmission and reflection of a beam by a slab;
+* :func:`simulate_slab` - transmission and reflection of a beam by a slab
+  (:class:`SlabRun`: the same, checkpointed);
 * gases: :class:`Gas`, :class:`Species`, :class:`Process`, model gases
   (:func:`maxwell_model`, :func:`hard_sphere_gas`, :func:`reid_ramp`,
   :func:`lucas_saelee`) and :func:`read_lxcat`;
@@ -62,6 +63,7 @@ from .scan import SwarmParameters, SwarmScan, swarm_summary
 from .slab import SlabResult, simulate_slab
 from .superelastic import level_populations, superelastic_cross_section
 from .slab_parameters import SlabParameters, run_slab, slab_summary
+from .slab_run import SlabRun
 from .sst import SSTResult, simulate_sst
 from .swarm import (
     DEFAULT_TOLERANCES,
@@ -117,6 +119,7 @@ __all__ = [
     "simulate_sst",
     "simulate_swarm",
     "slab_summary",
+    "SlabRun",
     "superelastic_cross_section",
     "swarm_summary",
     "townsend_coefficients",

@@ -17,27 +17,20 @@ from __future__ import annotations
 
 import math
 import os
-import threading
 from collections.abc import Callable
-from concurrent.futures import ThreadPoolExecutor, wait
 from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
 from .._arrays import seed_value
-from .._kernels import transport as _k
+from ._slab_batches import BATCHES, COLLISIONS_PER_CALL, SlabBatches, run_batches, slab_physics, slab_result  # noqa: F401
 from ._validation import integer_in_range, real_in_range
 from .._repr import dataclass_repr
 
 __all__ = ["SlabResult", "simulate_slab", "INCIDENCES"]
 
 INCIDENCES = ("normal", "isotropic")
-BATCHES = 64
-# collisions in one kernel call of a batch at most (a few milliseconds): Ctrl-C waits for no more
-COLLISIONS_PER_CALL = 1 << 18
-# how often the progress callback hears of the histories finished
-PROGRESS_SECONDS = 0.2
 
 
 @dataclass
@@ -91,49 +84,6 @@ class SlabResult:
         """
         return {name: (value.tolist() if isinstance(value, np.ndarray) else value)
                 for name, value in self.__dict__.items()}
-
-
-def _run_batches(seed, particles, threads, progress, physics):
-    """The BATCHES batches' counts, angle and energy histograms, run in ``threads`` threads.
-
-    Each batch's kernel calls end after at most ``COLLISIONS_PER_CALL``
-    collisions; the workers stop between calls once the main thread is
-    interrupted, and the main thread reports the histories finished.
-    """
-    sequences = np.random.SeedSequence(seed).spawn(BATCHES)
-    left = np.full(BATCHES, particles // BATCHES)
-    left[: particles % BATCHES] += 1
-    angle_bins, energy_bins = physics[-2:]
-    counts = np.zeros((BATCHES, 4))
-    angles = np.zeros((BATCHES, 2, angle_bins))
-    energies = np.zeros((BATCHES, 2, energy_bins))
-    stop = threading.Event()
-
-    def work(b):
-        state = sequences[b].generate_state(4, np.uint64)
-        flight = np.zeros(_k.FLIGHT_SIZE)
-        while left[b] > 0 and not stop.is_set():
-            left[b] -= _k.slab_batch(state, flight, int(left[b]), COLLISIONS_PER_CALL, *physics, counts[b],
-                                     angles[b], energies[b])
-
-    with ThreadPoolExecutor(threads) as pool:
-        try:
-            pending = {pool.submit(work, b) for b in range(BATCHES)}
-            while pending:
-                done, pending = wait(pending, timeout=PROGRESS_SECONDS)
-                for future in done:
-                    future.result()
-                if progress is not None:
-                    progress(1.0 - float(left.sum()) / particles)
-        except BaseException:
-            stop.set()  # the workers end within one kernel call; the pool waits for them
-            raise
-    return counts, angles, energies
-
-
-def _fraction(count, total):
-    p = count / total
-    return float(p), float(math.sqrt(max(p * (1.0 - p), 0.0) / total))
 
 
 def simulate_slab(thickness, albedo=1.0, *, incidence="normal", model="isotropic", mass_ratio=math.inf,
@@ -208,23 +158,7 @@ def simulate_slab(thickness, albedo=1.0, *, incidence="normal", model="isotropic
     angle_bins = integer_in_range(angle_bins, "angle_bins", 1, 10_000)
     energy_bins = integer_in_range(energy_bins, "energy_bins", 1, 10_000)
     threads = (os.cpu_count() or 1) if threads is None else integer_in_range(threads, "threads", 1)
-    counts, angles, energies = _run_batches(
-        seed, particles, threads, progress,
-        (float(thickness), float(albedo), incidence == "isotropic", model == "rod", float(mass_ratio), angle_bins,
-         energy_bins),
-    )
-    total = counts.sum(axis=0)
-    transmission, reflection, absorption = (_fraction(total[k], particles) for k in range(3))
-    return SlabResult(
-        thickness=float(thickness), albedo=float(albedo), incidence=incidence, model=model, particles=int(particles),
-        transmission=transmission[0], transmission_error=transmission[1],
-        reflection=reflection[0], reflection_error=reflection[1],
-        absorption=absorption[0], absorption_error=absorption[1],
-        collisions_per_particle=float(total[3] / particles),
-        angle_edges=np.linspace(0.0, 1.0, angle_bins + 1),
-        transmitted_angles=angles[:, 0].sum(axis=0) / particles,
-        reflected_angles=angles[:, 1].sum(axis=0) / particles,
-        energy_edges=np.linspace(0.0, 1.0, energy_bins + 1),
-        transmitted_energies=energies[:, 0].sum(axis=0) / particles,
-        reflected_energies=energies[:, 1].sum(axis=0) / particles,
-    )
+    batches = SlabBatches.start(seed, particles, angle_bins, energy_bins)
+    run_batches(batches, threads, progress,
+                 slab_physics(thickness, albedo, incidence, model, mass_ratio, angle_bins, energy_bins))
+    return slab_result(batches, thickness, albedo, incidence, model)
