@@ -3,8 +3,8 @@
 :class:`SlabBatches` is all a run needs to go on exactly (each batch's
 random stream, the history its last kernel call cut short, its counts);
 :func:`run_batches` runs them in threads, saving copies taken between
-calls; :func:`slab_result` makes the :class:`~.slab.SlabResult` of finished
-ones. :class:`~.slab_run.SlabRun` checkpoints them.
+calls; :func:`~.slab.slab_result` makes the result of finished ones, and
+:class:`~.slab_run.SlabRun` checkpoints them.
 """
 
 from __future__ import annotations
@@ -121,36 +121,7 @@ def run_batches(batches: SlabBatches, threads, progress, physics, save=None, sav
             raise
 
 
-def _fraction(count, total):
-    p = count / total
-    return float(p), float(math.sqrt(max(p * (1.0 - p), 0.0) / total))
-
-
 def slab_physics(thickness, albedo, incidence, model, mass_ratio, angle_bins, energy_bins) -> tuple:
     """The kernel's physics arguments of checked values."""
     return (float(thickness), float(albedo), incidence == "isotropic", model == "rod", float(mass_ratio), angle_bins,
             energy_bins)
-
-
-def slab_result(batches: SlabBatches, thickness, albedo, incidence, model):
-    """The :class:`~.slab.SlabResult` of finished ``batches``: the fractions of all histories, their binomial errors,
-    the histograms."""
-    from .slab import SlabResult  # (.slab runs its batches here)
-
-    particles = batches.done + int(batches.left.sum())
-    total = batches.counts.sum(axis=0)
-    transmission, reflection, absorption = (_fraction(total[k], particles) for k in range(3))
-    angle_bins, energy_bins = batches.angles.shape[-1], batches.energies.shape[-1]
-    return SlabResult(
-        thickness=float(thickness), albedo=float(albedo), incidence=incidence, model=model, particles=int(particles),
-        transmission=transmission[0], transmission_error=transmission[1],
-        reflection=reflection[0], reflection_error=reflection[1],
-        absorption=absorption[0], absorption_error=absorption[1],
-        collisions_per_particle=float(total[3] / particles),
-        angle_edges=np.linspace(0.0, 1.0, angle_bins + 1),
-        transmitted_angles=batches.angles[:, 0].sum(axis=0) / particles,
-        reflected_angles=batches.angles[:, 1].sum(axis=0) / particles,
-        energy_edges=np.linspace(0.0, 1.0, energy_bins + 1),
-        transmitted_energies=batches.energies[:, 0].sum(axis=0) / particles,
-        reflected_energies=batches.energies[:, 1].sum(axis=0) / particles,
-    )

@@ -24,11 +24,11 @@ from typing import Any
 import numpy as np
 
 from .._arrays import seed_value
-from ._slab_batches import BATCHES, COLLISIONS_PER_CALL, SlabBatches, run_batches, slab_physics, slab_result  # noqa: F401
+from ._slab_batches import BATCHES, COLLISIONS_PER_CALL, SlabBatches, run_batches, slab_physics  # noqa: F401
 from ._validation import integer_in_range, real_in_range
 from .._repr import dataclass_repr
 
-__all__ = ["SlabResult", "simulate_slab", "INCIDENCES"]
+__all__ = ["SlabResult", "simulate_slab", "slab_result", "INCIDENCES"]
 
 INCIDENCES = ("normal", "isotropic")
 
@@ -84,6 +84,11 @@ class SlabResult:
         """
         return {name: (value.tolist() if isinstance(value, np.ndarray) else value)
                 for name, value in self.__dict__.items()}
+
+
+def _fraction(count, total):
+    p = count / total
+    return float(p), float(math.sqrt(max(p * (1.0 - p), 0.0) / total))
 
 
 def simulate_slab(thickness, albedo=1.0, *, incidence="normal", model="isotropic", mass_ratio=math.inf,
@@ -162,3 +167,33 @@ def simulate_slab(thickness, albedo=1.0, *, incidence="normal", model="isotropic
     run_batches(batches, threads, progress,
                  slab_physics(thickness, albedo, incidence, model, mass_ratio, angle_bins, energy_bins))
     return slab_result(batches, thickness, albedo, incidence, model)
+
+
+def slab_result(batches: SlabBatches, thickness, albedo, incidence, model) -> SlabResult:
+    """The result of finished ``batches``: the fractions of all histories, their binomial errors, the histograms.
+
+    Examples
+    --------
+    >>> batches = SlabBatches.start(seed=1, particles=640, angle_bins=4, energy_bins=4)
+    >>> run_batches(batches, 1, None, slab_physics(1.0, 1.0, "normal", "rod", math.inf, 4, 4))
+    >>> result = slab_result(batches, 1.0, 1.0, "normal", "rod")
+    >>> result.particles, result.transmission + result.reflection
+    (640, 1.0)
+    """
+    particles = batches.done + int(batches.left.sum())
+    total = batches.counts.sum(axis=0)
+    transmission, reflection, absorption = (_fraction(total[k], particles) for k in range(3))
+    angle_bins, energy_bins = batches.angles.shape[-1], batches.energies.shape[-1]
+    return SlabResult(
+        thickness=float(thickness), albedo=float(albedo), incidence=incidence, model=model, particles=int(particles),
+        transmission=transmission[0], transmission_error=transmission[1],
+        reflection=reflection[0], reflection_error=reflection[1],
+        absorption=absorption[0], absorption_error=absorption[1],
+        collisions_per_particle=float(total[3] / particles),
+        angle_edges=np.linspace(0.0, 1.0, angle_bins + 1),
+        transmitted_angles=batches.angles[:, 0].sum(axis=0) / particles,
+        reflected_angles=batches.angles[:, 1].sum(axis=0) / particles,
+        energy_edges=np.linspace(0.0, 1.0, energy_bins + 1),
+        transmitted_energies=batches.energies[:, 0].sum(axis=0) / particles,
+        reflected_energies=batches.energies[:, 1].sum(axis=0) / particles,
+    )

@@ -22,8 +22,8 @@ import numpy as np
 from .._io import CheckpointError, exclusive, read_checkpoint, write_checkpoint
 from .._kernels import transport as _k
 from .._params import check_real, check_unchanged
-from ._slab_batches import BATCHES, SlabBatches, run_batches, slab_physics, slab_result
-from .slab import SlabResult
+from ._slab_batches import BATCHES, SlabBatches, run_batches, slab_physics
+from .slab import SlabResult, slab_result
 from .slab_parameters import SlabParameters
 
 __all__ = ["SAVE_EVERY", "SlabRun"]
