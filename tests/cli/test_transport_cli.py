@@ -289,22 +289,12 @@ def test_ctrl_c_stops_a_slab_run_with_exit_130_and_says_nothing_is_saved(monkeyp
 
 
 def test_a_slab_run_interrupted_resumes_from_its_checkpoint_as_if_never_stopped(tmp_path, monkeypatch):
-    from collisionkit.transport import SlabRun, _slab_batches
-
     options = ["--thickness", "8", "--albedo", "0.9", "--particles", "40000", "--seed", "4"]
     whole = runner.invoke(app, ["slab", *options, "--summary", str(tmp_path / "whole.json")])
     assert whole.exit_code == 0, whole.output
-    real = SlabRun.run
+    from tests.transport.slab_helpers import interrupt_after
 
-    def stopped_a_third_in(run, progress=None, threads=None):
-        def stop(fraction):
-            if fraction > 0.3:
-                raise KeyboardInterrupt
-
-        return real(run, progress=stop, threads=threads)
-
-    monkeypatch.setattr(_slab_batches, "PROGRESS_SECONDS", 0.001)
-    monkeypatch.setattr(SlabRun, "run", stopped_a_third_in)
+    interrupt_after(monkeypatch, 60)
     checkpoint = tmp_path / "slab.npz"
     first = runner.invoke(app, ["slab", *options, "--checkpoint", str(checkpoint)])
     assert first.exit_code == 130 and f"continue with --resume {checkpoint}" in " ".join(first.output.split())

@@ -9,6 +9,8 @@ from collisionkit._io import CheckpointError, read_checkpoint, write_checkpoint
 from collisionkit.transport import SlabParameters, SlabRun, _slab_batches, simulate_slab
 from collisionkit.transport.slab_run import SAVE_EVERY
 
+from .slab_helpers import interrupt_after
+
 PARAMETERS = SlabParameters(thickness=8.0, albedo=0.95, mass_ratio=4.0, particles=40_000, seed=3)
 RESULT_FIELDS = ("transmission", "reflection", "absorption", "collisions_per_particle", "transmitted_angles",
                  "reflected_angles", "transmitted_energies", "reflected_energies")
@@ -24,17 +26,12 @@ def _straight():
                          particles=p.particles, seed=p.seed)
 
 
-def _interrupted(path, monkeypatch, at=0.3, save_every=None):
-    """A run stopped by Ctrl-C once ``at`` of its histories are done (progress heard every millisecond)."""
-    monkeypatch.setattr(_slab_batches, "PROGRESS_SECONDS", 0.001)
-
-    def progress(fraction):
-        if fraction > at:
-            raise KeyboardInterrupt
-
+def _interrupted(path, monkeypatch, save_every=None):
+    """A run stopped by Ctrl-C in its 60th kernel call (of about 200)."""
+    interrupt_after(monkeypatch, 60)
     run = SlabRun(PARAMETERS, checkpoint=path, save_every=save_every)
     with pytest.raises(KeyboardInterrupt):
-        run.run(progress=progress)
+        run.run()
     monkeypatch.undo()
     return run
 
@@ -62,11 +59,10 @@ def test_the_run_saves_while_it_runs_each_save_a_state_it_could_go_on_from(tmp_p
         SlabRun.resume(target)  # every save passes the checks of a resume: counts that add up
 
     monkeypatch.setattr(_slab_batches, "PROGRESS_SECONDS", 0.001)
-    monkeypatch.setattr(_slab_batches, "COLLISIONS_PER_CALL", 2_000)  # many calls a batch: saves fall between them
+    interrupt_after(monkeypatch, calls=-1, pause=0.002)  # no Ctrl-C; ~300 calls of 2 ms and more: 0.3 s on 2 threads
     monkeypatch.setattr(slab_run, "_write", write_and_check)
-    longer = PARAMETERS.replace(particles=400_000)
-    SlabRun(longer, checkpoint=path, save_every=0.0).run()
-    assert len(done) >= 3 and done == sorted(done) and done[0] < done[-1] == longer.particles
+    SlabRun(PARAMETERS, checkpoint=path, save_every=0.0).run()
+    assert len(done) >= 3 and done == sorted(done) and done[0] < done[-1] == PARAMETERS.particles
     assert SAVE_EVERY == 60.0  # the default: a minute of work at most is lost
 
 
