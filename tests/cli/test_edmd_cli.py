@@ -487,10 +487,12 @@ def test_a_mixture_from_a_config_file_reports_its_species_and_theory_and_resumes
     result = invoke("--config", config, "--summary", tmp_path / "s.json", "--out", tmp_path / "out",
                     "--checkpoint", tmp_path / "c.npz")
     assert result.exit_code == 0, result.output
-    assert "species" in result.output and "BMCSL" in result.output and "at contact" not in result.output
+    assert "species" in result.output and "BMCSL" in result.output and "g(r) at contact" not in result.output
+    assert "g_AB" in result.output  # the partial contact values, a row a pair
     summary = json.loads((tmp_path / "s.json").read_text())
     assert summary["species_counts"] == [30, 90] and summary["parameters"]["masses"] == [1.0, 0.3]
     assert summary["theory"] == "BMCSL (Mansoori et al. 1971)"
+    assert len(summary["contact_values"]) == len(summary["contact_values_theory"]) == 2
     assert (tmp_path / "out" / "equation_of_state.png").stat().st_size > 0
     again = invoke("--resume", tmp_path / "c.npz", "--fractions", 0.25, "--fractions", 0.75, "--no-plots")
     assert again.exit_code == 0, again.output

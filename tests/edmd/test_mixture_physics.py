@@ -82,3 +82,19 @@ def test_the_error_bars_match_the_scatter_of_repeated_runs():
     for column in (0, 2):
         ratio = values[:, column].std(ddof=1) / values[:, column + 1].mean()
         assert 0.45 < ratio < 1.55, (column, ratio)
+
+
+@pytest.mark.parametrize(("dim", "eta"), [(2, 0.4), (3, 0.3)])
+def test_the_partial_contact_values_match_the_equation_of_state_s(dim, eta):
+    """g_ab at contact from the partial g(r) (extrapolated over 0.1 of the contact distance) against Boublik's
+    (spheres) or SYH's (discs) contact values, within 4 errors; the partial g(r) tend to 1 far out."""
+    run = EdmdRun(EdmdParameters(**RUN | dict(dim=dim, packing_fraction=eta, fractions=(0.5, 0.5),
+                                              diameters=(1.0, 0.6)))).run()
+    summary = run.summary()
+    measured, errors = np.array(summary["contact_values"]), np.array(summary["contact_values_error"])
+    theory = np.array(summary["contact_values_theory"])
+    assert np.all(np.abs(measured - theory) < 4 * errors), (measured, errors, theory)
+    assert np.all(errors < 0.1 * theory)  # a 10 % error in a contact value would show
+    # far out each g_ab is 1 to the structure left at half the box (a density of the wrong species: 2x off)
+    tail = run.measurement().partial_rdf[:, :, -100:].mean(axis=2)
+    np.testing.assert_allclose(tail, 1.0, atol=0.03)

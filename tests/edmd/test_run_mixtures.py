@@ -138,3 +138,59 @@ def test_a_sheared_mixture_reports_its_viscosity_without_one_species_enskog_valu
     assert math.isfinite(summary["shear_viscosity"]) and "shear_viscosity_enskog" not in summary
     assert summary["species_counts"] == [30, 90]
     assert rows(summary)[0][2] == "shear rate G = 0.2"  # the theory column without Enskog's value
+
+
+def _partial_and_total(system, bins=200):
+    from collisionkit.edmd import _pair_distribution
+
+    r_max = float(system.box[: system.dim].min() / 2)
+    kinds = int(system.species.max()) + 1
+    partial = _pair_distribution.partial_histograms(system, r_max, bins, kinds)
+    return partial, _pair_distribution.pair_histogram(system, r_max, bins)
+
+
+@pytest.mark.parametrize("shear_rate", [0.0, 0.3])
+def test_the_partial_pair_histograms_add_up_to_the_total_one(shear_rate):
+    """sum_ab H_ab = H (three species, in the engine's particle order; under Lees-Edwards shear too)."""
+    parameters = EdmdParameters(**BINARY | dict(fractions=(0.2, 0.3, 0.5), diameters=(1.0, 0.7, 0.5),
+                                                masses=(1.0, 2.0, 0.5), shear_rate=shear_rate))
+    run = EdmdRun(parameters)
+    run.system.run(collisions=3_000)
+    partial, total = _partial_and_total(run.system)
+    np.testing.assert_allclose(partial.sum(axis=(0, 1)), total, atol=1e-9)
+    np.testing.assert_array_equal(partial, partial.transpose(1, 0, 2))
+    assert partial[2, 2].sum() > 0 and partial[0, 1].sum() > 0
+    # no pair closer than its contact distance: each partial histogram is empty inside its own core
+    edges = np.linspace(0.0, float(run.system.box[:3].min() / 2), 201)
+    diameters = np.array([1.0, 0.7, 0.5])
+    for a, b in np.ndindex(3, 3):
+        inside = edges[1:] <= 0.5 * (diameters[a] + diameters[b]) * (1 - 1e-9)
+        assert partial[a, b][inside].sum() == 0
+
+
+def test_a_mixture_measures_its_partial_rdfs_and_contact_values_and_resumes_with_them(tmp_path):
+    path = tmp_path / "run.npz"
+    straight = EdmdRun(EdmdParameters(**BINARY)).run()
+    m = straight.measurement()
+    assert m.partial_rdf.shape == (2, 2, m.rdf.size) and m.contact_values.shape == (2, 2)
+    summary = straight.summary()
+    assert np.array(summary["contact_values_theory"]) == pytest.approx(
+        edmd.mixture_contact_values(summary["packing_fraction"], [0.25, 0.75], [1.0, 0.6]))
+    run = EdmdRun(EdmdParameters(**BINARY), checkpoint=path)
+    run.save()
+    EdmdRun.resume(path).run()  # writes its blocks to its checkpoint: resumed again, the same partials
+    again = EdmdRun.resume(path)
+    np.testing.assert_array_equal(again.measurement().partial_rdf, m.partial_rdf)
+    assert again.summary()["contact_values"] == summary["contact_values"]
+    assert EdmdRun(EdmdParameters(**BINARY | dict(fractions=None, diameters=None, masses=None))).run() \
+        .measurement().partial_rdf is None  # one species: none
+
+
+def test_a_checkpoint_with_damaged_partial_histograms_is_refused(tmp_path):
+    path = tmp_path / "run.npz"
+    EdmdRun(EdmdParameters(**BINARY), checkpoint=path).run()
+    saved = read_checkpoint(path, "edmd")
+    arrays = dict(saved.arrays) | {"sampler_partial_histograms": np.zeros((3, 3, 500))}
+    write_checkpoint(path, "edmd", saved.parameters, saved.state, arrays)
+    with pytest.raises(ValueError, match="measurement arrays"):
+        EdmdRun.resume(path)

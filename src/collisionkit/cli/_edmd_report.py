@@ -51,6 +51,7 @@ def rows(result: dict) -> list[tuple[str, str, str]]:
 
     z, omega, kT, lost = _theory_column(result)
     contact = [("g(r) at contact", pm("contact_value"), "")] if "contact_value" in result else []
+    contact += _partial_contact_rows(result)
     return _shear_rows(result, pm) + _transport_rows(result, pm) + _well_rows(result, pm) + _species_rows(result) + [
         ("compressibility factor Z = PV/NkT", pm("compressibility_factor"), z),
         ("collision frequency per particle", pm("collision_frequency"), omega),
@@ -63,6 +64,24 @@ def rows(result: dict) -> list[tuple[str, str, str]]:
         ("collisions per second", f"{result['collisions_per_second']:.4g}",
          f"wall clock, measurement (no compiling), {result['engine']} engine"),
     ]
+
+
+def _partial_contact_rows(result: dict) -> list[tuple[str, str, str]]:
+    """A mixture's g_ab at contact, for each pair of species a <= b, with the equation of state's."""
+    if "contact_values" not in result:
+        return []
+    from ..trajectory import type_names
+
+    values, errors = result["contact_values"], result["contact_values_error"]
+    theory = result.get("contact_values_theory")
+    names = type_names(list(range(len(values))))
+    return [(f"g_{names[a]}{names[b]} at contact", _pm_or_dash(values[a][b], errors[a][b]),
+             "" if theory is None else f"{theory[a][b]:.5g} ({result['theory'].split()[0]})")
+            for a in range(len(values)) for b in range(a, len(values))]
+
+
+def _pm_or_dash(value, error) -> str:
+    return "-" if value is None or error is None else f"{value:.5g} ± {error:.2g}"
 
 
 def _species_rows(result: dict) -> list[tuple[str, str, str]]:
@@ -155,8 +174,8 @@ def _plots(run, measurement, out: Path, deliveries: Deliveries) -> None:
         measurement.speeds, measurement.temperature, system.dim, **masses)))
     figures.append(("snapshot.png", lambda: plotting.plot_snapshot(system.positions(), system.radius,
                                                                     system.box[: system.dim])))
-    figures.append(("radial_distribution.png", lambda: plotting.plot_radial_distribution(measurement.rdf_r,
-                                                                                        measurement.rdf)))
+    figures.append(("radial_distribution.png", lambda: plotting.plot_radial_distribution(
+        measurement.rdf_r, measurement.rdf, partial=measurement.partial_rdf)))
     if measurement.transport is not None:
         figures.append(("helfand_moments.png", lambda: plotting.plot_helfand_moments(measurement.transport)[0]))
 

@@ -18,15 +18,49 @@ def pair_histogram(system, r_max, bins):
     there the pair that just collided sits exactly at contact, one extra
     contact pair a snapshot (12 % of the contact bin for 400 discs).
     """
-    dim = system.dim
+    points, offset = _snapshot(system)
+    return _histogram(points, system, offset, r_max, bins)
+
+
+def partial_histograms(system, r_max, bins, kinds):
+    r"""The ordered pairs (a, b) of species a and b per distance bin, shape (kinds, kinds, bins), in one snapshot.
+
+    ``[a, b]`` counts each particle of a with each of b (a pair of one
+    species twice, as :func:`pair_histogram`); the cross counts are what
+    the histogram of a and b together holds beyond those of a and b alone,
+    halved: :math:`H_{ab} = (C_{a \cup b} - C_a - C_b) / 2`.
+    """
+    points, offset = _snapshot(system)
+    species = np.asarray(system._species)  # in the engine's order, as the snapshot's points
+    members = [species == kind for kind in range(kinds)]
+    single = [_histogram(points[member], system, offset, r_max, bins) for member in members]
+    counts = np.zeros((kinds, kinds, bins))
+    for a in range(kinds):
+        counts[a, a] = single[a]
+        for b in range(a + 1, kinds):
+            both = _histogram(points[members[a] | members[b]], system, offset, r_max, bins)
+            counts[a, b] = counts[b, a] = 0.5 * (both - single[a] - single[b])
+    return counts
+
+
+def _snapshot(system):
+    """The particles' folded positions half-way to the next event (see :func:`pair_histogram`), and the
+    Lees-Edwards image offset then (None without shear)."""
     system.synchronise()
     gap = system._time_to_next_event()
     ahead = 0.5 * gap if 0.0 < gap < math.inf else 0.0
-    points = system._folded(ahead=ahead)[0]
-    if system.shear_rate != 0.0:
-        return _sheared_histogram(points[:, :dim], system.box[:dim], system._offset_at(system.time + ahead), r_max,
-                                  bins)
-    return pair_distance_histogram(points[:, :dim], system.box[:dim], system.periodic[:dim], r_max, bins)
+    points = system._folded(ahead=ahead)[0][:, : system.dim]
+    offset = system._offset_at(system.time + ahead) if system.shear_rate != 0.0 else None
+    return points, offset
+
+
+def _histogram(points, system, offset, r_max, bins):
+    dim = system.dim
+    if len(points) < 2:
+        return np.zeros(bins)
+    if offset is not None:
+        return _sheared_histogram(points, system.box[:dim], offset, r_max, bins)
+    return pair_distance_histogram(points, system.box[:dim], system.periodic[:dim], r_max, bins)
 
 
 def _sheared_histogram(points, box, offset, r_max, bins):
@@ -89,8 +123,10 @@ def pair_distance_histogram(points, box, periodic, r_max, bins):
 def contact_value(r, g, counts, diameter):
     """g at contact and its standard error: a weighted quadratic fit to the bins
     within 0.1 diameter of contact, extrapolated to contact (Poisson errors per bin,
-    of the pairs: ``counts`` counts each pair twice)."""
-    near = (r > diameter) & (r < 1.1 * diameter) & (counts > 0)
+    of the pairs: ``counts`` counts each pair twice). Only whole bins beyond contact count: a bin that
+    straddles contact is partly inside the core, so partly empty."""
+    half_width = 0.5 * (r[1] - r[0]) if len(r) > 1 else 0.0
+    near = (r - half_width >= diameter * (1.0 - 1e-12)) & (r < 1.1 * diameter) & (counts > 0)
     if near.sum() < 4:
         return math.nan, math.nan
     sigma = g[near] / np.sqrt(0.5 * counts[near])

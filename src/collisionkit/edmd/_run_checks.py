@@ -196,6 +196,10 @@ def check_saved_run(saved, sampler, parameters, system) -> None:
     fits = (sampler.blocks, sampler.per_block) == (parameters.blocks, parameters.collisions // parameters.blocks)
     fits &= len(lengths) == 1 and lengths.pop() <= sampler.blocks and sampler.histogram.ndim == 1
     fits &= sampler.start_positions.shape == (system.count, system.dim) and math.isfinite(sampler.r_max)
+    partial = sampler.partial_histograms
+    kinds = len(parameters.species_counts)
+    fits &= partial is None or (partial.shape == (kinds, kinds, sampler.histogram.size)
+                                and bool(np.all(np.isfinite(partial) & (partial >= 0))))
     fits &= (sampler.transport is not None) == parameters.transport
     fits &= sampler.transport is None or len(sampler.transport.edge_times) == sampler.done + 1
     if not fits:

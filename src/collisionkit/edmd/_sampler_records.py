@@ -76,6 +76,9 @@ def record_block(sampler, start, kT_after, kT, duration) -> None:
     # relative to the flow under shear (as kT is): lab-frame speeds grow with the box and the rate
     sampler.speeds.append(np.linalg.norm(system.peculiar_velocities(), axis=1))
     sampler.histogram += _pair_distribution.pair_histogram(system, sampler.r_max, sampler.histogram.size)
+    if sampler.partial_histograms is not None:
+        sampler.partial_histograms += _pair_distribution.partial_histograms(
+            system, sampler.r_max, sampler.histogram.size, len(sampler.partial_histograms))
 
 
 def shear_totals(system):
@@ -133,6 +136,7 @@ def observables(sampler) -> dict:
     contact, contact_error = _pair_distribution.contact_value(centres, rdf, sampler.histogram, diameter)
     if np.ptp(system.radius) > 0:  # unlike diameters: g(r) sums pairs of several contact distances
         contact = contact_error = math.nan
+    partial = _partial_functions(sampler, centres)
     durations = np.diff(msd_time)
     block_kT = np.asarray(record["temperature_mean"], dtype=float)
     temperature_mean = float(np.sum(block_kT * durations) / np.sum(durations))
@@ -162,6 +166,7 @@ def observables(sampler) -> dict:
         potential_energy_error=_msd.block_error(record["potential_energy"]),
         contact_value=contact,
         contact_value_error=contact_error,
+        **partial,
         speeds=speeds,
         rdf_r=centres,
         rdf=rdf,
@@ -189,6 +194,34 @@ def _pair_distribution_function(sampler):
     # ordered pairs: each of the N particles sees the other N - 1 at density (N - 1) / V
     rdf = sampler.histogram / (sampler.done * count * ((count - 1) / system.volume) * shells)
     return centres, rdf
+
+
+def _partial_functions(sampler, centres) -> dict:
+    """A mixture's partial g_ab(r) and their contact values g_ab(r_a + r_b) with errors (none for one species).
+
+    g_ab(r) = H_ab / (blocks N_a n_b' V_shell) with n_b' = (N_b - delta_ab) / V:
+    each particle of a sees those of b (the others of a) at that density.
+    """
+    if sampler.partial_histograms is None:
+        return {}
+    system = sampler.system
+    species, radius = np.asarray(system.species), np.asarray(system.radius)
+    kinds = len(sampler.partial_histograms)
+    counts = np.bincount(species, minlength=kinds).astype(float)
+    edges = np.linspace(0.0, sampler.r_max, sampler.histogram.size + 1)
+    shells = _ball_volume(edges[1:], system.dim) - _ball_volume(edges[:-1], system.dim)
+    partners = (counts[None, :] - np.eye(kinds)) / system.volume
+    with np.errstate(invalid="ignore", divide="ignore"):
+        rdf = sampler.partial_histograms / (sampler.done * counts[:, None, None] * partners[:, :, None] * shells)
+    contact = np.full((kinds, kinds), math.nan)
+    error = np.full((kinds, kinds), math.nan)
+    for a, b in np.ndindex(kinds, kinds):
+        if counts[a] > 0 and counts[b] > (a == b):
+            distance = float(radius[species == a][0] + radius[species == b][0])
+            # the cross pairs counted once each: the fit's Poisson weights take the histogram counted twice
+            histogram = sampler.partial_histograms[a, b] * (1.0 if a == b else 2.0)
+            contact[a, b], error[a, b] = _pair_distribution.contact_value(centres, rdf[a, b], histogram, distance)
+    return {"partial_rdf": rdf, "contact_values": contact, "contact_values_error": error}
 
 
 def shear_results(rate, record, volume_times):

@@ -45,6 +45,8 @@ def sampler_arrays(sampler) -> dict:
              sampler.wall_seconds]
         ),
     }
+    if sampler.partial_histograms is not None:
+        state["sampler_partial_histograms"] = sampler.partial_histograms
     if sampler.lag_msd is not None:
         state |= sampler.lag_msd.state_dict()
     if sampler.transport is not None:
@@ -68,6 +70,9 @@ def restore_sampler(sampler, system, state) -> None:
     sampler.blocks, sampler.per_block = int(blocks), int(per_block)
     sampler.r_max, sampler.start_time, sampler.start_lost, sampler.wall_seconds = r_max, start_time, start_lost, wall
     sampler.histogram = np.array(state["sampler_histogram"])
+    # a mixture's partial histograms (none saved before they were recorded: then none are measured)
+    partial = state.get("sampler_partial_histograms")
+    sampler.partial_histograms = None if partial is None else np.array(partial, dtype=float)
     sampler.start_positions = np.array(state["sampler_start_positions"])
     sampler.records = {name: list(state[f"sampler_{name}"]) for name in RECORDS + SHEAR_RECORDS
                        if f"sampler_{name}" in state}

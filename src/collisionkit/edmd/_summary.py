@@ -25,7 +25,9 @@ import math
 from collections.abc import Callable, Sequence
 from typing import Any
 
-from .mixture_theory import MIXTURE_EQUATION_OF_STATE, mixture_collision_frequency, mixture_compressibility
+from .mixture_theory import (
+    MIXTURE_EQUATION_OF_STATE, mixture_collision_frequency, mixture_compressibility, mixture_contact_values,
+)
 from .theory import (
     carnahan_starling, enskog_collision_frequency, enskog_transport, hansen_goos, henderson, yeh_hummer_correction,
 )
@@ -95,6 +97,9 @@ def edmd_summary(run, measurement, files: Sequence = ()) -> dict[str, Any]:
         }
         if p.dim == 3:
             result["compressibility_factor_carnahan_starling"] = float(carnahan_starling(eta))
+    if measurement.contact_values is not None:  # a mixture's partial g(r) at contact (null: no fit possible)
+        result["contact_values"] = _nested(measurement.contact_values)
+        result["contact_values_error"] = _nested(measurement.contact_values_error)
     if p.fractions is not None:
         result["species_counts"] = list(p.species_counts)
         if not math.isfinite(result["contact_value"]):  # unlike diameters: no one contact distance (Measurement)
@@ -122,7 +127,13 @@ def _mixture_theory(p, measurement, kT: float) -> dict[str, Any]:
         "compressibility_factor_relative_deviation": Z / theory - 1.0,
         "compressibility_factor_deviation_sigmas": _in_sigmas(Z - theory, measurement.compressibility_factor_error),
         "collision_frequency_theory": mixture_collision_frequency(eta, *species, p.masses or 1.0, p.dim, kT),
+        "contact_values_theory": mixture_contact_values(eta, *species, dim=p.dim).tolist(),
     }
+
+
+def _nested(values) -> list:
+    """A matrix as nested lists, NaN as None (JSON's null)."""
+    return [[None if not math.isfinite(value) else float(value) for value in row] for row in values]
 
 
 def _enskog(run, measurement, kT=None) -> dict[str, float]:

@@ -28,6 +28,8 @@ __all__ = ["RECORDS", "SHEAR_RECORDS", "Measurement", "Sampler", "measure"]
 
 # RECORDS (what the sampler records at the end of each block) and SHEAR_RECORDS (and under shear) are defined in
 # ._sampler_records
+# the most species whose partial g(r) a sampler records (their pair histograms cost S (S + 1) / 2 a block)
+PARTIAL_RDF_SPECIES = 4
 
 
 @dataclass
@@ -44,7 +46,9 @@ class Measurement:
     most 8; its error from the scatter of 8 groups of particles,
     ``_msd.MSD_GROUPS``, since overlapping origins give no independent blocks),
     ``energy_lost``, ``contact_value`` (g at contact; NaN for unlike diameters, whose
-    pairs touch at several distances), ``potential_energy``
+    pairs touch at several distances: a mixture of up to 4 species has
+    ``partial_rdf`` [a, b] over ``rdf_r``, g_ab(r), and ``contact_values``
+    g_ab(r_a + r_b) with ``contact_values_error``), ``potential_energy``
     (square wells: the time average of the potential energy per particle,
     -epsilon times the pairs inside per particle, with its error; 0 for hard
     spheres; ``temperature_mean`` is then the exact time average of kT,
@@ -125,6 +129,9 @@ class Measurement:
     viscous_heating: float = math.nan
     potential_energy: float = 0.0
     potential_energy_error: float = 0.0
+    partial_rdf: np.ndarray | None = field(default=None, repr=False)
+    contact_values: np.ndarray | None = field(default=None, repr=False)
+    contact_values_error: np.ndarray | None = field(default=None, repr=False)
 
     @property
     def collisions_per_second(self) -> float:
@@ -217,6 +224,10 @@ class Sampler:
         dim = system.dim
         self.r_max = float(min(system.box[:dim].min() / 2.0, 5.0 * 2.0 * np.max(system.radius)))
         self.histogram = np.zeros(rdf_bins)
+        kinds = int(np.max(system.species)) + 1
+        # a mixture's partial g(r), of up to PARTIAL_RDF_SPECIES species (their kinds (kinds + 1) / 2 histograms)
+        mixed = 1 < np.unique(system.species).size and kinds <= PARTIAL_RDF_SPECIES
+        self.partial_histograms = np.zeros((kinds, kinds, rdf_bins)) if mixed else None
         self.start_positions = system.positions(unwrapped=True)
         self.start_time = system.elapsed
         lags = min(_msd.MSD_MAX_LAGS, max(1, self.blocks // 2))

@@ -245,7 +245,7 @@ def plot_snapshot(positions, radii, box, ax=None):
     return ax
 
 
-def plot_radial_distribution(r, g, ax=None):
+def plot_radial_distribution(r, g, ax=None, partial=None):
     """The radial distribution function g(r), with the ideal-gas value 1 for reference.
 
     Parameters
@@ -253,6 +253,9 @@ def plot_radial_distribution(r, g, ax=None):
     r, g : array_like
         Bin centres and g(r) (e.g. ``Measurement.rdf_r`` and ``Measurement.rdf``).
     ax : matplotlib Axes, optional
+    partial : array_like, shape (S, S, len(r)), optional
+        A mixture's partial g_ab(r) (``Measurement.partial_rdf``): drawn
+        instead of g, one line for each pair of species a <= b (A-A, A-B, ...).
 
     Returns
     -------
@@ -266,18 +269,30 @@ def plot_radial_distribution(r, g, ax=None):
     >>> ax = plotting.plot_radial_distribution(r, np.where(r < 1, 0.0, 1.0))
     >>> len(ax.lines)
     2
+    >>> ax = plotting.plot_radial_distribution(r, np.ones(31), partial=np.ones((2, 2, 31)))
+    >>> [text.get_text() for text in ax.get_legend().get_texts()]
+    ['A-A', 'A-B', 'B-B']
     """
+    from ..trajectory import type_names
+
     r, g = np.asarray(r, dtype=float), np.asarray(g, dtype=float)
     if r.shape != g.shape:
         raise ValueError(f"r and g must have the same shape; got {r.shape} and {g.shape}")
     ax = _axes(ax)
-    ax.plot(r, g, color="C0")
+    if partial is None:
+        ax.plot(r, g, color="C0")
+    else:
+        partial = np.asarray(partial, dtype=float)
+        if partial.ndim != 3 or partial.shape[0] != partial.shape[1] or partial.shape[2] != r.size:
+            raise ValueError(f"partial must have shape (S, S, {r.size}); got {partial.shape}")
+        names = type_names(np.arange(len(partial)))
+        for a, b in zip(*np.triu_indices(len(partial))):
+            ax.plot(r, partial[a, b], label=f"{names[a]}-{names[b]}")
+        ax.legend()
     ax.axhline(1.0, color="0.6", lw=0.8, ls="--")
     ax.set_xlabel(r"distance $r/\sigma$")
-    ax.set_ylabel("$g(r)$")
+    ax.set_ylabel("$g(r)$" if partial is None else "$g_{ab}(r)$")
     return ax
-
-
 
 
 _HELFAND_LABELS = {
