@@ -182,15 +182,21 @@ def test_a_mixture_measures_its_partial_rdfs_and_contact_values_and_resumes_with
     again = EdmdRun.resume(path)
     np.testing.assert_array_equal(again.measurement().partial_rdf, m.partial_rdf)
     assert again.summary()["contact_values"] == summary["contact_values"]
+    # each species' D, resumed with its per-species MSD; their number-weighted mean is the D of all
+    assert again.summary()["self_diffusion_species"] == summary["self_diffusion_species"]
+    assert np.dot([0.25, 0.75], m.species_diffusion) == pytest.approx(m.diffusion_coefficient, rel=1e-12)
+    assert np.all(m.species_diffusion_error > 0)
     assert EdmdRun(EdmdParameters(**BINARY | dict(fractions=None, diameters=None, masses=None))).run() \
         .measurement().partial_rdf is None  # one species: none
 
 
-def test_a_checkpoint_with_damaged_partial_histograms_is_refused(tmp_path):
+@pytest.mark.parametrize("damage", [{"sampler_partial_histograms": np.zeros((3, 3, 500))},
+                                    {"sampler_lag_species_all": np.zeros((2, 3))}])
+def test_a_checkpoint_with_damaged_species_records_is_refused(tmp_path, damage):
     path = tmp_path / "run.npz"
     EdmdRun(EdmdParameters(**BINARY), checkpoint=path).run()
     saved = read_checkpoint(path, "edmd")
-    arrays = dict(saved.arrays) | {"sampler_partial_histograms": np.zeros((3, 3, 500))}
+    arrays = dict(saved.arrays) | damage
     write_checkpoint(path, "edmd", saved.parameters, saved.state, arrays)
     with pytest.raises(ValueError, match="measurement arrays"):
         EdmdRun.resume(path)

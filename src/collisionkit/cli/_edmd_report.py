@@ -92,7 +92,15 @@ def _species_rows(result: dict) -> list[tuple[str, str, str]]:
     count = len(p["fractions"])
     diameters, masses = p["diameters"] or [1.0] * count, p["masses"] or [1.0] * count
     kinds = ", ".join(f"{n} x (d {d:g}, m {m:g})" for n, d, m in zip(result["species_counts"], diameters, masses))
-    return [("species: particles x (diameter, mass)", kinds, f"{count} species")]
+    rows = [("species: particles x (diameter, mass)", kinds, f"{count} species")]
+    if "self_diffusion_species" in result:
+        from ..trajectory import type_names
+
+        names = type_names(list(range(count)))
+        each = ", ".join(f"{names[k]} {_pm_or_dash(value, error)}" for k, (value, error) in
+                         enumerate(zip(result["self_diffusion_species"], result["self_diffusion_species_error"])))
+        rows.append(("diffusion coefficient per species", each, "from the MSD of each"))
+    return rows
 
 
 def _well_rows(result: dict, pm) -> list[tuple[str, str, str]]:

@@ -200,6 +200,9 @@ def check_saved_run(saved, sampler, parameters, system) -> None:
     kinds = len(parameters.species_counts)
     fits &= partial is None or (partial.shape == (kinds, kinds, sampler.histogram.size)
                                 and bool(np.all(np.isfinite(partial) & (partial >= 0))))
+    lag = sampler.lag_msd
+    if lag is not None and lag.species_all is not None:
+        fits &= lag.species_all.shape == (lag.lags, kinds) and lag.species_groups.shape[:2] == (lag.lags, kinds)
     fits &= (sampler.transport is not None) == parameters.transport
     fits &= sampler.transport is None or len(sampler.transport.edge_times) == sampler.done + 1
     if not fits:

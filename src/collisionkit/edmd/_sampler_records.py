@@ -136,7 +136,10 @@ def observables(sampler) -> dict:
     contact, contact_error = _pair_distribution.contact_value(centres, rdf, sampler.histogram, diameter)
     if np.ptp(system.radius) > 0:  # unlike diameters: g(r) sums pairs of several contact distances
         contact = contact_error = math.nan
-    partial = _partial_functions(sampler, centres)
+    mixture = _partial_functions(sampler, centres)
+    by_species = sampler.lag_msd.species_diffusion(axes) if sampler.lag_msd is not None else None
+    if by_species is not None:
+        mixture |= {"species_diffusion": by_species[0], "species_diffusion_error": by_species[1]}
     durations = np.diff(msd_time)
     block_kT = np.asarray(record["temperature_mean"], dtype=float)
     temperature_mean = float(np.sum(block_kT * durations) / np.sum(durations))
@@ -166,7 +169,7 @@ def observables(sampler) -> dict:
         potential_energy_error=_msd.block_error(record["potential_energy"]),
         contact_value=contact,
         contact_value_error=contact_error,
-        **partial,
+        **mixture,
         speeds=speeds,
         rdf_r=centres,
         rdf=rdf,

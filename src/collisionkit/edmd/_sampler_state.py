@@ -85,7 +85,7 @@ def restore_sampler(sampler, system, state) -> None:
     if "shear_stress" in sampler.records:
         sampler.records.setdefault("thermostat_energy", [math.nan] * done)
     sampler.speeds = [row for row in np.array(state["sampler_speeds"])]
-    sampler.lag_msd = _msd.LagMSD.from_state_dict(state)
+    sampler.lag_msd = _msd.LagMSD.from_state_dict(state, system.species)
     if sampler.lag_msd is not None and len(sampler.lag_msd.positions[0]) and \
             np.shape(sampler.lag_msd.positions[0])[-1] != len(sampler._diffusion_axes()):
         # a sheared run saved before the transverse D: its displacements count x too, so it has none

@@ -100,6 +100,9 @@ def edmd_summary(run, measurement, files: Sequence = ()) -> dict[str, Any]:
     if measurement.contact_values is not None:  # a mixture's partial g(r) at contact (null: no fit possible)
         result["contact_values"] = _nested(measurement.contact_values)
         result["contact_values_error"] = _nested(measurement.contact_values_error)
+    if measurement.species_diffusion is not None:  # each species' self-diffusion coefficient
+        result["self_diffusion_species"] = _nested([measurement.species_diffusion])[0]
+        result["self_diffusion_species_error"] = _nested([measurement.species_diffusion_error])[0]
     if p.fractions is not None:
         result["species_counts"] = list(p.species_counts)
         if not math.isfinite(result["contact_value"]):  # unlike diameters: no one contact distance (Measurement)

@@ -48,7 +48,8 @@ class Measurement:
     ``energy_lost``, ``contact_value`` (g at contact; NaN for unlike diameters, whose
     pairs touch at several distances: a mixture of up to 4 species has
     ``partial_rdf`` [a, b] over ``rdf_r``, g_ab(r), and ``contact_values``
-    g_ab(r_a + r_b) with ``contact_values_error``), ``potential_energy``
+    g_ab(r_a + r_b) with ``contact_values_error``; any mixture ``species_diffusion``,
+    each species' D with its ``species_diffusion_error``), ``potential_energy``
     (square wells: the time average of the potential energy per particle,
     -epsilon times the pairs inside per particle, with its error; 0 for hard
     spheres; ``temperature_mean`` is then the exact time average of kT,
@@ -130,6 +131,8 @@ class Measurement:
     potential_energy: float = 0.0
     potential_energy_error: float = 0.0
     partial_rdf: np.ndarray | None = field(default=None, repr=False)
+    species_diffusion: np.ndarray | None = field(default=None, repr=False)
+    species_diffusion_error: np.ndarray | None = field(default=None, repr=False)
     contact_values: np.ndarray | None = field(default=None, repr=False)
     contact_values_error: np.ndarray | None = field(default=None, repr=False)
 
@@ -231,7 +234,8 @@ class Sampler:
         self.start_positions = system.positions(unwrapped=True)
         self.start_time = system.elapsed
         lags = min(_msd.MSD_MAX_LAGS, max(1, self.blocks // 2))
-        self.lag_msd = _msd.LagMSD(lags, self.start_positions[:, self._diffusion_axes()], self.start_time)
+        species = system.species if np.unique(system.species).size > 1 else None
+        self.lag_msd = _msd.LagMSD(lags, self.start_positions[:, self._diffusion_axes()], self.start_time, species)
         self.start_lost = system.energy_lost
         self.wall_seconds = 0.0
         self.records = {name: [] for name in RECORDS + (SHEAR_RECORDS if system.shear_rate != 0.0 else ())}
