@@ -65,7 +65,7 @@ BAD_INPUTS = [
     ("edmd", ["--engine", "cells", "--shear-rate", "0.1"], "engine cells cannot be combined with shear_rate"),
     ("edmd", ["--well-width", "1"], "--well-width must be in (1, 5]"),
     ("edmd", ["--well-width", "7.5"], "--well-width must be in (1, 5]"),
-    ("edmd", ["--well-width", "nan"], "--well-width: Input should be a finite number"),
+    ("edmd", ["--well-width", "nan"], "--well-width must be finite; got nan"),
     ("edmd", ["--well-width", "wide"], "invalid value for '--well-width'"),
     ("edmd", ["--well-depth", "0", "--well-width", "1.5"], "--well-depth must be in (0, 1000]"),
     ("edmd", ["--well-depth", "-2"], "--well-depth must be in (0, 1000]"),

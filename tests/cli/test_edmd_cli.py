@@ -498,3 +498,19 @@ def test_a_mixture_from_a_config_file_reports_its_species_and_theory_and_resumes
     assert again.exit_code == 0, again.output
     other = invoke("--resume", tmp_path / "c.npz", "--masses", 1, "--masses", 0.5, "--no-plots")
     assert other.exit_code == 2 and "masses" in other.output and "differs from the checkpoint" in other.output
+
+
+def test_a_well_per_species_pair_from_a_config_file(tmp_path):
+    config = tmp_path / "wells.toml"
+    config.write_text("particles = 300\nfractions = [0.5, 0.5]\ndiameters = [1.0, 0.8]\n"
+                      "well_width = [[1.5, 1.4], [1.4, 1.3]]\nwell_depth = [[1.0, 0.5], [0.5, 0.0]]\n"
+                      "equilibration = 3000\ncollisions = 4000\nblocks = 2\nseed = 2\nplots = false\n")
+    result = invoke("--config", config, "--summary", tmp_path / "s.json")
+    assert result.exit_code == 0, result.output
+    summary = json.loads((tmp_path / "s.json").read_text())
+    assert summary["well_depth"] == [[1.0, 0.5], [0.5, 0.0]] and summary["potential_energy"] < 0
+    assert "potential energy per" in result.output
+    config.write_text("well_width = [[1.5, 1.4], [1.4, 1.3]]\n")
+    refused = invoke("--config", config)
+    assert refused.exit_code == 2 and "--well-width as a matrix (one per species pair) needs fractions" in \
+        " ".join(refused.output.split())

@@ -200,3 +200,36 @@ def test_a_checkpoint_with_damaged_species_records_is_refused(tmp_path, damage):
     write_checkpoint(path, "edmd", saved.parameters, saved.state, arrays)
     with pytest.raises(ValueError, match="measurement arrays"):
         EdmdRun.resume(path)
+
+
+@pytest.mark.parametrize(
+    ("values", "words"),
+    [
+        ({"well_width": ((1.5, 1.4), (1.4, 1.3)), "fractions": None, "diameters": None, "masses": None},
+         "well_width as a matrix (one per species pair) needs fractions"),
+        ({"well_width": ((1.5, 1.4), (1.3, 1.3))}, "well_width must be a symmetric matrix"),
+        ({"well_width": ((1.5,),)}, "well_width must be a number or a 2 x 2 matrix"),
+        ({"well_width": ((1.5, 0.5), (0.5, 1.5))}, "well_width[0][1] must be in (1, 5]; got 0.5"),
+        ({"well_width": 1.5, "well_depth": ((0.0, 0.0), (0.0, 0.0))}, "some pair of species needs a well"),
+        ({"well_width": 1.5, "well_depth": ((1.0, -1.0), (-1.0, 1.0))}, "well_depth[0][1] must be in [0, 1000]"),
+    ],
+)
+def test_bad_well_matrices_name_the_entry_and_the_rule(values, words):
+    with pytest.raises(ValueError) as caught:
+        EdmdParameters(**BINARY | values)
+    assert words in str(caught.value)
+
+
+def test_a_well_per_species_pair_runs_from_the_parameters_as_the_system_takes_it(tmp_path):
+    """The run's system gets the matrices (A-A 1.5 / 1, A-B 1.4 / 0.5, B-B none); the energy is kept; T* is of the
+    deepest well; the run resumes bit for bit."""
+    wells = dict(well_width=((1.5, 1.4), (1.4, 1.3)), well_depth=((1.0, 0.5), (0.5, 0.0)))
+    run = EdmdRun(EdmdParameters(**BINARY | wells | dict(particles=300)), checkpoint=tmp_path / "run.npz")
+    np.testing.assert_array_equal(run.system.well_depth, [[1.0, 0.5], [0.5, 0.0]])
+    np.testing.assert_array_equal(run.system.well_width, [[1.5, 1.4], [1.4, 1.3]])
+    run.run()
+    summary = run.summary()
+    assert summary["well_depth"] == ((1.0, 0.5), (0.5, 0.0)) and summary["potential_energy"] < 0
+    assert summary["reduced_temperature"] == summary["temperature_mean"]
+    resumed = EdmdRun.resume(tmp_path / "run.npz", well_depth=[[1.0, 0.5], [0.5, 0.0]])
+    assert resumed.finished and resumed.summary()["potential_energy"] == summary["potential_energy"]

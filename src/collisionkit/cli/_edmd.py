@@ -56,8 +56,9 @@ class EdmdOptions(Options):
     shear_rate: float = Field(default=0.0, ge=0, allow_inf_nan=False)
     thermostat: bool = False
     engine: EngineName = "auto"
-    well_width: float | None = Field(default=None, allow_inf_nan=False)  # its range: the library's message
-    well_depth: float = Field(default=1.0, allow_inf_nan=False)
+    # a number, or (a config file's, with fractions) a matrix over the species; ranges: the library's messages
+    well_width: float | list[list[float]] | None = None
+    well_depth: float | list[list[float]] = 1.0
     fractions: list[float] | None = None  # a mixture; its ranges and rules: the library's messages
     diameters: list[float] | None = None
     masses: list[float] | None = None
@@ -109,8 +110,11 @@ class EdmdOptions(Options):
         from ..edmd import EdmdParameters
 
         values = {name: getattr(self, name) for name in EdmdParameters.names()}
-        return EdmdParameters(**values | {name: None if values[name] is None else tuple(values[name])
-                                          for name in ("fractions", "diameters", "masses")})
+        values |= {name: None if values[name] is None else tuple(values[name])
+                   for name in ("fractions", "diameters", "masses")}
+        values |= {name: tuple(map(tuple, values[name])) for name in ("well_width", "well_depth")
+                   if isinstance(values[name], list)}
+        return EdmdParameters(**values)
 
 
 def _refuse_beyond_memory(parameters) -> None:

@@ -103,13 +103,21 @@ def _species_rows(result: dict) -> list[tuple[str, str, str]]:
     return rows
 
 
+def _number_or_table(value) -> str:
+    """A well's width or depth as printed: a number, or a matrix over the species row by row (``1.5 1.4 / 1.4 1``)."""
+    if isinstance(value, (list, tuple)):
+        return " / ".join(" ".join(f"{item:g}" for item in row) for row in value)
+    return f"{value:g}"
+
+
 def _well_rows(result: dict, pm) -> list[tuple[str, str, str]]:
     """The rows of a square-well run (--well-width): potential energy, mean kT, T*, the events at the wells' edges."""
     if not result.get("well_width"):
         return []
     return [
         ("potential energy per particle U/N", pm("potential_energy"),
-         f"-epsilon per pair inside (lambda {result['well_width']:g}, epsilon {result['well_depth']:g})"),
+         f"-epsilon per pair inside (lambda {_number_or_table(result['well_width'])}, epsilon "
+         f"{_number_or_table(result['well_depth'])})"),
         ("temperature kT (time mean)", pm("temperature_mean"), f"T* = kT/epsilon = {result['reduced_temperature']:.5g}"),
         ("well events: captures / escapes / bounces",
          f"{result['well_captures']} / {result['well_escapes']} / {result['well_bounces']}", "since the start"),

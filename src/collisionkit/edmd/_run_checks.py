@@ -94,16 +94,19 @@ def checked_parameters(p) -> dict[str, Any]:
     if p.yeh_hummer and not (p.transport and p.dim == 3):
         raise ValueError("yeh_hummer needs transport (the correction uses the measured shear viscosity) and dim 3 "
                          "(its constant is the cubic lattice's)")
+    values |= _checked_species(p, values["particles"])
+    kinds = None if p.fractions is None else len(values["fractions"])
     if p.well_width is not None:
-        values["well_width"] = check_real("well_width", p.well_width, 1.0, MAX_WELL_WIDTH, low_open=True)
+        values["well_width"] = _number_or_matrix("well_width", p.well_width, kinds, 1.0, MAX_WELL_WIDTH, True)
         clashes = ((shear_rate != 0.0, "shear_rate", "wells run in a fluid at rest"),
                     (p.engine == "cells", "engine cells", "the cell-crossing engine has no wells: use lists or auto"),
                    (values["restitution"] != 1.0, "restitution below 1", "wells keep the energy of elastic pairs"))
         for clash, name, why in clashes:
             if clash:
                 raise ValueError(f"well_width cannot be combined with {name} ({why})")
-    values["well_depth"] = check_real("well_depth", p.well_depth, 0.0, MAX_WELL_DEPTH, low_open=True)
-    values |= _checked_species(p, values["particles"])
+    depth = values["well_depth"] = _number_or_matrix("well_depth", p.well_depth, kinds, 0.0, MAX_WELL_DEPTH, True)
+    if isinstance(depth, tuple) and not max(map(max, depth)) > 0.0:
+        raise ValueError("well_depth: some pair of species needs a well (depth > 0); 0 is a pair without one")
     if p.engine == "cells" and shear_rate != 0.0:  # what HardSphereSystem refuses, said before any work
         raise ValueError("engine cells cannot be combined with shear_rate: the cell-crossing engine runs straight "
                          "flights only (use engine lists or auto)")
@@ -117,6 +120,24 @@ def _reals(name: str, value, count: int | None, low: float, high: float, low_ope
     if count is not None and len(value) != count:
         raise ValueError(f"{name} must give one value per species ({count}, as fractions does); got {len(value)}")
     return tuple(check_real(f"{name}[{index}]", item, low, high, low_open=low_open) for index, item in enumerate(value))
+
+
+def _number_or_matrix(name: str, value, kinds: int | None, low: float, high: float, low_open: bool):
+    """A number in its range, or (a mixture's) symmetric matrix over the species as a tuple of tuples; in a matrix
+    a depth may be 0 (that pair has no well)."""
+    if not isinstance(value, (list, tuple)):
+        return check_real(name, value, low, high, low_open=low_open)
+    if kinds is None:
+        raise ValueError(f"{name} as a matrix (one per species pair) needs fractions (the species)")
+    if len(value) != kinds or any(not isinstance(row, (list, tuple)) or len(row) != kinds for row in value):
+        raise ValueError(f"{name} must be a number or a {kinds} x {kinds} matrix (one per pair of the {kinds} "
+                         f"species of fractions); got {value!r}")
+    entry_low_open = low_open and name != "well_depth"
+    matrix = tuple(tuple(check_real(f"{name}[{a}][{b}]", item, low, high, low_open=entry_low_open)
+                         for b, item in enumerate(row)) for a, row in enumerate(value))
+    if any(matrix[a][b] != matrix[b][a] for a in range(kinds) for b in range(kinds)):
+        raise ValueError(f"{name} must be a symmetric matrix (the well of a and b is that of b and a); got {value!r}")
+    return matrix
 
 
 def _checked_species(p, particles: int) -> dict[str, Any]:

@@ -25,6 +25,8 @@ import math
 from collections.abc import Callable, Sequence
 from typing import Any
 
+import numpy as np
+
 from .mixture_theory import (
     MIXTURE_EQUATION_OF_STATE, mixture_collision_frequency, mixture_compressibility, mixture_contact_values,
 )
@@ -78,8 +80,9 @@ def edmd_summary(run, measurement, files: Sequence = ()) -> dict[str, Any]:
         # by the parameters, not by value: a run whose pairs never met a well still reports U/N = 0 +- 0
         result |= {key: getattr(measurement, key) for key in (
             "potential_energy", "potential_energy_error", "temperature_mean", "temperature_mean_error")}
+        deepest = float(np.max(p.well_depth))  # (a matrix: T* of the deepest well)
         result |= {"well_width": p.well_width, "well_depth": p.well_depth, "reduced_temperature":
-                   measurement.temperature_mean / p.well_depth} | {f"well_{kind}": count for kind, count in
+                   measurement.temperature_mean / deepest} | {f"well_{kind}": count for kind, count in
                                                                   system.well_events.items()}
     elif p.restitution == 1.0 and p.fractions is not None:  # a mixture: its equation of state
         result |= _mixture_theory(p, measurement, kT if sheared else 1.0)

@@ -112,7 +112,10 @@ class EdmdParameters(Parameters):
         engine "cells".
     well_depth : float
         epsilon > 0 of the wells, in units of the kT = 1 the run equilibrates
-        at: the reduced temperature is T* = 1 / ``well_depth``.
+        at: the reduced temperature is T* = 1 / ``well_depth``. With
+        ``fractions``, ``well_width`` and ``well_depth`` may each be a
+        symmetric matrix over the species (a depth of 0: that pair has hard
+        cores only; T* is then taken with the deepest well).
     fractions : sequence of float, optional
         A mixture: the number fractions of its species (> 0, summing to 1;
         default None: one species). The counts are N x_i rounded by the
@@ -151,8 +154,8 @@ class EdmdParameters(Parameters):
     shear_rate: float = 0.0
     thermostat: bool = False
     engine: str = "auto"
-    well_width: float | None = None
-    well_depth: float = 1.0
+    well_width: float | tuple[tuple[float, ...], ...] | None = None
+    well_depth: float | tuple[tuple[float, ...], ...] = 1.0
     fractions: tuple[float, ...] | None = None
     diameters: tuple[float, ...] | None = None
     masses: tuple[float, ...] | None = None
