@@ -63,7 +63,46 @@ def test_the_run_saves_while_it_runs_each_save_a_state_it_could_go_on_from(tmp_p
     monkeypatch.setattr(slab_run, "_write", write_and_check)
     SlabRun(PARAMETERS, checkpoint=path, save_every=0.0).run()
     assert len(done) >= 3 and done == sorted(done) and done[0] < done[-1] == PARAMETERS.particles
-    assert SAVE_EVERY == 60.0  # the default: a minute of work at most is lost
+    assert 60.0 == SAVE_EVERY == SlabRun(PARAMETERS).save_every  # by default a minute of work at most is lost
+
+
+def test_a_save_taken_while_the_run_ran_goes_on_to_the_result_of_a_run_never_stopped(tmp_path, monkeypatch):
+    """A copy of the checkpoint from mid-run (taken between the batches' calls as they ran) resumed bit for bit."""
+    import shutil
+
+    from collisionkit.transport import slab_run
+
+    path, kept = tmp_path / "slab.npz", tmp_path / "mid-run.npz"
+    real = slab_run._write
+
+    def write_and_keep_the_first(target, parameters, batches):
+        real(target, parameters, batches)
+        if not kept.exists() and 0 < batches.done < parameters.particles:
+            shutil.copy(target, kept)
+
+    monkeypatch.setattr(_slab_batches, "PROGRESS_SECONDS", 0.001)
+    interrupt_after(monkeypatch, calls=-1, pause=0.002)
+    monkeypatch.setattr(slab_run, "_write", write_and_keep_the_first)
+    SlabRun(PARAMETERS, checkpoint=path, save_every=0.0).run()
+    monkeypatch.undo()
+    resumed = SlabRun.resume(kept)
+    assert 0 < resumed.done < PARAMETERS.particles
+    assert _same(resumed.run(), _straight())
+
+
+@pytest.mark.parametrize(("threads", "error"), [(0, ValueError), ("2", TypeError), (1.5, TypeError)])
+def test_threads_must_be_a_whole_number_of_at_least_one(threads, error):
+    with pytest.raises(error, match="threads"):
+        SlabRun(PARAMETERS).run(threads=threads)
+
+
+def test_a_resumed_run_does_not_write_over_another_existing_file(tmp_path, monkeypatch):
+    path, other = tmp_path / "slab.npz", tmp_path / "other.npz"
+    _interrupted(path, monkeypatch)
+    other.write_text("a user's file")
+    with pytest.raises(FileExistsError, match="other.npz exists"):
+        SlabRun.resume(path, checkpoint=other)
+    assert other.read_text() == "a user's file"
 
 
 def test_a_run_never_stopped_gives_simulate_slab_s_result(tmp_path):
@@ -88,6 +127,15 @@ def test_an_existing_checkpoint_is_not_replaced_and_other_physics_is_refused(tmp
         (lambda arrays: arrays["batches_counts"].__setitem__((0, 0), -1.0), "do not add up"),
         (lambda arrays: arrays["batches_angles"].__setitem__((1, 0, 3), 1e9), "do not add up"),
         (lambda arrays: arrays["batches_flights"].__setitem__((2, 0), np.nan), "do not add up"),
+        # a history in flight outside the slab: its exit would be binned outside the histograms
+        (lambda arrays: arrays["batches_flights"].__setitem__((3, slice(None)), [1.0, 0.5, -1e12, 1.0]),
+         "lies outside the slab"),
+        (lambda arrays: arrays["batches_flights"].__setitem__((3, slice(None)), [1.0, -3.0, 0.5, 1.0]),
+         "lies outside the slab"),
+        (lambda arrays: arrays["batches_flights"].__setitem__((3, slice(None)), [9.0, 0.5, 0.5, 1.0]),
+         "lies outside the slab"),
+        (lambda arrays: arrays["batches_flights"].__setitem__((3, 3), 0.5), "lies outside the slab"),
+        (lambda arrays: arrays["batches_rng"].__setitem__(4, 0), "random stream is all zero"),
     ],
 )
 def test_a_damaged_checkpoint_is_refused_naming_what_is_wrong(tmp_path, monkeypatch, change, words):

@@ -219,7 +219,7 @@ def report(run, options, extra: dict) -> None:
         _plots(run, measurement, options.out, deliveries)
     result = run.summary(deliveries.files) | extra
     p = run.parameters
-    kind = "spheres" if p.dim == 3 else "discs"
+    kind = ("spheres" if p.dim == 3 else "discs") + ("" if p.fractions is None else f" of {len(p.fractions)} species")
     title = f"EDMD: {p.particles} hard {kind}, eta = {p.packing_fraction:g}, e = {p.restitution:g}, seed {p.seed}"
     print_table(title, ("quantity", "measured", "theory"), rows(result))
     note = run.cooling_note()

@@ -11,6 +11,9 @@ import numpy as np
 
 from .._kernels import edmd as _k
 
+# the most species whose partial g(r) a sampler records (their pair histograms cost S (S + 1) / 2 a block)
+PARTIAL_RDF_SPECIES = 4
+
 def pair_histogram(system, r_max, bins):
     """Counts of pairs (each counted twice) per distance bin up to r_max, in one snapshot.
 
@@ -122,11 +125,13 @@ def pair_distance_histogram(points, box, periodic, r_max, bins):
 
 def contact_value(r, g, counts, diameter):
     """g at contact and its standard error: a weighted quadratic fit to the bins
-    within 0.1 diameter of contact, extrapolated to contact (Poisson errors per bin,
+    within 0.1 diameter of contact (5 bins at least), extrapolated to contact (Poisson errors per bin,
     of the pairs: ``counts`` counts each pair twice). Only whole bins beyond contact count: a bin that
     straddles contact is partly inside the core, so partly empty."""
     half_width = 0.5 * (r[1] - r[0]) if len(r) > 1 else 0.0
-    near = (r - half_width >= diameter * (1.0 - 1e-12)) & (r < 1.1 * diameter) & (counts > 0)
+    # a small species' contact (a tenth of it narrower than 5 bins) is fitted over 5 bins
+    reach = max(1.1 * diameter, diameter + 10.0 * half_width)
+    near = (r - half_width >= diameter * (1.0 - 1e-12)) & (r < reach) & (counts > 0)
     if near.sum() < 4:
         return math.nan, math.nan
     sigma = g[near] / np.sqrt(0.5 * counts[near])

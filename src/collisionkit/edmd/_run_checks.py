@@ -18,6 +18,8 @@ import numpy as np
 from .._params import check_choice, check_integer, check_real, check_seed
 from ._cell_crossings import ENGINE_NAMES
 from ._wells import MAX_WELL_WIDTH
+from ._msd import MSD_GROUPS
+from ._pair_distribution import PARTIAL_RDF_SPECIES
 from .initial import LATTICE_DIM, lattice_cells
 from .mixture_theory import FRACTION_SUM_TOLERANCE
 from .theory import MAX_PACKING_FRACTION
@@ -223,7 +225,11 @@ def check_saved_run(saved, sampler, parameters, system) -> None:
                                 and bool(np.all(np.isfinite(partial) & (partial >= 0))))
     lag = sampler.lag_msd
     if lag is not None and lag.species_all is not None:
-        fits &= lag.species_all.shape == (lag.lags, kinds) and lag.species_groups.shape[:2] == (lag.lags, kinds)
+        fits &= lag.species_all.shape == (lag.lags, kinds) and lag.species_groups.shape == (lag.lags, kinds,
+                                                                                             MSD_GROUPS)
+        fits &= bool(np.all(np.isfinite(lag.species_all)))
+    # a mixture of a few species records its partial histograms from its first block (a file without them is damaged)
+    fits &= partial is not None or not 1 < kinds <= PARTIAL_RDF_SPECIES
     fits &= (sampler.transport is not None) == parameters.transport
     fits &= sampler.transport is None or len(sampler.transport.edge_times) == sampler.done + 1
     if not fits:

@@ -28,8 +28,8 @@ __all__ = ["RECORDS", "SHEAR_RECORDS", "Measurement", "Sampler", "measure"]
 
 # RECORDS (what the sampler records at the end of each block) and SHEAR_RECORDS (and under shear) are defined in
 # ._sampler_records
-# the most species whose partial g(r) a sampler records (their pair histograms cost S (S + 1) / 2 a block)
-PARTIAL_RDF_SPECIES = 4
+# PARTIAL_RDF_SPECIES (the most species whose partial g(r) a sampler records) is defined in ._pair_distribution
+PARTIAL_RDF_SPECIES = _pair_distribution.PARTIAL_RDF_SPECIES
 
 
 @dataclass

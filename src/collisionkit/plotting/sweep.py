@@ -86,8 +86,9 @@ def plot_sweep(points, x, y, series=(), title=None, ax=None):
     for values, group in measured.items():
         errors = np.nan_to_num(np.array([point.get("error", np.nan) for point in group], dtype=float))
         label = _sweep_label(series, values) or ("measured" if expected else None)
+        categories = any(isinstance(point[x], (list, tuple)) for point in group)  # no line between categories
         bars = ax.errorbar([_axis_value(point[x]) for point in group], [point["mean"] for point in group], yerr=errors,
-                           fmt="o-", capsize=3, label=label)  # fmt: skip
+                           fmt="o" if categories else "o-", capsize=3, label=label)  # fmt: skip
         if values in expected:
             line = [(_axis_value(point[x]), point["theory"]) for point in expected[values]]
             colour = bars.lines[0].get_color() if series else "k"

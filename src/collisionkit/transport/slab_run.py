@@ -21,7 +21,7 @@ import numpy as np
 
 from .._io import CheckpointError, exclusive, read_checkpoint, write_checkpoint
 from .._kernels import transport as _k
-from .._params import check_real, check_unchanged
+from .._params import check_integer, check_real, check_unchanged
 from ._slab_batches import BATCHES, SlabBatches, run_batches, slab_physics
 from .slab import SlabResult, slab_result
 from .slab_parameters import SlabParameters
@@ -113,7 +113,7 @@ class SlabRun:
         (True, 1000, 1.0)
         """
         p = self.parameters
-        threads = (os.cpu_count() or 1) if threads is None else threads
+        threads = (os.cpu_count() or 1) if threads is None else check_integer("threads", threads, 1)
         physics = slab_physics(p.thickness, p.albedo, p.incidence, p.model, p.mass_ratio, ANGLE_BINS, ENERGY_BINS)
         with exclusive(self.checkpoint):
             if not self.finished:
@@ -167,6 +167,8 @@ class SlabRun:
             raise CheckpointError(f"{path} holds parameters that are not valid now: {error}") from None
         check_unchanged(parameters, given, path)
         batches = _read_batches(saved, parameters)
+        if checkpoint is not None and Path(checkpoint).resolve() != Path(path).resolve() and Path(checkpoint).exists():
+            raise FileExistsError(f"checkpoint {checkpoint} exists (another run's file): name another, or remove it")
         return cls(parameters, checkpoint=path if checkpoint is None else checkpoint, save_every=save_every,
                    _batches=batches)
 
@@ -192,12 +194,24 @@ def _read_batches(saved, parameters: SlabParameters) -> SlabBatches:
                           angles=values["angles"].astype(float), energies=values["energies"].astype(float))
     start = SlabBatches.start(parameters.seed, parameters.particles, ANGLE_BINS, ENERGY_BINS).left
     finished = batches.counts[:, :3].sum(axis=1)
-    numbers = [batches.flights, batches.counts, batches.angles, batches.energies]
-    fits = all(np.all(np.isfinite(array) & (array >= 0)) for array in numbers[1:])
-    fits &= bool(np.all(np.isfinite(batches.flights))) and bool(np.all((batches.left >= 0) & (batches.left <= start)))
+    numbers = [batches.counts, batches.angles, batches.energies]
+    fits = all(np.all(np.isfinite(array) & (array >= 0)) for array in numbers)
+    fits &= bool(np.all((batches.left >= 0) & (batches.left <= start)))
+    fits &= _flights_fit(batches.flights, parameters.thickness) and bool(np.all(batches.rng.any(axis=1)))
     fits &= bool(np.array_equal(finished, start - batches.left))
     for histogram in (batches.angles, batches.energies):  # every particle out is in both histograms
         fits &= bool(np.array_equal(histogram.sum(axis=2), batches.counts[:, :2]))
     if not fits:
-        raise saved.damaged("its batches' counts do not add up to the histories its parameters give")
+        raise saved.damaged("its batches' counts do not add up to the histories its parameters give, or a history "
+                            "in flight lies outside the slab (0 <= x <= d, |mu| <= 1, 0 < energy <= 1), or a random "
+                            "stream is all zero")
     return batches
+
+
+def _flights_fit(flights, thickness) -> bool:
+    """Whether each batch's history cut short is one the kernel could have left: inactive, or inside the slab with a
+    direction cosine and an energy (in units of the incident one) in range, as the histograms' bins need."""
+    x, mu, energy, active = (flights[:, slot] for slot in
+                             (_k.FLIGHT_X, _k.FLIGHT_MU, _k.FLIGHT_ENERGY, _k.FLIGHT_ACTIVE))
+    inside = (x >= 0.0) & (x <= thickness) & (np.abs(mu) <= 1.0) & (energy > 0.0) & (energy <= 1.0)
+    return bool(np.all(np.isfinite(flights)) and np.all((active == 0.0) | ((active == 1.0) & inside)))

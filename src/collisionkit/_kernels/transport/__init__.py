@@ -70,10 +70,10 @@ from .layout import (
 )
 from .moments import energy_histogram, group_moments, group_sums, group_tensor_moments
 from .oscillating import oscillating_field
-from .slab import FLIGHT_SIZE, slab_batch
+from .slab import FLIGHT_ACTIVE, FLIGHT_ENERGY, FLIGHT_MU, FLIGHT_SIZE, FLIGHT_X, slab_batch
 
 __all__ = [
-    "ATTACHMENT", "BOUND_COLUMN_OFFSET", "DISPLACEMENT_COLUMN_OFFSET", "ELASTIC", "EXCITATION", "EXTRA_COLUMNS", "FLIGHT_SIZE", "FORWARD",
+    "ATTACHMENT", "BOUND_COLUMN_OFFSET", "DISPLACEMENT_COLUMN_OFFSET", "ELASTIC", "EXCITATION", "EXTRA_COLUMNS", "FLIGHT_ACTIVE", "FLIGHT_ENERGY", "FLIGHT_MU", "FLIGHT_SIZE", "FLIGHT_X", "FORWARD",
     "IONIZATION", "ISOTROPIC", "NULL_COLUMN_OFFSET", "OKHRIMOVSKYY", "SCREENED_COULOMB", "SHARE_EQUAL",
     "SHARE_UNIFORM", "SUPERELASTIC", "TIME_COLUMN_OFFSET", "TRIAL_BUDGET", "VAHEDI_SURENDRA", "WINDOW_COLLISIONS",
     "WINDOW_GROWTH", "advance_swarm", "derived_field", "energy_histogram", "group_moments", "group_sums",
