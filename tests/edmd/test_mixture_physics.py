@@ -69,19 +69,23 @@ def test_a_dense_size_mixture_is_within_the_accuracy_of_its_equation_of_state(di
 
 
 def test_the_error_bars_match_the_scatter_of_repeated_runs():
-    """Ten seeds of a binary sphere fluid: the standard deviation of Z and omega over the runs against the mean
-    error each run reports (their ratio has a chi distribution with 9 degrees of freedom: 0.45 to 1.55 holds it
-    with 99 % probability)."""
+    """Thirty seeds of a binary sphere fluid: the standard deviation over the runs of Z, omega, each species' D and
+    the partial contact values against the mean error each run reports (their ratio has a chi distribution with
+    29 degrees of freedom: 0.65 to 1.40 holds it with 99.9 % probability)."""
     values = []
-    for seed in range(1, 11):
-        s = _summary(particles=500, collisions=50_000, equilibration=10_000, blocks=10, seed=seed, packing_fraction=0.3,
-                     fractions=(0.5, 0.5), diameters=(1.0, 0.6), masses=(1.0, 0.5))
-        values.append([s["compressibility_factor"], s["compressibility_factor_error"], s["collision_frequency"],
-                       s["collision_frequency_error"]])
+    for seed in range(1, 31):
+        run = EdmdRun(EdmdParameters(particles=500, collisions=50_000, equilibration=10_000, blocks=10, seed=seed,
+                                     packing_fraction=0.3, fractions=(0.5, 0.5), diameters=(1.0, 0.6),
+                                     masses=(1.0, 0.5)))
+        m = run.run().measurement()
+        pairs = [0, 1, 3]  # A-A, A-B, B-B
+        values.append(np.concatenate([
+            [m.compressibility_factor, m.collision_frequency], m.species_diffusion, m.contact_values.ravel()[pairs],
+            [m.compressibility_factor_error, m.collision_frequency_error], m.species_diffusion_error,
+            m.contact_values_error.ravel()[pairs]]))
     values = np.array(values)
-    for column in (0, 2):
-        ratio = values[:, column].std(ddof=1) / values[:, column + 1].mean()
-        assert 0.45 < ratio < 1.55, (column, ratio)
+    ratios = values[:, :7].std(axis=0, ddof=1) / values[:, 7:].mean(axis=0)
+    assert np.all((0.65 < ratios) & (ratios < 1.40)), ratios
 
 
 @pytest.mark.parametrize(("dim", "eta"), [(2, 0.4), (3, 0.3)])
