@@ -188,8 +188,8 @@ def _plots(run, measurement, out: Path, deliveries: Deliveries) -> None:
                                                                                        mixture=mixture)))
     figures.append(("speed_distribution.png", lambda: plotting.plot_speed_distribution(
         measurement.speeds, measurement.temperature, system.dim, **masses)))
-    figures.append(("snapshot.png", lambda: plotting.plot_snapshot(system.positions(), system.radius,
-                                                                    system.box[: system.dim])))
+    figures.append(("snapshot.png", lambda: plotting.plot_snapshot(
+        system.positions(), system.radius, system.box[: system.dim], species=system.species if mixture else None)))
     figures.append(("radial_distribution.png", lambda: plotting.plot_radial_distribution(
         measurement.rdf_r, measurement.rdf, partial=measurement.partial_rdf)))
     if measurement.transport is not None:

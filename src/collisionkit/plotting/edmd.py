@@ -174,7 +174,7 @@ def plot_speed_distribution(speeds, kT, dim, mass=1.0, ax=None, fractions=None):
     return ax
 
 
-def plot_snapshot(positions, radii, box, ax=None):
+def plot_snapshot(positions, radii, box, ax=None, species=None):
     """A picture of a hard-sphere configuration drawn to scale.
 
     2D: every disc. 3D: the cut through the mid-plane z = L_z/2, each sphere
@@ -190,6 +190,8 @@ def plot_snapshot(positions, radii, box, ax=None):
     box : array_like, shape (d,)
         Box lengths.
     ax : matplotlib Axes, optional
+    species : array_like of int, shape (N,), optional
+        2D: each disc coloured by its species (C0, C1, ...; 3D keeps the depth's colours).
 
     Returns
     -------
@@ -208,6 +210,9 @@ def plot_snapshot(positions, radii, box, ax=None):
     1
     >>> print(cut.figure.axes[-1].get_ylabel())  # the colour bar
     $|z - L_z/2|\\,/\\,\\sigma$ (depth of the centre)
+    >>> mixed = plotting.plot_snapshot(positions, 0.5, box, species=[0, 1] * 36)
+    >>> mixed.collections[0].get_facecolors()[:2].round(2).tolist()  # C0 and C1
+    [[0.12, 0.47, 0.71, 1.0], [1.0, 0.5, 0.05, 1.0]]
     """
     from matplotlib.collections import EllipseCollection
     from matplotlib.patches import Rectangle
@@ -219,6 +224,12 @@ def plot_snapshot(positions, radii, box, ax=None):
     if box.shape != (positions.shape[1],):
         raise ValueError(f"box must have shape ({positions.shape[1]},); got {box.shape}")
     radii = np.broadcast_to(np.asarray(radii, dtype=float), (positions.shape[0],))
+    faces = "C0"
+    if species is not None and positions.shape[1] == 2:
+        species = np.asarray(species)
+        if species.shape != (positions.shape[0],):
+            raise ValueError(f"species must have shape ({positions.shape[0]},); got {species.shape}")
+        faces = [f"C{int(kind) % 10}" for kind in species]
     if positions.shape[1] == 3:
         depth = positions[:, 2] - box[2] / 2.0
         cut = np.abs(depth) < radii
@@ -227,7 +238,7 @@ def plot_snapshot(positions, radii, box, ax=None):
     ax = _axes(ax)
     discs = EllipseCollection(
         2 * radii, 2 * radii, np.zeros_like(radii), units="xy", offsets=positions[:, :2],
-        offset_transform=ax.transData, cmap="viridis", facecolors="C0", edgecolors="k", linewidths=0.3,
+        offset_transform=ax.transData, cmap="viridis", facecolors=faces, edgecolors="k", linewidths=0.3,
     )  # fmt: skip
     ax.add_collection(discs)
     if box.size == 3:
