@@ -59,7 +59,7 @@ def test_the_run_saves_while_it_runs_each_save_a_state_it_could_go_on_from(tmp_p
         SlabRun.resume(target)  # every save passes the checks of a resume: counts that add up
 
     monkeypatch.setattr(_slab_batches, "PROGRESS_SECONDS", 0.001)
-    interrupt_after(monkeypatch, calls=-1, pause=0.002)  # no Ctrl-C; ~300 calls of 2 ms and more: 0.3 s on 2 threads
+    interrupt_after(monkeypatch, calls=-1, pause=0.01)  # no Ctrl-C; ~300 calls of 10 ms: 1.5 s on 2 threads
     monkeypatch.setattr(slab_run, "_write", write_and_check)
     SlabRun(PARAMETERS, checkpoint=path, save_every=0.0).run()
     assert len(done) >= 3 and done == sorted(done) and done[0] < done[-1] == PARAMETERS.particles
@@ -81,7 +81,7 @@ def test_a_save_taken_while_the_run_ran_goes_on_to_the_result_of_a_run_never_sto
             shutil.copy(target, kept)
 
     monkeypatch.setattr(_slab_batches, "PROGRESS_SECONDS", 0.001)
-    interrupt_after(monkeypatch, calls=-1, pause=0.002)
+    interrupt_after(monkeypatch, calls=-1, pause=0.01)
     monkeypatch.setattr(slab_run, "_write", write_and_keep_the_first)
     SlabRun(PARAMETERS, checkpoint=path, save_every=0.0).run()
     monkeypatch.undo()
