@@ -514,3 +514,24 @@ def test_a_well_per_species_pair_from_a_config_file(tmp_path):
     refused = invoke("--config", config)
     assert refused.exit_code == 2 and "--well-width as a matrix (one per species pair) needs fractions" in \
         " ".join(refused.output.split())
+
+
+def test_a_restitution_per_species_pair_from_a_config_file(tmp_path):
+    """A granular binary mixture: the summary and the table give each species' temperature beside the homogeneous
+    cooling state's; a matrix without fractions is refused with its option named."""
+    config = tmp_path / "granular.toml"
+    config.write_text("particles = 300\npacking_fraction = 0.05\nfractions = [0.5, 0.5]\nmasses = [1.0, 0.25]\n"
+                      "restitution = [[0.9, 0.8], [0.8, 0.7]]\nequilibration = 1000\ncollisions = 6000\nblocks = 3\n"
+                      "seed = 2\nplots = false\n")
+    result = invoke("--config", config, "--summary", tmp_path / "s.json")
+    assert result.exit_code == 0, result.output
+    summary = json.loads((tmp_path / "s.json").read_text())
+    assert summary["restitution"] == [[0.9, 0.8], [0.8, 0.7]] and not summary["elastic"]
+    theory = summary["temperature_species_theory"]
+    assert theory[0] > 1.0 > theory[1] and len(summary["temperature_species"]) == 2
+    output = " ".join(result.output.split())
+    assert "e = 0.9 0.8 / 0.8 0.7" in output and "homogeneous cooling, Garzo-Dufty" in output
+    config.write_text("restitution = [[0.9, 0.8], [0.8, 0.7]]\n")
+    refused = invoke("--config", config)
+    assert refused.exit_code == 2 and "--restitution as a matrix (one per species pair) needs fractions" in \
+        " ".join(refused.output.split())

@@ -44,7 +44,8 @@ class EdmdOptions(Options):
     dim: Literal[2, 3] = 3
     particles: int = Field(default=500, ge=2, le=100_000_000)
     packing_fraction: float = Field(default=0.3, gt=0, allow_inf_nan=False)
-    restitution: float = Field(default=1.0, ge=0, le=1, allow_inf_nan=False)
+    # a number, or (a config file's, with fractions) a matrix over the species; ranges: the library's messages
+    restitution: float | list[list[float]] = 1.0
     elastic_below: float | None = Field(default=None, ge=0, allow_inf_nan=False)
     equilibration: int | None = Field(default=None, ge=0)
     collisions: int | None = Field(default=None, ge=2)
@@ -112,7 +113,7 @@ class EdmdOptions(Options):
         values = {name: getattr(self, name) for name in EdmdParameters.names()}
         values |= {name: None if values[name] is None else tuple(values[name])
                    for name in ("fractions", "diameters", "masses")}
-        values |= {name: tuple(map(tuple, values[name])) for name in ("well_width", "well_depth")
+        values |= {name: tuple(map(tuple, values[name])) for name in ("well_width", "well_depth", "restitution")
                    if isinstance(values[name], list)}
         return EdmdParameters(**values)
 
@@ -316,7 +317,7 @@ def edmd(
     packing_fraction: Annotated[
         float | None, typer.Option(help=_help("Packing fraction eta: (0, 0.5] in 3D, (0, 0.7] in 2D.", "0.3"))
     ] = None,
-    restitution: Annotated[float | None, typer.Option(help=_help("Coefficient of restitution in [0, 1].", "1"))] = None,
+    restitution: Annotated[float | None, typer.Option(help=_help("Coefficient of normal restitution in [0, 1]; a config file may give a matrix over the species of --fractions (restitution = [[0.9, 0.8], [0.8, 0.7]]): the summary then gives each species' temperature against the homogeneous cooling state's.", "1"))] = None,
     elastic_below: Annotated[
         float | None,
         typer.Option(help=_help("Contacts with a normal approach speed below this are elastic (0 to 1000 thermal speeds; guards inelastic runs against collapse).", "1e-6 (rms speeds) if restitution < 1")),

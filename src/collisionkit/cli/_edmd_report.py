@@ -93,18 +93,28 @@ def _species_rows(result: dict) -> list[tuple[str, str, str]]:
     diameters, masses = p["diameters"] or [1.0] * count, p["masses"] or [1.0] * count
     kinds = ", ".join(f"{n} x (d {d:g}, m {m:g})" for n, d, m in zip(result["species_counts"], diameters, masses))
     rows = [("species: particles x (diameter, mass)", kinds, f"{count} species")]
-    if "self_diffusion_species" in result:
-        from ..trajectory import type_names
+    from ..trajectory import type_names
 
-        names = type_names(list(range(count)))
-        each = ", ".join(f"{names[k]} {_pm_or_dash(value, error)}" for k, (value, error) in
-                         enumerate(zip(result["self_diffusion_species"], result["self_diffusion_species_error"])))
-        rows.append(("diffusion coefficient per species", each, "from the MSD of each"))
+    names = type_names(list(range(count)))
+
+    def each(key):
+        return ", ".join(f"{names[k]} {_pm_or_dash(value, error)}" for k, (value, error) in
+                         enumerate(zip(result[key], result[key + "_error"])))
+
+    if "temperature_species" in result:
+        theory = result.get("temperature_species_theory")
+        where = "equipartition" if result["elastic"] else "homogeneous cooling, Garzo-Dufty"
+        rows.append(("temperature per species T_a/T (block ends)", each("temperature_species"),
+                     "" if theory is None else ", ".join(f"{names[k]} {value:.4g}" for k, value in enumerate(theory))
+                     + f": {where}"))
+    if "self_diffusion_species" in result:
+        rows.append(("diffusion coefficient per species", each("self_diffusion_species"), "from the MSD of each"))
     return rows
 
 
 def _number_or_table(value) -> str:
-    """A well's width or depth as printed: a number, or a matrix over the species row by row (``1.5 1.4 / 1.4 1``)."""
+    """A well's width or depth or the restitution as printed: a number, or a matrix over the species row by row
+    (``1.5 1.4 / 1.4 1``)."""
     if isinstance(value, (list, tuple)):
         return " / ".join(" ".join(f"{item:g}" for item in row) for row in value)
     return f"{value:g}"
@@ -181,7 +191,7 @@ def _plots(run, measurement, out: Path, deliveries: Deliveries) -> None:
     composition = [count / p.particles for count in p.species_counts]  # as run: the fractions rounded to particles
     mixture = None if p.fractions is None else (composition, p.diameters or (1.0,) * len(composition))
     masses = {"mass": p.masses or 1.0, "fractions": composition if p.masses else None}
-    if p.restitution == 1.0:
+    if p.elastic:
         m = measurement
         point = [(m.packing_fraction, m.compressibility_factor, m.compressibility_factor_error)]
         figures.append(("equation_of_state.png", lambda: plotting.plot_equation_of_state(point, system.dim,
@@ -220,7 +230,8 @@ def report(run, options, extra: dict) -> None:
     result = run.summary(deliveries.files) | extra
     p = run.parameters
     kind = ("spheres" if p.dim == 3 else "discs") + ("" if p.fractions is None else f" of {len(p.fractions)} species")
-    title = f"EDMD: {p.particles} hard {kind}, eta = {p.packing_fraction:g}, e = {p.restitution:g}, seed {p.seed}"
+    title = (f"EDMD: {p.particles} hard {kind}, eta = {p.packing_fraction:g}, e = {_number_or_table(p.restitution)}, "
+             f"seed {p.seed}")
     print_table(title, ("quantity", "measured", "theory"), rows(result))
     note = run.cooling_note()
     if note is not None:

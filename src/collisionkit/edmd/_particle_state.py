@@ -161,6 +161,27 @@ class ParticleState:
         """
         return 2.0 * self.kinetic_energy() / (self.dim * self.count)
 
+    def species_temperatures(self) -> np.ndarray:
+        """kT of each species, 2 K_a / (d N_a) (under shear of the peculiar velocities); NaN for a species without
+        particles.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from collisionkit.edmd import HardSphereSystem
+        >>> system = HardSphereSystem([[1.0, 1.0], [1.0, 5.0]], [[1.0, 0.0], [0.0, 2.0]], 0.5, 10.0, masses=[2.0, 1.0],
+        ...                           species=[0, 1])
+        >>> system.species_temperatures()  # K_0 = 1, K_1 = 2, each over d = 2 degrees of freedom
+        array([1., 2.])
+        """
+        self.synchronise()
+        velocities = self._peculiar() if self.params[_k.P_SHEAR_RATE] != 0.0 else self.vel
+        energy = 0.5 * self._mass * np.sum(velocities**2, axis=1)
+        kinds = int(np.max(self._species)) + 1
+        counts = np.bincount(self._species, minlength=kinds)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            return 2.0 * np.bincount(self._species, weights=energy, minlength=kinds) / (self.dim * counts)
+
     def momentum(self):
         """Total momentum sum(m v); under shear that of the peculiar velocities (relative to the flow).
 

@@ -65,7 +65,6 @@ def checked_parameters(p) -> dict[str, Any]:
     if eta > limit:
         raise ValueError(f"packing_fraction must lie in (0, {limit}] for dim={p.dim}; got {eta:g}")
     values["packing_fraction"] = eta
-    values["restitution"] = check_real("restitution", p.restitution, 0.0, 1.0)
     if p.elastic_below is not None:
         values["elastic_below"] = check_real("elastic_below", p.elastic_below, 0.0, MAX_SPEED)
     blocks = values["blocks"] = check_integer("blocks", p.blocks, 2, 100_000)
@@ -85,9 +84,6 @@ def checked_parameters(p) -> dict[str, Any]:
         if not isinstance(getattr(p, name), bool):
             raise ValueError(f"{name} must be true or false; got {getattr(p, name)!r}")
     check_choice("engine", p.engine, ENGINES)
-    if values["restitution"] != 1.0 and p.transport:
-        raise ValueError(f"transport needs restitution 1 (the Einstein-Helfand relations hold in equilibrium, "
-                         f"which an inelastic gas never reaches); got restitution {values['restitution']:g}")
     if p.thermostat and shear_rate == 0.0:
         raise ValueError("thermostat needs a shear_rate > 0 (it holds a sheared system at kT = 1)")
     if p.transport and shear_rate != 0.0:
@@ -98,11 +94,16 @@ def checked_parameters(p) -> dict[str, Any]:
                          "(its constant is the cubic lattice's)")
     values |= _checked_species(p, values["particles"])
     kinds = None if p.fractions is None else len(values["fractions"])
+    values["restitution"] = _number_or_matrix("restitution", p.restitution, kinds, 0.0, 1.0, False)
+    inelastic = bool(np.any(np.asarray(values["restitution"]) != 1.0))
+    if inelastic and p.transport:
+        raise ValueError(f"transport needs restitution 1 (the Einstein-Helfand relations hold in equilibrium, "
+                         f"which an inelastic gas never reaches); got restitution {_shown(values['restitution'])}")
     if p.well_width is not None:
         values["well_width"] = _number_or_matrix("well_width", p.well_width, kinds, 1.0, MAX_WELL_WIDTH, True)
         clashes = ((shear_rate != 0.0, "shear_rate", "wells run in a fluid at rest"),
                     (p.engine == "cells", "engine cells", "the cell-crossing engine has no wells: use lists or auto"),
-                   (values["restitution"] != 1.0, "restitution below 1", "wells keep the energy of elastic pairs"))
+                   (inelastic, "restitution below 1", "wells keep the energy of elastic pairs"))
         for clash, name, why in clashes:
             if clash:
                 raise ValueError(f"well_width cannot be combined with {name} ({why})")
@@ -113,6 +114,11 @@ def checked_parameters(p) -> dict[str, Any]:
         raise ValueError("engine cells cannot be combined with shear_rate: the cell-crossing engine runs straight "
                          "flights only (use engine lists or auto)")
     return values
+
+
+def _shown(value) -> str:
+    """A number or a matrix as a message shows it."""
+    return f"{value:g}" if not isinstance(value, tuple) else str([list(row) for row in value])
 
 
 def _reals(name: str, value, count: int | None, low: float, high: float, low_open=False) -> tuple[float, ...]:
@@ -126,7 +132,7 @@ def _reals(name: str, value, count: int | None, low: float, high: float, low_ope
 
 def _number_or_matrix(name: str, value, kinds: int | None, low: float, high: float, low_open: bool):
     """A number in its range, or (a mixture's) symmetric matrix over the species as a tuple of tuples; in a matrix
-    a depth may be 0 (that pair has no well)."""
+    a depth may be 0 (that pair has no well). Used for the wells and the restitution."""
     if not isinstance(value, (list, tuple)):
         return check_real(name, value, low, high, low_open=low_open)
     if kinds is None:
@@ -138,7 +144,7 @@ def _number_or_matrix(name: str, value, kinds: int | None, low: float, high: flo
     matrix = tuple(tuple(check_real(f"{name}[{a}][{b}]", item, low, high, low_open=entry_low_open)
                          for b, item in enumerate(row)) for a, row in enumerate(value))
     if any(matrix[a][b] != matrix[b][a] for a in range(kinds) for b in range(kinds)):
-        raise ValueError(f"{name} must be a symmetric matrix (the well of a and b is that of b and a); got {value!r}")
+        raise ValueError(f"{name} must be a symmetric matrix (pair a, b is pair b, a); got {value!r}")
     return matrix
 
 
@@ -228,6 +234,8 @@ def check_saved_run(saved, sampler, parameters, system) -> None:
         fits &= lag.species_all.shape == (lag.lags, kinds) and lag.species_groups.shape == (lag.lags, kinds,
                                                                                              MSD_GROUPS)
         fits &= bool(np.all(np.isfinite(lag.species_all)))
+    ratios = sampler.records.get("species_temperature", ())
+    fits &= all(np.shape(row) == (kinds,) for row in ratios)
     # a mixture of a few species records its partial histograms from its first block (a file without them is damaged)
     fits &= partial is not None or not 1 < kinds <= PARTIAL_RDF_SPECIES
     fits &= (sampler.transport is not None) == parameters.transport

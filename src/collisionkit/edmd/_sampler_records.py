@@ -24,6 +24,8 @@ from .theory import _ball_volume
 # potential_energy: the time average of the square wells' potential energy per particle (0 for hard spheres)
 RECORDS = ("temperature", "temperature_mean", "compressibility", "pressure", "frequency", "time", "msd", "msd_groups",
            "potential_energy")
+# and, in a mixture, each species' kT over the mixture's at the block's end (T_a / T: equipartition gives 1)
+MIXTURE_RECORDS = ("species_temperature",)
 # and, under shear, the xy element of the pressure tensor (kinetic plus collisional), its collisional part and the
 # energy the thermostat removed
 SHEAR_RECORDS = ("shear_stress", "collisional_shear_stress", "thermostat_energy")
@@ -55,6 +57,8 @@ def record_block(sampler, start, kT_after, kT, duration) -> None:
     virial = system.virial - start["virial"]
     record = sampler.records
     record["temperature"].append(kT_after)
+    if "species_temperature" in record:
+        record["species_temperature"].append(system.species_temperatures() / kT_after)
     record["temperature_mean"].append(kT)
     record["compressibility"].append(1.0 + virial / (dim * count * kT * duration))
     record["pressure"].append((count * kT + virial / (dim * duration)) / system.volume)
@@ -140,6 +144,10 @@ def observables(sampler) -> dict:
     by_species = sampler.lag_msd.species_diffusion(axes) if sampler.lag_msd is not None else None
     if by_species is not None:
         mixture |= {"species_diffusion": by_species[0], "species_diffusion_error": by_species[1]}
+    if "species_temperature" in record:
+        ratios = np.asarray(record["species_temperature"], dtype=float)
+        mixture |= {"species_temperatures": np.mean(ratios, axis=0),
+                    "species_temperatures_error": np.array([_msd.block_error(column) for column in ratios.T])}
     durations = np.diff(msd_time)
     block_kT = np.asarray(record["temperature_mean"], dtype=float)
     temperature_mean = float(np.sum(block_kT * durations) / np.sum(durations))

@@ -17,7 +17,7 @@ import math
 import numpy as np
 
 from . import _msd
-from ._sampler_records import RECORDS, SHEAR_RECORDS
+from ._sampler_records import MIXTURE_RECORDS, RECORDS, SHEAR_RECORDS
 from ._transport import TransportSampler
 
 
@@ -74,7 +74,7 @@ def restore_sampler(sampler, system, state) -> None:
     partial = state.get("sampler_partial_histograms")
     sampler.partial_histograms = None if partial is None else np.array(partial, dtype=float)
     sampler.start_positions = np.array(state["sampler_start_positions"])
-    sampler.records = {name: list(state[f"sampler_{name}"]) for name in RECORDS + SHEAR_RECORDS
+    sampler.records = {name: list(state[f"sampler_{name}"]) for name in RECORDS + SHEAR_RECORDS + MIXTURE_RECORDS
                        if f"sampler_{name}" in state}
     # a checkpoint written before the groups were recorded: their blocks are unknown (no D error)
     sampler.records.setdefault("msd_groups", [np.full(_msd.MSD_GROUPS, math.nan)] * len(sampler.records["msd"]))
@@ -84,6 +84,9 @@ def restore_sampler(sampler, system, state) -> None:
     sampler.records.setdefault("potential_energy", [0.0] * done)  # saved before square wells: hard spheres, none
     if "shear_stress" in sampler.records:
         sampler.records.setdefault("thermostat_energy", [math.nan] * done)
+    kinds = int(np.max(system.species)) + 1
+    if np.unique(system.species).size > 1:  # a mixture saved before its species' kT were recorded: unknown
+        sampler.records.setdefault("species_temperature", [np.full(kinds, math.nan)] * done)
     sampler.speeds = [row for row in np.array(state["sampler_speeds"])]
     sampler.lag_msd = _msd.LagMSD.from_state_dict(state, system.species)
     if sampler.lag_msd is not None and len(sampler.lag_msd.positions[0]) and \

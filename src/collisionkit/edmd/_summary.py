@@ -3,7 +3,10 @@ r"""The summary of an EDMD run (:meth:`~collisionkit.edmd.EdmdRun.summary`): mea
 The measurement's values with their errors, the equation of state and
 Enskog's collision rate of an elastic run, Enskog's transport coefficients
 and the Yeh-Hummer correction of a transport run, the event engine that ran
-(``engine``: "lists" or "cells"), and the parameters that rerun it.
+(``engine``: "lists" or "cells"), and the parameters that rerun it. A
+mixture's species' temperatures (``temperature_species``, T_a / T) come
+with the theory's at rest: equipartition if elastic, the homogeneous
+cooling state's if not (``temperature_species_theory``).
 
 A sheared run's theory is taken at ``temperature_mean``, the time average
 of kT over the measurement (the viscous heating raises kT between the
@@ -28,7 +31,8 @@ from typing import Any
 import numpy as np
 
 from .mixture_theory import (
-    MIXTURE_EQUATION_OF_STATE, mixture_collision_frequency, mixture_compressibility, mixture_contact_values,
+    MIXTURE_EQUATION_OF_STATE, homogeneous_cooling_temperatures, mixture_collision_frequency, mixture_compressibility,
+    mixture_contact_values,
 )
 from .theory import (
     carnahan_starling, enskog_collision_frequency, enskog_transport, hansen_goos, henderson, yeh_hummer_correction,
@@ -67,7 +71,7 @@ def edmd_summary(run, measurement, files: Sequence = ()) -> dict[str, Any]:
         # with wells the equilibration's rescaling changes the energy: only the collisions' own loss is a loss
         "energy_lost_total": (run.initial_energy - system.kinetic_energy() if p.well_width is None
                               else system.energy_lost),
-        "elastic": p.restitution == 1.0,
+        "elastic": p.elastic,
         "elastic_below": system.elastic_below,
         "engine": system.engine,  # the one that ran: "lists" or "cells" (parameters' "auto" resolved)
     }
@@ -84,9 +88,9 @@ def edmd_summary(run, measurement, files: Sequence = ()) -> dict[str, Any]:
         result |= {"well_width": p.well_width, "well_depth": p.well_depth, "reduced_temperature":
                    measurement.temperature_mean / deepest} | {f"well_{kind}": count for kind, count in
                                                                   system.well_events.items()}
-    elif p.restitution == 1.0 and p.fractions is not None:  # a mixture: its equation of state
+    elif p.elastic and p.fractions is not None:  # a mixture: its equation of state
         result |= _mixture_theory(p, measurement, kT if sheared else 1.0)
-    elif p.restitution == 1.0:  # hard spheres: the equation of state
+    elif p.elastic:  # hard spheres: the equation of state
         name, equation = equation_of_state(p.dim)
         eta, Z = measurement.packing_fraction, measurement.compressibility_factor
         theory = float(equation(eta))
@@ -103,6 +107,8 @@ def edmd_summary(run, measurement, files: Sequence = ()) -> dict[str, Any]:
     if measurement.contact_values is not None:  # a mixture's partial g(r) at contact (null: no fit possible)
         result["contact_values"] = _nested(measurement.contact_values)
         result["contact_values_error"] = _nested(measurement.contact_values_error)
+    if measurement.species_temperatures is not None:  # each species' kT over the mixture's
+        result |= _species_temperatures(p, measurement)
     if measurement.species_diffusion is not None:  # each species' self-diffusion coefficient
         result["self_diffusion_species"] = _nested([measurement.species_diffusion])[0]
         result["self_diffusion_species_error"] = _nested([measurement.species_diffusion_error])[0]
@@ -135,6 +141,19 @@ def _mixture_theory(p, measurement, kT: float) -> dict[str, Any]:
         "collision_frequency_theory": mixture_collision_frequency(eta, *species, p.masses or 1.0, p.dim, kT),
         "contact_values_theory": mixture_contact_values(eta, *species, dim=p.dim).tolist(),
     }
+
+
+def _species_temperatures(p, measurement) -> dict[str, Any]:
+    """Each species' T_a / T, and (at rest) the theory's: equipartition if elastic, else the homogeneous cooling
+    state's (Garzo & Dufty 1999)."""
+    result = {"temperature_species": _nested([measurement.species_temperatures])[0],
+              "temperature_species_error": _nested([measurement.species_temperatures_error])[0]}
+    if p.shear_rate == 0.0 and p.fractions is not None:
+        composition = [count / p.particles for count in p.species_counts]
+        theory = homogeneous_cooling_temperatures(p.packing_fraction, composition, p.diameters or (1.0,) * len(
+            composition), p.masses or 1.0, p.restitution, p.dim)
+        result["temperature_species_theory"] = theory.tolist()
+    return result
 
 
 def _nested(values) -> list:
@@ -209,7 +228,7 @@ def cooling_note(run) -> str | None:
     >>> cooling_note(EdmdRun(EdmdParameters(dim=2, particles=64, initial="square", seed=1))) is None
     True
     """
-    if run.parameters.restitution == 1.0:
+    if run.parameters.elastic:
         return None if run.sampler is None or run.sampler.done < 2 else _heating_note(run)
     system = run.system
     kT = system.temperature()
@@ -231,7 +250,7 @@ def cooling_note(run) -> str | None:
 def _heating_note(run) -> str | None:
     """What the temperature of an elastic sheared run means, if the flow heated it by more than 5 % on average."""
     p, m = run.parameters, run.measurement()
-    if p.shear_rate == 0.0 or p.restitution != 1.0 or not m.temperature_mean > 1.05:
+    if p.shear_rate == 0.0 or not p.elastic or not m.temperature_mean > 1.05:
         return None
     reduced = p.shear_rate / m.collision_frequency
     where = "between the thermostat's rescalings (every 4 N pair collisions)" if p.thermostat else "(no thermostat)"

@@ -18,7 +18,7 @@ import numpy as np
 from .._kernels import edmd as _k
 from .._repr import html_table, measurement_rows
 from . import _checks, _msd, _pair_distribution
-from ._sampler_records import RECORDS, SHEAR_RECORDS, block_start, observables, record_block
+from ._sampler_records import MIXTURE_RECORDS, RECORDS, SHEAR_RECORDS, block_start, observables, record_block
 from ._sampler_state import restore_sampler, sampler_arrays
 from ._shear import run_sheared
 from ._transport import TransportMeasurement, TransportSampler
@@ -49,7 +49,11 @@ class Measurement:
     pairs touch at several distances: a mixture of up to 4 species has
     ``partial_rdf`` [a, b] over ``rdf_r``, g_ab(r), and ``contact_values``
     g_ab(r_a + r_b) with ``contact_values_error``; any mixture ``species_diffusion``,
-    each species' D with its ``species_diffusion_error``), ``potential_energy``
+    each species' D with its ``species_diffusion_error``, and
+    ``species_temperatures``, each species' kT over the mixture's, T_a / T,
+    the block mean of its value at each block's end, with
+    ``species_temperatures_error``: 1 at equipartition, which an inelastic
+    mixture does not reach), ``potential_energy``
     (square wells: the time average of the potential energy per particle,
     -epsilon times the pairs inside per particle, with its error; 0 for hard
     spheres; ``temperature_mean`` is then the exact time average of kT,
@@ -135,6 +139,8 @@ class Measurement:
     species_diffusion_error: np.ndarray | None = field(default=None, repr=False)
     contact_values: np.ndarray | None = field(default=None, repr=False)
     contact_values_error: np.ndarray | None = field(default=None, repr=False)
+    species_temperatures: np.ndarray | None = field(default=None, repr=False)
+    species_temperatures_error: np.ndarray | None = field(default=None, repr=False)
 
     @property
     def collisions_per_second(self) -> float:
@@ -238,7 +244,9 @@ class Sampler:
         self.lag_msd = _msd.LagMSD(lags, self.start_positions[:, self._diffusion_axes()], self.start_time, species)
         self.start_lost = system.energy_lost
         self.wall_seconds = 0.0
-        self.records = {name: [] for name in RECORDS + (SHEAR_RECORDS if system.shear_rate != 0.0 else ())}
+        sheared = SHEAR_RECORDS if system.shear_rate != 0.0 else ()
+        mixed = MIXTURE_RECORDS if np.unique(system.species).size > 1 else ()
+        self.records = {name: [] for name in RECORDS + sheared + mixed}
         self.speeds = []
         if not isinstance(transport, (bool, np.bool_)):
             raise TypeError(f"transport must be True or False; got {transport!r}")

@@ -63,7 +63,11 @@ class EdmdParameters(Parameters):
     packing_fraction : float
         In (0, 0.5] in 3D, (0, 0.7] in 2D (:data:`MAX_PACKING_FRACTION`).
     restitution : float
-        Coefficient of restitution in [0, 1].
+        Coefficient of normal restitution in [0, 1]. With ``fractions`` it
+        may be a symmetric matrix over the species (alpha_ab of each pair):
+        an inelastic mixture's summary then gives each species' temperature
+        against the homogeneous cooling state's
+        (:func:`~collisionkit.edmd.homogeneous_cooling_temperatures`).
     elastic_below : float, optional
         Contacts with a normal approach speed below this are elastic (>= 0).
     equilibration : int, optional
@@ -142,7 +146,7 @@ class EdmdParameters(Parameters):
     dim: int = 3
     particles: int = 500
     packing_fraction: float = 0.3
-    restitution: float = 1.0
+    restitution: float | tuple[tuple[float, ...], ...] = 1.0
     elastic_below: float | None = None
     equilibration: int | None = None
     collisions: int | None = None
@@ -189,6 +193,19 @@ class EdmdParameters(Parameters):
         if seed is None:
             seed = self.seed if self.seed is not None else secrets.randbits(32)
         return self.replace(collisions=collisions, equilibration=equilibration, seed=seed)
+
+    @property
+    def elastic(self) -> bool:
+        """True if every pair's restitution is 1.
+
+        Examples
+        --------
+        >>> EdmdParameters().elastic, EdmdParameters(restitution=0.9).elastic
+        (True, False)
+        >>> EdmdParameters(fractions=(0.5, 0.5), restitution=((1.0, 0.9), (0.9, 1.0))).elastic
+        False
+        """
+        return bool(np.all(np.asarray(self.restitution) == 1.0))
 
     @property
     def species_counts(self) -> tuple[int, ...]:

@@ -1,0 +1,108 @@
+"""collisionkit.edmd.run with inelastic mixtures: a restitution per species pair, each species' temperature."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from collisionkit import edmd
+from collisionkit._io import read_checkpoint, write_checkpoint
+from collisionkit.edmd import EdmdParameters, EdmdRun
+
+GRANULAR = dict(particles=200, packing_fraction=0.05, fractions=(0.5, 0.5), masses=(1.0, 0.25),
+                restitution=((0.9, 0.8), (0.8, 0.7)), equilibration=1_000, collisions=6_000, blocks=6, seed=4)
+
+
+@pytest.mark.parametrize(
+    ("values", "words"),
+    [
+        ({"restitution": ((0.9, 0.8), (0.8, 0.7)), "fractions": None, "masses": None},
+         "restitution as a matrix (one per species pair) needs fractions"),
+        ({"restitution": ((0.9, 0.8), (0.7, 0.7))}, "restitution must be a symmetric matrix"),
+        ({"restitution": ((0.9, 0.8),)}, "restitution must be a number or a 2 x 2 matrix"),
+        ({"restitution": ((0.9, 1.2), (1.2, 0.7))}, "restitution[0][1] must be in [0, 1]; got 1.2"),
+        ({"restitution": ((1.0, math.nan), (math.nan, 1.0))}, "restitution[0][1] must be finite"),
+        ({"restitution": ((1.0, 0.9), (0.9, 1.0)), "transport": True},
+         "transport needs restitution 1 (the Einstein-Helfand relations hold in equilibrium, which an inelastic gas "
+         "never reaches); got restitution [[1.0, 0.9], [0.9, 1.0]]"),
+        ({"restitution": ((1.0, 0.9), (0.9, 1.0)), "well_width": 1.5},
+         "well_width cannot be combined with restitution below 1"),
+    ],
+)
+def test_bad_restitution_matrices_name_the_entry_and_the_rule(values, words):
+    with pytest.raises(ValueError) as caught:
+        EdmdParameters(**GRANULAR | values)
+    assert words in str(caught.value)
+
+
+def test_an_elastic_matrix_is_an_elastic_run():
+    parameters = EdmdParameters(**GRANULAR | dict(restitution=((1.0, 1.0), (1.0, 1.0))))
+    assert parameters.elastic and not EdmdParameters(**GRANULAR).elastic
+    summary = EdmdRun(parameters).run().summary()
+    assert summary["elastic"] and summary["temperature_species_theory"] == [1.0, 1.0]
+    assert "compressibility_factor_theory" in summary  # the equation of state applies
+
+
+def test_each_pair_loses_energy_at_its_own_restitution():
+    """The system gets the matrix; one A-B contact head on at unit speed loses (1 - e_AB^2) mu g^2 / 2."""
+    run = EdmdRun(EdmdParameters(**GRANULAR))
+    np.testing.assert_array_equal(run.system.restitution, [[0.9, 0.8], [0.8, 0.7]])
+    system = edmd.HardSphereSystem([[2.0, 5.0, 5.0], [4.0, 5.0, 5.0]], [[0.5, 0.0, 0.0], [-0.5, 0.0, 0.0]], 0.5,
+                                   10.0, [1.0, 0.25], species=[0, 1], restitution=run.system.restitution,
+                                   elastic_below=0.0)
+    system.run(collisions=1)
+    reduced = 0.25 / 1.25
+    assert system.energy_lost == pytest.approx(0.5 * reduced * (1.0 - 0.8**2) * 1.0**2, rel=1e-12)
+
+
+def test_an_inelastic_mixture_reports_each_species_temperature_and_the_cooling_state_s():
+    summary = EdmdRun(EdmdParameters(**GRANULAR)).run().summary()
+    assert not summary["elastic"] and summary["restitution"] == ((0.9, 0.8), (0.8, 0.7))
+    measured, errors = np.array(summary["temperature_species"]), np.array(summary["temperature_species_error"])
+    theory = edmd.homogeneous_cooling_temperatures(0.05, [0.5, 0.5], [1.0, 1.0], [1.0, 0.25],
+                                                   [[0.9, 0.8], [0.8, 0.7]])
+    np.testing.assert_allclose(summary["temperature_species_theory"], theory, rtol=1e-12)
+    assert np.dot([0.5, 0.5], measured) == pytest.approx(1.0, rel=1e-12)  # T = sum x_a T_a at every block's end
+    assert np.all(errors > 0) and measured[0] > 1.0 > measured[1]  # the heavy species is the hotter
+    assert "compressibility_factor_theory" not in summary
+
+
+def test_species_temperatures_resume_bit_for_bit_and_older_checkpoints_without_them_still_load(tmp_path,
+                                                                                              monkeypatch):
+    path = tmp_path / "run.npz"
+    straight = EdmdRun(EdmdParameters(**GRANULAR)).run().summary()
+    real, calls = edmd.HardSphereSystem.run, []
+
+    def killed_in_the_fourth_block(system, *args, **kwargs):
+        calls.append(1)
+        if len(calls) == 5:  # the equilibration's chunk, three blocks, then the kill
+            raise KeyboardInterrupt
+        return real(system, *args, **kwargs)
+
+    run = EdmdRun(EdmdParameters(**GRANULAR), checkpoint=path)  # (the random start's compression runs it too)
+    monkeypatch.setattr(edmd.HardSphereSystem, "run", killed_in_the_fourth_block)
+    with pytest.raises(KeyboardInterrupt):
+        run.run()
+    monkeypatch.undo()
+    assert len(read_checkpoint(path, "edmd").arrays["sampler_species_temperature"]) == 3
+    resumed = EdmdRun.resume(path, restitution=[[0.9, 0.8], [0.8, 0.7]])  # given again as lists: must agree
+    assert resumed.run().summary()["temperature_species"] == straight["temperature_species"]
+    saved = read_checkpoint(path, "edmd")
+    arrays = {name: value for name, value in saved.arrays.items() if name != "sampler_species_temperature"}
+    write_checkpoint(path, "edmd", saved.parameters, saved.state, arrays)
+    older = EdmdRun.resume(path).summary()  # a mixture saved before the record: its blocks' temperatures unknown
+    assert older["temperature_species"] == [None, None]
+    assert older["compressibility_factor"] == straight["compressibility_factor"]
+
+
+@pytest.mark.parametrize("rows", [np.ones((6, 3)), np.ones((5, 2))])
+def test_a_checkpoint_with_damaged_species_temperatures_is_refused(tmp_path, rows):
+    path = tmp_path / "run.npz"
+    EdmdRun(EdmdParameters(**GRANULAR), checkpoint=path).run()
+    saved = read_checkpoint(path, "edmd")
+    write_checkpoint(path, "edmd", saved.parameters, saved.state,
+                     dict(saved.arrays) | {"sampler_species_temperature": rows})
+    with pytest.raises(ValueError, match="measurement arrays"):
+        EdmdRun.resume(path)
