@@ -15,7 +15,7 @@ from hypothesis import strategies as st
 
 from collisionkit import edmd
 
-ETA = st.floats(0.0, 0.45)
+ETA = st.floats(0.0, 0.45, allow_subnormal=False)
 ALPHA = st.floats(0.0, 1.0)
 
 
@@ -119,6 +119,49 @@ def test_the_cooling_state_of_three_species_and_its_limits():
                                rtol=1e-10)
     heavy, light = edmd.homogeneous_cooling_temperatures(0.02, [0.5, 0.5], [1.0, 1.0], [1.0, 0.25], 0.8)
     assert heavy > 1.1 > 0.9 > light
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+@given(eta=ETA, alpha=ALPHA, fraction=st.floats(0.05, 0.95), mass=st.floats(0.01, 100.0))
+@settings(max_examples=30, deadline=None)
+def test_one_species_cools_per_collision_by_haffs_law_at_any_density(dim, eta, alpha, fraction, mass):
+    """-d ln T / dC = (1 - alpha^2) / d, alone or as two labels of one species."""
+    expected = (1.0 - alpha**2) / dim
+    assert edmd.homogeneous_cooling_rate(eta, [1.0], [1.0], mass, alpha, dim) == pytest.approx(expected, abs=1e-12)
+    two = edmd.homogeneous_cooling_rate(eta, [fraction, 1.0 - fraction], [0.7, 0.7], mass, alpha, dim)
+    assert two == pytest.approx(expected, abs=1e-12)
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+def test_the_collision_frequency_of_species_at_their_own_temperatures_is_that_of_maxwellian_pairs(dim):
+    """kT per species: x_i n_j g_ij S_ij <|v_i - v_j|> summed, by sampling each pair's velocities at T_i and T_j."""
+    rng = np.random.default_rng(3)
+    fractions, diameters, masses, temperatures = [0.3, 0.7], np.array([1.0, 0.4]), np.array([1.0, 0.05]), [2.0, 0.5]
+    g = edmd.mixture_contact_values(0.2, fractions, diameters, dim)
+    density = 0.2 / ((math.pi / 6.0 if dim == 3 else math.pi / 4.0) * float(np.dot(fractions, diameters**dim)))
+    expected = 0.0
+    for i, j in np.ndindex(2, 2):
+        vi = rng.normal(0.0, math.sqrt(temperatures[i] / masses[i]), size=(1_000_000, dim))
+        vj = rng.normal(0.0, math.sqrt(temperatures[j] / masses[j]), size=(1_000_000, dim))
+        contact = 0.5 * (diameters[i] + diameters[j])
+        cross_section = math.pi * contact**2 if dim == 3 else 2.0 * contact
+        expected += fractions[i] * fractions[j] * density * g[i, j] * cross_section * np.linalg.norm(vi - vj,
+                                                                                                      axis=1).mean()
+    rate = edmd.mixture_collision_frequency(0.2, fractions, diameters, masses, dim, temperatures)
+    assert rate == pytest.approx(expected, rel=3e-3)  # sd / mean of |v_rel| / sqrt(1e6): ~5e-4
+    assert rate != pytest.approx(edmd.mixture_collision_frequency(0.2, fractions, diameters, masses, dim, 1.25),
+                                 rel=0.02)  # not the rate at the mean temperature
+
+
+def test_the_cooling_rate_per_collision_is_the_cooling_state_s_rate_over_its_collision_frequency():
+    """zeta / omega, both at the cooling state's temperatures (alpha = 1: no cooling)."""
+    assert edmd.homogeneous_cooling_rate(0.1, [0.5, 0.5], [1.0, 0.5], [1.0, 0.2], 1.0) == 0.0
+    arguments = (0.2, [0.3, 0.7], [1.0, 0.6], [1.0, 0.25])
+    alpha = [[0.9, 0.7], [0.7, 0.8]]
+    theta = edmd.homogeneous_cooling_temperatures(*arguments, alpha)
+    zeta = edmd.mixture_cooling_rates(*arguments, alpha, theta)
+    omega = edmd.mixture_collision_frequency(*arguments, 3, theta)
+    assert edmd.homogeneous_cooling_rate(*arguments, alpha) == pytest.approx(zeta[0] / omega, rel=1e-9)
 
 
 @pytest.mark.parametrize(

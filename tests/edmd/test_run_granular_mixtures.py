@@ -67,6 +67,25 @@ def test_an_inelastic_mixture_reports_each_species_temperature_and_the_cooling_s
     assert np.dot([0.5, 0.5], measured) == pytest.approx(1.0, rel=1e-12)  # T = sum x_a T_a at every block's end
     assert np.all(errors > 0) and measured[0] > 1.0 > measured[1]  # the heavy species is the hotter
     assert "compressibility_factor_theory" not in summary
+    assert summary["cooling_rate_error"] > 0 and summary["cooling_rate_theory"] == edmd.homogeneous_cooling_rate(
+        0.05, [0.5, 0.5], [1.0, 1.0], [1.0, 0.25], [[0.9, 0.8], [0.8, 0.7]])
+    assert abs(summary["cooling_rate_deviation_sigmas"]) < 5
+
+
+def test_the_cooling_rate_is_the_mean_slope_of_ln_kt_over_the_blocks_and_only_of_a_gas_that_cools():
+    """-d ln kT / dC from the block ends (C: 2 per pair collision / N), from the second block on; an elastic run and a
+    sheared one (a steady state) have none."""
+    run = EdmdRun(EdmdParameters(**GRANULAR | dict(fractions=None, masses=None, restitution=0.9))).run()
+    temperatures = np.array(run.sampler.records["temperature"])
+    per_block = 2 * 1_000 / 200
+    rates = -np.log(temperatures[1:] / temperatures[:-1]) / per_block
+    summary = run.summary()
+    assert summary["cooling_rate"] == pytest.approx(rates.mean(), rel=1e-12)
+    assert summary["cooling_rate_error"] == pytest.approx(rates.std(ddof=1) / math.sqrt(5), rel=1e-12)
+    assert summary["cooling_rate_theory"] == pytest.approx((1 - 0.81) / 3, rel=1e-12)
+    elastic = EdmdRun(EdmdParameters(**GRANULAR | dict(restitution=1.0))).run().summary()
+    sheared = EdmdRun(EdmdParameters(**GRANULAR | dict(restitution=0.9, shear_rate=0.5))).run().summary()
+    assert "cooling_rate" not in elastic and "cooling_rate" not in sheared and "cooling_rate_theory" not in sheared
 
 
 def test_species_temperatures_resume_bit_for_bit_and_older_checkpoints_without_them_still_load(tmp_path,

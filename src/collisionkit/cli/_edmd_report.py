@@ -56,6 +56,7 @@ def rows(result: dict) -> list[tuple[str, str, str]]:
         ("compressibility factor Z = PV/NkT", pm("compressibility_factor"), z),
         ("collision frequency per particle", pm("collision_frequency"), omega),
         ("temperature kT (final)", f"{result['temperature']:.6g}", kT),
+        *_cooling_rows(result, pm),
         ("mean free path", pm("mean_free_path"), ""),
         ("diffusion coefficient", pm("diffusion_coefficient"), "from the MSD"),
         *contact,
@@ -64,6 +65,16 @@ def rows(result: dict) -> list[tuple[str, str, str]]:
         ("collisions per second", f"{result['collisions_per_second']:.4g}",
          f"wall clock, measurement (no compiling), {result['engine']} engine"),
     ]
+
+
+def _cooling_rows(result: dict, pm) -> list[tuple[str, str, str]]:
+    """A cooling gas's rate per collision, -d ln T / dC (C: collisions per particle), beside the theory's."""
+    if "cooling_rate" not in result:
+        return []
+    theory = result.get("cooling_rate_theory")
+    where = "Haff, (1 - e^2)/d" if "species_counts" not in result else "homogeneous cooling, Garzo-Dufty"
+    return [("cooling rate per collision -d ln T/dC", pm("cooling_rate"),
+             "" if theory is None else f"{theory:.5g} ({where})")]
 
 
 def _partial_contact_rows(result: dict) -> list[tuple[str, str, str]]:

@@ -41,8 +41,8 @@ from .system import (
     HardSphereSystem, OverlapError, default_shell, well_shell,
 )
 from .mixture_theory import (
-    MIXTURE_EQUATION_OF_STATE, homogeneous_cooling_temperatures, mixture_collision_frequency, mixture_compressibility,
-    mixture_contact_values, mixture_cooling_rates,
+    MIXTURE_EQUATION_OF_STATE, homogeneous_cooling_rate, homogeneous_cooling_temperatures, mixture_collision_frequency,
+    mixture_compressibility, mixture_contact_values, mixture_cooling_rates,
 )
 from .square_well_theory import (
     square_well_collision_integral,
@@ -112,6 +112,7 @@ __all__ = [
     "lattice_cells",
     "maxwell_boltzmann",
     "measure",
+    "homogeneous_cooling_rate",
     "homogeneous_cooling_temperatures",
     "mixture_collision_frequency",
     "mixture_compressibility",

@@ -6,7 +6,10 @@ and the Yeh-Hummer correction of a transport run, the event engine that ran
 (``engine``: "lists" or "cells"), and the parameters that rerun it. A
 mixture's species' temperatures (``temperature_species``, T_a / T) come
 with the theory's at rest: equipartition if elastic, the homogeneous
-cooling state's if not (``temperature_species_theory``).
+cooling state's if not (``temperature_species_theory``). A gas that cools
+at rest gives its cooling rate per collision (``cooling_rate``, -d ln T /
+dC) beside Haff's law or the mixture's cooling state's
+(``cooling_rate_theory``).
 
 A sheared run's theory is taken at ``temperature_mean``, the time average
 of kT over the measurement (the viscous heating raises kT between the
@@ -31,8 +34,8 @@ from typing import Any
 import numpy as np
 
 from .mixture_theory import (
-    MIXTURE_EQUATION_OF_STATE, homogeneous_cooling_temperatures, mixture_collision_frequency, mixture_compressibility,
-    mixture_contact_values,
+    MIXTURE_EQUATION_OF_STATE, homogeneous_cooling_rate, homogeneous_cooling_temperatures, mixture_collision_frequency,
+    mixture_compressibility, mixture_contact_values,
 )
 from .theory import (
     carnahan_starling, enskog_collision_frequency, enskog_transport, hansen_goos, henderson, yeh_hummer_correction,
@@ -107,6 +110,8 @@ def edmd_summary(run, measurement, files: Sequence = ()) -> dict[str, Any]:
     if measurement.contact_values is not None:  # a mixture's partial g(r) at contact (null: no fit possible)
         result["contact_values"] = _nested(measurement.contact_values)
         result["contact_values_error"] = _nested(measurement.contact_values_error)
+    if "cooling_rate" in result and not sheared:  # a cooling gas: Haff's law, or the mixture's cooling state
+        result |= _cooling_theory(p, result)
     if measurement.species_temperatures is not None:  # each species' kT over the mixture's
         result |= _species_temperatures(p, measurement)
     if measurement.species_diffusion is not None:  # each species' self-diffusion coefficient
@@ -141,6 +146,16 @@ def _mixture_theory(p, measurement, kT: float) -> dict[str, Any]:
         "collision_frequency_theory": mixture_collision_frequency(eta, *species, p.masses or 1.0, p.dim, kT),
         "contact_values_theory": mixture_contact_values(eta, *species, dim=p.dim).tolist(),
     }
+
+
+def _cooling_theory(p, result) -> dict[str, Any]:
+    """The homogeneous cooling state's -d ln T / dC beside the measured: (1 - e^2) / d for one species."""
+    kinds = len(p.species_counts)
+    composition = [count / p.particles for count in p.species_counts]
+    theory = homogeneous_cooling_rate(p.packing_fraction, composition, p.diameters or (1.0,) * kinds,
+                                      p.masses or 1.0, p.restitution, p.dim)
+    return {"cooling_rate_theory": theory, "cooling_rate_deviation_sigmas":
+            _in_sigmas(result["cooling_rate"] - theory, result["cooling_rate_error"])}
 
 
 def _species_temperatures(p, measurement) -> dict[str, Any]:

@@ -53,7 +53,10 @@ class Measurement:
     ``species_temperatures``, each species' kT over the mixture's, T_a / T,
     the block mean of its value at each block's end, with
     ``species_temperatures_error``: 1 at equipartition, which an inelastic
-    mixture does not reach), ``potential_energy``
+    mixture does not reach), ``cooling_rate`` (a gas that loses energy, at
+    rest and without gravity: -d ln kT / dC, C the collisions per particle,
+    the least-squares slope over the block ends, with ``cooling_rate_error``;
+    Haff's law gives (1 - e^2) / d for one species; else NaN), ``potential_energy``
     (square wells: the time average of the potential energy per particle,
     -epsilon times the pairs inside per particle, with its error; 0 for hard
     spheres; ``temperature_mean`` is then the exact time average of kT,
@@ -139,6 +142,8 @@ class Measurement:
     species_diffusion_error: np.ndarray | None = field(default=None, repr=False)
     contact_values: np.ndarray | None = field(default=None, repr=False)
     contact_values_error: np.ndarray | None = field(default=None, repr=False)
+    cooling_rate: float = math.nan
+    cooling_rate_error: float = math.nan
     species_temperatures: np.ndarray | None = field(default=None, repr=False)
     species_temperatures_error: np.ndarray | None = field(default=None, repr=False)
 
@@ -172,6 +177,8 @@ class Measurement:
         if self.potential_energy != 0.0 or self.potential_energy_error != 0.0:
             result |= {key: getattr(self, key) for key in (
                 "potential_energy", "potential_energy_error", "temperature_mean", "temperature_mean_error")}
+        if math.isfinite(self.cooling_rate):
+            result |= {"cooling_rate": self.cooling_rate, "cooling_rate_error": self.cooling_rate_error}
         if self.transport is not None:
             result |= {"self_diffusion": self.diffusion_coefficient,
                        "self_diffusion_error": self.diffusion_coefficient_error} | self.transport.summary()

@@ -41,8 +41,8 @@ from scipy import integrate, optimize
 
 from . import _checks
 
-__all__ = ["MIXTURE_EQUATION_OF_STATE", "homogeneous_cooling_temperatures", "mixture_collision_frequency",
-           "mixture_compressibility", "mixture_contact_values", "mixture_cooling_rates"]
+__all__ = ["MIXTURE_EQUATION_OF_STATE", "homogeneous_cooling_rate", "homogeneous_cooling_temperatures",
+           "mixture_collision_frequency", "mixture_compressibility", "mixture_contact_values", "mixture_cooling_rates"]
 
 # the names of the mixtures' equations of state (:func:`mixture_compressibility`), by dimension
 MIXTURE_EQUATION_OF_STATE = {3: "BMCSL (Mansoori et al. 1971)", 2: "SYH (Santos et al. 1999)"}
@@ -186,7 +186,9 @@ def mixture_collision_frequency(packing_fraction, fractions, diameters, masses=1
     the contact values of :func:`mixture_contact_values` (the collision
     cross-section times the mean relative speed of a Maxwell-Boltzmann pair,
     enhanced by g_ij; Chapman & Cowling, ch. 16). One species:
-    :func:`~collisionkit.edmd.enskog_collision_frequency`.
+    :func:`~collisionkit.edmd.enskog_collision_frequency`. Species at
+    temperatures of their own (``kT`` one per species, a granular mixture)
+    take :math:`kT / \mu_{ij} \to kT_i / m_i + kT_j / m_j`.
 
     Parameters
     ----------
@@ -197,8 +199,8 @@ def mixture_collision_frequency(packing_fraction, fractions, diameters, masses=1
     masses : float or array_like, shape (S,)
         > 0.
     dim : {2, 3}
-    kT : float
-        > 0.
+    kT : float or array_like, shape (S,)
+        > 0: one for all, or each species' own.
 
     Returns
     -------
@@ -214,15 +216,20 @@ def mixture_collision_frequency(packing_fraction, fractions, diameters, masses=1
     dim = _checks.dimension(dim)
     fractions, diameters = _species(fractions, diameters)
     masses = _per_species(masses, "masses", diameters.size)
-    kT = _checks.positive(kT, "kT")
+    kT = _per_species(kT, "kT", diameters.size)
     g = mixture_contact_values(packing_fraction, fractions, diameters, dim)
     density = _number_density(packing_fraction, fractions, diameters, dim)
+    return _collision_frequency(density, g, fractions, diameters, masses, kT, dim)
+
+
+def _collision_frequency(density, g, fractions, diameters, masses, temperatures, dim) -> float:
+    """:func:`mixture_collision_frequency` of checked arrays (number density, contact values given)."""
     contact = 0.5 * np.add.outer(diameters, diameters)
-    reduced_mass = np.outer(masses, masses) / np.add.outer(masses, masses)
+    spread = np.add.outer(temperatures / masses, temperatures / masses)  # kT / mu_ij, or kT_i / m_i + kT_j / m_j
     if dim == 3:
-        rate = math.pi * contact**2 * np.sqrt(8.0 * kT / (math.pi * reduced_mass))
+        rate = math.pi * contact**2 * np.sqrt(8.0 * spread / math.pi)
     else:
-        rate = 2.0 * contact * np.sqrt(math.pi * kT / (2.0 * reduced_mass))
+        rate = 2.0 * contact * np.sqrt(math.pi * spread / 2.0)
     return float(density * np.sum(np.outer(fractions, fractions) * g * rate))
 
 
@@ -397,3 +404,47 @@ def homogeneous_cooling_temperatures(packing_fraction, fractions, diameters, mas
         raise ValueError(f"no homogeneous cooling state found for restitution {alpha.tolist()}: the species' "
                          "temperatures do not settle")
     return temperatures(logs)
+
+
+def homogeneous_cooling_rate(packing_fraction, fractions, diameters, masses=1.0, restitution=1.0, dim=3):
+    r"""How fast the homogeneous cooling state cools per collision: :math:`-d \ln T / dC = \zeta / \omega`.
+
+    C counts collisions per particle (each pair collision counts for both),
+    zeta is the state's common cooling rate (:func:`mixture_cooling_rates`
+    at :func:`homogeneous_cooling_temperatures`) and omega Enskog's
+    collision frequency at those temperatures
+    (:func:`mixture_collision_frequency`). For one species it is
+    :math:`(1 - \alpha^2)/d` at any density (Haff's law counted in
+    collisions, :math:`T = T_0 e^{-2 (1-\alpha^2) C_{pairs} / (d N)}`).
+
+    Parameters
+    ----------
+    packing_fraction : float
+        eta in [0, 1).
+    fractions, diameters : array_like, shape (S,)
+        Number fractions (> 0, summing to 1) and diameters (> 0).
+    masses : float or array_like, shape (S,)
+        > 0.
+    restitution : float or array_like, shape (S, S)
+        alpha_ij in [0, 1], symmetric.
+    dim : {2, 3}
+
+    Returns
+    -------
+    float
+
+    Examples
+    --------
+    >>> from collisionkit.edmd import homogeneous_cooling_rate
+    >>> round(homogeneous_cooling_rate(0.3, [1.0], [1.0], 1.0, 0.9), 6)  # (1 - 0.81) / 3
+    0.063333
+    """
+    theta = homogeneous_cooling_temperatures(packing_fraction, fractions, diameters, masses, restitution, dim)
+    dim = _checks.dimension(dim)
+    fractions, diameters = _species(fractions, diameters)
+    masses = _per_species(masses, "masses", diameters.size)
+    alpha = _restitution_matrix(restitution, diameters.size)
+    g = mixture_contact_values(packing_fraction, fractions, diameters, dim)
+    zeta, _ = _cooling_rates(1.0, g, fractions, diameters, masses, alpha, theta, dim)  # both per unit density
+    return float(np.sum(fractions * theta * zeta) / _collision_frequency(1.0, g, fractions, diameters, masses, theta,
+                                                                         dim))
