@@ -531,6 +531,10 @@ def test_a_restitution_per_species_pair_from_a_config_file(tmp_path):
     assert theory[0] > 1.0 > theory[1] and len(summary["temperature_species"]) == 2
     output = " ".join(result.output.split())
     assert "e = 0.9 0.8 / 0.8 0.7" in output and "homogeneous cooling, Garzo-Dufty" in output
+    drawn = invoke("--config", config, "--plots", "--out", tmp_path / "out")  # a gas that cooled: its cooling plot
+    assert drawn.exit_code == 0 and (tmp_path / "out" / "cooling.png").stat().st_size > 10_000
+    elastic = invoke("--particles", "64", "--collisions", "2000", "--out", tmp_path / "out", "--overwrite")
+    assert elastic.exit_code == 0 and not (tmp_path / "out" / "cooling.png").exists()  # an earlier run's: gone
     config.write_text("restitution = [[0.9, 0.8], [0.8, 0.7]]\n")
     refused = invoke("--config", config)
     assert refused.exit_code == 2 and "--restitution as a matrix (one per species pair) needs fractions" in \

@@ -46,3 +46,17 @@ def test_a_system_s_own_positions_and_box_draw_its_snapshot():
     system = edmd.random_fluid(2, 50, 0.3, seed=1)
     ax = plotting.plot_snapshot(system.positions(), system.radius, system.box)
     assert len(ax.collections[0].get_offsets()) == 50
+
+
+def test_the_cooling_plot_draws_the_theory_through_the_first_point_and_each_species():
+    collisions = np.arange(1.0, 6.0)
+    temperatures = np.exp(-0.1 * collisions)
+    ax = plotting.plot_cooling(collisions, temperatures, rate=0.05, species=np.tile([1.2, 0.8], (5, 1)))
+    theory = ax.lines[1].get_ydata()
+    assert theory[0] == temperatures[0] and theory[-1] == pytest.approx(temperatures[0] * np.exp(-0.2))
+    np.testing.assert_allclose(ax.lines[2].get_ydata(), 1.2 * temperatures)
+    assert ax.get_yscale() == "log" and len(plotting.plot_cooling(collisions, temperatures).lines) == 1
+    with pytest.raises(ValueError, match=r"species must have shape \(5, S\)"):
+        plotting.plot_cooling(collisions, temperatures, species=np.ones((4, 2)))
+    with pytest.raises(ValueError, match="one length"):
+        plotting.plot_cooling(collisions, temperatures[:3])

@@ -2,13 +2,17 @@
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
+
+import numpy as np
 
 from ._common import Deliveries, print_table, say, warn
 
-# the plots of --out (the Helfand moments with --transport only, the equation of state for elastic runs only)
+# the plots of --out (the Helfand moments with --transport only, the equation of state for elastic runs only, the
+# cooling for a gas that cooled at rest only)
 PLOTS = ("equation_of_state.png", "speed_distribution.png", "snapshot.png", "radial_distribution.png",
-         "helfand_moments.png")
+         "helfand_moments.png", "cooling.png")
 
 
 def _theory_column(result: dict) -> tuple[str, str, str, str]:
@@ -215,6 +219,11 @@ def _plots(run, measurement, out: Path, deliveries: Deliveries) -> None:
         measurement.rdf_r, measurement.rdf, partial=measurement.partial_rdf)))
     if measurement.transport is not None:
         figures.append(("helfand_moments.png", lambda: plotting.plot_helfand_moments(measurement.transport)[0]))
+    if math.isfinite(measurement.cooling_rate):
+        collisions = 2.0 * run.sampler.per_block * np.arange(1, run.sampler.done + 1) / system.count
+        rate = run.summary().get("cooling_rate_theory")
+        figures.append(("cooling.png", lambda: plotting.plot_cooling(
+            collisions, measurement.block_temperature, rate, measurement.block_species_temperatures)))
 
     def folder():
         out.mkdir(parents=True, exist_ok=True)

@@ -147,7 +147,7 @@ def observables(sampler) -> dict:
         mixture |= {"species_diffusion": by_species[0], "species_diffusion_error": by_species[1]}
     if "species_temperature" in record:
         ratios = np.asarray(record["species_temperature"], dtype=float)
-        mixture |= {"species_temperatures": np.mean(ratios, axis=0),
+        mixture |= {"species_temperatures": np.mean(ratios, axis=0), "block_species_temperatures": ratios,
                     "species_temperatures_error": np.array([_msd.block_error(column) for column in ratios.T])}
     cooling, cooling_error = _cooling_rate(sampler)
     durations = np.diff(msd_time)

@@ -52,8 +52,8 @@ class Measurement:
     each species' D with its ``species_diffusion_error``, and
     ``species_temperatures``, each species' kT over the mixture's, T_a / T,
     the block mean of its value at each block's end, with
-    ``species_temperatures_error``: 1 at equipartition, which an inelastic
-    mixture does not reach), ``cooling_rate`` (a gas that loses energy, at
+    ``species_temperatures_error`` and ``block_species_temperatures`` each
+    block's: 1 at equipartition, which an inelastic mixture does not reach), ``cooling_rate`` (a gas that loses energy, at
     rest and without gravity: -d ln kT / dC, C the collisions per particle,
     the least-squares slope over the block ends, with ``cooling_rate_error``;
     Haff's law gives (1 - e^2) / d for one species; else NaN), ``potential_energy``
@@ -146,6 +146,7 @@ class Measurement:
     cooling_rate_error: float = math.nan
     species_temperatures: np.ndarray | None = field(default=None, repr=False)
     species_temperatures_error: np.ndarray | None = field(default=None, repr=False)
+    block_species_temperatures: np.ndarray | None = field(default=None, repr=False)
 
     @property
     def collisions_per_second(self) -> float:

@@ -9,7 +9,8 @@ follow the domains:
   deflection laws, inelastic energy loss;
 * :mod:`~collisionkit.plotting.encounters` - two-body encounters;
 * :mod:`~collisionkit.plotting.edmd` - equation of state, speed
-  distribution, snapshots, radial distribution, Helfand moments and their fits;
+  distribution, snapshots, radial distribution, Helfand moments and their fits,
+  the cooling of a granular gas;
 * :mod:`~collisionkit.plotting.transport` - energy distributions, transport
   coefficients, swarm trajectories;
 * :mod:`~collisionkit.plotting.tracking` - sample tracks in a device, and
@@ -35,6 +36,7 @@ from .animation import (
 from .collisions import plot_deflection_laws, plot_energy_loss, plot_stationary_scan
 from .edmd import (
     maxwell_boltzmann_speed_density,
+    plot_cooling,
     plot_equation_of_state,
     plot_helfand_moments,
     plot_radial_distribution,
@@ -60,6 +62,7 @@ __all__ = [
     "animate_frames",
     "ffmpeg_available",
     "maxwell_boltzmann_speed_density",
+    "plot_cooling",
     "plot_deflection_laws",
     "plot_encounter",
     "plot_star_encounter",

@@ -1,7 +1,7 @@
 """Figures of event-driven hard-sphere dynamics (:mod:`collisionkit.edmd`).
 
-Equation of state, speed distribution, snapshots, the radial distribution function and the Einstein-Helfand
-curves of the transport coefficients with their fits.
+Equation of state, speed distribution, snapshots, the radial distribution function, the Einstein-Helfand
+curves of the transport coefficients with their fits, and the cooling of a granular gas.
 """
 
 from __future__ import annotations
@@ -303,6 +303,61 @@ def plot_radial_distribution(r, g, ax=None, partial=None):
     ax.axhline(1.0, color="0.6", lw=0.8, ls="--")
     ax.set_xlabel(r"distance $r/\sigma$")
     ax.set_ylabel("$g(r)$" if partial is None else "$g_{ab}(r)$")
+    return ax
+
+
+def plot_cooling(collisions, temperatures, rate=None, species=None, ax=None):
+    """kT of a cooling gas against collisions per particle (log scale), with the theory's line and each species'.
+
+    Parameters
+    ----------
+    collisions : array_like, shape (K,)
+        Collisions per particle C (2 per pair collision / N) at the block ends.
+    temperatures : array_like, shape (K,)
+        kT there (e.g. ``Measurement.block_temperature``).
+    rate : float, optional
+        The theory's -d ln T / dC (``cooling_rate_theory``: Haff's (1 - e^2) / d
+        for one species): drawn as the line through the first point.
+    species : array_like, shape (K, S), optional
+        A mixture's T_a / T at the block ends
+        (``Measurement.block_species_temperatures``): each species' kT_a drawn too.
+    ax : matplotlib Axes, optional
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from collisionkit import plotting
+    >>> C = np.arange(1.0, 6.0)
+    >>> ax = plotting.plot_cooling(C, np.exp(-0.06 * C), rate=0.06, species=np.tile([1.1, 0.9], (5, 1)))
+    >>> [text.get_text() for text in ax.get_legend().get_texts()]
+    ['all', 'theory, -d ln T/dC = 0.06', 'A', 'B']
+    """
+    from ..trajectory import type_names
+
+    collisions = np.asarray(collisions, dtype=float)
+    temperatures = np.asarray(temperatures, dtype=float)
+    if collisions.ndim != 1 or collisions.shape != temperatures.shape:
+        raise ValueError(f"collisions and temperatures must be 1-D of one length; got {collisions.shape} and "
+                         f"{temperatures.shape}")
+    ax = _axes(ax)
+    ax.semilogy(collisions, temperatures, "o", color="C0", label="all")
+    if rate is not None:
+        ax.semilogy(collisions, temperatures[0] * np.exp(-rate * (collisions - collisions[0])), color="0.4", lw=1,
+                    label=f"theory, -d ln T/dC = {rate:.4g}")
+    if species is not None:
+        species = np.asarray(species, dtype=float)
+        if species.ndim != 2 or species.shape[0] != collisions.size:
+            raise ValueError(f"species must have shape ({collisions.size}, S); got {species.shape}")
+        for index, name in enumerate(type_names(np.arange(species.shape[1]))):
+            ax.semilogy(collisions, species[:, index] * temperatures, ls="--", color=f"C{index + 1}", label=name)
+    ax.set_xlabel("collisions per particle $C$ (measured)")
+    ax.set_title("cooling")
+    ax.set_ylabel("$kT$")
+    ax.legend()
     return ax
 
 
