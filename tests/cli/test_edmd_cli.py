@@ -539,3 +539,7 @@ def test_a_restitution_per_species_pair_from_a_config_file(tmp_path):
     refused = invoke("--config", config)
     assert refused.exit_code == 2 and "--restitution as a matrix (one per species pair) needs fractions" in \
         " ".join(refused.output.split())
+    config.write_text("fractions = [0.5, 0.5]\nrestitution = [0.9, 0.8]\n")  # a flat list: neither form
+    flat = invoke("--config", config)
+    assert flat.exit_code == 2 and "--restitution: must be a number or a matrix over the species of fractions, as a " \
+        "list of rows" in " ".join(flat.output.split()) and "Traceback" not in flat.output

@@ -138,14 +138,15 @@ GRANULAR = dict(packing_fraction=0.02, fractions=(0.5, 0.5), masses=(1.0, 0.25),
 def test_an_inelastic_mixture_cools_with_the_species_temperatures_of_the_homogeneous_cooling_state(dim, particles,
                                                                                                     values):
     """The heavy species stays hotter (T_A/T 1.14-1.20 in theory): within 4 errors and 1 % of Garzo and Dufty's
-    Maxwellian approximation, which twenty seeds put 0.3 % (spheres), 0.5 % (the matrix) and 0.8 % (discs, 500)
-    above the measured value; equipartition (1) would fail by more than 15 errors."""
+    Maxwellian approximation, which the means of twenty seeds put 0.3 % (spheres), 0.5 % (the matrix) and 0.8 %
+    (discs, 500) above the measured value; equipartition (1) would fail by more than 8 errors (seeds 1-3 of the
+    discs: 18, 13 and 11; an error from 10 blocks scatters by about 23 %)."""
     summary = _summary(**GRANULAR | dict(dim=dim, particles=particles, equilibration=10 * particles,
                                          collisions=50 * particles) | values)
     measured, errors = np.array(summary["temperature_species"]), np.array(summary["temperature_species_error"])
     theory = np.array(summary["temperature_species_theory"])
     assert np.all(np.abs(measured - theory) < 4 * errors + 0.01 * theory), (measured, errors, theory)
-    assert np.all(np.abs(theory - 1.0) > 15 * errors)
+    assert np.all(np.abs(theory - 1.0) > 8 * errors)
     # and it cools per collision as the cooling state does (the Maxwellian theory 0.4-1.1 % above the runs)
     rate, rate_error = summary["cooling_rate"], summary["cooling_rate_error"]
     assert abs(rate - summary["cooling_rate_theory"]) < 4 * rate_error + 0.015 * rate, (rate, rate_error)

@@ -105,18 +105,23 @@ def test_species_temperatures_resume_bit_for_bit_and_older_checkpoints_without_t
     with pytest.raises(KeyboardInterrupt):
         run.run()
     monkeypatch.undo()
-    assert len(read_checkpoint(path, "edmd").arrays["sampler_species_temperature"]) == 3
+    saved = read_checkpoint(path, "edmd")
+    assert len(saved.arrays["sampler_species_temperature"]) == 3
+    older = tmp_path / "older.npz"  # the same run as a version before the record would have saved it
+    write_checkpoint(older, "edmd", saved.parameters, saved.state,
+                     {name: value for name, value in saved.arrays.items() if name != "sampler_species_temperature"})
     resumed = EdmdRun.resume(path, restitution=[[0.9, 0.8], [0.8, 0.7]])  # given again as lists: must agree
     assert resumed.run().summary()["temperature_species"] == straight["temperature_species"]
-    saved = read_checkpoint(path, "edmd")
-    arrays = {name: value for name, value in saved.arrays.items() if name != "sampler_species_temperature"}
-    write_checkpoint(path, "edmd", saved.parameters, saved.state, arrays)
-    older = EdmdRun.resume(path).summary()  # a mixture saved before the record: its blocks' temperatures unknown
-    assert older["temperature_species"] == [None, None]
-    assert older["compressibility_factor"] == straight["compressibility_factor"]
+    blocks = np.array(resumed.sampler.records["species_temperature"])
+    finished_older = EdmdRun.resume(older).run()  # its first three blocks' temperatures unknown: the last three count
+    summary = finished_older.summary()
+    np.testing.assert_allclose(summary["temperature_species"], blocks[3:].mean(axis=0), rtol=1e-12)
+    assert np.isnan(finished_older.measurement().block_species_temperatures[:3]).all()
+    assert summary["compressibility_factor"] == straight["compressibility_factor"]
 
 
-@pytest.mark.parametrize("rows", [np.ones((6, 3)), np.ones((5, 2))])
+@pytest.mark.parametrize("rows", [np.ones((6, 3)), np.ones((5, 2)), np.full((6, 2), [0.5, np.inf]),
+                                  np.full((6, 2), [-5.0, 7.0]), np.full((6, 2), [1.2, 1.2])])
 def test_a_checkpoint_with_damaged_species_temperatures_is_refused(tmp_path, rows):
     path = tmp_path / "run.npz"
     EdmdRun(EdmdParameters(**GRANULAR), checkpoint=path).run()

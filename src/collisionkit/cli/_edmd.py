@@ -13,7 +13,7 @@ from pathlib import Path
 from typing import Annotated, ClassVar, Literal
 
 import typer
-from pydantic import Field, model_validator
+from pydantic import Field, field_validator, model_validator
 from typer.core import TyperCommand
 
 from .._io import FileLockedError
@@ -73,6 +73,24 @@ class EdmdOptions(Options):
 
     output_files: ClassVar[tuple[str, ...]] = ("summary", "trajectory", "xyz", "checkpoint")
     output_folders: ClassVar[tuple[str, ...]] = ("out",)
+
+    @field_validator("restitution", "well_width", "well_depth", mode="before")
+    @classmethod
+    def _number_or_rows(cls, value):
+        """A number, or a matrix as a list of rows: a flat list is neither (said so, not as pydantic's union errors).
+
+        Examples
+        --------
+        >>> try:
+        ...     EdmdOptions.model_validate({"fractions": [0.5, 0.5], "restitution": [0.9, 0.8]})
+        ... except ValueError as error:
+        ...     print(error.errors()[0]["msg"])
+        Value error, must be a number or a matrix over the species of fractions, as a list of rows (e.g. [[0.9, 0.8], [0.8, 0.7]])
+        """
+        if isinstance(value, list) and not all(isinstance(row, list) for row in value):
+            raise ValueError("must be a number or a matrix over the species of fractions, as a list of rows (e.g. "
+                             "[[0.9, 0.8], [0.8, 0.7]])")
+        return value
 
     @model_validator(mode="after")
     def _consistent(self):

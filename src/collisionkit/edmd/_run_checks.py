@@ -118,7 +118,14 @@ def checked_parameters(p) -> dict[str, Any]:
 
 def _shown(value) -> str:
     """A number or a matrix as a message shows it."""
-    return f"{value:g}" if not isinstance(value, tuple) else str([list(row) for row in value])
+    return f"{value:g}" if not isinstance(value, tuple) else _listed(value)
+
+
+def _listed(value) -> str:
+    """Nested sequences as a config file writes them: [[0.9, 0.8], [0.8, 0.7]], not tuples."""
+    if isinstance(value, (list, tuple)):
+        return "[" + ", ".join(_listed(item) for item in value) + "]"
+    return repr(value)
 
 
 def _reals(name: str, value, count: int | None, low: float, high: float, low_open=False) -> tuple[float, ...]:
@@ -133,18 +140,20 @@ def _reals(name: str, value, count: int | None, low: float, high: float, low_ope
 def _number_or_matrix(name: str, value, kinds: int | None, low: float, high: float, low_open: bool):
     """A number in its range, or (a mixture's) symmetric matrix over the species as a tuple of tuples; in a matrix
     a depth may be 0 (that pair has no well). Used for the wells and the restitution."""
+    if isinstance(value, np.ndarray):
+        value = value.tolist()
     if not isinstance(value, (list, tuple)):
         return check_real(name, value, low, high, low_open=low_open)
     if kinds is None:
         raise ValueError(f"{name} as a matrix (one per species pair) needs fractions (the species)")
     if len(value) != kinds or any(not isinstance(row, (list, tuple)) or len(row) != kinds for row in value):
         raise ValueError(f"{name} must be a number or a {kinds} x {kinds} matrix (one per pair of the {kinds} "
-                         f"species of fractions); got {value!r}")
+                         f"species of fractions); got {_listed(value)}")
     entry_low_open = low_open and name != "well_depth"
     matrix = tuple(tuple(check_real(f"{name}[{a}][{b}]", item, low, high, low_open=entry_low_open)
                          for b, item in enumerate(row)) for a, row in enumerate(value))
     if any(matrix[a][b] != matrix[b][a] for a in range(kinds) for b in range(kinds)):
-        raise ValueError(f"{name} must be a symmetric matrix (pair a, b is pair b, a); got {value!r}")
+        raise ValueError(f"{name} must be a symmetric matrix (pair a, b is pair b, a); got {_listed(value)}")
     return matrix
 
 
@@ -211,6 +220,18 @@ def _species_fit(parameters, system) -> bool:
     return bool(np.array_equal(2.0 * np.asarray(system.radius), diameters) and np.array_equal(system.mass, masses))
 
 
+def _species_temperatures_fit(row, parameters) -> bool:
+    """A block's T_a / T: one per species, each finite and >= 0 with sum_a x_a T_a / T = 1, or all NaN (a block
+    saved before they were recorded)."""
+    counts = np.asarray(parameters.species_counts, dtype=float)
+    row = np.asarray(row, dtype=float)
+    if row.shape != counts.shape:
+        return False
+    if np.all(np.isnan(row)):
+        return True
+    return bool(np.all(np.isfinite(row) & (row >= 0.0)) and abs(np.dot(counts / counts.sum(), row) - 1.0) < 1e-9)
+
+
 def check_saved_run(saved, sampler, parameters, system) -> None:
     """CheckpointError if the saved measurement does not fit the run (blocks, block length, records, positions),
     or the saved system runs another engine than ``parameters.engine`` asks for."""
@@ -234,8 +255,7 @@ def check_saved_run(saved, sampler, parameters, system) -> None:
         fits &= lag.species_all.shape == (lag.lags, kinds) and lag.species_groups.shape == (lag.lags, kinds,
                                                                                              MSD_GROUPS)
         fits &= bool(np.all(np.isfinite(lag.species_all)))
-    ratios = sampler.records.get("species_temperature", ())
-    fits &= all(np.shape(row) == (kinds,) for row in ratios)
+    fits &= all(_species_temperatures_fit(row, parameters) for row in sampler.records.get("species_temperature", ()))
     # a mixture of a few species records its partial histograms from its first block (a file without them is damaged)
     fits &= partial is not None or not 1 < kinds <= PARTIAL_RDF_SPECIES
     fits &= (sampler.transport is not None) == parameters.transport

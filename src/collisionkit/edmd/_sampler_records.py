@@ -146,9 +146,7 @@ def observables(sampler) -> dict:
     if by_species is not None:
         mixture |= {"species_diffusion": by_species[0], "species_diffusion_error": by_species[1]}
     if "species_temperature" in record:
-        ratios = np.asarray(record["species_temperature"], dtype=float)
-        mixture |= {"species_temperatures": np.mean(ratios, axis=0), "block_species_temperatures": ratios,
-                    "species_temperatures_error": np.array([_msd.block_error(column) for column in ratios.T])}
+        mixture |= _species_temperatures(np.asarray(record["species_temperature"], dtype=float))
     cooling, cooling_error = _cooling_rate(sampler)
     durations = np.diff(msd_time)
     block_kT = np.asarray(record["temperature_mean"], dtype=float)
@@ -198,6 +196,17 @@ def observables(sampler) -> dict:
             None if system.well_width is None else temperature_mean),
         **shear_results(system.shear_rate, record, system.volume * durations),
     )
+
+
+def _species_temperatures(ratios) -> dict:
+    """Each species' T_a / T: the mean and standard error over the blocks that recorded it (those of a checkpoint
+    saved before the record existed are NaN: left out), and every block's."""
+    known = ratios[np.all(np.isfinite(ratios), axis=1)]
+    if not len(known):
+        return {"species_temperatures": np.full(ratios.shape[1], math.nan), "block_species_temperatures": ratios,
+                "species_temperatures_error": np.full(ratios.shape[1], math.nan)}
+    return {"species_temperatures": np.mean(known, axis=0), "block_species_temperatures": ratios,
+            "species_temperatures_error": np.array([_msd.block_error(column) for column in known.T])}
 
 
 def _cooling_rate(sampler) -> tuple[float, float]:

@@ -255,7 +255,8 @@ def cooling_note(run) -> str | None:
                 f"--elastic-below {system.elastic_below:.3g} are elastic, and nearly all were; this is the run of "
                 "an elastic gas")
     note = (f"restitution < 1: the gas cooled as it ran (homogeneous cooling, Haff's law), kT from 1 to {kT:.3g}; "
-            "Z, the collision frequency and D are averages over a cooling state, not equilibrium values")
+            "Z, the collision frequency and D are averages over a cooling state, not equilibrium values; the "
+            "cooling theory assumes the gas stayed homogeneous, which a dense or large one does not (clusters)")
     if system.elastic_below > 0 and kT < 100.0 * system.elastic_below**2:
         note += (f". It reached the elastic floor: contacts slower than --elastic-below {system.elastic_below:.3g} "
                  "are elastic (against inelastic collapse), so fewer --collisions follow the cooling itself")

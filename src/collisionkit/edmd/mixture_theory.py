@@ -245,6 +245,8 @@ def _per_species(values, name: str, count: int) -> np.ndarray:
 def _restitution_matrix(restitution, count: int) -> np.ndarray:
     """alpha_ij: a number for every pair or a symmetric (S, S) matrix, each in [0, 1]."""
     alpha = np.asarray(restitution, dtype=float)
+    if alpha.ndim == 0 and not 0.0 <= float(alpha) <= 1.0:
+        raise ValueError(f"restitution must lie in [0, 1]; got {float(alpha):g}")
     alpha = np.full((count, count), float(alpha)) if alpha.ndim == 0 else alpha
     if alpha.shape != (count, count):
         raise ValueError(f"restitution must be a number or a symmetric {count} x {count} matrix (one per pair of "
@@ -269,10 +271,10 @@ def mixture_cooling_rates(packing_fraction, fractions, diameters, masses=1.0, re
 
     with :math:`\mu_{ji} = m_j / (m_i + m_j)` and alpha_ij the pair's
     coefficient of normal restitution (Garzo & Dufty 1999, eq. 23, the
-    leading Sonine order). It is the mean energy a collision with j takes
-    from i (:math:`m_i \mu_{ji} (1+\alpha) (g \cdot n)^2 [\frac{\mu_{ji}}{2}
-    (1+\alpha) - \frac{T_i/m_i}{T_i/m_i + T_j/m_j}]`) over the collision
-    rate. With equal temperatures and alpha = 1 every rate is 0; one species
+    leading Sonine order): the mean energy a collision with j takes from i,
+    given the relative velocity g (:math:`m_i \mu_{ji} (1+\alpha) (g \cdot
+    n)^2 [\frac{T_i/m_i}{T_i/m_i + T_j/m_j} - \frac{\mu_{ji}}{2} (1+\alpha)]`),
+    averaged over the collisions. With equal temperatures and alpha = 1 every rate is 0; one species
     gives Haff's :math:`\zeta = \frac{2 \pi^{(d-1)/2}}{d \Gamma(d/2)} n g
     \sigma^{d-1} \sqrt{T/m} (1 - \alpha^2)`. A rate may be negative: a
     species colder than its partners is heated by them.

@@ -24,10 +24,13 @@ def _with_finite(groups, key):
     return {values: group for values, group in kept.items() if group}
 
 
-def _axis_value(value):
+def _axis_value(value, categorical=False):
     """A varied option's value as matplotlib draws it: a list option's (``diameters = [1, 0.6]``) as its text, a
-    category on the axis."""
-    return str(list(value)) if isinstance(value, (list, tuple)) else value
+    category on the axis; a number among such lists (``restitution = 0.9`` beside a matrix) as text too, since an
+    axis takes numbers or categories, not both."""
+    if isinstance(value, (list, tuple)):
+        return str(list(value))
+    return f"{value:g}" if categorical and isinstance(value, (int, float, np.integer, np.floating)) else value
 
 
 def plot_sweep(points, x, y, series=(), title=None, ax=None):
@@ -73,8 +76,12 @@ def plot_sweep(points, x, y, series=(), title=None, ax=None):
     >>> points = [{"diameters": [1.0, d], "mean": z, "error": 0.01} for d, z in ((0.5, 3.5), (0.8, 3.9))]
     >>> [label.get_text() for label in plotting.plot_sweep(points, "diameters", "Z").get_xticklabels()]
     ['[1.0, 0.5]', '[1.0, 0.8]']
+    >>> points = [{"e": e, "mean": 1.0, "error": 0.1} for e in (0.9, [[0.9, 0.8], [0.8, 0.7]])]
+    >>> [label.get_text() for label in plotting.plot_sweep(points, "e", "Z").get_xticklabels()]
+    ['0.9', '[[0.9, 0.8], [0.8, 0.7]]']
     """
     series = list(series)
+    categorical = any(isinstance(point[x], (list, tuple)) for point in points)  # no line between categories
     groups = {}
     for point in points:
         groups.setdefault(tuple(_axis_value(point[name]) for name in series), []).append(point)
@@ -86,11 +93,10 @@ def plot_sweep(points, x, y, series=(), title=None, ax=None):
     for values, group in measured.items():
         errors = np.nan_to_num(np.array([point.get("error", np.nan) for point in group], dtype=float))
         label = _sweep_label(series, values) or ("measured" if expected else None)
-        categories = any(isinstance(point[x], (list, tuple)) for point in group)  # no line between categories
-        bars = ax.errorbar([_axis_value(point[x]) for point in group], [point["mean"] for point in group], yerr=errors,
-                           fmt="o" if categories else "o-", capsize=3, label=label)  # fmt: skip
+        bars = ax.errorbar([_axis_value(point[x], categorical) for point in group], [point["mean"] for point in group],
+                           yerr=errors, fmt="o" if categorical else "o-", capsize=3, label=label)
         if values in expected:
-            line = [(_axis_value(point[x]), point["theory"]) for point in expected[values]]
+            line = [(_axis_value(point[x], categorical), point["theory"]) for point in expected[values]]
             colour = bars.lines[0].get_color() if series else "k"
             ax.plot(*zip(*line), "--", color=colour, lw=1, label=f"{label}, theory" if series else "theory")
     ax.set_xlabel(x)
