@@ -3,6 +3,7 @@
 import csv
 import json
 
+import pytest
 from typer.testing import CliRunner
 
 from collisionkit.cli import app
@@ -34,6 +35,12 @@ def test_a_scan_gives_the_librarys_results_in_the_summary_and_the_tables(tmp_pat
     assert all(column in units or column.split("[")[0] + "[...]" in units for column in rows[0])
     assert units["eedf"] == "eV^-3/2" and units["mean_energy"] == "eV"
     assert "0.2736" in result.output  # the table: <e> at 12 Td
+    # the same scan as BOLSIG+'s output tables, for fluid codes: the mobility section is the table's mobility_N
+    from collisionkit.transport import read_bolsig_section
+
+    mobility = read_bolsig_section((out / "bolsig.dat").read_text(), "Mobility *N (1/m/V/s)")
+    assert mobility[:, 0].tolist() == [1.0, 12.0]
+    assert mobility[:, 1] == pytest.approx([float(row["mobility_N"]) for row in rows], rel=1e-6)
     again = runner.invoke(app, ["boltzmann", "--model", "reid", "--E-N", "12", "--out", str(out)])
     assert again.exit_code == 2 and "pass --overwrite" in " ".join(again.output.split())
 

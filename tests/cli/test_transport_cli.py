@@ -36,6 +36,12 @@ def test_swarm_sweep_writes_one_entry_per_e_n(tmp_path):
         assert float(row["mean_energy"]) == entry["mean_energy"]
         assert float(row["drift_velocity_bulk_z"]) == entry["drift_velocity_bulk"][2]
         assert float(row["rate_coefficient[reid:excitation]"]) == entry["rate_coefficients"]["reid:excitation"]
+    # and as BOLSIG+'s output tables (a static E): the mean energy section is the summary's
+    from collisionkit.transport import read_bolsig_section
+
+    energies = read_bolsig_section((tmp_path / "plots" / "bolsig.dat").read_text(), "Mean energy (eV)")
+    assert energies[:, 0].tolist() == [12.0, 24.0]
+    assert energies[:, 1] == pytest.approx([entry["mean_energy"] for entry in entries], rel=1e-6)
 
 
 def test_swarm_reads_lxcat_and_a_toml_config(tmp_path):
@@ -391,6 +397,7 @@ def test_swarm_in_an_oblique_ac_field_prints_cycle_averages_and_plots_the_phases
         assert [len(row) for row in data[key]] == [3, 3, 3]
     assert len(data["drift_velocity_flux"]) == 3 and len(data["drift_velocity_bulk_error"]) == 3
     assert (tmp_path / "plots" / "phase.png").stat().st_size > 1000
+    assert not (tmp_path / "plots" / "bolsig.dat").exists()  # BOLSIG+'s tables hold a static E alone
 
 
 def test_the_angle_and_frequency_come_from_a_toml_file_resume_and_sweep(tmp_path):

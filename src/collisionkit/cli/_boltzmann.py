@@ -25,8 +25,8 @@ from ._transport import (
 # transport.two_term's (not imported: the library loads only when a command runs)
 MAX_IONIZATION_DEGREE = 0.01
 MIN_GAS_TEMPERATURE = 1e-6  # K, if not 0
-# --out: a row per E/N; the EEDFs (E/N, energy, F0); their plot (with the plot extra)
-BOLTZMANN_FILES = ("boltzmann.csv", "eedf.csv", "eedf.png")
+# --out: a row per E/N; the EEDFs (E/N, energy, F0); their plot (with the plot extra); BOLSIG+'s tables (static E)
+BOLTZMANN_FILES = ("boltzmann.csv", "eedf.csv", "eedf.png", "bolsig.dat")
 
 
 class BoltzmannOptions(GasScanOptions):
@@ -159,6 +159,13 @@ def _write_tables(scan, out: Path, deliveries: Deliveries) -> None:
     deliveries.write(f"the folder {out}", lambda: out.mkdir(parents=True, exist_ok=True))
     deliveries.write(f"the table {out / 'boltzmann.csv'}", lambda: write_csv(out / "boltzmann.csv", scan.table()))
     deliveries.write(f"the table {out / 'eedf.csv'}", lambda: write_csv(out / "eedf.csv", scan.eedf_table()))
+    if all(result.omega_N == 0.0 for result in scan.results):  # BOLSIG+'s tables: a static E
+        from ..transport import write_bolsig_tables
+
+        deliveries.write(f"the tables {out / 'bolsig.dat'}", lambda: write_bolsig_tables(out / "bolsig.dat",
+                                                                                          scan.results))
+    else:  # an earlier run's is not of these results
+        (out / "bolsig.dat").unlink(missing_ok=True)
     try:
         import matplotlib
     except ImportError:
@@ -232,7 +239,8 @@ def boltzmann(
     out: Annotated[Path | None, typer.Option(
         help="Folder for boltzmann.csv (a row per E/N: moments and every rate coefficient; SI units, energies in "
              "eV, E/N in Td: the summary's units lists them), eedf.csv (E/N in Td, energy in eV, F0 in eV^-3/2 "
-             "with the integral of eps^1/2 F0 equal to 1) and eedf.png.")] = None,
+             "with the integral of eps^1/2 F0 equal to 1), eedf.png and bolsig.dat (the coefficients as BOLSIG+'s "
+             "output tables, which plasma fluid codes read; static E only).")] = None,
     summary: Annotated[Path | None, typer.Option("--summary", help="Write the results as JSON to this file.")] = None,
     config: Annotated[Path | None, typer.Option(
         "--config", help="TOML file with these options (command line wins).")] = None,

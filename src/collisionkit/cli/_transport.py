@@ -248,7 +248,7 @@ class SwarmOptions(GasScanOptions):
 
 # the files of a swarm run's --out: the EEDF, the table, the coefficients against E/N (a scan), W and <e> against the
 # phase (an oscillating field)
-SWARM_FILES = ("eedf.png", "swarm.csv", "transport_coefficients.png", "phase.png")
+SWARM_FILES = ("eedf.png", "swarm.csv", "transport_coefficients.png", "phase.png", "bolsig.dat")
 SWARM_OUTPUTS = ("out", "summary", "checkpoint", "overwrite")  # what a resumed scan may change; the rest is physics
 
 
@@ -431,6 +431,18 @@ def _swarm_plots(results, out: Path, deliveries: Deliveries, reid_benchmark: boo
             .flat[0], out / "transport_coefficients.png"))
     else:  # one E/N: no curve; an earlier scan's (replaced with --overwrite) would not be of these results
         (out / "transport_coefficients.png").unlink(missing_ok=True)
+    _bolsig_table(results, out, deliveries)
+
+
+def _bolsig_table(results, out: Path, deliveries: Deliveries) -> None:
+    """bolsig.dat in ``out``: the scan as BOLSIG+'s output tables, for fluid codes (a static E alone: else none, and
+    an earlier run's is removed)."""
+    from ..transport import write_bolsig_tables
+
+    if any(result.reduced_magnetic_field != 0.0 or result.reduced_frequency != 0.0 for result in results):
+        (out / "bolsig.dat").unlink(missing_ok=True)
+        return
+    deliveries.write(f"the tables {out / 'bolsig.dat'}", lambda: write_bolsig_tables(out / "bolsig.dat", results))
 
 
 # the gas and E/N options of swarm and boltzmann (GasScanOptions)
@@ -488,7 +500,8 @@ def swarm(
              "tables are momentum transfer, converted; per process kind: a [scattering] table in --config).  "
              "\\[default: isotropic]")] = None,
     out: Annotated[Path | None, typer.Option(
-        help="Folder for plots and swarm.csv, a row per E/N (none if not given).")] = None,
+        help="Folder for plots, swarm.csv (a row per E/N) and bolsig.dat (the coefficients as BOLSIG+'s output tables, "
+             "which plasma fluid codes read; static E without B only) (none if not given).")] = None,
     summary: Annotated[Path | None, typer.Option("--summary", help="Write the results as JSON to this file.")] = None,
     checkpoint: Annotated[Path | None, typer.Option(
         help="Write the finished E/N points to this checkpoint after each one, and the running point's state every "

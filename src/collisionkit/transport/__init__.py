@@ -15,6 +15,9 @@ collisions), real gases (LXCat files) and transport coefficients.
   and LoKI-B solve it): the energy distribution, mobility, diffusion and
   rates in milliseconds to a second; :class:`TwoTermResult`; :class:`TwoTermScan`, the
   ``boltzmann`` command's E/N scan and its tables;
+* :func:`bolsig_tables` - a scan's coefficients as BOLSIG+'s output tables
+  (:func:`write_bolsig_tables`, :func:`read_bolsig_section`), which plasma
+  fluid codes read;
 * :func:`simulate_slab` - transmission and reflection of a beam by a slab
   (:class:`SlabRun`: the same, checkpointed);
 * gases: :class:`Gas`, :class:`Species`, :class:`Process`, model gases
@@ -35,6 +38,7 @@ collisions), real gases (LXCat files) and transport coefficients.
 """
 
 from .angular import SCATTERING_LAWS, mean_scattering_cosine, momentum_transfer_ratio
+from .bolsig_tables import BOLSIG_SECTIONS, bolsig_tables, read_bolsig_section, write_bolsig_tables
 from .gases import (
     MODEL_GASES,
     SCATTERING_KINDS,
@@ -77,6 +81,7 @@ from .swarm import (
 from .townsend import townsend_coefficients
 
 __all__ = [
+    "BOLSIG_SECTIONS",
     "CATALOGUE",
     "DEFAULT_TOLERANCES",
     "HUXLEY",
@@ -96,6 +101,7 @@ __all__ = [
     "SwarmParameters",
     "SwarmScan",
     "SwarmResult",
+    "bolsig_tables",
     "catalogue",
     "catalogue_entry",
     "catalogue_files",
@@ -111,6 +117,7 @@ __all__ = [
     "parse_gas_spec",
     "momentum_transfer_ratio",
     "parse_lxcat",
+    "read_bolsig_section",
     "read_lxcat",
     "reid_ramp",
     "run_slab",
@@ -124,6 +131,7 @@ __all__ = [
     "swarm_summary",
     "townsend_coefficients",
     "trace_trajectories",
+    "write_bolsig_tables",
 ]
 
 # particle tracking in devices (issue 18)
