@@ -223,6 +223,12 @@ def test_a_swarm_study_collects_mean_energy_and_drift_with_errors_and_draws_its_
         assert float(row["drift_velocity_bulk[2]"]) < 0  # electrons drift against E (+z)
         assert 0 < float(row["mean_energy_error"]) < 0.05 * float(row["mean_energy"])
     assert float(rows[2]["mean_energy"]) > float(rows[0]["mean_energy"])  # hotter at the higher field
+    # a list's element combines with its own error column (was: the scatter alone, beside a column
+    # drift_velocity_bulk_error[2]_error)
+    points = read_table(out / "points.csv")
+    assert "drift_velocity_bulk_error[2]" in points[0] and not any(key.endswith("]_error") for key in points[0])
+    own = [float(row["drift_velocity_bulk_error[2]"]) for row in rows[:2]]
+    assert float(points[0]["drift_velocity_bulk_error[2]"]) >= 0.5 * min(own)  # not below what one replica knows
     assert (out / "main_result.png").stat().st_size > 1000
     assert "mean_energy" in " ".join(result.output.split())
     again = invoke("--resume", out / "checkpoint.npz", "--workers", 1)
@@ -334,3 +340,15 @@ def test_ctrl_c_on_the_embedded_cluster_prints_one_line_and_exits_130(tmp_path):
     for noise in ("Traceback", "KeyboardInterrupt", "distributed.", "WARNING", "CancelledError"):
         assert noise not in stderr, stderr
     assert json.loads((out / "points" / "p0000-r00" / "result.json").read_text())["status"] == "ok"
+
+
+def test_a_main_key_that_no_run_gives_is_named_with_the_closest_results(tmp_path):
+    """A misspelled main key ran the whole study and printed '-' everywhere without a word; now a warning names the
+    closest result keys (the run itself still succeeds: its tables are complete)."""
+    study = ENCOUNTER_STUDY.replace("seed = 3\n", 'seed = 3\nmain = "eccentricty"\n').replace(
+        "replicas = 2", "replicas = 1").replace("[10.0, 0.5, 20.0]", "[10.0, 20.0]")
+    result = invoke(study_file(tmp_path, study), "--out", tmp_path / "out", "--workers", 1)
+    assert result.exit_code == 0, result.output
+    said = " ".join(result.output.split())
+    assert "main 'eccentricty' is not a number in the results of collisionkit encounter" in said
+    assert "did you mean 'orbit.eccentricity'" in said and not (tmp_path / "out" / "main_result.png").exists()

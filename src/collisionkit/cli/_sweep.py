@@ -114,6 +114,24 @@ def _point_rows(results) -> list[tuple]:
     return rows
 
 
+def _warn_unknown_main(results) -> None:
+    """Warn if the study's main key is a number in no successful run's results (misspelled, or a list: its
+    elements are ``name[0]`` ...), with the closest results' names."""
+    import difflib
+
+    main = results.study.main
+    ok = [row for row in results.table if row["status"] == "ok"]
+    if main is None or not ok or any(isinstance(row.get(main), (int, float)) for row in ok):
+        return
+    columns = [column for column in dict.fromkeys(key for row in ok for key in row)
+               if isinstance(ok[0].get(column), (int, float)) and not isinstance(ok[0].get(column), bool)]
+    close = difflib.get_close_matches(main, columns, n=3, cutoff=0.6) or [
+        column for column in columns if column.startswith(f"{main}[")][:3]
+    hint = f"; did you mean {' or '.join(repr(name) for name in close)}?" if close else ""
+    warn(f"main {main!r} is not a number in the results of collisionkit {results.study.command}, so there is no "
+         f"main_result.png and the table shows '-'{hint}")
+
+
 def _report(results, summary: Path | None) -> dict[str, Any]:
     """Print the table and the failures; write the summary (rescued if that fails: exit 1)."""
     study = results.study
@@ -122,6 +140,7 @@ def _report(results, summary: Path | None) -> dict[str, Any]:
         (*study.vary, "ok", f"{study.main or '-'} (replicas combined ± error)"),
         _point_rows(results),
     )
+    _warn_unknown_main(results)
     failures = [{"name": record["name"], "error": record["error"]} for record in results.failed]
     for failure in failures[:SHOWN_FAILURES]:
         error_console.print(f"[bold red]failed[/] {escape(failure['name'])}: {escape(str(failure['error']))}", soft_wrap=True)

@@ -90,16 +90,44 @@ def combine_replicas(values: Sequence[float], errors: Sequence[float] | None = N
             "chi2_per_dof": chi2 / (n - 1), "disagree": bool(stats.chi2.sf(chi2, n - 1) < DISAGREEMENT_P)}
 
 
+def error_column(key: str) -> str:
+    """The column of ``key``'s error: ``Z_error``, and for an element of a list ``T[0]`` the element of the list of
+    errors, ``T_error[0]`` (the summaries give ``T`` and ``T_error`` as lists).
+
+    Examples
+    --------
+    >>> error_column("Z"), error_column("temperature_species[1]"), error_column("contact_values[0][1]")
+    ('Z_error', 'temperature_species_error[1]', 'contact_values_error[0][1]')
+    """
+    name, bracket, index = key.partition("[")
+    return f"{name}_error{bracket}{index}"
+
+
+def is_error_column(column: str) -> bool:
+    """True for an error column (:func:`error_column` of some key).
+
+    Examples
+    --------
+    >>> is_error_column("Z_error"), is_error_column("T_error[0]"), is_error_column("T[0]")
+    (True, True, False)
+    """
+    return column.partition("[")[0].endswith("_error")
+
+
 def combine_rows(rows: Sequence[Mapping[str, Any]], key: str) -> dict[str, Any]:
-    """:func:`combine_replicas` of the rows' ``key`` with their ``<key>_error`` (when every row has one).
+    """:func:`combine_replicas` of the rows' ``key`` with their own errors (:func:`error_column`, when every row has
+    one).
 
     Examples
     --------
     >>> rows = [{"Z": 2.0, "Z_error": 0.1}, {"Z": 2.1, "Z_error": 0.1}]
     >>> round(combine_rows(rows, "Z")["mean"], 6), round(combine_rows(rows[:1] + [{"Z": 2.1}], "Z")["error"], 6)
     (2.05, 0.05)
+    >>> rows = [{"T[0]": 1.21, "T_error[0]": 0.009}, {"T[0]": 1.20, "T_error[0]": 0.009}]
+    >>> round(combine_rows(rows, "T[0]")["error"], 4)  # the replicas' own errors, not their scatter alone
+    0.0064
     """
     values = [row[key] for row in rows]
-    own = [row.get(f"{key}_error") for row in rows]
+    own = [row.get(error_column(key)) for row in rows]
     numeric = all(isinstance(error, (int, float)) and not isinstance(error, bool) for error in own)
     return combine_replicas(values, own if numeric else None)

@@ -12,7 +12,7 @@ from typing import Any
 import numpy as np
 
 from .._io import atomic_write_bytes, write_csv
-from .statistics import combine_rows
+from .statistics import combine_rows, error_column, is_error_column
 from .study import Study
 
 __all__ = ["aggregate", "points_table", "results_table", "write_csv", "write_outputs", "write_parquet"]
@@ -190,7 +190,7 @@ def points_table(study: Study, table: list[Mapping[str, Any]]) -> list[dict[str,
     """
     names = list(study.vary)
     own = set(TABLE_COLUMNS) | set(names) | {"spawn_key", "cpu_time"}
-    quantities = [column for column in _columns(table) if column not in own and not column.endswith("_error")
+    quantities = [column for column in _columns(table) if column not in own and not is_error_column(column)
                   and any(_is_number(row.get(column)) for row in table)]
     points: dict[tuple, dict[str, Any]] = {}
     for row in table:
@@ -200,7 +200,7 @@ def points_table(study: Study, table: list[Mapping[str, Any]]) -> list[dict[str,
     for quantity in quantities:
         for combined in aggregate(table, quantity, names):
             point = points[group_key(combined, names)]
-            point[quantity], point[f"{quantity}_error"] = combined["mean"], combined["error"]
+            point[quantity], point[error_column(quantity)] = combined["mean"], combined["error"]
             if combined["disagree"]:
                 point["disagreeing"] = ";".join(filter(None, [point["disagreeing"], quantity]))
     return list(points.values())
