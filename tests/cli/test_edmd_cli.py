@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import math
 from pathlib import Path
 
 import gsd.hoomd
@@ -543,3 +544,24 @@ def test_a_restitution_per_species_pair_from_a_config_file(tmp_path):
     flat = invoke("--config", config)
     assert flat.exit_code == 2 and "--restitution: must be a number or a matrix over the species of fractions, as a " \
         "list of rows" in " ".join(flat.output.split()) and "Traceback" not in flat.output
+
+
+def test_a_cooling_gas_s_speed_plot_scales_each_block_by_its_thermal_speed():
+    """Pooled, a cooling gas's speeds span every kT it passed; scaled block by block they have unit kT."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from collisionkit import plotting
+    from collisionkit.cli._edmd_report import _speed_distribution
+    from collisionkit.edmd import EdmdParameters, EdmdRun
+
+    run = EdmdRun(EdmdParameters(particles=300, packing_fraction=0.05, restitution=0.8, equilibration=0,
+                                 collisions=15_000, blocks=5, seed=1)).run()
+    measurement = run.measurement()
+    ax = _speed_distribution(run, measurement, plotting, {"mass": 1.0, "fractions": None})
+    assert "cooling gas" in ax.get_title() and "kT = 1" in ax.get_legend().get_texts()[1].get_text()
+    heights = [patch.get_height() * patch.get_width() for patch in ax.patches]
+    centres = [patch.get_x() + patch.get_width() / 2 for patch in ax.patches]
+    mean = sum(h * c for h, c in zip(heights, centres)) / sum(heights)
+    assert abs(mean - (8 / math.pi) ** 0.5) < 0.05 * (8 / math.pi) ** 0.5  # Maxwell's mean speed at kT = m = 1
+    assert measurement.block_temperature[-1] < 0.05  # (unscaled, the mean would be far below)

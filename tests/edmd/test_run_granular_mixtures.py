@@ -130,3 +130,15 @@ def test_a_checkpoint_with_damaged_species_temperatures_is_refused(tmp_path, row
                      dict(saved.arrays) | {"sampler_species_temperature": rows})
     with pytest.raises(ValueError, match="measurement arrays"):
         EdmdRun.resume(path)
+
+
+def test_a_cooling_gas_has_the_mean_free_path_of_the_elastic_gas_at_its_density():
+    """The mean free path does not depend on kT: block by block (the ends' mean speeds over the block's collision
+    frequency, the cooling taken out) a gas cooling from kT 1 to 0.002 gives the elastic gas's (it gave 4.8 +- 1.4
+    against 5.59 +- 0.02 from the run's pooled speeds over its mean frequency)."""
+    run = dict(particles=1000, packing_fraction=0.02, equilibration=0, collisions=50_000, seed=2)
+    elastic = EdmdRun(EdmdParameters(**run)).run().summary()
+    cooling = EdmdRun(EdmdParameters(**run | dict(restitution=0.9))).run().summary()
+    error = math.hypot(elastic["mean_free_path_error"], cooling["mean_free_path_error"])
+    assert abs(cooling["mean_free_path"] - elastic["mean_free_path"]) < 4 * error + 0.01 * elastic["mean_free_path"]
+    assert cooling["mean_free_path_error"] < 0.01 * cooling["mean_free_path"] and cooling["temperature"] < 0.01

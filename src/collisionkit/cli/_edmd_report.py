@@ -194,6 +194,18 @@ def _transport_rows(result: dict, pm) -> list[tuple[str, str, str]]:
     return rows
 
 
+def _speed_distribution(run, measurement, plotting, masses):
+    """The speeds against Maxwell's distribution; a cooling gas's each scaled by its block's thermal speed (the
+    shape of its distribution, at kT = 1), since pooled they span every kT it passed."""
+    if not math.isfinite(measurement.cooling_rate):
+        return plotting.plot_speed_distribution(measurement.speeds, measurement.temperature, run.system.dim, **masses)
+    scaled = np.concatenate([speeds / math.sqrt(kT) for speeds, kT in zip(run.sampler.speeds,
+                                                                            measurement.block_temperature)])
+    ax = plotting.plot_speed_distribution(scaled, 1.0, run.system.dim, **masses)
+    ax.set_title("a cooling gas: each block's speeds over its thermal speed")
+    return ax
+
+
 def _plots(run, measurement, out: Path, deliveries: Deliveries) -> None:
     """Draw the plots into ``out``, each written through ``deliveries`` (a failed one is reported at the end)."""
     import matplotlib
@@ -211,8 +223,7 @@ def _plots(run, measurement, out: Path, deliveries: Deliveries) -> None:
         point = [(m.packing_fraction, m.compressibility_factor, m.compressibility_factor_error)]
         figures.append(("equation_of_state.png", lambda: plotting.plot_equation_of_state(point, system.dim,
                                                                                        mixture=mixture)))
-    figures.append(("speed_distribution.png", lambda: plotting.plot_speed_distribution(
-        measurement.speeds, measurement.temperature, system.dim, **masses)))
+    figures.append(("speed_distribution.png", lambda: _speed_distribution(run, measurement, plotting, masses)))
     figures.append(("snapshot.png", lambda: plotting.plot_snapshot(
         system.positions(), system.radius, system.box[: system.dim], species=system.species if mixture else None)))
     figures.append(("radial_distribution.png", lambda: plotting.plot_radial_distribution(

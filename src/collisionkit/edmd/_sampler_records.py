@@ -167,8 +167,7 @@ def observables(sampler) -> dict:
         collision_frequency_error=omega_error,
         mean_free_time=1.0 / omega,
         mean_free_time_error=omega_error / omega**2,
-        mean_free_path=mean_speed / omega,
-        mean_free_path_error=mean_speed * omega_error / omega**2,
+        **_mean_free_path(sampler, mean_speed, omega, omega_error, math.isfinite(cooling)),
         mean_speed=mean_speed,
         diffusion_coefficient=diffusion,
         diffusion_coefficient_error=diffusion_error,
@@ -207,6 +206,24 @@ def _species_temperatures(ratios) -> dict:
                 "species_temperatures_error": np.full(ratios.shape[1], math.nan)}
     return {"species_temperatures": np.mean(known, axis=0), "block_species_temperatures": ratios,
             "species_temperatures_error": np.array([_msd.block_error(column) for column in known.T])}
+
+
+def _mean_free_path(sampler, mean_speed, omega, omega_error, cooling: bool) -> dict:
+    """The mean free path: the mean speed over the collision frequency; for a cooling gas block by block.
+
+    A cooling gas's speeds and collision rate fall with sqrt(kT) (their ratio does not), so their means over the
+    run are no pair. Each block after the first gives v / omega from the geometric mean of the mean speeds at its
+    ends, sqrt(v_k-1 v_k), and its collision frequency: exactly the mean free path times sinh(x) / x,
+    x = ln(kT_k-1 / kT_k) / 4, if kT falls exponentially in the collisions and the distribution keeps its shape
+    (the homogeneous cooling state), which is taken out; the blocks' mean, with their standard error.
+    """
+    if not cooling:
+        return {"mean_free_path": mean_speed / omega, "mean_free_path_error": mean_speed * omega_error / omega**2}
+    speeds = np.array([np.mean(block) for block in sampler.speeds])
+    shrink = np.log(np.asarray(sampler.records["temperature"][:-1]) / sampler.records["temperature"][1:]) / 4.0
+    factor = np.where(shrink > 0, shrink / np.sinh(np.where(shrink > 0, shrink, 1.0)), 1.0)
+    paths = np.sqrt(speeds[:-1] * speeds[1:]) / np.asarray(sampler.records["frequency"][1:]) * factor
+    return {"mean_free_path": float(np.mean(paths)), "mean_free_path_error": _msd.block_error(paths)}
 
 
 def _cooling_rate(sampler) -> tuple[float, float]:
