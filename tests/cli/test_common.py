@@ -209,3 +209,21 @@ def test_a_narrow_table_keeps_every_number_whole_on_one_line(monkeypatch, capsys
     for row in BOLTZMANN_ROWS:
         for cell in row:
             assert cell in printed, (cell, printed)
+
+
+def test_a_reader_that_goes_away_stops_the_output_not_the_work(tmp_path):
+    """``collisionkit encounter ... | head -1``: rich ended the process with exit code 1 at the first line after the
+    reader left, before the summary was written; now the rest of the output goes nowhere and the files are written."""
+    import os
+    import subprocess
+    import sys
+
+    summary = tmp_path / "s.json"
+    command = [sys.executable, "-c", "from collisionkit._command import main; main()", "encounter", "--summary",
+               str(summary), "--out", str(tmp_path / "out")]
+    process = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.DEVNULL,
+                               env=os.environ | {"COLUMNS": "80"})
+    process.stdout.readline()
+    process.stdout.close()  # as head does after its lines
+    assert process.wait(timeout=300) == 0
+    assert summary.stat().st_size > 100

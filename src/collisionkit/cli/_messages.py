@@ -11,9 +11,16 @@ terminal folds a long line, rich does not break it). Exit codes:
 2    bad input: nothing was run
 130  interrupted (Ctrl-C), as a shell reports it
 ==== =====================================================
+
+A reader that goes away (``collisionkit edmd ... | head -3``) stops what
+the command shows, not its work: the files and the summary are still
+written (:class:`_PipeSafeConsole`).
 """
 
 from __future__ import annotations
+
+import os
+import sys
 
 import typer
 from rich.console import Console
@@ -21,8 +28,22 @@ from rich.markup import escape
 
 # messages and paths never wrap (a script, or a test, reads them whole), and text such as "Ar:0.9,N2:0.1" or a
 # path with ":x:" in it is printed as written, never as an emoji
-console = Console(soft_wrap=True, emoji=False)
-error_console = Console(stderr=True, soft_wrap=True, emoji=False)
+class _PipeSafeConsole(Console):
+    """A console whose reader may go away: on a broken pipe its stream goes to /dev/null and the command goes on.
+
+    rich's own answer ends the process with exit code 1: ``collisionkit edmd ... | head -3`` stopped with no
+    message and no summary written, at the table's first line after head left.
+    """
+
+    def on_broken_pipe(self) -> None:
+        stream = sys.stderr if self.stderr else sys.stdout
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, stream.fileno())  # the stream stays open for whatever writes next, and for its flush at exit
+        os.close(devnull)
+
+
+console = _PipeSafeConsole(soft_wrap=True, emoji=False)
+error_console = _PipeSafeConsole(stderr=True, soft_wrap=True, emoji=False)
 
 OK_EXIT_CODE = 0
 RUN_FAILED_EXIT_CODE = 1
