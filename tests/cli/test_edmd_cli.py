@@ -326,9 +326,11 @@ def test_an_interrupted_run_says_where_its_checkpoint_is(tmp_path, monkeypatch):
     monkeypatch.setattr(edmd.HardSphereSystem, "run", interrupted)  # Ctrl-C in the first chunk
     checkpoint = tmp_path / "run.npz"
     options = ["edmd", "--dim", "2", "--particles", "64", "--initial", "square", "--collisions", "2000", "--no-plots"]
-    saved = runner.invoke(app, [*options, "--checkpoint", str(checkpoint)])
+    saved = runner.invoke(app, [*options, "--checkpoint", str(checkpoint), "--summary", str(tmp_path / "s.json")])
     assert saved.exit_code == 130 and checkpoint.exists()
-    assert f"--resume {checkpoint}" in saved.output.replace("\n", "")
+    # the whole command: a checkpoint keeps no outputs, and following "--resume FILE" alone wrote no summary
+    assert f"continue with collisionkit edmd --resume {checkpoint} --summary {tmp_path / 's.json'} --no-plots" in \
+        saved.output.replace("\n", "")
     unsaved = runner.invoke(app, options)
     assert unsaved.exit_code == 130 and "nothing is saved" in unsaved.output.replace("\n", "")
 

@@ -198,6 +198,28 @@ def _resumed_run(resume: Path, given: dict, extend: int | None = None):
     return run, options, extra
 
 
+def _resume_command(options: EdmdOptions) -> str:
+    """The options that continue this run as it was going: --resume and the outputs, which a checkpoint does not
+    keep (a resumed run writes only what its command line names).
+
+    Examples
+    --------
+    >>> _resume_command(EdmdOptions(checkpoint=Path("ck.npz"), summary=Path("u.json"), out=Path("plots")))
+    'collisionkit edmd --resume ck.npz --summary u.json --out plots'
+    >>> _resume_command(EdmdOptions(checkpoint=Path("ck.npz"), plots=False))
+    'collisionkit edmd --resume ck.npz --no-plots'
+    """
+    words = ["collisionkit edmd --resume", str(options.checkpoint)]
+    for name in ("summary", "trajectory", "xyz"):
+        if getattr(options, name) is not None:
+            words += [f"--{name}", str(getattr(options, name))]
+    if not options.plots:
+        words.append("--no-plots")
+    elif options.out != EdmdOptions.model_fields["out"].default:
+        words += ["--out", str(options.out)]
+    return " ".join(words)
+
+
 def _extend(run, extend: int | None) -> None:
     """Add the blocks ``--extend`` asks for, with a note when the count is rounded up to whole blocks."""
     if extend is None:
@@ -442,7 +464,7 @@ def edmd(
         run, extra = _new_run(options)
     else:
         run, options, extra = _resumed_run(resume, option_values(EdmdOptions, config, given), extend)
-    where = (f"the last checkpoint is in {options.checkpoint}; continue with --resume {options.checkpoint}"
+    where = (f"the last checkpoint is in {options.checkpoint}; continue with {_resume_command(options)}"
              if options.checkpoint is not None else "no --checkpoint was given, so nothing is saved")
     try:
         with progress_bar("collisions", total=run.parameters.total_collisions) as advance:
