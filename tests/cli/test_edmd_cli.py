@@ -546,6 +546,9 @@ def test_a_restitution_per_species_pair_from_a_config_file(tmp_path):
     flat = invoke("--config", config)
     assert flat.exit_code == 2 and "--restitution: must be a number or a matrix over the species of fractions, as a " \
         "list of rows" in " ".join(flat.output.split()) and "Traceback" not in flat.output
+    config.write_text('fractions = [0.5, 0.5]\nrestitution = [[0.9, "a"], [0.8, 0.7]]\n')  # a word in the matrix
+    word = invoke("--config", config)
+    assert word.exit_code == 2 and "list of rows of numbers" in " ".join(word.output.split())
 
 
 def test_a_cooling_gas_s_speed_plot_scales_each_block_by_its_thermal_speed():

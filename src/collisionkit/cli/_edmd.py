@@ -85,11 +85,14 @@ class EdmdOptions(Options):
         ...     EdmdOptions.model_validate({"fractions": [0.5, 0.5], "restitution": [0.9, 0.8]})
         ... except ValueError as error:
         ...     print(error.errors()[0]["msg"])
-        Value error, must be a number or a matrix over the species of fractions, as a list of rows (e.g. [[0.9, 0.8], [0.8, 0.7]])
+        Value error, must be a number or a matrix over the species of fractions, as a list of rows of numbers (e.g. [[0.9, 0.8], [0.8, 0.7]])
         """
-        if isinstance(value, list) and not all(isinstance(row, list) for row in value):
-            raise ValueError("must be a number or a matrix over the species of fractions, as a list of rows (e.g. "
-                             "[[0.9, 0.8], [0.8, 0.7]])")
+        rows_of_numbers = isinstance(value, list) and all(
+            isinstance(row, list) and all(isinstance(item, (int, float)) and not isinstance(item, bool) for item in row)
+            for row in value)
+        if isinstance(value, list) and not rows_of_numbers:
+            raise ValueError("must be a number or a matrix over the species of fractions, as a list of rows of numbers "
+                             "(e.g. [[0.9, 0.8], [0.8, 0.7]])")
         return value
 
     @model_validator(mode="after")
