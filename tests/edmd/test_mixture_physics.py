@@ -178,3 +178,14 @@ def test_the_species_temperatures_and_cooling_rate_error_bars_match_the_scatter_
         errors.append([summary["temperature_species_error"][0], summary["cooling_rate_error"]])
     ratios = np.std(values, axis=0, ddof=1) / np.mean(errors, axis=0)
     assert np.all((0.65 < ratios) & (ratios < 1.40)), ratios
+
+
+def test_a_cooling_gas_s_velocity_distribution_has_the_first_sonine_a2():
+    """e = 0.9, 20000 spheres: a2 = -0.0146 (van Noije and Ernst) within 4 errors (~0.0015) and 0.003; Maxwell's 0
+    would fail by ten errors. Three seeds measured -0.0125, -0.0164, -0.0150."""
+    summary = _summary(particles=20_000, packing_fraction=0.02, restitution=0.9, equilibration=200_000,
+                       collisions=1_000_000, blocks=10, seed=1)
+    a2, error, theory = summary["sonine_a2"], summary["sonine_a2_error"], summary["sonine_a2_theory"]
+    assert theory == pytest.approx(-0.01456, abs=1e-5) and error < 0.0025
+    assert abs(a2 - theory) < 4 * error + 0.003, (a2, error)
+    assert abs(a2) > 4 * error  # not Maxwell's

@@ -142,3 +142,12 @@ def test_a_cooling_gas_has_the_mean_free_path_of_the_elastic_gas_at_its_density(
     error = math.hypot(elastic["mean_free_path_error"], cooling["mean_free_path_error"])
     assert abs(cooling["mean_free_path"] - elastic["mean_free_path"]) < 4 * error + 0.01 * elastic["mean_free_path"]
     assert cooling["mean_free_path_error"] < 0.01 * cooling["mean_free_path"] and cooling["temperature"] < 0.01
+
+
+def test_an_elastic_gas_has_maxwell_s_velocity_cumulant_and_a_mixture_of_masses_none():
+    """a2 = d <v^4> / ((d+2) <v^2>^2) - 1 is 0 for Maxwell's distribution: within 4 errors (each ~0.005 for 2000
+    particles and 10 blocks; the microcanonical correction, about -2 / (d N), is far below)."""
+    summary = EdmdRun(EdmdParameters(particles=2000, packing_fraction=0.1, collisions=40_000, seed=3)).run().summary()
+    assert summary["sonine_a2_theory"] == 0.0 and 0 < summary["sonine_a2_error"] < 0.01
+    assert abs(summary["sonine_a2"]) < 4 * summary["sonine_a2_error"]
+    assert "sonine_a2" not in EdmdRun(EdmdParameters(**GRANULAR)).run().summary()  # unlike masses: no one a2

@@ -4,6 +4,8 @@ import math
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from collisionkit import edmd
 from collisionkit.edmd import theory
@@ -214,3 +216,20 @@ def test_the_transport_theories_take_arrays_as_the_equations_of_state_do(dim):
         edmd.enskog_transport(eta, diameter=[1.0, 2.0], dim=dim)
     with pytest.raises(ValueError, match="eta"):
         edmd.enskog_transport([0.2, 0.95], dim=dim)
+
+
+@given(alpha=st.floats(0.0, 1.0))
+@settings(max_examples=50, deadline=None)
+def test_the_cooling_state_a2_of_spheres_is_brilliantov_and_poschels(alpha):
+    """van Noije and Ernst's a2 for any d at d = 3 against Brilliantov and Poschel's sphere formula."""
+    spheres = 16 * (1 - alpha) * (1 - 2 * alpha**2) / (81 - 17 * alpha + 30 * alpha**2 * (1 - alpha))
+    assert float(edmd.cooling_state_a2(alpha, 3)) == pytest.approx(spheres, abs=1e-15)
+
+
+def test_the_cooling_state_a2_vanishes_when_elastic_and_at_one_over_root_two_and_checks_its_arguments():
+    np.testing.assert_allclose(edmd.cooling_state_a2([1.0, 2**-0.5], 2), 0.0, atol=1e-15)
+    assert edmd.cooling_state_a2(0.9, 2) < 0 < edmd.cooling_state_a2(0.5, 2)  # sign changes at 1/sqrt 2
+    with pytest.raises(ValueError, match="restitution"):
+        edmd.cooling_state_a2(1.5)
+    with pytest.raises(ValueError, match="dim"):
+        edmd.cooling_state_a2(0.9, 4)

@@ -61,6 +61,7 @@ def rows(result: dict) -> list[tuple[str, str, str]]:
         ("collision frequency per particle", pm("collision_frequency"), omega),
         ("temperature kT (final)", f"{result['temperature']:.6g}", kT),
         *_cooling_rows(result, pm),
+        *_a2_rows(result, pm),
         ("mean free path", pm("mean_free_path"), ""),
         ("diffusion coefficient", pm("diffusion_coefficient"), "from the MSD"),
         *contact,
@@ -79,6 +80,15 @@ def _cooling_rows(result: dict, pm) -> list[tuple[str, str, str]]:
     where = "Haff, (1 - e^2)/d" if "species_counts" not in result else "homogeneous cooling, Garzo-Dufty"
     return [("cooling rate per collision -d ln T/dC", pm("cooling_rate"),
              "" if theory is None else f"{theory:.5g} ({where})")]
+
+
+def _a2_rows(result: dict, pm) -> list[tuple[str, str, str]]:
+    """The velocity distribution's fourth cumulant a2, beside Maxwell's 0 or the cooling state's."""
+    if "sonine_a2" not in result:
+        return []
+    theory = result.get("sonine_a2_theory")
+    shown = "" if theory is None else ("0 (Maxwell)" if result["elastic"] else f"{theory:.4g} (van Noije-Ernst)")
+    return [("velocity cumulant a2 = d<v^4>/((d+2)<v^2>^2) - 1", pm("sonine_a2"), shown)]
 
 
 def _partial_contact_rows(result: dict) -> list[tuple[str, str, str]]:

@@ -178,6 +178,7 @@ def observables(sampler) -> dict:
         contact_value_error=contact_error,
         cooling_rate=cooling,
         cooling_rate_error=cooling_error,
+        **_sonine_a2(sampler),
         **mixture,
         speeds=speeds,
         rdf_r=centres,
@@ -206,6 +207,17 @@ def _species_temperatures(ratios) -> dict:
                 "species_temperatures_error": np.full(ratios.shape[1], math.nan)}
     return {"species_temperatures": np.mean(known, axis=0), "block_species_temperatures": ratios,
             "species_temperatures_error": np.array([_msd.block_error(column) for column in known.T])}
+
+
+def _sonine_a2(sampler) -> dict:
+    """The velocity distribution's fourth cumulant a2 = d/(d+2) <v^4>/<v^2>^2 - 1 at each block's end, its mean
+    and standard error; none under shear (the distribution is not isotropic) or with unlike masses."""
+    system = sampler.system
+    if system.shear_rate != 0.0 or np.ptp(system.mass) > 0 or not sampler.speeds:
+        return {}
+    dim = system.dim
+    values = [dim / (dim + 2.0) * np.mean(speeds**4) / np.mean(speeds**2) ** 2 - 1.0 for speeds in sampler.speeds]
+    return {"sonine_a2": float(np.mean(values)), "sonine_a2_error": _msd.block_error(values)}
 
 
 def _mean_free_path(sampler, mean_speed, omega, omega_error, cooling: bool) -> dict:

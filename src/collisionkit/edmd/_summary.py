@@ -38,7 +38,8 @@ from .mixture_theory import (
     mixture_compressibility, mixture_contact_values,
 )
 from .theory import (
-    carnahan_starling, enskog_collision_frequency, enskog_transport, hansen_goos, henderson, yeh_hummer_correction,
+    carnahan_starling, cooling_state_a2, enskog_collision_frequency, enskog_transport, hansen_goos, henderson,
+    yeh_hummer_correction,
 )
 
 # kT above which an inelastic run with an elastic floor is reported as not cooled (under 1 % of the energy lost)
@@ -112,6 +113,9 @@ def edmd_summary(run, measurement, files: Sequence = ()) -> dict[str, Any]:
         result["contact_values_error"] = _nested(measurement.contact_values_error)
     if "cooling_rate" in result and not sheared:  # a cooling gas: Haff's law, or the mixture's cooling state
         result |= _cooling_theory(p, result)
+    if "sonine_a2" in result and p.fractions is None:
+        # Maxwell's distribution (0) in equilibrium (wells too), the cooling state's first Sonine correction if not
+        result["sonine_a2_theory"] = 0.0 if p.elastic else float(cooling_state_a2(p.restitution, p.dim))
     if measurement.species_temperatures is not None:  # each species' kT over the mixture's
         result |= _species_temperatures(p, measurement)
     if measurement.species_diffusion is not None:  # each species' self-diffusion coefficient

@@ -56,7 +56,10 @@ class Measurement:
     block's: 1 at equipartition, which an inelastic mixture does not reach), ``cooling_rate`` (a gas that loses energy, at
     rest and without gravity: -d ln kT / dC, C the collisions per particle,
     the least-squares slope over the block ends, with ``cooling_rate_error``;
-    Haff's law gives (1 - e^2) / d for one species; else NaN), ``potential_energy``
+    Haff's law gives (1 - e^2) / d for one species; else NaN), ``sonine_a2``
+    (particles of one mass at rest: the velocity distribution's fourth
+    cumulant d/(d+2) <v^4>/<v^2>^2 - 1 at the block ends, 0 for Maxwell's,
+    with ``sonine_a2_error``), ``potential_energy``
     (square wells: the time average of the potential energy per particle,
     -epsilon times the pairs inside per particle, with its error; 0 for hard
     spheres; ``temperature_mean`` is then the exact time average of kT,
@@ -144,6 +147,8 @@ class Measurement:
     contact_values_error: np.ndarray | None = field(default=None, repr=False)
     cooling_rate: float = math.nan
     cooling_rate_error: float = math.nan
+    sonine_a2: float = math.nan
+    sonine_a2_error: float = math.nan
     species_temperatures: np.ndarray | None = field(default=None, repr=False)
     species_temperatures_error: np.ndarray | None = field(default=None, repr=False)
     block_species_temperatures: np.ndarray | None = field(default=None, repr=False)
@@ -180,6 +185,8 @@ class Measurement:
                 "potential_energy", "potential_energy_error", "temperature_mean", "temperature_mean_error")}
         if math.isfinite(self.cooling_rate):
             result |= {"cooling_rate": self.cooling_rate, "cooling_rate_error": self.cooling_rate_error}
+        if math.isfinite(self.sonine_a2):
+            result |= {"sonine_a2": self.sonine_a2, "sonine_a2_error": self.sonine_a2_error}
         if self.transport is not None:
             result |= {"self_diffusion": self.diffusion_coefficient,
                        "self_diffusion_error": self.diffusion_coefficient_error} | self.transport.summary()

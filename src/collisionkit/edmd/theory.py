@@ -25,6 +25,7 @@ __all__ = [
     "YEH_HUMMER_XI",
     "carnahan_starling",
     "chapman_enskog_transport",
+    "cooling_state_a2",
     "enskog_collision_frequency",
     "enskog_transport",
     "granular_shear_flow",
@@ -475,3 +476,39 @@ def granular_shear_flow(restitution, shear_rate, density, dim=3, diameter=1.0, m
     normal = 1 - cooling / momentum
     viscosity = density * kT * normal / (momentum * per_root_temperature * math.sqrt(kT))
     return {"reduced_shear_rate": reduced, "temperature": kT, "viscosity": viscosity, "normal_stress_yy": normal}
+
+
+def cooling_state_a2(restitution, dim=3):
+    r"""The fourth cumulant a2 of the velocity distribution of a homogeneously cooling gas (first Sonine order).
+
+    With :math:`c = v / \sqrt{2kT/m}`, :math:`a_2 = \frac{d}{d+2} \frac{\langle v^4 \rangle}{\langle v^2
+    \rangle^2} - 1` (0 for a Maxwellian), and in the homogeneous cooling state
+
+    .. math:: a_2 = \frac{16 (1 - \alpha) (1 - 2 \alpha^2)}{9 + 24 d - \alpha (41 - 8 d) + 30 \alpha^2 (1 - \alpha)}
+
+    (T. P. C. van Noije and M. H. Ernst, Granular Matter 1, 57 (1998); for
+    spheres :math:`16(1-\alpha)(1-2\alpha^2)/(81 - 17\alpha + 30\alpha^2(1-\alpha))`, Brilliantov & Poschel,
+    Kinetic Theory of Granular Gases (2004)). It vanishes for elastic spheres and at
+    :math:`\alpha = 1/\sqrt2`, and is small (|a2| < 0.02) for alpha above 0.6, where it describes the
+    simulated distribution well.
+
+    Parameters
+    ----------
+    restitution : float or array_like
+        alpha in [0, 1].
+    dim : {2, 3}
+
+    Returns
+    -------
+    float or ndarray
+
+    Examples
+    --------
+    >>> from collisionkit.edmd import cooling_state_a2
+    >>> round(float(cooling_state_a2(0.9)), 5), abs(float(cooling_state_a2(1.0)))
+    (-0.01456, 0.0)
+    """
+    alpha = _checks.bounded(restitution, "restitution", 0.0, 1.0, closed=(True, True), scalar=False)
+    d = _checks.dimension(dim)
+    return 16.0 * (1.0 - alpha) * (1.0 - 2.0 * alpha**2) / (
+        9.0 + 24.0 * d - alpha * (41.0 - 8.0 * d) + 30.0 * alpha**2 * (1.0 - alpha))
