@@ -137,7 +137,7 @@ def test_a_plot_that_fails_keeps_the_swarm_table_and_results(tmp_path, monkeypat
     assert "swarm transport" in result.stdout and "the plot" in said(result) and "eedf.png" in said(result)
     assert (tmp_path / "plots" / "swarm.csv").exists()  # the files that could be written are
     rescued = _rescued(tmp_path, "swarm")
-    assert rescued["files"] == [str(tmp_path / "plots" / "swarm.csv")]
+    assert rescued["files"] == [str(tmp_path / "plots" / name) for name in ("swarm.csv", "bolsig.dat")]
 
 
 def test_when_no_folder_takes_the_rescue_file_the_results_are_printed(tmp_path, monkeypatch):

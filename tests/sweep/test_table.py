@@ -83,7 +83,7 @@ def test_points_csv_has_a_row_per_point_with_every_result_and_its_error(tmp_path
     assert [point["E-N"] for point in points] == [10.0, 20.0] and [p["replicas_ok"] for p in points] == [2, 2]
     assert points[0]["mean_energy"] == pytest.approx(1.01, rel=1e-12)
     assert points[0]["mean_energy_error"] == pytest.approx(0.01 / math.sqrt(2) * math.sqrt(2.0), rel=1e-9)
-    assert points[1]["drift[2]"] == -9.0 and points[1]["drift[2]_error"] == 0.0
+    assert points[1]["drift[2]"] == -9.0 and points[1]["drift_error[2]"] == 0.0  # a list's element: as results.csv
     files = sweep.write_outputs(study.__class__("swarm", seed=0, fixed={"model": "reid"}, vary={"E-N": [10.0, 20.0]},
                                                 main="mean_energy"), tmp_path, table)
     assert (tmp_path / "points.csv") in files and (tmp_path / "points.csv").read_text().count("\n") == 3
