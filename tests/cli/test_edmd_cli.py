@@ -570,3 +570,14 @@ def test_a_cooling_gas_s_speed_plot_scales_each_block_by_its_thermal_speed():
     mean = sum(h * c for h, c in zip(heights, centres)) / sum(heights)
     assert abs(mean - (8 / math.pi) ** 0.5) < 0.05 * (8 / math.pi) ** 0.5  # Maxwell's mean speed at kT = m = 1
     assert measurement.block_temperature[-1] < 0.05  # (unscaled, the mean would be far below)
+
+
+def test_an_inelastic_run_that_will_cool_to_its_elastic_floor_says_so_before_it_starts(tmp_path):
+    """At e = 0.9 the default 200 pair collisions per particle cool kT to ~1e-12, the elastic floor: a note before
+    the run gives the collisions that stay above it (the warning at the end came after minutes)."""
+    result = invoke("--particles", "100", "--restitution", "0.9", "--seed", "1", "--no-plots")
+    said = " ".join(result.output.split())
+    assert result.exit_code == 0 and "by Haff's law these 22000 pair collisions cool kT from 1 to about 1e-12" in said
+    assert "give --collisions 16178 or fewer" in said
+    quiet = invoke("--particles", "100", "--restitution", "0.9", "--collisions", "10000", "--seed", "1", "--no-plots")
+    assert quiet.exit_code == 0 and "by Haff's law" not in quiet.output

@@ -9,6 +9,7 @@ plots and writes the summary (:mod:`._edmd_report`).
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 from typing import Annotated, ClassVar, Literal
 
@@ -160,6 +161,9 @@ def _new_run(options: EdmdOptions):
         raise fail_for_option(error, EdmdOptions) from None
     _refuse_beyond_memory(parameters)
     _say_seed(parameters.seed, drawn=options.seed is None)
+    cooling = _cooling_to_the_floor(parameters)
+    if cooling is not None:
+        note(cooling)
     extra = _frame_notes(parameters, options.frame_every)
     warm_up(["edmd"], always=["edmd"])
     try:
@@ -170,6 +174,40 @@ def _new_run(options: EdmdOptions):
     except (ValueError, OverlapError) as error:
         raise fail(f"cannot set up the initial state: {error}") from None
     return run, extra
+
+
+def _cooling_to_the_floor(parameters) -> str | None:
+    """What to say before the run if an inelastic gas at rest will cool, by Haff's law, to within 100 times its
+    elastic floor (kT ~ elastic_below^2, the default 1e-6 of the rms speed), and how many collisions stay above it.
+
+    Examples
+    --------
+    >>> from collisionkit.edmd import EdmdParameters
+    >>> print(_cooling_to_the_floor(EdmdParameters(particles=100, restitution=0.9).resolved(seed=1)))
+    restitution < 1: by Haff's law these 22000 pair collisions cool kT from 1 to about 1e-12, to its elastic floor (about 1e-12, where contacts turn elastic); to follow the cooling itself give --collisions 16178 or fewer
+    >>> _cooling_to_the_floor(EdmdParameters(particles=100, restitution=0.9, collisions=5000).resolved(seed=1)) is None
+    True
+    """
+    from ..edmd import homogeneous_cooling_rate
+
+    p = parameters
+    if p.elastic or p.shear_rate != 0.0:
+        return None
+    kinds = len(p.species_counts)
+    rate = homogeneous_cooling_rate(p.packing_fraction, [n / p.particles for n in p.species_counts],
+                                    p.diameters or (1.0,) * kinds, p.masses or 1.0, p.restitution, p.dim)
+    floor = (p.elastic_below if p.elastic_below is not None else 1e-6) ** 2
+    if rate <= 0.0 or floor <= 0.0:
+        return None
+    final = math.exp(-rate * 2.0 * p.total_collisions / p.particles)
+    if final > 100.0 * floor:
+        return None
+    above = int(math.log(1.0 / (100.0 * floor)) * p.particles / (2.0 * rate)) - p.equilibration
+    advice = (f"give --collisions {max(above, p.blocks)} or fewer" if above > p.blocks else
+              "give fewer --equilibration collisions, or a higher --elastic-below floor is reached at once")
+    return (f"restitution < 1: by Haff's law these {p.total_collisions} pair collisions cool kT from 1 to about "
+            f"{max(final, floor):.0e}, to its elastic floor (about {floor:.0e}, where contacts turn elastic); to "
+            f"follow the cooling itself {advice}")
 
 
 def _resumed_run(resume: Path, given: dict, extend: int | None = None):

@@ -180,7 +180,9 @@ def sweep(
     study: Annotated[
         Path | None,
         typer.Argument(metavar="[STUDY.toml]",
-                       help="TOML file of the study: command, seed, replicas, \\[fixed], \\[vary] (not with --resume)."),
+                       help="TOML file of the study: command, seed, replicas, main (the result to tabulate and plot, "
+                            "e.g. \"compressibility_factor\"; a list's element as \"temperature_species[0]\"), "
+                            "\\[fixed], \\[vary] (not with --resume)."),
     ] = None,
     out: Annotated[
         Path | None, typer.Option(help="Folder for the points, results.csv and the plot.  \\[default: sweep-output]")

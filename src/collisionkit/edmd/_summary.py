@@ -263,7 +263,8 @@ def cooling_note(run) -> str | None:
             "cooling theory assumes the gas stayed homogeneous, which a dense or large one does not (clusters)")
     if system.elastic_below > 0 and kT < 100.0 * system.elastic_below**2:
         note += (f". It reached the elastic floor: contacts slower than --elastic-below {system.elastic_below:.3g} "
-                 "are elastic (against inelastic collapse), so fewer --collisions follow the cooling itself")
+                 "are elastic (against inelastic collapse), and the late blocks measure that, not the cooling: a run "
+                 "of fewer --collisions follows the cooling itself")
     return note
 
 
