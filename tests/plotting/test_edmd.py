@@ -56,6 +56,11 @@ def test_the_cooling_plot_draws_the_theory_through_the_first_point_and_each_spec
     assert theory[0] == temperatures[0] and theory[-1] == pytest.approx(temperatures[0] * np.exp(-0.2))
     np.testing.assert_allclose(ax.lines[2].get_ydata(), 1.2 * temperatures)
     assert ax.get_yscale() == "log" and len(plotting.plot_cooling(collisions, temperatures).lines) == 1
+    with_theory = plotting.plot_cooling(collisions, temperatures, species=np.tile([1.2, 0.8], (5, 1)),
+                                        species_theory=[1.1, 0.9])
+    np.testing.assert_allclose(with_theory.lines[2].get_ydata(), 1.1 * temperatures)  # A's theory after A
+    with pytest.raises(ValueError, match=r"species_theory must have shape \(2,\)"):
+        plotting.plot_cooling(collisions, temperatures, species=np.ones((5, 2)), species_theory=[1.0])
     with pytest.raises(ValueError, match=r"species must have shape \(5, S\)"):
         plotting.plot_cooling(collisions, temperatures, species=np.ones((4, 2)))
     with pytest.raises(ValueError, match="one length"):

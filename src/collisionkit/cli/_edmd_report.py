@@ -242,9 +242,10 @@ def _plots(run, measurement, out: Path, deliveries: Deliveries) -> None:
         figures.append(("helfand_moments.png", lambda: plotting.plot_helfand_moments(measurement.transport)[0]))
     if math.isfinite(measurement.cooling_rate):
         collisions = 2.0 * run.sampler.per_block * np.arange(1, run.sampler.done + 1) / system.count
-        rate = run.summary().get("cooling_rate_theory")
+        summary = run.summary()
         figures.append(("cooling.png", lambda: plotting.plot_cooling(
-            collisions, measurement.block_temperature, rate, measurement.block_species_temperatures)))
+            collisions, measurement.block_temperature, summary.get("cooling_rate_theory"),
+            measurement.block_species_temperatures, species_theory=summary.get("temperature_species_theory"))))
 
     def folder():
         out.mkdir(parents=True, exist_ok=True)

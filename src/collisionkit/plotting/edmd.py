@@ -306,7 +306,7 @@ def plot_radial_distribution(r, g, ax=None, partial=None):
     return ax
 
 
-def plot_cooling(collisions, temperatures, rate=None, species=None, ax=None):
+def plot_cooling(collisions, temperatures, rate=None, species=None, ax=None, species_theory=None):
     """kT of a cooling gas against collisions per particle (log scale), with the theory's line and each species'.
 
     Parameters
@@ -322,6 +322,9 @@ def plot_cooling(collisions, temperatures, rate=None, species=None, ax=None):
         A mixture's T_a / T at the block ends
         (``Measurement.block_species_temperatures``): each species' kT_a drawn too.
     ax : matplotlib Axes, optional
+    species_theory : array_like, shape (S,), optional
+        The theory's T_a / T (``temperature_species_theory``): each species'
+        kT_a by it, dotted in the species' colour.
 
     Returns
     -------
@@ -352,8 +355,15 @@ def plot_cooling(collisions, temperatures, rate=None, species=None, ax=None):
         species = np.asarray(species, dtype=float)
         if species.ndim != 2 or species.shape[0] != collisions.size:
             raise ValueError(f"species must have shape ({collisions.size}, S); got {species.shape}")
+        theory = None if species_theory is None else np.asarray(species_theory, dtype=float)
+        if theory is not None and theory.shape != (species.shape[1],):
+            raise ValueError(f"species_theory must have shape ({species.shape[1]},); got {theory.shape}")
         for index, name in enumerate(type_names(np.arange(species.shape[1]))):
-            ax.semilogy(collisions, species[:, index] * temperatures, ls="--", color=f"C{index + 1}", label=name)
+            ax.semilogy(collisions, species[:, index] * temperatures, ls="--", marker=".", color=f"C{index + 1}",
+                        label=name)
+            if theory is not None:
+                ax.semilogy(collisions, theory[index] * temperatures, ls=":", color=f"C{index + 1}",
+                            label=f"{name}, theory")
     ax.set_xlabel("collisions per particle $C$ (measured)")
     ax.set_title("cooling")
     ax.set_ylabel("$kT$")
