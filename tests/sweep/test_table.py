@@ -103,3 +103,15 @@ def test_an_option_varied_through_lists_gives_its_points_table_and_plot(tmp_path
     assert [point["n"] for point in sweep.aggregate(table, "compressibility_factor", ["diameters"])] == [2, 2]
     files = sweep.write_outputs(study, tmp_path, table)
     assert tmp_path / "main_result.png" in files and '"[1.0, 0.8]",2' in (tmp_path / "points.csv").read_text()
+
+
+def test_a_nested_result_combines_with_its_own_error_column():
+    """A swarm scan's results[i].mean_energy pairs with results[i].mean_energy_error (the error rule applies to the
+    last part of a nested key): the replicas' own errors count, and no error column becomes a result."""
+    study = sweep.Study("swarm", seed=0, fixed={"model": "reid"}, vary={"tolerance": [0.01]})
+    records = [_record({"results": [{"mean_energy": e, "mean_energy_error": 0.05},
+                                    {"mean_energy": 2 * e, "mean_energy_error": 0.05}]}, r)
+               | {"point": 0, "parameters": {"tolerance": 0.01}} for r, e in ((0, 1.0), (1, 1.001))]
+    point = sweep.points_table(study, sweep.results_table(study, records))[0]
+    assert point["results[0].mean_energy_error"] == pytest.approx(0.05 / math.sqrt(2), rel=1e-6)  # own, not scatter
+    assert not any(key.startswith("results_error") or key.endswith("_error_error") for key in point)

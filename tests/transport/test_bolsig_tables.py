@@ -11,7 +11,7 @@ from scipy import constants
 AMU = constants.atomic_mass
 
 from collisionkit.transport import (
-    BOLSIG_SECTIONS, bolsig_tables, maxwell_model, read_bolsig_section, reid_ramp, simulate_swarm,
+    BOLSIG_SECTIONS, bolsig_tables, maxwell_model, missing_rows, read_bolsig_section, reid_ramp, simulate_swarm,
     two_term_boltzmann, write_bolsig_tables,
 )
 
@@ -45,7 +45,7 @@ def test_a_two_term_scan_reads_back_section_by_section_in_rising_e_n(tmp_path):
 
 def test_a_swarm_of_the_maxwell_model_gives_its_exact_mobility_and_its_flux_diffusion():
     """Maxwell model (constant nu = N k): mu N = e / (m_r k) exactly (Wannier), within the run's errors; the
-    diffusion sections are the flux D_T N and D_L N; no SST alpha/N (no ionization): its lines are left out."""
+    diffusion sections are the flux D_T N and D_L N; alpha/N = k_ion / W is 0 (no ionization), written as 0."""
     gas = maxwell_model(1e-13, mass=4 * AMU)
     results = [simulate_swarm(gas, e_n, particles=4000, seed=2, tolerances={"mean_energy": 0.01}, gas_temperature=0.0)
                for e_n in (5.0, 20.0)]
@@ -55,12 +55,35 @@ def test_a_swarm_of_the_maxwell_model_gives_its_exact_mobility_and_its_flux_diff
     exact = constants.e / (reduced_mass * 1e-13)
     errors = [abs(float(r.drift_velocity_flux_error[2])) / (r.reduced_field * 1e-21) for r in results]
     assert np.all(np.abs(mobility - exact) < 4 * np.asarray(errors) + 1e-6 * exact), (mobility, exact, errors)
+    assert max(errors) < 0.02 * exact  # the test tells a 10 % error in the mobility
     np.testing.assert_allclose(read_bolsig_section(text, "Diffusion coefficient *N (1/m/s)")[:, 1],
                                [r.diffusion_T_N_flux for r in results], rtol=1e-6)
     np.testing.assert_allclose(read_bolsig_section(text, "Longitud. diffusion coef. *N (1/m/s)")[:, 1],
                                [r.diffusion_L_N_flux for r in results], rtol=1e-6)
-    assert all(math.isnan(r.alpha_N) for r in results) == ("Townsend ioniz. coef. alpha/N (m2)" not in _sections(text))
+    np.testing.assert_array_equal(read_bolsig_section(text, "Townsend ioniz. coef. alpha/N (m2)"), [[5, 0], [20, 0]])
     assert text.splitlines()[0].startswith("collisionkit: Monte Carlo swarm")
+
+
+def test_a_swarm_s_alpha_is_its_ionization_rate_over_its_flux_drift_so_alpha_times_w_is_the_rate():
+    """BOLSIG+'s definition with temporal growth: alpha/N W = k_ion, with the mobility written beside it."""
+    from collisionkit.transport import lucas_saelee
+
+    result = simulate_swarm(lucas_saelee(), 500.0, particles=2000, seed=1, tolerances={"mean_energy": 0.05},
+                            gas_temperature=0.0)
+    text = bolsig_tables([result])
+    alpha = read_bolsig_section(text, "Townsend ioniz. coef. alpha/N (m2)")[0, 1]
+    mobility = read_bolsig_section(text, "Mobility *N (1/m/V/s)")[0, 1]
+    assert result.ionization_frequency_N > 0
+    assert alpha * mobility * 500.0 * 1e-21 == pytest.approx(result.ionization_frequency_N, rel=1e-5)
+
+
+def test_the_reader_takes_bolsig_s_own_layout_and_names_a_missing_section():
+    """BOLSIG+ pads some headers with spaces and its last section runs to the end of the file."""
+    text = "BOLSIG+ version\n\nE/N (Td)      \tGrid type\n0.1\t0.0\n\nE/N (Td)\tMean energy (eV)\n0.1\t0.04\n0.2\t0.05"
+    np.testing.assert_array_equal(read_bolsig_section(text, "Grid type"), [[0.1, 0.0]])
+    np.testing.assert_array_equal(read_bolsig_section(text, "Mean energy (eV)"), [[0.1, 0.04], [0.2, 0.05]])
+    with pytest.raises(ValueError, match=r"no section .*Mobility \*N \(1/m/V/s\).* in the text"):
+        read_bolsig_section(text, "Mobility *N (1/m/V/s)")
 
 
 def test_values_that_are_not_numbers_leave_their_lines_out():
@@ -70,6 +93,7 @@ def test_values_that_are_not_numbers_leave_their_lines_out():
     text = bolsig_tables(results)
     np.testing.assert_array_equal(read_bolsig_section(text, "Mobility *N (1/m/V/s)")[:, 0], [10.0])
     np.testing.assert_array_equal(read_bolsig_section(text, "Mean energy (eV)")[:, 0], [0.0, 10.0])
+    assert missing_rows(results) == {"Mobility *N (1/m/V/s)": [0.0]}
 
 
 @pytest.mark.parametrize(

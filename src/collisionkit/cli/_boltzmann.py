@@ -19,7 +19,7 @@ from ._common import (
 )
 from ._transport import (
     MAX_GAS_TEMPERATURE, CrossSectionsOption, DatabaseOption, FractionsOption, GasOption, GasScanOptions, ModelOption,
-    ReducedFieldsOption, SharingOption, SpeciesOption, _e_n_values, checked_frequency, lxcat_notes,
+    ReducedFieldsOption, SharingOption, SpeciesOption, _e_n_values, checked_frequency, lxcat_notes, warn_missing_rows,
 )
 
 # transport.two_term's (not imported: the library loads only when a command runs)
@@ -164,6 +164,7 @@ def _write_tables(scan, out: Path, deliveries: Deliveries) -> None:
 
         deliveries.write(f"the tables {out / 'bolsig.dat'}", lambda: write_bolsig_tables(out / "bolsig.dat",
                                                                                           scan.results))
+        warn_missing_rows(scan.results, out / "bolsig.dat")
     else:  # an earlier run's is not of these results
         (out / "bolsig.dat").unlink(missing_ok=True)
     try:

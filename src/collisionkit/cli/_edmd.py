@@ -10,6 +10,7 @@ plots and writes the summary (:mod:`._edmd_report`).
 from __future__ import annotations
 
 import math
+import shlex
 from pathlib import Path
 from typing import Annotated, ClassVar, Literal
 
@@ -197,8 +198,8 @@ def _cooling_to_the_floor(parameters) -> str | None:
     rate = homogeneous_cooling_rate(p.packing_fraction, [n / p.particles for n in p.species_counts],
                                     p.diameters or (1.0,) * kinds, p.masses or 1.0, p.restitution, p.dim)
     floor = (p.elastic_below if p.elastic_below is not None else 1e-6) ** 2
-    if rate <= 0.0 or floor <= 0.0:
-        return None
+    if rate <= 0.0 or floor <= 0.0 or 100.0 * floor >= 1.0:  # (a floor near kT = 1: the run stays elastic, and
+        return None                                           # its end says so)
     final = math.exp(-rate * 2.0 * p.total_collisions / p.particles)
     if final > 100.0 * floor:
         return None
@@ -247,17 +248,17 @@ def _resume_command(options: EdmdOptions) -> str:
     --------
     >>> _resume_command(EdmdOptions(checkpoint=Path("ck.npz"), summary=Path("u.json"), out=Path("plots")))
     'collisionkit edmd --resume ck.npz --summary u.json --out plots'
-    >>> _resume_command(EdmdOptions(checkpoint=Path("ck.npz"), plots=False))
-    'collisionkit edmd --resume ck.npz --no-plots'
+    >>> _resume_command(EdmdOptions(checkpoint=Path("my run/ck.npz"), plots=False))  # pasted into a shell as is
+    "collisionkit edmd --resume 'my run/ck.npz' --no-plots"
     """
-    words = ["collisionkit edmd --resume", str(options.checkpoint)]
+    words = ["collisionkit edmd --resume", shlex.quote(str(options.checkpoint))]
     for name in ("summary", "trajectory", "xyz"):
         if getattr(options, name) is not None:
-            words += [f"--{name}", str(getattr(options, name))]
+            words += [f"--{name}", shlex.quote(str(getattr(options, name)))]
     if not options.plots:
         words.append("--no-plots")
     elif options.out != EdmdOptions.model_fields["out"].default:
-        words += ["--out", str(options.out)]
+        words += ["--out", shlex.quote(str(options.out))]
     return " ".join(words)
 
 

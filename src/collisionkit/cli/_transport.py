@@ -443,6 +443,16 @@ def _bolsig_table(results, out: Path, deliveries: Deliveries) -> None:
         (out / "bolsig.dat").unlink(missing_ok=True)
         return
     deliveries.write(f"the tables {out / 'bolsig.dat'}", lambda: write_bolsig_tables(out / "bolsig.dat", results))
+    warn_missing_rows(results, out / "bolsig.dat")
+
+
+def warn_missing_rows(results, path: Path) -> None:
+    """Warn of each section of ``path`` (BOLSIG+'s tables) that leaves out E/N where its value is not a number."""
+    from ..transport import missing_rows
+
+    for header, fields in missing_rows(results).items():
+        warn(f"{path}: {header} has no line at E/N = {', '.join(f'{value:g}' for value in fields)} Td (not a number "
+             "there), so its E/N column is shorter than the other sections'")
 
 
 # the gas and E/N options of swarm and boltzmann (GasScanOptions)

@@ -233,7 +233,7 @@ def _mean_free_path(sampler, mean_speed, omega, omega_error, cooling: bool) -> d
         return {"mean_free_path": mean_speed / omega, "mean_free_path_error": mean_speed * omega_error / omega**2}
     speeds = np.array([np.mean(block) for block in sampler.speeds])
     shrink = np.log(np.asarray(sampler.records["temperature"][:-1]) / sampler.records["temperature"][1:]) / 4.0
-    factor = np.where(shrink > 0, shrink / np.sinh(np.where(shrink > 0, shrink, 1.0)), 1.0)
+    factor = np.where(shrink != 0, shrink / np.sinh(np.where(shrink != 0, shrink, 1.0)), 1.0)  # (x / sinh x -> 1)
     paths = np.sqrt(speeds[:-1] * speeds[1:]) / np.asarray(sampler.records["frequency"][1:]) * factor
     return {"mean_free_path": float(np.mean(paths)), "mean_free_path_error": _msd.block_error(paths)}
 

@@ -55,7 +55,7 @@ class Measurement:
     ``species_temperatures_error`` and ``block_species_temperatures`` each
     block's: 1 at equipartition, which an inelastic mixture does not reach), ``cooling_rate`` (a gas that loses energy, at
     rest and without gravity: -d ln kT / dC, C the collisions per particle,
-    the least-squares slope over the block ends, with ``cooling_rate_error``;
+    the mean of the blocks' -ln(kT_k / kT_k-1) / dC after the first, with ``cooling_rate_error``;
     Haff's law gives (1 - e^2) / d for one species; else NaN), ``sonine_a2``
     (particles of one mass at rest: the velocity distribution's fourth
     cumulant d/(d+2) <v^4>/<v^2>^2 - 1 at the block ends, 0 for Maxwell's,

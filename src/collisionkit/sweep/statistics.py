@@ -91,16 +91,20 @@ def combine_replicas(values: Sequence[float], errors: Sequence[float] | None = N
 
 
 def error_column(key: str) -> str:
-    """The column of ``key``'s error: ``Z_error``, and for an element of a list ``T[0]`` the element of the list of
-    errors, ``T_error[0]`` (the summaries give ``T`` and ``T_error`` as lists).
+    """The column of ``key``'s error: ``Z_error``; for an element of a list ``T[0]`` the element of the list of
+    errors, ``T_error[0]`` (the summaries give ``T`` and ``T_error`` as lists); in a nested key only its last part
+    changes (``results[0].mean_energy_error``).
 
     Examples
     --------
     >>> error_column("Z"), error_column("temperature_species[1]"), error_column("contact_values[0][1]")
     ('Z_error', 'temperature_species_error[1]', 'contact_values_error[0][1]')
+    >>> error_column("results[0].mean_energy"), error_column("results[1].drift[2]")
+    ('results[0].mean_energy_error', 'results[1].drift_error[2]')
     """
-    name, bracket, index = key.partition("[")
-    return f"{name}_error{bracket}{index}"
+    head, dot, last = key.rpartition(".")
+    name, bracket, index = last.partition("[")
+    return f"{head}{dot}{name}_error{bracket}{index}"
 
 
 def is_error_column(column: str) -> bool:
@@ -110,8 +114,10 @@ def is_error_column(column: str) -> bool:
     --------
     >>> is_error_column("Z_error"), is_error_column("T_error[0]"), is_error_column("T[0]")
     (True, True, False)
+    >>> is_error_column("results[0].mean_energy_error"), is_error_column("results_error[0].x")
+    (True, False)
     """
-    return column.partition("[")[0].endswith("_error")
+    return column.rpartition(".")[2].partition("[")[0].endswith("_error")
 
 
 def combine_rows(rows: Sequence[Mapping[str, Any]], key: str) -> dict[str, Any]:

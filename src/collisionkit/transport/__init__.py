@@ -38,7 +38,7 @@ collisions), real gases (LXCat files) and transport coefficients.
 """
 
 from .angular import SCATTERING_LAWS, mean_scattering_cosine, momentum_transfer_ratio
-from .bolsig_tables import BOLSIG_SECTIONS, bolsig_tables, read_bolsig_section, write_bolsig_tables
+from .bolsig_tables import BOLSIG_SECTIONS, bolsig_tables, missing_rows, read_bolsig_section, write_bolsig_tables
 from .gases import (
     MODEL_GASES,
     SCATTERING_KINDS,
@@ -113,6 +113,7 @@ __all__ = [
     "lucas_saelee",
     "maxwell_model",
     "mean_scattering_cosine",
+    "missing_rows",
     "model_gas",
     "parse_gas_spec",
     "momentum_transfer_ratio",

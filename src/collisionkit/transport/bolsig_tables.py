@@ -11,13 +11,16 @@ writes the sections whose headers BOLSIG+ uses (``Mean energy (eV)``,
 ``Mobility *N (1/m/V/s)``, ``Diffusion coefficient *N (1/m/s)``, ...) from
 a scan of :class:`~collisionkit.transport.SwarmResult` (Monte Carlo: flux
 coefficients, the transverse diffusion as BOLSIG+'s, the longitudinal as
-``Longitud. diffusion coef. *N``, the steady-state Townsend alpha/N and
-eta/N) or :class:`~collisionkit.transport.TwoTermResult` (the two-term
+``Longitud. diffusion coef. *N``, and alpha/N = k_ion / W and eta/N =
+k_att / W with W the flux drift, BOLSIG+'s definition with temporal growth,
+so that alpha times the mobility written beside it gives the ionization
+rate) or :class:`~collisionkit.transport.TwoTermResult` (the two-term
 solution, as BOLSIG+'s own).
 
-A value that is not a number (alpha/N where the steady-state relation has
-no root, the mobility at E/N = 0) leaves its line out of that section: each
-section carries its own E/N column. The file starts with a header naming
+A value that is not a number (the mobility or alpha/N at E/N = 0, where
+nothing drifts) leaves its line out of that section, so that section's E/N
+column is shorter than the others' (:func:`missing_rows` lists them; the
+commands warn). The file starts with a header naming
 collisionkit, the method and the gas temperature (``Gas temperature (K)``,
 as BOLSIG+ writes it).
 """
@@ -34,7 +37,7 @@ from .._io import atomic_write_text
 from .swarm_result import SwarmResult
 from .two_term import TwoTermResult
 
-__all__ = ["BOLSIG_SECTIONS", "bolsig_tables", "read_bolsig_section", "write_bolsig_tables"]
+__all__ = ["BOLSIG_SECTIONS", "bolsig_tables", "missing_rows", "read_bolsig_section", "write_bolsig_tables"]
 
 TOWNSEND = 1e-21  # V m^2 per Td
 
@@ -58,6 +61,7 @@ def _swarm_values(result: SwarmResult) -> dict[str, float]:
     """A Monte Carlo result's sections: flux drift along E over E/N, flux diffusion (transverse and longitudinal)."""
     field = result.reduced_field * TOWNSEND
     drift = abs(float(result.drift_velocity_flux[2]))
+    per_drift = 1.0 / drift if drift > 0 else math.nan
     return {
         "Mean energy (eV)": result.mean_energy,
         "Mobility *N (1/m/V/s)": drift / field if field > 0 else math.nan,
@@ -65,8 +69,8 @@ def _swarm_values(result: SwarmResult) -> dict[str, float]:
         "Longitud. diffusion coef. *N (1/m/s)": result.diffusion_L_N_flux,
         "Total ionization freq. /N (m3/s)": result.ionization_frequency_N,
         "Total attachment freq. /N (m3/s)": result.attachment_frequency_N,
-        "Townsend ioniz. coef. alpha/N (m2)": result.alpha_N,
-        "Townsend attach. coef. eta/N (m2)": result.eta_N,
+        "Townsend ioniz. coef. alpha/N (m2)": result.ionization_frequency_N * per_drift,
+        "Townsend attach. coef. eta/N (m2)": result.attachment_frequency_N * per_drift,
     }
 
 
@@ -117,6 +121,29 @@ def _section(header: str, points) -> list[str]:
     return [f"E/N (Td)\t{header}", *rows, ""] if rows else []
 
 
+def _values(result) -> dict[str, float]:
+    return _swarm_values(result) if isinstance(result, SwarmResult) else _two_term_values(result)
+
+
+def missing_rows(results: Sequence[SwarmResult] | Sequence[TwoTermResult]) -> dict[str, list[float]]:
+    """The sections of :func:`bolsig_tables` that leave out some E/N (their value is not a number there), with
+    those E/N in Td.
+
+    Examples
+    --------
+    >>> from collisionkit.transport import missing_rows, reid_ramp, two_term_boltzmann
+    >>> missing_rows([two_term_boltzmann(reid_ramp(), e_n, 0.0) for e_n in (1.0, 12.0)])
+    {}
+    """
+    results, _ = _checked(results)
+    gaps: dict[str, list[float]] = {}
+    for result in results:
+        for header, value in _values(result).items():
+            if not math.isfinite(value):
+                gaps.setdefault(header, []).append(result.reduced_field)
+    return gaps
+
+
 def bolsig_tables(results: Sequence[SwarmResult] | Sequence[TwoTermResult]) -> str:
     r"""The results of an E/N scan as the text of BOLSIG+'s output tables.
 
@@ -150,7 +177,7 @@ def bolsig_tables(results: Sequence[SwarmResult] | Sequence[TwoTermResult]) -> s
     True
     """
     results, method = _checked(results)
-    values = [_swarm_values(r) if isinstance(r, SwarmResult) else _two_term_values(r) for r in results]
+    values = [_values(result) for result in results]
     lines = [f"collisionkit: {method}, in the layout of BOLSIG+'s output tables",
              f"Gas temperature (K)\t{results[0].gas_temperature:.3f}", ""]
     for header in BOLSIG_SECTIONS:
@@ -181,16 +208,36 @@ def write_bolsig_tables(path, results: Sequence[SwarmResult] | Sequence[TwoTermR
 
 
 def read_bolsig_section(text: str, header: str, before: str | None = None) -> np.ndarray:
-    """The (E/N, value) rows of the section ``header`` in BOLSIG+-style ``text`` (the first after the line
+    r"""The (E/N, value) rows of the section ``header`` in BOLSIG+-style ``text`` (the first after the line
     ``before``, if given), as a reader of these tables finds them; shape (rows, 2).
+
+    A section runs to a blank line or the end of the text; lines are compared
+    without the spaces around them (BOLSIG+ pads some headers).
+
+    Raises
+    ------
+    ValueError
+        No such section (after ``before``), naming it.
 
     Examples
     --------
-    >>> read_bolsig_section("E/N (Td)\\tMean energy (eV)\\n1.0\\t0.5\\n\\n", "Mean energy (eV)")
+    >>> read_bolsig_section("E/N (Td)\tMean energy (eV)\n1.0\t0.5\n\n", "Mean energy (eV)")
     array([[1. , 0.5]])
+    >>> read_bolsig_section("E/N (Td)      \tGrid type\n0.1\t0.0\n0.2\t3.0", "Grid type")  # to the end
+    array([[0.1, 0. ],
+           [0.2, 3. ]])
     """
-    lines = text.splitlines()
-    start = lines.index(before) + 1 if before is not None else 0
-    start = lines.index(f"E/N (Td)\t{header}", start) + 1
-    end = lines.index("", start)
-    return np.array([[float(item) for item in line.split("\t")] for line in lines[start:end]])
+    lines = [line.strip() for line in text.splitlines()]
+    start = 0
+    if before is not None:
+        if before.strip() not in lines:
+            raise ValueError(f"no line {before!r} in the text")
+        start = lines.index(before.strip()) + 1
+    wanted = f"E/N (Td)\t{header}".strip()
+    headers = [index for index in range(start, len(lines))
+               if lines[index].startswith("E/N (Td)") and lines[index][len("E/N (Td)"):].strip() == header.strip()]
+    if not headers:
+        raise ValueError(f"no section {wanted!r} in the text" + (f" after {before!r}" if before else ""))
+    first = headers[0] + 1
+    end = lines.index("", first) if "" in lines[first:] else len(lines)
+    return np.array([[float(item) for item in line.split()] for line in lines[first:end]]).reshape(-1, 2)
