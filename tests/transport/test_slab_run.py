@@ -86,7 +86,9 @@ def test_a_save_taken_while_the_run_ran_goes_on_to_the_result_of_a_run_never_sto
     SlabRun(PARAMETERS, checkpoint=path, save_every=0.0).run()
     monkeypatch.undo()
     resumed = SlabRun.resume(kept)
-    assert 0 < resumed.done < PARAMETERS.particles
+    # the first save mid-run came early: the workers wait at a gate while the main thread copies the batches (they
+    # took their batches' locks again call after call, and the first save waited until 38035 of 40000 were done)
+    assert 0 < resumed.done < PARAMETERS.particles // 8
     assert _same(resumed.run(), _straight())
 
 
