@@ -74,6 +74,8 @@ def test_help_lists_the_command_and_its_options():
         ('command = "edmd"\nseed = 1\nreplica = 2\n[vary]\ndim = [2, 3]\n', "unknown study key 'replica'"),
         ('command = "nbody"\nseed = 1\n[vary]\ndim = [2, 3]\n', "unknown command 'nbody'"),
         ('command = "edmd"\nseed = 1\n[vary]\npacking = [0.1]\n', "has no option 'packing'"),
+        ('command = "edmd"\nseed = 1\n[fixed]\nparticls = 100\n[vary]\ndim = [2]\n',
+         "has no option 'particls'; did you mean 'particles'?"),
         ('command = "edmd"\nseed = 1\n[vary]\n', "at least one option"),
         ('command = "edmd"\nseed = 1\n[vary]\ndim = []\n', "empty list"),
         ('command = "edmd"\nseed = 1\nreplicas = 0\n[vary]\ndim = [2, 3]\n', "replicas must be in"),

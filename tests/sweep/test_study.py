@@ -115,7 +115,7 @@ def test_a_study_file_that_is_not_utf8_is_one_line_naming_the_file(tmp_path):
         ({"command": "nbody", "seed": 1, "vary": {"x": [1]}}, ValueError, "unknown command 'nbody'; available: .*edmd"),
         ({"command": "demo", "seed": 1, "vary": {"x": [1]}}, ValueError, "cannot be swept"),
         ({"command": "sweep", "seed": 1, "vary": {"x": [1]}}, ValueError, "cannot be swept"),
-        ({"command": "edmd", "seed": 1, "vary": {"packing": [0.1]}}, ValueError, "no option 'packing'; its options: .*packing-fraction"),
+        ({"command": "edmd", "seed": 1, "vary": {"packing": [0.1]}}, ValueError, "no option 'packing' \\(its options: .*packing-fraction"),
         ({"command": "edmd", "seed": 1, "vary": {"seed": [1, 2]}}, ValueError, "'seed' is set by the sweep"),
         ({"command": "edmd", "seed": 1, "vary": {"dim": [3]}, "fixed": {"summary": "x.json"}}, ValueError, "'summary' is set by"),
         ({"command": "edmd", "seed": 1, "vary": {"particles": ["many"]}}, TypeError, "particles must be an integer"),

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import difflib
 from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
@@ -119,7 +120,11 @@ def check_command(study: Study) -> SweepCommand:
     >>> check_command(Study("encounter", seed=0, vary={"speed": [1.0]}))
     Traceback (most recent call last):
     ...
-    ValueError: command 'encounter' has no option 'speed'; its options: layout, m1, m2, radius1, radius2, rp, sep0, units, vinf
+    ValueError: command 'encounter' has no option 'speed' (its options: layout, m1, m2, radius1, radius2, rp, sep0, units, vinf)
+    >>> check_command(Study("encounter", seed=0, vary={"vinfty": [1.0]}))
+    Traceback (most recent call last):
+    ...
+    ValueError: command 'encounter' has no option 'vinfty'; did you mean 'vinf'? (its options: layout, m1, m2, radius1, radius2, rp, sep0, units, vinf)
     """
     command = sweep_command(study.command)
     allowed = command.options()
@@ -129,7 +134,10 @@ def check_command(study: Study) -> SweepCommand:
             raise ValueError(f"option {name!r} is set by the sweep for every point; remove it from the study")
         if name not in allowed:
             shown = sorted(key for key in allowed if not (key == "seed" and takes_seed))
-            raise ValueError(f"command {study.command!r} has no option {name!r}; its options: {', '.join(shown)}")
+            close = difflib.get_close_matches(name, shown, n=2, cutoff=0.75)
+            guess = f"; did you mean {' or '.join(repr(option) for option in close)}?" if close else ""
+            raise ValueError(f"command {study.command!r} has no option {name!r}{guess} (its options: "
+                             f"{', '.join(shown)})")
     for point in expand(study):
         try:
             _split_options(command, _options(study, point, 0, takes_seed))
