@@ -581,3 +581,23 @@ def test_an_inelastic_run_that_will_cool_to_its_elastic_floor_says_so_before_it_
     assert "give --collisions 16178 or fewer" in said
     quiet = invoke("--particles", "100", "--restitution", "0.9", "--collisions", "10000", "--seed", "1", "--no-plots")
     assert quiet.exit_code == 0 and "by Haff's law" not in quiet.output
+
+
+def test_a_viscoelastic_gas_reports_its_cooling_against_the_maxwellian_rate(tmp_path):
+    """--restitution-law viscoelastic: the summary names the law and gives the Maxwellian rate over the blocks, the
+    table says where the theory comes from, the cooling plot draws its curve; no note of Haff's law before the run;
+    the resumed run keeps the law (a different one is refused)."""
+    options = ("--particles", "300", "--packing-fraction", "0.05", "--restitution-law", "viscoelastic", "--law-speed",
+               "1e4", "--equilibration", "0", "--collisions", "9000", "--blocks", "6", "--seed", "4")
+    result = invoke(*options, "--summary", tmp_path / "s.json", "--out", tmp_path / "out",
+                    "--checkpoint", tmp_path / "run.npz")
+    assert result.exit_code == 0, result.output
+    summary = json.loads((tmp_path / "s.json").read_text())
+    assert summary["restitution_law"] == "viscoelastic" and summary["parameters"]["law_speed"] == 1e4
+    assert 0.0 < summary["cooling_rate_theory"] < 0.1 and math.isfinite(summary["cooling_rate_deviation_sigmas"])
+    output = " ".join(result.output.split())
+    assert "Maxwellian, viscoelastic law" in output and "Haff" not in output
+    assert (tmp_path / "out" / "cooling.png").stat().st_size > 10_000
+    refused = invoke("--resume", tmp_path / "run.npz", "--restitution-law", "bridges")
+    assert refused.exit_code == 2 and "restitution_law = bridges differs from the checkpoint" in \
+        " ".join(refused.output.split())

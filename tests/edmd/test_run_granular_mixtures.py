@@ -25,8 +25,8 @@ GRANULAR = dict(particles=200, packing_fraction=0.05, fractions=(0.5, 0.5), mass
         ({"restitution": ((0.9, 1.2), (1.2, 0.7))}, "restitution[0][1] must be in [0, 1]; got 1.2"),
         ({"restitution": ((1.0, math.nan), (math.nan, 1.0))}, "restitution[0][1] must be finite"),
         ({"restitution": ((1.0, 0.9), (0.9, 1.0)), "transport": True},
-         "transport needs restitution 1 (the Einstein-Helfand relations hold in equilibrium, which an inelastic gas "
-         "never reaches); got restitution [[1.0, 0.9], [0.9, 1.0]]"),
+         "transport needs restitution 1 and restitution_law constant (the Einstein-Helfand relations hold in "
+         "equilibrium, which an inelastic gas never reaches); got restitution [[1.0, 0.9], [0.9, 1.0]]"),
         ({"restitution": ((1.0, 0.9), (0.9, 1.0)), "well_width": 1.5},
          "well_width cannot be combined with restitution below 1"),
     ],

@@ -29,6 +29,7 @@ from ._warmup import warm_up
 
 InitialName = Literal["random", "fcc", "sc", "square", "hexagonal"]
 EngineName = Literal["auto", "lists", "cells"]  # collisionkit.edmd._run_checks.ENGINES
+LawName = Literal["constant", "bridges", "viscoelastic"]  # collisionkit.edmd.RESTITUTION_LAWS
 
 OUTPUT_OPTIONS = ("summary", "trajectory", "frame_every", "xyz", "out", "plots", "checkpoint", "overwrite")
 OUTPUT_SUFFIXES = {"trajectory": (".gsd",), "xyz": (".xyz", ".extxyz")}  # the formats --trajectory and --xyz write
@@ -49,6 +50,9 @@ class EdmdOptions(Options):
     # a number, or (a config file's, with fractions) a matrix over the species; ranges: the library's messages
     restitution: float | list[list[float]] = 1.0
     elastic_below: float | None = Field(default=None, ge=0, allow_inf_nan=False)
+    restitution_law: LawName = "constant"
+    law_speed: float = Field(default=1.0, gt=0, allow_inf_nan=False)  # upper limits: the library's messages
+    law_exponent: float = Field(default=0.234, gt=0, allow_inf_nan=False)
     equilibration: int | None = Field(default=None, ge=0)
     collisions: int | None = Field(default=None, ge=2)
     blocks: int = Field(default=10, ge=2, le=100_000)
@@ -192,7 +196,7 @@ def _cooling_to_the_floor(parameters) -> str | None:
     from ..edmd import homogeneous_cooling_rate
 
     p = parameters
-    if p.elastic or p.shear_rate != 0.0:
+    if p.elastic or p.shear_rate != 0.0 or p.restitution_law != "constant":  # (a law: the rate falls with kT)
         return None
     kinds = len(p.species_counts)
     rate = homogeneous_cooling_rate(p.packing_fraction, [n / p.particles for n in p.species_counts],
@@ -404,6 +408,16 @@ def edmd(
         float | None,
         typer.Option(help=_help("Contacts with a normal approach speed below this are elastic (0 to 1000 thermal speeds; guards inelastic runs against collapse).", "1e-6 (rms speeds) if restitution < 1")),
     ] = None,
+    restitution_law: Annotated[
+        str | None,
+        typer.Option(metavar="[constant|bridges|viscoelastic]", help=_help("Restitution as a function of the normal approach speed u_n, the smaller of --restitution and the law's: bridges, (u_n/u_c)^-p above u_c (ice, planetary rings); viscoelastic, viscoelastic spheres, 1 - e = (u_n/u_c)^(1/5) + ... (u_c: --law-speed, p: --law-exponent). The summary compares the cooling rate with the Maxwellian one (one species).", "constant")),
+    ] = None,
+    law_speed: Annotated[
+        float | None, typer.Option(help=_help("The law's speed u_c, in (0, 1e30] thermal speeds.", "1"))
+    ] = None,
+    law_exponent: Annotated[
+        float | None, typer.Option(help=_help("The bridges law's exponent p, in (0, 10].", "0.234, ice"))
+    ] = None,
     equilibration: Annotated[
         int | None, typer.Option(help=_help("Pair collisions before measuring (0 to 1e14).", "20 per particle"))
     ] = None,
@@ -495,7 +509,7 @@ def edmd(
     """
     given = dict(
         dim=dim, particles=particles, packing_fraction=packing_fraction, restitution=restitution,
-        elastic_below=elastic_below, equilibration=equilibration, collisions=collisions, blocks=blocks, seed=seed, initial=initial,
+        elastic_below=elastic_below, restitution_law=restitution_law, law_speed=law_speed, law_exponent=law_exponent, equilibration=equilibration, collisions=collisions, blocks=blocks, seed=seed, initial=initial,
         transport=transport, yeh_hummer=yeh_hummer, shear_rate=shear_rate, thermostat=thermostat, engine=engine, well_width=well_width, well_depth=well_depth, fractions=fractions, diameters=diameters, masses=masses, summary=summary, trajectory=trajectory, frame_every=frame_every, xyz=xyz, out=out, plots=plots,
         checkpoint=checkpoint, overwrite=overwrite,
     )  # fmt: skip

@@ -26,7 +26,8 @@ def _theory_column(result: dict) -> tuple[str, str, str, str]:
 
         if result.get("elastic_below") and result["temperature"] > BARELY_COOLED:  # the floor made it elastic
             return "elastic floor: nearly all contacts elastic", "", "barely cools (elastic floor)", "> 0 (small)"
-        return "no equilibrium (inelastic)", "", "cools (Haff)", "> 0"
+        cools = "cools (Haff)" if result.get("restitution_law", "constant") == "constant" else "cools"
+        return "no equilibrium (inelastic)", "", cools, "> 0"
     if result.get("well_width"):
         return "(square wells: see the virial expansion)", "", "1 while equilibrating, then the mean below", "0 (elastic)"
     z = f"{result['compressibility_factor_theory']:.5g} ({result['theory']})"
@@ -72,12 +73,24 @@ def rows(result: dict) -> list[tuple[str, str, str]]:
     ]
 
 
+def _law_cooling(p, system, collisions, temperatures):
+    """A restitution law's Maxwellian kT from the first block end on (one species), else None."""
+    if p.restitution_law == "constant" or p.fractions is not None:
+        return None
+    from ..edmd import maxwellian_cooling
+
+    return maxwellian_cooling(collisions - collisions[0], temperatures[0], p.dim, 1.0, p.restitution_law,
+                              p.restitution, p.law_speed, p.law_exponent, system.elastic_below)
+
+
 def _cooling_rows(result: dict, pm) -> list[tuple[str, str, str]]:
     """A cooling gas's rate per collision, -d ln T / dC (C: collisions per particle), beside the theory's."""
     if "cooling_rate" not in result:
         return []
     theory = result.get("cooling_rate_theory")
     where = "Haff, (1 - e^2)/d" if "species_counts" not in result else "homogeneous cooling, Garzo-Dufty"
+    if result.get("restitution_law", "constant") != "constant":
+        where = f"Maxwellian, {result['restitution_law']} law, blocks' mean"
     return [("cooling rate per collision -d ln T/dC", pm("cooling_rate"),
              "" if theory is None else f"{theory:.5g} ({where})")]
 
@@ -245,7 +258,8 @@ def _plots(run, measurement, out: Path, deliveries: Deliveries) -> None:
         summary = run.summary()
         figures.append(("cooling.png", lambda: plotting.plot_cooling(
             collisions, measurement.block_temperature, summary.get("cooling_rate_theory"),
-            measurement.block_species_temperatures, species_theory=summary.get("temperature_species_theory"))))
+            measurement.block_species_temperatures, species_theory=summary.get("temperature_species_theory"),
+            theory_temperatures=_law_cooling(p, system, collisions, measurement.block_temperature))))
 
     def folder():
         out.mkdir(parents=True, exist_ok=True)

@@ -15,6 +15,8 @@ blocks of event times; lazily updated particles).
 Modules: :mod:`~collisionkit.edmd.theory` (equations of state, Enskog's
 collision rate, packing fractions and their limits),
 :mod:`~collisionkit.edmd.mixture_theory` (the same for mixtures),
+:mod:`~collisionkit.edmd.restitution_laws` (velocity-dependent restitution
+and the cooling of a granular gas),
 :mod:`~collisionkit.edmd.initial` (velocities, lattices, compressed random
 fluids), :mod:`~collisionkit.edmd.system` (the system and its event loop),
 :mod:`~collisionkit.edmd.measurement` (block-averaged observables; with
@@ -44,6 +46,7 @@ from .mixture_theory import (
     MIXTURE_EQUATION_OF_STATE, homogeneous_cooling_rate, homogeneous_cooling_temperatures, mixture_collision_frequency,
     mixture_compressibility, mixture_contact_values, mixture_cooling_rates,
 )
+from .restitution_laws import maxwellian_cooling, maxwellian_cooling_rate, restitution_coefficient
 from .square_well_theory import (
     square_well_collision_integral,
     square_well_deflection,
@@ -109,6 +112,9 @@ __all__ = [
     "granular_shear_flow",
     "green_kubo_viscosity",
     "hansen_goos",
+    "maxwellian_cooling",
+    "maxwellian_cooling_rate",
+    "restitution_coefficient",
     "henderson",
     "lattice",
     "lattice_cells",

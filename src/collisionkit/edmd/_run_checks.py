@@ -10,6 +10,7 @@ parameters.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from typing import Any
 
@@ -20,6 +21,7 @@ from ._cell_crossings import ENGINE_NAMES
 from ._wells import MAX_WELL_WIDTH
 from ._msd import MSD_GROUPS
 from ._pair_distribution import PARTIAL_RDF_SPECIES
+from ._system_setup import RESTITUTION_LAWS
 from .initial import LATTICE_DIM, lattice_cells
 from .mixture_theory import FRACTION_SUM_TOLERANCE
 from .theory import MAX_PACKING_FRACTION
@@ -39,6 +41,10 @@ MAX_COLLISIONS = 10**14
 # the largest diameter, so a small particle's rebuild scans ~ratio^-d times its own neighbours
 MIN_DIAMETER = 0.1
 MASS_RANGE = (1e-3, 1e3)
+# a restitution law's speed u_c, in thermal speeds: the viscoelastic law's 1 - e ~ (u_n / u_c)^(1/5) is still 1e-6 at
+# u_c = 1e30 (a nearly elastic material); the Bridges law's exponent (0.234 for ice)
+MAX_LAW_SPEED = 1e30
+MAX_LAW_EXPONENT = 10.0
 MAX_SPECIES = 26
 
 
@@ -95,15 +101,18 @@ def checked_parameters(p) -> dict[str, Any]:
     values |= _checked_species(p, values["particles"])
     kinds = None if p.fractions is None else len(values["fractions"])
     values["restitution"] = _number_or_matrix("restitution", p.restitution, kinds, 0.0, 1.0, False)
-    inelastic = bool(np.any(np.asarray(values["restitution"]) != 1.0))
+    values |= _checked_law(p)
+    inelastic = bool(np.any(np.asarray(values["restitution"]) != 1.0)) or p.restitution_law != "constant"
     if inelastic and p.transport:
-        raise ValueError(f"transport needs restitution 1 (the Einstein-Helfand relations hold in equilibrium, "
-                         f"which an inelastic gas never reaches); got restitution {_shown(values['restitution'])}")
+        given = (f"restitution {_shown(values['restitution'])}" if p.restitution_law == "constant" else
+                 f"restitution_law {p.restitution_law}")
+        raise ValueError(f"transport needs restitution 1 and restitution_law constant (the Einstein-Helfand "
+                         f"relations hold in equilibrium, which an inelastic gas never reaches); got {given}")
     if p.well_width is not None:
         values["well_width"] = _number_or_matrix("well_width", p.well_width, kinds, 1.0, MAX_WELL_WIDTH, True)
         clashes = ((shear_rate != 0.0, "shear_rate", "wells run in a fluid at rest"),
                     (p.engine == "cells", "engine cells", "the cell-crossing engine has no wells: use lists or auto"),
-                   (inelastic, "restitution below 1", "wells keep the energy of elastic pairs"))
+                   (inelastic, "restitution below 1 or a restitution_law", "wells keep the energy of elastic pairs"))
         for clash, name, why in clashes:
             if clash:
                 raise ValueError(f"well_width cannot be combined with {name} ({why})")
@@ -113,6 +122,22 @@ def checked_parameters(p) -> dict[str, Any]:
     if p.engine == "cells" and shear_rate != 0.0:  # what HardSphereSystem refuses, said before any work
         raise ValueError("engine cells cannot be combined with shear_rate: the cell-crossing engine runs straight "
                          "flights only (use engine lists or auto)")
+    return values
+
+
+def _checked_law(p) -> dict[str, Any]:
+    """The restitution law and its parameters; a parameter the law does not use is refused unless left at its
+    default (a law_speed given with the constant law would be silently ignored)."""
+    check_choice("restitution_law", p.restitution_law, tuple(RESTITUTION_LAWS))
+    values = {"law_speed": check_real("law_speed", p.law_speed, 0.0, MAX_LAW_SPEED, low_open=True),
+              "law_exponent": check_real("law_exponent", p.law_exponent, 0.0, MAX_LAW_EXPONENT, low_open=True)}
+    defaults = {field.name: field.default for field in dataclasses.fields(p)}
+    used = {"constant": (), "bridges": ("law_speed", "law_exponent"), "viscoelastic": ("law_speed",)}
+    for name in ("law_speed", "law_exponent"):
+        if name not in used[p.restitution_law] and values[name] != defaults[name]:
+            laws = " or ".join(law for law, names in used.items() if name in names)
+            raise ValueError(f"{name} needs restitution_law {laws} (restitution_law {p.restitution_law} has no "
+                             f"{name}); got {name} {values[name]:g}")
     return values
 
 

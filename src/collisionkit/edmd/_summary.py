@@ -9,7 +9,9 @@ with the theory's at rest: equipartition if elastic, the homogeneous
 cooling state's if not (``temperature_species_theory``). A gas that cools
 at rest gives its cooling rate per collision (``cooling_rate``, -d ln T /
 dC) beside Haff's law or the mixture's cooling state's
-(``cooling_rate_theory``).
+(``cooling_rate_theory``); with a restitution law (one species), beside the
+Maxwellian rate of :func:`~collisionkit.edmd.maxwellian_cooling_rate` at
+each block's kT, averaged over the blocks as the measured rate is.
 
 A sheared run's theory is taken at ``temperature_mean``, the time average
 of kT over the measurement (the viscous heating raises kT between the
@@ -37,6 +39,8 @@ from .mixture_theory import (
     MIXTURE_EQUATION_OF_STATE, homogeneous_cooling_rate, homogeneous_cooling_temperatures, mixture_collision_frequency,
     mixture_compressibility, mixture_contact_values,
 )
+from ._msd import block_error
+from .restitution_laws import maxwellian_cooling_rate
 from .theory import (
     carnahan_starling, cooling_state_a2, enskog_collision_frequency, enskog_transport, hansen_goos, henderson,
     yeh_hummer_correction,
@@ -69,6 +73,7 @@ def edmd_summary(run, measurement, files: Sequence = ()) -> dict[str, Any]:
     result |= {
         "initial": p.initial,
         "restitution": p.restitution,
+        "restitution_law": p.restitution_law,
         "seed": p.seed,
         "blocks": p.blocks,
         "equilibration_collisions": run.equilibrated,
@@ -112,8 +117,8 @@ def edmd_summary(run, measurement, files: Sequence = ()) -> dict[str, Any]:
         result["contact_values"] = _nested(measurement.contact_values)
         result["contact_values_error"] = _nested(measurement.contact_values_error)
     if "cooling_rate" in result and not sheared:  # a cooling gas: Haff's law, or the mixture's cooling state
-        result |= _cooling_theory(p, result)
-    if "sonine_a2" in result and p.fractions is None:
+        result |= _cooling_theory(p, result, measurement, system.elastic_below)
+    if "sonine_a2" in result and p.fractions is None and p.restitution_law == "constant":
         # Maxwell's distribution (0) in equilibrium (wells too), the cooling state's first Sonine correction if not
         result["sonine_a2_theory"] = 0.0 if p.elastic else float(cooling_state_a2(p.restitution, p.dim))
     if measurement.species_temperatures is not None:  # each species' kT over the mixture's
@@ -152,8 +157,11 @@ def _mixture_theory(p, measurement, kT: float) -> dict[str, Any]:
     }
 
 
-def _cooling_theory(p, result) -> dict[str, Any]:
-    """The homogeneous cooling state's -d ln T / dC beside the measured: (1 - e^2) / d for one species."""
+def _cooling_theory(p, result, measurement, elastic_below: float) -> dict[str, Any]:
+    """The homogeneous cooling state's -d ln T / dC beside the measured: (1 - e^2) / d for one species; with a
+    restitution law (one species) the Maxwellian rate at each block's kT, averaged as the measured rate is."""
+    if p.restitution_law != "constant":
+        return {} if p.fractions is not None else _law_cooling_theory(p, measurement, elastic_below)
     kinds = len(p.species_counts)
     composition = [count / p.particles for count in p.species_counts]
     theory = homogeneous_cooling_rate(p.packing_fraction, composition, p.diameters or (1.0,) * kinds,
@@ -162,12 +170,30 @@ def _cooling_theory(p, result) -> dict[str, Any]:
             _in_sigmas(result["cooling_rate"] - theory, result["cooling_rate_error"])}
 
 
+def _law_cooling_theory(p, measurement, elastic_below: float) -> dict[str, Any]:
+    """A restitution law's Maxwellian -d ln T / dC, block by block at the geometric mean of its ends' kT.
+
+    The rate falls as the gas cools, so the blocks' rates differ by more than
+    their noise and their scatter overstates the error of the difference:
+    the deviation in sigmas is that of the blocks' residuals, measured minus
+    theory, whose scatter is the noise alone.
+    """
+    ends = np.asarray(measurement.block_temperature, dtype=float)
+    per_block = 2.0 * (p.collisions // p.blocks) / p.particles  # collisions per particle in a block
+    measured = -np.diff(np.log(ends)) / per_block
+    theory = maxwellian_cooling_rate(np.sqrt(ends[:-1] * ends[1:]), p.dim, 1.0, p.restitution_law, p.restitution,
+                                     p.law_speed, p.law_exponent, elastic_below)
+    residuals = measured - theory
+    return {"cooling_rate_theory": float(np.mean(theory)),
+            "cooling_rate_deviation_sigmas": _in_sigmas(float(np.mean(residuals)), block_error(residuals))}
+
+
 def _species_temperatures(p, measurement) -> dict[str, Any]:
     """Each species' T_a / T, and (at rest) the theory's: equipartition if elastic, else the homogeneous cooling
     state's (Garzo & Dufty 1999)."""
     result = {"temperature_species": _nested([measurement.species_temperatures])[0],
               "temperature_species_error": _nested([measurement.species_temperatures_error])[0]}
-    if p.shear_rate == 0.0 and p.fractions is not None:
+    if p.shear_rate == 0.0 and p.fractions is not None and p.restitution_law == "constant":
         composition = [count / p.particles for count in p.species_counts]
         theory = homogeneous_cooling_temperatures(p.packing_fraction, composition, p.diameters or (1.0,) * len(
             composition), p.masses or 1.0, p.restitution, p.dim)
@@ -249,16 +275,18 @@ def cooling_note(run) -> str | None:
     """
     if run.parameters.elastic:
         return None if run.sampler is None or run.sampler.done < 2 else _heating_note(run)
-    system = run.system
+    system, law = run.system, run.parameters.restitution_law
     kT = system.temperature()
+    inelastic = "restitution < 1" if law == "constant" else f"the {law} restitution law"
     if run.parameters.shear_rate != 0.0:
-        return (f"restitution < 1 under shear: the viscous heating of the flow balances the collisional cooling "
+        return (f"{inelastic} under shear: the viscous heating of the flow balances the collisional cooling "
                 f"in a steady state (kT from 1 to {kT:.3g}); compare with granular_shear_flow (dilute gas)")
     if system.elastic_below > 0 and kT > BARELY_COOLED:
-        return (f"restitution < 1, but the gas barely cooled (kT from 1 to {kT:.3g}): contacts slower than "
+        return (f"{inelastic}, but the gas barely cooled (kT from 1 to {kT:.3g}): contacts slower than "
                 f"--elastic-below {system.elastic_below:.3g} are elastic, and nearly all were; this is the run of "
                 "an elastic gas")
-    note = (f"restitution < 1: the gas cooled as it ran (homogeneous cooling, Haff's law), kT from 1 to {kT:.3g}; "
+    how = "homogeneous cooling, Haff's law" if law == "constant" else "homogeneous cooling, its rate falling with kT"
+    note = (f"{inelastic}: the gas cooled as it ran ({how}), kT from 1 to {kT:.3g}; "
             "Z, the collision frequency and D are averages over a cooling state, not equilibrium values; the "
             "cooling theory assumes the gas stayed homogeneous, which a dense or large one does not (clusters)")
     if system.elastic_below > 0 and kT < 100.0 * system.elastic_below**2:

@@ -17,7 +17,7 @@ from . import _checks
 from ._cell_crossings import cells_fit, engine_code
 from .theory import packing_fraction
 
-RESTITUTION_LAWS = {"constant": _k.LAW_CONSTANT, "bridges": _k.LAW_BRIDGES}
+RESTITUTION_LAWS = {"constant": _k.LAW_CONSTANT, "bridges": _k.LAW_BRIDGES, "viscoelastic": _k.LAW_VISCOELASTIC}
 # neighbour-list entries per particle a new system starts with (the rows grow when a run needs more)
 INITIAL_LIST_WIDTH = 16
 

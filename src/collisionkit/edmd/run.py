@@ -37,6 +37,7 @@ from ._run_state import CHECKPOINT_KIND, restore_run, resume_arguments, save_run
 from ._summary import BARELY_COOLED, cooling_note, edmd_summary  # noqa: F401 (BARELY_COOLED: the CLI's)
 from .initial import lattice, lattice_cells, maxwell_boltzmann, random_fluid
 from .measurement import Measurement, Sampler
+from .restitution_laws import BRIDGES_EXPONENT
 from .system import HardSphereSystem
 
 __all__ = ["EdmdParameters", "EdmdRun"]
@@ -70,6 +71,18 @@ class EdmdParameters(Parameters):
         (:func:`~collisionkit.edmd.homogeneous_cooling_temperatures`).
     elastic_below : float, optional
         Contacts with a normal approach speed below this are elastic (>= 0).
+    restitution_law : {"constant", "bridges", "viscoelastic"}
+        The restitution of a contact as a function of its normal approach
+        speed u_n (:func:`~collisionkit.edmd.restitution_coefficient`): the
+        smaller of ``restitution`` and the law's e(u_n). "bridges":
+        (u_n / law_speed)^-law_exponent above law_speed (ice, planetary
+        rings); "viscoelastic": viscoelastic spheres, 1 - e = (u_n /
+        law_speed)^(1/5) + ... A cooling gas of one species is compared with
+        :func:`~collisionkit.edmd.maxwellian_cooling_rate`.
+    law_speed : float
+        The law's speed u_c, in (0, 1e30] thermal speeds (default 1).
+    law_exponent : float
+        The Bridges law's exponent, in (0, 10] (default 0.234, ice).
     equilibration : int, optional
         Pair collisions before measuring (>= 0; default 20 per particle).
     collisions : int, optional
@@ -148,6 +161,9 @@ class EdmdParameters(Parameters):
     packing_fraction: float = 0.3
     restitution: float | tuple[tuple[float, ...], ...] = 1.0
     elastic_below: float | None = None
+    restitution_law: str = "constant"
+    law_speed: float = 1.0
+    law_exponent: float = BRIDGES_EXPONENT
     equilibration: int | None = None
     collisions: int | None = None
     blocks: int = 10
@@ -196,16 +212,18 @@ class EdmdParameters(Parameters):
 
     @property
     def elastic(self) -> bool:
-        """True if every pair's restitution is 1.
+        """True if every pair's restitution is 1 and no law lowers it.
 
         Examples
         --------
         >>> EdmdParameters().elastic, EdmdParameters(restitution=0.9).elastic
         (True, False)
+        >>> EdmdParameters(restitution_law="viscoelastic", law_speed=1e6).elastic
+        False
         >>> EdmdParameters(fractions=(0.5, 0.5), restitution=((1.0, 0.9), (0.9, 1.0))).elastic
         False
         """
-        return bool(np.all(np.asarray(self.restitution) == 1.0))
+        return bool(np.all(np.asarray(self.restitution) == 1.0)) and self.restitution_law == "constant"
 
     @property
     def species_counts(self) -> tuple[int, ...]:
@@ -244,7 +262,8 @@ def _initial_system(parameters: EdmdParameters, progress: Callable[[float], Any]
         positions, box = lattice(p.initial, lattice_cells(p.initial, p.dim, p.particles), p.packing_fraction)
         velocities = maxwell_boltzmann(masses, p.dim, kT=1.0, seed=p.seed)
     return HardSphereSystem(positions, velocities, diameters / 2.0, box, masses, species=species,
-                            restitution=p.restitution, elastic_below=p.elastic_below, shear_rate=p.shear_rate,
+                            restitution=p.restitution, restitution_law=p.restitution_law, law_speed=p.law_speed,
+                            law_exponent=p.law_exponent, elastic_below=p.elastic_below, shear_rate=p.shear_rate,
                             thermostat=1.0 if p.thermostat else None, engine=p.engine, well_width=p.well_width,
                             well_depth=p.well_depth)
 

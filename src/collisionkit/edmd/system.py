@@ -164,12 +164,15 @@ class HardSphereSystem(SystemParameters, ParticleState, NeighbourLists, CellCros
         Coefficient of normal restitution per species pair, in [0, 1]. At 0
         a contact is sticky: the pair's normal approach stops, and the pair
         slides apart along its tangent.
-    restitution_law : {"constant", "bridges"}
+    restitution_law : {"constant", "bridges", "viscoelastic"}
         "bridges": e = min(e_pair, (u_n / law_speed)^(-law_exponent)), the
         law measured for ice at planetary-ring temperatures (Bridges, Hatzes
-        & Lin, Nature 309, 333 (1984), exponent 0.234).
+        & Lin, Nature 309, 333 (1984), exponent 0.234). "viscoelastic":
+        e = min(e_pair, e_visco(q)), viscoelastic spheres with
+        q = (u_n / law_speed)^(1/5) and 1 - e_visco = q + O(q^2)
+        (:mod:`~collisionkit.edmd.restitution_laws`).
     law_speed, law_exponent : float
-        Parameters of the Bridges law.
+        Parameters of the laws (law_exponent: Bridges' only).
     elastic_below : float, optional
         Pair contacts and wall bounces with normal approach speed below
         this are elastic: protects inelastic runs against inelastic collapse

@@ -306,7 +306,8 @@ def plot_radial_distribution(r, g, ax=None, partial=None):
     return ax
 
 
-def plot_cooling(collisions, temperatures, rate=None, species=None, ax=None, species_theory=None):
+def plot_cooling(collisions, temperatures, rate=None, species=None, ax=None, species_theory=None,
+                 theory_temperatures=None):
     """kT of a cooling gas against collisions per particle (log scale), with the theory's line and each species'.
 
     Parameters
@@ -325,6 +326,10 @@ def plot_cooling(collisions, temperatures, rate=None, species=None, ax=None, spe
     species_theory : array_like, shape (S,), optional
         The theory's T_a / T (``temperature_species_theory``): each species'
         kT_a by it, dotted in the species' colour.
+    theory_temperatures : array_like, shape (K,), optional
+        The theory's kT at ``collisions`` when its rate changes as the gas
+        cools (a restitution law: :func:`~collisionkit.edmd.maxwellian_cooling`
+        from the first point), drawn as the theory's line instead of ``rate``'s.
 
     Returns
     -------
@@ -348,7 +353,12 @@ def plot_cooling(collisions, temperatures, rate=None, species=None, ax=None, spe
                          f"{temperatures.shape}")
     ax = _axes(ax)
     ax.semilogy(collisions, temperatures, "o", color="C0", label="all")
-    if rate is not None:
+    if theory_temperatures is not None:
+        theory_temperatures = np.asarray(theory_temperatures, dtype=float)
+        if theory_temperatures.shape != collisions.shape:
+            raise ValueError(f"theory_temperatures must have shape {collisions.shape}; got {theory_temperatures.shape}")
+        ax.semilogy(collisions, theory_temperatures, color="0.4", lw=1, label="theory (Maxwellian)")
+    elif rate is not None:
         ax.semilogy(collisions, temperatures[0] * np.exp(-rate * (collisions - collisions[0])), color="0.4", lw=1,
                     label=f"theory, -d ln T/dC = {rate:.4g}")
     if species is not None:

@@ -27,11 +27,12 @@ import math
 from ..._jit import borrowing_inline_kernel as inline_kernel
 from .layout import (
     ACC_ENERGY_IMAGE, ACC_ENERGY_LOST, ACC_HEAT, ACC_MOMENTUM_IMAGE, ACC_PAIR_COLLISIONS, ACC_STRESS, ACC_VIRIAL,
-    ACC_WALL_COLLISIONS, ACC_WALL_IMPULSE, G_BOX, LAW_BRIDGES, MASS, P_ELASTIC_BELOW, P_LAW, P_LAW_EXPONENT, P_LAW_SPEED,
-    P_SHEAR_RATE, P_WALL_RESTITUTION, R, SPECIES, T, V, X,
+    ACC_WALL_COLLISIONS, ACC_WALL_IMPULSE, G_BOX, LAW_BRIDGES, LAW_VISCOELASTIC, MASS, P_ELASTIC_BELOW, P_LAW,
+    P_LAW_EXPONENT, P_LAW_SPEED, P_SHEAR_RATE, P_WALL_RESTITUTION, R, SPECIES, T, V, X,
 )
 from .exact import approach_ratio, sure_approach
 from .motion import half_box, minimum_image, shear_offset, sheared_image
+from .restitution_laws import viscoelastic_restitution
 
 # the relative spacing of doubles: the smallest velocity change that is not lost to rounding, relative to the velocity
 _LAST_PLACE = 2.0**-52
@@ -39,13 +40,15 @@ _LAST_PLACE = 2.0**-52
 
 @inline_kernel
 def restitution_for(i, j, approach, b, restitution, params):
-    """Coefficient of normal restitution of one contact."""
+    """Coefficient of normal restitution of one contact: the pair's, or its law's at ``approach`` if smaller."""
     if approach < params[P_ELASTIC_BELOW]:
         return 1.0
     e = restitution[int(b[i, SPECIES]), int(b[j, SPECIES])]
     speed = params[P_LAW_SPEED]
     if params[P_LAW] == LAW_BRIDGES and approach > speed:
         e = min(e, (approach / speed) ** (-params[P_LAW_EXPONENT]))
+    elif params[P_LAW] == LAW_VISCOELASTIC:
+        e = min(e, viscoelastic_restitution((approach / speed) ** 0.2))
     return e
 
 

@@ -156,6 +156,7 @@ PREFETCH_REBUILDS_FROM = 65536
 # restitution laws
 LAW_CONSTANT = 0
 LAW_BRIDGES = 1  # e = min(1, (u_n / u_c)^-exponent), Bridges, Hatzes & Lin, Nature 309, 333 (1984)
+LAW_VISCOELASTIC = 2  # viscoelastic spheres, 1 - e = (u_n / u_c)^(1/5) + ... (restitution_laws.py)
 
 
 @kernel
