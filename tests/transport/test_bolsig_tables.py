@@ -39,8 +39,10 @@ def test_a_two_term_scan_reads_back_section_by_section_in_rising_e_n(tmp_path):
     np.testing.assert_allclose(rates[:, 1], [result.rate_coefficients["reid:excitation"] for result in ordered],
                                rtol=1e-6)
     assert "Gas temperature (K)\t0.000" in text.splitlines()
+    monte_carlo_only = ("Longitud. diffusion coef. *N (1/m/s)", "Bulk mobility *N (1/m/V/s)",
+                        "Bulk L diffusion coef. *N (1/m/s)", "Bulk T diffusion coef. *N (1/m/s)")
     assert [header for header in _sections(text) if header != "Rate coefficient (m3/s)"] == [
-        header for header in BOLSIG_SECTIONS if header != "Longitud. diffusion coef. *N (1/m/s)"]
+        header for header in BOLSIG_SECTIONS if header not in monte_carlo_only]
 
 
 def test_a_swarm_of_the_maxwell_model_gives_its_exact_mobility_and_its_flux_diffusion():
@@ -62,6 +64,17 @@ def test_a_swarm_of_the_maxwell_model_gives_its_exact_mobility_and_its_flux_diff
                                [r.diffusion_L_N_flux for r in results], rtol=1e-6)
     np.testing.assert_array_equal(read_bolsig_section(text, "Townsend ioniz. coef. alpha/N (m2)"), [[5, 0], [20, 0]])
     assert text.splitlines()[0].startswith("collisionkit: Monte Carlo swarm")
+    # the bulk sections hold the bulk coefficients; without ionization or attachment bulk and flux drift agree
+    bulk = read_bolsig_section(text, "Bulk mobility *N (1/m/V/s)")[:, 1]
+    np.testing.assert_allclose(bulk, [abs(r.drift_velocity_bulk[2]) / (r.reduced_field * 1e-21) for r in results],
+                               rtol=1e-6)
+    bulk_errors = [abs(float(r.drift_velocity_bulk_error[2])) / (r.reduced_field * 1e-21) for r in results]
+    assert np.all(np.abs(bulk - exact) < 4 * np.hypot(bulk_errors, errors) + 1e-6 * exact), (bulk, exact)
+    np.testing.assert_allclose(read_bolsig_section(text, "Bulk L diffusion coef. *N (1/m/s)")[:, 1],
+                               [r.diffusion_L_N for r in results], rtol=1e-6)
+    np.testing.assert_allclose(read_bolsig_section(text, "Bulk T diffusion coef. *N (1/m/s)")[:, 1],
+                               [r.diffusion_T_N for r in results], rtol=1e-6)
+    assert results[0].diffusion_L_N != results[0].diffusion_L_N_flux  # two estimators: the test tells them apart
 
 
 def test_a_swarm_s_alpha_is_its_ionization_rate_over_its_flux_drift_so_alpha_times_w_is_the_rate():

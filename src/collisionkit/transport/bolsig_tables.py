@@ -11,7 +11,11 @@ writes the sections whose headers BOLSIG+ uses (``Mean energy (eV)``,
 ``Mobility *N (1/m/V/s)``, ``Diffusion coefficient *N (1/m/s)``, ...) from
 a scan of :class:`~collisionkit.transport.SwarmResult` (Monte Carlo: flux
 coefficients, the transverse diffusion as BOLSIG+'s, the longitudinal as
-``Longitud. diffusion coef. *N``, and alpha/N = k_ion / W and eta/N =
+``Longitud. diffusion coef. *N``, the bulk drift and diffusion under
+BOLSIG+'s bulk headers (``Bulk mobility *N (1/m/V/s)``, ``Bulk L diffusion
+coef. *N (1/m/s)``, ``Bulk T diffusion coef. *N (1/m/s)``, which BOLSIG+
+writes with temporal growth and streamer codes such as afivo-streamer read
+to scale their reaction rates), and alpha/N = k_ion / W and eta/N =
 k_att / W with W the flux drift, BOLSIG+'s definition with temporal growth,
 so that alpha times the mobility written beside it gives the ionization
 rate) or :class:`~collisionkit.transport.TwoTermResult` (the two-term
@@ -47,6 +51,9 @@ BOLSIG_SECTIONS = (
     "Mobility *N (1/m/V/s)",
     "Diffusion coefficient *N (1/m/s)",
     "Longitud. diffusion coef. *N (1/m/s)",
+    "Bulk mobility *N (1/m/V/s)",
+    "Bulk L diffusion coef. *N (1/m/s)",
+    "Bulk T diffusion coef. *N (1/m/s)",
     "Energy mobility *N (1/m/V/s)",
     "Energy diffusion coef. D*N (1/m/s)",
     "Momentum frequency /N (m3/s)",
@@ -58,15 +65,20 @@ BOLSIG_SECTIONS = (
 
 
 def _swarm_values(result: SwarmResult) -> dict[str, float]:
-    """A Monte Carlo result's sections: flux drift along E over E/N, flux diffusion (transverse and longitudinal)."""
+    """A Monte Carlo result's sections: flux drift along E over E/N, flux diffusion (transverse and longitudinal),
+    and the bulk drift and diffusion under BOLSIG+'s bulk headers."""
     field = result.reduced_field * TOWNSEND
     drift = abs(float(result.drift_velocity_flux[2]))
+    bulk_drift = abs(float(result.drift_velocity_bulk[2]))
     per_drift = 1.0 / drift if drift > 0 else math.nan
     return {
         "Mean energy (eV)": result.mean_energy,
         "Mobility *N (1/m/V/s)": drift / field if field > 0 else math.nan,
         "Diffusion coefficient *N (1/m/s)": result.diffusion_T_N_flux,
         "Longitud. diffusion coef. *N (1/m/s)": result.diffusion_L_N_flux,
+        "Bulk mobility *N (1/m/V/s)": bulk_drift / field if field > 0 else math.nan,
+        "Bulk L diffusion coef. *N (1/m/s)": result.diffusion_L_N,
+        "Bulk T diffusion coef. *N (1/m/s)": result.diffusion_T_N,
         "Total ionization freq. /N (m3/s)": result.ionization_frequency_N,
         "Total attachment freq. /N (m3/s)": result.attachment_frequency_N,
         "Townsend ioniz. coef. alpha/N (m2)": result.ionization_frequency_N * per_drift,
