@@ -601,3 +601,13 @@ def test_a_viscoelastic_gas_reports_its_cooling_against_the_maxwellian_rate(tmp_
     refused = invoke("--resume", tmp_path / "run.npz", "--restitution-law", "bridges")
     assert refused.exit_code == 2 and "restitution_law = bridges differs from the checkpoint" in \
         " ".join(refused.output.split())
+
+
+def test_an_elastic_floor_on_an_elastic_gas_is_said_to_change_nothing():
+    """--elastic-below with restitution 1 and no law: the run goes (a sweep over restitution may reach 1), with a
+    warning; with restitution below 1, none."""
+    options = ("--particles", "108", "--initial", "fcc", "--collisions", "400", "--equilibration", "0", "--no-plots")
+    elastic = invoke(*options, "--elastic-below", "0.5")
+    assert elastic.exit_code == 0 and "--elastic-below 0.5 changes nothing" in " ".join(elastic.output.split())
+    inelastic = invoke(*options, "--elastic-below", "0.5", "--restitution", "0.9")
+    assert inelastic.exit_code == 0 and "changes nothing" not in inelastic.output

@@ -169,6 +169,9 @@ def _new_run(options: EdmdOptions):
     cooling = _cooling_to_the_floor(parameters)
     if cooling is not None:
         note(cooling)
+    if parameters.elastic and parameters.elastic_below:  # (a sweep over restitution may reach 1: not an error)
+        warn(f"--elastic-below {parameters.elastic_below:g} changes nothing: every contact is elastic already "
+             "(restitution 1, no --restitution-law)")
     extra = _frame_notes(parameters, options.frame_every)
     warm_up(["edmd"], always=["edmd"])
     try:
