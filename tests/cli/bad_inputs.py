@@ -143,7 +143,12 @@ BAD_INPUTS = [
     ("encounter", ["--star1", "{file}", "--star2", "{file}", "--m1", "2"], "--m1 comes from the particles"),
     ("encounter", ["--star1", "{file}", "--star2", "{file}", "--radius2", "2"], "--radius2 comes from the particles"),
     # star
-    ("star", ["--particles", "1000"], "--polytrope N is required"),
+    ("star", ["--particles", "1000"], "give one of --polytrope N"),
+    ("star", ["--polytrope", "1.5", "--profile", "{file}"], "give one of --polytrope N"),
+    ("star", ["--profile", "{missing}"], "file not found"),
+    ("star", ["--profile", "{dir}"], "is a folder, not a file"),
+    ("star", ["--profile", "{file}"], "is not a MESA profile"),
+    ("star", ["--profile", "{file}", "--radius", "2"], "--mass and --radius come from the --profile itself"),
     ("star", ["--polytrope", "5"], "--polytrope: must be at least 0 and below 5; got 5"),
     ("star", ["--polytrope", "-1"], "polytrope"),
     ("star", ["--polytrope", "0"], "n = 0 (uniform density) has no polytropic gamma"),

@@ -64,3 +64,24 @@ def test_an_existing_star_file_is_replaced_only_with_overwrite(tmp_path):
     assert result.exit_code == 2 and "exists: pass --overwrite" in result.output and out.read_text() == "mine"
     assert invoke("--polytrope", 1.5, "--particles", 100, "--neighbours", 10, "--out", out, "--overwrite").exit_code == 0
     assert len(read_star(out)) == 100
+
+
+def test_a_mesa_profile_becomes_a_star_with_its_checks(tmp_path):
+    """--profile: the model's mass in the star's units, the virial ratio in the table and the summary, the star
+    file; a profile in the wrong units is sampled but warned about."""
+    from tests.encounters.test_profile_star import _write_mesa, polytrope_profile
+
+    profile = _write_mesa(tmp_path / "profile1.data", polytrope_profile(1.5, zones=800, with_mass=True))
+    out, summary = tmp_path / "star.npz", tmp_path / "star.json"
+    result = invoke("--profile", profile, "--particles", 600, "--units", "stellar", "--neighbours", 20, "--out", out,
+                    "--summary", summary)
+    assert result.exit_code == 0, result.output
+    data = json.loads(summary.read_text())
+    assert data["profile"]["zones"] == 799 and abs(data["profile"]["virial_ratio"] - 1.0) < 1e-3
+    assert read_star(out).mass == pytest.approx(1.0, rel=1e-3) and data["warnings"] == []
+    said = " ".join(result.output.split())
+    assert "unrelaxed star of profile1.data (stellar units" in said and "virial ratio" in said
+    wrong = tmp_path / "profile2.data"
+    wrong.write_text(profile.read_text().replace("logRho", "rho"))  # log10 values read as densities
+    flagged = invoke("--profile", wrong, "--particles", 100, "--neighbours", 10, "--out", tmp_path / "w.npz")
+    assert flagged.exit_code != 0 or "not in hydrostatic equilibrium" in " ".join(flagged.output.split())

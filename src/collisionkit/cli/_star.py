@@ -1,4 +1,5 @@
-"""The ``star`` subcommand: an unrelaxed polytrope as SPH particles, the input to an SPH code's own relaxation."""
+"""The ``star`` subcommand: an unrelaxed polytrope or stellar model (a MESA profile) as SPH particles, the input to an
+SPH code's own relaxation."""
 
 from __future__ import annotations
 
@@ -10,7 +11,7 @@ from pydantic import Field
 
 from ._common import (
     Deliveries, Options, OverwriteOption, fail, fail_for_option, fraction_reporter, load_options, note, print_table,
-    progress_bar, require, say,
+    progress_bar, require, say, warn,
 )
 
 UnitsName = Literal["nbody", "si", "cgs", "solar", "stellar"]
@@ -27,6 +28,7 @@ class StarOptions(Options):
     """
 
     polytrope: float | None = Field(default=None, ge=0, lt=5, allow_inf_nan=False)
+    profile: Path | None = None
     particles: int = Field(default=10_000, ge=2, le=10_000_000)
     mass: float = Field(default=1.0, gt=0, allow_inf_nan=False)
     radius: float = Field(default=1.0, gt=0, allow_inf_nan=False)
@@ -38,6 +40,7 @@ class StarOptions(Options):
     summary: Path | None = None
 
     output_files: ClassVar[tuple[str, ...]] = ("out", "summary")
+    input_files: ClassVar[tuple[str, ...]] = ("profile",)
 
     def parameters(self):
         """The star as :class:`collisionkit.encounters.PolytropeParameters` (a ValueError if the options clash).
@@ -47,8 +50,10 @@ class StarOptions(Options):
         >>> StarOptions(polytrope=1.5, units="stellar").parameters().units
         'stellar'
         """
-        from ..encounters import PolytropeParameters
+        from ..encounters import PolytropeParameters, ProfileStarParameters
 
+        if self.profile is not None:
+            return ProfileStarParameters(**{name: getattr(self, name) for name in ProfileStarParameters.names()})
         values = {name: getattr(self, name) for name in PolytropeParameters.names()}
         return PolytropeParameters(**values)
 
@@ -71,6 +76,26 @@ def check_star_file(path: Path, option: str) -> None:
         require("h5py", "stars", f"the HDF5 star file {option} {path}")
 
 
+def _profile_rows(summary, star):
+    units, energy = star.units, f"{star.units.mass} ({star.units.velocity})^2"
+    profile = summary["profile"]
+    rows = [
+        ("profile", profile["file"], f"{profile['zones']} zones"),
+        ("mass of the profile", f"{profile['mass_g']:.10g}", "g"),
+        ("radius of the outermost zone", f"{profile['radius_cm']:.10g}", "cm"),
+        ("virial ratio 3 int P dV / -W", f"{profile['virial_ratio']:.6f}", "1 in hydrostatic equilibrium"),
+        ("integral of rho / mass column - 1", f"{profile['mass_mismatch']:.3g}", ""),
+        ("internal energy u", summary["internal_energy"], ""),
+        ("particles", len(star), ""),
+        ("mass", f"{star.mass:.10g}", units.mass),
+        ("radius holding 99 % of the mass", f"{summary['star']['radius_99']:.10g}", units.length),
+        ("neighbours in a smoothing length", summary["parameters"]["neighbours"], ""),
+        ("potential energy of the profile", f"{summary['potential_energy_profile']:.10g}", energy),
+        ("thermal energy, sum m u", f"{summary['thermal_energy']:.10g}", energy),
+    ]
+    return rows
+
+
 def _rows(summary, star):
     units = star.units
     rows = [
@@ -91,7 +116,8 @@ def _rows(summary, star):
 
 
 def star(
-    polytrope: Annotated[float | None, typer.Option("--polytrope", help="Polytropic index n, 0 <= n < 5 (required).")] = None,
+    polytrope: Annotated[float | None, typer.Option("--polytrope", help="Polytropic index n, 0 <= n < 5 (or --profile).")] = None,
+    profile: Annotated[Path | None, typer.Option("--profile", help="A MESA profile*.data file: its stellar model as particles (mass and radius from it; u from its energy column, or P / ((gamma - 1) rho) with --gamma, 5/3 by default).")] = None,
     particles: Annotated[int | None, typer.Option(help="Number of SPH particles (> neighbours, <= 1e7).  \\[default: 10000]")] = None,
     mass: Annotated[float | None, typer.Option(help="Mass of the star (> 0), in the mass unit of --units.  \\[default: 1]")] = None,
     radius: Annotated[float | None, typer.Option(help="Radius of the star (> 0), in the length unit of --units.  \\[default: 1]")] = None,
@@ -100,33 +126,50 @@ def star(
         typer.Option(help="nbody (G = 1), si (kg m s), cgs (g cm s), solar (Msun AU yr), stellar (Msun Rsun km/s).  \\[default: nbody]"),
     ] = None,
     neighbours: Annotated[int | None, typer.Option(help="Neighbours within each smoothing length (>= 1).  \\[default: 50]")] = None,
-    gamma: Annotated[float | None, typer.Option(help="Adiabatic index of the gas (> 1) for the internal energy.  \\[default: 1 + 1/n]")] = None,
+    gamma: Annotated[float | None, typer.Option(help="Adiabatic index of the gas (> 1) for the internal energy.  \\[default: 1 + 1/n; a profile: its energy column, else 5/3]")] = None,
     seed: Annotated[int | None, typer.Option(help="Random seed (>= 0).  \\[default: 2026]")] = None,
     out: Annotated[Path | None, typer.Option(help="The star file: .hdf5 (GADGET/SWIFT snapshot layout) or .npz.  \\[default: star.hdf5]")] = None,
     summary: Annotated[Path | None, typer.Option("--summary", help="Write the results as JSON to this file.")] = None,
     config: Annotated[Path | None, typer.Option("--config", help="TOML file with these options (command line wins).")] = None,
     overwrite: OverwriteOption = None,
 ):
-    """Sample an unrelaxed polytrope as SPH particles (Lane-Emden), the input to an SPH code's own relaxation."""
+    """Sample an unrelaxed polytrope (Lane-Emden) or stellar model (--profile, MESA) as SPH particles, the input to an SPH code's own relaxation."""
     given = dict(
-        polytrope=polytrope, particles=particles, mass=mass, radius=radius, units=units, neighbours=neighbours,
+        polytrope=polytrope, profile=profile, particles=particles, mass=mass, radius=radius, units=units, neighbours=neighbours,
         gamma=gamma, seed=seed, out=out, summary=summary, overwrite=overwrite,
     )  # fmt: skip
     options = load_options(StarOptions, config, given)
-    if options.polytrope is None:
-        raise fail("--polytrope N is required: the polytropic index, 0 <= N < 5 (1.5: fully convective, 3: Eddington's standard model)")
+    if (options.polytrope is None) == (options.profile is None):
+        raise fail("give one of --polytrope N (the polytropic index, 0 <= N < 5; 1.5: fully convective, 3: "
+                   "Eddington's standard model) and --profile FILE (a MESA profile*.data)")
+    if options.profile is not None and options.model_fields_set & {"mass", "radius"}:
+        raise fail("--mass and --radius come from the --profile itself: leave them out")
     check_star_file(options.out, "--out")
     try:
         parameters = options.parameters()
     except (ValueError, TypeError) as error:
         raise fail_for_option(error, StarOptions) from None
-    from ..encounters import polytrope_summary, write_star
+    from ..encounters import polytrope_summary, profile_star_summary, read_mesa_profile, write_star
 
+    profile = None
+    if options.profile is not None:
+        try:
+            profile = read_mesa_profile(options.profile)
+        except (ValueError, OSError) as error:
+            raise fail(f"--profile: {error}") from None
     note(f"seed {parameters.seed} (--seed {parameters.seed} repeats this run)")
     with progress_bar("sampling the star", 100) as advance:
-        result, model = polytrope_summary(parameters, progress=fraction_reporter(advance, 100))
-    print_table(f"unrelaxed polytrope n = {parameters.polytrope:g} ({model.units.name} units, G = {model.G:.10g})",
-                ("quantity", "value", "unit"), _rows(result, model))
+        if profile is None:
+            result, model = polytrope_summary(parameters, progress=fraction_reporter(advance, 100))
+        else:
+            result, model = profile_star_summary(parameters, fraction_reporter(advance, 100), profile)
+    if options.profile is None:
+        title, rows = f"unrelaxed polytrope n = {parameters.polytrope:g}", _rows(result, model)
+    else:
+        title, rows = f"unrelaxed star of {result['profile']['file']}", _profile_rows(result, model)
+    print_table(f"{title} ({model.units.name} units, G = {model.G:.10g})", ("quantity", "value", "unit"), rows)
+    for text in result.get("warnings", ()):
+        warn(text)
     deliveries = Deliveries("star")
     deliveries.write(f"the star {options.out}", lambda: write_star(model, options.out))
     result["files"] = [str(path) for path in deliveries.files]

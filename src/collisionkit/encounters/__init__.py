@@ -64,6 +64,10 @@ The package, by responsibility:
 * :mod:`~collisionkit.encounters.polytrope` - :func:`lane_emden` and
   :func:`polytrope_star`, an unrelaxed polytrope as SPH particles
   (:class:`PolytropeParameters`, :func:`polytrope_summary`);
+* :mod:`~collisionkit.encounters.profile_star` - stars from stellar-structure
+  profiles: :class:`StellarProfile`, :func:`read_mesa_profile` (MESA) and
+  :func:`profile_star`, an unrelaxed particle star of a real model
+  (:class:`ProfileStarParameters`, :func:`profile_star_summary`);
 * :mod:`~collisionkit.encounters.placement` - two particle stars placed on the
   StarCrash orbit: :func:`place_stars`, :class:`StarEncounterParameters`,
   :func:`star_encounter_summary`.
@@ -79,6 +83,9 @@ from .initial_conditions import (
 from .orbit import Hyperbolic, TwoBodyOrbit
 from .placement import StarEncounterParameters, TidalWarning, place_stars, star_encounter_summary
 from .polytrope import LaneEmden, PolytropeParameters, lane_emden, polytrope_star, polytrope_summary
+from .profile_star import (
+    ProfileStarParameters, StellarProfile, profile_checks, profile_star, profile_star_summary, read_mesa_profile,
+)
 from .relative_orbit import ON_ORBIT_TOLERANCE
 from .run import EncounterParameters, encounter_summary
 from .star_files import StarFileError, read_star, write_star
@@ -106,6 +113,12 @@ __all__ = [
     "StarModel",
     "neighbour_smoothing_lengths",
     "StarFileError",
+    "ProfileStarParameters",
+    "StellarProfile",
+    "profile_checks",
+    "profile_star",
+    "profile_star_summary",
+    "read_mesa_profile",
     "read_star",
     "write_star",
     "LaneEmden",
