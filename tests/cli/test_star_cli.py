@@ -69,9 +69,9 @@ def test_an_existing_star_file_is_replaced_only_with_overwrite(tmp_path):
 def test_a_mesa_profile_becomes_a_star_with_its_checks(tmp_path):
     """--profile: the model's mass in the star's units, the virial ratio in the table and the summary, the star
     file; a profile in the wrong units is sampled but warned about."""
-    from tests.encounters.test_profile_star import _write_mesa, polytrope_profile
+    from tests.encounters.test_profile_star import _write_mesa, polytrope_cells
 
-    profile = _write_mesa(tmp_path / "profile1.data", polytrope_profile(1.5, zones=800, with_mass=True))
+    profile = _write_mesa(tmp_path / "profile1.data", polytrope_cells(1.5, zones=799))
     out, summary = tmp_path / "star.npz", tmp_path / "star.json"
     result = invoke("--profile", profile, "--particles", 600, "--units", "stellar", "--neighbours", 20, "--out", out,
                     "--summary", summary)

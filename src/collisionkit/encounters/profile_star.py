@@ -6,7 +6,9 @@ enclosed mass and the specific internal energy if the model gives them.
 :func:`read_mesa_profile` reads one from a MESA ``profile*.data`` file
 (Paxton et al., ApJS 192, 3 (2011)): six header lines (the fifth the column
 numbers, the sixth the column names), then one line per zone from the surface
-to the centre. The columns it takes, the first found of each:
+to the centre, each a cell: radius and mass at its outer face, density,
+pressure and energy averaged over it (``cells=True``). The columns it takes,
+the first found of each:
 
 * radius: ``radius_cm``, ``logR_cm`` (cm), ``radius``, ``logR`` (Rsun);
 * density: ``rho``, ``logRho`` (g/cm^3); pressure: ``pressure``, ``logP``
@@ -19,10 +21,11 @@ Solar units are the IAU 2015 nominal ones, as MESA uses them since release
 
 Two checks of a profile, exact for a star in hydrostatic equilibrium: the
 enclosed mass from the density, :math:`m(r) = \int_0^r 4\pi r^2\rho\,dr`,
-equals the model's own mass column (:meth:`StellarProfile.mass_mismatch`),
-and the virial theorem :math:`3\int P\,dV = -W`,
+equals the model's own mass column (:meth:`StellarProfile.mass_mismatch`;
+a MESA model's cells to 1e-14), and the virial theorem :math:`3\int P\,dV = -W`,
 :math:`W = -\int G m\,dm/r` (:meth:`StellarProfile.virial_ratio`, 1 for
-equilibrium: a column read in the wrong units puts it far from 1).
+equilibrium, MESA models' within 1e-8: a column read in the wrong units
+puts it far from 1).
 
 :func:`profile_star` samples the profile as particles the way
 :func:`~collisionkit.encounters.polytrope_star` samples a polytrope: equal
@@ -98,6 +101,12 @@ class StellarProfile:
         Specific internal energy (erg/g), > 0.
     source : str
         Where the profile came from (a file name), for summaries.
+    cells : bool
+        The layout of the zones. False (points): every value is at its
+        radius. True (cells, as MESA writes them): ``radius`` and ``mass`` are
+        each cell's outer face, ``density``, ``pressure`` and
+        ``internal_energy`` the averages over the cell between the face below
+        (or the centre) and that face.
 
     Examples
     --------
@@ -115,6 +124,7 @@ class StellarProfile:
     mass: np.ndarray | None = None
     internal_energy: np.ndarray | None = None
     source: str = ""
+    cells: bool = False
 
     def __post_init__(self):
         radius = _column(self.radius, "radius", None)
@@ -138,6 +148,9 @@ class StellarProfile:
             array.flags.writeable = False
             object.__setattr__(self, name, array)
         object.__setattr__(self, "source", str(self.source))
+        if not isinstance(self.cells, (bool, np.bool_)):
+            raise TypeError(f"cells must be true or false; got {self.cells!r}")
+        object.__setattr__(self, "cells", bool(self.cells))
 
     def __len__(self) -> int:
         return self.radius.size
@@ -148,8 +161,9 @@ class StellarProfile:
         return float(self.radius[-1])
 
     def integrated_mass(self) -> np.ndarray:
-        r""":math:`m(r) = \int_0^r 4\pi r^2 \rho\,dr` at each zone (g): a uniform sphere inside the first zone,
-        then trapezoids of :math:`r^2\rho` in r.
+        r""":math:`m(r) = \int_0^r 4\pi r^2 \rho\,dr` at each zone (g). Points: a uniform sphere inside the
+        first zone, then trapezoids of :math:`r^2\rho` in r; cells: the sum of each cell's density times its volume
+        (exact).
 
         Examples
         --------
@@ -160,6 +174,8 @@ class StellarProfile:
         >>> round(float(sphere.integrated_mass()[-1] / (4.0 / 3.0 * np.pi)), 6)
         1.0
         """
+        if self.cells:
+            return np.cumsum(self.density * self._cell_volumes())
         r, shell = self.radius, 4.0 * np.pi * self.radius**2 * self.density
         core = 4.0 / 3.0 * np.pi * r[0] ** 3 * self.density[0]
         return core + np.concatenate(([0.0], np.cumsum(0.5 * (shell[1:] + shell[:-1]) * np.diff(r))))
@@ -232,14 +248,21 @@ class StellarProfile:
         (1.0, True)
         """
         r, shell = self.radius, 4.0 * np.pi * self.radius**2 * self.pressure
-        volume_integral = 4.0 / 3.0 * np.pi * r[0] ** 3 * self.pressure[0] + float(
-            np.sum(0.5 * (shell[1:] + shell[:-1]) * np.diff(r)))
+        if self.cells:
+            volume_integral = float(self.pressure @ self._cell_volumes())
+        else:
+            volume_integral = 4.0 / 3.0 * np.pi * r[0] ** 3 * self.pressure[0] + float(
+                np.sum(0.5 * (shell[1:] + shell[:-1]) * np.diff(r)))
         return float(3.0 * volume_integral / -self.potential_energy())
+
+    def _cell_volumes(self) -> np.ndarray:
+        """The volume of each cell, from the face below (the centre for the first) to its own face."""
+        return 4.0 / 3.0 * np.pi * np.diff(self.radius**3, prepend=0.0)
 
     def specific_energy(self, radius, gamma: float | None = None) -> np.ndarray:
         """The internal energy per unit mass (erg/g) at ``radius`` (cm): the model's own if it has one and no
-        ``gamma`` is given, else P / ((gamma - 1) rho) (gamma default 5/3); log-linear between zones, the
-        innermost and outermost zones' values beyond them.
+        ``gamma`` is given, else P / ((gamma - 1) rho) (gamma default 5/3). Points: log-linear between zones, the
+        innermost and outermost zones' values beyond them; cells: the value of the cell holding the radius.
 
         Examples
         --------
@@ -252,11 +275,15 @@ class StellarProfile:
         """
         radius = np.asarray(radius, dtype=float)
         if self.internal_energy is not None and gamma is None:
-            return np.exp(np.interp(radius, self.radius, np.log(self.internal_energy)))
+            return self._at(radius, self.internal_energy)
         gamma = IDEAL_GAS_GAMMA if gamma is None else gamma
-        pressure = np.exp(np.interp(radius, self.radius, np.log(self.pressure)))
-        density = np.exp(np.interp(radius, self.radius, np.log(self.density)))
-        return pressure / ((gamma - 1.0) * density)
+        return self._at(radius, self.pressure) / ((gamma - 1.0) * self._at(radius, self.density))
+
+    def _at(self, radius: np.ndarray, values: np.ndarray) -> np.ndarray:
+        """``values`` at ``radius``: the holding cell's, or (points) log-linear between zones."""
+        if self.cells:
+            return values[np.minimum(np.searchsorted(self.radius, radius), values.size - 1)]
+        return np.exp(np.interp(radius, self.radius, np.log(values)))
 
     def radius_of_mass(self, mass) -> np.ndarray:
         """The radius (cm) enclosing ``mass`` (g, in [0, M]): r^3 linear in m between zones, from (0, 0).
@@ -328,7 +355,7 @@ def read_mesa_profile(path) -> StellarProfile:
     for quantity, column in zip(chosen, data.T):
         factor, logarithmic = MESA_COLUMNS[names[chosen[quantity]]][1:]
         values[quantity] = (10.0**column if logarithmic else column) * factor
-    return StellarProfile(**values, source=path.name)
+    return StellarProfile(**values, source=path.name, cells=True)
 
 
 def _target_units(units, profile: StellarProfile) -> tuple[UnitSystem, dict]:
