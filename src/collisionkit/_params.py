@@ -105,7 +105,18 @@ def check_unchanged(parameters: Parameters, given, path) -> None:
     """Raise ValueError if a parameter in ``given`` differs from the saved ``parameters`` of checkpoint ``path``."""
     if not given:
         return
-    now = parameters.from_mapping(parameters.to_dict() | _by_name(parameters, given))
+    try:
+        now = parameters.from_mapping(parameters.to_dict() | _by_name(parameters, given))
+    except ValueError:
+        # the given values do not combine with the saved ones: name the first that differs, not the saved one the
+        # check tripped over (a changed restitution_law leaves the saved law_speed without a law)
+        for name, value in sorted(_by_name(parameters, given).items()):
+            before = getattr(parameters, name)
+            if _plain(value) != _plain(before):
+                raise ValueError(f"{name} = {_shown(value)} differs from the checkpoint {path} ({name} = "
+                                 f"{_shown(before)}); a resumed run keeps the physics parameters it started with"
+                                 ) from None
+        raise
     for name in sorted(_by_name(parameters, given)):
         value, before = getattr(now, name), getattr(parameters, name)
         if value != before:

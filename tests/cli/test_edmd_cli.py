@@ -598,9 +598,11 @@ def test_a_viscoelastic_gas_reports_its_cooling_against_the_maxwellian_rate(tmp_
     output = " ".join(result.output.split())
     assert "Maxwellian, viscoelastic law" in output and "Haff" not in output
     assert (tmp_path / "out" / "cooling.png").stat().st_size > 10_000
-    refused = invoke("--resume", tmp_path / "run.npz", "--restitution-law", "bridges")
-    assert refused.exit_code == 2 and "restitution_law = bridges differs from the checkpoint" in \
-        " ".join(refused.output.split())
+    for law in ("bridges", "constant"):  # (constant: the saved law_speed then has no law, which is not the point)
+        refused = invoke("--resume", tmp_path / "run.npz", "--restitution-law", law)
+        assert refused.exit_code == 2 and f"restitution_law = {law} differs from the checkpoint" in \
+            " ".join(refused.output.split())
+    assert "(viscoelastic law, u_c = 10000)" in output
 
 
 def test_an_elastic_floor_on_an_elastic_gas_is_said_to_change_nothing():

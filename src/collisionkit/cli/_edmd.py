@@ -51,8 +51,8 @@ class EdmdOptions(Options):
     restitution: float | list[list[float]] = 1.0
     elastic_below: float | None = Field(default=None, ge=0, allow_inf_nan=False)
     restitution_law: LawName = "constant"
-    law_speed: float = Field(default=1.0, gt=0, allow_inf_nan=False)  # upper limits: the library's messages
-    law_exponent: float = Field(default=0.234, gt=0, allow_inf_nan=False)
+    law_speed: float = 1.0  # ranges (with NaN and inf): the library's messages, which name them
+    law_exponent: float = 0.234
     equilibration: int | None = Field(default=None, ge=0)
     collisions: int | None = Field(default=None, ge=2)
     blocks: int = Field(default=10, ge=2, le=100_000)

@@ -75,12 +75,13 @@ def rows(result: dict) -> list[tuple[str, str, str]]:
 
 def _law_cooling(p, system, collisions, temperatures):
     """A restitution law's Maxwellian kT from the first block end on (one species), else None."""
-    if p.restitution_law == "constant" or p.fractions is not None:
+    if p.restitution_law == "constant" or len(p.species_counts) > 1:
         return None
     from ..edmd import maxwellian_cooling
 
-    return maxwellian_cooling(collisions - collisions[0], temperatures[0], p.dim, 1.0, p.restitution_law,
-                              p.restitution, p.law_speed, p.law_exponent, system.elastic_below)
+    restitution = p.restitution if not isinstance(p.restitution, tuple) else p.restitution[0][0]
+    return maxwellian_cooling(collisions - collisions[0], temperatures[0], p.dim, p.masses[0] if p.masses else 1.0,
+                              p.restitution_law, restitution, p.law_speed, p.law_exponent, system.elastic_below)
 
 
 def _cooling_rows(result: dict, pm) -> list[tuple[str, str, str]]:
@@ -286,8 +287,11 @@ def report(run, options, extra: dict) -> None:
     result = run.summary(deliveries.files) | extra
     p = run.parameters
     kind = ("spheres" if p.dim == 3 else "discs") + ("" if p.fractions is None else f" of {len(p.fractions)} species")
-    title = (f"EDMD: {p.particles} hard {kind}, eta = {p.packing_fraction:g}, e = {_number_or_table(p.restitution)}, "
-             f"seed {p.seed}")
+    law = "" if p.restitution_law == "constant" else (
+        f" ({p.restitution_law} law, u_c = {p.law_speed:g}" + (f", p = {p.law_exponent:g})" if p.restitution_law ==
+                                                               "bridges" else ")"))
+    title = (f"EDMD: {p.particles} hard {kind}, eta = {p.packing_fraction:g}, e = {_number_or_table(p.restitution)}"
+             f"{law}, seed {p.seed}")
     print_table(title, ("quantity", "measured", "theory"), rows(result))
     note = run.cooling_note()
     if note is not None:

@@ -62,7 +62,8 @@ def well_parameters(system, well_width, well_depth, growth, shear_rate, engine):
                          f"pair > 0); got {well_depth!r}")
     inelastic = bool(np.any(system.restitution != 1.0)) or system.params[_k.P_WALL_RESTITUTION] != 1.0
     clashes = [(growth != 0.0, "compression"), (shear_rate != 0.0, "shear_rate"), (engine == "cells", 'engine="cells"'),
-               (inelastic, "restitution or wall_restitution below 1 (their energy balance is not kept with wells)")]
+               (inelastic, "restitution or wall_restitution below 1 (their energy balance is not kept with wells)"),
+               (system.params[_k.P_LAW] != _k.LAW_CONSTANT, "a restitution_law (wells keep elastic pairs)")]
     for clash, name in clashes:
         if clash:
             raise ValueError(f"well_width: square wells run without {name} (elastic, fixed radii, no shear, in the "

@@ -11,10 +11,10 @@ pair's constant, or, with a law, the smaller of that and the law's value:
   dissipative force (Brilliantov, Spahn, Hertzsch & Poeschel, Phys. Rev. E 53,
   5382 (1996)), its restitution a function of
   :math:`q = (u_n / u_c)^{1/5}` alone with :math:`1 - e = q + O(q^2)`,
-  solved exactly (to 1e-10) with the contact ending when its force vanishes
+  solved exactly (e to 1e-9, the loss 1 - e to 1e-5 of itself) with the contact ending when its force vanishes
   (Schwager & Poeschel, Phys. Rev. E 78, 051304 (2008)). From the material
   constants A and :math:`\rho / m_{eff}` of Brilliantov et al.,
-  :math:`u_c = (C_1 A (\rho/m_{eff})^{2/5})^{-5}` with
+  :math:`u_c = (\tfrac32 C_1 A (\rho/m_{eff})^{2/5})^{-5}` with
   :math:`C_1 = \sqrt\pi\, \Gamma(3/5) / (2^{1/5} 5^{2/5} \Gamma(21/10)) = 1.15345`
   (Ramirez, Poeschel, Brilliantov & Schwager, Phys. Rev. E 60, 4465 (1999)).
   One :math:`u_c` serves every pair.
@@ -39,7 +39,7 @@ import numpy as np
 from numpy.polynomial import chebyshev
 from scipy.integrate import quad, solve_ivp
 
-from .._kernels.edmd.restitution_laws import VISCOELASTIC_LOG_COEFFICIENTS, VISCOELASTIC_Q_MAX
+from .._kernels.edmd.restitution_laws import VISCOELASTIC_LOG_COEFFICIENTS, VISCOELASTIC_Q_MAX, VISCOELASTIC_Q_SERIES
 from . import _checks
 from ._system_setup import RESTITUTION_LAWS
 
@@ -56,7 +56,8 @@ def _viscoelastic(q: np.ndarray) -> np.ndarray:
     t = 2.0 * np.log1p(np.sqrt(inside)) / math.log1p(math.sqrt(VISCOELASTIC_Q_MAX)) - 1.0
     tail = np.where(q > VISCOELASTIC_Q_MAX, (np.maximum(q, VISCOELASTIC_Q_MAX) / VISCOELASTIC_Q_MAX) ** (-5.0 / 3.0),
                     1.0)
-    return np.where(q > 0.0, np.exp(chebyshev.chebval(t, VISCOELASTIC_LOG_COEFFICIENTS)) * tail, 1.0)
+    series = 1.0 - q + 0.6 * q * q
+    return np.where(q < VISCOELASTIC_Q_SERIES, series, np.exp(chebyshev.chebval(t, VISCOELASTIC_LOG_COEFFICIENTS)) * tail)
 
 
 def _law_arguments(law, restitution, law_speed, law_exponent, elastic_below):

@@ -10,17 +10,22 @@ line of centres:
   E 53, 5382 (1996)): the Hertz contact with a dissipative force
   ``(3/2) A rho xi^(1/2) xi'``. ``e`` depends on the speed through one
   variable, ``q = (u_n / u_c)^(1/5)``, scaled so that ``1 - e = q + O(q^2)``:
-  ``u_c = (C1 A (rho / m_eff)^(2/5))^-5`` with Ramirez et al.'s
-  ``C1 = 1.15345`` (Phys. Rev. E 60, 4465 (1999)). The contact ends when its
-  force vanishes, before the surfaces separate (Schwager & Poeschel, Phys.
-  Rev. E 78, 051304 (2008)).
+  ``u_c = ((3/2) C1 A (rho / m_eff)^(2/5))^-5`` with Ramirez et al.'s
+  ``C1 = 1.15345`` (Phys. Rev. E 60, 4465 (1999); the contact
+  ``xi'' + (rho / m_eff)(xi^(3/2) + (3/2) A xi^(1/2) xi') = 0``). The contact
+  ends when its force vanishes, before the surfaces separate (Schwager &
+  Poeschel, Phys. Rev. E 78, 051304 (2008)).
 
 ``e(q)`` of the viscoelastic law is a Chebyshev series of ``ln e`` in
 ``t = ln(1 + sqrt q) / ln(1 + sqrt q_max)``, fitted at 49 Chebyshev nodes to
 the contact equation solved directly (``tests/edmd/viscoelastic_contact.py``,
 ``chebyshev_fit(48)``; the tests check it against fresh solutions to 1e-9).
 ``e`` has a ``q^(5/2)`` term, hence the square root. Above ``q_max`` = 10^4
-(``e`` = 3.6e-7) it follows its asymptote ``e ~ q^(-5/3)``.
+(``e`` = 3.6e-7) it follows its asymptote ``e ~ q^(-5/3)`` (within 1e-5);
+below ``q`` = 10^-5 its expansion ``1 - q + (3/5) q^2`` (Ramirez et al.'s
+``C2 / C1^2``; the ``q^(5/2)`` term, ``0.18 q^(5/2)``, is below 1e-8 of
+``1 - e`` there), so that the loss ``1 - e`` of nearly elastic contacts keeps
+its relative accuracy (the series' 1e-10 in ``e`` would be all of it).
 """
 
 from __future__ import annotations
@@ -32,6 +37,7 @@ import numpy as np
 from ..._jit import borrowing_inline_kernel as inline_kernel
 
 VISCOELASTIC_Q_MAX = 1e4
+VISCOELASTIC_Q_SERIES = 1e-5  # below: e = 1 - q + (3/5) q^2
 _LOG_SPAN = math.log1p(math.sqrt(VISCOELASTIC_Q_MAX))
 _TAIL_EXPONENT = -5.0 / 3.0
 # Chebyshev coefficients of ln e(q) on t in [0, 1] mapped to [-1, 1]
@@ -54,8 +60,8 @@ VISCOELASTIC_LOG_COEFFICIENTS = np.array((
 @inline_kernel
 def viscoelastic_restitution(q):
     """e of viscoelastic spheres at ``q = (u_n / u_c)^(1/5)`` (see the module docstring); 1 at q = 0."""
-    if q <= 0.0:
-        return 1.0
+    if q < VISCOELASTIC_Q_SERIES:
+        return 1.0 - q + 0.6 * q * q
     tail = 1.0
     if q > VISCOELASTIC_Q_MAX:
         tail = (q / VISCOELASTIC_Q_MAX) ** _TAIL_EXPONENT
