@@ -180,3 +180,22 @@ def test_the_grid_exit_warning_is_kept(stars):
     assert GridExitWarning in [item.category for item in caught]
     with pytest.raises(ValueError, match="sep0 must be >= rp"):
         place_stars(*stars, PARAMETERS.replace(rp=20.0))
+
+
+def test_outer_envelopes_within_periastron_are_warned_when_the_99_percent_radii_miss(stars):
+    """The outermost particles' distances from each centre of mass are in the summary; an rp between the sum of the
+    99 %-mass radii and the sum of the outer radii warns that the envelopes graze (a real star's envelope holds
+    little mass far out); below both, the stars touch and no separate warning is given."""
+    r1, r2 = stars[0].radius(0.99), stars[1].radius(0.99)
+    outer1, outer2 = stars[0].radius(1.0), stars[1].radius(1.0)
+    assert outer1 + outer2 > r1 + r2
+    grazing = PARAMETERS.replace(rp=0.5 * (r1 + r2 + outer1 + outer2))
+    summary, _, _ = star_encounter_summary(*stars, grazing)
+    assert summary["outer_radii"] == [outer1, outer2] and summary["envelopes_touch"] is True
+    assert summary["contact"]["touches"] is False
+    assert any("outer envelopes reach within periastron" in text for text in summary["warnings"])
+    head_on = PARAMETERS.replace(rp=0.5 * (r1 + r2))
+    summary, _, _ = star_encounter_summary(*stars, head_on)
+    assert summary["envelopes_touch"] is True and not any("outer envelopes" in text for text in summary["warnings"])
+    far = PARAMETERS.replace(rp=1.01 * (outer1 + outer2), sep0=12.0)
+    assert star_encounter_summary(*stars, far)[0]["envelopes_touch"] is False

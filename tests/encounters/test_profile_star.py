@@ -106,21 +106,21 @@ def test_sampled_radii_follow_the_lane_emden_mass_and_energies_the_closed_form(n
     assert star.mass == pytest.approx(profile.total_mass, rel=1e-12)
 
 
-def test_units_nbody_scale_the_star_to_unit_mass_and_radius():
-    """N-body units: M = 1, radii <= 1, and u in units of G M / R is the cgs u over G M / R; stellar units through
-    the conversion factors. Kills: the nbody scale left in cgs, a velocity factor not squared."""
+def test_units_convert_through_the_factors_and_nbody_is_refused():
+    """Stellar and solar units are the cgs star times the conversion factors (lengths, and u by the velocity factor
+    squared); N-body units, which have no size, are refused (two stars would both get M = 1, R = 1). Kills: a
+    velocity factor not squared, masses left in grams."""
     profile = polytrope_profile(3.0)
-    nbody = profile_star(profile, 500, units="nbody", neighbours=10, seed=1)
     cgs = profile_star(profile, 500, units="cgs", neighbours=10, seed=1)
-    stellar = profile_star(profile, 500, units="stellar", neighbours=10, seed=1)
-    assert nbody.units.name == "nbody" and nbody.mass == pytest.approx(1.0, rel=1e-12)
-    assert np.linalg.norm(nbody.positions, axis=1).max() <= 1.0
-    scale = G_CGS * profile.total_mass / profile.surface_radius
-    np.testing.assert_allclose(nbody.internal_energies, cgs.internal_energies / scale, rtol=1e-12)
-    np.testing.assert_allclose(nbody.positions, cgs.positions / profile.surface_radius, rtol=1e-12)
-    factors = conversion_factors("cgs", unit_system("stellar"))
-    np.testing.assert_allclose(stellar.internal_energies, cgs.internal_energies * factors["specific_energy"],
-                               rtol=1e-12)
+    for name in ("stellar", "solar"):
+        star = profile_star(profile, 500, units=name, neighbours=10, seed=1)
+        factors = conversion_factors("cgs", unit_system(name))
+        np.testing.assert_allclose(star.internal_energies, cgs.internal_energies * factors["specific_energy"],
+                                   rtol=1e-12)
+        np.testing.assert_allclose(star.positions, cgs.positions * factors["length"], rtol=1e-12)
+        assert star.mass == pytest.approx(cgs.mass * factors["mass"], rel=1e-12) and star.units.name == name
+    with pytest.raises(ValueError, match="units nbody .* would lose the star's mass and radius"):
+        profile_star(profile, 500, units="nbody", neighbours=10)
 
 
 def _write_mesa(path, profile: StellarProfile, names=("zone", "logR", "logRho", "logP", "mass"), energy=None):
@@ -173,6 +173,13 @@ def test_files_and_profiles_that_are_no_star_are_refused(tmp_path):
     (tmp_path / "binary.data").write_bytes(b"\x80\xff" * 100)
     with pytest.raises(ValueError, match="binary.data is not a MESA profile: it is not text"):
         read_mesa_profile(tmp_path / "binary.data")
+    holed = _write_mesa(tmp_path / "nan.data", profile)
+    lines = holed.read_text().splitlines()
+    lines[10] = lines[10].replace(lines[10].split()[3], "nan", 1)  # logP of a zone (the file's line 11)
+    holed.write_text("\n".join(lines) + "\n")
+    with pytest.raises(ValueError, match="nan.data line 11: the pressure column holds nan"):
+        read_mesa_profile(holed)
+    assert repr(profile).startswith("StellarProfile(20 points, mass=") and len(repr(profile)) < 120
     (tmp_path / "c.data").write_text("1 2\n")
     with pytest.raises(ValueError, match="not a MESA profile"):
         read_mesa_profile(tmp_path / "c.data")

@@ -160,6 +160,12 @@ def _new_run(options: EdmdOptions):
     from ..edmd import EdmdRun, OverlapError
 
     _require_outputs(options)
+    given_law = sorted(options.model_fields_set & {"law_speed", "law_exponent"})
+    if options.restitution_law == "constant" and given_law:  # (at its default value it would pass unseen)
+        name = given_law[0]  # as the library says it for a value other than the default
+        laws = "bridges or viscoelastic" if name == "law_speed" else "bridges"
+        raise fail(f"--{name.replace('_', '-')} needs restitution_law {laws} (restitution_law constant has no {name});"
+                   f" got {name} {getattr(options, name):g}")
     try:
         parameters = options.parameters().resolved()
     except ValueError as error:

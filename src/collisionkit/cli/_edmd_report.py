@@ -91,7 +91,9 @@ def _cooling_rows(result: dict, pm) -> list[tuple[str, str, str]]:
     theory = result.get("cooling_rate_theory")
     where = "Haff, (1 - e^2)/d" if "species_counts" not in result else "homogeneous cooling, Garzo-Dufty"
     if result.get("restitution_law", "constant") != "constant":
-        where = f"Maxwellian, {result['restitution_law']} law, blocks' mean"
+        sigmas = result.get("cooling_rate_deviation_sigmas")
+        off = "" if sigmas is None or not math.isfinite(sigmas) else f"; measured {sigmas:+.1f} sigma"
+        where = f"Maxwellian, {result['restitution_law']} law, blocks' mean{off}"
     return [("cooling rate per collision -d ln T/dC", pm("cooling_rate"),
              "" if theory is None else f"{theory:.5g} ({where})")]
 

@@ -240,10 +240,13 @@ def _star_rows(result):
             (f"star {number}: particles", star["particles"], ""),
             (f"star {number}: mass", f"{star['mass']:.10g}", labels["mass"]),
             (f"star {number}: radius holding 99 % of the mass", f"{star['radius_99']:.10g}", labels["length"]),
+            (f"star {number}: outermost particle's distance", f"{result['outer_radii'][number - 1]:.10g}",
+             labels["length"]),
         ]
     rows += [
         ("sep0 / (R1 + R2) (tides negligible above 5)", f"{result['sep0_over_radii']:.10g}", ""),
         ("stars overlap at sep0", result["overlap_at_sep0"], ""),
+        ("outer envelopes reach within rp", result["envelopes_touch"], ""),
     ]
     return rows
 

@@ -32,7 +32,7 @@ class StarOptions(Options):
     particles: int = Field(default=10_000, ge=2, le=10_000_000)
     mass: float = Field(default=1.0, gt=0, allow_inf_nan=False)
     radius: float = Field(default=1.0, gt=0, allow_inf_nan=False)
-    units: UnitsName = "nbody"
+    units: UnitsName | None = None  # nbody for a polytrope, stellar for a --profile (a real star has a size)
     neighbours: int = Field(default=50, ge=1)
     gamma: float | None = Field(default=None, gt=1, allow_inf_nan=False)
     seed: int = Field(default=2026, ge=0)
@@ -53,9 +53,10 @@ class StarOptions(Options):
         from ..encounters import PolytropeParameters, ProfileStarParameters
 
         if self.profile is not None:
-            return ProfileStarParameters(**{name: getattr(self, name) for name in ProfileStarParameters.names()})
+            values = {name: getattr(self, name) for name in ProfileStarParameters.names()}
+            return ProfileStarParameters(**values | {"units": self.units or "stellar"})
         values = {name: getattr(self, name) for name in PolytropeParameters.names()}
-        return PolytropeParameters(**values)
+        return PolytropeParameters(**values | {"units": self.units or "nbody"})
 
 
 def check_star_file(path: Path, option: str) -> None:
@@ -123,7 +124,7 @@ def star(
     radius: Annotated[float | None, typer.Option(help="Radius of the star (> 0), in the length unit of --units.  \\[default: 1]")] = None,
     units: Annotated[
         str | None,
-        typer.Option(help="nbody (G = 1), si (kg m s), cgs (g cm s), solar (Msun AU yr), stellar (Msun Rsun km/s).  \\[default: nbody]"),
+        typer.Option(help="nbody (G = 1; not with --profile), si (kg m s), cgs (g cm s), solar (Msun AU yr), stellar (Msun Rsun km/s).  \\[default: nbody; with --profile: stellar]"),
     ] = None,
     neighbours: Annotated[int | None, typer.Option(help="Neighbours within each smoothing length (>= 1).  \\[default: 50]")] = None,
     gamma: Annotated[float | None, typer.Option(help="Adiabatic index of the gas (> 1) for the internal energy.  \\[default: 1 + 1/n; a profile: its energy column, else 5/3]")] = None,

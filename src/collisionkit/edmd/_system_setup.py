@@ -111,15 +111,19 @@ def restitution_parameters(species, restitution, law, law_speed, law_exponent, w
     return np.ascontiguousarray(matrix), params
 
 
-def default_elastic_below(restitution, law, velocities, wall_restitution=1.0, gravity=None, box=None):
-    """The elastic floor when none is given: 1e-6 of the speed scale if contacts can lose energy, else 0.
+def default_elastic_below(restitution, velocities, wall_restitution=1.0, gravity=None, box=None):
+    """The elastic floor when none is given: 1e-6 of the speed scale if a constant restitution below 1 (of pairs or
+    walls) can collapse, else 0.
 
     Pair contacts and wall bounces both obey it. The speed scale is
     sqrt(<v^2> + |g| L) (L the longest box edge): the rms speed without
     gravity, and the speed of a fall across the box under gravity, so that
-    particles dropped at rest on an inelastic floor are guarded too.
+    particles dropped at rest on an inelastic floor are guarded too. The
+    restitution laws need none: their contacts turn elastic as they slow
+    down (Bridges: e = 1 below u_c; viscoelastic: 1 - e ~ u_n^(1/5)), so no
+    inelastic collapse, and a floor would stop the slow cooling they give.
     """
-    inelastic = np.any(restitution < 1.0) or law != "constant" or wall_restitution < 1.0
+    inelastic = np.any(restitution < 1.0) or wall_restitution < 1.0
     if not inelastic:
         return 0.0
     fall = 0.0 if gravity is None or box is None else float(np.linalg.norm(gravity)) * float(np.max(box))

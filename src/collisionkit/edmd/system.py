@@ -178,9 +178,11 @@ class HardSphereSystem(SystemParameters, ParticleState, NeighbourLists, CellCros
         this are elastic: protects inelastic runs against inelastic collapse
         (infinitely many collisions in finite time, which stops a run with a
         RuntimeError), in the spirit of the TC model of Luding & McNamara
-        (Granular Matter 1, 113 (1998)). Default: 0 for elastic systems,
-        else 1e-6 times sqrt(<v^2> + |g| L) at the start (the rms speed
-        without gravity; L the longest box edge).
+        (Granular Matter 1, 113 (1998)). Default: 1e-6 times
+        sqrt(<v^2> + |g| L) at the start (the rms speed without gravity; L the
+        longest box edge) if a constant restitution of pairs or walls is below
+        1, else 0 (elastic systems, and the laws alone, whose contacts turn
+        elastic as they slow down).
     wall_restitution : float
         Restitution of particle-wall contacts, in [0, 1]. Below 1 under
         gravity a ball comes to rest on a wall after infinitely many
@@ -288,7 +290,7 @@ class HardSphereSystem(SystemParameters, ParticleState, NeighbourLists, CellCros
         self.params[_k.P_GROWTH] = float(_growth)
         _system_setup.start_records(self, positions, velocities, radius, box, periodic)
         if elastic_below is None:
-            elastic_below = _system_setup.default_elastic_below(self.restitution, restitution_law, velocities,
+            elastic_below = _system_setup.default_elastic_below(self.restitution, velocities,
                                                                 self.params[_k.P_WALL_RESTITUTION], gravity, box)
         self.params[_k.P_ELASTIC_BELOW] = _checks.bounded(elastic_below, "elastic_below", 0.0)
         shear_parameters(self, shear_rate, thermostat)

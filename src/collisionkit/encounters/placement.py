@@ -233,8 +233,10 @@ def star_encounter_summary(star1: StarModel, star2: StarModel,
     point masses of the stars' masses (its ``contact`` uses the 99 %-mass
     radii), with ``stars`` (each star's particles, mass, radius holding 99 %
     of the mass, centre of mass and its velocity before placing),
-    ``overlap_at_sep0``, ``sep0_over_radii`` = sep0 / (R1 + R2), the tidal
-    warning among the ``warnings``, the point-mass set-up as
+    ``overlap_at_sep0``, ``sep0_over_radii`` = sep0 / (R1 + R2), each star's
+    outermost particle's distance from its centre of mass (``outer_radii``)
+    and ``envelopes_touch`` (rp below their sum: warned about when the 99 %
+    radii do not touch), the tidal warning among the ``warnings``, the point-mass set-up as
     ``point_masses`` and these ``parameters`` (StarEncounterParameters or
     a mapping of them, as :func:`place_stars` takes).
 
@@ -257,6 +259,15 @@ def star_encounter_summary(star1: StarModel, star2: StarModel,
     summary["stars"] = {"star1": star1.summary(MASS_FRACTION), "star2": star2.summary(MASS_FRACTION)}
     summary["overlap_at_sep0"] = bool(point.sep0 < radius1 + radius2)
     summary["sep0_over_radii"] = point.sep0 / (radius1 + radius2)
+    # a real star's envelope holds little mass far out: its outermost particles may graze where the 99 % radii do not
+    outer1, outer2 = star1.radius(1.0), star2.radius(1.0)
+    summary["outer_radii"] = [outer1, outer2]
+    summary["envelopes_touch"] = bool(point.rp < outer1 + outer2)
+    if summary["envelopes_touch"] and not point.rp < radius1 + radius2:
+        summary["warnings"].append(
+            f"the stars' outer envelopes reach within periastron: rp = {point.rp:.4g} < {outer1 + outer2:.4g}, the "
+            f"sum of the outermost particles' distances from each centre of mass, though the 99 %-mass radii "
+            f"({radius1:.4g} + {radius2:.4g}) do not touch")
     summary["point_masses"] = summary.pop("parameters")
     summary["parameters"] = parameters.to_dict()
     return summary, ic, _placed(star1, star2, ic)

@@ -155,6 +155,11 @@ class StellarProfile:
     def __len__(self) -> int:
         return self.radius.size
 
+    def __repr__(self) -> str:
+        layout = "cells" if self.cells else "points"
+        return (f"StellarProfile({len(self)} {layout}, mass={self.total_mass:.6g} g, radius={self.surface_radius:.6g} "
+                f"cm{', ' + repr(self.source) if self.source else ''})")
+
     @property
     def surface_radius(self) -> float:
         """The outermost zone's radius (cm)."""
@@ -347,9 +352,13 @@ def read_mesa_profile(path) -> StellarProfile:
             if len(fields) != len(names):
                 raise ValueError(f"{path} line {number}: {len(fields)} values for {len(names)} column names")
             try:
-                rows.append([float(fields[index]) for index in chosen.values()])
+                row = [float(fields[index]) for index in chosen.values()]
             except ValueError:
                 raise ValueError(f"{path} line {number}: not a number among {fields[:4]} ...") from None
+            if not all(math.isfinite(value) for value in row):
+                bad = next(name for name, value in zip(chosen, row) if not math.isfinite(value))
+                raise ValueError(f"{path} line {number}: the {bad} column holds {fields[chosen[bad]]}")
+            rows.append(row)
     data = np.array(rows).reshape(-1, len(chosen))
     values = {}
     for quantity, column in zip(chosen, data.T):
@@ -358,18 +367,19 @@ def read_mesa_profile(path) -> StellarProfile:
     return StellarProfile(**values, source=path.name, cells=True)
 
 
-def _target_units(units, profile: StellarProfile) -> tuple[UnitSystem, dict]:
-    """The unit system of the particles and the cgs -> it factors; N-body units: M = 1, R = 1, G = 1."""
-    if isinstance(units, str) and units == "nbody" or isinstance(units, UnitSystem) and units.name == "nbody":
-        mass, length = profile.total_mass, profile.surface_radius
-        scaled = unit_system_from_cgs(mass, length, math.sqrt(length**3 / (G_CGS * mass)))
-        factors = conversion_factors("cgs", scaled)
-        return unit_system("nbody"), factors
+def _target_units(units) -> tuple[UnitSystem, dict]:
+    """The unit system of the particles and the cgs -> it factors; N-body units are refused: a real star has a
+    size, which G = 1 would lose (two such stars would both have M = 1 and R = 1)."""
     system = unit_system(units) if isinstance(units, str) else units
+    if not isinstance(system, UnitSystem):
+        raise TypeError(f"units must be a UnitSystem or one of its names; got {units!r}")
+    if system.name == "nbody":
+        raise ValueError("units nbody (G = 1, no size) would lose the star's mass and radius: choose stellar, solar, "
+                         "cgs or si")
     return system, conversion_factors("cgs", system)
 
 
-def profile_star(profile: StellarProfile, particles: int, *, units="nbody", neighbours: int = 50,
+def profile_star(profile: StellarProfile, particles: int, *, units="stellar", neighbours: int = 50,
                  gamma: float | None = None, seed=None, progress=None) -> StarModel:
     """An unrelaxed particle star of ``profile`` (see the module's description).
 
@@ -379,8 +389,9 @@ def profile_star(profile: StellarProfile, particles: int, *, units="nbody", neig
     particles : int
         K > neighbours (at most 1e7), all of mass M / K, IDs 1 ... K.
     units : UnitSystem or str
-        Of the particles; ``nbody`` scales the star to M = 1, R = 1 (the
-        outermost zone), G = 1.
+        Of the particles: ``stellar``, ``solar``, ``cgs``, ``si`` or a
+        sized :class:`~collisionkit.encounters.UnitSystem` (not ``nbody``,
+        which has no size).
     neighbours : int
         Each smoothing length holds this many neighbours (>= 1).
     gamma : float, optional
@@ -412,7 +423,7 @@ def profile_star(profile: StellarProfile, particles: int, *, units="nbody", neig
     count = check_integer("particles", particles, neighbours + 1, MAX_PARTICLES)
     if gamma is not None:
         gamma = check_real("gamma", gamma, 1.0, low_open=True)
-    system, factors = _target_units(units, profile)
+    system, factors = _target_units(units)
     rng = np.random.default_rng(seed)
     radius = profile.radius_of_mass(rng.random(count) * profile.total_mass)
     cos_polar = rng.uniform(-1.0, 1.0, count)
@@ -450,7 +461,7 @@ class ProfileStarParameters(Parameters):
     particles : int
         Number of particles K, > ``neighbours`` (at most 1e7).
     units : str
-        ``nbody`` (M = 1, R = 1, G = 1), ``si``, ``cgs``, ``solar`` or ``stellar``.
+        ``stellar`` (default), ``solar``, ``cgs`` or ``si`` (not ``nbody``: a real star has a size).
     neighbours : int
         Neighbour number of the smoothing lengths (>= 1).
     gamma : float, optional
@@ -462,13 +473,13 @@ class ProfileStarParameters(Parameters):
     Examples
     --------
     >>> from collisionkit.encounters import ProfileStarParameters
-    >>> ProfileStarParameters(profile="profile1.data", particles=1000, units="stellar").units
+    >>> ProfileStarParameters(profile="profile1.data", particles=1000).units
     'stellar'
     """
 
     profile: str = ""
     particles: int = 10_000
-    units: str = "nbody"
+    units: str = "stellar"
     neighbours: int = 50
     gamma: float | None = None
     seed: int = 2026
@@ -478,6 +489,7 @@ class ProfileStarParameters(Parameters):
             raise ValueError(f"profile must name a MESA profile file; got {self.profile!r}")
         object.__setattr__(self, "profile", str(self.profile))
         check_choice("units", self.units, UNIT_SYSTEMS)
+        _target_units(self.units)
         object.__setattr__(self, "seed", check_seed("seed", self.seed))
         neighbours = check_integer("neighbours", self.neighbours, 1)
         object.__setattr__(self, "neighbours", neighbours)
@@ -515,8 +527,8 @@ def profile_star_summary(parameters: ProfileStarParameters, progress=None,
     The summary holds the profile (file, zones, mass and radius in cgs, the
     virial ratio, the mass check, where the internal energy comes from and
     any ``warnings`` of :func:`profile_checks`), the star's properties, the
-    profile's potential and thermal energies in the star's units beside the
-    particles' thermal energy, the seed and the ``parameters``. ``profile``: the file's profile if already
+    profile's potential energy in the star's units, the particles' thermal
+    energy, the seed and the ``parameters``. ``profile``: the file's profile if already
     read (:func:`read_mesa_profile`).
 
     Examples
@@ -533,7 +545,7 @@ def profile_star_summary(parameters: ProfileStarParameters, progress=None,
     profile = read_mesa_profile(parameters.profile) if profile is None else profile
     star = profile_star(profile, parameters.particles, units=parameters.units, neighbours=parameters.neighbours,
                         gamma=parameters.gamma, seed=parameters.seed, progress=progress)
-    _, factors = _target_units(parameters.units, profile)
+    _, factors = _target_units(parameters.units)
     own = profile.internal_energy is not None and parameters.gamma is None
     summary = {
         "units": parameters.units,
@@ -542,7 +554,8 @@ def profile_star_summary(parameters: ProfileStarParameters, progress=None,
                     "radius_cm": profile.surface_radius, "virial_ratio": profile.virial_ratio(),
                     "mass_mismatch": profile.mass_mismatch()},
         "internal_energy": "the profile's" if own else
-                           f"P / ((gamma - 1) rho), gamma {parameters.gamma or IDEAL_GAS_GAMMA:.10g}",
+                           f"P / ((gamma - 1) rho), gamma {parameters.gamma or IDEAL_GAS_GAMMA:.10g} (P the total "
+                           "pressure, radiation included)",
         "warnings": profile_checks(profile),
         "star": star.summary(),
         "potential_energy_profile": profile.potential_energy() * factors["mass"] * factors["specific_energy"],
