@@ -592,3 +592,24 @@ def test_fractions_that_do_not_match_the_files_species_are_named_as_the_option(t
             "--fractions", "0.9"]
     result = runner.invoke(app, [command, *both])
     assert result.exit_code == 2 and "error: --fractions: give one per species" in result.output, result.output
+
+
+def test_a_scan_in_a_detector_s_units_from_volts_per_cm_at_a_pressure(tmp_path):
+    """--E in V/cm with --pressure in Torr: the E/N run are E / N (here 1000 V/cm at 760 Torr, 293.15 K: 3.99445
+    Td); the table, each point's summary ``detector`` and detector.csv give the field back in V/cm with the drift in
+    cm/us (the bulk drift times 1e-4)."""
+    out, summary = tmp_path / "out", tmp_path / "s.json"
+    result = runner.invoke(app, ["swarm", "--model", "maxwell", "--E", "1000,2000", "--pressure", "760",
+                                 "--gas-temperature", "293.15", "--particles", "500", "--tolerance", "0.2",
+                                 "--out", str(out), "--summary", str(summary)])
+    assert result.exit_code == 0, result.output
+    data = json.loads(summary.read_text())
+    points = data["results"]
+    assert [round(point["reduced_field"], 4) for point in points] == [3.9944, 7.9889]
+    assert [point["detector"]["field"] for point in points] == pytest.approx([1000.0, 2000.0], rel=1e-12)
+    assert points[0]["detector"]["drift_velocity"] == pytest.approx(abs(points[0]["drift_velocity_bulk"][2]) * 1e-4,
+                                                                    rel=1e-12)
+    with (out / "detector.csv").open() as handle:
+        rows = list(csv.reader(handle))
+    assert rows[0][:2] == ["field (V/cm)", "drift_velocity (cm/us)"] and float(rows[1][0]) == pytest.approx(1000.0)
+    assert "in a detector's units: 760 Torr, 293.15 K" in " ".join(result.output.split())

@@ -11,10 +11,12 @@ import typer
 from pydantic import Field, field_validator, model_validator
 
 from .._io import FileLockedError
+from ._detector import check_detector_options, detector_report, fields_from_volts
+from ._swarm_tables import _field_rows, _swarm_row, print_swarm_tables  # noqa: F401 (_field_rows, _swarm_row: tests)
 from ._common import (
     INTERRUPTED_EXIT_CODE, Deliveries, Options, OverwriteOption, fail, fraction_reporter, load_options, named_as_option,
     note,
-    option_values, print_table, progress_bar, refuse_folder, require, run_failed, say, validate_options, warn,
+    option_values, progress_bar, refuse_folder, require, run_failed, say, validate_options, warn,
 )
 from ._memory import refuse_beyond_memory, swarm_memory
 from ._reduced_fields import E_N_FORMS, MAX_REDUCED_FIELD, _e_n_values, _short  # noqa: F401 (boltzmann takes _e_n_values here)
@@ -143,7 +145,7 @@ class SwarmOptions(GasScanOptions):
     (12.0, 24.0)
     """
 
-    flags: ClassVar[dict[str, str]] = {"e_n": "--E-N", "b_n": "--B-N", "omega_n": "--omega-N"}
+    flags: ClassVar[dict[str, str]] = {"e_n": "--E-N", "b_n": "--B-N", "omega_n": "--omega-N", "e": "--E"}
     b_n: float = Field(default=0.0, ge=0, le=MAX_REDUCED_MAGNETIC_FIELD, allow_inf_nan=False)
     angle: float = Field(default=90.0, ge=0, le=180, allow_inf_nan=False)
     omega_n: float = Field(default=0.0, ge=0, allow_inf_nan=False)
@@ -156,6 +158,8 @@ class SwarmOptions(GasScanOptions):
     sharing: Literal["equal", "uniform"] = "equal"
     scattering: str | dict[str, str] | None = None  # checked by SwarmParameters, whose message names the laws
     populations: dict[str, float] | None = None
+    e: list[float] | None = None  # V/cm with --pressure: sets e_n (._detector)
+    pressure: float | None = None  # Torr: the detector's table
     out: Path | None = None
     summary: Path | None = None
     checkpoint: Path | None = None
@@ -166,6 +170,12 @@ class SwarmOptions(GasScanOptions):
     def folder_files(self, folder: str) -> tuple[str, ...]:
         """The plots and the table of ``--out`` (an earlier run's are not replaced without --overwrite)."""
         return SWARM_FILES
+
+    @model_validator(mode="before")
+    @classmethod
+    def _fields_in_volts(cls, values: Any) -> Any:
+        """--E in V/cm with --pressure: the E/N values it gives (._detector)."""
+        return fields_from_volts(values) if isinstance(values, dict) else values
 
     @model_validator(mode="before")
     @classmethod
@@ -215,7 +225,8 @@ class SwarmOptions(GasScanOptions):
     @model_validator(mode="after")
     def _physics(self):
         """The library's rules (one gas, E/N >= 0, a warm gas at E/N = 0 ...), so a sweep checks every point; the
-        waveform's first, named as --waveform (its samples are not echoed)."""
+        waveform's first, named as --waveform (its samples are not echoed); --pressure's (._detector)."""
+        check_detector_options(self)
         if self.waveform is not None:
             from ..transport.swarm import check_waveform_peak
 
@@ -248,8 +259,8 @@ class SwarmOptions(GasScanOptions):
 
 # the files of a swarm run's --out: the EEDF, the table, the coefficients against E/N (a scan), W and <e> against the
 # phase (an oscillating field)
-SWARM_FILES = ("eedf.png", "swarm.csv", "transport_coefficients.png", "phase.png", "bolsig.dat")
-SWARM_OUTPUTS = ("out", "summary", "checkpoint", "overwrite")  # what a resumed scan may change; the rest is physics
+SWARM_FILES = ("eedf.png", "swarm.csv", "transport_coefficients.png", "phase.png", "bolsig.dat", "detector.csv")
+SWARM_OUTPUTS = ("out", "summary", "checkpoint", "overwrite", "pressure")  # what a resumed scan may change; the rest is physics
 
 
 @contextmanager
@@ -339,67 +350,6 @@ def _options_of(parameters) -> dict:
     return {names.get(key, key): value for key, value in parameters.to_dict().items()}
 
 
-def _with_error(value, error, digits=4):
-    """``value ± error``; 0 alone for an exact zero (no reaction), "-" for NaN (no SST root, an older result)."""
-    if value != value:
-        return "-"
-    return "0" if value == 0.0 and error == 0.0 else f"{value:.{digits}g} ± {error:.2g}"
-
-
-def _swarm_row(result, magnetic: bool = False):
-    """A row of the transport table; with B, N D_T (the mean of two different directions across E) gives way to the
-    tensor of the components table."""
-    transverse = ("see below" if magnetic else
-                  f"{result.diffusion_T_N:.4g} ± {result.diffusion_T_N_error:.2g}")
-    return (f"{result.reduced_field:g}", f"{result.mean_energy:.5g} ± {result.mean_energy_error:.2g}",
-            f"{-result.drift_velocity_bulk[2]:.5g} ± {result.drift_velocity_bulk_error[2]:.2g}",
-            f"{result.diffusion_L_N:.4g} ± {result.diffusion_L_N_error:.2g}", transverse)
-
-
-def _rate_row(result):
-    """A row of the Townsend table: alpha/N, eta/N and the run's speed."""
-    return (f"{result.reduced_field:g}", _with_error(result.alpha_N, result.alpha_N_error),
-            _with_error(result.eta_N, result.eta_N_error), f"{result.collisions_per_second:.3g}")
-
-
-def print_swarm_tables(results, magnetic: bool, oscillating: bool, angle: float) -> None:
-    """The results as tables that fit 80 columns (a terminal's default, and a file's): transport coefficients, then
-    Townsend coefficients and speed, then (with B or an oscillating field) the components.
-
-    Each cell holds words of at most about ten characters ("5.821e+23", "±"), so a narrow console wraps a cell
-    at its spaces instead of cutting a number; eight columns in one table did not fit (a number or a header
-    ended in "…").
-    """
-    print_table("swarm transport (W along -z for electrons)",
-                ("E/N (Td)", "mean energy (eV)", "bulk W (m/s)", "N D_L (1/m/s)", "N D_T (1/m/s)"),
-                [_swarm_row(r, magnetic) for r in results])
-    print_table("steady-state Townsend coefficients (SST) and the run's speed",
-                ("E/N (Td)", "alpha/N (m^2)", "eta/N (m^2)", "collisions/s"), [_rate_row(r) for r in results])
-    if magnetic or oscillating:
-        what = "cycle averages, " if oscillating else ""
-        print_table(f"drift and diffusion components ({what}E along z, B at {angle:g} deg in y-z)",
-                    ("E/N (Td)", "quantity", "x / xx / yz", "y / yy / xy", "z / zz / xz"), _field_rows(results))
-
-
-def _field_rows(results):
-    """Rows of the drift and diffusion components that matter in a magnetic or oscillating field (frame: E along
-    z, B in the y-z plane; cycle averages for an oscillating field), each with its error: per E/N one row per
-    quantity, three components a row."""
-    rows = []
-    for r in results:
-        d, d_error = r.diffusion_N_bulk, r.diffusion_N_bulk_error
-        quantities = (
-            ("W bulk (m/s)", r.drift_velocity_bulk, r.drift_velocity_bulk_error),
-            ("W flux (m/s)", r.drift_velocity_flux, r.drift_velocity_flux_error),
-            ("N D bulk, diagonal (1/m/s)", [d[k, k] for k in range(3)], [d_error[k, k] for k in range(3)]),
-            ("N D bulk, off-diagonal (1/m/s)", [d[i, j] for i, j in ((1, 2), (0, 1), (0, 2))],
-             [d_error[i, j] for i, j in ((1, 2), (0, 1), (0, 2))]),
-        )
-        for name, values, errors in quantities:
-            rows.append((f"{r.reduced_field:g}", name, *(f"{v:.4g} ± {e:.2g}" for v, e in zip(values, errors))))
-    return rows
-
-
 def _phase_plots(results, out: Path, deliveries: Deliveries) -> None:
     """W(phase) and <e>(phase) of an oscillating field, in ``out``/phase.png."""
     import matplotlib
@@ -481,6 +431,11 @@ def swarm(
     fractions: FractionsOption = None,
     database: DatabaseOption = None,
     e_n: ReducedFieldsOption = None,
+    e: Annotated[list[str] | None, typer.Option(
+        "--E", help="The field in V/cm instead of --E-N, with --pressure (as --E-N: repeat, or 100:1000:10).")] = None,
+    pressure: Annotated[float | None, typer.Option(
+        help="Gas pressure in Torr (760 = 1 atm): also a table in a detector's units (E in V/cm, drift in cm/us, "
+             "diffusion as sigma/sqrt(cm), alpha and eta in 1/cm; --out's detector.csv).")] = None,
     b_n: Annotated[float | None, typer.Option(
         "--B-N", help="B/N in Hx (0 to 1e6, static), in the y-z plane at --angle from E (E along z).  "
                       "\\[default: 0]")] = None,
@@ -527,7 +482,7 @@ def swarm(
     """Electron swarm transport coefficients (mean energy, drift, diffusion, rates, SST Townsend alpha/N and eta/N)
     against E/N."""
     given = dict(model=model, gas=gas, cross_sections=cross_sections, species=species, fractions=fractions,
-                 database=database, e_n=_e_n_values(e_n),
+                 database=database, e_n=_e_n_values(e_n), e=_e_n_values(e), pressure=pressure,
                  b_n=b_n, angle=angle, omega_n=omega_n, waveform=waveform, gas_temperature=gas_temperature,
                  particles=particles, seed=seed, tolerance=tolerance,
                  collision_budget=collision_budget, sharing=sharing, scattering=scattering, out=out, summary=summary,
@@ -583,9 +538,14 @@ def swarm(
             _phase_plots(results, options.out, deliveries)
         else:  # an earlier run's (replaced with --overwrite), of another field
             (options.out / "phase.png").unlink(missing_ok=True)
+    detector = None if options.pressure is None else detector_report(results, options.pressure, options.out,
+                                                                     deliveries)
     for path in deliveries.files:
         say(f"wrote {path}")
-    deliveries.finish(options.summary, scan.summary(deliveries.files) | {"seed": options.seed})
+    result = scan.summary(deliveries.files) | {"seed": options.seed}
+    for entry, row in zip(result["results"] if detector else (), detector or ()):
+        entry["detector"] = row
+    deliveries.finish(options.summary, result)
 
 
 def register(app: typer.Typer) -> None:

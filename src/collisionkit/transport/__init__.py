@@ -39,6 +39,7 @@ collisions), real gases (LXCat files) and transport coefficients.
 
 from .angular import SCATTERING_LAWS, mean_scattering_cosine, momentum_transfer_ratio
 from .bolsig_tables import BOLSIG_SECTIONS, bolsig_tables, missing_rows, read_bolsig_section, write_bolsig_tables
+from .detector_units import TORR, detector_coefficients, gas_number_density, reduced_fields
 from .gases import (
     MODEL_GASES,
     SCATTERING_KINDS,
@@ -81,6 +82,10 @@ from .swarm import (
 from .townsend import townsend_coefficients
 
 __all__ = [
+    "TORR",
+    "detector_coefficients",
+    "gas_number_density",
+    "reduced_fields",
     "BOLSIG_SECTIONS",
     "CATALOGUE",
     "DEFAULT_TOLERANCES",
