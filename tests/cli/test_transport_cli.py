@@ -613,3 +613,29 @@ def test_a_scan_in_a_detector_s_units_from_volts_per_cm_at_a_pressure(tmp_path):
         rows = list(csv.reader(handle))
     assert rows[0][:2] == ["field (V/cm)", "drift_velocity (cm/us)"] and float(rows[1][0]) == pytest.approx(1000.0)
     assert "in a detector's units: 760 Torr, 293.15 K" in " ".join(result.output.split())
+
+
+def test_detector_options_from_a_config_file_and_the_command_line(tmp_path):
+    """A config's ``E = "1000:2000:2"`` (the --E-N forms) with ``pressure``; --E on the command line replaces the
+    config's E-N; a pressure given as text is refused in one line; a later run without --pressure removes an
+    earlier run's detector.csv from --out."""
+    config = tmp_path / "det.toml"
+    config.write_text('model = "maxwell"\nE = "1000:2000:2"\npressure = 760\ngas-temperature = 293.15\n'
+                      'particles = 300\ntolerance = 0.3\n')
+    out = tmp_path / "out"
+    first = runner.invoke(app, ["swarm", "--config", str(config), "--out", str(out), "--summary", str(tmp_path / "a.json")])
+    assert first.exit_code == 0, first.output
+    points = json.loads((tmp_path / "a.json").read_text())["results"]
+    assert [round(point["reduced_field"], 4) for point in points] == [3.9944, 7.9889]
+    assert (out / "detector.csv").exists()
+    config.write_text('model = "maxwell"\nE-N = [5]\npressure = 760\nparticles = 300\ntolerance = 0.3\n')
+    replaced = runner.invoke(app, ["swarm", "--config", str(config), "--E", "1000", "--summary", str(tmp_path / "b.json")])
+    assert replaced.exit_code == 0, replaced.output
+    assert json.loads((tmp_path / "b.json").read_text())["results"][0]["detector"]["field"] == pytest.approx(1000.0)
+    config.write_text('model = "maxwell"\nE = [1000]\npressure = "760"\n')
+    text = runner.invoke(app, ["swarm", "--config", str(config)])
+    assert text.exit_code == 2 and "--pressure must be a number; got '760'" in text.output
+    again = runner.invoke(app, ["swarm", "--model", "maxwell", "--E-N", "3", "--particles", "300", "--tolerance", "0.3",
+                                "--out", str(out), "--overwrite"])
+    assert again.exit_code == 0, again.output
+    assert not (out / "detector.csv").exists() and (out / "swarm.csv").exists()

@@ -68,8 +68,8 @@ def test_a_polytrope_as_cells_holds_its_mass_exactly_and_its_virial_balance(n):
 def test_a_polytrope_profile_has_its_mass_potential_energy_and_virial_balance(n):
     """The integrated mass is M (to the 1e-4 beyond 0.9999 xi1 and the trapezoids), W = -3/(5-n) G M^2 / R, and
     3 int P dV / -W = 1 (hydrostatic equilibrium), each within 5e-4. A radius read in the wrong unit (x 100)
-    breaks the virial balance by orders of magnitude. Kills: 4 pi r^2 rho without r^2, W without its core,
-    a virial ratio missing its 3."""
+    breaks the virial balance by orders of magnitude. Kills: 4 pi r^2 rho without r^2, a virial ratio missing
+    its 3."""
     profile = polytrope_profile(n)
     assert profile.total_mass == pytest.approx(MASS, rel=5e-4)
     assert profile.potential_energy() == pytest.approx(-3.0 / (5.0 - n) * G_CGS * MASS**2 / RADIUS, rel=5e-4)
@@ -92,8 +92,8 @@ def test_the_mass_column_is_used_and_checked_against_the_density():
 def test_sampled_radii_follow_the_lane_emden_mass_and_energies_the_closed_form(n):
     """Kolmogorov-Smirnov distance of 20000 sampled radii from the Lane-Emden mass fraction below its 99.9 %
     bound 1.95 / sqrt(K); u = P / ((gamma - 1) rho) = (G M / R) xi1 theta / ((n + 1) omega (gamma - 1)) at each
-    particle within 1e-3 inside 0.99 R (log-linear between zones). Kills: r linear (not r^3) in m, gamma - 1
-    dropped, radii from the density instead of the mass."""
+    particle within 1e-3 inside 0.99 R (log-linear between zones). Kills: gamma - 1 dropped, radii from the
+    density instead of the mass."""
     profile, solution = polytrope_profile(n), lane_emden(n)
     star = profile_star(profile, 20000, units="cgs", neighbours=10, gamma=1.0 + 1.0 / n, seed=4)
     r = np.linalg.norm(star.positions, axis=1)
@@ -216,3 +216,18 @@ def test_the_summary_gives_the_profile_checks_and_energies_in_the_star_s_units(t
     wrong.write_text(wrong.read_text().replace("radius_cm", "radius"))  # cm values read as Rsun
     flagged, _ = profile_star_summary(ProfileStarParameters(profile=str(wrong), particles=100, neighbours=10))
     assert any("not in hydrostatic equilibrium" in text for text in flagged["warnings"])
+
+
+def test_a_coarse_uniform_sphere_needs_its_core_and_r_cubed_in_the_mass():
+    """A uniform sphere (rho = 1, R = 1) given by points from r = 1/2 and by 3 cells: the mass inside the first
+    zone (1/8 of it) enters W as a uniform core, -(3/5) G m0^2 / r0, so W = -(3/5) G M^2 / R within the
+    trapezoids' error (5e-4 with 2000 points); and radii sampled in 3 cells follow r^3 = m / M (KS bound at
+    99.9 % for 20000). Kills: W without its core (3 % off), r linear in m within a cell."""
+    r = np.linspace(0.5, 1.0, 2000)
+    points = StellarProfile(r, np.ones_like(r), 1.0 - r**2 + 1e-3)
+    mass = 4.0 / 3.0 * math.pi
+    assert points.potential_energy() == pytest.approx(-0.6 * G_CGS * mass**2, rel=5e-4)
+    cells = StellarProfile([1.0 / 3.0, 2.0 / 3.0, 1.0], [1.0, 1.0, 1.0], [1.0, 1.0, 1.0], cells=True)
+    rng = np.random.default_rng(7)
+    sampled = cells.radius_of_mass(rng.random(20000) * cells.total_mass)
+    assert stats.kstest(sampled**3, "uniform").statistic < 1.95 / math.sqrt(20000)

@@ -71,3 +71,18 @@ def test_fields_that_make_no_detector_table_are_refused(maxwell_swarm):
     assert detector_coefficients(cold, 760.0, temperature=293.15)["temperature"] == 293.15
     with pytest.raises(TypeError, match="SwarmResult"):
         detector_coefficients({"drift": 1.0}, 760.0)
+
+
+def test_townsend_and_attachment_coefficients_per_cm_are_the_sst_ones_times_n():
+    """An ionizing gas (Lucas-Saelee, F = 1, 500 Td): alpha in 1/cm is the steady-state alpha/N times N / 100, by
+    hand, with its error the same way; no attachment. Kills: 1/m reported as 1/cm, the error for the value."""
+    from collisionkit.transport import lucas_saelee
+
+    result = simulate_swarm(lucas_saelee(1.0), 500.0, particles=2000, seed=2, tolerances={"mean_energy": 0.05},
+                            gas_temperature=300.0)
+    row = detector_coefficients(result, 50.0)
+    density = 50.0 * TORR / (constants.k * 300.0)
+    assert result.alpha_N > 0 and result.alpha_N_error > 0
+    assert row["townsend_alpha"] == pytest.approx(result.alpha_N * density / 100.0, rel=1e-12)
+    assert row["townsend_alpha_error"] == pytest.approx(result.alpha_N_error * density / 100.0, rel=1e-12)
+    assert row["attachment_eta"] == 0.0

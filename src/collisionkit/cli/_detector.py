@@ -15,6 +15,7 @@ from pathlib import Path
 
 from .._io import atomic_write_text
 from ._common import print_table
+from ._reduced_fields import MAX_REDUCED_FIELD
 
 DETECTOR_FILE = "detector.csv"
 COLUMNS = ("field", "drift_velocity", "diffusion_L", "diffusion_T", "townsend_alpha", "attachment_eta")
@@ -48,19 +49,29 @@ def fields_from_volts(values: dict) -> dict:
     if _given(values, "e_n", "e-n", "E-N", "E_N") is not None:
         raise ValueError("give the field as --E (V/cm, with --pressure) or as --E-N (Td), not both")
     pressure = _given(values, "pressure")
-    if pressure is None:
-        raise ValueError("--E (V/cm) needs --pressure (Torr) to give E/N")
+    if pressure is None:  # (said after the other checks: a misspelt key is named first)
+        return values
     temperature = _given(values, "gas_temperature", "gas-temperature")
     temperature = 300.0 if temperature is None else temperature
-    if not (isinstance(temperature, (int, float)) and temperature > 0.0):
+    for name, value in (("--pressure", pressure), ("--gas-temperature", temperature)):
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
+            raise ValueError(f"{name} must be a number; got {value!r}")
+    if not temperature > 0.0:
         raise ValueError("--E (V/cm) needs a gas temperature > 0 K for N = p / (k T)")
     if isinstance(fields, (int, float, str)):
         fields = [fields]
-    if any(isinstance(item, str) for item in fields):
+    if any(isinstance(item, str) for item in fields):  # a config's "500:1000:2", as on the command line
         from ._reduced_fields import _e_n_values
 
-        fields = _e_n_values([str(item) for item in fields])
-    return {**values, "e_n": [float(value) for value in reduced_fields(fields, pressure, temperature)]}
+        fields = _e_n_values([str(item) for item in fields], "--E", "V/cm", math.inf)
+    if any(isinstance(item, bool) or not isinstance(item, (int, float)) for item in fields):
+        raise ValueError(f"--E must be numbers (V/cm); got {fields!r}")
+    e_n = [float(value) for value in reduced_fields(fields, pressure, temperature)]
+    beyond = [(field, value) for field, value in zip(fields, e_n) if value > MAX_REDUCED_FIELD]
+    if beyond:
+        raise ValueError(f"--E {beyond[0][0]:g} V/cm is E/N = {beyond[0][1]:.3g} Td at {pressure:g} Torr and "
+                         f"{temperature:g} K, above the {MAX_REDUCED_FIELD:g} Td of --E-N")
+    return {**{key: value for key, value in values.items() if key not in ("E",)}, "e": list(fields), "e_n": e_n}
 
 
 def _cell(row: dict, name: str) -> str:
@@ -99,6 +110,8 @@ def check_detector_options(options) -> None:
     from ..transport import gas_number_density
 
     if options.pressure is None:
+        if options.e is not None:
+            raise ValueError("--E (V/cm) needs --pressure (Torr) to give E/N")
         return
     if options.b_n != 0.0 or options.omega_n != 0.0:
         raise ValueError("--pressure gives a detector's table of a static E without B: not with --B-N or --omega-N")

@@ -84,7 +84,7 @@ def _profile_rows(summary, star):
         ("profile", profile["file"], f"{profile['zones']} zones"),
         ("mass of the profile", f"{profile['mass_g']:.10g}", "g"),
         ("radius of the outermost zone", f"{profile['radius_cm']:.10g}", "cm"),
-        ("virial ratio 3 int P dV / -W", f"{profile['virial_ratio']:.6f}", "1 in hydrostatic equilibrium"),
+        ("virial ratio (3 int P dV - 4 pi R^3 P_s) / -W", f"{profile['virial_ratio']:.6f}", "1 in hydrostatic equilibrium"),
         ("integral of rho / mass column - 1", f"{profile['mass_mismatch']:.3g}", ""),
         ("internal energy u", summary["internal_energy"], ""),
         ("particles", len(star), ""),

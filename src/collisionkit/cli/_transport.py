@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 import warnings
 from contextlib import contextmanager
 from pathlib import Path
@@ -146,6 +147,8 @@ class SwarmOptions(GasScanOptions):
     """
 
     flags: ClassVar[dict[str, str]] = {"e_n": "--E-N", "b_n": "--B-N", "omega_n": "--omega-N", "e": "--E"}
+    # the field given on the command line (--E or --E-N) replaces the config file's, in either form
+    chosen_together: ClassVar = (*GasScanOptions.chosen_together, (("e", "e_n"), ("e", "e_n")))
     b_n: float = Field(default=0.0, ge=0, le=MAX_REDUCED_MAGNETIC_FIELD, allow_inf_nan=False)
     angle: float = Field(default=90.0, ge=0, le=180, allow_inf_nan=False)
     omega_n: float = Field(default=0.0, ge=0, allow_inf_nan=False)
@@ -181,13 +184,14 @@ class SwarmOptions(GasScanOptions):
     @classmethod
     def _numbers_by_their_flags(cls, values: Any) -> Any:
         """A string or a bool for E/N, B/N or omega/N (``E-N = "abc"`` in a TOML file) is refused naming the key as
-        the command line spells it (E-N), before the shared check would name it e-n."""
+        the command line spells it (E-N), before the shared check would name it e-n. (E in V/cm takes the --E-N
+        forms as text: ._detector.)"""
         if not isinstance(values, dict):
             return values
         for key, value in values.items():
             name = str(key).replace("-", "_").lower()
             entries = value if isinstance(value, list) else [value]
-            if name in cls.flags and any(isinstance(entry, (bool, str)) for entry in entries):
+            if name in cls.flags and name != "e" and any(isinstance(entry, (bool, str)) for entry in entries):
                 plural = " or a list of numbers" if name == "e_n" else ""
                 raise ValueError(f"{cls.flags[name].lstrip('-')} must be a number{plural}, not {value!r}")
         return values
@@ -482,12 +486,16 @@ def swarm(
     """Electron swarm transport coefficients (mean energy, drift, diffusion, rates, SST Townsend alpha/N and eta/N)
     against E/N."""
     given = dict(model=model, gas=gas, cross_sections=cross_sections, species=species, fractions=fractions,
-                 database=database, e_n=_e_n_values(e_n), e=_e_n_values(e), pressure=pressure,
+                 database=database, e_n=_e_n_values(e_n), e=_e_n_values(e, "--E", "V/cm", math.inf),
+                 pressure=pressure,
                  b_n=b_n, angle=angle, omega_n=omega_n, waveform=waveform, gas_temperature=gas_temperature,
                  particles=particles, seed=seed, tolerance=tolerance,
                  collision_budget=collision_budget, sharing=sharing, scattering=scattering, out=out, summary=summary,
                  checkpoint=checkpoint,
                  overwrite=overwrite)
+    if resume is not None and e is not None:
+        raise fail("--E is the scan's physics, saved as its E/N: a resumed scan keeps them (give --pressure again "
+                   "for the detector's table)")
     if resume is None:
         options = load_options(SwarmOptions, config, given)
         refuse_checkpoint_suffix(options.checkpoint)
@@ -538,6 +546,8 @@ def swarm(
             _phase_plots(results, options.out, deliveries)
         else:  # an earlier run's (replaced with --overwrite), of another field
             (options.out / "phase.png").unlink(missing_ok=True)
+        if options.pressure is None:  # an earlier run's detector table, of another scan
+            (options.out / "detector.csv").unlink(missing_ok=True)
     detector = None if options.pressure is None else detector_report(results, options.pressure, options.out,
                                                                      deliveries)
     for path in deliveries.files:

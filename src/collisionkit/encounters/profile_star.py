@@ -22,9 +22,9 @@ Solar units are the IAU 2015 nominal ones, as MESA uses them since release
 Two checks of a profile, exact for a star in hydrostatic equilibrium: the
 enclosed mass from the density, :math:`m(r) = \int_0^r 4\pi r^2\rho\,dr`,
 equals the model's own mass column (:meth:`StellarProfile.mass_mismatch`;
-a MESA model's cells to 1e-14), and the virial theorem :math:`3\int P\,dV = -W`,
+a MESA model's cells to 1e-14), and the virial theorem :math:`3\int P\,dV - 4\pi R^3 P_s = -W`,
 :math:`W = -\int G m\,dm/r` (:meth:`StellarProfile.virial_ratio`, 1 for
-equilibrium, MESA models' within 1e-8: a column read in the wrong units
+equilibrium, MESA models' within 1e-12: a column read in the wrong units
 puts it far from 1).
 
 :func:`profile_star` samples the profile as particles the way
@@ -240,7 +240,8 @@ class StellarProfile:
         return float(-G_CGS * (core + np.sum(0.5 * (integrand[1:] + integrand[:-1]) * np.diff(m))))
 
     def virial_ratio(self) -> float:
-        r""":math:`3\int P\,dV / (-W)`: 1 for a star in hydrostatic equilibrium with P = 0 at its surface.
+        r""":math:`(3\int P\,dV - 4\pi R^3 P_s) / (-W)`: 1 for a star in hydrostatic equilibrium (the virial
+        theorem with the pressure :math:`P_s` of the outermost zone at its surface R; MESA's photosphere).
 
         Examples
         --------
@@ -258,7 +259,8 @@ class StellarProfile:
         else:
             volume_integral = 4.0 / 3.0 * np.pi * r[0] ** 3 * self.pressure[0] + float(
                 np.sum(0.5 * (shell[1:] + shell[:-1]) * np.diff(r)))
-        return float(3.0 * volume_integral / -self.potential_energy())
+        surface = 4.0 * np.pi * r[-1] ** 3 * self.pressure[-1]
+        return float((3.0 * volume_integral - surface) / -self.potential_energy())
 
     def _cell_volumes(self) -> np.ndarray:
         """The volume of each cell, from the face below (the centre for the first) to its own face."""
@@ -507,12 +509,12 @@ def profile_checks(profile: StellarProfile) -> list[str]:
     >>> from collisionkit.encounters import StellarProfile
     >>> r = np.linspace(0.0, 1e10, 2001)
     >>> profile_checks(StellarProfile(r, np.ones_like(r), 1e9 * (1e20 - r**2 + 1e10)))[0][:60]
-    'the profile is not in hydrostatic equilibrium: 3 int P dV / '
+    'the profile is not in hydrostatic equilibrium: (3 int P dV -'
     """
     notes = []
     virial = profile.virial_ratio()
     if not abs(virial - 1.0) <= VIRIAL_TOLERANCE:
-        notes.append(f"the profile is not in hydrostatic equilibrium: 3 int P dV / -W = {virial:.4g}, not 1 (a "
+        notes.append(f"the profile is not in hydrostatic equilibrium: (3 int P dV - 4 pi R^3 P_s) / -W = {virial:.4g}, not 1 (a "
                      "column in other units than the file's names say?)")
     mismatch = profile.mass_mismatch()
     if not abs(mismatch) <= MASS_TOLERANCE:
@@ -540,7 +542,7 @@ def profile_star_summary(parameters: ProfileStarParameters, progress=None,
     ...                     "0.0 -7.0 4.0\\n-1.0 -1.0 14.0\\n-2.0 1.5 17.0\\n")
     >>> summary, star = profile_star_summary(ProfileStarParameters(profile=str(path), particles=20, neighbours=5))
     >>> summary["profile"]["zones"], len(star), summary["warnings"][0][:48]
-    (3, 20, 'the profile is not in hydrostatic equilibrium: 3')
+    (3, 20, 'the profile is not in hydrostatic equilibrium: (')
     """
     profile = read_mesa_profile(parameters.profile) if profile is None else profile
     star = profile_star(profile, parameters.particles, units=parameters.units, neighbours=parameters.neighbours,
