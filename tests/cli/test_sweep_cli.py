@@ -354,3 +354,22 @@ def test_a_main_key_that_no_run_gives_is_named_with_the_closest_results(tmp_path
     said = " ".join(result.output.split())
     assert "main 'eccentricty' is not a number in the results of collisionkit encounter" in said
     assert "did you mean 'orbit.eccentricity'" in said and not (tmp_path / "out" / "main_result.png").exists()
+
+
+def test_a_swarm_study_at_a_pressure_tabulates_the_detector_coefficients(tmp_path):
+    """A fixed pressure (Torr) gives each point the detector's columns (E in V/cm, drift in cm/us): 10 Td at 100
+    Torr and 300 K is 32.19 V/cm, and the drift is the bulk drift times 1e-4; main may be one of them."""
+    study = ('command = "swarm"\nseed = 3\nmain = "detector.drift_velocity"\n[fixed]\nmodel = "maxwell"\n'
+             'particles = 400\ntolerance = 0.2\npressure = 100\ngas-temperature = 300\n[vary]\nE-N = [10.0, 20.0]\n')
+    out = tmp_path / "out"
+    with deadline(300):
+        result = invoke(study_file(tmp_path, study), "--out", out, "--workers", 1)
+    assert result.exit_code == 0, result.output
+    rows = read_table(out / "results.csv")
+    assert float(rows[0]["detector.field"]) == pytest.approx(10e-21 * 100 * 133.322368 / (1.380649e-23 * 300) / 100,
+                                                             rel=1e-6)
+    for row in rows:
+        assert float(row["detector.drift_velocity"]) == pytest.approx(abs(float(row["drift_velocity_bulk[2]"])) * 1e-4,
+                                                                      rel=1e-9)
+    bad = invoke(study_file(tmp_path, study.replace("pressure = 100", 'pressure = "high"')), "--out", tmp_path / "o2")
+    assert bad.exit_code == 2 and "option 'pressure' takes a float" in " ".join(bad.output.split())

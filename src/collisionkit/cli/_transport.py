@@ -555,6 +555,8 @@ def swarm(
     result = scan.summary(deliveries.files) | {"seed": options.seed}
     for entry, row in zip(result["results"] if detector else (), detector or ()):
         entry["detector"] = row
+    if detector and len(detector) == 1:  # one E/N: its values are at the top level too (swarm_summary)
+        result["detector"] = detector[0]
     deliveries.finish(options.summary, result)
 
 

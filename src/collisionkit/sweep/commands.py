@@ -144,12 +144,23 @@ def _swarm_parameters():
 
 
 def _run_swarm(parameters, folder: Path, outputs: Mapping[str, Any]) -> dict:
-    from ..transport import SwarmScan
+    """A swarm point; with ``pressure`` (Torr) each result also holds its ``detector`` coefficients, as the
+    command's --pressure gives them (:func:`~collisionkit.transport.detector_coefficients`)."""
+    from ..transport import SwarmScan, detector_coefficients, gas_number_density
 
+    pressure = outputs.get("pressure")
+    if pressure is not None:  # refused before the work
+        gas_number_density(pressure, parameters.gas_temperature)
     checkpoint = folder / POINT_CHECKPOINT
     scan = _resumed(SwarmScan, checkpoint, parameters) or SwarmScan(parameters, checkpoint=checkpoint)
     scan.run()
-    return scan.summary()
+    summary = scan.summary()
+    if pressure is not None:
+        for entry, result in zip(summary["results"], scan.results):
+            entry["detector"] = detector_coefficients(result, pressure)
+        if len(summary["results"]) == 1:  # one E/N: its values are at the top level too (swarm_summary)
+            summary["detector"] = summary["results"][0]["detector"]
+    return summary
 
 
 def _slab_parameters():
@@ -210,7 +221,7 @@ def _run_track(parameters, folder: Path, outputs: Mapping[str, Any]) -> dict:
 
 _COMMANDS = {
     "edmd": SweepCommand("edmd", _edmd_parameters, _run_edmd, {"trajectory": Path, "frame-every": int, "xyz": Path}),
-    "swarm": SweepCommand("swarm", _swarm_parameters, _run_swarm),
+    "swarm": SweepCommand("swarm", _swarm_parameters, _run_swarm, {"pressure": float}),
     "slab": SweepCommand("slab", _slab_parameters, _run_slab),
     "encounter": SweepCommand("encounter", _encounter_parameters, _run_encounter,
                               files=("initial_conditions.json", "initial_conditions.txt")),

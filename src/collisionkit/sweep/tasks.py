@@ -96,7 +96,8 @@ def _split_options(command: SweepCommand, options: Mapping[str, Any]):
     outputs = {key: value for key, value in options.items() if key in command.outputs}
     for key, kind in command.outputs.items():
         value = outputs.get(key)
-        if value is not None and not isinstance(value, (str, Path) if kind is Path else kind):
+        allowed = (str, Path) if kind is Path else (int, float) if kind is float else kind
+        if value is not None and (not isinstance(value, allowed) or isinstance(value, bool)):
             raise TypeError(f"option {key!r} takes a {kind.__name__ if kind is not Path else 'file name'}; got {value!r}")
     return command.parameters.from_mapping(physics), outputs
 
