@@ -223,3 +223,16 @@ def test_law_cooling_errors_match_the_scatter_of_seeds():
     per-block error without its 1 / sqrt(blocks) (sd ~0.27)."""
     sigmas = [_law_run(seed, law_speed=1e8)["cooling_rate_deviation_sigmas"] for seed in range(1, 13)]
     assert 0.49 < float(np.std(sigmas, ddof=1)) < 1.56
+
+
+def test_a_mixture_with_a_law_says_it_has_no_cooling_theory():
+    """A binary mixture with the viscoelastic law gets its species' temperatures measured but no theory, and its
+    note says so instead of pointing at a cooling theory."""
+    parameters = EdmdParameters(particles=200, packing_fraction=0.05, fractions=(0.5, 0.5), masses=(1.0, 0.5),
+                                restitution_law="viscoelastic", law_speed=10.0, equilibration=0, collisions=4000,
+                                blocks=4, seed=2)
+    run = EdmdRun(parameters).run()
+    summary = run.summary()
+    assert "cooling_rate_theory" not in summary and "temperature_species_theory" not in summary
+    assert len(summary["temperature_species"]) == 2
+    assert "no cooling theory is given for a mixture with a restitution law" in run.cooling_note()

@@ -293,9 +293,11 @@ def cooling_note(run) -> str | None:
                 f"--elastic-below {system.elastic_below:.3g} are elastic, and nearly all were; this is the run of "
                 "an elastic gas")
     how = "homogeneous cooling, Haff's law" if law == "constant" else "homogeneous cooling, its rate falling with kT"
+    theory = ("the cooling theory assumes the gas stayed homogeneous, which a dense or large one does not (clusters)"
+              if law == "constant" or len(run.parameters.species_counts) == 1 else
+              "no cooling theory is given for a mixture with a restitution law")
     note = (f"{inelastic}: the gas cooled as it ran ({how}), kT from 1 to {kT:.3g}; "
-            "Z, the collision frequency and D are averages over a cooling state, not equilibrium values; the "
-            "cooling theory assumes the gas stayed homogeneous, which a dense or large one does not (clusters)")
+            f"Z, the collision frequency and D are averages over a cooling state, not equilibrium values; {theory}")
     if system.elastic_below > 0 and kT < 100.0 * system.elastic_below**2:
         note += (f". It reached the elastic floor: contacts slower than --elastic-below {system.elastic_below:.3g} "
                  "are elastic (against inelastic collapse), and the late blocks measure that, not the cooling: a run "
