@@ -151,6 +151,8 @@ def _run_swarm(parameters, folder: Path, outputs: Mapping[str, Any]) -> dict:
     pressure = outputs.get("pressure")
     if pressure is not None:  # refused before the work
         gas_number_density(pressure, parameters.gas_temperature)
+        if parameters.reduced_magnetic_field != 0.0 or parameters.reduced_frequency != 0.0:
+            raise ValueError("pressure gives a detector's table of a static E without B: not with B-N or omega-N")
     checkpoint = folder / POINT_CHECKPOINT
     scan = _resumed(SwarmScan, checkpoint, parameters) or SwarmScan(parameters, checkpoint=checkpoint)
     scan.run()
