@@ -129,7 +129,7 @@ def _cell_candidates(i, cell_of, cell_count, ncell):
 @kernel
 def counting_run_events(t, still, max_pair_collisions, max_events, t_stop, stall_limit, p, b, anchor_time, image,
                         cell_of, neighbours, neighbour_count, cell_members, cell_count, cell_points, ncell, geom, dim,
-                        restitution, params, queue, tree, leaves, acc, tally, old):
+                        restitution, params, queue, tree, leaves, acc, spin, tally, old):
     """``loop.run_events`` without its prefetches, adding its counts to ``tally`` (same events, same results)."""
     done = 0
     events = 0
@@ -188,7 +188,7 @@ def counting_run_events(t, still, max_pair_collisions, max_events, t_stop, stall
             else:
                 advance(p, j, t, geom, dim)
                 kind = 2
-                if collide_pair(p, i, j, b, geom, scale0 + growth * t, growth, restitution, params, acc):
+                if collide_pair(p, i, j, b, geom, scale0 + growth * t, growth, restitution, params, acc, spin):
                     b[i, CHANGED_AT] = event
                     b[j, CHANGED_AT] = event
                     done += 1

@@ -59,7 +59,7 @@ class CrossingEngine:
         self.time, _, _, stop, _ = crossings.run_crossing_events(
             self.time, 0, collisions, 10**9, math.inf, 10**6, s.p, s.book, self.pending, s._image, self.offsets,
             self.steps, self.cell_of, self.cell_members, self.cell_count, self.ncell, self.geom, self.dim,
-            s.restitution, s.params, s.queue, s.tree, s.leaves, s.acc, self.gathered)
+            s.restitution, s.params, s.queue, s.tree, s.leaves, s.acc, self.gathered, s.spin)
         assert stop == kernels.STOP_COLLISIONS
         assert s.acc[kernels.ACC_PAIR_COLLISIONS] - before == collisions
 

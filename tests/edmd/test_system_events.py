@@ -109,7 +109,7 @@ def test_a_kernel_call_stops_at_its_event_allowance_and_at_a_stalled_instant():
     system = parallel_discs("lists")
     arrays = (system.p, system.book, system.anchor_time, system._image, system.cell_of, system.neighbours, system.neighbour_count,
               system.cell_members, system.cell_count, system.cell_points, system.ncell, system.geom, system.dim,
-              system.restitution, system.params, system.queue, system.tree, system.leaves, system.acc)
+              system.restitution, system.params, system.queue, system.tree, system.leaves, system.acc, system.spin)
     t, still, longest, stop, target = kernels.run_events(0.0, 0, 100, 1000, math.inf, kernels.STALLED_EVENTS, *arrays)
     assert stop == kernels.STOP_EVENTS and system.acc[kernels.ACC_EVENTS] == 1000 and t > 0.0
     # a ball resting on the floor under gravity: a bounce at once, that changes nothing, for ever
@@ -118,7 +118,7 @@ def test_a_kernel_call_stops_at_its_event_allowance_and_at_a_stalled_instant():
     arrays = (resting.p, resting.book, resting.anchor_time, resting._image, resting.cell_of, resting.neighbours, resting.neighbour_count,
               resting.cell_members, resting.cell_count, resting.cell_points, resting.ncell, resting.geom,
               resting.dim, resting.restitution, resting.params, resting.queue, resting.tree, resting.leaves,
-              resting.acc)
+              resting.acc, resting.spin)
     t, still, longest, stop, target = kernels.run_events(0.0, 0, 100, 1 << 20, math.inf, kernels.STALLED_EVENTS, *arrays)
     assert (t, stop, target) == (0.0, kernels.STOP_STALLED, kernels.wall_target(2))
     assert still == longest == kernels.STALLED_EVENTS
@@ -131,7 +131,7 @@ def test_events_in_a_row_at_one_instant_are_counted_across_calls():
     arrays = (resting.p, resting.book, resting.anchor_time, resting._image, resting.cell_of, resting.neighbours, resting.neighbour_count,
               resting.cell_members, resting.cell_count, resting.cell_points, resting.ncell, resting.geom,
               resting.dim, resting.restitution, resting.params, resting.queue, resting.tree, resting.leaves,
-              resting.acc)
+              resting.acc, resting.spin)
     still, calls = 0, 0
     while True:
         _, still, _, stop, _ = kernels.run_events(0.0, still, 100, 1000, math.inf, kernels.STALLED_EVENTS, *arrays)

@@ -53,6 +53,8 @@ class EdmdOptions(Options):
     restitution_law: LawName = "constant"
     law_speed: float = 1.0  # ranges (with NaN and inf): the library's messages, which name them
     law_exponent: float = 0.234
+    tangential_restitution: float | None = None  # ranges: the library's messages
+    inertia_factor: float | None = None
     equilibration: int | None = Field(default=None, ge=0)
     collisions: int | None = Field(default=None, ge=2)
     blocks: int = Field(default=10, ge=2, le=100_000)
@@ -427,6 +429,14 @@ def edmd(
     law_exponent: Annotated[
         float | None, typer.Option(help=_help("The bridges law's exponent p, in (0, 10].", "0.234, ice"))
     ] = None,
+    tangential_restitution: Annotated[
+        float | None,
+        typer.Option(help=_help("Rough spheres: beta in [-1, 1], the touching surfaces' tangential relative velocity after a contact over before, reversed (-1 smooth, 1 perfectly rough). The spheres spin, starting at rotational kT = 1; the summary gives the rotational temperature and T_r / T against the rough cooling state's (one species).", "smooth spheres")),
+    ] = None,
+    inertia_factor: Annotated[
+        float | None,
+        typer.Option(help=_help("Rough spheres' moment of inertia over m a^2, in (0, 1].", "2/5 for spheres, 1/2 for discs")),
+    ] = None,
     equilibration: Annotated[
         int | None, typer.Option(help=_help("Pair collisions before measuring (0 to 1e14).", "20 per particle"))
     ] = None,
@@ -518,7 +528,7 @@ def edmd(
     """
     given = dict(
         dim=dim, particles=particles, packing_fraction=packing_fraction, restitution=restitution,
-        elastic_below=elastic_below, restitution_law=restitution_law, law_speed=law_speed, law_exponent=law_exponent, equilibration=equilibration, collisions=collisions, blocks=blocks, seed=seed, initial=initial,
+        elastic_below=elastic_below, restitution_law=restitution_law, law_speed=law_speed, law_exponent=law_exponent, tangential_restitution=tangential_restitution, inertia_factor=inertia_factor, equilibration=equilibration, collisions=collisions, blocks=blocks, seed=seed, initial=initial,
         transport=transport, yeh_hummer=yeh_hummer, shear_rate=shear_rate, thermostat=thermostat, engine=engine, well_width=well_width, well_depth=well_depth, fractions=fractions, diameters=diameters, masses=masses, summary=summary, trajectory=trajectory, frame_every=frame_every, xyz=xyz, out=out, plots=plots,
         checkpoint=checkpoint, overwrite=overwrite,
     )  # fmt: skip

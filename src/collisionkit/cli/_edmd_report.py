@@ -27,6 +27,8 @@ def _theory_column(result: dict) -> tuple[str, str, str, str]:
         if result.get("elastic_below") and result["temperature"] > BARELY_COOLED:  # the floor made it elastic
             return "elastic floor: nearly all contacts elastic", "", "barely cools (elastic floor)", "> 0 (small)"
         cools = "cools (Haff)" if result.get("restitution_law", "constant") == "constant" else "cools"
+        if result.get("tangential_restitution") is not None:
+            cools = "cools (rough spheres)"
         return "no equilibrium (inelastic)", "", cools, "> 0"
     if result.get("well_width"):
         return "(square wells: see the virial expansion)", "", "1 while equilibrating, then the mean below", "0 (elastic)"
@@ -62,6 +64,7 @@ def rows(result: dict) -> list[tuple[str, str, str]]:
         ("collision frequency per particle", pm("collision_frequency"), omega),
         ("temperature kT (final)", f"{result['temperature']:.6g}", kT),
         *_cooling_rows(result, pm),
+        *_rotation_rows(result, pm),
         *_a2_rows(result, pm),
         ("mean free path", pm("mean_free_path"), ""),
         ("diffusion coefficient", pm("diffusion_coefficient"), "from the MSD"),
@@ -94,8 +97,21 @@ def _cooling_rows(result: dict, pm) -> list[tuple[str, str, str]]:
         sigmas = result.get("cooling_rate_deviation_sigmas")
         off = "" if sigmas is None or not math.isfinite(sigmas) else f"; measured {sigmas:+.1f} sigma"
         where = f"Maxwellian, {result['restitution_law']} law, blocks' mean{off}"
-    return [("cooling rate per collision -d ln T/dC", pm("cooling_rate"),
-             "" if theory is None else f"{theory:.5g} ({where})")]
+    if result.get("tangential_restitution") is not None:
+        where = "rough cooling state, Luding et al. 1998"
+    shown = "" if theory is None or not math.isfinite(theory) else f"{theory:.5g} ({where})"
+    return [("cooling rate per collision -d ln T/dC", pm("cooling_rate"), shown)]
+
+
+def _rotation_rows(result: dict, pm) -> list[tuple[str, str, str]]:
+    """Rough spheres: the rotational kT and T_r / T, beside equipartition or the rough cooling state's ratio."""
+    if result.get("tangential_restitution") is None:
+        return []
+    theory = result.get("temperature_ratio_theory")
+    shown = "" if theory is None else (f"{theory:.5g} (" + ("equipartition" if result["elastic"] else
+                                                            "rough cooling state") + ")")
+    return [("rotational temperature kT_r (final)", f"{result['rotational_temperature']:.6g}", ""),
+            ("T_r / T (final)", pm("temperature_ratio"), shown)]
 
 
 def _a2_rows(result: dict, pm) -> list[tuple[str, str, str]]:
@@ -259,8 +275,9 @@ def _plots(run, measurement, out: Path, deliveries: Deliveries) -> None:
     if math.isfinite(measurement.cooling_rate):
         collisions = 2.0 * run.sampler.per_block * np.arange(1, run.sampler.done + 1) / system.count
         summary = run.summary()
+        rate = summary.get("cooling_rate_theory")  # (NaN: no theory, rough spheres of a mixture or with a law)
         figures.append(("cooling.png", lambda: plotting.plot_cooling(
-            collisions, measurement.block_temperature, summary.get("cooling_rate_theory"),
+            collisions, measurement.block_temperature, rate if rate is not None and math.isfinite(rate) else None,
             measurement.block_species_temperatures, species_theory=summary.get("temperature_species_theory"),
             theory_temperatures=_law_cooling(p, system, collisions, measurement.block_temperature))))
 
@@ -292,6 +309,8 @@ def report(run, options, extra: dict) -> None:
     law = "" if p.restitution_law == "constant" else (
         f" ({p.restitution_law} law, u_c = {p.law_speed:g}" + (f", p = {p.law_exponent:g})" if p.restitution_law ==
                                                                "bridges" else ")"))
+    if p.tangential_restitution is not None:
+        law += f", rough: beta = {p.tangential_restitution:g}, kappa = {run.system.inertia_factor:g}"
     title = (f"EDMD: {p.particles} hard {kind}, eta = {p.packing_fraction:g}, e = {_number_or_table(p.restitution)}"
              f"{law}, seed {p.seed}")
     print_table(title, ("quantity", "measured", "theory"), rows(result))

@@ -46,6 +46,8 @@ from .mixture_theory import (
     MIXTURE_EQUATION_OF_STATE, homogeneous_cooling_rate, homogeneous_cooling_temperatures, mixture_collision_frequency,
     mixture_compressibility, mixture_contact_values, mixture_cooling_rates,
 )
+from ._rotation import random_spins
+from .rough_theory import rough_cooling, rough_cooling_matrix, rough_cooling_state
 from .restitution_laws import maxwellian_cooling, maxwellian_cooling_rate, restitution_coefficient
 from .square_well_theory import (
     square_well_collision_integral,
@@ -128,6 +130,10 @@ __all__ = [
     "mixture_cooling_rates",
     "packing_fraction",
     "random_fluid",
+    "random_spins",
+    "rough_cooling",
+    "rough_cooling_matrix",
+    "rough_cooling_state",
     "square_well_collision_integral",
     "square_well_deflection",
     "square_well_dilute_transport",

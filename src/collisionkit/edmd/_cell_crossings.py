@@ -165,7 +165,7 @@ def run_crossing_kernel(system, time, still, collisions, max_events, t_stop, sta
         time, still, collisions, max_events, t_stop, stall_limit, system.p, system.book, system.pending,
         system._image, _offsets(system.dim), _steps(system), system.cell_of, system.cell_members, system.cell_count,
         system.ncell, system.geom, system.dim, system.restitution, system.params, system.queue, system.tree,
-        system.leaves, system.acc, _search_scratch(system),
+        system.leaves, system.acc, _search_scratch(system), system.spin,
     )
 
 

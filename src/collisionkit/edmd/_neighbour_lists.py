@@ -257,6 +257,8 @@ class NeighbourLists:
                 array[:, column] = array[order, column]
         self._mass = self._mass[order]
         self._species = self._species[order]
+        if self.spin.shape[0]:
+            self.spin = self.spin[order]
         self.ids = self.ids[order]  # a new array: a transport measurement tells a re-sort by it
         self._renumber_bonds(order)
         self.book[:] = 0.0

@@ -102,6 +102,7 @@ def checked_parameters(p) -> dict[str, Any]:
     kinds = None if p.fractions is None else len(values["fractions"])
     values["restitution"] = _number_or_matrix("restitution", p.restitution, kinds, 0.0, 1.0, False)
     values |= _checked_law(p)
+    values |= _checked_roughness(p, values["particles"])
     inelastic = bool(np.any(np.asarray(values["restitution"]) != 1.0)) or p.restitution_law != "constant"
     if inelastic and p.transport:
         given = (f"restitution {_shown(values['restitution'])}" if p.restitution_law == "constant" else
@@ -122,6 +123,25 @@ def checked_parameters(p) -> dict[str, Any]:
     if p.engine == "cells" and shear_rate != 0.0:  # what HardSphereSystem refuses, said before any work
         raise ValueError("engine cells cannot be combined with shear_rate: the cell-crossing engine runs straight "
                          "flights only (use engine lists or auto)")
+    return values
+
+
+def _checked_roughness(p, particles: int) -> dict[str, Any]:
+    """Rough spheres: beta in [-1, 1] and kappa in (0, 1]; an inertia factor needs beta, and rough spheres refuse
+    transport, shear and wells (their collisional fluxes have no spin terms)."""
+    if p.tangential_restitution is None:
+        if p.inertia_factor is not None:
+            raise ValueError("inertia_factor needs rough spheres: give tangential_restitution in [-1, 1]")
+        return {}
+    values = {"tangential_restitution": check_real("tangential_restitution", p.tangential_restitution, -1.0, 1.0)}
+    if p.inertia_factor is not None:
+        values["inertia_factor"] = check_real("inertia_factor", p.inertia_factor, 0.0, 1.0, low_open=True)
+    clashes = ((p.transport, "transport", "the Einstein-Helfand moments have no spin terms"),
+               (p.shear_rate != 0.0, "shear_rate", "the sheared engine keeps no spins"),
+               (p.well_width is not None, "well_width", "wells are smooth"))
+    for clash, name, why in clashes:
+        if clash:
+            raise ValueError(f"tangential_restitution (rough spheres) cannot be combined with {name} ({why})")
     return values
 
 
@@ -265,6 +285,8 @@ def check_saved_run(saved, sampler, parameters, system) -> None:
                             f"{parameters.engine}")
     if not _species_fit(parameters, system):
         raise saved.damaged("its particles' species, diameters or masses are not those its parameters give")
+    if system.tangential_restitution != parameters.tangential_restitution:
+        raise saved.damaged("its system's roughness (tangential restitution) is not the one its parameters give")
     if sampler is None:
         return
     lengths = {len(values) for values in sampler.records.values()} | {len(sampler.speeds)}

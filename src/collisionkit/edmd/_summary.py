@@ -14,6 +14,14 @@ Maxwellian rate of :func:`~collisionkit.edmd.maxwellian_cooling_rate` at
 each block's kT, averaged over the blocks as the measured rate is (and the
 error of the measured rate from the blocks' scatter about it).
 
+Rough spheres (a tangential restitution) add the rotational temperature at
+the end and its ratio to the translational one, ``temperature_ratio`` (with
+the error of two temperatures of N independent particles); a cooling gas of
+one species with a constant restitution compares it, and its cooling rate,
+with the homogeneous cooling state of rough spheres
+(:func:`~collisionkit.edmd.rough_cooling_state`), an elastic one with
+equipartition (1).
+
 A sheared run's theory is taken at ``temperature_mean``, the time average
 of kT over the measurement (the viscous heating raises kT between the
 thermostat's rescalings: the final kT is not what the stress was measured
@@ -41,7 +49,9 @@ from .mixture_theory import (
     mixture_compressibility, mixture_contact_values,
 )
 from ._msd import block_error
+from ._rotation import rotational_degrees
 from .restitution_laws import maxwellian_cooling_rate
+from .rough_theory import rough_cooling_state
 from .theory import (
     carnahan_starling, cooling_state_a2, enskog_collision_frequency, enskog_transport, hansen_goos, henderson,
     yeh_hummer_correction,
@@ -79,7 +89,7 @@ def edmd_summary(run, measurement, files: Sequence = ()) -> dict[str, Any]:
         "blocks": p.blocks,
         "equilibration_collisions": run.equilibrated,
         # with wells the equilibration's rescaling changes the energy: only the collisions' own loss is a loss
-        "energy_lost_total": (run.initial_energy - system.kinetic_energy() if p.well_width is None
+        "energy_lost_total": (run.initial_energy - system.total_kinetic_energy() if p.well_width is None
                               else system.energy_lost),
         "elastic": p.elastic,
         "elastic_below": system.elastic_below,
@@ -119,7 +129,10 @@ def edmd_summary(run, measurement, files: Sequence = ()) -> dict[str, Any]:
         result["contact_values_error"] = _nested(measurement.contact_values_error)
     if "cooling_rate" in result and not sheared:  # a cooling gas: Haff's law, or the mixture's cooling state
         result |= _cooling_theory(p, result, measurement, system.elastic_below)
-    if "sonine_a2" in result and p.fractions is None and p.restitution_law == "constant":
+    if p.tangential_restitution is not None:
+        result |= _rough_summary(p, system, result)
+    if "sonine_a2" in result and p.fractions is None and p.restitution_law == "constant" and (
+            p.tangential_restitution is None or p.elastic):
         # Maxwell's distribution (0) in equilibrium (wells too), the cooling state's first Sonine correction if not
         result["sonine_a2_theory"] = 0.0 if p.elastic else float(cooling_state_a2(p.restitution, p.dim))
     if measurement.species_temperatures is not None:  # each species' kT over the mixture's
@@ -192,6 +205,30 @@ def _law_cooling_theory(p, measurement, elastic_below: float) -> dict[str, Any]:
     error = block_error(residuals)
     return {"cooling_rate_error": error, "cooling_rate_theory": float(np.mean(theory)),
             "cooling_rate_deviation_sigmas": _in_sigmas(float(np.mean(residuals)), error)}
+
+
+def _rough_summary(p, system, result) -> dict[str, Any]:
+    """Rough spheres: the rotational kT at the end, T_r / T with its error, and the theory's ratio (and cooling rate)
+    where there is one: equipartition if elastic, the rough cooling state for one species of constant restitution."""
+    kT, rotational = system.temperature(), system.rotational_temperature()
+    ratio = rotational / kT
+    # the relative variances of two kinetic temperatures of N independent particles: 2 / (degrees of freedom)
+    degrees = (system.dim * system.count, rotational_degrees(system.dim) * system.count)
+    rough = {"tangential_restitution": p.tangential_restitution, "inertia_factor": system.inertia_factor,
+             "rotational_temperature": rotational, "temperature_ratio": ratio,
+             "temperature_ratio_error": abs(ratio) * math.sqrt(2.0 / degrees[0] + 2.0 / degrees[1])}
+    if p.elastic:
+        theory = 1.0
+    elif len(p.species_counts) == 1 and p.restitution_law == "constant" and p.shear_rate == 0.0:
+        restitution = p.restitution if not isinstance(p.restitution, tuple) else p.restitution[0][0]
+        theory, rate = rough_cooling_state(restitution, p.tangential_restitution, system.inertia_factor, p.dim)
+        if "cooling_rate" in result:
+            rough |= {"cooling_rate_theory": rate, "cooling_rate_deviation_sigmas":
+                      _in_sigmas(result["cooling_rate"] - rate, result["cooling_rate_error"])}
+    else:  # mixtures, restitution laws: no theory here; not Haff's either
+        return rough | {"cooling_rate_theory": math.nan, "cooling_rate_deviation_sigmas": math.nan}
+    return rough | {"temperature_ratio_theory": theory, "temperature_ratio_deviation_sigmas":
+                    _in_sigmas(ratio - theory, rough["temperature_ratio_error"])}
 
 
 def _species_temperatures(p, measurement) -> dict[str, Any]:
@@ -284,6 +321,8 @@ def cooling_note(run) -> str | None:
     system, law = run.system, run.parameters.restitution_law
     kT = system.temperature()
     inelastic = "restitution < 1" if law == "constant" else f"the {law} restitution law"
+    if system.rough and run.parameters.restitution_law == "constant" and np.all(np.asarray(system.restitution) == 1):
+        inelastic = "rough contacts (tangential restitution between -1 and 1)"
     if run.parameters.shear_rate != 0.0:
         compare = "; compare with granular_shear_flow (dilute gas)" if law == "constant" else ""
         return (f"{inelastic} under shear: the viscous heating of the flow balances the collisional cooling "
@@ -293,6 +332,8 @@ def cooling_note(run) -> str | None:
                 f"--elastic-below {system.elastic_below:.3g} are elastic, and nearly all were; this is the run of "
                 "an elastic gas")
     how = "homogeneous cooling, Haff's law" if law == "constant" else "homogeneous cooling, its rate falling with kT"
+    if system.rough and law == "constant":
+        how = "homogeneous cooling of rough spheres, translation and rotation"
     theory = ("the cooling theory assumes the gas stayed homogeneous, which a dense or large one does not (clusters)"
               if law == "constant" or len(run.parameters.species_counts) == 1 else
               "no cooling theory is given for a mixture with a restitution law")

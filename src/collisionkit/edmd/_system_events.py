@@ -226,7 +226,7 @@ def run_event_loop(system, collisions, t_stop):
                 system.book, system.anchor_time, system._image, system.cell_of, system.neighbours,
                 system.neighbour_count, system.cell_members, system.cell_count, system.cell_points, system.ncell,
                 system.geom, system.dim, system.restitution, system.params, system.queue, system.tree,
-                system.leaves, system.acc, *system._well_record(),
+                system.leaves, system.acc, system.spin, *system._well_record(),
             )
         made = system.collisions - made
         if stop == _k.STOP_STALLED:

@@ -35,7 +35,7 @@ class Checkpoints:
 
     _ARRAYS = ("p", "_mass", "_species", "_image", "ids", "acc", "geom", "params", "restitution", "book", "anchor_time",
                "cell_of", "ncell", "queue", "tree", "neighbours", "neighbour_count", "cell_members", "cell_count",
-               "cell_points", "pending", "bonds", "bond_count")
+               "cell_points", "pending", "bonds", "bond_count", "spin")
     _SCALARS = ("dim", "time", "elapsed", "leaves", "last_sort", "_shell_request", "_engine_code")
     # layout of the engine's arrays in a checkpoint; raise it when they change (2: bookkeeping records, block queue;
     # 3: the transport sums in the accumulator; 4: Lees-Edwards shear and its thermostat in the parameters and the
@@ -43,13 +43,15 @@ class Checkpoints:
     # a capsule; 6: under shear, anchors carried by the flow, the cells in its frame, the lists' times; 7: the
     # cell-crossing engine, its pending collisions and the engine's code; 8: square wells, their parameters, counts
     # and the record of pairs inside; 9: square wells per species pair, a table after the parameters, and the
-    # depths of the pairs inside summed)
-    STATE_FORMAT = 9
+    # depths of the pairs inside summed; 10: rough spheres, their roughness and inertia in the parameters before the
+    # well table, and the spins)
+    STATE_FORMAT = 10
     # older formats a restore still reads: format 2 lacks the transport sums, which start at 0 (only their changes
     # over a measurement have a meaning, and a format-2 run measured none); formats 2 and 3 were never sheared, and
     # formats 4 and 5 are read only unsheared (their sheared lists and cells are kept differently); formats before 7
-    # ran the list engine; formats before 8 had no wells; format 8 had one well for every pair
-    READABLE_FORMATS = (2, 3, 4, 5, 6, 7, 8, 9)
+    # ran the list engine; formats before 8 had no wells; format 8 had one well for every pair; formats before 10
+    # were smooth
+    READABLE_FORMATS = (2, 3, 4, 5, 6, 7, 8, 9, 10)
 
     def state_dict(self):
         """Every array and number needed to continue the run bit for bit.
@@ -100,6 +102,8 @@ class Checkpoints:
         if written < 8:  # hard spheres: an empty record of pairs inside wells
             count = np.shape(state["p"])[0] if "p" in state else 0
             state = dict(state) | {"bonds": np.zeros((count, 1), np.int32), "bond_count": np.zeros(count, np.int32)}
+        if written < 10:  # smooth spheres: no spins
+            state = dict(state) | {"spin": np.zeros((0, 3))}
         missing = [name for name in (*cls._ARRAYS, *cls._SCALARS, "restitution_law") if name not in state]
         if missing:
             raise CheckpointError(f"the state has no array {', '.join(map(repr, missing))}")
@@ -115,9 +119,10 @@ class Checkpoints:
                                     _k.ACC_SIZE)
             arrays["params"] = _padded(arrays["params"], (_k.P_SIZE_WITHOUT_SHEAR, _k.P_SIZE_WITHOUT_FRAME,
                                                           _k.P_SIZE_WITHOUT_WELL, _k.P_SIZE_WITHOUT_WELL_TABLE),
-                                       _k.P_SIZE)
-            if arrays["params"].shape == (_k.P_SIZE,) and arrays["acc"].shape == (_k.ACC_SIZE,):
+                                       _k.P_SIZE_WITHOUT_ROUGHNESS)
+            if arrays["params"].shape == (_k.P_SIZE_WITHOUT_ROUGHNESS,) and arrays["acc"].shape == (_k.ACC_SIZE,):
                 upgraded_well_state(arrays, written)
+            arrays["params"] = _smooth_parameters(arrays["params"])
         check_state(arrays, {name: state[name] for name in (*cls._SCALARS, "restitution_law")})
         system = cls.__new__(cls)
         for name, array in arrays.items():
@@ -185,7 +190,7 @@ _DTYPES = {"p": np.float64, "_mass": np.float64, "_species": np.int64, "_image":
            "acc": np.float64, "geom": np.float64, "params": np.float64, "restitution": np.float64, "book": np.float64,
            "anchor_time": np.float64, "cell_of": np.int32, "ncell": np.int64, "queue": np.float64, "tree": np.float64, "neighbours": np.uint32,
            "neighbour_count": np.int32, "cell_members": np.int32, "cell_count": np.int32, "cell_points": np.float32,
-           "pending": np.float64, "bonds": np.int32, "bond_count": np.int32}
+           "pending": np.float64, "bonds": np.int32, "bond_count": np.int32, "spin": np.float64}
 # accumulator slots that count (whole numbers), and those sized by a run that stopped to grow a row (<= N + 1)
 _COUNTERS = (_k.ACC_PAIR_COLLISIONS, _k.ACC_WALL_COLLISIONS, _k.ACC_LIST_REBUILDS, _k.ACC_STALE_EVENTS, _k.ACC_EVENTS,
              _k.ACC_WELL_PAIRS, _k.ACC_CAPTURES, _k.ACC_ESCAPES, _k.ACC_BOUNCES)
@@ -193,7 +198,7 @@ _OVERFLOWS = (_k.ACC_LIST_OVERFLOW, _k.ACC_CELL_OVERFLOW)
 _PARAMETERS = (_k.P_SCALE0, _k.P_GROWTH, _k.P_LAW, _k.P_LAW_SPEED, _k.P_LAW_EXPONENT, _k.P_ELASTIC_BELOW,
                _k.P_WALL_RESTITUTION, _k.P_SHELL, _k.P_LIST_SCALE, _k.P_SHEAR_RATE, _k.P_SHEAR_OFFSET, _k.P_SHEAR_SWEEP,
                _k.P_SHEAR_REACH, _k.P_THERMOSTAT, _k.P_SHEAR_FRAME, _k.P_WELL_WIDTH, _k.P_WELL_DEPTH,
-               _k.P_WELL_SPECIES)
+               _k.P_WELL_SPECIES, _k.P_ROUGHNESS, _k.P_INERTIA_FACTOR)
 _TRANSPORT_SUMS = tuple(range(_k.ACC_STRESS, _k.ACC_SIZE))
 _TOTALS = (_k.ACC_VIRIAL, _k.ACC_ENERGY_LOST, _k.ACC_WALL_IMPULSE, *_COUNTERS, *_OVERFLOWS, *_TRANSPORT_SUMS)
 
@@ -207,6 +212,17 @@ def _padded(array, old_sizes, size):
     if array.ndim != 1 or array.shape[0] not in old_sizes or array.dtype != np.float64:
         return array  # check_state names what is wrong with it
     return np.concatenate([array, np.zeros(size - array.shape[0])])
+
+
+def _smooth_parameters(params):
+    """The parameters of a format before 10 with the rough spheres' entries inserted at 0 (smooth) before the table."""
+    cut = _k.P_SIZE_WITHOUT_ROUGHNESS
+    if params.ndim != 1 or params.shape[0] < cut or params.dtype != np.float64:
+        return params  # check_state names what is wrong with it
+    species = params[_k.P_WELL_SPECIES]
+    if not (species >= 0 and params.shape[0] == cut + 2 * species * species):
+        return params  # not the old layout: check_state judges it as it is
+    return np.concatenate([params[:cut], np.zeros(_k.P_SIZE - cut), params[cut:]])
 
 
 def _bad(name, what):
@@ -331,6 +347,7 @@ def _check_parameters(arrays, law, p, geom, dim):
     _require(params[_k.P_LAW] == RESTITUTION_LAWS[law], "params", f"must hold the law of restitution_law {law!r}")
     _check_shear(params, geom, dim)
     check_well_parameters(params, p, arrays)
+    _check_roughness(arrays, params, p.shape[0], dim)
     _require(params[_k.P_LIST_SCALE] >= params[_k.P_SCALE0] * (1 - 1e-9), "params",
              "must hold a list scale >= the radius scale")
     _require(np.isfinite(p[:, _k.R]) & (p[:, _k.R] > 0), "p", "must hold radii > 0")
@@ -341,6 +358,25 @@ def _check_parameters(arrays, law, p, geom, dim):
              "must hold a shell that keeps the list radius below half of each periodic box length")
     _require(3.0 * largest * (1 - 1e-12) <= 2.0 * half, "p", "must hold radii that fit 3 diameters in a periodic box")
     return params
+
+
+def _check_roughness(arrays, params, count, dim):
+    """Rough spheres (kappa set): 1 + beta in [0, 2], kappa in (0, 1], finite spins of shape (N, 3), about z only in
+    2D, and no shear, wells or growth; smooth ones: both 0 and no spins."""
+    roughness, kappa = params[_k.P_ROUGHNESS], params[_k.P_INERTIA_FACTOR]
+    rough = kappa != 0.0
+    spin = _array(arrays, "spin", (count, 3)) if rough else arrays["spin"]
+    if not rough:
+        _require(roughness == 0.0, "params", "must hold no roughness without an inertia factor (smooth spheres)")
+        _require(spin.dtype == np.float64 and spin.shape == (0, 3), "spin", "must be empty (shape (0, 3)) for "
+                 "smooth spheres")
+        return
+    _require((0.0 <= roughness <= 2.0) & (0.0 < kappa <= 1.0), "params",
+             "must hold a roughness 1 + beta in [0, 2] and an inertia factor in (0, 1]")
+    _require(np.isfinite(spin), "spin", "must hold finite angular velocities")
+    _require(dim == 3 or np.all(spin[:, :2] == 0.0), "spin", "must spin discs about the normal of their plane only")
+    _require(params[[_k.P_SHEAR_RATE, _k.P_WELL_WIDTH, _k.P_GROWTH]] == 0.0, "params",
+             "must hold no shear, wells or growth for rough spheres")
 
 
 def _check_shear(params, geom, dim):

@@ -37,6 +37,7 @@ from ._run_state import CHECKPOINT_KIND, restore_run, resume_arguments, save_run
 from ._summary import BARELY_COOLED, cooling_note, edmd_summary  # noqa: F401 (BARELY_COOLED: the CLI's)
 from .initial import lattice, lattice_cells, maxwell_boltzmann, random_fluid
 from .measurement import Measurement, Sampler
+from ._rotation import UNIFORM_INERTIA, random_spins
 from .restitution_laws import BRIDGES_EXPONENT
 from .system import HardSphereSystem
 
@@ -47,6 +48,8 @@ COLLISIONS_PER_PARTICLE = 200
 # a transport run's default: 10 blocks of 200 per particle (400 mean free times) outlast the fit window tenfold
 TRANSPORT_COLLISIONS_PER_PARTICLE = 2000
 MIN_CHUNK = 10_000
+# the random stream of the initial spins, apart from the positions' and velocities' (drawn from the seed itself)
+SPIN_STREAM = 1
 # CHECKPOINT_KIND (the kind of the run's checkpoints) is defined in ._run_state, BARELY_COOLED (the kT above which an
 # inelastic run with an elastic floor is reported as not cooled) in ._summary: both are importable from here as before
 
@@ -83,6 +86,19 @@ class EdmdParameters(Parameters):
         The law's speed u_c, in (0, 1e30] thermal speeds (default 1).
     law_exponent : float
         The Bridges law's exponent, in (0, 10] (default 0.234, ice).
+    tangential_restitution : float, optional
+        Rough spheres (default None: smooth): beta in [-1, 1], the ratio of
+        the touching surfaces' tangential relative velocity after a contact
+        to before, reversed (:class:`~collisionkit.edmd.HardSphereSystem`).
+        The spins start at rotational kT = 1 (equipartition); the summary
+        gives the rotational temperature, and a cooling gas of one species
+        with a constant restitution its ratio T_r / T and cooling rate
+        against the homogeneous cooling state of rough spheres
+        (:func:`~collisionkit.edmd.rough_cooling_state`). Not with
+        ``transport``, ``shear_rate`` or ``well_width``.
+    inertia_factor : float, optional
+        kappa = I / (m a^2) in (0, 1] of rough spheres (default 2/5 for
+        spheres, 1/2 for discs: uniform bodies).
     equilibration : int, optional
         Pair collisions before measuring (>= 0; default 20 per particle).
     collisions : int, optional
@@ -164,6 +180,8 @@ class EdmdParameters(Parameters):
     restitution_law: str = "constant"
     law_speed: float = 1.0
     law_exponent: float = BRIDGES_EXPONENT
+    tangential_restitution: float | None = None
+    inertia_factor: float | None = None
     equilibration: int | None = None
     collisions: int | None = None
     blocks: int = 10
@@ -212,7 +230,8 @@ class EdmdParameters(Parameters):
 
     @property
     def elastic(self) -> bool:
-        """True if every pair's restitution is 1 and no law lowers it.
+        """True if every pair's restitution is 1, no law lowers it and rough spheres (if any) are smooth or perfectly
+        rough (beta = -1 or 1).
 
         Examples
         --------
@@ -222,8 +241,12 @@ class EdmdParameters(Parameters):
         False
         >>> EdmdParameters(fractions=(0.5, 0.5), restitution=((1.0, 0.9), (0.9, 1.0))).elastic
         False
+        >>> EdmdParameters(tangential_restitution=1.0).elastic, EdmdParameters(tangential_restitution=0.5).elastic
+        (True, False)
         """
-        return bool(np.all(np.asarray(self.restitution) == 1.0)) and self.restitution_law == "constant"
+        rough_losses = self.tangential_restitution is not None and abs(self.tangential_restitution) != 1.0
+        return (bool(np.all(np.asarray(self.restitution) == 1.0)) and self.restitution_law == "constant"
+                and not rough_losses)
 
     @property
     def species_counts(self) -> tuple[int, ...]:
@@ -261,11 +284,17 @@ def _initial_system(parameters: EdmdParameters, progress: Callable[[float], Any]
     else:  # one species (the checks): unit diameters and masses
         positions, box = lattice(p.initial, lattice_cells(p.initial, p.dim, p.particles), p.packing_fraction)
         velocities = maxwell_boltzmann(masses, p.dim, kT=1.0, seed=p.seed)
+    spins = None
+    if p.tangential_restitution is not None:  # equipartition: rotational kT = 1, drawn after the velocities
+        kappa = p.inertia_factor if p.inertia_factor is not None else UNIFORM_INERTIA[p.dim]
+        spins = random_spins(kappa * masses * (diameters / 2.0) ** 2, p.dim, kT=1.0,
+                             seed=np.random.SeedSequence([p.seed, SPIN_STREAM]))
     return HardSphereSystem(positions, velocities, diameters / 2.0, box, masses, species=species,
                             restitution=p.restitution, restitution_law=p.restitution_law, law_speed=p.law_speed,
                             law_exponent=p.law_exponent, elastic_below=p.elastic_below, shear_rate=p.shear_rate,
                             thermostat=1.0 if p.thermostat else None, engine=p.engine, well_width=p.well_width,
-                            well_depth=p.well_depth)
+                            well_depth=p.well_depth, tangential_restitution=p.tangential_restitution,
+                            inertia_factor=p.inertia_factor, angular_velocities=spins)
 
 
 def _refuse_existing(**files) -> None:
@@ -323,7 +352,7 @@ class EdmdRun:
             self.system = _initial_system(self.parameters, progress)
             self.sampler: Sampler | None = None
             self.equilibrated, self.frames, self.last_frame = 0, 0, -1
-            self.initial_energy = self.system.kinetic_energy()
+            self.initial_energy = self.system.total_kinetic_energy()
         else:
             restore_run(self, _state)
 

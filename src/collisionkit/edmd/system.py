@@ -24,6 +24,7 @@ from . import _checks, _system_run, _system_setup
 from ._cell_crossings import ENGINE_LISTS, CellCrossings
 from ._neighbour_lists import NeighbourLists
 from ._particle_state import ParticleState
+from ._rotation import RoughSpheres, rough_parameters
 from ._shear import THERMOSTAT_INTERVAL, ShearFlow, shear_parameters  # noqa: F401 (THERMOSTAT_INTERVAL: as before)
 from ._system_events import run_event_loop
 from ._system_parameters import SystemParameters
@@ -140,7 +141,7 @@ class OverlapError(ValueError, RuntimeError):
 
 
 class HardSphereSystem(SystemParameters, ParticleState, NeighbourLists, CellCrossings, Checkpoints, ShearFlow,
-                       SquareWells):
+                       SquareWells, RoughSpheres):
     """N hard spheres (3D) or discs (2D) in a box, advanced event by event.
 
     Parameters
@@ -238,6 +239,20 @@ class HardSphereSystem(SystemParameters, ParticleState, NeighbourLists, CellCros
     well_depth : float or array_like, shape (S, S), optional
         epsilon > 0 (default 1), in the units of m v^2; a symmetric matrix
         per species pair, >= 0 (0: that pair has no well, only its core).
+    tangential_restitution : float, optional
+        beta in [-1, 1] of rough spheres (default None: smooth spheres,
+        which do not spin). A contact turns the tangential relative velocity
+        of the touching surfaces into -beta times itself: -1 is smooth, 1
+        perfectly rough (elastic with restitution 1), 0 stops the sliding
+        (Huthmann & Zippelius, Phys. Rev. E 56, R6275 (1997)). Not with
+        shear, square wells or compression.
+    inertia_factor : float, optional
+        kappa = I / (m a^2) in (0, 1] of rough spheres: 2/5 (default in 3D)
+        for uniform spheres, 1/2 (default in 2D) for uniform discs, 2/3 for
+        thin shells.
+    angular_velocities : array_like, optional
+        Of rough spheres: shape (N, 3) in 3D, (N,) in 2D (about the plane's
+        normal); default 0 (:func:`random_spins` draws them at a temperature).
 
     Examples
     --------
@@ -273,6 +288,9 @@ class HardSphereSystem(SystemParameters, ParticleState, NeighbourLists, CellCros
         engine="auto",
         well_width=None,
         well_depth=1.0,
+        tangential_restitution=None,
+        inertia_factor=None,
+        angular_velocities=None,
         *,
         _growth=0.0,
         _scale=1.0,
@@ -289,6 +307,9 @@ class HardSphereSystem(SystemParameters, ParticleState, NeighbourLists, CellCros
         self.params[_k.P_SCALE0] = float(_scale)
         self.params[_k.P_GROWTH] = float(_growth)
         _system_setup.start_records(self, positions, velocities, radius, box, periodic)
+        rough_parameters(self, tangential_restitution, inertia_factor, angular_velocities,
+                         {"shear": shear_rate != 0.0, "square wells": well_width is not None,
+                          "compression": _growth != 0.0})
         if elastic_below is None:
             elastic_below = _system_setup.default_elastic_below(self.restitution, velocities,
                                                                 self.params[_k.P_WALL_RESTITUTION], gravity, box)

@@ -1,4 +1,4 @@
-"""Resolving events: a pair collision (restitution laws, compression) and a bounce off a wall.
+"""Resolving events: a pair collision (restitution laws, compression, rough spheres) and a bounce off a wall.
 
 A pair collides only if it approaches by the prediction's own test,
 ``r . u - shift < 0`` with a sure sign (:func:`.exact.sure_approach`): for
@@ -17,6 +17,11 @@ zero: +5e-17 of the pair's energy per collision, always up. A plain
 ``b / |r|^2`` still left +4e-18 (the quotient of a rounded ``b`` by
 ``|r|^2`` within a few units in the last place of 1, contact at diameter
 1, rounds up more often than down). What is left is unbiased round-off.
+
+Rough spheres (:func:`rough_impulse`) add an impulse along the tangent of
+the contact that turns the tangential relative velocity of the touching
+surfaces into ``-beta`` times itself; it changes neither the normal
+relative velocity nor the collision time, so it follows the normal impulse.
 """
 
 from __future__ import annotations
@@ -28,7 +33,8 @@ from ..._jit import borrowing_inline_kernel as inline_kernel
 from .layout import (
     ACC_ENERGY_IMAGE, ACC_ENERGY_LOST, ACC_HEAT, ACC_MOMENTUM_IMAGE, ACC_PAIR_COLLISIONS, ACC_STRESS, ACC_VIRIAL,
     ACC_WALL_COLLISIONS, ACC_WALL_IMPULSE, G_BOX, LAW_BRIDGES, LAW_VISCOELASTIC, MASS, P_ELASTIC_BELOW, P_LAW,
-    P_LAW_EXPONENT, P_LAW_SPEED, P_SHEAR_RATE, P_WALL_RESTITUTION, R, SPECIES, T, V, X,
+    P_INERTIA_FACTOR, P_LAW_EXPONENT, P_LAW_SPEED, P_ROUGHNESS, P_SHEAR_RATE, P_WALL_RESTITUTION, R, SPECIES, T, V,
+    X,
 )
 from .exact import approach_ratio, sure_approach
 from .motion import half_box, minimum_image, shear_offset, sheared_image
@@ -53,11 +59,13 @@ def restitution_for(i, j, approach, b, restitution, params):
 
 
 @inline_kernel
-def collide_pair(p, i, j, b, geom, scale, growth, restitution, params, acc):
+def collide_pair(p, i, j, b, geom, scale, growth, restitution, params, acc, spin):
     """Resolve the contact of i and j (both at the current time); False if they do not approach (no collision).
 
     The approach test is the prediction's, and the impulse is along the
-    separation itself (see the module docstring).
+    separation itself (see the module docstring). ``spin`` holds the angular
+    velocities of rough spheres (read only if ``params[P_ROUGHNESS]`` is not
+    0: smooth spheres may pass an empty array).
     """
     dx = p[j, X] - p[i, X]
     dy = p[j, X + 1] - p[i, X + 1]
@@ -105,11 +113,80 @@ def collide_pair(p, i, j, b, geom, scale, growth, restitution, params, acc):
     p[j, V] -= share_j * rx
     p[j, V + 1] -= share_j * ry
     p[j, V + 2] -= share_j * rz
+    if params[P_ROUGHNESS] != 0.0:
+        rough_impulse(p, i, j, rx, ry, rz, slide, rr, mi, mj, spin, params, acc)
     _separate(p, i, j, rx, ry, rz, shift, slide, mj / (mi + mj), mi / (mi + mj), rr)
     # impulse times contact distance: (1 + e) mu u_n |r|
     acc[ACC_VIRIAL] -= (1.0 + e) * reduced * ratio * rr
     acc[ACC_PAIR_COLLISIONS] += 1.0
     return True
+
+
+@inline_kernel
+def rough_impulse(p, i, j, rx, ry, rz, slide, rr, mi, mj, spin, params, acc):
+    r"""The tangential impulse of a collision of rough spheres (r = x_j - x_i at contact, j's image moving + slide).
+
+    The surfaces' relative velocity at the contact point is
+    :math:`g = v_j - v_i - (a_i \omega_i + a_j \omega_j) \times \hat n`;
+    its tangential part :math:`g_t` becomes :math:`-\beta g_t`, through the
+    impulse :math:`J = -(1 + \beta) \mu_t g_t` on j (and -J on i) with
+    :math:`1/\mu_t = (1 + 1/\kappa)(1/m_i + 1/m_j)` for moments of inertia
+    :math:`I = \kappa m a^2`; both spins change by
+    :math:`-a \hat n \times J / I`. Linear momentum and the total angular
+    momentum (orbital and spin) are kept; the energy falls by
+    :math:`\mu_t (1 - \beta^2) g_t^2 / 2` (Huthmann & Zippelius, Phys. Rev. E
+    56, R6275 (1997); Luding et al., Phys. Rev. E 58, 3416 (1998)). The
+    normal impulse has acted already: it does not change :math:`g_t`.
+    """
+    norm = math.sqrt(rr)
+    nx = rx / norm
+    ny = ry / norm
+    nz = rz / norm
+    ai = p[i, R]
+    aj = p[j, R]
+    wx = ai * spin[i, 0] + aj * spin[j, 0]
+    wy = ai * spin[i, 1] + aj * spin[j, 1]
+    wz = ai * spin[i, 2] + aj * spin[j, 2]
+    gx = p[j, V] + slide - p[i, V] - (wy * nz - wz * ny)
+    gy = p[j, V + 1] - p[i, V + 1] - (wz * nx - wx * nz)
+    gz = p[j, V + 2] - p[i, V + 2] - (wx * ny - wy * nx)
+    normal = gx * nx + gy * ny + gz * nz
+    tx = gx - normal * nx
+    ty = gy - normal * ny
+    tz = gz - normal * nz
+    kappa = params[P_INERTIA_FACTOR]
+    reduced = (kappa / (1.0 + kappa)) * (mi * mj / (mi + mj))
+    roughness = params[P_ROUGHNESS]  # 1 + beta
+    jx = -roughness * reduced * tx
+    jy = -roughness * reduced * ty
+    jz = -roughness * reduced * tz
+    p[i, V] -= jx / mi
+    p[i, V + 1] -= jy / mi
+    p[i, V + 2] -= jz / mi
+    p[j, V] += jx / mj
+    p[j, V + 1] += jy / mj
+    p[j, V + 2] += jz / mj
+    # torque arms: +a_i n on i (pushed by -J), -a_j n on j (pushed by J): both spins change by -(n x J) / (kappa m a)
+    cx = ny * jz - nz * jy
+    cy = nz * jx - nx * jz
+    cz = nx * jy - ny * jx
+    turn_i = 1.0 / (kappa * mi * ai)
+    turn_j = 1.0 / (kappa * mj * aj)
+    spin[i, 0] -= cx * turn_i
+    spin[i, 1] -= cy * turn_i
+    spin[i, 2] -= cz * turn_i
+    spin[j, 0] -= cx * turn_j
+    spin[j, 1] -= cy * turn_j
+    spin[j, 2] -= cz * turn_j
+    beta = roughness - 1.0
+    acc[ACC_ENERGY_LOST] += 0.5 * reduced * (1.0 - beta * beta) * (tx * tx + ty * ty + tz * tz)
+    # the collisional stress gets the symmetric part of J r (no trace: J is normal to r, the pressure is unchanged)
+    acc[ACC_STRESS] += jx * rx
+    acc[ACC_STRESS + 1] += jy * ry
+    acc[ACC_STRESS + 2] += jz * rz
+    acc[ACC_STRESS + 3] += 0.5 * (jx * ry + jy * rx)
+    acc[ACC_STRESS + 4] += 0.5 * (jx * rz + jz * rx)
+    acc[ACC_STRESS + 5] += 0.5 * (jy * rz + jz * ry)
 
 
 @inline_kernel

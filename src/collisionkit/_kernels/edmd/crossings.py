@@ -260,12 +260,13 @@ def _fly(p, i, t, dim):
 @kernel
 def run_crossing_events(t, still, max_pair_collisions, max_events, t_stop, stall_limit, p, b, pending, image,
                         offsets, steps, cell_of, cell_members, cell_count, ncell, geom, dim, restitution, params, queue,
-                        tree, leaves, acc, gathered):
+                        tree, leaves, acc, gathered, spin):
     """:func:`.loop.run_events` for the cell-crossing engine: same arguments' meaning, same results.
 
     Cell crossings are counted in ``acc[ACC_LIST_REBUILDS]`` (the
     boundary events of this engine). ``gathered`` is scratch for the cell
-    searches: int64, 3^dim times the slots a cell, plus 2. It stops with ``STOP_OVERFLOW`` and
+    searches: int64, 3^dim times the slots a cell, plus 2; ``spin`` the
+    angular velocities of rough spheres. It stops with ``STOP_OVERFLOW`` and
     ``acc[ACC_CELL_OVERFLOW]`` set if a cell outgrows its row.
     """
     done = 0
@@ -320,7 +321,7 @@ def run_crossing_events(t, still, max_pair_collisions, max_events, t_stop, stall
                 acc[ACC_STALE_EVENTS] += 1.0
             else:
                 _fly(p, j, t, dim)
-                if collide_pair(p, i, j, b, geom, scale, 0.0, restitution, params, acc):
+                if collide_pair(p, i, j, b, geom, scale, 0.0, restitution, params, acc, spin):
                     b[i, CHANGED_AT] = event
                     b[j, CHANGED_AT] = event
                     done += 1

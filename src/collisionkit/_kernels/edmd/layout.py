@@ -60,13 +60,18 @@ P_SHEAR_FRAME = 14  # the frame time t_f: clock time at which the co-moving fram
 P_WELL_WIDTH = 15  # the widest lambda > 1 in the table (the lists' reach; 0: hard spheres, no well)
 P_WELL_DEPTH = 16  # the deepest epsilon > 0 in the table
 P_WELL_SPECIES = 17  # S, the species the table covers (0: no table)
-P_SIZE = 18
+# rough spheres (.contacts.rough_impulse): 1 + beta, beta the tangential restitution (0: smooth spheres, beta = -1,
+# whose spins never change), and kappa, the moment of inertia in units of m a^2
+P_ROUGHNESS = 18  # (a system is rough when P_INERTIA_FACTOR > 0: beta = -1 spins without change)
+P_INERTIA_FACTOR = 19
+P_SIZE = 20
 # the parameter array's size before the shear entries (checkpoints of engine formats 2 and 3), before the frame time
 # (format 5)
 P_SIZE_WITHOUT_SHEAR = 9
 P_SIZE_WITHOUT_FRAME = 14
 P_SIZE_WITHOUT_WELL = 15
 P_SIZE_WITHOUT_WELL_TABLE = 17  # format 8: one width and depth for every pair
+P_SIZE_WITHOUT_ROUGHNESS = 18  # format 9: smooth spheres (the well table follows at 18)
 # the strain G (t - t_f) at which the frame time moves on (a sweep): the cells are scanned (1 + strain) list radii
 # along x around a particle's anchor
 SHEAR_SWEEP_STRAIN = 0.25

@@ -57,7 +57,7 @@ def _repredict_in_wells(p, i, b, anchor_time, neighbours, neighbour_count, bonds
 @kernel
 def run_events(t, still, max_pair_collisions, max_events, t_stop, stall_limit, p, b, anchor_time, image, cell_of,
                neighbours, neighbour_count, cell_members, cell_count, cell_points, ncell, geom, dim, restitution,
-               params, queue, tree, leaves, acc, bonds=None, bond_count=None):
+               params, queue, tree, leaves, acc, spin, bonds=None, bond_count=None):
     """Process events until ``max_pair_collisions`` collisions, ``max_events`` events or time ``t_stop``.
 
     ``still`` is the number of events in a row at time ``t`` so far (the
@@ -78,6 +78,9 @@ def run_events(t, still, max_pair_collisions, max_events, t_stop, stall_limit, p
     time) whose clock has stopped in floating point and that would never end.
     ``max_events`` bounds the time of one call, so that a caller looping
     over calls can be interrupted in between.
+
+    ``spin`` holds the angular velocities of rough spheres (any array for
+    smooth ones: :func:`.contacts.collide_pair`).
 
     With square wells ``bonds`` and ``bond_count`` are the record of the
     pairs inside (:mod:`.wells`); hard spheres pass None, and numba compiles
@@ -153,7 +156,7 @@ def run_events(t, still, max_pair_collisions, max_events, t_stop, stall_limit, p
                 acc[ACC_STALE_EVENTS] += 1.0
             else:
                 advance(p, j, t, geom, dim)
-                if collide_pair(p, i, j, b, geom, scale0 + growth * t, growth, restitution, params, acc):
+                if collide_pair(p, i, j, b, geom, scale0 + growth * t, growth, restitution, params, acc, spin):
                     b[i, CHANGED_AT] = event
                     b[j, CHANGED_AT] = event
                     done += 1
