@@ -111,7 +111,7 @@ def _rotation_rows(result: dict, pm) -> list[tuple[str, str, str]]:
     shown = "" if theory is None else (f"{theory:.5g} (" + ("equipartition" if result["elastic"] else
                                                             "rough cooling state") + ")")
     return [("rotational temperature kT_r (final)", f"{result['rotational_temperature']:.6g}", ""),
-            ("T_r / T (final)", pm("temperature_ratio"), shown)]
+            ("T_r / T (blocks' mean)", pm("temperature_ratio"), shown)]
 
 
 def _a2_rows(result: dict, pm) -> list[tuple[str, str, str]]:

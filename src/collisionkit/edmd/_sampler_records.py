@@ -30,6 +30,8 @@ MIXTURE_RECORDS = ("species_temperature",)
 # and, under shear, the xy element of the pressure tensor (kinetic plus collisional), its collisional part and the
 # energy the thermostat removed
 SHEAR_RECORDS = ("shear_stress", "collisional_shear_stress", "thermostat_energy")
+# and, of rough spheres, the rotational kT over the translational at the block's end, T_r / T
+ROUGH_RECORDS = ("temperature_ratio",)
 
 
 def block_start(system) -> dict:
@@ -60,6 +62,8 @@ def record_block(sampler, start, kT_after, kT, duration) -> None:
     record["temperature"].append(kT_after)
     if "species_temperature" in record:
         record["species_temperature"].append(system.species_temperatures() / kT_after)
+    if "temperature_ratio" in record:
+        record["temperature_ratio"].append(system.rotational_temperature() / kT_after)
     record["temperature_mean"].append(kT)
     record["compressibility"].append(1.0 + virial / (dim * count * kT * duration))
     record["pressure"].append((count * kT + virial / (dim * duration)) / system.volume)
@@ -147,6 +151,10 @@ def observables(sampler) -> dict:
         mixture |= {"species_diffusion": by_species[0], "species_diffusion_error": by_species[1]}
     if "species_temperature" in record:
         mixture |= _species_temperatures(np.asarray(record["species_temperature"], dtype=float))
+    if "temperature_ratio" in record:  # rough spheres
+        ratios = np.asarray(record["temperature_ratio"], dtype=float)
+        mixture |= {"temperature_ratio": float(np.mean(ratios)), "temperature_ratio_error": _msd.block_error(ratios),
+                    "block_temperature_ratio": ratios}
     cooling, cooling_error = _cooling_rate(sampler)
     durations = np.diff(msd_time)
     block_kT = np.asarray(record["temperature_mean"], dtype=float)

@@ -17,7 +17,7 @@ import math
 import numpy as np
 
 from . import _msd
-from ._sampler_records import MIXTURE_RECORDS, RECORDS, SHEAR_RECORDS
+from ._sampler_records import MIXTURE_RECORDS, RECORDS, ROUGH_RECORDS, SHEAR_RECORDS
 from ._transport import TransportSampler
 
 
@@ -74,8 +74,8 @@ def restore_sampler(sampler, system, state) -> None:
     partial = state.get("sampler_partial_histograms")
     sampler.partial_histograms = None if partial is None else np.array(partial, dtype=float)
     sampler.start_positions = np.array(state["sampler_start_positions"])
-    sampler.records = {name: list(state[f"sampler_{name}"]) for name in RECORDS + SHEAR_RECORDS + MIXTURE_RECORDS
-                       if f"sampler_{name}" in state}
+    sampler.records = {name: list(state[f"sampler_{name}"]) for name in
+                       RECORDS + SHEAR_RECORDS + MIXTURE_RECORDS + ROUGH_RECORDS if f"sampler_{name}" in state}
     # a checkpoint written before the groups were recorded: their blocks are unknown (no D error)
     sampler.records.setdefault("msd_groups", [np.full(_msd.MSD_GROUPS, math.nan)] * len(sampler.records["msd"]))
     # ... or before the mean kT and the thermostat's energy were: unknown for the blocks done

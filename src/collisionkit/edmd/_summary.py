@@ -15,9 +15,9 @@ each block's kT, averaged over the blocks as the measured rate is (and the
 error of the measured rate from the blocks' scatter about it).
 
 Rough spheres (a tangential restitution) add the rotational temperature at
-the end and its ratio to the translational one, ``temperature_ratio`` (with
-the error of two temperatures of N independent particles); a cooling gas of
-one species with a constant restitution compares it, and its cooling rate,
+the end and the blocks' mean ratio of the rotational to the translational kT
+at their ends, ``temperature_ratio`` (with its block error); a cooling gas
+of one species with a constant restitution compares it, and its cooling rate,
 with the homogeneous cooling state of rough spheres
 (:func:`~collisionkit.edmd.rough_cooling_state`), an elastic one with
 equipartition (1).
@@ -49,7 +49,6 @@ from .mixture_theory import (
     mixture_compressibility, mixture_contact_values,
 )
 from ._msd import block_error
-from ._rotation import rotational_degrees
 from .restitution_laws import maxwellian_cooling_rate
 from .rough_theory import rough_cooling_state
 from .theory import (
@@ -208,27 +207,23 @@ def _law_cooling_theory(p, measurement, elastic_below: float) -> dict[str, Any]:
 
 
 def _rough_summary(p, system, result) -> dict[str, Any]:
-    """Rough spheres: the rotational kT at the end, T_r / T with its error, and the theory's ratio (and cooling rate)
-    where there is one: equipartition if elastic, the rough cooling state for one species of constant restitution."""
-    kT, rotational = system.temperature(), system.rotational_temperature()
-    ratio = rotational / kT
-    # the relative variances of two kinetic temperatures of N independent particles: 2 / (degrees of freedom)
-    degrees = (system.dim * system.count, rotational_degrees(system.dim) * system.count)
+    """Rough spheres: the rotational kT at the end, and beside the blocks' mean T_r / T (``temperature_ratio``, from
+    the measurement) the theory's, where there is one: equipartition if elastic, the rough cooling state for one
+    species of constant restitution (with its cooling rate)."""
     rough = {"tangential_restitution": p.tangential_restitution, "inertia_factor": system.inertia_factor,
-             "rotational_temperature": rotational, "temperature_ratio": ratio,
-             "temperature_ratio_error": abs(ratio) * math.sqrt(2.0 / degrees[0] + 2.0 / degrees[1])}
+             "rotational_temperature": system.rotational_temperature()}
     if p.elastic:
         theory = 1.0
-    elif len(p.species_counts) == 1 and p.restitution_law == "constant" and p.shear_rate == 0.0:
+    elif len(p.species_counts) == 1 and p.restitution_law == "constant":
         restitution = p.restitution if not isinstance(p.restitution, tuple) else p.restitution[0][0]
         theory, rate = rough_cooling_state(restitution, p.tangential_restitution, system.inertia_factor, p.dim)
         if "cooling_rate" in result:
             rough |= {"cooling_rate_theory": rate, "cooling_rate_deviation_sigmas":
                       _in_sigmas(result["cooling_rate"] - rate, result["cooling_rate_error"])}
-    else:  # mixtures, restitution laws: no theory here; not Haff's either
+    else:  # mixtures, restitution laws: no theory here (Haff's would be wrong)
         return rough | {"cooling_rate_theory": math.nan, "cooling_rate_deviation_sigmas": math.nan}
     return rough | {"temperature_ratio_theory": theory, "temperature_ratio_deviation_sigmas":
-                    _in_sigmas(ratio - theory, rough["temperature_ratio_error"])}
+                    _in_sigmas(result["temperature_ratio"] - theory, result["temperature_ratio_error"])}
 
 
 def _species_temperatures(p, measurement) -> dict[str, Any]:

@@ -18,7 +18,9 @@ import numpy as np
 from .._kernels import edmd as _k
 from .._repr import html_table, measurement_rows
 from . import _checks, _msd, _pair_distribution
-from ._sampler_records import MIXTURE_RECORDS, RECORDS, SHEAR_RECORDS, block_start, observables, record_block
+from ._sampler_records import (
+    MIXTURE_RECORDS, RECORDS, ROUGH_RECORDS, SHEAR_RECORDS, block_start, observables, record_block,
+)
 from ._sampler_state import restore_sampler, sampler_arrays
 from ._shear import run_sheared
 from ._transport import TransportMeasurement, TransportSampler
@@ -152,6 +154,9 @@ class Measurement:
     species_temperatures: np.ndarray | None = field(default=None, repr=False)
     species_temperatures_error: np.ndarray | None = field(default=None, repr=False)
     block_species_temperatures: np.ndarray | None = field(default=None, repr=False)
+    temperature_ratio: float = math.nan
+    temperature_ratio_error: float = math.nan
+    block_temperature_ratio: np.ndarray | None = field(default=None, repr=False)
 
     @property
     def collisions_per_second(self) -> float:
@@ -187,6 +192,9 @@ class Measurement:
             result |= {"cooling_rate": self.cooling_rate, "cooling_rate_error": self.cooling_rate_error}
         if math.isfinite(self.sonine_a2):
             result |= {"sonine_a2": self.sonine_a2, "sonine_a2_error": self.sonine_a2_error}
+        if self.block_temperature_ratio is not None:
+            result |= {"temperature_ratio": self.temperature_ratio,
+                       "temperature_ratio_error": self.temperature_ratio_error}
         if self.transport is not None:
             result |= {"self_diffusion": self.diffusion_coefficient,
                        "self_diffusion_error": self.diffusion_coefficient_error} | self.transport.summary()
@@ -261,7 +269,8 @@ class Sampler:
         self.wall_seconds = 0.0
         sheared = SHEAR_RECORDS if system.shear_rate != 0.0 else ()
         mixed = MIXTURE_RECORDS if np.unique(system.species).size > 1 else ()
-        self.records = {name: [] for name in RECORDS + sheared + mixed}
+        rough = ROUGH_RECORDS if system.rough else ()
+        self.records = {name: [] for name in RECORDS + sheared + mixed + rough}
         self.speeds = []
         if not isinstance(transport, (bool, np.bool_)):
             raise TypeError(f"transport must be True or False; got {transport!r}")
