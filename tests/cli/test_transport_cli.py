@@ -639,3 +639,23 @@ def test_detector_options_from_a_config_file_and_the_command_line(tmp_path):
                                 "--out", str(out), "--overwrite"])
     assert again.exit_code == 0, again.output
     assert not (out / "detector.csv").exists() and (out / "swarm.csv").exists()
+
+
+def test_a_resumed_scan_keeps_its_detector_pressure_and_takes_a_new_one(tmp_path):
+    """The checkpoint keeps --pressure: --resume without it gives the same detector table (and says so); a
+    --pressure given with --resume replaces it (the table scales as the number density, W in cm/us unchanged)."""
+    checkpoint = tmp_path / "scan.npz"
+    first = runner.invoke(app, ["swarm", "--model", "maxwell", "--E", "1000", "--pressure", "760", "--particles",
+                                "300", "--tolerance", "0.3", "--checkpoint", str(checkpoint), "--summary",
+                                str(tmp_path / "a.json")])
+    assert first.exit_code == 0, first.output
+    kept = runner.invoke(app, ["swarm", "--resume", str(checkpoint), "--summary", str(tmp_path / "b.json")])
+    assert kept.exit_code == 0, kept.output
+    assert "--pressure 760 Torr, as the scan was started with" in " ".join(kept.output.split())
+    before, after = (json.loads((tmp_path / name).read_text())["results"][0]["detector"] for name in ("a.json", "b.json"))
+    assert after == before
+    halved = runner.invoke(app, ["swarm", "--resume", str(checkpoint), "--pressure", "380", "--summary",
+                                 str(tmp_path / "c.json")])
+    assert halved.exit_code == 0, halved.output
+    table = json.loads((tmp_path / "c.json").read_text())["results"][0]["detector"]
+    assert table["field"] == pytest.approx(500.0, rel=1e-12) and table["pressure_torr"] == 380.0

@@ -166,3 +166,15 @@ def test_a_scan_and_a_result_have_short_reprs():
     text = repr(result)
     assert text.startswith("SwarmResult(reduced_field=5, ") and len(text) < 2000 and "<array (" in text
     assert f"mean_energy={result.mean_energy:.6g}," in text
+
+
+def test_a_scan_keeps_its_callers_annotations_through_a_checkpoint(tmp_path):
+    """Annotations are saved and given back by resume (a checkpoint without them gives {}); keys must be text."""
+    path = tmp_path / "scan.npz"
+    parameters = SwarmParameters(model="maxwell", reduced_field=[5.0], particles=300, tolerance=0.3)
+    SwarmScan(parameters, checkpoint=path, annotations={"pressure": 760.0, "note": "chamber A"}).save()
+    assert SwarmScan.resume(path).annotations == {"pressure": 760.0, "note": "chamber A"}
+    SwarmScan(parameters, checkpoint=path).save()
+    assert SwarmScan.resume(path).annotations == {}
+    with pytest.raises(TypeError, match="str keys"):
+        SwarmScan(parameters, annotations={1: "x"})

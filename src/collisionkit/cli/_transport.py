@@ -304,7 +304,7 @@ def _new_scan(options: SwarmOptions):
 
     try:
         with lxcat_notes():
-            return SwarmScan(options.parameters(), checkpoint=options.checkpoint)
+            return SwarmScan(options.parameters(), checkpoint=options.checkpoint, annotations=_annotations(options))
     except ValueError as error:  # the gas read from its files: "fractions: give one per species" is --fractions
         raise fail(named_as_option(str(error), SwarmOptions)) from None
 
@@ -321,8 +321,18 @@ def _resumed_scan(resume: Path, given: dict):
     except ValueError as error:
         raise fail(str(error)) from None
     outputs = {key: value for key, value in given.items() if key in SWARM_OUTPUTS} | {"checkpoint": scan.checkpoint}
+    saved_pressure = scan.annotations.get("pressure")
+    if outputs.get("pressure") is None and isinstance(saved_pressure, (int, float)):
+        outputs["pressure"] = saved_pressure
+        note(f"--pressure {saved_pressure:g} Torr, as the scan was started with (its detector table)")
     options = validate_options(SwarmOptions, _options_of(scan.parameters) | outputs, keep=[resume])
+    scan.annotations = _annotations(options)
     return scan, options
+
+
+def _annotations(options: SwarmOptions) -> dict:
+    """What the command line keeps with a scan's checkpoint: the detector's pressure, if any."""
+    return {} if options.pressure is None else {"pressure": options.pressure}
 
 
 def _before_the_work(scan, options: SwarmOptions) -> None:
@@ -494,8 +504,8 @@ def swarm(
                  checkpoint=checkpoint,
                  overwrite=overwrite)
     if resume is not None and e is not None:
-        raise fail("--E is the scan's physics, saved as its E/N: a resumed scan keeps them (give --pressure again "
-                   "for the detector's table)")
+        raise fail("--E is the scan's physics, saved as its E/N: a resumed scan keeps them (and its --pressure, for "
+                   "the detector's table)")
     if resume is None:
         options = load_options(SwarmOptions, config, given)
         refuse_checkpoint_suffix(options.checkpoint)

@@ -289,6 +289,11 @@ class SwarmScan:
         after every chunk of 25 samples). The last saved state is also kept
         in memory (a copy of the particles): :meth:`run` called again after
         an interruption goes on from it.
+    annotations : mapping, optional
+        The caller's notes on the scan (str keys; numbers, text, lists or
+        mappings of them), saved in the checkpoint and given back by
+        :meth:`resume` as :attr:`annotations`; the scan never reads them
+        (the command line keeps its detector's ``--pressure`` there).
 
     Examples
     --------
@@ -303,7 +308,7 @@ class SwarmScan:
     """
 
     def __init__(self, parameters: SwarmParameters, checkpoint=None, gas: Gas | None = None,
-                 results: Sequence[SwarmResult] = (), save_every: float | None = None):
+                 results: Sequence[SwarmResult] = (), save_every: float | None = None, annotations=None):
         if not isinstance(parameters, SwarmParameters):
             raise TypeError(f"parameters must be SwarmParameters; got {type(parameters).__name__}")
         self.parameters = parameters
@@ -312,6 +317,9 @@ class SwarmScan:
         self.results: list[SwarmResult] = list(results)
         save_every = SAVE_EVERY if save_every is None else save_every
         self.save_every = check_real("save_every (seconds)", save_every, 0.0, math.inf)
+        self.annotations = {} if annotations is None else dict(annotations)
+        if not all(isinstance(key, str) for key in self.annotations):
+            raise TypeError("annotations must have str keys")
         # the running point's last saved state: (index, state, arrays) of _run_snapshot.run_snapshot, and its file
         self._running: tuple[int, dict, dict] | None = None
         self._running_source: Path | None = None
@@ -433,7 +441,7 @@ class SwarmScan:
         if path is None:
             return None
         state = {"cross_sections_sha256": gas_files_digest(self.parameters.gas_files()),
-                 "results": [result.to_dict() for result in self.results]}
+                 "results": [result.to_dict() for result in self.results], "annotations": self.annotations}
         arrays = {}
         if self._running is not None:
             index, run_state, arrays = self._running
@@ -495,6 +503,7 @@ class SwarmScan:
         scan = cls(parameters, checkpoint=path if checkpoint is None else checkpoint, gas=gas, results=results,
                    save_every=save_every)
         scan._running = saved_running_point(saved, len(results), len(parameters.reduced_field))
+        scan.annotations = saved.entry("annotations", "mapping", optional=True) or {}  # (none before they were saved)
         scan._running_source = path
         return scan
 
