@@ -373,3 +373,24 @@ def test_a_swarm_study_at_a_pressure_tabulates_the_detector_coefficients(tmp_pat
                                                                       rel=1e-9)
     bad = invoke(study_file(tmp_path, study.replace("pressure = 100", 'pressure = "high"')), "--out", tmp_path / "o2")
     assert bad.exit_code == 2 and "option 'pressure' takes a float" in " ".join(bad.output.split())
+
+
+def test_a_swarm_study_varies_the_field_in_volts_per_cm_at_a_pressure(tmp_path):
+    """``E`` (V/cm) with a fixed pressure runs E/N = E / N, as the command's --E does: each row's E/N and its detector
+    field come back from E (1000 V/cm at 760 Torr and 293.15 K is 3.99445 Td). E with E-N, or without a pressure, is
+    refused in one line before any run."""
+    study = ('command = "swarm"\nseed = 3\n[fixed]\nmodel = "maxwell"\nparticles = 300\ntolerance = 0.3\n'
+             'pressure = 760\ngas-temperature = 293.15\n[vary]\nE = [1000, 2000]\n')
+    out = tmp_path / "out"
+    with deadline(300):
+        result = invoke(study_file(tmp_path, study), "--out", out, "--workers", 1)
+    assert result.exit_code == 0, result.output
+    rows = read_table(out / "results.csv")
+    assert [float(row["E"]) for row in rows] == [1000.0, 2000.0]
+    assert [float(row["detector.field"]) for row in rows] == pytest.approx([1000.0, 2000.0], rel=1e-12)
+    assert float(rows[0]["E_N"]) == pytest.approx(3.99445, rel=1e-5)
+    both = invoke(study_file(tmp_path, study.replace("tolerance = 0.3\n", "tolerance = 0.3\nE-N = [5.0]\n")), "--out",
+                  tmp_path / "o2")
+    assert both.exit_code == 2 and "as E (V/cm, with pressure) or as E-N (Td), not both" in " ".join(both.output.split())
+    alone = invoke(study_file(tmp_path, study.replace("pressure = 760\n", "")), "--out", tmp_path / "o3")
+    assert alone.exit_code == 2 and "E (V/cm) needs a pressure (Torr)" in " ".join(alone.output.split())

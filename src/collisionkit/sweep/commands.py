@@ -46,6 +46,12 @@ class SweepCommand:
     files : tuple of str
         The files ``run`` writes in the point's folder under fixed names
         (besides the point's checkpoint and those ``outputs`` name).
+    derived : mapping of str to type
+        Options the command line turns into parameters (swarm's ``E`` in
+        V/cm, with ``pressure``, into ``E-N``): ``derive`` does it.
+    derive : callable, optional
+        ``derive(options) -> options``: the point's options (dashed names)
+        with the ``derived`` ones replaced by the parameters they give.
 
     Examples
     --------
@@ -59,6 +65,8 @@ class SweepCommand:
     run: Callable[[Any, Path, Mapping[str, Any]], dict]
     outputs: Mapping[str, type] = field(default_factory=dict)
     files: tuple[str, ...] = ()
+    derived: Mapping[str, type] = field(default_factory=dict)
+    derive: Callable[[dict], dict] | None = None
 
     @property
     def parameters(self) -> type:
@@ -80,7 +88,7 @@ class SweepCommand:
         """
         parameters = self.parameters
         spelled = {parameters.flag(name): name for name in parameters.names()}
-        return spelled | {name: name.replace("-", "_") for name in self.outputs}
+        return spelled | {name: name.replace("-", "_") for name in (*self.outputs, *self.derived)}
 
     def canonical(self, key: str) -> str | None:
         """The command-line spelling of an option given as a flag or a Python name, or None.
@@ -95,7 +103,7 @@ class SweepCommand:
         if name is not None:
             return self.parameters.flag(name)
         dashed = str(key).replace("_", "-")
-        return dashed if dashed in self.outputs else None
+        return dashed if dashed in self.outputs or dashed in self.derived else None
 
 
 # ------------------------------------------------------------------ the commands' point runs
@@ -165,6 +173,37 @@ def _run_swarm(parameters, folder: Path, outputs: Mapping[str, Any]) -> dict:
     return summary
 
 
+def _swarm_fields_from_volts(options: dict) -> dict:
+    """A swarm study's ``E`` (V/cm) at its ``pressure`` (Torr) and gas temperature (300 K if not given) as ``E-N``,
+    as the command's --E gives it (:func:`~collisionkit.transport.reduced_fields`).
+
+    Examples
+    --------
+    >>> options = _swarm_fields_from_volts({"E": 1000.0, "pressure": 760.0, "gas-temperature": 293.15})
+    >>> [round(value, 4) for value in options["E-N"]], "E" in options
+    ([3.9944], False)
+    """
+    fields = options.pop("E", None)
+    if fields is None:
+        return options
+    from ..transport import reduced_fields
+
+    if options.get("E-N") is not None:
+        raise ValueError("give the field as E (V/cm, with pressure) or as E-N (Td), not both")
+    pressure = options.get("pressure")
+    if pressure is None:
+        raise ValueError("E (V/cm) needs a pressure (Torr) for the gas's number density")
+    temperature = options.get("gas-temperature")
+    temperature = 300.0 if temperature is None else temperature
+    values = fields if isinstance(fields, (list, tuple)) else [fields]
+    for name, value in (("pressure", pressure), ("gas-temperature", temperature), *(("E", item) for item in values)):
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
+            raise TypeError(f"option {name!r} takes a number; got {value!r}")
+    if not temperature > 0.0:
+        raise ValueError("E (V/cm) needs a gas-temperature > 0 K for N = p / (k T)")
+    return options | {"E-N": [float(value) for value in reduced_fields(values, pressure, temperature)]}
+
+
 def _slab_parameters():
     from ..transport import SlabParameters
 
@@ -223,7 +262,8 @@ def _run_track(parameters, folder: Path, outputs: Mapping[str, Any]) -> dict:
 
 _COMMANDS = {
     "edmd": SweepCommand("edmd", _edmd_parameters, _run_edmd, {"trajectory": Path, "frame-every": int, "xyz": Path}),
-    "swarm": SweepCommand("swarm", _swarm_parameters, _run_swarm, {"pressure": float}),
+    "swarm": SweepCommand("swarm", _swarm_parameters, _run_swarm, {"pressure": float}, derived={"E": float},
+                          derive=_swarm_fields_from_volts),
     "slab": SweepCommand("slab", _slab_parameters, _run_slab),
     "encounter": SweepCommand("encounter", _encounter_parameters, _run_encounter,
                               files=("initial_conditions.json", "initial_conditions.txt")),

@@ -92,6 +92,8 @@ def _split_options(command: SweepCommand, options: Mapping[str, Any]):
         If the command has no such option or refuses a value (the
         command's own checks, as on the command line).
     """
+    if command.derive is not None:
+        options = command.derive(dict(options))
     physics = {key: value for key, value in options.items() if key not in command.outputs}
     outputs = {key: value for key, value in options.items() if key in command.outputs}
     for key, kind in command.outputs.items():
