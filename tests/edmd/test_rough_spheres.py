@@ -188,3 +188,30 @@ def test_random_spins_have_the_variance_kT_over_I():
     # the sample variance of 200000 normals is within 4 of its relative error sqrt(2 / n) = 0.0032
     assert np.var(omega) * 0.2 == pytest.approx(0.5, rel=4 * math.sqrt(2 / 200_000))
     assert omega.shape == (200_000,)
+
+
+def test_a_run_of_rough_spheres_starting_without_spin_shares_the_energy_with_the_spins(tmp_path):
+    """beta = 1, e = 1 from rotational kT 0: the energy stays, and kT falls to its equipartition value 2E / ((d + f)
+    N) = 1/2; smooth elastic spheres (beta = -1) keep their spins and get no ratio theory; a resumed run must keep
+    its roughness."""
+    from collisionkit.edmd import EdmdParameters, EdmdRun
+
+    parameters = EdmdParameters(particles=256, packing_fraction=0.1, tangential_restitution=1.0,
+                                initial_rotational_temperature=0.0, seed=2, collisions=8000, equilibration=4000,
+                                blocks=4)
+    run = EdmdRun(parameters, checkpoint=tmp_path / "run.npz").run()
+    with pytest.raises(ValueError, match="tangential_restitution"):
+        EdmdRun.resume(tmp_path / "run.npz", tangential_restitution=0.5)
+    assert EdmdRun.resume(tmp_path / "run.npz").system.tangential_restitution == 1.0
+    assert run.initial_energy == pytest.approx(1.5 * 256, rel=1e-12)  # no spin at the start: kT = 1 exactly
+    summary = run.summary()
+    assert summary["temperature_theory"] == pytest.approx(0.5, rel=1e-12)
+    # kT of 256 particles at equipartition scatters by sqrt(2 / (3 N)) = 5 % about 1/2
+    assert summary["temperature"] == pytest.approx(0.5, abs=4 * 0.5 * math.sqrt(2 / (3 * 256)))
+    assert abs(summary["energy_lost_total"]) < 1e-11 * run.initial_energy
+    smooth = EdmdRun(parameters.replace(tangential_restitution=-1.0, initial_rotational_temperature=2.0)).run()
+    result = smooth.summary()
+    assert "temperature_ratio_theory" not in result and result["temperature"] == pytest.approx(1.0, rel=1e-12)
+    assert result["rotational_temperature"] == pytest.approx(2.0, rel=0.2)  # as drawn: 768 samples of kT 2
+    with pytest.raises(ValueError, match="initial_rotational_temperature needs rough spheres"):
+        EdmdParameters(initial_rotational_temperature=0.5)

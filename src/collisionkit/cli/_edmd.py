@@ -55,6 +55,7 @@ class EdmdOptions(Options):
     law_exponent: float = 0.234
     tangential_restitution: float | None = None  # ranges: the library's messages
     inertia_factor: float | None = None
+    initial_rotational_temperature: float = 1.0
     equilibration: int | None = Field(default=None, ge=0)
     collisions: int | None = Field(default=None, ge=2)
     blocks: int = Field(default=10, ge=2, le=100_000)
@@ -437,6 +438,10 @@ def edmd(
         float | None,
         typer.Option(help=_help("Rough spheres' moment of inertia over m a^2, in (0, 1].", "2/5 for spheres, 1/2 for discs")),
     ] = None,
+    initial_rotational_temperature: Annotated[
+        float | None,
+        typer.Option(help=_help("Rough spheres' rotational kT at the start, 0 to 100 (0: no spin).", "1, equipartition")),
+    ] = None,
     equilibration: Annotated[
         int | None, typer.Option(help=_help("Pair collisions before measuring (0 to 1e14).", "20 per particle"))
     ] = None,
@@ -528,7 +533,7 @@ def edmd(
     """
     given = dict(
         dim=dim, particles=particles, packing_fraction=packing_fraction, restitution=restitution,
-        elastic_below=elastic_below, restitution_law=restitution_law, law_speed=law_speed, law_exponent=law_exponent, tangential_restitution=tangential_restitution, inertia_factor=inertia_factor, equilibration=equilibration, collisions=collisions, blocks=blocks, seed=seed, initial=initial,
+        elastic_below=elastic_below, restitution_law=restitution_law, law_speed=law_speed, law_exponent=law_exponent, tangential_restitution=tangential_restitution, inertia_factor=inertia_factor, initial_rotational_temperature=initial_rotational_temperature, equilibration=equilibration, collisions=collisions, blocks=blocks, seed=seed, initial=initial,
         transport=transport, yeh_hummer=yeh_hummer, shear_rate=shear_rate, thermostat=thermostat, engine=engine, well_width=well_width, well_depth=well_depth, fractions=fractions, diameters=diameters, masses=masses, summary=summary, trajectory=trajectory, frame_every=frame_every, xyz=xyz, out=out, plots=plots,
         checkpoint=checkpoint, overwrite=overwrite,
     )  # fmt: skip

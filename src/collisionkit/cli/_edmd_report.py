@@ -40,7 +40,10 @@ def _theory_column(result: dict) -> tuple[str, str, str, str]:
     if result.get("shear_rate"):
         kT = "1 at each rescaling (thermostat)" if result["thermostat"] else "rises (viscous heating)"
         return z, omega, kT, "0 (elastic); total: " + ("thermostat - heating" if result["thermostat"] else "- heating")
-    return z, omega, "1 (elastic)", "0 (elastic)"
+    kT = "1 (elastic)"
+    if "temperature_theory" in result:  # rough spheres sharing the energy with their spins
+        kT = f"{result['temperature_theory']:.6g} (equipartition with the spins)"
+    return z, omega, kT, "0 (elastic)"
 
 
 def rows(result: dict) -> list[tuple[str, str, str]]:

@@ -45,6 +45,8 @@ MASS_RANGE = (1e-3, 1e3)
 # u_c = 1e30 (a nearly elastic material); the Bridges law's exponent (0.234 for ice)
 MAX_LAW_SPEED = 1e30
 MAX_LAW_EXPONENT = 10.0
+# the largest initial rotational kT of rough spheres, in units of the translational kT = 1
+MAX_ROTATIONAL_TEMPERATURE = 100.0
 MAX_SPECIES = 26
 
 
@@ -129,11 +131,16 @@ def checked_parameters(p) -> dict[str, Any]:
 def _checked_roughness(p, particles: int) -> dict[str, Any]:
     """Rough spheres: beta in [-1, 1] and kappa in (0, 1]; an inertia factor needs beta, and rough spheres refuse
     transport, shear and wells (their collisional fluxes have no spin terms)."""
+    temperature = check_real("initial_rotational_temperature", p.initial_rotational_temperature, 0.0,
+                             MAX_ROTATIONAL_TEMPERATURE)
     if p.tangential_restitution is None:
-        if p.inertia_factor is not None:
-            raise ValueError("inertia_factor needs rough spheres: give tangential_restitution in [-1, 1]")
-        return {}
-    values = {"tangential_restitution": check_real("tangential_restitution", p.tangential_restitution, -1.0, 1.0)}
+        for name, unused in (("inertia_factor", p.inertia_factor is not None),
+                             ("initial_rotational_temperature", temperature != 1.0)):
+            if unused:
+                raise ValueError(f"{name} needs rough spheres: give tangential_restitution in [-1, 1]")
+        return {"initial_rotational_temperature": temperature}
+    values = {"tangential_restitution": check_real("tangential_restitution", p.tangential_restitution, -1.0, 1.0),
+              "initial_rotational_temperature": temperature}
     if p.inertia_factor is not None:
         values["inertia_factor"] = check_real("inertia_factor", p.inertia_factor, 0.0, 1.0, low_open=True)
     clashes = ((p.transport, "transport", "the Einstein-Helfand moments have no spin terms"),

@@ -49,6 +49,7 @@ from .mixture_theory import (
     mixture_compressibility, mixture_contact_values,
 )
 from ._msd import block_error
+from ._rotation import rotational_degrees
 from .restitution_laws import maxwellian_cooling_rate
 from .rough_theory import rough_cooling_state
 from .theory import (
@@ -129,7 +130,7 @@ def edmd_summary(run, measurement, files: Sequence = ()) -> dict[str, Any]:
     if "cooling_rate" in result and not sheared:  # a cooling gas: Haff's law, or the mixture's cooling state
         result |= _cooling_theory(p, result, measurement, system.elastic_below)
     if p.tangential_restitution is not None:
-        result |= _rough_summary(p, system, result)
+        result |= _rough_summary(p, system, result, run.initial_energy)
     if "sonine_a2" in result and p.fractions is None and p.restitution_law == "constant" and (
             p.tangential_restitution is None or p.elastic):
         # Maxwell's distribution (0) in equilibrium (wells too), the cooling state's first Sonine correction if not
@@ -206,14 +207,19 @@ def _law_cooling_theory(p, measurement, elastic_below: float) -> dict[str, Any]:
             "cooling_rate_deviation_sigmas": _in_sigmas(float(np.mean(residuals)), error)}
 
 
-def _rough_summary(p, system, result) -> dict[str, Any]:
+def _rough_summary(p, system, result, initial_energy: float) -> dict[str, Any]:
     """Rough spheres: the rotational kT at the end, and beside the blocks' mean T_r / T (``temperature_ratio``, from
-    the measurement) the theory's, where there is one: equipartition if elastic, the rough cooling state for one
-    species of constant restitution (with its cooling rate)."""
+    the measurement) the theory's, where there is one: equipartition if perfectly rough and elastic (with the kT the
+    energy gives at equipartition, ``temperature_theory``), the rough cooling state for one species of constant
+    restitution (with its cooling rate); smooth elastic spheres (beta = -1) keep their spins and kT as they were."""
     rough = {"tangential_restitution": p.tangential_restitution, "inertia_factor": system.inertia_factor,
              "rotational_temperature": system.rotational_temperature()}
-    if p.elastic:
+    if p.elastic and p.tangential_restitution == -1.0:
+        return rough
+    if p.elastic:  # every degree of freedom shares the energy: 2 E / ((d + f) N)
         theory = 1.0
+        degrees = system.dim + rotational_degrees(system.dim)
+        rough["temperature_theory"] = 2.0 * initial_energy / (degrees * system.count)
     elif len(p.species_counts) == 1 and p.restitution_law == "constant":
         restitution = p.restitution if not isinstance(p.restitution, tuple) else p.restitution[0][0]
         theory, rate = rough_cooling_state(restitution, p.tangential_restitution, system.inertia_factor, p.dim)

@@ -90,7 +90,8 @@ class EdmdParameters(Parameters):
         Rough spheres (default None: smooth): beta in [-1, 1], the ratio of
         the touching surfaces' tangential relative velocity after a contact
         to before, reversed (:class:`~collisionkit.edmd.HardSphereSystem`).
-        The spins start at rotational kT = 1 (equipartition); the summary
+        The spins start at rotational kT = 1 (equipartition) unless
+        ``initial_rotational_temperature`` says otherwise; the summary
         gives the rotational temperature, and a cooling gas of one species
         with a constant restitution its ratio T_r / T and cooling rate
         against the homogeneous cooling state of rough spheres
@@ -99,6 +100,9 @@ class EdmdParameters(Parameters):
     inertia_factor : float, optional
         kappa = I / (m a^2) in (0, 1] of rough spheres (default 2/5 for
         spheres, 1/2 for discs: uniform bodies).
+    initial_rotational_temperature : float
+        Rough spheres' rotational kT at the start, in [0, 100] (default 1,
+        equipartition; 0 starts them without spin).
     equilibration : int, optional
         Pair collisions before measuring (>= 0; default 20 per particle).
     collisions : int, optional
@@ -182,6 +186,7 @@ class EdmdParameters(Parameters):
     law_exponent: float = BRIDGES_EXPONENT
     tangential_restitution: float | None = None
     inertia_factor: float | None = None
+    initial_rotational_temperature: float = 1.0
     equilibration: int | None = None
     collisions: int | None = None
     blocks: int = 10
@@ -285,9 +290,9 @@ def _initial_system(parameters: EdmdParameters, progress: Callable[[float], Any]
         positions, box = lattice(p.initial, lattice_cells(p.initial, p.dim, p.particles), p.packing_fraction)
         velocities = maxwell_boltzmann(masses, p.dim, kT=1.0, seed=p.seed)
     spins = None
-    if p.tangential_restitution is not None:  # equipartition: rotational kT = 1, drawn after the velocities
+    if p.tangential_restitution is not None:  # (drawn from a stream of their own: the velocities stay the same)
         kappa = p.inertia_factor if p.inertia_factor is not None else UNIFORM_INERTIA[p.dim]
-        spins = random_spins(kappa * masses * (diameters / 2.0) ** 2, p.dim, kT=1.0,
+        spins = random_spins(kappa * masses * (diameters / 2.0) ** 2, p.dim, kT=p.initial_rotational_temperature,
                              seed=np.random.SeedSequence([p.seed, SPIN_STREAM]))
     return HardSphereSystem(positions, velocities, diameters / 2.0, box, masses, species=species,
                             restitution=p.restitution, restitution_law=p.restitution_law, law_speed=p.law_speed,
