@@ -86,3 +86,15 @@ def test_the_temperatures_solve_the_equations_and_settle_to_the_cooling_state():
     assert -math.log(later / T[2]) == pytest.approx(rate, rel=1e-9)
     with pytest.raises(ValueError, match="tangential_restitution"):
         rough_cooling_matrix(0.9, 1.2)
+
+
+@pytest.mark.parametrize("e, beta, q", [(0.9, 0.5, 0.4), (0.7, -0.5, 0.4), (0.95, 0.0, 0.25), (0.5, 1.0, 2 / 3)])
+def test_the_cooling_state_ratio_is_luding_et_al_s_closed_form(e, beta, q):
+    """Luding et al. 1998, eq. (9): T_r/T of the cooling state from -A + B R = B/R - C (both temperatures decaying
+    at one rate), R = [A - C + sqrt((A - C)^2 + 4 B^2)] / (2 B) in their A, B, C; the rate is then (4/3)(A - B R)."""
+    eta = q * (1 + beta) / (2 * (1 + q))
+    A, B, C = (1 - e * e) / 4 + eta * (1 - eta), eta * eta / q, (eta / q) * (1 - eta / q)
+    closed = (A - C + math.sqrt((A - C) ** 2 + 4 * B * B)) / (2 * B)
+    ratio, rate = rough_cooling_state(e, beta, q, 3)
+    assert ratio == pytest.approx(closed, rel=1e-12)
+    assert rate == pytest.approx(4 / 3 * (A - B * closed), rel=1e-12)

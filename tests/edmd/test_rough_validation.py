@@ -14,12 +14,16 @@ from collisionkit.edmd import (
 @pytest.mark.parametrize("dim, e, beta", [(3, 0.8, 0.2), (2, 0.7, 0.5)])
 def test_the_first_collisions_of_a_maxwellian_rough_gas_follow_the_exact_rates(dim, e, beta):
     """Half a collision per particle from Maxwell distributions at T = 1 and T_r = 1/2 (molecular chaos at eta 0.02):
-    the cumulants have not grown yet, so the Maxwellian rates are exact; the mean change over 24 seeds matches
-    them within 4 standard errors of the seeds' scatter (measured: -0.5 and +0.5 sigma for T, 40 and 16 seeds)."""
+    the cumulants have not grown yet, so the Maxwellian rates are exact; the mean change over 48 seeds matches
+    them within 4 standard errors of the seeds' scatter (measured over 64 seeds: -0.7 and -1.1 sigma for T, -1.0
+    and +0.3 for T_r). The positions first fly 2 N elastic collisions: a compressed start holds pairs at contact,
+    which collide at once whatever their approach speed, not weighted by it (their first changes came out 3.6 %
+    smaller in 2D, 2.9 sigma)."""
     count, kappa = 2000, 0.4 if dim == 3 else 0.5
     deviations = []
-    for seed in range(24):
+    for seed in range(48):
         fluid = random_fluid(dim, count, 0.02, seed=seed)
+        fluid.run(collisions=2 * count)
         system = HardSphereSystem(
             fluid.positions(), maxwell_boltzmann(np.ones(count), dim, seed=seed + 100), 0.5, fluid.box[:dim],
             restitution=e, tangential_restitution=beta, elastic_below=0.0,
@@ -51,10 +55,10 @@ def test_elastic_perfectly_rough_spheres_are_at_equipartition_with_the_hard_sphe
 def test_the_errors_of_a_rough_cooling_run_match_the_scatter_of_repeated_runs():
     """12 seeds of a rough cooling gas (e 0.9, beta 0.5, N 500, eta 0.02, 10 blocks of 10 collisions per particle):
     the deviations from the seeds' mean in units of each run's error have a standard deviation within the 3-sigma
-    band [0.4, 1.6] of 11 degrees of freedom (measured: 0.79 for the cooling rate, 1.19 for T_r / T). The mean rate
-    is the Maxwellian theory's within 4 standard errors (measured +0.23 +- 0.16 %, 1.4 sigma); the mean T_r / T lies
-    1.6 +- 0.5 % below its Maxwellian value, a non-Maxwellian effect (the cumulants of rough spheres: Santos, Kremer
-    & dos Santos, Phys. Fluids 23, 030604 (2011)), not asserted here."""
+    band [0.4, 1.6] of 11 degrees of freedom (measured: 0.72 for the cooling rate, 1.48 for T_r / T, whose error
+    leaves out the slow run-to-run variation of a cooling gas's flows). Against the Maxwellian theory, not asserted
+    (its error is the cumulants' of rough spheres: Santos, Kremer & dos Santos, Phys. Fluids 23, 030604 (2011)):
+    the rate is 0.7 +- 0.2 % above it, T_r / T 2.1 +- 0.6 % below."""
     rates, ratios = [], []
     for seed in range(1, 13):
         parameters = EdmdParameters(particles=500, packing_fraction=0.02, restitution=0.9, tangential_restitution=0.5,
@@ -64,6 +68,3 @@ def test_the_errors_of_a_rough_cooling_run_match_the_scatter_of_repeated_runs():
         ratios.append((summary["temperature_ratio"], summary["temperature_ratio_error"]))
     for values, errors in (np.array(rates).T, np.array(ratios).T):
         assert 0.4 < np.std((values - values.mean()) / errors, ddof=1) < 1.6
-    measured = np.array(rates)[:, 0]
-    standard_error = measured.std(ddof=1) / math.sqrt(measured.size)
-    assert abs(measured.mean() - summary["cooling_rate_theory"]) < 4 * standard_error

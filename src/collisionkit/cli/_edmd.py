@@ -205,14 +205,20 @@ def _cooling_to_the_floor(parameters) -> str | None:
     >>> _cooling_to_the_floor(EdmdParameters(particles=100, restitution=0.9, collisions=5000).resolved(seed=1)) is None
     True
     """
-    from ..edmd import homogeneous_cooling_rate
+    from ..edmd import homogeneous_cooling_rate, rough_cooling_state
 
     p = parameters
     if p.elastic or p.shear_rate != 0.0 or p.restitution_law != "constant":  # (a law: the rate falls with kT)
         return None
     kinds = len(p.species_counts)
-    rate = homogeneous_cooling_rate(p.packing_fraction, [n / p.particles for n in p.species_counts],
-                                    p.diameters or (1.0,) * kinds, p.masses or 1.0, p.restitution, p.dim)
+    law, what = "Haff's law", "restitution < 1"
+    if p.tangential_restitution is not None:  # (a mixture: the least restitution's, the fastest)
+        law, what = "the rough cooling state", "rough contacts"
+        least = p.restitution if not isinstance(p.restitution, tuple) else min(map(min, p.restitution))
+        rate = rough_cooling_state(least, p.tangential_restitution, p.inertia_factor, p.dim)[1]
+    else:
+        rate = homogeneous_cooling_rate(p.packing_fraction, [n / p.particles for n in p.species_counts],
+                                        p.diameters or (1.0,) * kinds, p.masses or 1.0, p.restitution, p.dim)
     floor = (p.elastic_below if p.elastic_below is not None else 1e-6) ** 2
     if rate <= 0.0 or floor <= 0.0 or 100.0 * floor >= 1.0:  # (a floor near kT = 1: the run stays elastic, and
         return None                                           # its end says so)
@@ -222,7 +228,7 @@ def _cooling_to_the_floor(parameters) -> str | None:
     above = int(math.log(1.0 / (100.0 * floor)) * p.particles / (2.0 * rate)) - p.equilibration
     advice = (f"give --collisions {max(above, p.blocks)} or fewer" if above > p.blocks else
               "give fewer --equilibration collisions, or a higher --elastic-below floor is reached at once")
-    return (f"restitution < 1: by Haff's law these {p.total_collisions} pair collisions cool kT from 1 to about "
+    return (f"{what}: by {law} these {p.total_collisions} pair collisions cool kT from 1 to about "
             f"{max(final, floor):.0e}, to its elastic floor (about {floor:.0e}, where contacts turn elastic); to "
             f"follow the cooling itself {advice}")
 

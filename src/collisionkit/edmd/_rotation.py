@@ -45,7 +45,7 @@ def rough_parameters(system, tangential_restitution, inertia_factor, angular_vel
     if tangential_restitution is None:
         for value, name in ((inertia_factor, "inertia_factor"), (angular_velocities, "angular_velocities")):
             if value is not None:
-                raise ValueError(f"{name} needs rough spheres: give tangential_restitution in [-1, 1]")
+                raise ValueError(f"{name} needs rough spheres: give a tangential restitution in [-1, 1]")
         system.spin = np.zeros((0, 3))
         return
     beta = _checks.bounded(tangential_restitution, "tangential_restitution", -1.0, 1.0, closed=(True, True))
@@ -54,7 +54,7 @@ def rough_parameters(system, tangential_restitution, inertia_factor, angular_vel
     for name, given in refusals.items():
         if given:
             raise ValueError(f"tangential_restitution (rough spheres) cannot be combined with {name}")
-    system.params[_k.P_ROUGHNESS] = 1.0 + beta
+    system.params[_k.P_TANGENTIAL_RESTITUTION] = beta
     system.params[_k.P_INERTIA_FACTOR] = kappa
     system.spin = np.zeros((count, 3))
     if angular_velocities is not None:
@@ -119,7 +119,7 @@ class RoughSpheres:
     @property
     def tangential_restitution(self):
         """beta in [-1, 1] of rough spheres, None for smooth ones."""
-        return float(self.params[_k.P_ROUGHNESS] - 1.0) if self.rough else None
+        return float(self.params[_k.P_TANGENTIAL_RESTITUTION]) if self.rough else None
 
     @property
     def inertia_factor(self):

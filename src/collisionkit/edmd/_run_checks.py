@@ -21,6 +21,7 @@ from ._cell_crossings import ENGINE_NAMES
 from ._wells import MAX_WELL_WIDTH
 from ._msd import MSD_GROUPS
 from ._pair_distribution import PARTIAL_RDF_SPECIES
+from ._rotation import UNIFORM_INERTIA
 from ._system_setup import RESTITUTION_LAWS
 from .initial import LATTICE_DIM, lattice_cells
 from .mixture_theory import FRACTION_SUM_TOLERANCE
@@ -137,15 +138,15 @@ def _checked_roughness(p, particles: int) -> dict[str, Any]:
         for name, unused in (("inertia_factor", p.inertia_factor is not None),
                              ("initial_rotational_temperature", temperature != 1.0)):
             if unused:
-                raise ValueError(f"{name} needs rough spheres: give tangential_restitution in [-1, 1]")
+                raise ValueError(f"{name} needs rough spheres: give a tangential restitution in [-1, 1]")
         return {"initial_rotational_temperature": temperature}
     values = {"tangential_restitution": check_real("tangential_restitution", p.tangential_restitution, -1.0, 1.0),
               "initial_rotational_temperature": temperature}
     if p.inertia_factor is not None:
         values["inertia_factor"] = check_real("inertia_factor", p.inertia_factor, 0.0, 1.0, low_open=True)
     clashes = ((p.transport, "transport", "the Einstein-Helfand moments have no spin terms"),
-               (p.shear_rate != 0.0, "shear_rate", "the sheared engine keeps no spins"),
-               (p.well_width is not None, "well_width", "wells are smooth"))
+               (p.shear_rate != 0.0, "a shear rate", "the sheared engine keeps no spins"),
+               (p.well_width is not None, "square wells", "wells are smooth"))
     for clash, name, why in clashes:
         if clash:
             raise ValueError(f"tangential_restitution (rough spheres) cannot be combined with {name} ({why})")
@@ -292,8 +293,12 @@ def check_saved_run(saved, sampler, parameters, system) -> None:
                             f"{parameters.engine}")
     if not _species_fit(parameters, system):
         raise saved.damaged("its particles' species, diameters or masses are not those its parameters give")
-    if system.tangential_restitution != parameters.tangential_restitution:
-        raise saved.damaged("its system's roughness (tangential restitution) is not the one its parameters give")
+    rough = (system.tangential_restitution, system.inertia_factor)
+    kappa = parameters.inertia_factor if parameters.inertia_factor is not None else UNIFORM_INERTIA[parameters.dim]
+    if rough != ((None, None) if parameters.tangential_restitution is None else (parameters.tangential_restitution,
+                                                                                 kappa)):
+        raise saved.damaged("its system's roughness (tangential restitution, inertia factor) is not the one its "
+                            "parameters give")
     if sampler is None:
         return
     lengths = {len(values) for values in sampler.records.values()} | {len(sampler.speeds)}

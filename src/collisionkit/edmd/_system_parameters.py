@@ -110,7 +110,8 @@ class SystemParameters:
 
         Over every pair collision, the impulse on one partner j times the
         minimum-image separation r = x_j - x_i at contact (both along r, so
-        the tensor is symmetric); its trace is :attr:`virial`. Divided by
+        the tensor is symmetric; rough spheres' tangential impulses add the
+        symmetric part of theirs, without trace); its trace is :attr:`virial`. Divided by
         the volume and a stretch of time, it is the collisional part of the
         pressure tensor over that stretch (Allen & Tildesley, Computer
         Simulation of Liquids, 2nd ed., sec. 2.7).

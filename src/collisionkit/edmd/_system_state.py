@@ -198,7 +198,7 @@ _OVERFLOWS = (_k.ACC_LIST_OVERFLOW, _k.ACC_CELL_OVERFLOW)
 _PARAMETERS = (_k.P_SCALE0, _k.P_GROWTH, _k.P_LAW, _k.P_LAW_SPEED, _k.P_LAW_EXPONENT, _k.P_ELASTIC_BELOW,
                _k.P_WALL_RESTITUTION, _k.P_SHELL, _k.P_LIST_SCALE, _k.P_SHEAR_RATE, _k.P_SHEAR_OFFSET, _k.P_SHEAR_SWEEP,
                _k.P_SHEAR_REACH, _k.P_THERMOSTAT, _k.P_SHEAR_FRAME, _k.P_WELL_WIDTH, _k.P_WELL_DEPTH,
-               _k.P_WELL_SPECIES, _k.P_ROUGHNESS, _k.P_INERTIA_FACTOR)
+               _k.P_WELL_SPECIES, _k.P_TANGENTIAL_RESTITUTION, _k.P_INERTIA_FACTOR)
 _TRANSPORT_SUMS = tuple(range(_k.ACC_STRESS, _k.ACC_SIZE))
 _TOTALS = (_k.ACC_VIRIAL, _k.ACC_ENERGY_LOST, _k.ACC_WALL_IMPULSE, *_COUNTERS, *_OVERFLOWS, *_TRANSPORT_SUMS)
 
@@ -361,22 +361,23 @@ def _check_parameters(arrays, law, p, geom, dim):
 
 
 def _check_roughness(arrays, params, count, dim):
-    """Rough spheres (kappa set): 1 + beta in [0, 2], kappa in (0, 1], finite spins of shape (N, 3), about z only in
-    2D, and no shear, wells or growth; smooth ones: both 0 and no spins."""
-    roughness, kappa = params[_k.P_ROUGHNESS], params[_k.P_INERTIA_FACTOR]
+    """Rough spheres (kappa set): beta in [-1, 1], kappa in (0, 1], finite spins of shape (N, 3), about z only in 2D,
+    and no shear, wells, growth or radius scale; smooth ones: both 0 and no spins."""
+    beta, kappa = params[_k.P_TANGENTIAL_RESTITUTION], params[_k.P_INERTIA_FACTOR]
     rough = kappa != 0.0
     spin = _array(arrays, "spin", (count, 3)) if rough else arrays["spin"]
     if not rough:
-        _require(roughness == 0.0, "params", "must hold no roughness without an inertia factor (smooth spheres)")
+        _require(beta == 0.0, "params", "must hold no tangential restitution without an inertia factor (smooth "
+                 "spheres)")
         _require(spin.dtype == np.float64 and spin.shape == (0, 3), "spin", "must be empty (shape (0, 3)) for "
                  "smooth spheres")
         return
-    _require((0.0 <= roughness <= 2.0) & (0.0 < kappa <= 1.0), "params",
-             "must hold a roughness 1 + beta in [0, 2] and an inertia factor in (0, 1]")
+    _require((-1.0 <= beta <= 1.0) & (0.0 < kappa <= 1.0), "params",
+             "must hold a tangential restitution in [-1, 1] and an inertia factor in (0, 1]")
     _require(np.isfinite(spin), "spin", "must hold finite angular velocities")
     _require(dim == 3 or np.all(spin[:, :2] == 0.0), "spin", "must spin discs about the normal of their plane only")
-    _require(params[[_k.P_SHEAR_RATE, _k.P_WELL_WIDTH, _k.P_GROWTH]] == 0.0, "params",
-             "must hold no shear, wells or growth for rough spheres")
+    _require((params[[_k.P_SHEAR_RATE, _k.P_WELL_WIDTH, _k.P_GROWTH]] == 0.0).all() & (params[_k.P_SCALE0] == 1.0),
+             "params", "must hold no shear, wells, growth or radius scale for rough spheres")
 
 
 def _check_shear(params, geom, dim):

@@ -277,6 +277,9 @@ class Sampler:
         if transport and system.shear_rate != 0.0:
             raise ValueError("transport cannot be measured under shear (the Einstein-Helfand relations hold in "
                              "equilibrium); the sheared system's shear viscosity comes from its stress")
+        if transport and system.rough:
+            raise ValueError("transport cannot be measured for rough spheres (the Helfand moments and the heat flux "
+                             "have no spin terms)")
         self.transport = TransportSampler(system) if transport else None
 
     def _diffusion_axes(self) -> list[int]:

@@ -292,8 +292,11 @@ def _initial_system(parameters: EdmdParameters, progress: Callable[[float], Any]
     spins = None
     if p.tangential_restitution is not None:  # (drawn from a stream of their own: the velocities stay the same)
         kappa = p.inertia_factor if p.inertia_factor is not None else UNIFORM_INERTIA[p.dim]
-        spins = random_spins(kappa * masses * (diameters / 2.0) ** 2, p.dim, kT=p.initial_rotational_temperature,
-                             seed=np.random.SeedSequence([p.seed, SPIN_STREAM]))
+        moments = kappa * masses * (diameters / 2.0) ** 2
+        spins = random_spins(moments, p.dim, kT=1.0, seed=np.random.SeedSequence([p.seed, SPIN_STREAM]))
+        # scaled to the rotational kT asked for exactly, as the velocities are to kT = 1
+        drawn = np.sum(moments * (spins**2 if p.dim == 2 else np.sum(spins**2, axis=1))) / (3 if p.dim == 3 else 1)
+        spins *= np.sqrt(p.initial_rotational_temperature * p.particles / drawn)
     return HardSphereSystem(positions, velocities, diameters / 2.0, box, masses, species=species,
                             restitution=p.restitution, restitution_law=p.restitution_law, law_speed=p.law_speed,
                             law_exponent=p.law_exponent, elastic_below=p.elastic_below, shear_rate=p.shear_rate,

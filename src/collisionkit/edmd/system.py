@@ -309,7 +309,7 @@ class HardSphereSystem(SystemParameters, ParticleState, NeighbourLists, CellCros
         _system_setup.start_records(self, positions, velocities, radius, box, periodic)
         rough_parameters(self, tangential_restitution, inertia_factor, angular_velocities,
                          {"shear": shear_rate != 0.0, "square wells": well_width is not None,
-                          "compression": _growth != 0.0})
+                          "compression": _growth != 0.0 or _scale != 1.0})
         if elastic_below is None:
             elastic_below = _system_setup.default_elastic_below(self.restitution, velocities,
                                                                 self.params[_k.P_WALL_RESTITUTION], gravity, box)

@@ -33,7 +33,7 @@ from ..._jit import borrowing_inline_kernel as inline_kernel
 from .layout import (
     ACC_ENERGY_IMAGE, ACC_ENERGY_LOST, ACC_HEAT, ACC_MOMENTUM_IMAGE, ACC_PAIR_COLLISIONS, ACC_STRESS, ACC_VIRIAL,
     ACC_WALL_COLLISIONS, ACC_WALL_IMPULSE, G_BOX, LAW_BRIDGES, LAW_VISCOELASTIC, MASS, P_ELASTIC_BELOW, P_LAW,
-    P_INERTIA_FACTOR, P_LAW_EXPONENT, P_LAW_SPEED, P_ROUGHNESS, P_SHEAR_RATE, P_WALL_RESTITUTION, R, SPECIES, T, V,
+    P_INERTIA_FACTOR, P_LAW_EXPONENT, P_LAW_SPEED, P_SHEAR_RATE, P_TANGENTIAL_RESTITUTION, P_WALL_RESTITUTION, R, SPECIES, T, V,
     X,
 )
 from .exact import approach_ratio, sure_approach
@@ -64,8 +64,8 @@ def collide_pair(p, i, j, b, geom, scale, growth, restitution, params, acc, spin
 
     The approach test is the prediction's, and the impulse is along the
     separation itself (see the module docstring). ``spin`` holds the angular
-    velocities of rough spheres (read only if ``params[P_ROUGHNESS]`` is not
-    0: smooth spheres may pass an empty array).
+    velocities of rough spheres (read only if ``params[P_INERTIA_FACTOR]`` is
+    not 0: smooth spheres may pass an empty array).
     """
     dx = p[j, X] - p[i, X]
     dy = p[j, X + 1] - p[i, X + 1]
@@ -91,6 +91,7 @@ def collide_pair(p, i, j, b, geom, scale, growth, restitution, params, acc, spin
     mi = b[i, MASS]
     mj = b[j, MASS]
     reduced = mi * mj / (mi + mj)
+    approach = 0.0
     if growth != 0.0:
         # elastic in the frame of the growing surfaces
         e = 1.0
@@ -113,7 +114,9 @@ def collide_pair(p, i, j, b, geom, scale, growth, restitution, params, acc, spin
     p[j, V] -= share_j * rx
     p[j, V + 1] -= share_j * ry
     p[j, V + 2] -= share_j * rz
-    if params[P_ROUGHNESS] != 0.0:
+    # rough spheres (never compressed): a contact below the elastic floor is smooth as well, so that it loses nothing
+    if params[P_INERTIA_FACTOR] != 0.0 and params[P_TANGENTIAL_RESTITUTION] != -1.0 and \
+            approach >= params[P_ELASTIC_BELOW]:
         rough_impulse(p, i, j, rx, ry, rz, slide, rr, mi, mj, spin, params, acc)
     _separate(p, i, j, rx, ry, rz, shift, slide, mj / (mi + mj), mi / (mi + mj), rr)
     # impulse times contact distance: (1 + e) mu u_n |r|
@@ -156,7 +159,8 @@ def rough_impulse(p, i, j, rx, ry, rz, slide, rr, mi, mj, spin, params, acc):
     tz = gz - normal * nz
     kappa = params[P_INERTIA_FACTOR]
     reduced = (kappa / (1.0 + kappa)) * (mi * mj / (mi + mj))
-    roughness = params[P_ROUGHNESS]  # 1 + beta
+    beta = params[P_TANGENTIAL_RESTITUTION]
+    roughness = 1.0 + beta
     jx = -roughness * reduced * tx
     jy = -roughness * reduced * ty
     jz = -roughness * reduced * tz
@@ -178,7 +182,6 @@ def rough_impulse(p, i, j, rx, ry, rz, slide, rr, mi, mj, spin, params, acc):
     spin[j, 0] -= cx * turn_j
     spin[j, 1] -= cy * turn_j
     spin[j, 2] -= cz * turn_j
-    beta = roughness - 1.0
     acc[ACC_ENERGY_LOST] += 0.5 * reduced * (1.0 - beta * beta) * (tx * tx + ty * ty + tz * tz)
     # the collisional stress gets the symmetric part of J r (no trace: J is normal to r, the pressure is unchanged)
     acc[ACC_STRESS] += jx * rx

@@ -60,9 +60,9 @@ P_SHEAR_FRAME = 14  # the frame time t_f: clock time at which the co-moving fram
 P_WELL_WIDTH = 15  # the widest lambda > 1 in the table (the lists' reach; 0: hard spheres, no well)
 P_WELL_DEPTH = 16  # the deepest epsilon > 0 in the table
 P_WELL_SPECIES = 17  # S, the species the table covers (0: no table)
-# rough spheres (.contacts.rough_impulse): 1 + beta, beta the tangential restitution (0: smooth spheres, beta = -1,
-# whose spins never change), and kappa, the moment of inertia in units of m a^2
-P_ROUGHNESS = 18  # (a system is rough when P_INERTIA_FACTOR > 0: beta = -1 spins without change)
+# rough spheres (.contacts.rough_impulse): beta, the tangential restitution, and kappa, the moment of inertia in units
+# of m a^2; a system is rough when kappa > 0 (beta = -1 then spins without change; smooth systems hold 0 in both)
+P_TANGENTIAL_RESTITUTION = 18
 P_INERTIA_FACTOR = 19
 P_SIZE = 20
 # the parameter array's size before the shear entries (checkpoints of engine formats 2 and 3), before the frame time
