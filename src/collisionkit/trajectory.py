@@ -44,6 +44,8 @@ __all__ = [
 # species X: ASE reads the species column as chemical symbols and X (its dummy atom) is the one for a
 # particle that is no element; the particle type ("A", "B", ... as in GSD files) has a column of its own
 _XYZ_PROPERTIES = "species:S:1:pos:R:3:vel:R:3:momenta:R:3:radius:R:1:masses:R:1:type:S:1"
+# rough spheres add their angular velocities before the type (discs: about z)
+_XYZ_ROUGH_PROPERTIES = _XYZ_PROPERTIES.replace(":type:S:1", ":omega:R:3:type:S:1")
 _XYZ_SPECIES = "X"
 
 
@@ -143,7 +145,29 @@ def _gsd_frame(system, step):
     frame.particles.velocity = _pad(system.velocities())
     frame.particles.diameter = (2.0 * np.asarray(system.radius)).astype(np.float32)
     frame.particles.mass = np.asarray(system.mass, dtype=np.float32)
+    if getattr(system, "rough", False):
+        frame.particles.moment_inertia, frame.particles.angmom = _gsd_rotation(system)
     return frame
+
+
+def _spins(system):
+    """The angular velocities of a rough system as (N, 3) (discs: about z)."""
+    omega = system.angular_velocities()
+    return omega if system.dim == 3 else np.column_stack([np.zeros((omega.size, 2)), omega])
+
+
+def _gsd_rotation(system):
+    """HOOMD-blue's moment_inertia and angmom of rough spheres, at the orientation the frame leaves (the identity:
+    the engine does not follow orientations).
+
+    HOOMD-blue keeps the conjugate quaternion momentum p, with the body angular momentum (1/2) conj(q) p: at q = 1,
+    p = (0, 2 I omega). Discs turn about z only (moment of inertia (0, 0, I)).
+    """
+    moments = np.asarray(system.moments_of_inertia(), dtype=float)
+    principal = np.column_stack([moments] * 3) if system.dim == 3 else np.column_stack(
+        [np.zeros((moments.size, 2)), moments])
+    angmom = np.column_stack([np.zeros(moments.size), 2.0 * principal * _spins(system)])
+    return principal.astype(np.float32), angmom.astype(np.float32)
 
 
 class GSDWriter:
@@ -302,7 +326,9 @@ def read_gsd(path, frame=-1):
         ``step`` (int), ``dim`` (2 or 3), ``box`` (the d box lengths),
         ``positions`` (N, d) shifted back into [0, L), ``velocities`` (N, d),
         ``diameters``, ``masses``, ``typeids`` (N,), ``types`` (list of str)
-        and ``frames`` (the number of frames in the file).
+        and ``frames`` (the number of frames in the file); of rough spheres
+        also ``angular_velocities`` ((N, 3), discs (N,): from HOOMD-blue's
+        ``angmom`` and ``moment_inertia`` at the identity orientation).
 
     Examples
     --------
@@ -390,7 +416,19 @@ def _frame_data(snapshot, count):
         "typeids": np.asarray(snapshot.particles.typeid, dtype=np.int64),
         "types": list(snapshot.particles.types),
         "frames": count,
-    }
+    } | _angular_velocities(snapshot, dim)
+
+
+def _angular_velocities(snapshot, dim) -> dict:
+    """``angular_velocities`` of a frame with moments of inertia (rough spheres: (N, 3); discs: (N,) about z), at
+    the identity orientation (:func:`_gsd_rotation`); {} without them."""
+    inertia = np.asarray(snapshot.particles.moment_inertia, dtype=float)
+    if not np.any(inertia):
+        return {}
+    angmom = np.asarray(snapshot.particles.angmom, dtype=float)[:, 1:]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        omega = np.where(inertia > 0, 0.5 * angmom / np.where(inertia > 0, inertia, 1.0), 0.0)
+    return {"angular_velocities": omega if dim == 3 else omega[:, 2]}
 
 
 def truncate_gsd(path, frames, *, last_step=None):
@@ -484,7 +522,7 @@ def _xyz_header(system, comment):
     periodic = [bool(flag) for flag in system.periodic[:dim]] + ([False] if dim == 2 else [])
     fields = [
         'Lattice="' + " ".join(f"{value:.17g}" for value in lattice) + '"',
-        f"Properties={_XYZ_PROPERTIES}",
+        f"Properties={_XYZ_ROUGH_PROPERTIES if getattr(system, 'rough', False) else _XYZ_PROPERTIES}",
         'pbc="' + " ".join("T" if flag else "F" for flag in periodic) + '"',
         f"Time={float(system.elapsed):.17g}",
         f"Step={int(system.collisions)}",
@@ -512,7 +550,8 @@ def write_extended_xyz(path, system, comment=None):
     ``atoms.get_velocities()`` (to round-off; the exact velocities are
     ``atoms.arrays["vel"]``), with positions, cell, pbc,
     ``atoms.arrays["radius"]`` and ``["type"]``, and Time and Step in
-    ``atoms.info``.
+    ``atoms.info``. Rough spheres add ``omega:R:3`` (angular velocities;
+    discs about z) before the type.
 
     Parameters
     ----------
@@ -542,6 +581,8 @@ def write_extended_xyz(path, system, comment=None):
     positions, velocities = _pad(system.positions(), float), _pad(system.velocities(), float)
     masses = np.asarray(system.mass, dtype=float)
     columns = np.column_stack([positions, velocities, masses[:, None] * velocities, system.radius, masses])
+    if getattr(system, "rough", False):
+        columns = np.column_stack([columns, _spins(system)])
     body = "\n".join(
         f"{_XYZ_SPECIES} " + " ".join(f"{value:.17g}" for value in row) + f" {name}" for name, row in zip(names, columns)
     )

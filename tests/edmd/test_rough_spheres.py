@@ -268,3 +268,21 @@ def test_an_inelastic_rough_mixture_gets_no_smooth_theory():
     summary = EdmdRun(parameters).run().summary()
     assert "temperature_species" in summary and "temperature_species_theory" not in summary
     assert math.isnan(summary["cooling_rate_theory"]) and "temperature_ratio_theory" not in summary
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+def test_trajectory_files_carry_the_spins(tmp_path, dim):
+    """GSD frames give HOOMD-blue's moment_inertia and angmom (2 I omega at the identity orientation), read back as
+    the angular velocities; extended XYZ adds an omega column."""
+    from collisionkit.trajectory import read_gsd, write_extended_xyz, write_gsd_frame
+
+    system = _gas(dim, 0.5, "lists", e=0.9)
+    system.run(collisions=500)
+    write_gsd_frame(tmp_path / "t.gsd", system, 0)
+    frame = read_gsd(tmp_path / "t.gsd")
+    np.testing.assert_allclose(frame["angular_velocities"], system.angular_velocities(), rtol=1e-6)
+    lines = write_extended_xyz(tmp_path / "s.xyz", system).read_text().splitlines()
+    assert ":omega:R:3:type:S:1" in lines[1]
+    spins = np.array([[float(value) for value in line.split()[12:15]] for line in lines[2:]])
+    expected = system.angular_velocities()
+    np.testing.assert_array_equal(spins if dim == 3 else spins[:, 2], expected)

@@ -65,3 +65,16 @@ def test_the_cooling_plot_draws_the_theory_through_the_first_point_and_each_spec
         plotting.plot_cooling(collisions, temperatures, species=np.ones((4, 2)))
     with pytest.raises(ValueError, match="one length"):
         plotting.plot_cooling(collisions, temperatures[:3])
+
+
+def test_the_cooling_plot_draws_a_rough_gas_s_rotational_temperature_and_its_theory():
+    collisions = np.arange(1.0, 6.0)
+    temperatures = np.exp(-0.1 * collisions)
+    ax = plotting.plot_cooling(collisions, temperatures, theory_temperatures=temperatures * 1.01,
+                               rotation=0.8 * temperatures, theory_rotation=0.85 * temperatures)
+    labels = [text.get_text() for text in ax.get_legend().get_texts()]
+    assert labels == ["translation", "theory (Maxwellian)", "rotation", "rotation, theory"]
+    np.testing.assert_allclose(ax.lines[2].get_ydata(), 0.8 * temperatures)
+    np.testing.assert_allclose(ax.lines[3].get_ydata(), 0.85 * temperatures)
+    with pytest.raises(ValueError, match=r"rotation must have shape \(5,\)"):
+        plotting.plot_cooling(collisions, temperatures, rotation=temperatures[:4])

@@ -79,6 +79,22 @@ def rows(result: dict) -> list[tuple[str, str, str]]:
     ]
 
 
+def _rough_cooling(p, system, collisions, measurement):
+    """Rough spheres' block-end kT_r and the Maxwellian theory's kT and kT_r from the first block end on (one species
+    of constant restitution; kT_r alone otherwise): (theory kT or None, kT_r, theory kT_r or None); None if smooth."""
+    if measurement.block_temperature_ratio is None:
+        return None
+    rotation = measurement.block_temperature_ratio * measurement.block_temperature
+    if len(p.species_counts) > 1 or p.restitution_law != "constant" or p.tangential_restitution == -1.0:
+        return None, rotation, None
+    from ..edmd import rough_cooling
+
+    restitution = p.restitution if not isinstance(p.restitution, tuple) else p.restitution[0][0]
+    T, T_r = rough_cooling(measurement.block_temperature[0], rotation[0], collisions - collisions[0], restitution,
+                           p.tangential_restitution, system.inertia_factor, p.dim)
+    return T, rotation, T_r
+
+
 def _law_cooling(p, system, collisions, temperatures):
     """A restitution law's Maxwellian kT from the first block end on (one species), else None."""
     if p.restitution_law == "constant" or len(p.species_counts) > 1:
@@ -101,7 +117,7 @@ def _cooling_rows(result: dict, pm) -> list[tuple[str, str, str]]:
         off = "" if sigmas is None or not math.isfinite(sigmas) else f"; measured {sigmas:+.1f} sigma"
         where = f"Maxwellian, {result['restitution_law']} law, blocks' mean{off}"
     if result.get("tangential_restitution") is not None:
-        where = "rough cooling state, Luding et al. 1998"
+        where = "rough spheres, Maxwellian, blocks' mean"
     shown = "" if theory is None or not math.isfinite(theory) else f"{theory:.5g} ({where})"
     return [("cooling rate per collision -d ln T/dC", pm("cooling_rate"), shown)]
 
@@ -112,7 +128,7 @@ def _rotation_rows(result: dict, pm) -> list[tuple[str, str, str]]:
         return []
     theory = result.get("temperature_ratio_theory")
     shown = "" if theory is None else (f"{theory:.5g} (" + ("equipartition" if result["elastic"] else
-                                                            "rough cooling state") + ")")
+                                                            "Maxwellian, blocks' mean") + ")")
     return [("rotational temperature kT_r (final)", f"{result['rotational_temperature']:.6g}", ""),
             ("T_r / T (blocks' mean)", pm("temperature_ratio"), shown)]
 
@@ -279,10 +295,13 @@ def _plots(run, measurement, out: Path, deliveries: Deliveries) -> None:
         collisions = 2.0 * run.sampler.per_block * np.arange(1, run.sampler.done + 1) / system.count
         summary = run.summary()
         rate = summary.get("cooling_rate_theory")  # (NaN: no theory, rough spheres of a mixture or with a law)
+        rough = _rough_cooling(p, system, collisions, measurement)
+        theory, rotation, theory_rotation = rough if rough is not None else (
+            _law_cooling(p, system, collisions, measurement.block_temperature), None, None)
         figures.append(("cooling.png", lambda: plotting.plot_cooling(
             collisions, measurement.block_temperature, rate if rate is not None and math.isfinite(rate) else None,
             measurement.block_species_temperatures, species_theory=summary.get("temperature_species_theory"),
-            theory_temperatures=_law_cooling(p, system, collisions, measurement.block_temperature))))
+            theory_temperatures=theory, rotation=rotation, theory_rotation=theory_rotation)))
 
     def folder():
         out.mkdir(parents=True, exist_ok=True)

@@ -307,7 +307,7 @@ def plot_radial_distribution(r, g, ax=None, partial=None):
 
 
 def plot_cooling(collisions, temperatures, rate=None, species=None, ax=None, species_theory=None,
-                 theory_temperatures=None):
+                 theory_temperatures=None, rotation=None, theory_rotation=None):
     """kT of a cooling gas against collisions per particle (log scale), with the theory's line and each species'.
 
     Parameters
@@ -330,6 +330,10 @@ def plot_cooling(collisions, temperatures, rate=None, species=None, ax=None, spe
         The theory's kT at ``collisions`` when its rate changes as the gas
         cools (a restitution law: :func:`~collisionkit.edmd.maxwellian_cooling`
         from the first point), drawn as the theory's line instead of ``rate``'s.
+    rotation : array_like, shape (K,), optional
+        Rough spheres' rotational kT at ``collisions``, drawn as a second
+        series; ``theory_rotation`` (same shape) its theory's
+        (:func:`~collisionkit.edmd.rough_cooling`), dotted.
 
     Returns
     -------
@@ -352,7 +356,7 @@ def plot_cooling(collisions, temperatures, rate=None, species=None, ax=None, spe
         raise ValueError(f"collisions and temperatures must be 1-D of one length; got {collisions.shape} and "
                          f"{temperatures.shape}")
     ax = _axes(ax)
-    ax.semilogy(collisions, temperatures, "o", color="C0", label="all")
+    ax.semilogy(collisions, temperatures, "o", color="C0", label="all" if rotation is None else "translation")
     if theory_temperatures is not None:
         theory_temperatures = np.asarray(theory_temperatures, dtype=float)
         if theory_temperatures.shape != collisions.shape:
@@ -361,6 +365,14 @@ def plot_cooling(collisions, temperatures, rate=None, species=None, ax=None, spe
     elif rate is not None:
         ax.semilogy(collisions, temperatures[0] * np.exp(-rate * (collisions - collisions[0])), color="0.4", lw=1,
                     label=f"theory, -d ln T/dC = {rate:.4g}")
+    for name, values in (("rotation", rotation), ("theory_rotation", theory_rotation)):
+        if values is not None and np.shape(values) != collisions.shape:
+            raise ValueError(f"{name} must have shape {collisions.shape}; got {np.shape(values)}")
+    if rotation is not None:
+        ax.semilogy(collisions, np.asarray(rotation, dtype=float), "s", mfc="none", color="C3", label="rotation")
+    if theory_rotation is not None:
+        ax.semilogy(collisions, np.asarray(theory_rotation, dtype=float), ls=":", color="C3",
+                    label="rotation, theory")
     if species is not None:
         species = np.asarray(species, dtype=float)
         if species.ndim != 2 or species.shape[0] != collisions.size:
