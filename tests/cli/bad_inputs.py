@@ -57,6 +57,8 @@ BAD_INPUTS = [
     ("edmd", ["--inertia-factor", "0", "--tangential-restitution", "1"], "--inertia-factor must be in (0, 1]; got 0"),
     ("edmd", ["--inertia-factor", "2", "--tangential-restitution", "1"], "--inertia-factor must be in (0, 1]; got 2"),
     ("edmd", ["--initial-rotational-temperature", "0"], "--initial-rotational-temperature needs rough spheres"),
+    ("edmd", ["--friction", "0.3"], "--friction needs rough spheres: give a tangential restitution"),
+    ("edmd", ["--friction", "0", "--tangential-restitution", "0.5"], "--friction must be in (0, 100]; got 0"),
     ("edmd", ["--initial-rotational-temperature", "-1", "--tangential-restitution", "1"],
      "--initial-rotational-temperature must be in [0, 100]; got -1"),
     ("edmd", ["--equilibration", "1000000000000000000000"], "--equilibration must be in [0, 100000000000000]"),

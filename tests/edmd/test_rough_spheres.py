@@ -159,10 +159,13 @@ def test_a_checkpoint_of_an_older_format_is_smooth_and_a_bad_spin_array_is_refus
     smooth = HardSphereSystem(*lattice("square", 16, 0.2)[:1], np.zeros((256, 2)), 0.5, lattice("square", 16, 0.2)[1])
     old = smooth.state_dict()
     cut = 18  # format 9 had no rough entries: the well table followed the 18 parameters
-    old = {name: value for name, value in old.items() if name != "spin"} | {
-        "format": np.asarray(9), "params": np.concatenate([old["params"][:cut], old["params"][cut + 2:]])}
-    restored = HardSphereSystem.from_state_dict(old)
+    nine = {name: value for name, value in old.items() if name != "spin"} | {
+        "format": np.asarray(9), "params": np.concatenate([old["params"][:cut], old["params"][cut + 3:]])}
+    restored = HardSphereSystem.from_state_dict(nine)
     assert not restored.rough and restored.rotational_energy() == 0.0
+    rough = _gas(2, 0.5, "lists").state_dict()  # format 10: rough, no friction entry (the 21st)
+    ten = rough | {"format": np.asarray(10), "params": np.delete(rough["params"], 20)}
+    assert HardSphereSystem.from_state_dict(ten).friction is None
 
 
 def test_rough_spheres_refuse_what_they_cannot_run_and_a_smooth_system_has_no_spins():
@@ -286,3 +289,30 @@ def test_trajectory_files_carry_the_spins(tmp_path, dim):
     spins = np.array([[float(value) for value in line.split()[12:15]] for line in lines[2:]])
     expected = system.angular_velocities()
     np.testing.assert_array_equal(spins if dim == 3 else spins[:, 2], expected)
+
+
+@settings(max_examples=30, deadline=None)
+@given(beta=ANGLES, friction=st.floats(0.01, 2.0), e=st.floats(0.0, 1.0), spin=st.lists(st.floats(-5.0, 5.0),
+                                                                                          min_size=6, max_size=6))
+def test_walton_friction_caps_the_tangential_impulse_at_mu_times_the_normal_one(beta, friction, e, spin):
+    """With friction mu the contact sticks (beta) or slides: the rigid-body impulse for beta_eff = min(beta, -1 +
+    mu (1 + e) u_n (1 + 1/kappa) / |g_t|), and the tangential impulse never exceeds mu times the normal one."""
+    direction = np.array([1.0, 0.35, -0.2]) / np.linalg.norm([1.0, 0.35, -0.2])
+    spins = np.reshape(spin, (2, 3))
+    kappa, masses, radii = 0.4, np.array([1.0, 1.5]), np.array([0.5, 0.4])
+    system, velocities = _pair(direction, 1.0, spins, masses, radii, beta, kappa, e)
+    system.params[_kernels.edmd.P_FRICTION] = friction
+    system.run(collisions=1)
+    x = system.positions()
+    n = (x[1] - x[0]) / np.linalg.norm(x[1] - x[0])
+    arms = (radii[0] * n, -radii[1] * n)
+    g = (velocities[1] + np.cross(spins[1], arms[1])) - (velocities[0] + np.cross(spins[0], arms[0]))
+    u_n = -(g @ n)
+    slip = np.linalg.norm(g - (g @ n) * n)
+    effective = min(beta, -1.0 + friction * (1 + e) * u_n * (1 + 1 / kappa) / slip)
+    v_after, w_after = _rigid_body_collision(n, velocities, spins, masses, radii, kappa, e, effective)
+    np.testing.assert_allclose(system.velocities(), v_after, atol=1e-11)
+    np.testing.assert_allclose(system.angular_velocities(), w_after, atol=1e-10)
+    impulse = masses[1] * (system.velocities()[1] - velocities[1])
+    tangential = np.linalg.norm(impulse - (impulse @ n) * n)
+    assert tangential <= friction * abs(impulse @ n) * (1 + 1e-9) + 1e-12

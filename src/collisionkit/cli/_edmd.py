@@ -55,6 +55,7 @@ class EdmdOptions(Options):
     law_exponent: float = 0.234
     tangential_restitution: float | None = None  # ranges: the library's messages
     inertia_factor: float | None = None
+    friction: float | None = None
     initial_rotational_temperature: float = 1.0
     equilibration: int | None = Field(default=None, ge=0)
     collisions: int | None = Field(default=None, ge=2)
@@ -444,6 +445,10 @@ def edmd(
         float | None,
         typer.Option(help=_help("Rough spheres' moment of inertia over m a^2, in (0, 1].", "2/5 for spheres, 1/2 for discs")),
     ] = None,
+    friction: Annotated[
+        float | None,
+        typer.Option(help=_help("Rough spheres' Coulomb friction mu in (0, 100] (Walton's model): a contact sticks, or slides when its tangential impulse would pass mu times the normal one.", "no limit")),
+    ] = None,
     initial_rotational_temperature: Annotated[
         float | None,
         typer.Option(help=_help("Rough spheres' rotational kT at the start, 0 to 100 (0: no spin).", "1, equipartition")),
@@ -539,7 +544,7 @@ def edmd(
     """
     given = dict(
         dim=dim, particles=particles, packing_fraction=packing_fraction, restitution=restitution,
-        elastic_below=elastic_below, restitution_law=restitution_law, law_speed=law_speed, law_exponent=law_exponent, tangential_restitution=tangential_restitution, inertia_factor=inertia_factor, initial_rotational_temperature=initial_rotational_temperature, equilibration=equilibration, collisions=collisions, blocks=blocks, seed=seed, initial=initial,
+        elastic_below=elastic_below, restitution_law=restitution_law, law_speed=law_speed, law_exponent=law_exponent, tangential_restitution=tangential_restitution, inertia_factor=inertia_factor, friction=friction, initial_rotational_temperature=initial_rotational_temperature, equilibration=equilibration, collisions=collisions, blocks=blocks, seed=seed, initial=initial,
         transport=transport, yeh_hummer=yeh_hummer, shear_rate=shear_rate, thermostat=thermostat, engine=engine, well_width=well_width, well_depth=well_depth, fractions=fractions, diameters=diameters, masses=masses, summary=summary, trajectory=trajectory, frame_every=frame_every, xyz=xyz, out=out, plots=plots,
         checkpoint=checkpoint, overwrite=overwrite,
     )  # fmt: skip

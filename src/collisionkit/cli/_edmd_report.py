@@ -333,6 +333,7 @@ def report(run, options, extra: dict) -> None:
                                                                "bridges" else ")"))
     if p.tangential_restitution is not None:
         law += f", rough: beta = {p.tangential_restitution:g}, kappa = {run.system.inertia_factor:g}"
+        law += "" if p.friction is None else f", mu = {p.friction:g}"
     title = (f"EDMD: {p.particles} hard {kind}, eta = {p.packing_fraction:g}, e = {_number_or_table(p.restitution)}"
              f"{law}, seed {p.seed}")
     print_table(title, ("quantity", "measured", "theory"), rows(result))

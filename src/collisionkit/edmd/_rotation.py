@@ -34,8 +34,9 @@ def rotational_degrees(dim):
     return 3 if dim == 3 else 1
 
 
-def rough_parameters(system, tangential_restitution, inertia_factor, angular_velocities, refusals):
-    """Set ``system``'s roughness (1 + beta), inertia factor and spins (memory order) from the constructor's arguments.
+def rough_parameters(system, tangential_restitution, inertia_factor, angular_velocities, refusals, friction=None):
+    """Set ``system``'s tangential restitution, inertia factor, friction and spins (memory order) from the
+    constructor's arguments.
 
     ``refusals`` names what a rough system cannot combine with (a feature
     given -> its name, shown in the message). Smooth systems (beta None)
@@ -43,7 +44,8 @@ def rough_parameters(system, tangential_restitution, inertia_factor, angular_vel
     """
     count, dim = system.p.shape[0], system.dim
     if tangential_restitution is None:
-        for value, name in ((inertia_factor, "inertia_factor"), (angular_velocities, "angular_velocities")):
+        for value, name in ((inertia_factor, "inertia_factor"), (angular_velocities, "angular_velocities"),
+                            (friction, "friction")):
             if value is not None:
                 raise ValueError(f"{name} needs rough spheres: give a tangential restitution in [-1, 1]")
         system.spin = np.zeros((0, 3))
@@ -56,6 +58,8 @@ def rough_parameters(system, tangential_restitution, inertia_factor, angular_vel
             raise ValueError(f"tangential_restitution (rough spheres) cannot be combined with {name}")
     system.params[_k.P_TANGENTIAL_RESTITUTION] = beta
     system.params[_k.P_INERTIA_FACTOR] = kappa
+    if friction is not None:
+        system.params[_k.P_FRICTION] = _checks.positive(friction, "friction")
     system.spin = np.zeros((count, 3))
     if angular_velocities is not None:
         system.spin[:] = _spins(angular_velocities, count, dim)[system.ids]
@@ -120,6 +124,11 @@ class RoughSpheres:
     def tangential_restitution(self):
         """beta in [-1, 1] of rough spheres, None for smooth ones."""
         return float(self.params[_k.P_TANGENTIAL_RESTITUTION]) if self.rough else None
+
+    @property
+    def friction(self):
+        """Walton's friction coefficient mu of rough contacts (the Coulomb limit |J_t| <= mu |J_n|), None if none."""
+        return float(self.params[_k.P_FRICTION]) if self.params[_k.P_FRICTION] > 0.0 else None
 
     @property
     def inertia_factor(self):

@@ -48,6 +48,8 @@ MAX_LAW_SPEED = 1e30
 MAX_LAW_EXPONENT = 10.0
 # the largest initial rotational kT of rough spheres, in units of the translational kT = 1
 MAX_ROTATIONAL_TEMPERATURE = 100.0
+# the largest friction coefficient of rough contacts (beyond a few, every contact sticks)
+MAX_FRICTION = 100.0
 MAX_SPECIES = 26
 
 
@@ -135,7 +137,7 @@ def _checked_roughness(p, particles: int) -> dict[str, Any]:
     temperature = check_real("initial_rotational_temperature", p.initial_rotational_temperature, 0.0,
                              MAX_ROTATIONAL_TEMPERATURE)
     if p.tangential_restitution is None:
-        for name, unused in (("inertia_factor", p.inertia_factor is not None),
+        for name, unused in (("inertia_factor", p.inertia_factor is not None), ("friction", p.friction is not None),
                              ("initial_rotational_temperature", temperature != 1.0)):
             if unused:
                 raise ValueError(f"{name} needs rough spheres: give a tangential restitution in [-1, 1]")
@@ -144,6 +146,8 @@ def _checked_roughness(p, particles: int) -> dict[str, Any]:
               "initial_rotational_temperature": temperature}
     if p.inertia_factor is not None:
         values["inertia_factor"] = check_real("inertia_factor", p.inertia_factor, 0.0, 1.0, low_open=True)
+    if p.friction is not None:
+        values["friction"] = check_real("friction", p.friction, 0.0, MAX_FRICTION, low_open=True)
     clashes = ((p.transport, "transport", "the Einstein-Helfand moments have no spin terms"),
                (p.shear_rate != 0.0, "a shear rate", "the sheared engine keeps no spins"),
                (p.well_width is not None, "square wells", "wells are smooth"))
@@ -293,12 +297,12 @@ def check_saved_run(saved, sampler, parameters, system) -> None:
                             f"{parameters.engine}")
     if not _species_fit(parameters, system):
         raise saved.damaged("its particles' species, diameters or masses are not those its parameters give")
-    rough = (system.tangential_restitution, system.inertia_factor)
+    rough = (system.tangential_restitution, system.inertia_factor, system.friction)
     kappa = parameters.inertia_factor if parameters.inertia_factor is not None else UNIFORM_INERTIA[parameters.dim]
-    if rough != ((None, None) if parameters.tangential_restitution is None else (parameters.tangential_restitution,
-                                                                                 kappa)):
-        raise saved.damaged("its system's roughness (tangential restitution, inertia factor) is not the one its "
-                            "parameters give")
+    if rough != ((None, None, None) if parameters.tangential_restitution is None else (
+            parameters.tangential_restitution, kappa, parameters.friction)):
+        raise saved.damaged("its system's roughness (tangential restitution, inertia factor, friction) is not the "
+                            "one its parameters give")
     if sampler is None:
         return
     lengths = {len(values) for values in sampler.records.values()} | {len(sampler.speeds)}

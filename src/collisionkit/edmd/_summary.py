@@ -214,13 +214,13 @@ def _rough_summary(p, system, measurement, result, initial_energy: float) -> dic
     with the kT the energy gives at equipartition if perfectly rough and elastic (``temperature_theory``). Smooth
     contacts (beta = -1) never turn the spins: T_r / T has no theory, the cooling is Haff's."""
     rough = {"tangential_restitution": p.tangential_restitution, "inertia_factor": system.inertia_factor,
-             "rotational_temperature": system.rotational_temperature()}
+             "friction": p.friction, "rotational_temperature": system.rotational_temperature()}
     if p.tangential_restitution == -1.0:
         return rough
     if p.elastic:  # every degree of freedom shares the energy: 2 E / ((d + f) N)
         degrees = system.dim + rotational_degrees(system.dim)
         rough["temperature_theory"] = 2.0 * initial_energy / (degrees * system.count)
-    if len(p.species_counts) > 1 or p.restitution_law != "constant":  # no theory here (Haff's would be wrong)
+    if len(p.species_counts) > 1 or p.restitution_law != "constant" or p.friction is not None:  # no theory here
         return rough | ({} if p.elastic else {"cooling_rate_theory": math.nan, "cooling_rate_deviation_sigmas": math.nan})
     return rough | _rough_theory(p, system, measurement, "cooling_rate" in result)
 

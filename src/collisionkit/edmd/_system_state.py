@@ -44,14 +44,14 @@ class Checkpoints:
     # cell-crossing engine, its pending collisions and the engine's code; 8: square wells, their parameters, counts
     # and the record of pairs inside; 9: square wells per species pair, a table after the parameters, and the
     # depths of the pairs inside summed; 10: rough spheres, their roughness and inertia in the parameters before the
-    # well table, and the spins)
-    STATE_FORMAT = 10
+    # well table, and the spins; 11: the friction coefficient of rough contacts after them)
+    STATE_FORMAT = 11
     # older formats a restore still reads: format 2 lacks the transport sums, which start at 0 (only their changes
     # over a measurement have a meaning, and a format-2 run measured none); formats 2 and 3 were never sheared, and
     # formats 4 and 5 are read only unsheared (their sheared lists and cells are kept differently); formats before 7
     # ran the list engine; formats before 8 had no wells; format 8 had one well for every pair; formats before 10
-    # were smooth
-    READABLE_FORMATS = (2, 3, 4, 5, 6, 7, 8, 9, 10)
+    # were smooth, format 10 without a Coulomb limit
+    READABLE_FORMATS = (2, 3, 4, 5, 6, 7, 8, 9, 10, 11)
 
     def state_dict(self):
         """Every array and number needed to continue the run bit for bit.
@@ -122,7 +122,7 @@ class Checkpoints:
                                        _k.P_SIZE_WITHOUT_ROUGHNESS)
             if arrays["params"].shape == (_k.P_SIZE_WITHOUT_ROUGHNESS,) and arrays["acc"].shape == (_k.ACC_SIZE,):
                 upgraded_well_state(arrays, written)
-            arrays["params"] = _smooth_parameters(arrays["params"])
+            arrays["params"] = _upgraded_parameters(arrays["params"], written)
         check_state(arrays, {name: state[name] for name in (*cls._SCALARS, "restitution_law")})
         system = cls.__new__(cls)
         for name, array in arrays.items():
@@ -198,7 +198,7 @@ _OVERFLOWS = (_k.ACC_LIST_OVERFLOW, _k.ACC_CELL_OVERFLOW)
 _PARAMETERS = (_k.P_SCALE0, _k.P_GROWTH, _k.P_LAW, _k.P_LAW_SPEED, _k.P_LAW_EXPONENT, _k.P_ELASTIC_BELOW,
                _k.P_WALL_RESTITUTION, _k.P_SHELL, _k.P_LIST_SCALE, _k.P_SHEAR_RATE, _k.P_SHEAR_OFFSET, _k.P_SHEAR_SWEEP,
                _k.P_SHEAR_REACH, _k.P_THERMOSTAT, _k.P_SHEAR_FRAME, _k.P_WELL_WIDTH, _k.P_WELL_DEPTH,
-               _k.P_WELL_SPECIES, _k.P_TANGENTIAL_RESTITUTION, _k.P_INERTIA_FACTOR)
+               _k.P_WELL_SPECIES, _k.P_TANGENTIAL_RESTITUTION, _k.P_INERTIA_FACTOR, _k.P_FRICTION)
 _TRANSPORT_SUMS = tuple(range(_k.ACC_STRESS, _k.ACC_SIZE))
 _TOTALS = (_k.ACC_VIRIAL, _k.ACC_ENERGY_LOST, _k.ACC_WALL_IMPULSE, *_COUNTERS, *_OVERFLOWS, *_TRANSPORT_SUMS)
 
@@ -214,9 +214,10 @@ def _padded(array, old_sizes, size):
     return np.concatenate([array, np.zeros(size - array.shape[0])])
 
 
-def _smooth_parameters(params):
-    """The parameters of a format before 10 with the rough spheres' entries inserted at 0 (smooth) before the table."""
-    cut = _k.P_SIZE_WITHOUT_ROUGHNESS
+def _upgraded_parameters(params, written):
+    """The parameters of a format before 11 with the newer entries inserted at 0 before the well table: rough
+    spheres' (smooth) before format 10, the friction coefficient (none) before 11."""
+    cut = _k.P_SIZE_WITHOUT_ROUGHNESS if written < 10 else _k.P_SIZE_WITHOUT_FRICTION
     if params.ndim != 1 or params.shape[0] < cut or params.dtype != np.float64:
         return params  # check_state names what is wrong with it
     species = params[_k.P_WELL_SPECIES]
@@ -367,13 +368,13 @@ def _check_roughness(arrays, params, count, dim):
     rough = kappa != 0.0
     spin = _array(arrays, "spin", (count, 3)) if rough else arrays["spin"]
     if not rough:
-        _require(beta == 0.0, "params", "must hold no tangential restitution without an inertia factor (smooth "
-                 "spheres)")
+        _require((beta == 0.0) & (params[_k.P_FRICTION] == 0.0), "params", "must hold no tangential restitution or "
+                 "friction without an inertia factor (smooth spheres)")
         _require(spin.dtype == np.float64 and spin.shape == (0, 3), "spin", "must be empty (shape (0, 3)) for "
                  "smooth spheres")
         return
-    _require((-1.0 <= beta <= 1.0) & (0.0 < kappa <= 1.0), "params",
-             "must hold a tangential restitution in [-1, 1] and an inertia factor in (0, 1]")
+    _require((-1.0 <= beta <= 1.0) & (0.0 < kappa <= 1.0) & (params[_k.P_FRICTION] >= 0.0), "params",
+             "must hold a tangential restitution in [-1, 1], an inertia factor in (0, 1] and a friction >= 0")
     _require(np.isfinite(spin), "spin", "must hold finite angular velocities")
     _require(dim == 3 or np.all(spin[:, :2] == 0.0), "spin", "must spin discs about the normal of their plane only")
     _require((params[[_k.P_SHEAR_RATE, _k.P_WELL_WIDTH, _k.P_GROWTH]] == 0.0).all() & (params[_k.P_SCALE0] == 1.0),

@@ -100,6 +100,11 @@ class EdmdParameters(Parameters):
     inertia_factor : float, optional
         kappa = I / (m a^2) in (0, 1] of rough spheres (default 2/5 for
         spheres, 1/2 for discs: uniform bodies).
+    friction : float, optional
+        Walton's friction coefficient mu > 0 of rough contacts (default None:
+        no Coulomb limit): a contact sticks, or slides when its tangential
+        impulse would exceed mu times the normal one. The Maxwellian theory
+        is of a constant beta: with friction none is given.
     initial_rotational_temperature : float
         Rough spheres' rotational kT at the start, in [0, 100] (default 1,
         equipartition; 0 starts them without spin).
@@ -186,6 +191,7 @@ class EdmdParameters(Parameters):
     law_exponent: float = BRIDGES_EXPONENT
     tangential_restitution: float | None = None
     inertia_factor: float | None = None
+    friction: float | None = None
     initial_rotational_temperature: float = 1.0
     equilibration: int | None = None
     collisions: int | None = None
@@ -249,7 +255,8 @@ class EdmdParameters(Parameters):
         >>> EdmdParameters(tangential_restitution=1.0).elastic, EdmdParameters(tangential_restitution=0.5).elastic
         (True, False)
         """
-        rough_losses = self.tangential_restitution is not None and abs(self.tangential_restitution) != 1.0
+        rough_losses = self.tangential_restitution is not None and self.tangential_restitution != -1.0 and (
+            self.tangential_restitution != 1.0 or self.friction is not None)  # (sliding loses energy)
         return (bool(np.all(np.asarray(self.restitution) == 1.0)) and self.restitution_law == "constant"
                 and not rough_losses)
 
@@ -302,7 +309,7 @@ def _initial_system(parameters: EdmdParameters, progress: Callable[[float], Any]
                             law_exponent=p.law_exponent, elastic_below=p.elastic_below, shear_rate=p.shear_rate,
                             thermostat=1.0 if p.thermostat else None, engine=p.engine, well_width=p.well_width,
                             well_depth=p.well_depth, tangential_restitution=p.tangential_restitution,
-                            inertia_factor=p.inertia_factor, angular_velocities=spins)
+                            inertia_factor=p.inertia_factor, angular_velocities=spins, friction=p.friction)
 
 
 def _refuse_existing(**files) -> None:

@@ -253,6 +253,12 @@ class HardSphereSystem(SystemParameters, ParticleState, NeighbourLists, CellCros
     angular_velocities : array_like, optional
         Of rough spheres: shape (N, 3) in 3D, (N,) in 2D (about the plane's
         normal); default 0 (:func:`random_spins` draws them at a temperature).
+    friction : float, optional
+        Walton's Coulomb limit of rough contacts, mu > 0 (default None: no
+        limit): the tangential impulse is at most mu times the normal one, so
+        a contact either sticks (tangential restitution beta) or slides with
+        :math:`1 + \\beta_{eff} = \\mu (1 + e) u_n (1 + 1/\\kappa) / |g_t|`
+        (Walton, Mech. Mater. 16, 239 (1993)).
 
     Examples
     --------
@@ -291,6 +297,7 @@ class HardSphereSystem(SystemParameters, ParticleState, NeighbourLists, CellCros
         tangential_restitution=None,
         inertia_factor=None,
         angular_velocities=None,
+        friction=None,
         *,
         _growth=0.0,
         _scale=1.0,
@@ -309,7 +316,7 @@ class HardSphereSystem(SystemParameters, ParticleState, NeighbourLists, CellCros
         _system_setup.start_records(self, positions, velocities, radius, box, periodic)
         rough_parameters(self, tangential_restitution, inertia_factor, angular_velocities,
                          {"shear": shear_rate != 0.0, "square wells": well_width is not None,
-                          "compression": _growth != 0.0 or _scale != 1.0})
+                          "compression": _growth != 0.0 or _scale != 1.0}, friction)
         if elastic_below is None:
             elastic_below = _system_setup.default_elastic_below(self.restitution, velocities,
                                                                 self.params[_k.P_WALL_RESTITUTION], gravity, box)

@@ -32,7 +32,7 @@ import math
 from ..._jit import borrowing_inline_kernel as inline_kernel
 from .layout import (
     ACC_ENERGY_IMAGE, ACC_ENERGY_LOST, ACC_HEAT, ACC_MOMENTUM_IMAGE, ACC_PAIR_COLLISIONS, ACC_STRESS, ACC_VIRIAL,
-    ACC_WALL_COLLISIONS, ACC_WALL_IMPULSE, G_BOX, LAW_BRIDGES, LAW_VISCOELASTIC, MASS, P_ELASTIC_BELOW, P_LAW,
+    ACC_WALL_COLLISIONS, ACC_WALL_IMPULSE, G_BOX, LAW_BRIDGES, LAW_VISCOELASTIC, MASS, P_ELASTIC_BELOW, P_FRICTION, P_LAW,
     P_INERTIA_FACTOR, P_LAW_EXPONENT, P_LAW_SPEED, P_SHEAR_RATE, P_TANGENTIAL_RESTITUTION, P_WALL_RESTITUTION, R, SPECIES, T, V,
     X,
 )
@@ -117,7 +117,7 @@ def collide_pair(p, i, j, b, geom, scale, growth, restitution, params, acc, spin
     # rough spheres (never compressed): a contact below the elastic floor is smooth as well, so that it loses nothing
     if params[P_INERTIA_FACTOR] != 0.0 and params[P_TANGENTIAL_RESTITUTION] != -1.0 and \
             approach >= params[P_ELASTIC_BELOW]:
-        rough_impulse(p, i, j, rx, ry, rz, slide, rr, mi, mj, spin, params, acc)
+        rough_impulse(p, i, j, rx, ry, rz, slide, rr, mi, mj, spin, params, acc, (1.0 + e) * approach)
     _separate(p, i, j, rx, ry, rz, shift, slide, mj / (mi + mj), mi / (mi + mj), rr)
     # impulse times contact distance: (1 + e) mu u_n |r|
     acc[ACC_VIRIAL] -= (1.0 + e) * reduced * ratio * rr
@@ -126,7 +126,7 @@ def collide_pair(p, i, j, b, geom, scale, growth, restitution, params, acc, spin
 
 
 @inline_kernel
-def rough_impulse(p, i, j, rx, ry, rz, slide, rr, mi, mj, spin, params, acc):
+def rough_impulse(p, i, j, rx, ry, rz, slide, rr, mi, mj, spin, params, acc, normal_change):
     r"""The tangential impulse of a collision of rough spheres (r = x_j - x_i at contact, j's image moving + slide).
 
     The surfaces' relative velocity at the contact point is
@@ -140,6 +140,13 @@ def rough_impulse(p, i, j, rx, ry, rz, slide, rr, mi, mj, spin, params, acc):
     :math:`\mu_t (1 - \beta^2) g_t^2 / 2` (Huthmann & Zippelius, Phys. Rev. E
     56, R6275 (1997); Luding et al., Phys. Rev. E 58, 3416 (1998)). The
     normal impulse has acted already: it does not change :math:`g_t`.
+
+    With a friction coefficient mu (Walton's model: Walton, Mech. Mater. 16,
+    239 (1993); Luding et al. 1998) the tangential impulse is at most mu
+    times the normal one, :math:`(1 + \beta)\mu_t |g_t| \le \mu \mu_n
+    \Delta g_n` with ``normal_change`` :math:`\Delta g_n = (1 + e) u_n`:
+    a contact sticks (beta) or slides with
+    :math:`1 + \beta_{eff} = \mu \Delta g_n (1 + 1/\kappa) / |g_t|`.
     """
     norm = math.sqrt(rr)
     nx = rx / norm
@@ -161,6 +168,12 @@ def rough_impulse(p, i, j, rx, ry, rz, slide, rr, mi, mj, spin, params, acc):
     reduced = (kappa / (1.0 + kappa)) * (mi * mj / (mi + mj))
     beta = params[P_TANGENTIAL_RESTITUTION]
     roughness = 1.0 + beta
+    slip = math.sqrt(tx * tx + ty * ty + tz * tz)
+    if params[P_FRICTION] > 0.0 and slip > 0.0:
+        sliding = params[P_FRICTION] * normal_change * (1.0 + 1.0 / kappa) / slip
+        if sliding < roughness:
+            roughness = sliding
+            beta = roughness - 1.0
     jx = -roughness * reduced * tx
     jy = -roughness * reduced * ty
     jz = -roughness * reduced * tz
@@ -182,7 +195,7 @@ def rough_impulse(p, i, j, rx, ry, rz, slide, rr, mi, mj, spin, params, acc):
     spin[j, 0] -= cx * turn_j
     spin[j, 1] -= cy * turn_j
     spin[j, 2] -= cz * turn_j
-    acc[ACC_ENERGY_LOST] += 0.5 * reduced * (1.0 - beta * beta) * (tx * tx + ty * ty + tz * tz)
+    acc[ACC_ENERGY_LOST] += 0.5 * reduced * (1.0 - beta * beta) * slip * slip
     # the collisional stress gets the symmetric part of J r (no trace: J is normal to r, the pressure is unchanged)
     acc[ACC_STRESS] += jx * rx
     acc[ACC_STRESS + 1] += jy * ry

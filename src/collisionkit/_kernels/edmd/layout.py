@@ -64,7 +64,9 @@ P_WELL_SPECIES = 17  # S, the species the table covers (0: no table)
 # of m a^2; a system is rough when kappa > 0 (beta = -1 then spins without change; smooth systems hold 0 in both)
 P_TANGENTIAL_RESTITUTION = 18
 P_INERTIA_FACTOR = 19
-P_SIZE = 20
+# Walton's Coulomb limit of rough contacts: the friction coefficient mu (0: none), |J_t| <= mu |J_n|
+P_FRICTION = 20
+P_SIZE = 21
 # the parameter array's size before the shear entries (checkpoints of engine formats 2 and 3), before the frame time
 # (format 5)
 P_SIZE_WITHOUT_SHEAR = 9
@@ -72,6 +74,7 @@ P_SIZE_WITHOUT_FRAME = 14
 P_SIZE_WITHOUT_WELL = 15
 P_SIZE_WITHOUT_WELL_TABLE = 17  # format 8: one width and depth for every pair
 P_SIZE_WITHOUT_ROUGHNESS = 18  # format 9: smooth spheres (the well table follows at 18)
+P_SIZE_WITHOUT_FRICTION = 20  # format 10: rough spheres without a Coulomb limit
 # the strain G (t - t_f) at which the frame time moves on (a sweep): the cells are scanned (1 + strain) list radii
 # along x around a particle's anchor
 SHEAR_SWEEP_STRAIN = 0.25
