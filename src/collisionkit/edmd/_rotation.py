@@ -194,8 +194,7 @@ class RoughSpheres:
         """
         if not self.rough:
             return 0.0
-        moments = self.inertia_factor * self._mass * self.p[:, _k.R] ** 2
-        return float(0.5 * np.sum(moments[:, None] * self.spin**2))
+        return float(0.5 * np.sum(self._moments()[:, None] * self.spin**2))
 
     def rotational_temperature(self) -> float:
         """kT of rotation, 2 E_rot / (f N), f = 3 for spheres and 1 for discs (rough spheres only).
@@ -242,9 +241,12 @@ class RoughSpheres:
         0.5
         """
         self._require_rough("spin_angular_momentum")
-        moments = self.inertia_factor * self._mass * self.p[:, _k.R] ** 2
-        total = (moments[:, None] * self.spin).sum(axis=0)
+        total = (self._moments()[:, None] * self.spin).sum(axis=0)
         return total if self.dim == 3 else float(total[2])
+
+    def _moments(self):
+        """I = kappa m a^2 in memory order (the engine's)."""
+        return self.inertia_factor * self._mass * self.p[:, _k.R] ** 2
 
     def _require_rough(self, name):
         if not self.rough:
