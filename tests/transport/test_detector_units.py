@@ -48,8 +48,9 @@ def test_a_maxwell_swarm_drifts_at_its_exact_speed_in_cm_per_us(maxwell_swarm):
 
 def test_diffusion_is_sigma_per_root_drift_length_and_scales_as_one_over_root_pressure(maxwell_swarm):
     """sqrt(2 D / W) in sqrt(cm) from the bulk N D and W (an independent by-hand conversion), its error half the
-    quadrature sum of the relative errors; at 4 times the pressure it halves (D ~ 1/N, W fixed at one E/N).
-    Kills: sqrt(m) reported as sqrt(cm), flux D for bulk, the error not halved."""
+    relative error of D / W, sqrt(r_D^2 + r_W^2 - 2 rho r_D r_W) with the groups' correlation rho; at 4 times the
+    pressure it halves (D ~ 1/N, W fixed at one E/N). Kills: sqrt(m) reported as sqrt(cm), flux D for bulk, the
+    error not halved, the correlation's sign."""
     row = detector_coefficients(maxwell_swarm, 760.0)
     density = 760.0 * TORR / (constants.k * 300.0)
     drift = abs(maxwell_swarm.drift_velocity_bulk[2])
@@ -57,7 +58,10 @@ def test_diffusion_is_sigma_per_root_drift_length_and_scales_as_one_over_root_pr
                                  ("T", maxwell_swarm.diffusion_T_N, maxwell_swarm.diffusion_T_N_error)):
         by_hand = math.sqrt(2.0 * n_d / density / drift) * 100.0 ** 0.5  # sqrt(m) = 10 sqrt(cm)
         assert row[f"diffusion_{axis}"] == pytest.approx(by_hand, rel=1e-12)
-        relative = 0.5 * math.hypot(n_d_error / n_d, maxwell_swarm.drift_velocity_bulk_error[2] / drift)
+        r_d, r_w = n_d_error / n_d, maxwell_swarm.drift_velocity_bulk_error[2] / drift
+        rho = getattr(maxwell_swarm, f"drift_diffusion_{axis}_correlation")
+        assert -1.0 <= rho <= 1.0
+        relative = 0.5 * math.sqrt(r_d**2 + r_w**2 - 2.0 * rho * r_d * r_w)
         assert row[f"diffusion_{axis}_error"] == pytest.approx(by_hand * relative, rel=1e-9)
     assert detector_coefficients(maxwell_swarm, 4 * 760.0)["diffusion_L"] == pytest.approx(row["diffusion_L"] / 2,
                                                                                           rel=1e-12)
@@ -86,3 +90,18 @@ def test_townsend_and_attachment_coefficients_per_cm_are_the_sst_ones_times_n():
     assert row["townsend_alpha"] == pytest.approx(result.alpha_N * density / 100.0, rel=1e-12)
     assert row["townsend_alpha_error"] == pytest.approx(result.alpha_N_error * density / 100.0, rel=1e-12)
     assert row["attachment_eta"] == 0.0
+
+
+def test_a_result_saved_without_the_correlations_takes_d_and_w_as_independent(maxwell_swarm):
+    """A SwarmResult written before the correlations existed reads them as NaN: the error is then the quadrature sum
+    (independent D and W), as before."""
+    from collisionkit.transport import SwarmResult
+
+    data = maxwell_swarm.to_dict()
+    del data["drift_diffusion_L_correlation"], data["drift_diffusion_T_correlation"]
+    old = SwarmResult.from_dict(data)
+    assert math.isnan(old.drift_diffusion_L_correlation)
+    row = detector_coefficients(old, 760.0)
+    drift = abs(old.drift_velocity_bulk[2])
+    relative = 0.5 * math.hypot(old.diffusion_L_N_error / old.diffusion_L_N, old.drift_velocity_bulk_error[2] / drift)
+    assert row["diffusion_L_error"] == pytest.approx(row["diffusion_L"] * relative, rel=1e-12)

@@ -78,6 +78,26 @@ def mean_and_error(values):
     return values.mean(axis=0), values.std(axis=0, ddof=1) / math.sqrt(values.shape[0])
 
 
+def drift_diffusion_correlations(est) -> tuple[float, float]:
+    """The correlations over the groups of |W_bulk,z| with N D_L and with N D_T (NaN where a column is constant).
+
+    Examples
+    --------
+    >>> est = {"drift_velocity_bulk": np.array([[0, 0, 1.0], [0, 0, 2.0], [0, 0, 3.0]]),
+    ...        "diffusion_L_N": np.array([2.0, 4.0, 6.1]), "diffusion_T_N": np.array([3.0, 1.0, 2.0])}
+    >>> [round(value, 3) for value in drift_diffusion_correlations(est)]
+    [1.0, -0.5]
+    """
+    drift = np.abs(np.asarray(est["drift_velocity_bulk"])[:, 2])
+    result = []
+    for name in ("diffusion_L_N", "diffusion_T_N"):
+        column = np.asarray(est[name], dtype=float)
+        spread = drift.std() * column.std()
+        result.append(float(np.mean((drift - drift.mean()) * (column - column.mean())) / spread) if spread > 0
+                      else math.nan)
+    return result[0], result[1]
+
+
 def townsend_estimates(est) -> dict[str, tuple[float, float]]:
     """SST ``alpha_N`` and ``eta_N`` (m^2) with their errors from the per-group estimates of :func:`estimates`.
 

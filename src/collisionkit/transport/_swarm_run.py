@@ -18,7 +18,7 @@ import numpy as np
 from scipy import constants
 
 from .._kernels import transport as _k
-from ._estimators import estimates, mean_and_error, spatial_moments, townsend_estimates
+from ._estimators import drift_diffusion_correlations, estimates, mean_and_error, spatial_moments, townsend_estimates
 from ._steady import mser_truncation
 from ._tables import KernelTables
 from .swarm_result import SwarmResult
@@ -431,6 +431,7 @@ class SwarmRun:
         values = {name: mean_and_error(value) for name, value in est.items()}
         values |= townsend_estimates(est)
         rates, rate_errors = values.pop("rates")
+        correlations = drift_diffusion_correlations(est)
         total = max(self.histogram.sum(), 1.0)
         centres = (np.arange(self.histogram.size - 1) + 0.5) * self.histogram_step
         density = self.histogram[:-1] / total / self.histogram_step
@@ -475,4 +476,6 @@ class SwarmRun:
             alpha_N_error=values["alpha_N"][1],
             eta_N=values["eta_N"][0],
             eta_N_error=values["eta_N"][1],
+            drift_diffusion_L_correlation=correlations[0],
+            drift_diffusion_T_correlation=correlations[1],
         )

@@ -15,8 +15,10 @@ per unit drift length. With the ideal gas's :math:`N = p / (k_B T)`:
 * the Townsend and attachment coefficients in 1/cm are the steady-state
   Townsend :math:`\alpha/N` and :math:`\eta/N` times N.
 
-Errors are propagated from the swarm's (the diffusion's as independent
-relative errors of D and W, halved by the square root).
+Errors are propagated from the swarm's: the diffusion's as the relative
+error of D / W, with the correlation of D and W over the swarm's independent
+groups (``drift_diffusion_L_correlation``, ``..._T_...``; independent in
+results saved before it), halved by the square root.
 """
 
 from __future__ import annotations
@@ -64,12 +66,15 @@ def reduced_fields(field_v_per_cm, pressure_torr: float, temperature: float) -> 
     return fields * 100.0 / gas_number_density(pressure_torr, temperature) / TOWNSEND
 
 
-def _sqrt_ratio(diffusion, diffusion_error, drift, drift_error) -> tuple[float, float]:
-    """sqrt(2 D / W) in sqrt(cm) and its error (independent relative errors, halved)."""
+def _sqrt_ratio(diffusion, diffusion_error, drift, drift_error, correlation=math.nan) -> tuple[float, float]:
+    """sqrt(2 D / W) in sqrt(cm) and its error: half the relative error of D / W, sqrt(r_D^2 + r_W^2 - 2 rho r_D
+    r_W) with the groups' correlation rho of D and W (0, independent, if unknown)."""
     if not (diffusion > 0 and drift > 0):
         return math.nan, math.nan
     value = math.sqrt(2.0 * diffusion / drift) * 10.0  # sqrt(m) -> sqrt(cm)
-    relative = 0.5 * math.hypot(diffusion_error / diffusion, drift_error / drift)
+    rho = correlation if math.isfinite(correlation) else 0.0
+    r_d, r_w = diffusion_error / diffusion, drift_error / drift
+    relative = 0.5 * math.sqrt(max(r_d * r_d + r_w * r_w - 2.0 * rho * r_d * r_w, 0.0))
     return value, value * relative
 
 
@@ -108,8 +113,9 @@ def detector_coefficients(result: SwarmResult, pressure_torr: float, temperature
     drift = abs(float(result.drift_velocity_bulk[2]))
     drift_error = abs(float(result.drift_velocity_bulk_error[2]))
     longitudinal = _sqrt_ratio(result.diffusion_L_N / density, result.diffusion_L_N_error / density, drift,
-                               drift_error)
-    transverse = _sqrt_ratio(result.diffusion_T_N / density, result.diffusion_T_N_error / density, drift, drift_error)
+                               drift_error, result.drift_diffusion_L_correlation)
+    transverse = _sqrt_ratio(result.diffusion_T_N / density, result.diffusion_T_N_error / density, drift, drift_error,
+                             result.drift_diffusion_T_correlation)
     per_cm = density / 100.0
     return {
         "pressure_torr": float(pressure_torr), "temperature": float(temperature),

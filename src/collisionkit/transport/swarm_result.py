@@ -31,6 +31,11 @@ class SwarmResult:
     steady-state Townsend conditions, from the bulk coefficients
     (:func:`~collisionkit.transport.townsend_coefficients`; NaN where the
     SST relation has no root, and in results saved before they existed).
+    ``drift_diffusion_L_correlation`` and ``drift_diffusion_T_correlation``
+    are the correlations over the groups of the bulk drift along E with
+    N D_L and N D_T (for the error of a ratio of them, as
+    :func:`~collisionkit.transport.detector_coefficients` takes it; NaN in
+    results saved before they existed).
     ``extras["bound_violations"]`` (only when the module switch
     ``collisionkit.transport.swarm.CHECK_BOUND`` is on) counts the trial
     collisions at which the true collision rate exceeded the trial bound:
@@ -106,6 +111,8 @@ class SwarmResult:
     alpha_N_error: float = math.nan
     eta_N: float = math.nan
     eta_N_error: float = math.nan
+    drift_diffusion_L_correlation: float = math.nan
+    drift_diffusion_T_correlation: float = math.nan
     field_angle: float = 90.0
     reduced_frequency: float = 0.0
     diffusion_N_flux: np.ndarray = field(default_factory=lambda: np.full((3, 3), math.nan))
