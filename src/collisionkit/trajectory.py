@@ -328,7 +328,8 @@ def read_gsd(path, frame=-1):
         ``diameters``, ``masses``, ``typeids`` (N,), ``types`` (list of str)
         and ``frames`` (the number of frames in the file); of rough spheres
         also ``angular_velocities`` ((N, 3), discs (N,): from HOOMD-blue's
-        ``angmom`` and ``moment_inertia`` at the identity orientation).
+        ``angmom`` and ``moment_inertia``, given only when every particle is
+        at the identity orientation, as collisionkit writes them).
 
     Examples
     --------
@@ -420,11 +421,12 @@ def _frame_data(snapshot, count):
 
 
 def _angular_velocities(snapshot, dim) -> dict:
-    """``angular_velocities`` of a frame with moments of inertia (rough spheres: (N, 3); discs: (N,) about z), at
-    the identity orientation (:func:`_gsd_rotation`); {} without them."""
+    """``angular_velocities`` of a frame with moments of inertia (rough spheres: (N, 3); discs: (N,) about z), every
+    particle at the identity orientation (:func:`_gsd_rotation`); {} otherwise."""
     inertia = np.asarray(snapshot.particles.moment_inertia, dtype=float)
-    if not np.any(inertia):
-        return {}
+    orientation = np.asarray(snapshot.particles.orientation, dtype=float)
+    if not np.any(inertia) or np.any(orientation != [1.0, 0.0, 0.0, 0.0]):
+        return {}  # (turned bodies, from another program: their body-frame momenta are not read here)
     angmom = np.asarray(snapshot.particles.angmom, dtype=float)[:, 1:]
     with np.errstate(divide="ignore", invalid="ignore"):
         omega = np.where(inertia > 0, 0.5 * angmom / np.where(inertia > 0, inertia, 1.0), 0.0)

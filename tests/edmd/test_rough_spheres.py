@@ -163,9 +163,11 @@ def test_a_checkpoint_of_an_older_format_is_smooth_and_a_bad_spin_array_is_refus
         "format": np.asarray(9), "params": np.concatenate([old["params"][:cut], old["params"][cut + 3:]])}
     restored = HardSphereSystem.from_state_dict(nine)
     assert not restored.rough and restored.rotational_energy() == 0.0
-    rough = _gas(2, 0.5, "lists").state_dict()  # format 10: rough, no friction entry (the 21st)
-    ten = rough | {"format": np.asarray(10), "params": np.delete(rough["params"], 20)}
-    assert HardSphereSystem.from_state_dict(ten).friction is None
+    ten = old | {"format": np.asarray(10), "params": np.delete(old["params"], 20)}  # smooth, no friction entry
+    assert not HardSphereSystem.from_state_dict(ten).rough
+    rough = _gas(2, 0.5, "lists").state_dict()  # development versions wrote rough format 10 two ways: refused
+    with pytest.raises(CheckpointError, match="restart the rough run"):
+        HardSphereSystem.from_state_dict(rough | {"format": np.asarray(10), "params": np.delete(rough["params"], 20)})
 
 
 def test_rough_spheres_refuse_what_they_cannot_run_and_a_smooth_system_has_no_spins():
@@ -223,7 +225,7 @@ def test_a_run_of_rough_spheres_starting_without_spin_shares_the_energy_with_the
     smooth = EdmdRun(parameters.replace(tangential_restitution=-1.0, initial_rotational_temperature=2.0)).run()
     result = smooth.summary()
     assert "temperature_ratio_theory" not in result and result["temperature"] == pytest.approx(1.0, rel=1e-12)
-    assert result["rotational_temperature"] == pytest.approx(2.0, rel=0.2)  # as drawn: 768 samples of kT 2
+    assert result["rotational_temperature"] == pytest.approx(2.0, rel=1e-12)  # scaled at the start, never turned
     with pytest.raises(ValueError, match="initial_rotational_temperature needs rough spheres"):
         EdmdParameters(initial_rotational_temperature=0.5)
 
@@ -283,6 +285,15 @@ def test_trajectory_files_carry_the_spins(tmp_path, dim):
     system.run(collisions=500)
     write_gsd_frame(tmp_path / "t.gsd", system, 0)
     frame = read_gsd(tmp_path / "t.gsd")
+    import gsd.hoomd
+
+    with gsd.hoomd.open(tmp_path / "t.gsd", "r") as raw:  # HOOMD-blue's own fields: p = (0, 2 I omega) at q = 1
+        snapshot = raw[0]
+    omega = system.angular_velocities() if dim == 3 else np.column_stack([np.zeros((system.count, 2)),
+                                                                         system.angular_velocities()])
+    moments = system.moments_of_inertia()[:, None]
+    np.testing.assert_allclose(snapshot.particles.angmom[:, 1:], 2 * moments * omega, rtol=1e-6, atol=1e-7)
+    assert np.all(snapshot.particles.angmom[:, 0] == 0.0)
     np.testing.assert_allclose(frame["angular_velocities"], system.angular_velocities(), rtol=1e-6)
     lines = write_extended_xyz(tmp_path / "s.xyz", system).read_text().splitlines()
     assert ":omega:R:3:type:S:1" in lines[1]
@@ -316,3 +327,18 @@ def test_walton_friction_caps_the_tangential_impulse_at_mu_times_the_normal_one(
     impulse = masses[1] * (system.velocities()[1] - velocities[1])
     tangential = np.linalg.norm(impulse - (impulse @ n) * n)
     assert tangential <= friction * abs(impulse @ n) * (1 + 1e-9) + 1e-12
+
+
+def test_a_run_with_friction_keeps_it_through_a_checkpoint_and_gets_no_constant_beta_theory(tmp_path):
+    from collisionkit.edmd import EdmdParameters, EdmdRun
+
+    parameters = EdmdParameters(particles=256, packing_fraction=0.05, restitution=0.9, tangential_restitution=0.8,
+                                friction=0.1, seed=4, collisions=4000, equilibration=1000, blocks=4)
+    run = EdmdRun(parameters, checkpoint=tmp_path / "run.npz").run()
+    summary = run.summary()
+    assert summary["friction"] == 0.1 and run.system.friction == 0.1 and not parameters.elastic
+    assert math.isnan(summary["cooling_rate_theory"]) and "temperature_ratio_theory" not in summary
+    assert summary["energy_lost_total"] == pytest.approx(run.system.energy_lost, rel=1e-12)
+    assert EdmdRun.resume(tmp_path / "run.npz").system.friction == 0.1
+    with pytest.raises(ValueError, match="friction"):
+        EdmdRun.resume(tmp_path / "run.npz", friction=0.2)

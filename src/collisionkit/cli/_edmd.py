@@ -220,7 +220,9 @@ def _cooling_to_the_floor(parameters) -> str | None:
     else:
         rate = homogeneous_cooling_rate(p.packing_fraction, [n / p.particles for n in p.species_counts],
                                         p.diameters or (1.0,) * kinds, p.masses or 1.0, p.restitution, p.dim)
-    floor = (p.elastic_below if p.elastic_below is not None else 1e-6) ** 2
+    values = [x for row in p.restitution for x in row] if isinstance(p.restitution, tuple) else [p.restitution]
+    inelastic = min(values) < 1.0  # (rough losses alone: the default floor is 0)
+    floor = (p.elastic_below if p.elastic_below is not None else 1e-6 if inelastic else 0.0) ** 2
     if rate <= 0.0 or floor <= 0.0 or 100.0 * floor >= 1.0:  # (a floor near kT = 1: the run stays elastic, and
         return None                                           # its end says so)
     final = math.exp(-rate * 2.0 * p.total_collisions / p.particles)

@@ -85,7 +85,8 @@ def _rough_cooling(p, system, collisions, measurement):
     if measurement.block_temperature_ratio is None:
         return None
     rotation = measurement.block_temperature_ratio * measurement.block_temperature
-    if len(p.species_counts) > 1 or p.restitution_law != "constant" or p.tangential_restitution == -1.0:
+    if len(p.species_counts) > 1 or p.restitution_law != "constant" or p.tangential_restitution == -1.0 or \
+            p.friction is not None:  # (as the summary: no theory there)
         return None, rotation, None
     from ..edmd import rough_cooling
 

@@ -232,7 +232,7 @@ def _rough_theory(p, system, measurement, cooling: bool) -> dict[str, Any]:
     The theory's values are the blocks' means as the measured ones are; the errors of the measured ones, and the
     deviations in sigmas, come from the blocks' residuals (measured minus theory), whose scatter is the noise alone
     while the blocks' own values drift through a transient. They leave out the slow variation from run to run that
-    long-lived flows of a cooling gas bring (measured: T_r / T scatters 1.4-2.8 times its error over 12 seeds).
+    long-lived flows of a cooling gas bring (measured: T_r / T scatters 1.2-1.6 times its error over 12 seeds).
     """
     restitution = p.restitution if not isinstance(p.restitution, tuple) else p.restitution[0][0]
     ends = np.asarray(measurement.block_temperature, dtype=float)
@@ -248,12 +248,17 @@ def _rough_theory(p, system, measurement, cooling: bool) -> dict[str, Any]:
     rates = np.sort(np.linalg.eigvals(rough_cooling_matrix(restitution, p.tangential_restitution,
                                                            system.inertia_factor, p.dim)).real)
     rho = math.exp(-(rates[1] - rates[0]) * per_block)
-    widening = math.sqrt((1.0 + rho) / (1.0 - rho)) if rho < 1.0 else math.inf
+    widening = math.sqrt((1.0 + rho) / (1.0 - rho)) if rho < 1.0 else math.nan  # (no relaxation: no error known)
     error = block_error(residuals) * widening * residuals.size / ratios.size  # (the mean over all blocks: block 0's
     # residual is 0 by construction)
+    if residuals.size < 2:  # two blocks: one residual, no scatter; the measurement's own errors stay
+        error = measurement.temperature_ratio_error
     result = {"temperature_ratio_error": error, "temperature_ratio_theory": float(np.mean(predicted)),
               "temperature_ratio_deviation_sigmas": _in_sigmas(float(np.mean(ratios - predicted)), error)}
-    if cooling:
+    if cooling and residuals.size < 2:
+        result |= {"cooling_rate_theory": float(np.mean(-np.diff(np.log(T)) / per_block)),
+                   "cooling_rate_deviation_sigmas": math.nan}
+    elif cooling:
         rates = -np.diff(np.log(T)) / per_block
         rate_residuals = -np.diff(np.log(ends)) / per_block - rates
         rate_error = block_error(rate_residuals)

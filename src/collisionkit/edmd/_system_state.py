@@ -96,6 +96,11 @@ class Checkpoints:
         if written < 8:  # hard spheres: an empty record of pairs inside wells
             count = np.shape(state["p"])[0] if "p" in state else 0
             state = dict(state) | {"bonds": np.zeros((count, 1), np.int32), "bond_count": np.zeros(count, np.int32)}
+        rough_ten = written == 10 and np.size(state.get("params", ())) > _k.P_INERTIA_FACTOR and \
+            np.asarray(state["params"]).ravel()[_k.P_INERTIA_FACTOR] != 0.0
+        if rough_ten:  # development versions wrote format 10 with 1 + beta, others with beta: not to be told apart
+            raise CheckpointError("state has engine format 10 with rough spheres, written by a development version "
+                                  "whose tangential restitution cannot be read safely: restart the rough run")
         if written < 10:  # smooth spheres: no spins
             state = dict(state) | {"spin": np.zeros((0, 3))}
         missing = [name for name in (*cls._ARRAYS, *cls._SCALARS, "restitution_law") if name not in state]

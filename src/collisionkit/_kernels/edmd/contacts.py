@@ -115,7 +115,7 @@ def collide_pair(p, i, j, b, geom, scale, growth, restitution, params, acc, spin
     p[j, V + 1] -= share_j * ry
     p[j, V + 2] -= share_j * rz
     # rough spheres (never compressed): a contact below the elastic floor is smooth as well, so that it loses nothing
-    if params[P_INERTIA_FACTOR] != 0.0 and params[P_TANGENTIAL_RESTITUTION] != -1.0 and \
+    if params[P_INERTIA_FACTOR] != 0.0 and params[P_TANGENTIAL_RESTITUTION] != -1.0 and growth == 0.0 and \
             approach >= params[P_ELASTIC_BELOW]:
         rough_impulse(p, i, j, rx, ry, rz, slide, rr, mi, mj, spin, params, acc, (1.0 + e) * approach)
     _separate(p, i, j, rx, ry, rz, shift, slide, mj / (mi + mj), mi / (mi + mj), rr)
