@@ -221,7 +221,8 @@ def _rough_summary(p, system, measurement, result, initial_energy: float) -> dic
         degrees = system.dim + rotational_degrees(system.dim)
         rough["temperature_theory"] = 2.0 * initial_energy / (degrees * system.count)
     if len(p.species_counts) > 1 or p.restitution_law != "constant" or p.friction is not None:  # no theory here
-        return rough | ({} if p.elastic else {"cooling_rate_theory": math.nan, "cooling_rate_deviation_sigmas": math.nan})
+        no_theory = {"cooling_rate_theory": math.nan, "cooling_rate_deviation_sigmas": math.nan}
+        return rough | ({} if p.elastic else no_theory)
     return rough | _rough_theory(p, system, measurement, "cooling_rate" in result)
 
 
@@ -245,9 +246,9 @@ def _rough_theory(p, system, measurement, cooling: bool) -> dict[str, Any]:
     # a deviation of T_r / T from the theory's relaxes at the gap between the matrix's rates: the blocks' residuals
     # are correlated by rho = exp(-gap L) over a block of L collisions per particle, which widens the error of their
     # mean by sqrt((1 + rho) / (1 - rho)) (an AR(1) series)
-    rates = np.sort(np.linalg.eigvals(rough_cooling_matrix(restitution, p.tangential_restitution,
+    modes = np.sort(np.linalg.eigvals(rough_cooling_matrix(restitution, p.tangential_restitution,
                                                            system.inertia_factor, p.dim)).real)
-    rho = math.exp(-(rates[1] - rates[0]) * per_block)
+    rho = math.exp(-(modes[1] - modes[0]) * per_block)
     widening = math.sqrt((1.0 + rho) / (1.0 - rho)) if rho < 1.0 else math.nan  # (no relaxation: no error known)
     error = block_error(residuals) * widening * residuals.size / ratios.size  # (the mean over all blocks: block 0's
     # residual is 0 by construction)
