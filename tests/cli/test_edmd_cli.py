@@ -613,3 +613,23 @@ def test_an_elastic_floor_on_an_elastic_gas_is_said_to_change_nothing():
     assert elastic.exit_code == 0 and "--elastic-below 0.5 changes nothing" in " ".join(elastic.output.split())
     inelastic = invoke(*options, "--elastic-below", "0.5", "--restitution", "0.9")
     assert inelastic.exit_code == 0 and "changes nothing" not in inelastic.output
+
+
+def test_a_cooling_run_says_whether_it_stayed_homogeneous(tmp_path):
+    """A large 2D box at e = 0.7 forms vortices: the table's row, the note and the summary say so, and the cooling
+    plot marks where; a small 3D box at e = 0.9 stays homogeneous."""
+    large = invoke("--dim", "2", "--particles", "2000", "--packing-fraction", "0.05", "--restitution", "0.7",
+                   "--collisions", "20000", "--blocks", "10", "--seed", "3", "--summary", tmp_path / "large.json",
+                   "--out", tmp_path / "out")
+    assert large.exit_code == 0, large.output
+    said = " ".join(large.output.split())
+    summary = json.loads((tmp_path / "large.json").read_text())
+    assert summary["homogeneous"] is False and summary["homogeneity_lost_after"] == 2.0
+    assert "shear flows / homogeneous share (max)" in said and "not homogeneous from C = 2" in said
+    assert "it did not stay homogeneous" in said
+    assert (tmp_path / "out" / "cooling.png").stat().st_size > 10_000
+    small = invoke("--particles", "500", "--packing-fraction", "0.02", "--restitution", "0.9", "--collisions",
+                   "25000", "--seed", "3", "--no-plots", "--summary", tmp_path / "small.json")
+    assert small.exit_code == 0, small.output
+    assert json.loads((tmp_path / "small.json").read_text())["homogeneous"] is True
+    assert "homogeneous: below" in " ".join(small.output.split())

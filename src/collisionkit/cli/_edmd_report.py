@@ -120,7 +120,17 @@ def _cooling_rows(result: dict, pm) -> list[tuple[str, str, str]]:
     if result.get("tangential_restitution") is not None:
         where = "rough spheres, Maxwellian, blocks' mean"
     shown = "" if theory is None or not math.isfinite(theory) else f"{theory:.5g} ({where})"
-    return [("cooling rate per collision -d ln T/dC", pm("cooling_rate"), shown)]
+    return [("cooling rate per collision -d ln T/dC", pm("cooling_rate"), shown), *_homogeneity_rows(result)]
+
+
+def _homogeneity_rows(result: dict) -> list[tuple[str, str, str]]:
+    """Did the cooling gas stay homogeneous? The box-scale shear flows' energy over a homogeneous gas's share."""
+    if "shear_mode_energy_max" not in result:
+        return []
+    lost = result["homogeneity_lost_after"]
+    verdict = (f"homogeneous: below {result['shear_mode_energy_threshold']:.3g}" if lost is None else
+               f"not homogeneous from C = {lost:.3g} (threshold {result['shear_mode_energy_threshold']:.3g})")
+    return [("shear flows / homogeneous share (max)", f"{result['shear_mode_energy_max']:.3g}", verdict)]
 
 
 def _rotation_rows(result: dict, pm) -> list[tuple[str, str, str]]:
@@ -302,7 +312,8 @@ def _plots(run, measurement, out: Path, deliveries: Deliveries) -> None:
         figures.append(("cooling.png", lambda: plotting.plot_cooling(
             collisions, measurement.block_temperature, rate if rate is not None and math.isfinite(rate) else None,
             measurement.block_species_temperatures, species_theory=summary.get("temperature_species_theory"),
-            theory_temperatures=theory, rotation=rotation, theory_rotation=theory_rotation)))
+            theory_temperatures=theory, rotation=rotation, theory_rotation=theory_rotation,
+            homogeneity_lost_after=summary.get("homogeneity_lost_after"))))
 
     def folder():
         out.mkdir(parents=True, exist_ok=True)

@@ -48,6 +48,7 @@ from .mixture_theory import (
 )
 from ._rotation import random_spins
 from .rough_theory import rough_cooling, rough_cooling_matrix, rough_cooling_state
+from .homogeneity import homogeneity_threshold, shear_mode_energy
 from .restitution_laws import maxwellian_cooling, maxwellian_cooling_rate, restitution_coefficient
 from .square_well_theory import (
     square_well_collision_integral,
@@ -122,6 +123,7 @@ __all__ = [
     "lattice_cells",
     "maxwell_boltzmann",
     "measure",
+    "homogeneity_threshold",
     "homogeneous_cooling_rate",
     "homogeneous_cooling_temperatures",
     "mixture_collision_frequency",
@@ -134,6 +136,7 @@ __all__ = [
     "rough_cooling",
     "rough_cooling_matrix",
     "rough_cooling_state",
+    "shear_mode_energy",
     "square_well_collision_integral",
     "square_well_deflection",
     "square_well_dilute_transport",

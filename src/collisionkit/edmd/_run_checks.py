@@ -319,6 +319,8 @@ def check_saved_run(saved, sampler, parameters, system) -> None:
                                                                                              MSD_GROUPS)
         fits &= bool(np.all(np.isfinite(lag.species_all)))
     fits &= all(_species_temperatures_fit(row, parameters) for row in sampler.records.get("species_temperature", ()))
+    shear_modes = np.asarray(sampler.records.get("shear_mode_energy", ()), dtype=float)  # >= 0, or NaN: unknown
+    fits &= shear_modes.ndim == 1 and not np.any(np.isinf(shear_modes) | (shear_modes < 0))
     # a mixture of a few species records its partial histograms from its first block (a file without them is damaged)
     fits &= partial is not None or not 1 < kinds <= PARTIAL_RDF_SPECIES
     fits &= (sampler.transport is not None) == parameters.transport

@@ -19,6 +19,7 @@ import numpy as np
 from .._kernels import edmd as _k
 from . import _msd, _pair_distribution
 from ._transport import transport_measurement
+from .homogeneity import shear_mode_energy
 from .theory import _ball_volume
 
 # what the sampler records at the end of each block (temperature: kT at the end; temperature_mean: its time average)
@@ -32,6 +33,15 @@ MIXTURE_RECORDS = ("species_temperature",)
 SHEAR_RECORDS = ("shear_stress", "collisional_shear_stress", "thermostat_energy")
 # and, of rough spheres, the rotational kT over the translational at the block's end, T_r / T
 ROUGH_RECORDS = ("temperature_ratio",)
+# and, at rest in a periodic box without gravity, the box-scale shear flows' energy over a homogeneous gas's share
+# at the block's end (:func:`~collisionkit.edmd.shear_mode_energy`: about 1 while the gas stays homogeneous)
+HOMOGENEITY_RECORDS = ("shear_mode_energy",)
+
+
+def homogeneity_measurable(system) -> bool:
+    """True if ``system``'s homogeneity can be measured: 2D or 3D, every axis periodic, no shear, no gravity."""
+    return (system.dim >= 2 and system.shear_rate == 0.0 and bool(np.all(system.periodic))
+            and not np.any(system.geom[_k.G_GRAVITY] != 0.0))
 
 
 def block_start(system) -> dict:
@@ -64,6 +74,9 @@ def record_block(sampler, start, kT_after, kT, duration) -> None:
         record["species_temperature"].append(system.species_temperatures() / kT_after)
     if "temperature_ratio" in record:
         record["temperature_ratio"].append(system.rotational_temperature() / kT_after)
+    if "shear_mode_energy" in record:
+        record["shear_mode_energy"].append(shear_mode_energy(system.positions(), system.velocities(),
+                                                             system.box[:dim], system.mass))
     record["temperature_mean"].append(kT)
     record["compressibility"].append(1.0 + virial / (dim * count * kT * duration))
     record["pressure"].append((count * kT + virial / (dim * duration)) / system.volume)
@@ -151,6 +164,8 @@ def observables(sampler) -> dict:
         mixture |= {"species_diffusion": by_species[0], "species_diffusion_error": by_species[1]}
     if "species_temperature" in record:
         mixture |= _species_temperatures(np.asarray(record["species_temperature"], dtype=float))
+    if "shear_mode_energy" in record:
+        mixture["block_shear_mode_energy"] = np.asarray(record["shear_mode_energy"], dtype=float)
     if "temperature_ratio" in record:  # rough spheres
         ratios = np.asarray(record["temperature_ratio"], dtype=float)
         mixture |= {"temperature_ratio": float(np.mean(ratios)), "temperature_ratio_error": _msd.block_error(ratios),

@@ -6,7 +6,7 @@ multiple-origin MSD (:class:`~collisionkit.edmd._msd.LagMSD`) and of a
 transport measurement (:class:`~collisionkit.edmd.TransportSampler`).
 Checkpoints written before a record existed still load: the blocks they
 hold get NaN for it (no error of D without ``msd_groups``, no mean kT, no
-thermostat energy), and a sheared run saved before the transverse
+thermostat energy, no shear-mode energy), and a sheared run saved before the transverse
 diffusion coefficient loses its MSD (its displacements counted x too).
 """
 
@@ -17,7 +17,9 @@ import math
 import numpy as np
 
 from . import _msd
-from ._sampler_records import MIXTURE_RECORDS, RECORDS, ROUGH_RECORDS, SHEAR_RECORDS
+from ._sampler_records import (
+    HOMOGENEITY_RECORDS, MIXTURE_RECORDS, RECORDS, ROUGH_RECORDS, SHEAR_RECORDS, homogeneity_measurable,
+)
 from ._transport import TransportSampler
 
 
@@ -75,7 +77,8 @@ def restore_sampler(sampler, system, state) -> None:
     sampler.partial_histograms = None if partial is None else np.array(partial, dtype=float)
     sampler.start_positions = np.array(state["sampler_start_positions"])
     sampler.records = {name: list(state[f"sampler_{name}"]) for name in
-                       RECORDS + SHEAR_RECORDS + MIXTURE_RECORDS + ROUGH_RECORDS if f"sampler_{name}" in state}
+                       RECORDS + SHEAR_RECORDS + MIXTURE_RECORDS + ROUGH_RECORDS + HOMOGENEITY_RECORDS
+                       if f"sampler_{name}" in state}
     # a checkpoint written before the groups were recorded: their blocks are unknown (no D error)
     sampler.records.setdefault("msd_groups", [np.full(_msd.MSD_GROUPS, math.nan)] * len(sampler.records["msd"]))
     # ... or before the mean kT and the thermostat's energy were: unknown for the blocks done
@@ -84,6 +87,8 @@ def restore_sampler(sampler, system, state) -> None:
     sampler.records.setdefault("potential_energy", [0.0] * done)  # saved before square wells: hard spheres, none
     if "shear_stress" in sampler.records:
         sampler.records.setdefault("thermostat_energy", [math.nan] * done)
+    if homogeneity_measurable(system):  # saved before the shear modes were recorded: unknown for the blocks done
+        sampler.records.setdefault("shear_mode_energy", [math.nan] * done)
     kinds = int(np.max(system.species)) + 1
     if np.unique(system.species).size > 1:  # a mixture saved before its species' kT were recorded: unknown
         sampler.records.setdefault("species_temperature", [np.full(kinds, math.nan)] * done)

@@ -19,11 +19,13 @@ from .._kernels import edmd as _k
 from .._repr import html_table, measurement_rows
 from . import _checks, _msd, _pair_distribution
 from ._sampler_records import (
-    MIXTURE_RECORDS, RECORDS, ROUGH_RECORDS, SHEAR_RECORDS, block_start, observables, record_block,
+    HOMOGENEITY_RECORDS, MIXTURE_RECORDS, RECORDS, ROUGH_RECORDS, SHEAR_RECORDS, block_start, homogeneity_measurable,
+    observables, record_block,
 )
 from ._sampler_state import restore_sampler, sampler_arrays
 from ._shear import run_sheared
 from ._transport import TransportMeasurement, TransportSampler
+from .homogeneity import homogeneity_summary
 from .system import HardSphereSystem
 
 __all__ = ["RECORDS", "SHEAR_RECORDS", "Measurement", "Sampler", "measure"]
@@ -58,7 +60,10 @@ class Measurement:
     block's: 1 at equipartition, which an inelastic mixture does not reach), ``cooling_rate`` (a gas that loses energy, at
     rest and without gravity: -d ln kT / dC, C the collisions per particle,
     the mean of the blocks' -ln(kT_k / kT_k-1) / dC after the first, with ``cooling_rate_error``;
-    Haff's law gives (1 - e^2) / d for one species; else NaN), ``sonine_a2``
+    Haff's law gives (1 - e^2) / d for one species; else NaN; in a periodic
+    box ``block_shear_mode_energy`` says whether it stayed homogeneous, each
+    block end's :func:`~collisionkit.edmd.shear_mode_energy`, about 1 if so,
+    and :meth:`summary` adds :func:`~collisionkit.edmd.homogeneity.homogeneity_summary`'s keys), ``sonine_a2``
     (particles of one mass at rest: the velocity distribution's fourth
     cumulant d/(d+2) <v^4>/<v^2>^2 - 1 at the block ends, 0 for Maxwell's,
     with ``sonine_a2_error``), ``potential_energy``
@@ -157,6 +162,7 @@ class Measurement:
     temperature_ratio: float = math.nan
     temperature_ratio_error: float = math.nan
     block_temperature_ratio: np.ndarray | None = field(default=None, repr=False)
+    block_shear_mode_energy: np.ndarray | None = field(default=None, repr=False)
 
     @property
     def collisions_per_second(self) -> float:
@@ -190,6 +196,9 @@ class Measurement:
                 "potential_energy", "potential_energy_error", "temperature_mean", "temperature_mean_error")}
         if math.isfinite(self.cooling_rate):
             result |= {"cooling_rate": self.cooling_rate, "cooling_rate_error": self.cooling_rate_error}
+            if self.block_shear_mode_energy is not None:  # did it stay homogeneous?
+                per_block = 2.0 * self.collisions / (self.particles * self.block_shear_mode_energy.size)
+                result |= homogeneity_summary(self.block_shear_mode_energy, self.dim, per_block)
         if math.isfinite(self.sonine_a2):
             result |= {"sonine_a2": self.sonine_a2, "sonine_a2_error": self.sonine_a2_error}
         if self.block_temperature_ratio is not None:
@@ -270,7 +279,8 @@ class Sampler:
         sheared = SHEAR_RECORDS if system.shear_rate != 0.0 else ()
         mixed = MIXTURE_RECORDS if np.unique(system.species).size > 1 else ()
         rough = ROUGH_RECORDS if system.rough else ()
-        self.records = {name: [] for name in RECORDS + sheared + mixed + rough}
+        homogeneity = HOMOGENEITY_RECORDS if homogeneity_measurable(system) else ()
+        self.records = {name: [] for name in RECORDS + sheared + mixed + rough + homogeneity}
         self.speeds = []
         if not isinstance(transport, (bool, np.bool_)):
             raise TypeError(f"transport must be True or False; got {transport!r}")

@@ -307,7 +307,7 @@ def plot_radial_distribution(r, g, ax=None, partial=None):
 
 
 def plot_cooling(collisions, temperatures, rate=None, species=None, ax=None, species_theory=None,
-                 theory_temperatures=None, rotation=None, theory_rotation=None):
+                 theory_temperatures=None, rotation=None, theory_rotation=None, homogeneity_lost_after=None):
     """kT of a cooling gas against collisions per particle (log scale), with the theory's line and each species'.
 
     Parameters
@@ -334,6 +334,10 @@ def plot_cooling(collisions, temperatures, rate=None, species=None, ax=None, spe
         Rough spheres' rotational kT at ``collisions``, drawn as a second
         series; ``theory_rotation`` (same shape) its theory's
         (:func:`~collisionkit.edmd.rough_cooling`), dotted.
+    homogeneity_lost_after : float, optional
+        The collisions per particle at which the gas was first found
+        inhomogeneous (the summary's ``homogeneity_lost_after``): a vertical
+        line, beyond which the homogeneous theory does not hold.
 
     Returns
     -------
@@ -386,6 +390,8 @@ def plot_cooling(collisions, temperatures, rate=None, species=None, ax=None, spe
             if theory is not None:
                 ax.semilogy(collisions, theory[index] * temperatures, ls=":", color=f"C{index + 1}",
                             label=f"{name}, theory")
+    if homogeneity_lost_after is not None:
+        ax.axvline(homogeneity_lost_after, color="C1", lw=1, ls="--", label="shear flows: not homogeneous")
     ax.set_xlabel("collisions per particle $C$ (measured)")
     ax.set_title("cooling")
     ax.set_ylabel("$kT$")
