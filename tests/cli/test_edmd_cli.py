@@ -626,10 +626,13 @@ def test_a_cooling_run_says_whether_it_stayed_homogeneous(tmp_path):
     summary = json.loads((tmp_path / "large.json").read_text())
     assert summary["homogeneous"] is False and summary["homogeneity_lost_after"] == 2.0
     assert "shear flows / homogeneous share (max)" in said and "not homogeneous from C = 2" in said
-    assert "it did not stay homogeneous" in said
+    assert "it did not stay homogeneous" in said and "box 2.2 L_c" in said
+    assert "is 2.2 times the shear instability's critical length at e = 0.7 (81.6" in said  # before the run
+    assert summary["shear_instability_length"] == pytest.approx(81.57, abs=0.01)
     assert (tmp_path / "out" / "cooling.png").stat().st_size > 10_000
     small = invoke("--particles", "500", "--packing-fraction", "0.02", "--restitution", "0.9", "--collisions",
                    "25000", "--seed", "3", "--no-plots", "--summary", tmp_path / "small.json")
     assert small.exit_code == 0, small.output
     assert json.loads((tmp_path / "small.json").read_text())["homogeneous"] is True
-    assert "homogeneous: below" in " ".join(small.output.split())
+    said = " ".join(small.output.split())
+    assert "homogeneous: below" in said and "box 0.16 L_c" in said and "critical length" not in said

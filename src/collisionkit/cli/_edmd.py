@@ -162,6 +162,7 @@ def _refuse_beyond_memory(parameters) -> None:
 
 def _new_run(options: EdmdOptions):
     from ..edmd import EdmdRun, OverlapError
+    from ..edmd.homogeneity import instability_note
 
     _require_outputs(options)
     given_law = sorted(options.model_fields_set & {"law_speed", "law_exponent"})
@@ -191,6 +192,9 @@ def _new_run(options: EdmdOptions):
                           overwrite=bool(options.overwrite))
     except (ValueError, OverlapError) as error:
         raise fail(f"cannot set up the initial state: {error}") from None
+    unstable = instability_note(parameters, run.system.box)
+    if unstable is not None:
+        note(unstable)
     return run, extra
 
 

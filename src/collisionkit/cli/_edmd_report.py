@@ -130,6 +130,8 @@ def _homogeneity_rows(result: dict) -> list[tuple[str, str, str]]:
     lost = result["homogeneity_lost_after"]
     verdict = (f"homogeneous: below {result['shear_mode_energy_threshold']:.3g}" if lost is None else
                f"not homogeneous from C = {lost:.3g} (threshold {result['shear_mode_energy_threshold']:.3g})")
+    if "shear_instability_length" in result:  # the dilute theory's critical box
+        verdict += f"; box {result['box_length'] / result['shear_instability_length']:.2g} L_c"
     return [("shear flows / homogeneous share (max)", f"{result['shear_mode_energy_max']:.3g}", verdict)]
 
 

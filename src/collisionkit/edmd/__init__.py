@@ -48,7 +48,7 @@ from .mixture_theory import (
 )
 from ._rotation import random_spins
 from .rough_theory import rough_cooling, rough_cooling_matrix, rough_cooling_state
-from .homogeneity import homogeneity_threshold, shear_mode_energy
+from .homogeneity import homogeneity_threshold, shear_instability_length, shear_mode_energy, shear_mode_growth
 from .restitution_laws import maxwellian_cooling, maxwellian_cooling_rate, restitution_coefficient
 from .square_well_theory import (
     square_well_collision_integral,
@@ -136,7 +136,9 @@ __all__ = [
     "rough_cooling",
     "rough_cooling_matrix",
     "rough_cooling_state",
+    "shear_instability_length",
     "shear_mode_energy",
+    "shear_mode_growth",
     "square_well_collision_integral",
     "square_well_deflection",
     "square_well_dilute_transport",

@@ -45,6 +45,7 @@ from typing import Any
 
 import numpy as np
 
+from .homogeneity import box_instability
 from .mixture_theory import (
     MIXTURE_EQUATION_OF_STATE, homogeneous_cooling_rate, homogeneous_cooling_temperatures, mixture_collision_frequency,
     mixture_compressibility, mixture_contact_values,
@@ -134,6 +135,7 @@ def edmd_summary(run, measurement, files: Sequence = ()) -> dict[str, Any]:
         result["contact_values_error"] = _nested(measurement.contact_values_error)
     if "cooling_rate" in result and not sheared:  # a cooling gas: Haff's law, or the mixture's cooling state
         result |= _cooling_theory(p, result, measurement, system.elastic_below)
+        result |= box_instability(p, system.box) or {}  # the dilute theory of its shear instability
     if p.tangential_restitution is not None:
         result |= _rough_summary(p, system, measurement, result, run.initial_energy)
     if "sonine_a2" in result and p.fractions is None and p.restitution_law == "constant" and (

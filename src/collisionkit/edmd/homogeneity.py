@@ -34,7 +34,11 @@ import math
 import numpy as np
 from scipy import stats
 
-__all__ = ["FALSE_ALARM", "homogeneity_threshold", "shear_mode_count", "shear_mode_energy"]
+from . import _checks
+from .theory import _ball_volume, dilute_granular_rates
+
+__all__ = ["FALSE_ALARM", "homogeneity_threshold", "shear_instability_length", "shear_mode_count", "shear_mode_energy",
+           "shear_mode_growth"]
 
 FALSE_ALARM = 1e-3  # a homogeneous gas's probability of crossing the threshold anywhere in a run
 
@@ -154,3 +158,160 @@ def homogeneity_summary(block_values, dim: int, collisions_per_block: float) -> 
     return {"shear_mode_energy": float(values[known[-1]]), "shear_mode_energy_max": float(np.max(values[known])),
             "shear_mode_energy_threshold": threshold, "homogeneous": bool(above.size == 0),
             "homogeneity_lost_after": None if above.size == 0 else float((above[0] + 1) * collisions_per_block)}
+
+
+def _dilute_mode(restitution, packing_fraction, dim, diameter):
+    """(zeta*, nu_eta* - zeta*/2, C_d, mean free path scale l = 1 / (n sigma^(d-1))), checked."""
+    alpha = _checks.bounded(restitution, "restitution", 0.0, 1.0, closed=(False, True))
+    eta = _checks.bounded(packing_fraction, "packing_fraction", 0.0, 1.0, closed=(False, False))
+    dim = _checks.dimension(dim)
+    if dim == 1:
+        raise ValueError("dim must be 2 or 3: a line has no shear modes")
+    diameter = _checks.positive(diameter, "diameter")
+    cooling, momentum = dilute_granular_rates(alpha, dim)
+    viscosity_constant = (dim + 2) * math.gamma(dim / 2) / (8 * math.pi ** ((dim - 1) / 2))  # eta_0 sigma^(d-1)/sqrt(mT)
+    density = eta / float(_ball_volume(diameter / 2, dim))
+    return cooling, momentum - cooling / 2, viscosity_constant, 1.0 / (density * diameter ** (dim - 1))
+
+
+def shear_instability_length(restitution, packing_fraction, dim=3, diameter=1.0) -> float:
+    r"""The box length above which a dilute cooling gas's shear flows grow into vortices (Navier-Stokes, Boltzmann).
+
+    A transverse velocity mode of wavenumber k decays by viscosity,
+    :math:`\rho\,\partial_t u = -\eta k^2 u`, while the temperature falls as
+    :math:`\partial_t T = -\zeta T`: relative to the thermal speed it grows if
+    :math:`\zeta/2 > \eta k^2/\rho`, for :math:`k < k_c = \sqrt{\rho\zeta/(2\eta)}`
+    (Goldhirsch & Zanetti 1993; Brey, Ruiz-Montero & Cubero 1998). With
+    :math:`\zeta = \zeta^* \nu_0`, :math:`\eta = \eta_0/(\nu_\eta^* -
+    \zeta^*/2)` and :math:`\nu_0 = n kT/\eta_0`
+    (:func:`~collisionkit.edmd.theory.dilute_granular_rates`),
+
+    .. math:: k_c \ell = \frac{1}{C_d}\sqrt{\frac{\zeta^* (\nu_\eta^* - \zeta^*/2)}{2}},
+        \qquad L_c = \frac{2\pi}{k_c},
+
+    :math:`\ell = 1/(n\sigma^{d-1})`, :math:`C_d = \eta_0\sigma^{d-1}/\sqrt{mkT} =
+    (d+2)\Gamma(d/2)/(8\pi^{(d-1)/2})`; it is independent of kT and the
+    mass. A periodic box with a side above L_c is unstable. The dilute
+    (Boltzmann) limit, Maxwellian first Sonine order: a guide at packing
+    fractions up to about 0.1, where Enskog's corrections are some 10 %.
+
+    Parameters
+    ----------
+    restitution : float
+        alpha in (0, 1]; 1 gives inf (an elastic gas is stable).
+    packing_fraction : float
+        In (0, 1).
+    dim : {2, 3}
+    diameter : float
+        > 0.
+
+    Returns
+    -------
+    float
+        L_c in the diameter's units.
+
+    Examples
+    --------
+    >>> round(shear_instability_length(0.9, 0.02), 1)  # spheres: 5.70 l, l = 26.2 diameters
+    148.9
+    >>> round(shear_instability_length(0.7, 0.05, dim=2), 1)
+    81.6
+    """
+    cooling, viscous, constant, free_path = _dilute_mode(restitution, packing_fraction, dim, diameter)
+    if cooling == 0.0:
+        return math.inf
+    return 2.0 * math.pi * free_path * constant / math.sqrt(cooling * viscous / 2.0)
+
+
+def shear_mode_growth(restitution, box_length, packing_fraction, dim=3, diameter=1.0) -> float:
+    r"""The growth rate, per collision per particle, of the longest shear mode's amplitude over the thermal speed.
+
+    :math:`(\zeta/2 - \eta k^2/\rho)/\omega` with :math:`k = 2\pi/L` (see
+    :func:`shear_instability_length`) and :math:`\omega` the Boltzmann
+    collision frequency, :math:`\nu_0/\omega = 4/(d+2)`:
+
+    .. math:: g = \frac{4}{d+2}\left[\frac{\zeta^*}{2} - \frac{C_d^2 (k\ell)^2}{\nu_\eta^* - \zeta^*/2}\right]
+        = \frac{1 - \alpha^2}{2d}\left[1 - \left(\frac{L_c}{L}\right)^2\right]\ (\alpha < 1).
+
+    Negative in a stable box (an elastic gas: the viscous decay alone); the
+    mode's energy grows as :math:`e^{2gC}`. Dilute limit, Maxwellian first
+    Sonine order, as :func:`shear_instability_length`.
+
+    Examples
+    --------
+    >>> round(shear_mode_growth(0.7, 177.2, 0.05, dim=2), 4)  # 2000 discs: L = 2.17 L_c
+    0.1005
+    >>> shear_mode_growth(1.0, 30.0, 0.02) < 0  # elastic: viscous decay
+    True
+    """
+    length = _checks.positive(box_length, "box_length")
+    cooling, viscous, constant, free_path = _dilute_mode(restitution, packing_fraction, dim, diameter)
+    wavenumber = 2.0 * math.pi / length * free_path
+    return 4.0 / (dim + 2) * (cooling / 2.0 - constant**2 * wavenumber**2 / viscous)
+
+
+# the largest packing fraction the dilute theory of the instability is applied at (Enskog's contact value
+# 1.3 there: its corrections grow beyond)
+DILUTE_INSTABILITY_LIMIT = 0.1
+
+
+def box_instability(parameters, box) -> dict | None:
+    """The dilute theory's shear instability for a run's parameters and box, or None where it does not apply.
+
+    It applies to one species of smooth spheres or discs with a constant
+    restitution below 1, at rest, at packing fractions up to
+    :data:`DILUTE_INSTABILITY_LIMIT`. Returns ``box_length`` (the longest
+    side), ``shear_instability_length`` (:func:`shear_instability_length`)
+    and ``shear_mode_growth`` (:func:`shear_mode_growth` at the longest side).
+
+    Examples
+    --------
+    >>> from collisionkit.edmd import EdmdParameters
+    >>> found = box_instability(EdmdParameters(dim=2, particles=2000, packing_fraction=0.05, restitution=0.7),
+    ...                         [177.2, 177.2])
+    >>> round(found["shear_instability_length"], 1), round(found["shear_mode_growth"], 4)
+    (81.6, 0.1005)
+    >>> box_instability(EdmdParameters(particles=2000, packing_fraction=0.3, restitution=0.7), [20.3] * 3) is None
+    True
+    """
+    p = parameters
+    smooth = p.tangential_restitution is None or p.tangential_restitution == -1.0
+    if (p.elastic or not smooth or len(p.species_counts) > 1 or p.restitution_law != "constant" or p.shear_rate != 0.0
+            or p.packing_fraction > DILUTE_INSTABILITY_LIMIT):  # (wells are elastic)
+        return None
+    restitution = p.restitution if not isinstance(p.restitution, tuple) else p.restitution[0][0]
+    side = float(np.max(np.asarray(box, dtype=float)[: p.dim]))
+    return {"box_length": side,
+            "shear_instability_length": shear_instability_length(restitution, p.packing_fraction, p.dim),
+            "shear_mode_growth": shear_mode_growth(restitution, side, p.packing_fraction, p.dim)}
+
+
+def instability_note(parameters, box, share: float = 100.0) -> str | None:
+    """What to say before a cooling run whose box exceeds the shear instability's critical length; else None.
+
+    The collisions per particle in which the longest shear mode's energy
+    grows ``share`` times, ln(share) / (2 g), against the run's, and the
+    most particles that keep the box below the critical length at the same
+    packing fraction.
+
+    Examples
+    --------
+    >>> from collisionkit.edmd import EdmdParameters
+    >>> p = EdmdParameters(dim=2, particles=2000, packing_fraction=0.05, restitution=0.7, collisions=20000)
+    >>> print(instability_note(p.resolved(seed=1), [177.2, 177.2]))
+    the box (side 177) is 2.2 times the shear instability's critical length at e = 0.7 (81.6, dilute Navier-Stokes theory): its box-scale shear flows grow to 100 times a homogeneous gas's share of the energy in about 23 collisions per particle (the run does 60), into vortices; 423 particles or fewer keep this packing fraction homogeneous
+    """
+    found = box_instability(parameters, box)
+    if found is None or found["shear_mode_growth"] <= 0.0:
+        return None
+    p = parameters
+    side, critical = found["box_length"], found["shear_instability_length"]
+    restitution = p.restitution if not isinstance(p.restitution, tuple) else p.restitution[0][0]
+    growing = math.log(share) / (2.0 * found["shear_mode_growth"])
+    collisions = 2.0 * p.total_collisions / p.particles
+    stable = int(p.particles * (critical / side) ** p.dim)
+    return (f"the box (side {side:.3g}) is {side / critical:.2g} times the shear instability's critical length at "
+            f"e = {restitution:g} ({critical:.3g}, dilute Navier-Stokes theory): its box-scale shear flows grow "
+            f"to {share:g} times a homogeneous gas's share of the energy in about {growing:.2g} collisions per particle "
+            f"(the run does {collisions:.3g}), into vortices; {stable} particles or fewer keep this packing fraction "
+            "homogeneous")

@@ -410,6 +410,22 @@ def yeh_hummer_correction(viscosity, box_length, kT=1.0):
     return YEH_HUMMER_XI * kT / (6.0 * np.pi * viscosity * box_length)
 
 
+def dilute_granular_rates(alpha: float, dim: int) -> tuple[float, float]:
+    r"""The dilute granular gas's reduced cooling rate and momentum-flux collision rate, Maxwellian first Sonine.
+
+    :math:`\zeta^* = (d+2)(1-\alpha^2)/(4d)` and :math:`\nu_\eta^* = (1+\alpha)(3 - 3\alpha + 2d)/(4d)`, in units
+    of :math:`\nu_0 = n kT / \eta_0` (:math:`\eta_0` the elastic gas's first-Sonine viscosity; Garzó & Dufty,
+    Phys. Rev. E 59, 5895 (1999), their dilute limit with a2 = 0). The Navier-Stokes shear viscosity is
+    :math:`\eta_0 / (\nu_\eta^* - \zeta^*/2)` (Brey, Dufty, Kim & Santos, Phys. Rev. E 58, 4638 (1998)).
+
+    Examples
+    --------
+    >>> dilute_granular_rates(1.0, 3)
+    (0.0, 1.0)
+    """
+    return (dim + 2) * (1 - alpha**2) / (4 * dim), (1 + alpha) * (3 - 3 * alpha + 2 * dim) / (4 * dim)
+
+
 def granular_shear_flow(restitution, shear_rate, density, dim=3, diameter=1.0, mass=1.0):
     r"""Steady uniform shear flow of a dilute granular gas (inelastic hard spheres or discs), Grad's solution.
 
@@ -466,8 +482,7 @@ def granular_shear_flow(restitution, shear_rate, density, dim=3, diameter=1.0, m
     dim = _checks.dimension(dim)
     diameter = _checks.positive(diameter, "diameter")
     mass = _checks.positive(mass, "mass")
-    cooling = (dim + 2) * (1 - alpha**2) / (4 * dim)
-    momentum = (1 + alpha) * (3 - 3 * alpha + 2 * dim) / (4 * dim)
+    cooling, momentum = dilute_granular_rates(alpha, dim)
     reduced = math.sqrt(dim * cooling * momentum**2 / (2 * (momentum - cooling)))
     # nu_0 = n T / eta_0 = n sigma^(d-1) sqrt(T / m) / C
     constant = (dim + 2) * math.gamma(dim / 2) / (8 * math.pi ** ((dim - 1) / 2))
