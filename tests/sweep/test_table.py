@@ -27,7 +27,29 @@ def test_vectors_tensors_and_nested_results_become_columns():
     assert row["E-N"] == 10.0 and row["mean_energy"] == 1.5 and row["mean_energy_error"] == 0.01
     assert [row[f"drift[{i}]"] for i in range(3)] == [1.0, 2.0, 3.0]
     assert row["tensor[1][1]"] == 2.0 and row["tensor[0][1]"] == 0.0 and row["rates.a"] == 4.0
-    assert not any(key.startswith(("eedf", "name", "converged", "parameters", "files")) for key in row)
+    assert row["name"] == "reid" and row["converged"] is True  # text and booleans are results too
+    assert not any(key.startswith(("eedf", "parameters", "files")) for key in row)
+
+
+def test_points_give_a_boolean_s_fraction_of_successful_replicas_and_text_that_agrees_or_each_value():
+    rows = [_record({"homogeneous": flag, "engine": engine, "y": 1.0}, replica)
+            for replica, (flag, engine) in enumerate([(True, "cells"), (False, "cells"), (True, "cells")])]
+    failed = _record({"homogeneous": False, "engine": "lists"}, 3) | {"status": "failed"}
+    table = sweep.results_table(STUDY, rows + [failed])
+    (point,) = sweep.points_table(STUDY, table)
+    assert point["homogeneous_fraction"] == pytest.approx(2 / 3) and point["engine"] == "cells"
+    assert "homogeneous" not in point and point["replicas_ok"] == 3
+    mixed = sweep.results_table(STUDY, [_record({"engine": "cells"}, 0), _record({"engine": "lists"}, 1)])
+    assert sweep.points_table(STUDY, mixed)[0]["engine"] == "cells;lists"
+
+
+def test_the_parquet_table_keeps_booleans_numbers_and_text_apart(tmp_path):
+    import pyarrow.parquet as pq
+    table = sweep.results_table(STUDY, [_record({"homogeneous": True, "engine": "cells", "y": 1.5}, 0),
+                                        _record({"homogeneous": False, "engine": "lists", "y": 2.0}, 1)])
+    types = {field.name: str(field.type) for field in pq.read_table(sweep.write_parquet(tmp_path / "t.parquet",
+                                                                                         table)).schema}
+    assert (types["homogeneous"], types["engine"], types["y"]) == ("bool", "string", "double")
 
 
 def test_a_list_of_results_becomes_columns_unless_it_repeats_the_top_level():

@@ -24,12 +24,12 @@ OUTPUT_FILES = ("results.csv", "points.csv", "results.parquet", "main_result.png
 
 
 def _flatten(summary: Mapping[str, Any], prefix: str = "") -> Iterator[tuple[str, Any]]:
-    """The numbers of a summary as (column, value): nested keys joined by dots, vector items as ``name[i]``.
+    """The results of a summary as (column, value): nested keys joined by dots, vector items as ``name[i]``.
 
-    A list of result objects (swarm's ``results``) gives ``results[i].key``
-    columns, except a single entry whose values are already at the top
-    level; numeric lists longer than :data:`MAX_VECTOR` (spectra) are left
-    out, as are strings and booleans.
+    Numbers, strings and booleans are kept. A list of result objects
+    (swarm's ``results``) gives ``results[i].key`` columns, except a single
+    entry whose values are already at the top level; numeric lists longer
+    than :data:`MAX_VECTOR` (spectra) and lists of strings are left out.
     """
     for key, value in summary.items():
         name = f"{prefix}{key}"
@@ -37,7 +37,7 @@ def _flatten(summary: Mapping[str, Any], prefix: str = "") -> Iterator[tuple[str
             yield from _flatten(value, name + ".")
         elif isinstance(value, (list, tuple)):
             yield from _flatten_list(name, value, summary)
-        elif _is_number(value):
+        elif _is_number(value) or isinstance(value, (str, bool)):
             yield name, value
 
 
@@ -62,9 +62,9 @@ def _is_number(value: Any) -> bool:
 def results_table(study: Study, records: Iterable[Mapping[str, Any]]) -> list[dict[str, Any]]:
     """One row per point and replica: varied options, sweep columns and the summary's numbers.
 
-    Nested summary keys are joined with dots (``orbit.deflection_angle``);
-    booleans, strings and lists are left out. Failed points have empty
-    summary columns.
+    Nested summary keys are joined with dots (``orbit.deflection_angle``),
+    short numeric lists become ``name[i]`` columns; numbers, strings and
+    booleans are kept. Failed points have empty summary columns.
 
     Examples
     --------
@@ -72,7 +72,7 @@ def results_table(study: Study, records: Iterable[Mapping[str, Any]]) -> list[di
     >>> record = {"point": 0, "replica": 0, "seed": 7, "spawn_key": [0, 0], "status": "ok", "error": None,
     ...           "elapsed": 0.1, "parameters": {"vinf": 0.5}, "summary": {"orbit": {"e": 1.1, "kind": "hyp"}}}
     >>> results_table(study, [record])[0]
-    {'vinf': 0.5, 'point': 0, 'replica': 0, 'seed': 7, 'spawn_key': '[0, 0]', 'status': 'ok', 'error': '', 'elapsed': 0.1, 'orbit.e': 1.1}
+    {'vinf': 0.5, 'point': 0, 'replica': 0, 'seed': 7, 'spawn_key': '[0, 0]', 'status': 'ok', 'error': '', 'elapsed': 0.1, 'orbit.e': 1.1, 'orbit.kind': 'hyp'}
     """
     rows = []
     for record in records:
@@ -98,6 +98,8 @@ def _arrow_column(values: list[Any]):
     import pyarrow as pa
 
     present = [value for value in values if value is not None and value != ""]
+    if present and all(isinstance(value, bool) for value in present):
+        return pa.array([value if isinstance(value, bool) else None for value in values], pa.bool_())
     if present and all(isinstance(value, int) and not isinstance(value, bool) for value in present):
         return pa.array([value if value in present else None for value in values], pa.int64())
     if present and all(isinstance(value, (int, float)) and not isinstance(value, bool) for value in present):
@@ -178,7 +180,10 @@ def points_table(study: Study, table: list[Mapping[str, Any]]) -> list[dict[str,
     Each numeric result column ``q`` of the replica table (not the sweep's
     own columns, not an ``*_error`` column) becomes ``q`` and ``q_error``
     (:func:`aggregate`); ``disagreeing`` lists the results whose replicas
-    disagree beyond their errors.
+    disagree beyond their errors. Of the successful replicas, a boolean
+    result ``b`` gives ``b_fraction``, the fraction where it is true, and a
+    text result its value, or its distinct values joined by ``;`` if they
+    differ.
 
     Examples
     --------
@@ -203,7 +208,25 @@ def points_table(study: Study, table: list[Mapping[str, Any]]) -> list[dict[str,
             point[quantity], point[error_column(quantity)] = combined["mean"], combined["error"]
             if combined["disagree"]:
                 point["disagreeing"] = ";".join(filter(None, [point["disagreeing"], quantity]))
+    labels = [column for column in _columns(table) if column not in own and column not in quantities
+              and any(isinstance(row.get(column), (str, bool)) for row in table)]
+    for key, point in points.items():
+        succeeded = [row for row in table if row.get("status") == "ok" and group_key(row, names) == key]
+        point |= _labels(succeeded, labels)
     return list(points.values())
+
+
+def _labels(rows: list[Mapping[str, Any]], labels: list[str]) -> dict[str, Any]:
+    """A point's boolean results as the fraction of ``rows`` where true (``<name>_fraction``), its text results as
+    their value, or their distinct values joined by ``;``."""
+    result = {}
+    for label in labels:
+        values = [row[label] for row in rows if isinstance(row.get(label), (str, bool))]
+        if values and all(isinstance(value, bool) for value in values):
+            result[f"{label}_fraction"] = sum(values) / len(values)
+        elif values:
+            result[label] = ";".join(dict.fromkeys(map(str, values)))
+    return result
 
 
 def write_outputs(study: Study, out, table: list[Mapping[str, Any]]) -> list[Path]:
