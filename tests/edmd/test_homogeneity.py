@@ -13,25 +13,31 @@ from collisionkit.edmd import (
     EdmdParameters, EdmdRun, HardSphereSystem, homogeneity_threshold, lattice, maxwell_boltzmann, measure,
     shear_mode_energy,
 )
-from collisionkit.edmd.homogeneity import homogeneity_summary, shear_mode_count
+from collisionkit.edmd.homogeneity import (
+    cooling_state_shear_energy, homogeneity_summary, shear_flow_fraction, shear_instability_length, shear_mode_count,
+)
 
 
-def _grid(n: int, box: float) -> np.ndarray:
-    """n x n points of a square grid filling a periodic box: sums of sin^2 and cos^2 over it are exactly N / 2."""
-    side = (np.arange(n) + 0.5) * box / n
-    x, y = np.meshgrid(side, side, indexing="ij")
+def _grid(n: int, box: float, rows: int | None = None, height: float | None = None) -> np.ndarray:
+    """n x rows points of a grid filling a periodic box (box x height): sums of sin^2 and cos^2 over it are exactly
+    N / 2 for wavelengths of the box."""
+    rows, height = rows or n, height or box
+    x, y = np.meshgrid((np.arange(n) + 0.5) * box / n, (np.arange(rows) + 0.5) * height / rows, indexing="ij")
     return np.column_stack([x.ravel(), y.ravel()])
 
 
 @pytest.mark.parametrize("mass", [1.0, 3.5])
-def test_a_shear_flow_across_a_grid_gives_its_mode_n_over_two(mass):
-    # u_y = A sin(k x): j = -i m A N / 2 and sum m^2 u_y^2 = m^2 A^2 N / 2, so the mode's ratio is N / 2; u_x =
-    # B cos(3 k y) is orthogonal to e^{-i k y}: its mode's ratio is 0; the mean of the two is N / 4
+@pytest.mark.parametrize("rows, height", [(20, 12.0), (15, 7.5)])
+def test_a_shear_flow_across_a_grid_gives_its_mode_n_over_two(mass, rows, height):
+    # u_y = A sin(k_x x): j = -i m A N / 2 and sum m^2 u_y^2 = m^2 A^2 N / 2, so the mode's ratio is N / 2; u_x =
+    # B cos(3 k_y y) is orthogonal to e^{-i k_y y}: its mode's ratio is 0; the mean of the two is N / 4 (a box of
+    # unequal sides: each axis its own wavelength)
     box, n = 12.0, 20
-    positions = _grid(n, box)
-    k = 2 * np.pi / box
-    velocities = np.column_stack([0.3 * np.cos(3 * k * positions[:, 1]), 0.7 * np.sin(k * positions[:, 0])])
-    assert shear_mode_energy(positions, velocities, [box, box], masses=mass) == pytest.approx(n * n / 4, rel=1e-12)
+    positions = _grid(n, box, rows, height)
+    velocities = np.column_stack([0.3 * np.cos(3 * 2 * np.pi / height * positions[:, 1]),
+                                  0.7 * np.sin(2 * np.pi / box * positions[:, 0])])
+    assert shear_mode_energy(positions, velocities, [box, height], masses=mass) == pytest.approx(n * rows / 4,
+                                                                                                   rel=1e-12)
 
 
 def test_the_centre_of_mass_motion_and_the_box_position_do_not_count():
@@ -71,12 +77,24 @@ def test_the_threshold_is_crossed_by_a_homogeneous_gas_as_often_as_asked(dim):
 
 def test_the_summary_names_the_first_block_above_the_threshold_and_leaves_out_unknown_blocks():
     threshold = homogeneity_threshold(2, 3)
-    summary = homogeneity_summary([math.nan, 1.0, 0.5, threshold * 2, 3.0], 2, 7.5)
+    summary = homogeneity_summary([math.nan, 1.0, 0.5, threshold * 2, 3.0], 2, 500, 7.5)
     assert summary == {"shear_mode_energy": 3.0, "shear_mode_energy_max": threshold * 2,
-                       "shear_mode_energy_threshold": homogeneity_threshold(2, 4), "homogeneous": False,
-                       "homogeneity_lost_after": 30.0}
-    assert homogeneity_summary([1.0, 2.0], 3, 5.0)["homogeneity_lost_after"] is None
-    assert homogeneity_summary([math.nan, math.nan], 3, 5.0) == {}
+                       "shear_mode_energy_expected": 1.0, "shear_mode_energy_threshold": homogeneity_threshold(2, 4),
+                       "homogeneous": False, "homogeneity_lost_after": 30.0,
+                       "shear_flow_energy_fraction": pytest.approx(2 * 2 * (threshold * 2 - 1) / (2 * 500))}
+    assert homogeneity_summary([1.0, 2.0], 3, 500, 5.0)["homogeneity_lost_after"] is None
+    assert homogeneity_summary([math.nan, math.nan], 3, 500, 5.0) == {}
+    enhanced = homogeneity_summary([1.0, 3.0 * threshold], 2, 500, 5.0, expected=4.0)  # a cooling state's flows
+    assert enhanced["homogeneous"] and enhanced["shear_mode_energy_threshold"] == 4.0 * homogeneity_threshold(2, 2)
+
+
+def test_a_vortex_flow_s_energy_fraction_is_what_the_flow_holds():
+    # u_y = A sin(k x) on a grid without noise: R = N / 4 (two modes), the flow holds all the kinetic energy
+    positions = _grid(20, 12.0)
+    velocities = np.column_stack([np.zeros(400), 0.7 * np.sin(2 * np.pi / 12.0 * positions[:, 0])])
+    velocities[:, 0] = 0.7 * np.sin(2 * np.pi / 12.0 * positions[:, 1])  # and u_x = A sin(k y): both modes
+    value = shear_mode_energy(positions, velocities, [12.0, 12.0])
+    assert value == pytest.approx(200.0) and shear_flow_fraction(value, 2, 400) == pytest.approx(1.0, abs=0.01)
 
 
 @pytest.mark.parametrize("call, match", [
@@ -86,6 +104,8 @@ def test_the_summary_names_the_first_block_above_the_threshold_and_leaves_out_un
     (lambda: shear_mode_energy(np.zeros((4, 2)), np.zeros((4, 2)), [1.0, 1.0, 1.0]), "box"),
     (lambda: homogeneity_threshold(4, 10), "dim"),
     (lambda: homogeneity_threshold(3, 0), "blocks"),
+    (lambda: homogeneity_threshold(3, 10.5), "blocks"),
+    (lambda: homogeneity_threshold(3, 10, expected=0.5), "expected"),
     (lambda: homogeneity_threshold(3, 10, false_alarm=1.0), "false_alarm"),
 ])
 def test_bad_arguments_are_named(call, match):
@@ -102,7 +122,10 @@ def test_a_small_cooling_box_stays_homogeneous_and_a_large_one_forms_vortices():
     small = EdmdRun(EdmdParameters(**COOLING)).run()
     summary = small.summary()
     assert summary["homogeneous"] is True and summary["homogeneity_lost_after"] is None
-    assert summary["shear_mode_energy_max"] < summary["shear_mode_energy_threshold"] == homogeneity_threshold(3, 10)
+    expected = cooling_state_shear_energy(summary["box_length"], shear_instability_length(0.9, 0.02))  # L = 0.16 L_c
+    assert summary["shear_mode_energy_expected"] == pytest.approx(expected) and 1.02 < expected < 1.03
+    assert summary["shear_mode_energy_max"] < summary["shear_mode_energy_threshold"] == pytest.approx(
+        homogeneity_threshold(3, 10, expected=expected))
     assert "it stayed homogeneous" in small.cooling_note()
     large = EdmdRun(EdmdParameters(dim=2, particles=2000, packing_fraction=0.05, restitution=0.7, seed=3,
                                    collisions=20000, blocks=10)).run()
@@ -153,7 +176,8 @@ def test_checkpoints_keep_the_record_and_older_ones_load_with_the_blocks_unknown
     summary = resumed.run().summary()
     blocks = resumed.measurement().block_shear_mode_energy
     assert np.isnan(blocks[:10]).all() and np.isfinite(blocks[10:]).all()
-    assert summary["shear_mode_energy_threshold"] == homogeneity_threshold(3, 2)
+    assert summary["shear_mode_energy_threshold"] == pytest.approx(
+        homogeneity_threshold(3, 2, expected=summary["shear_mode_energy_expected"]))
     damaged = tmp_path / "damaged.npz"
     write_checkpoint(damaged, "edmd", saved.parameters, saved.state,
                      dict(saved.arrays) | {"sampler_shear_mode_energy": np.full(10, -1.0)})
@@ -161,21 +185,21 @@ def test_checkpoints_keep_the_record_and_older_ones_load_with_the_blocks_unknown
         EdmdRun.resume(damaged)
 
 
-class _Finished:
-    """A run whose measurement's summary is given: the note's wording alone."""
+@pytest.mark.parametrize("fraction, growth, says, advice", [
+    (0.05, -0.01, "near or past the size", "further from the instability"),
+    (0.05, 0.02, "near or past the size", "fewer collisions keep it homogeneous"),
+    (0.4, 0.02, "did not stay homogeneous", "fewer collisions keep it homogeneous")])
+def test_the_note_tells_flows_near_the_instability_from_vortices(fraction, growth, says, advice):
+    from collisionkit.edmd._summary import homogeneity_wording
 
-    def __init__(self, summary):
-        self.sampler = type("Done", (), {"done": 10})()
-        self._summary = summary
-
-    def measurement(self):
-        return type("Measured", (), {"summary": lambda _: self._summary})()
-
-
-@pytest.mark.parametrize("most, says", [(40.0, "near or past the size"), (400.0, "did not stay homogeneous")])
-def test_the_note_tells_flows_near_the_instability_from_vortices(most, says):
-    from collisionkit.edmd._summary import _homogeneity_note
-
-    note = _homogeneity_note(_Finished({"homogeneous": False, "homogeneity_lost_after": 6.0, "shear_mode_energy_max":
-                                        most, "shear_mode_energy_threshold": 5.0}))
-    assert says in note and "C = 6 collisions per particle" in note and f"at most {most:.3g}" in note
+    p = EdmdParameters(dim=2, particles=1000, restitution=0.8, collisions=5000, blocks=10, equilibration=2000)
+    measured = {"homogeneous": False, "homogeneity_lost_after": 1.0, "shear_mode_energy_max": 40.0,
+                "shear_mode_energy_threshold": 5.0, "shear_mode_energy_expected": 1.0,
+                "shear_flow_energy_fraction": fraction, "shear_mode_growth": growth}
+    note = homogeneity_wording(measured, p)
+    assert says in note and advice in note and "at most 40" in note
+    assert "C = 1 collisions per particle measured (after 4 of equilibration, which cooled it too)" in note
+    later = homogeneity_wording(measured | {"homogeneity_lost_after": 3.0, "shear_mode_energy_expected": 1.5}, p)
+    assert "equilibration" not in later and "the cooling state's in this box, 1.5 times it, included" in later
+    kept = homogeneity_wording(measured | {"homogeneous": True, "homogeneity_lost_after": None}, p)
+    assert kept.startswith("it stayed homogeneous") and "below 5 times" in kept

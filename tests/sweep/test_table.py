@@ -41,6 +41,9 @@ def test_points_give_a_boolean_s_fraction_of_successful_replicas_and_text_that_a
     assert "homogeneous" not in point and point["replicas_ok"] == 3
     mixed = sweep.results_table(STUDY, [_record({"engine": "cells"}, 0), _record({"engine": "lists"}, 1)])
     assert sweep.points_table(STUDY, mixed)[0]["engine"] == "cells;lists"
+    (fraction,) = sweep.aggregate(table, "homogeneous", [])  # as a study's main result: 2 of 3, binomial scatter
+    assert fraction["n"] == 3 and fraction["mean"] == pytest.approx(2 / 3)
+    assert fraction["error"] == pytest.approx(np.std([1, 0, 1], ddof=1) / math.sqrt(3))
 
 
 def test_the_parquet_table_keeps_booleans_numbers_and_text_apart(tmp_path):

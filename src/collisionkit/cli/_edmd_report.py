@@ -127,9 +127,11 @@ def _homogeneity_rows(result: dict) -> list[tuple[str, str, str]]:
     """Did the cooling gas stay homogeneous? The box-scale shear flows' energy over a homogeneous gas's share."""
     if "shear_mode_energy_max" not in result:
         return []
-    lost = result["homogeneity_lost_after"]
+    lost, expected = result["homogeneity_lost_after"], result["shear_mode_energy_expected"]
     verdict = (f"homogeneous: below {result['shear_mode_energy_threshold']:.3g}" if lost is None else
                f"not homogeneous from C = {lost:.3g} (threshold {result['shear_mode_energy_threshold']:.3g})")
+    if expected > 1.0:  # a stable box: its cooling state's enhanced flows
+        verdict += f"; cooling state {expected:.3g}"
     if "shear_instability_length" in result:  # the dilute theory's critical box
         verdict += f"; box {result['box_length'] / result['shear_instability_length']:.2g} L_c"
     return [("shear flows / homogeneous share (max)", f"{result['shear_mode_energy_max']:.3g}", verdict)]

@@ -124,7 +124,7 @@ def _warn_unknown_main(results) -> None:
     if main is None or not ok or any(isinstance(row.get(main), (int, float)) for row in ok):
         return
     columns = [column for column in dict.fromkeys(key for row in ok for key in row)
-               if isinstance(ok[0].get(column), (int, float)) and not isinstance(ok[0].get(column), bool)]
+               if isinstance(ok[0].get(column), (int, float))]  # (booleans too: their fraction)
     close = difflib.get_close_matches(main, columns, n=3, cutoff=0.6) or [
         column for column in columns if column.startswith(f"{main}[")][:3]
     hint = f"; did you mean {' or '.join(repr(name) for name in close)}?" if close else ""

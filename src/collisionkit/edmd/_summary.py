@@ -45,7 +45,7 @@ from typing import Any
 
 import numpy as np
 
-from .homogeneity import box_instability
+from .homogeneity import VORTICES, box_instability, cooling_state_shear_energy, homogeneity_summary
 from .mixture_theory import (
     MIXTURE_EQUATION_OF_STATE, homogeneous_cooling_rate, homogeneous_cooling_temperatures, mixture_collision_frequency,
     mixture_compressibility, mixture_contact_values,
@@ -61,10 +61,6 @@ from .theory import (
 
 # kT above which an inelastic run with an elastic floor is reported as not cooled (under 1 % of the energy lost)
 BARELY_COOLED = 0.99
-# box-scale shear flows this many times the homogeneity threshold are called vortices (below: near the instability,
-# where a stable cooling state's enhanced flows (1.3-1.6 times the share measured at 20000 spheres, eta 0.02, e 0.9)
-# can cross the threshold too)
-VORTICES = 10.0
 
 
 def equation_of_state(dim: int) -> tuple[str, Callable]:
@@ -135,7 +131,8 @@ def edmd_summary(run, measurement, files: Sequence = ()) -> dict[str, Any]:
         result["contact_values_error"] = _nested(measurement.contact_values_error)
     if "cooling_rate" in result and not sheared:  # a cooling gas: Haff's law, or the mixture's cooling state
         result |= _cooling_theory(p, result, measurement, system.elastic_below)
-        result |= box_instability(p, system.box) or {}  # the dilute theory of its shear instability
+    if "shear_mode_energy" in result and not sheared:  # a cooling gas: the dilute theory of its shear instability
+        result |= homogeneity_theory(p, system, measurement)
     if p.tangential_restitution is not None:
         result |= _rough_summary(p, system, measurement, result, run.initial_energy)
     if "sonine_a2" in result and p.fractions is None and p.restitution_law == "constant" and (
@@ -394,27 +391,55 @@ def cooling_note(run) -> str | None:
     return note
 
 
+def homogeneity_theory(p, system, measurement) -> dict[str, Any]:
+    """The dilute theory's critical box (:func:`~collisionkit.edmd.homogeneity.box_instability`) and, in a stable
+    box, the homogeneity verdict against the cooling state's enhanced shear flows
+    (:func:`~collisionkit.edmd.homogeneity.cooling_state_shear_energy`) instead of an uncorrelated gas's."""
+    found = box_instability(p, system.box)
+    if found is None:
+        return {}
+    if found["shear_mode_growth"] < 0.0:
+        expected = cooling_state_shear_energy(found["box_length"], found["shear_instability_length"])
+        per_block = 2.0 * measurement.collisions / (measurement.particles * measurement.block_shear_mode_energy.size)
+        found |= homogeneity_summary(measurement.block_shear_mode_energy, p.dim, p.particles, per_block, expected)
+    return found
+
+
 def _homogeneity_note(run) -> str:
     """Whether the cooling gas stayed homogeneous, as the cooling theory assumes: measured in a periodic box
     (:mod:`~collisionkit.edmd.homogeneity`), else the assumption stated."""
-    measured = run.measurement().summary() if run.sampler is not None and run.sampler.done >= 3 else {}
+    measurement = run.measurement() if run.sampler is not None and run.sampler.done >= 2 else None
+    measured = {} if measurement is None else measurement.summary()
     if "homogeneous" not in measured:
         return "the cooling theory assumes the gas stayed homogeneous, which a dense or large one does not (clusters)"
+    return homogeneity_wording(measured | homogeneity_theory(run.parameters, run.system, measurement), run.parameters)
+
+
+def homogeneity_wording(measured: dict, p) -> str:
+    """The note's words on a cooling run's homogeneity from its summary keys (``measured``) and parameters ``p``."""
+    threshold, most, expected = (measured[key] for key in (
+        "shear_mode_energy_threshold", "shear_mode_energy_max", "shear_mode_energy_expected"))
+    compared = ("an uncorrelated gas's share" if expected == 1.0 else
+                f"an uncorrelated gas's share (the cooling state's in this box, {expected:.2g} times it, included)")
     if measured["homogeneous"]:
         return (f"it stayed homogeneous, as the cooling theory assumes: its box-scale shear flows, the first to grow "
-                f"in a large box, kept below {measured['shear_mode_energy_threshold']:.3g} times a homogeneous gas's "
-                f"share (at most {measured['shear_mode_energy_max']:.3g})")
-    lost, threshold, most = (measured[key] for key in ("homogeneity_lost_after", "shear_mode_energy_threshold",
-                                                        "shear_mode_energy_max"))
-    advice = "a smaller box, a restitution closer to 1 or fewer collisions keep it homogeneous"
-    if most > VORTICES * threshold:
-        return (f"it did not stay homogeneous: by C = {lost:.3g} collisions per particle measured, its box-scale "
-                f"shear flows held more than {threshold:.3g} times a homogeneous gas's share (at most {most:.3g}: "
-                f"vortices, then clusters), and the homogeneous cooling theory holds only before that; {advice}")
-    return (f"its box-scale shear flows rose above a homogeneous gas's share (at most {most:.3g} times it, the "
-            f"threshold {threshold:.3g}, first by C = {lost:.3g} collisions per particle measured): the box is near or "
-            f"past the size at which a cooling gas's shear flows grow into vortices, and the homogeneous cooling theory "
-            f"may be off from there; {advice}")
+                f"in a large box, kept below {threshold:.3g} times {compared} (at most {most:.3g})")
+    lost = measured["homogeneity_lost_after"]
+    when = f"by C = {lost:.3g} collisions per particle measured"
+    first_block = 2.0 * (p.collisions // p.blocks) / p.particles  # collisions per particle
+    if math.isclose(lost, first_block) and p.equilibration > 0:
+        when += f" (after {2.0 * p.equilibration / p.particles:.3g} of equilibration, which cooled it too)"
+    growing = measured.get("shear_mode_growth", 1.0) > 0.0  # (no theory: it may grow)
+    advice = ("a smaller box, a restitution closer to 1 or fewer collisions keep it homogeneous" if growing else
+              "a smaller box or a restitution closer to 1 keep it further from the instability")
+    if measured["shear_flow_energy_fraction"] >= VORTICES:
+        return (f"it did not stay homogeneous: {when}, its box-scale shear flows held more than {threshold:.3g} "
+                f"times {compared}, at most {most:.3g}, {measured['shear_flow_energy_fraction']:.0%} of the kinetic "
+                f"energy (vortices, then clusters), and the homogeneous cooling theory holds only before that; {advice}")
+    return (f"its box-scale shear flows rose above {threshold:.3g} times {compared} ({when}, at most {most:.3g}, "
+            f"{measured['shear_flow_energy_fraction']:.1%} of the kinetic energy): the box is near or past the size at "
+            f"which a cooling gas's shear flows grow into vortices, and the homogeneous cooling theory may be off by "
+            f"some per cent; {advice}")
 
 
 def _heating_note(run) -> str | None:

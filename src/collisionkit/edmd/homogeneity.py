@@ -15,16 +15,23 @@ box sets the longest wavelength, so the box decides.
 
     j_b(k) = \sum_i m_i u_{i,b}\, e^{-i k x_{i,a}}
 
-(u the velocity relative to the centre of mass), its energy over a
-homogeneous gas's share, :math:`|j_b(k)|^2 / \sum_i m_i^2 u_{i,b}^2`,
+(u the velocity relative to the centre of mass), its energy over an
+uncorrelated gas's share, :math:`|j_b(k)|^2 / \sum_i m_i^2 u_{i,b}^2`,
 averaged over the :math:`M = d(d - 1)` modes. In equilibrium the velocities
 are independent of each other and of the positions (the canonical
 distribution factorises), so at any density each mode's ratio has mean 1
 and, its real and imaginary parts being sums of many independent terms,
 an exponential distribution: the average of M is Gamma(M, 1/M)
 distributed (mean 1, standard deviation :math:`1/\sqrt{M}`).
-:func:`homogeneity_threshold` is the value a homogeneous gas exceeds at one
+:func:`homogeneity_threshold` is the value such velocities exceed at one
 block end of a run of ``blocks`` with probability ``false_alarm / blocks``.
+
+A cooling gas is not in equilibrium: even in a box below the critical
+length its shear flows are enhanced, by about :math:`1/(1 - (L/L_c)^2)`
+(:func:`cooling_state_shear_energy`), and a run compares them with that
+where the dilute theory gives L_c (:func:`box_instability`), with an
+uncorrelated gas's elsewhere. :func:`shear_instability_length` is the
+critical length, :func:`shear_mode_growth` the growth beyond it.
 """
 
 from __future__ import annotations
@@ -35,10 +42,11 @@ import numpy as np
 from scipy import stats
 
 from . import _checks
-from .theory import _ball_volume, dilute_granular_rates
+from .theory import _ball_volume, _first_sonine, dilute_granular_rates
 
-__all__ = ["FALSE_ALARM", "homogeneity_threshold", "shear_instability_length", "shear_mode_count", "shear_mode_energy",
-           "shear_mode_growth"]
+__all__ = ["DILUTE_INSTABILITY_LIMIT", "FALSE_ALARM", "VORTICES", "box_instability", "cooling_state_shear_energy",
+           "homogeneity_summary", "homogeneity_threshold", "instability_note", "shear_flow_fraction",
+           "shear_instability_length", "shear_mode_count", "shear_mode_energy", "shear_mode_growth"]
 
 FALSE_ALARM = 1e-3  # a homogeneous gas's probability of crossing the threshold anywhere in a run
 
@@ -57,12 +65,15 @@ def shear_mode_count(dim: int) -> int:
 
 
 def shear_mode_energy(positions, velocities, box, masses=None) -> float:
-    r"""The energy of the box-scale shear flows over a homogeneous gas's share: about 1 if homogeneous.
+    r"""The energy of the box-scale shear flows over an uncorrelated gas's share: about 1 if homogeneous.
 
     :math:`\frac{1}{M} \sum_{a} \sum_{b \ne a} |\sum_i m_i u_{i,b} e^{-2\pi i
     x_{i,a} / L_a}|^2 / \sum_i m_i^2 u_{i,b}^2` over the M = d (d - 1)
     transverse modes (module notes), u the velocities relative to the
-    centre of mass.
+    centre of mass: the transverse momentum density of the longest
+    wavelengths, whose growth is a cooling gas's first instability
+    (Goldhirsch & Zanetti, Phys. Rev. Lett. 70, 1619 (1993)). A component
+    without spread gives its modes no value (left out of the mean).
 
     Parameters
     ----------
@@ -113,12 +124,29 @@ def shear_mode_energy(positions, velocities, box, masses=None) -> float:
             if component != axis:
                 share = float(np.sum(momenta[:, component] ** 2))
                 ratios.append(abs(phase @ momenta[:, component]) ** 2 / share if share > 0 else math.nan)
-    return float(np.mean(ratios))
+    return float(np.nanmean(ratios)) if np.isfinite(ratios).any() else math.nan
 
 
-def homogeneity_threshold(dim: int, blocks: int, false_alarm: float = FALSE_ALARM) -> float:
-    """The :func:`shear_mode_energy` a homogeneous gas exceeds at one of ``blocks`` block ends with probability
-    ``false_alarm`` or less (the Gamma(M, 1/M) quantile of ``false_alarm / blocks``).
+def homogeneity_threshold(dim: int, blocks: int, false_alarm: float = FALSE_ALARM, expected: float = 1.0) -> float:
+    """The :func:`shear_mode_energy` that uncorrelated velocities exceed at one of ``blocks`` block ends with
+    probability ``false_alarm`` or less: ``expected`` times the Gamma(M, 1/M) quantile of ``false_alarm / blocks``
+    (a Bonferroni bound over the blocks; correlated blocks only make it safer).
+
+    Parameters
+    ----------
+    dim : {2, 3}
+    blocks : int
+        The block ends looked at, >= 1.
+    false_alarm : float
+        In (0, 1).
+    expected : float
+        The mean ratio of the gas compared with: 1 for uncorrelated
+        velocities; a stable cooling state's enhanced flows
+        (:func:`cooling_state_shear_energy`) scale the quantile.
+
+    Returns
+    -------
+    float
 
     Examples
     --------
@@ -127,25 +155,62 @@ def homogeneity_threshold(dim: int, blocks: int, false_alarm: float = FALSE_ALAR
     """
     if not 0.0 < false_alarm < 1.0:
         raise ValueError(f"false_alarm must lie in (0, 1); got {false_alarm!r}")
-    if blocks < 1:
-        raise ValueError(f"blocks must be >= 1; got {blocks!r}")
+    if not _checks.is_integer(blocks) or blocks < 1:
+        raise ValueError(f"blocks must be an integer >= 1; got {blocks!r}")
+    if not (math.isfinite(expected) and expected >= 1.0):
+        raise ValueError(f"expected must be a finite number >= 1; got {expected!r}")
     modes = shear_mode_count(dim)
-    return float(stats.gamma.isf(false_alarm / blocks, modes, scale=1.0 / modes))
+    return expected * float(stats.gamma.isf(false_alarm / blocks, modes, scale=1.0 / modes))
 
 
-def homogeneity_summary(block_values, dim: int, collisions_per_block: float) -> dict:
-    """The summary keys of a cooling run's homogeneity from :func:`shear_mode_energy` at its block ends.
+def shear_flow_fraction(value: float, dim: int, particles: int) -> float:
+    """The fraction of the kinetic energy that box-scale shear flows hold beyond thermal noise, from a
+    :func:`shear_mode_energy` R: about 2 M (R - 1) / (d N) (equal masses, isotropic temperature), 0 if R <= 1.
 
-    ``shear_mode_energy`` at the last block end, its maximum, the threshold
-    for the blocks measured (NaN values: blocks of a checkpoint written
-    before it was recorded, left out), ``homogeneous`` and
-    ``homogeneity_lost_after``: the collisions per particle to the first
-    block end above the threshold (None if none), ``collisions_per_block``
-    per particle. Empty if no block has a value.
+    A flow's mode holds the energy (|j|^2 - sum m^2 u^2) / sum m, and
+    sum_i m_i^2 u_ib^2 = m 2K / d: the M modes hold (R - 1) M 2K / (d N).
 
     Examples
     --------
-    >>> summary = homogeneity_summary([1.2, 0.7, 9.0, 40.0], 3, 10.0)
+    >>> shear_flow_fraction(501.0, 2, 2000)  # vortices: half the kinetic energy
+    0.5
+    """
+    return max(0.0, 2.0 * shear_mode_count(dim) * (value - 1.0) / (dim * particles))
+
+
+VORTICES = 0.1  # box-scale shear flows holding this fraction of the kinetic energy or more are called vortices
+
+
+def homogeneity_summary(block_values, dim: int, particles: int, collisions_per_block: float,
+                        expected: float = 1.0) -> dict:
+    """The summary keys of a cooling run's homogeneity from :func:`shear_mode_energy` at its block ends.
+
+    Parameters
+    ----------
+    block_values : array_like
+        :func:`shear_mode_energy` at each block end; NaN for blocks of a
+        checkpoint written before it was recorded (left out).
+    dim : {2, 3}
+    particles : int
+    collisions_per_block : float
+        Collisions per particle in a block.
+    expected : float
+        The mean the gas is compared with (:func:`homogeneity_threshold`).
+
+    Returns
+    -------
+    dict
+        ``shear_mode_energy`` at the last block end with a value, its
+        maximum, ``shear_mode_energy_expected``, the threshold for the
+        blocks with values, ``homogeneous`` (no block above it),
+        ``homogeneity_lost_after`` (collisions per particle measured to the
+        first block end above it; None if none) and
+        ``shear_flow_energy_fraction`` (:func:`shear_flow_fraction` at the
+        maximum); empty if no block has a value.
+
+    Examples
+    --------
+    >>> summary = homogeneity_summary([1.2, 0.7, 9.0, 40.0], 3, 1000, 10.0)
     >>> summary["homogeneous"], summary["homogeneity_lost_after"], summary["shear_mode_energy_max"]
     (False, 30.0, 40.0)
     """
@@ -153,23 +218,46 @@ def homogeneity_summary(block_values, dim: int, collisions_per_block: float) -> 
     known = np.flatnonzero(np.isfinite(values))
     if known.size == 0:
         return {}
-    threshold = homogeneity_threshold(dim, known.size)
+    threshold = homogeneity_threshold(dim, int(known.size), expected=expected)
     above = known[values[known] > threshold]
-    return {"shear_mode_energy": float(values[known[-1]]), "shear_mode_energy_max": float(np.max(values[known])),
-            "shear_mode_energy_threshold": threshold, "homogeneous": bool(above.size == 0),
-            "homogeneity_lost_after": None if above.size == 0 else float((above[0] + 1) * collisions_per_block)}
+    most = float(np.max(values[known]))
+    return {"shear_mode_energy": float(values[known[-1]]), "shear_mode_energy_max": most,
+            "shear_mode_energy_expected": float(expected), "shear_mode_energy_threshold": threshold,
+            "homogeneous": bool(above.size == 0),
+            "homogeneity_lost_after": None if above.size == 0 else float((above[0] + 1) * collisions_per_block),
+            "shear_flow_energy_fraction": shear_flow_fraction(most, dim, particles)}
+
+
+def cooling_state_shear_energy(box_length: float, critical_length: float) -> float:
+    r"""The mean :func:`shear_mode_energy` of a stable homogeneous cooling state: :math:`1/(1 - (L/L_c)^2)`.
+
+    Below the critical length the shear modes are damped, but less than
+    in equilibrium as the gas cools, and their fluctuations are enhanced by
+    this factor (fluctuating hydrodynamics of the cooling state with
+    equilibrium-like noise: van Noije, Ernst, Brito & Orza, Phys. Rev. Lett.
+    79, 411 (1997)); measured for discs at eta 0.05, e = 0.9 (12 seeds):
+    1.29 +- 0.13 at 0.5 L_c (1.33), 2.46 +- 0.33 at 0.7 L_c (1.96), 3.22 +-
+    0.56 at 0.85 L_c (3.60). inf at and beyond L_c.
+
+    Examples
+    --------
+    >>> round(cooling_state_shear_energy(50.0, 100.0), 3)
+    1.333
+    """
+    ratio = box_length / critical_length
+    return 1.0 / (1.0 - ratio**2) if ratio < 1.0 else math.inf
 
 
 def _dilute_mode(restitution, packing_fraction, dim, diameter):
     """(zeta*, nu_eta* - zeta*/2, C_d, mean free path scale l = 1 / (n sigma^(d-1))), checked."""
-    alpha = _checks.bounded(restitution, "restitution", 0.0, 1.0, closed=(False, True))
+    alpha = _checks.bounded(restitution, "restitution", 0.0, 1.0, closed=(True, True))
     eta = _checks.bounded(packing_fraction, "packing_fraction", 0.0, 1.0, closed=(False, False))
     dim = _checks.dimension(dim)
     if dim == 1:
         raise ValueError("dim must be 2 or 3: a line has no shear modes")
     diameter = _checks.positive(diameter, "diameter")
     cooling, momentum = dilute_granular_rates(alpha, dim)
-    viscosity_constant = (dim + 2) * math.gamma(dim / 2) / (8 * math.pi ** ((dim - 1) / 2))  # eta_0 sigma^(d-1)/sqrt(mT)
+    viscosity_constant = float(_first_sonine(dim, 1.0, 1.0, 1.0)[0])  # C_d = eta_0 sigma^(d-1) / sqrt(m kT)
     density = eta / float(_ball_volume(diameter / 2, dim))
     return cooling, momentum - cooling / 2, viscosity_constant, 1.0 / (density * diameter ** (dim - 1))
 
@@ -198,7 +286,7 @@ def shear_instability_length(restitution, packing_fraction, dim=3, diameter=1.0)
     Parameters
     ----------
     restitution : float
-        alpha in (0, 1]; 1 gives inf (an elastic gas is stable).
+        alpha in [0, 1]; 1 gives inf (an elastic gas is stable).
     packing_fraction : float
         In (0, 1).
     dim : {2, 3}
@@ -235,7 +323,25 @@ def shear_mode_growth(restitution, box_length, packing_fraction, dim=3, diameter
 
     Negative in a stable box (an elastic gas: the viscous decay alone); the
     mode's energy grows as :math:`e^{2gC}`. Dilute limit, Maxwellian first
-    Sonine order, as :func:`shear_instability_length`.
+    Sonine order, as :func:`shear_instability_length`; Navier-Stokes needs
+    :math:`k\ell \ll 1` (a box of many mean free paths).
+
+    Parameters
+    ----------
+    restitution : float
+        alpha in [0, 1].
+    box_length : float
+        L > 0, the mode's wavelength.
+    packing_fraction : float
+        In (0, 1).
+    dim : {2, 3}
+    diameter : float
+        > 0.
+
+    Returns
+    -------
+    float
+        g, per collision per particle (2 per pair collision / N).
 
     Examples
     --------
@@ -260,9 +366,21 @@ def box_instability(parameters, box) -> dict | None:
 
     It applies to one species of smooth spheres or discs with a constant
     restitution below 1, at rest, at packing fractions up to
-    :data:`DILUTE_INSTABILITY_LIMIT`. Returns ``box_length`` (the longest
-    side), ``shear_instability_length`` (:func:`shear_instability_length`)
-    and ``shear_mode_growth`` (:func:`shear_mode_growth` at the longest side).
+    :data:`DILUTE_INSTABILITY_LIMIT` (the theory is of a constant e: a run
+    that reached its elastic floor is not what it describes).
+
+    Parameters
+    ----------
+    parameters : EdmdParameters
+    box : array_like
+        The run's box lengths.
+
+    Returns
+    -------
+    dict or None
+        ``box_length`` (the longest side), ``shear_instability_length``
+        (:func:`shear_instability_length`) and ``shear_mode_growth``
+        (:func:`shear_mode_growth` at the longest side).
 
     Examples
     --------
@@ -294,12 +412,25 @@ def instability_note(parameters, box, share: float = 100.0) -> str | None:
     most particles that keep the box below the critical length at the same
     packing fraction.
 
+    Parameters
+    ----------
+    parameters : EdmdParameters
+        Resolved (``total_collisions`` known).
+    box : array_like
+        The run's box lengths.
+    share : float
+        The growth of the mode's energy to report, > 1.
+
+    Returns
+    -------
+    str or None
+
     Examples
     --------
     >>> from collisionkit.edmd import EdmdParameters
     >>> p = EdmdParameters(dim=2, particles=2000, packing_fraction=0.05, restitution=0.7, collisions=20000)
     >>> print(instability_note(p.resolved(seed=1), [177.2, 177.2]))
-    the box (side 177) is 2.2 times the shear instability's critical length at e = 0.7 (81.6, dilute Navier-Stokes theory): its box-scale shear flows grow to 100 times a homogeneous gas's share of the energy in about 23 collisions per particle (the run does 60), into vortices; 423 particles or fewer keep this packing fraction homogeneous
+    the box (side 177) is 2.17 times the shear instability's critical length at e = 0.7 (81.6, dilute Navier-Stokes theory): its box-scale shear flows grow to 100 times an uncorrelated gas's share of the energy in about 23 collisions per particle (the run does 60, its equilibration included), into vortices; 423 particles or fewer keep the box below the critical length at this packing fraction (well below it, under half, its flows stay near an uncorrelated gas's)
     """
     found = box_instability(parameters, box)
     if found is None or found["shear_mode_growth"] <= 0.0:
@@ -310,8 +441,9 @@ def instability_note(parameters, box, share: float = 100.0) -> str | None:
     growing = math.log(share) / (2.0 * found["shear_mode_growth"])
     collisions = 2.0 * p.total_collisions / p.particles
     stable = int(p.particles * (critical / side) ** p.dim)
-    return (f"the box (side {side:.3g}) is {side / critical:.2g} times the shear instability's critical length at "
+    return (f"the box (side {side:.3g}) is {side / critical:.3g} times the shear instability's critical length at "
             f"e = {restitution:g} ({critical:.3g}, dilute Navier-Stokes theory): its box-scale shear flows grow "
-            f"to {share:g} times a homogeneous gas's share of the energy in about {growing:.2g} collisions per particle "
-            f"(the run does {collisions:.3g}), into vortices; {stable} particles or fewer keep this packing fraction "
-            "homogeneous")
+            f"to {share:g} times an uncorrelated gas's share of the energy in about {growing:.0f} collisions per particle "
+            f"(the run does {collisions:.0f}, its equilibration included), into vortices; {stable} particles or fewer "
+            "keep the box below the critical length at this packing fraction (well below it, under half, its flows "
+            "stay near an uncorrelated gas's)")

@@ -60,10 +60,12 @@ class Measurement:
     block's: 1 at equipartition, which an inelastic mixture does not reach), ``cooling_rate`` (a gas that loses energy, at
     rest and without gravity: -d ln kT / dC, C the collisions per particle,
     the mean of the blocks' -ln(kT_k / kT_k-1) / dC after the first, with ``cooling_rate_error``;
-    Haff's law gives (1 - e^2) / d for one species; else NaN; in a periodic
-    box ``block_shear_mode_energy`` says whether it stayed homogeneous, each
-    block end's :func:`~collisionkit.edmd.shear_mode_energy`, about 1 if so,
-    and :meth:`summary` adds :func:`~collisionkit.edmd.homogeneity.homogeneity_summary`'s keys), ``sonine_a2``
+    Haff's law gives (1 - e^2) / d for one species; else NaN; at rest in a
+    periodic box without gravity ``block_shear_mode_energy`` is each block
+    end's :func:`~collisionkit.edmd.shear_mode_energy`, about 1 for
+    uncorrelated velocities, and :meth:`summary` adds, for a gas that lost
+    energy, :func:`~collisionkit.edmd.homogeneity.homogeneity_summary`'s
+    keys against uncorrelated velocities), ``sonine_a2``
     (particles of one mass at rest: the velocity distribution's fourth
     cumulant d/(d+2) <v^4>/<v^2>^2 - 1 at the block ends, 0 for Maxwell's,
     with ``sonine_a2_error``), ``potential_energy``
@@ -196,9 +198,9 @@ class Measurement:
                 "potential_energy", "potential_energy_error", "temperature_mean", "temperature_mean_error")}
         if math.isfinite(self.cooling_rate):
             result |= {"cooling_rate": self.cooling_rate, "cooling_rate_error": self.cooling_rate_error}
-            if self.block_shear_mode_energy is not None:  # did it stay homogeneous?
-                per_block = 2.0 * self.collisions / (self.particles * self.block_shear_mode_energy.size)
-                result |= homogeneity_summary(self.block_shear_mode_energy, self.dim, per_block)
+        if self.block_shear_mode_energy is not None and self.energy_lost > 0:  # a cooling gas: still homogeneous?
+            per_block = 2.0 * self.collisions / (self.particles * self.block_shear_mode_energy.size)
+            result |= homogeneity_summary(self.block_shear_mode_energy, self.dim, self.particles, per_block)
         if math.isfinite(self.sonine_a2):
             result |= {"sonine_a2": self.sonine_a2, "sonine_a2_error": self.sonine_a2_error}
         if self.block_temperature_ratio is not None:

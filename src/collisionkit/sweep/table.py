@@ -132,7 +132,8 @@ def write_parquet(path, table: list[Mapping[str, Any]]) -> Path | None:
 def aggregate(table: Iterable[Mapping[str, Any]], key: str, by: Iterable[str]) -> list[dict[str, Any]]:
     """The value and error of ``key`` per combination of the ``by`` columns, combining the replicas.
 
-    Only successful rows with a finite value count. The replicas are
+    Only successful rows with a finite value count; a boolean counts as 1
+    or 0 (its mean the fraction of replicas where true). The replicas are
     combined by :func:`~collisionkit.sweep.statistics.combine_replicas`: the
     weighted mean with their own errors (``<key>_error``) and their scatter,
     or the plain mean and ``std(ddof=1) / sqrt(n)`` without own errors.
@@ -154,7 +155,9 @@ def aggregate(table: Iterable[Mapping[str, Any]], key: str, by: Iterable[str]) -
     groups: dict[tuple, list[Mapping[str, Any]]] = {}
     for row in table:
         value = row.get(key)
-        if row.get("status") == "ok" and _is_number(value) and math.isfinite(value):
+        if row.get("status") == "ok" and isinstance(value, bool):  # a yes/no result: the fraction of replicas
+            groups.setdefault(group_key(row, by), []).append({**row, key: float(value)})
+        elif row.get("status") == "ok" and _is_number(value) and math.isfinite(value):
             groups.setdefault(group_key(row, by), []).append(row)
     return [{name: rows[0][name] for name in by} | combine_rows(rows, key) for rows in groups.values()]
 
