@@ -39,7 +39,7 @@ def test_help_lists_the_command_and_its_defaults():
     assert "edmd" in runner.invoke(app, ["--help"]).output
     result = runner.invoke(app, ["edmd", "--help"], env={"COLUMNS": "200"})
     assert result.exit_code == 0
-    for text in ("--packing-fraction", "[default: 0.3]", "[default: 20 per particle]", "--resume", "--frame-every"):
+    for text in ("--packing-fraction", "[default: 0.3]", "[default: 20 N: C = 40]", "--resume", "--frame-every"):
         assert text in result.output, text
 
 

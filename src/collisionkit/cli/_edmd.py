@@ -460,11 +460,11 @@ def edmd(
         typer.Option(help=_help("Rough spheres' rotational kT at the start, 0 to 100 (0: no spin).", "1, equipartition")),
     ] = None,
     equilibration: Annotated[
-        int | None, typer.Option(help=_help("Pair collisions before measuring (0 to 1e14).", "20 per particle"))
+        int | None, typer.Option(help=_help("Pair collisions before measuring (0 to 1e14); each takes two particles, so C = 2 pairs / N collisions per particle.", "20 N: C = 40"))
     ] = None,
     collisions: Annotated[
         int | None,
-        typer.Option(help=_help("Pair collisions measured (>= blocks, at most 1e14; rounded down to a multiple of blocks).", "200 per particle")),
+        typer.Option(help=_help("Pair collisions measured (>= blocks, at most 1e14; rounded down to a multiple of blocks).", "200 N: C = 400")),
     ] = None,
     blocks: Annotated[int | None, typer.Option(help=_help("Measurement blocks for the error bars (2 to 100000).", "10"))] = None,
     seed: Annotated[int | None, typer.Option(help=_help("Random seed (>= 0).", "random, reported"))] = None,
@@ -477,7 +477,7 @@ def edmd(
     transport: Annotated[
         bool | None,
         typer.Option("--transport/--no-transport",
-                     help=_help("Also measure shear and bulk viscosity, thermal conductivity and self-diffusion (Einstein-Helfand moments; units sigma, m, kT), the pressure tensor and the velocity autocorrelation; needs restitution 1.", "no transport; with it the default --collisions is 2000 per particle")),
+                     help=_help("Also measure shear and bulk viscosity, thermal conductivity and self-diffusion (Einstein-Helfand moments; units sigma, m, kT), the pressure tensor and the velocity autocorrelation; needs restitution 1.", "no transport; with it the default --collisions is 2000 N")),
     ] = None,
     yeh_hummer: Annotated[
         bool | None,

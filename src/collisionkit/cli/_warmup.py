@@ -168,7 +168,7 @@ def warm_up(domains: Iterable[str], always: Iterable[str] = ()) -> bool:
         return False
     start = time.perf_counter()
     if compiling:
-        note(f"{NOTICE}: numba turns them into machine code once and caches it; this takes a minute or so")
+        note(f"{NOTICE}: numba turns them into machine code once and caches it; this takes one to a few minutes")
     with error_console.status(NOTICE if compiling else "loading kernels", spinner="dots"):
         for domain in runs:
             TINY_RUNS[domain]()

@@ -164,7 +164,7 @@ def observables(sampler) -> dict:
         mixture |= {"species_diffusion": by_species[0], "species_diffusion_error": by_species[1]}
     if "species_temperature" in record:
         mixture |= _species_temperatures(np.asarray(record["species_temperature"], dtype=float))
-    if "shear_mode_energy" in record:
+    if "shear_mode_energy" in record:  # (with the mixture's fields, though any run at rest has it)
         mixture["block_shear_mode_energy"] = np.asarray(record["shear_mode_energy"], dtype=float)
     if "temperature_ratio" in record:  # rough spheres
         ratios = np.asarray(record["temperature_ratio"], dtype=float)

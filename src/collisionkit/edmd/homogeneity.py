@@ -130,7 +130,8 @@ def shear_mode_energy(positions, velocities, box, masses=None) -> float:
 def homogeneity_threshold(dim: int, blocks: int, false_alarm: float = FALSE_ALARM, expected: float = 1.0) -> float:
     """The :func:`shear_mode_energy` that uncorrelated velocities exceed at one of ``blocks`` block ends with
     probability ``false_alarm`` or less: ``expected`` times the Gamma(M, 1/M) quantile of ``false_alarm / blocks``
-    (a Bonferroni bound over the blocks; correlated blocks only make it safer).
+    (a Bonferroni bound over the blocks; correlated blocks only make it safer). It rises with the blocks, so a
+    run extended by more blocks may no longer cross it where it crossed before.
 
     Parameters
     ----------

@@ -109,10 +109,11 @@ class EdmdParameters(Parameters):
         Rough spheres' rotational kT at the start, in [0, 100] (default 1,
         equipartition; 0 starts them without spin).
     equilibration : int, optional
-        Pair collisions before measuring (>= 0; default 20 per particle).
+        Pair collisions before measuring (>= 0; default 20 N, each particle
+        colliding 40 times on average).
     collisions : int, optional
-        Pair collisions measured (>= blocks; default 200 per particle, 2000
-        with ``transport``).
+        Pair collisions measured (>= blocks; default 200 N, 2000 N with
+        ``transport``).
     blocks : int
         Measurement blocks for the error bars, 2 to 100000.
     seed : int, optional
