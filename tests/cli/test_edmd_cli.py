@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import csv
 import json
 import math
 from pathlib import Path
@@ -78,7 +79,7 @@ def test_hard_discs_from_a_lattice_with_plots_and_xyz(tmp_path):
     assert data["dim"] == 2 and data["initial"] == "hexagonal" and data["theory"] == "Henderson (1975)"
     assert data["compressibility_factor"] == pytest.approx(float(edmd.henderson(0.3)), rel=0.03)
     names = {"equation_of_state.png", "speed_distribution.png", "snapshot.png", "radial_distribution.png"}
-    assert {Path(name).name for name in data["files"]} == names | {"final.xyz"}
+    assert {Path(name).name for name in data["files"]} == names | {"final.xyz", "blocks.csv"}
     for name in names:
         assert (out / name).stat().st_size > 10_000
     lines = xyz.read_text().splitlines()
@@ -630,6 +631,11 @@ def test_a_cooling_run_says_whether_it_stayed_homogeneous(tmp_path):
     assert "is 2.17 times the shear instability's critical length at e = 0.7 (81.6" in said  # before the run
     assert summary["shear_instability_length"] == pytest.approx(81.57, abs=0.01)
     assert (tmp_path / "out" / "cooling.png").stat().st_size > 10_000
+    with open(tmp_path / "out" / "blocks.csv") as handle:  # the blocks' records, as Measurement.block_table
+        rows = list(csv.DictReader(handle))
+    assert [float(row["collisions_per_particle"]) for row in rows] == [2.0 * k for k in range(1, 11)]
+    assert max(float(row["shear_mode_energy"]) for row in rows) == summary["shear_mode_energy_max"]
+    assert {"temperature", "compressibility", "frequency", "sonine_a2", "msd", "time"} <= set(rows[0])
     small = invoke("--particles", "500", "--packing-fraction", "0.02", "--restitution", "0.9", "--collisions",
                    "25000", "--seed", "3", "--no-plots", "--summary", tmp_path / "small.json")
     assert small.exit_code == 0, small.output

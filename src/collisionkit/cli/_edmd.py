@@ -23,7 +23,7 @@ from ._common import (
     INTERRUPTED_EXIT_CODE, Options, OverwriteOption, fail, fail_for_option, fraction_reporter, load_options, note,
     option_values, progress_bar, refuse_folder, require_gsd, require_plotting, run_failed, validate_options, warn,
 )
-from ._edmd_report import PLOTS, report
+from ._edmd_report import OUT_FILES, report
 from ._memory import edmd_memory, refuse_beyond_memory, size
 from ._warmup import warm_up
 
@@ -118,8 +118,8 @@ class EdmdOptions(Options):
         return self
 
     def folder_files(self, folder: str) -> tuple[str, ...]:
-        """The plots of ``--out`` (an earlier run's are not replaced without --overwrite)."""
-        return PLOTS
+        """The plots and ``blocks.csv`` of ``--out`` (an earlier run's are not replaced without --overwrite)."""
+        return OUT_FILES
 
     def unwritten(self) -> set[str]:
         """``out`` without plots: nothing goes there.
@@ -526,7 +526,7 @@ def edmd(
         typer.Option(help=_help("A frame at the first chunk or block end after every N pair collisions (a note says the interval this gives).", "only the last frame")),
     ] = None,
     xyz: Annotated[Path | None, typer.Option(help="Write the final state as extended XYZ (ASE, OVITO).")] = None,
-    out: Annotated[Path | None, typer.Option(help=_help("Folder for the plots.", "edmd-output"))] = None,
+    out: Annotated[Path | None, typer.Option(help=_help("Folder for the plots and blocks.csv (a row per block: C, time, kT, Z, collision frequency, a2, T_r/T, the shear modes' energy, ...).", "edmd-output"))] = None,
     plots: Annotated[bool | None, typer.Option("--plots/--no-plots", help=_help("Write plots.", "plots"))] = None,
     checkpoint: Annotated[
         Path | None, typer.Option(help="Write the full state to this .npz after every chunk (atomically).")

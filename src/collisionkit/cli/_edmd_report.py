@@ -13,6 +13,7 @@ from ._common import Deliveries, print_table, say, warn
 # cooling for a gas that cooled at rest only)
 PLOTS = ("equation_of_state.png", "speed_distribution.png", "snapshot.png", "radial_distribution.png",
          "helfand_moments.png", "cooling.png")
+OUT_FILES = (*PLOTS, "blocks.csv")  # what --out gets: the plots and the blocks' records (Measurement.block_table)
 
 
 def _theory_column(result: dict) -> tuple[str, str, str, str]:
@@ -325,6 +326,10 @@ def _plots(run, measurement, out: Path, deliveries: Deliveries) -> None:
     deliveries.write(f"the plot folder {out}", folder)
     for name, draw in figures:
         deliveries.write(f"the plot {out / name}", lambda name=name, draw=draw: plotting.save(draw(), out / name))
+    from .._io import write_csv
+
+    deliveries.write(f"the block table {out / 'blocks.csv'}",
+                     lambda: write_csv(out / "blocks.csv", measurement.block_table()))
     drawn = {name for name, _ in figures}
     for name in PLOTS:  # an earlier run's plot that this run does not draw (replaced with --overwrite) goes
         if name not in drawn:

@@ -12,6 +12,7 @@ and path, and, under shear, the stress, viscosity and energy budget.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
@@ -240,7 +241,38 @@ def _sonine_a2(sampler) -> dict:
         return {}
     dim = system.dim
     values = [dim / (dim + 2.0) * np.mean(speeds**4) / np.mean(speeds**2) ** 2 - 1.0 for speeds in sampler.speeds]
-    return {"sonine_a2": float(np.mean(values)), "sonine_a2_error": _msd.block_error(values)}
+    return {"sonine_a2": float(np.mean(values)), "sonine_a2_error": _msd.block_error(values),
+            "block_sonine_a2": np.asarray(values)}
+
+
+def block_rows(measurement) -> list[dict]:
+    """A row per block of ``measurement``: its number, the collisions per particle C and the time at its end,
+    then every ``block_*`` series of the measurement (a species' series as ``name[a]``) and the MSD.
+
+    Examples
+    --------
+    >>> from collisionkit.edmd import measure, random_fluid
+    >>> rows = block_rows(measure(random_fluid(2, 100, 0.2, seed=1), collisions=2000, blocks=4))
+    >>> len(rows), rows[-1]["block"], rows[-1]["collisions_per_particle"]
+    (4, 4, 40.0)
+    """
+    series = {field.name.removeprefix("block_"): getattr(measurement, field.name)
+              for field in dataclasses.fields(measurement) if field.name.startswith("block_")}
+    series = {name: np.asarray(values, dtype=float) for name, values in series.items() if values is not None}
+    blocks = len(measurement.block_temperature)
+    per_block = 2.0 * measurement.collisions / (measurement.particles * blocks)
+    rows = []
+    for index in range(blocks):
+        row = {"block": index + 1, "collisions_per_particle": per_block * (index + 1),
+               "time": float(measurement.msd_time[index + 1])}
+        for name, values in series.items():
+            if values.ndim == 1:
+                row[name] = float(values[index])
+            else:
+                row |= {f"{name}[{kind}]": float(value) for kind, value in enumerate(values[index])}
+        row["msd"] = float(measurement.msd[index + 1])
+        rows.append(row)
+    return rows
 
 
 def _mean_free_path(sampler, mean_speed, omega, omega_error, cooling: bool) -> dict:

@@ -19,8 +19,8 @@ from .._kernels import edmd as _k
 from .._repr import html_table, measurement_rows
 from . import _checks, _msd, _pair_distribution
 from ._sampler_records import (
-    HOMOGENEITY_RECORDS, MIXTURE_RECORDS, RECORDS, ROUGH_RECORDS, SHEAR_RECORDS, block_start, homogeneity_measurable,
-    observables, record_block,
+    HOMOGENEITY_RECORDS, MIXTURE_RECORDS, RECORDS, ROUGH_RECORDS, SHEAR_RECORDS, block_rows, block_start,
+    homogeneity_measurable, observables, record_block,
 )
 from ._sampler_state import restore_sampler, sampler_arrays
 from ._shear import run_sheared
@@ -165,6 +165,7 @@ class Measurement:
     temperature_ratio_error: float = math.nan
     block_temperature_ratio: np.ndarray | None = field(default=None, repr=False)
     block_shear_mode_energy: np.ndarray | None = field(default=None, repr=False)
+    block_sonine_a2: np.ndarray | None = field(default=None, repr=False)
 
     @property
     def collisions_per_second(self) -> float:
@@ -210,6 +211,21 @@ class Measurement:
             result |= {"self_diffusion": self.diffusion_coefficient,
                        "self_diffusion_error": self.diffusion_coefficient_error} | self.transport.summary()
         return result
+
+    def block_table(self) -> list[dict]:
+        """A row per block: ``block``, ``collisions_per_particle`` C and ``time`` at its end, each ``block_*``
+        series (kT at the end, its mean, Z, the collision frequency, a2, T_r / T, the shear modes' energy,
+        each species' T_a / T as ``species_temperatures[a]``, ...) and the MSD; ``collisionkit edmd`` writes it
+        as ``blocks.csv``.
+
+        Examples
+        --------
+        >>> from collisionkit.edmd import measure, random_fluid
+        >>> rows = measure(random_fluid(2, 100, 0.2, seed=1), collisions=2000, blocks=4).block_table()
+        >>> [key for key in rows[0]][:5]
+        ['block', 'collisions_per_particle', 'time', 'temperature', 'compressibility']
+        """
+        return block_rows(self)
 
     def _repr_html_(self):
         return html_table("Measurement", measurement_rows(self))
