@@ -642,3 +642,13 @@ def test_a_cooling_run_says_whether_it_stayed_homogeneous(tmp_path):
     assert json.loads((tmp_path / "small.json").read_text())["homogeneous"] is True
     said = " ".join(small.output.split())
     assert "homogeneous: below" in said and "box 0.16 L_c" in said and "critical length" not in said
+
+
+def test_an_elastic_equilibration_leaves_the_cooling_to_the_measurement(tmp_path):
+    """--elastic-equilibration: the summary's parameters keep it, the floor's advice counts only the measured
+    collisions (they alone cool)."""
+    result = invoke("--particles", "100", "--restitution", "0.9", "--seed", "1", "--no-plots", "--elastic-equilibration",
+                    "--summary", tmp_path / "s.json")
+    said = " ".join(result.output.split())
+    assert result.exit_code == 0 and "these 20000 pair collisions cool kT from 1" in said  # (22000 without)
+    assert json.loads((tmp_path / "s.json").read_text())["parameters"]["elastic_equilibration"] is True

@@ -200,6 +200,32 @@ def test_the_note_tells_flows_near_the_instability_from_vortices(fraction, growt
     assert says in note and advice in note and "at most 40" in note
     assert "C = 1 collisions per particle measured (after 4 of equilibration, which cooled it too)" in note
     later = homogeneity_wording(measured | {"homogeneity_lost_after": 3.0, "shear_mode_energy_expected": 1.5}, p)
-    assert "equilibration" not in later and "the cooling state's in this box, 1.5 times it, included" in later
+    assert "of equilibration" not in later and "the cooling state's in this box, 1.5 times it, included" in later
     kept = homogeneity_wording(measured | {"homogeneous": True, "homogeneity_lost_after": None}, p)
     assert kept.startswith("it stayed homogeneous") and "below 5 times" in kept
+
+
+def test_an_elastic_equilibration_starts_the_cooling_with_the_measurement(tmp_path, monkeypatch):
+    # with it the equilibration loses nothing (every contact elastic and smooth), the floor comes back after, and a
+    # large box's shear flows start near an uncorrelated gas's share and grow (vortices form during the measurement)
+    parameters = dict(dim=2, particles=2000, packing_fraction=0.05, restitution=0.7, seed=3, collisions=20000,
+                      blocks=10)
+    elastic = EdmdRun(EdmdParameters(**parameters, elastic_equilibration=True), checkpoint=tmp_path / "run.npz")
+    floor = elastic.system.elastic_below
+    elastic.run()
+    measured = elastic.measurement()
+    assert elastic.system.energy_lost == pytest.approx(measured.energy_lost, rel=1e-12) and floor > 0
+    assert elastic.system.elastic_below == floor and measured.block_temperature[0] > 0.3
+    assert measured.block_shear_mode_energy[0] < 10 < 100 < measured.block_shear_mode_energy[-1]
+    assert EdmdRun.resume(tmp_path / "run.npz").parameters.elastic_equilibration is True
+    inelastic = EdmdRun(EdmdParameters(**parameters)).run()
+    assert inelastic.system.energy_lost > 1.5 * inelastic.measurement().energy_lost  # it cooled before measuring
+    assert inelastic.measurement().block_temperature[0] < 1e-3
+    interrupted = EdmdRun(EdmdParameters(**parameters, elastic_equilibration=True))
+    monkeypatch.setattr(type(interrupted.system), "run", lambda *args, **kwargs: (_ for _ in ()).throw(
+        KeyboardInterrupt))
+    with pytest.raises(KeyboardInterrupt):
+        interrupted.run()
+    assert interrupted.system.elastic_below == floor  # restored on the way out
+    with pytest.raises(ValueError, match="elastic_equilibration must be true or false"):
+        EdmdParameters(elastic_equilibration="yes")

@@ -58,6 +58,7 @@ class EdmdOptions(Options):
     friction: float | None = None
     initial_rotational_temperature: float = 1.0
     equilibration: int | None = Field(default=None, ge=0)
+    elastic_equilibration: bool = False
     collisions: int | None = Field(default=None, ge=2)
     blocks: int = Field(default=10, ge=2, le=100_000)
     seed: int | None = Field(default=None, ge=0)
@@ -229,13 +230,15 @@ def _cooling_to_the_floor(parameters) -> str | None:
     floor = (p.elastic_below if p.elastic_below is not None else 1e-6 if inelastic else 0.0) ** 2
     if rate <= 0.0 or floor <= 0.0 or 100.0 * floor >= 1.0:  # (a floor near kT = 1: the run stays elastic, and
         return None                                           # its end says so)
-    final = math.exp(-rate * 2.0 * p.total_collisions / p.particles)
+    cooling = p.total_collisions - (p.equilibration if p.elastic_equilibration else 0)  # pair collisions that cool
+    final = math.exp(-rate * 2.0 * cooling / p.particles)
     if final > 100.0 * floor:
         return None
-    above = int(math.log(1.0 / (100.0 * floor)) * p.particles / (2.0 * rate)) - p.equilibration
+    above = int(math.log(1.0 / (100.0 * floor)) * p.particles / (2.0 * rate)) - (
+        0 if p.elastic_equilibration else p.equilibration)
     advice = (f"give --collisions {max(above, p.blocks)} or fewer" if above > p.blocks else
               "give fewer --equilibration collisions, or a higher --elastic-below floor is reached at once")
-    return (f"{what}: by {law} these {p.total_collisions} pair collisions cool kT from 1 to about "
+    return (f"{what}: by {law} these {cooling} pair collisions cool kT from 1 to about "
             f"{max(final, floor):.0e}, to its elastic floor (about {floor:.0e}, where contacts turn elastic); to "
             f"follow the cooling itself {advice}")
 
@@ -462,6 +465,11 @@ def edmd(
     equilibration: Annotated[
         int | None, typer.Option(help=_help("Pair collisions before measuring (0 to 1e14); each takes two particles, so C = 2 pairs / N collisions per particle.", "20 N: C = 40"))
     ] = None,
+    elastic_equilibration: Annotated[
+        bool | None,
+        typer.Option("--elastic-equilibration/--inelastic-equilibration",
+                     help=_help("Equilibrate with every contact elastic and smooth: a cooling run starts at kT = 1 when the measurement begins.", "inelastic: the equilibration cools too")),
+    ] = None,
     collisions: Annotated[
         int | None,
         typer.Option(help=_help("Pair collisions measured (>= blocks, at most 1e14; rounded down to a multiple of blocks).", "200 N: C = 400")),
@@ -550,7 +558,7 @@ def edmd(
     """
     given = dict(
         dim=dim, particles=particles, packing_fraction=packing_fraction, restitution=restitution,
-        elastic_below=elastic_below, restitution_law=restitution_law, law_speed=law_speed, law_exponent=law_exponent, tangential_restitution=tangential_restitution, inertia_factor=inertia_factor, friction=friction, initial_rotational_temperature=initial_rotational_temperature, equilibration=equilibration, collisions=collisions, blocks=blocks, seed=seed, initial=initial,
+        elastic_below=elastic_below, restitution_law=restitution_law, law_speed=law_speed, law_exponent=law_exponent, tangential_restitution=tangential_restitution, inertia_factor=inertia_factor, friction=friction, initial_rotational_temperature=initial_rotational_temperature, equilibration=equilibration, elastic_equilibration=elastic_equilibration, collisions=collisions, blocks=blocks, seed=seed, initial=initial,
         transport=transport, yeh_hummer=yeh_hummer, shear_rate=shear_rate, thermostat=thermostat, engine=engine, well_width=well_width, well_depth=well_depth, fractions=fractions, diameters=diameters, masses=masses, summary=summary, trajectory=trajectory, frame_every=frame_every, xyz=xyz, out=out, plots=plots,
         checkpoint=checkpoint, overwrite=overwrite,
     )  # fmt: skip

@@ -91,7 +91,7 @@ def checked_parameters(p) -> dict[str, Any]:
     if p.initial != "random":
         lattice_cells(p.initial, p.dim, values["particles"])
     shear_rate = values["shear_rate"] = check_real("shear_rate", p.shear_rate, 0.0, MAX_SHEAR_RATE)
-    for name in ("transport", "yeh_hummer", "thermostat"):
+    for name in ("transport", "yeh_hummer", "thermostat", "elastic_equilibration"):
         if not isinstance(getattr(p, name), bool):
             raise ValueError(f"{name} must be true or false; got {getattr(p, name)!r}")
     check_choice("engine", p.engine, ENGINES)

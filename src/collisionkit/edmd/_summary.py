@@ -427,10 +427,12 @@ def homogeneity_wording(measured: dict, p) -> str:
     lost = measured["homogeneity_lost_after"]
     when = f"by C = {lost:.3g} collisions per particle measured"
     first_block = 2.0 * (p.collisions // p.blocks) / p.particles  # collisions per particle
-    if math.isclose(lost, first_block) and p.equilibration > 0:
+    if math.isclose(lost, first_block) and p.equilibration > 0 and not p.elastic_equilibration:
         when += f" (after {2.0 * p.equilibration / p.particles:.3g} of equilibration, which cooled it too)"
     growing = measured.get("shear_mode_growth", 1.0) > 0.0  # (no theory: it may grow)
-    advice = ("a smaller box, a restitution closer to 1 or fewer collisions keep it homogeneous" if growing else
+    advice = ("a smaller box, a restitution closer to 1 or fewer collisions keep it homogeneous"
+              + ("" if p.elastic_equilibration else ", and --elastic-equilibration starts the cooling with the "
+                 "measurement") if growing else
               "a smaller box or a restitution closer to 1 keep it further from the instability")
     if measured["shear_flow_energy_fraction"] >= VORTICES:
         return (f"it did not stay homogeneous: {when}, its box-scale shear flows held more than {threshold:.3g} "

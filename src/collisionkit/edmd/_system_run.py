@@ -12,6 +12,7 @@ runs through the system's ``_run_events`` (:mod:`._system_events`).
 
 from __future__ import annotations
 
+import contextlib
 import math
 
 import numpy as np
@@ -135,3 +136,29 @@ def restart_clock(system):
         system._shear_clock(shift)
         system.elapsed += shift
         system.time = 0.0
+
+
+@contextlib.contextmanager
+def elastic_contacts(system, elastic: bool = True):
+    """Within the block every contact of ``system`` is elastic and smooth (if ``elastic``): its elastic floor is
+    raised to infinity, below which pairs and walls bounce elastically without a tangential impulse, and restored
+    after (an error included).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from collisionkit.edmd import HardSphereSystem, lattice, maxwell_boltzmann
+    >>> positions, box = lattice("square", 10, 0.3)
+    >>> system = HardSphereSystem(positions, maxwell_boltzmann(np.ones(100), 2, seed=1), 0.5, box, restitution=0.5)
+    >>> with elastic_contacts(system):
+    ...     _ = system.run(collisions=1000)
+    >>> system.energy_lost, system.elastic_below > 0
+    (0.0, True)
+    """
+    floor = system.params[_k.P_ELASTIC_BELOW]
+    if elastic:
+        system.params[_k.P_ELASTIC_BELOW] = math.inf
+    try:
+        yield system
+    finally:
+        system.params[_k.P_ELASTIC_BELOW] = floor

@@ -440,11 +440,12 @@ def instability_note(parameters, box, share: float = 100.0) -> str | None:
     side, critical = found["box_length"], found["shear_instability_length"]
     restitution = p.restitution if not isinstance(p.restitution, tuple) else p.restitution[0][0]
     growing = math.log(share) / (2.0 * found["shear_mode_growth"])
-    collisions = 2.0 * p.total_collisions / p.particles
+    collisions = 2.0 * (p.total_collisions - (p.equilibration if p.elastic_equilibration else 0)) / p.particles
     stable = int(p.particles * (critical / side) ** p.dim)
     return (f"the box (side {side:.3g}) is {side / critical:.3g} times the shear instability's critical length at "
             f"e = {restitution:g} ({critical:.3g}, dilute Navier-Stokes theory): its box-scale shear flows grow "
             f"to {share:g} times an uncorrelated gas's share of the energy in about {growing:.0f} collisions per particle "
-            f"(the run does {collisions:.0f}, its equilibration included), into vortices; {stable} particles or fewer "
+            f"(the run does {collisions:.0f}{'' if p.elastic_equilibration else ', its equilibration included'}), "
+            f"into vortices; {stable} particles or fewer "
             "keep the box below the critical length at this packing fraction (well below it, under half, its flows "
             "stay near an uncorrelated gas's)")

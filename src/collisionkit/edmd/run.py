@@ -33,11 +33,11 @@ import numpy as np
 from .._params import Parameters, check_integer
 from ._run_checks import checked_parameters, species_counts
 from ._run_files import RunFiles
+from ._run_setup import SPIN_STREAM, initial_system, refuse_existing  # noqa: F401 (SPIN_STREAM: importable here)
+from ._system_run import elastic_contacts
 from ._run_state import CHECKPOINT_KIND, restore_run, resume_arguments, save_run  # noqa: F401 (CHECKPOINT_KIND)
 from ._summary import BARELY_COOLED, cooling_note, edmd_summary  # noqa: F401 (BARELY_COOLED: the CLI's)
-from .initial import lattice, lattice_cells, maxwell_boltzmann, random_fluid
 from .measurement import Measurement, Sampler
-from ._rotation import UNIFORM_INERTIA, random_spins
 from .restitution_laws import BRIDGES_EXPONENT
 from .system import HardSphereSystem
 
@@ -48,8 +48,6 @@ COLLISIONS_PER_PARTICLE = 200
 # a transport run's default: 10 blocks of 200 per particle (400 mean free times) outlast the fit window tenfold
 TRANSPORT_COLLISIONS_PER_PARTICLE = 2000
 MIN_CHUNK = 10_000
-# the random stream of the initial spins, apart from the positions' and velocities' (drawn from the seed itself)
-SPIN_STREAM = 1
 # CHECKPOINT_KIND (the kind of the run's checkpoints) is defined in ._run_state, BARELY_COOLED (the kT above which an
 # inelastic run with an elastic floor is reported as not cooled) in ._summary: both are importable from here as before
 
@@ -111,6 +109,10 @@ class EdmdParameters(Parameters):
     equilibration : int, optional
         Pair collisions before measuring (>= 0; default 20 N, each particle
         colliding 40 times on average).
+    elastic_equilibration : bool
+        Equilibrate with every contact elastic and smooth, so that a cooling
+        run starts from an equilibrium fluid at kT = 1 when the measurement
+        begins (default False: the equilibration cools it too).
     collisions : int, optional
         Pair collisions measured (>= blocks; default 200 N, 2000 N with
         ``transport``).
@@ -195,6 +197,7 @@ class EdmdParameters(Parameters):
     friction: float | None = None
     initial_rotational_temperature: float = 1.0
     equilibration: int | None = None
+    elastic_equilibration: bool = False
     collisions: int | None = None
     blocks: int = 10
     seed: int | None = None
@@ -284,43 +287,6 @@ class EdmdParameters(Parameters):
         return self.equilibration + (self.collisions // self.blocks) * self.blocks
 
 
-def _initial_system(parameters: EdmdParameters, progress: Callable[[float], Any] | None = None) -> HardSphereSystem:
-    """The starting state: a compressed random fluid or a lattice with Maxwell-Boltzmann velocities."""
-    p = parameters
-    species = np.repeat(np.arange(len(p.species_counts)), p.species_counts)
-    diameters = np.asarray(p.diameters or (1.0,) * len(p.species_counts))[species]
-    masses = np.asarray(p.masses or (1.0,) * len(p.species_counts))[species]
-    if p.initial == "random":
-        fluid = random_fluid(p.dim, p.particles, p.packing_fraction, seed=p.seed, diameters=diameters, masses=masses,
-                             progress=progress)
-        positions, velocities, box = fluid.positions(), fluid.velocities(), fluid.box[: p.dim]
-    else:  # one species (the checks): unit diameters and masses
-        positions, box = lattice(p.initial, lattice_cells(p.initial, p.dim, p.particles), p.packing_fraction)
-        velocities = maxwell_boltzmann(masses, p.dim, kT=1.0, seed=p.seed)
-    spins = None
-    if p.tangential_restitution is not None:  # (drawn from a stream of their own: the velocities stay the same)
-        kappa = p.inertia_factor if p.inertia_factor is not None else UNIFORM_INERTIA[p.dim]
-        moments = kappa * masses * (diameters / 2.0) ** 2
-        spins = random_spins(moments, p.dim, kT=1.0, seed=np.random.SeedSequence([p.seed, SPIN_STREAM]))
-        # scaled to the rotational kT asked for exactly, as the velocities are to kT = 1
-        drawn = np.sum(moments * (spins**2 if p.dim == 2 else np.sum(spins**2, axis=1))) / (3 if p.dim == 3 else 1)
-        spins *= np.sqrt(p.initial_rotational_temperature * p.particles / drawn)
-    return HardSphereSystem(positions, velocities, diameters / 2.0, box, masses, species=species,
-                            restitution=p.restitution, restitution_law=p.restitution_law, law_speed=p.law_speed,
-                            law_exponent=p.law_exponent, elastic_below=p.elastic_below, shear_rate=p.shear_rate,
-                            thermostat=1.0 if p.thermostat else None, engine=p.engine, well_width=p.well_width,
-                            well_depth=p.well_depth, tangential_restitution=p.tangential_restitution,
-                            inertia_factor=p.inertia_factor, angular_velocities=spins, friction=p.friction)
-
-
-def _refuse_existing(**files) -> None:
-    """FileExistsError naming the first of ``files`` (name: path or None) that exists: a new run does not replace it."""
-    for name, path in files.items():
-        if path is not None and Path(path).exists():
-            raise FileExistsError(f"{name} {path} exists (another run's file): resume that run "
-                                  "(EdmdRun.resume), choose another file or pass overwrite=True")
-
-
 class EdmdRun:
     """An EDMD run: equilibration chunks then measurement blocks, with checkpoints and trajectory frames.
 
@@ -354,7 +320,7 @@ class EdmdRun:
         if not isinstance(parameters, EdmdParameters):
             raise TypeError(f"parameters must be EdmdParameters; got {type(parameters).__name__}")
         if _state is None and not overwrite:
-            _refuse_existing(checkpoint=checkpoint, trajectory=trajectory)
+            refuse_existing(checkpoint=checkpoint, trajectory=trajectory)
         if frame_every is not None:
             frame_every = check_integer("frame_every", frame_every, 1)
             if trajectory is None:
@@ -365,7 +331,7 @@ class EdmdRun:
         self.frame_every = frame_every
         self._continued = False
         if _state is None:
-            self.system = _initial_system(self.parameters, progress)
+            self.system = initial_system(self.parameters, progress)
             self.sampler: Sampler | None = None
             self.equilibrated, self.frames, self.last_frame = 0, 0, -1
             self.initial_energy = self.system.total_kinetic_energy()
@@ -515,7 +481,8 @@ class EdmdRun:
             chunk = max(p.particles, MIN_CHUNK)
             while self.equilibrated < p.equilibration:
                 step = min(chunk, p.equilibration - self.equilibrated)
-                done = self.system.run(collisions=step, progress=report(self.equilibrated))
+                with elastic_contacts(self.system, p.elastic_equilibration):
+                    done = self.system.run(collisions=step, progress=report(self.equilibrated))
                 if done == 0:
                     raise RuntimeError("the system stopped colliding during equilibration")
                 self.equilibrated += done
