@@ -82,6 +82,7 @@ BAD_INPUTS = [
     ("edmd", ["--shear-rate", "0.1", "--transport"], "transport cannot be combined with shear_rate"),
     ("edmd", ["--thermostat"], "thermostat needs a shear_rate"),
     ("edmd", ["--elastic-equilibration=1"], "does not take a value"),
+    ("edmd", ["--elastic-equilibration", "--restitution", "0.9", "--shear-rate", "0.5"], "needs the thermostat"),
     ("edmd", ["--thermostat=1"], "does not take a value"),
     ("edmd", ["--no-thermostat=1"], "does not take a value"),
     ("edmd", ["--engine", "bogus"], "--engine: Input should be 'auto', 'lists' or 'cells'"),

@@ -41,6 +41,10 @@ def test_points_give_a_boolean_s_fraction_of_successful_replicas_and_text_that_a
     assert "homogeneous" not in point and point["replicas_ok"] == 3
     mixed = sweep.results_table(STUDY, [_record({"engine": "cells"}, 0), _record({"engine": "lists"}, 1)])
     assert sweep.points_table(STUDY, mixed)[0]["engine"] == "cells;lists"
+    odd = sweep.results_table(STUDY, [_record({"k": 1.5, "mix": True}, 0), _record({"k": "auto", "mix": 2.0}, 1)])
+    (point,) = sweep.points_table(STUDY, odd)  # a column of numbers and text keeps both; a bool among numbers is text
+    assert point["k"] == 1.5 and point["k_text"] == "auto" and point["mix"] == 2.0 and point["mix_text"] == "True"
+    assert sweep.aggregate(odd, "mix", [])[0]["n"] == 1
     (fraction,) = sweep.aggregate(table, "homogeneous", [])  # as a study's main result: 2 of 3, binomial scatter
     assert fraction["n"] == 3 and fraction["mean"] == pytest.approx(2 / 3)
     assert fraction["error"] == pytest.approx(np.std([1, 0, 1], ddof=1) / math.sqrt(3))

@@ -534,7 +534,7 @@ def edmd(
         typer.Option(help=_help("A frame at the first chunk or block end after every N pair collisions (a note says the interval this gives).", "only the last frame")),
     ] = None,
     xyz: Annotated[Path | None, typer.Option(help="Write the final state as extended XYZ (ASE, OVITO).")] = None,
-    out: Annotated[Path | None, typer.Option(help=_help("Folder for the plots and blocks.csv (a row per block: C, time, kT, Z, collision frequency, a2, T_r/T, the shear modes' energy, ...).", "edmd-output"))] = None,
+    out: Annotated[Path | None, typer.Option(help=_help("Folder for the plots and, with them, blocks.csv (a row per block: C, time, kT, Z, collision frequency, a2, T_r/T, the shear modes' energy, ...).", "edmd-output"))] = None,
     plots: Annotated[bool | None, typer.Option("--plots/--no-plots", help=_help("Write plots.", "plots"))] = None,
     checkpoint: Annotated[
         Path | None, typer.Option(help="Write the full state to this .npz after every chunk (atomically).")

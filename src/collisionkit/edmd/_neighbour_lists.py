@@ -249,6 +249,7 @@ class NeighbourLists:
         before renumbering; :meth:`_slot_order`), and the lists are built
         once, after it. The trajectory does not depend on the order.
         """
+        self._last_partner = -1  # (the memory slots change)
         self._refresh_lists(anchors_only=True)
         order = self._slot_order()
         # the records column by column: a temporary of one column, not of the whole array (64 MB at N = 10^6)

@@ -95,6 +95,9 @@ def checked_parameters(p) -> dict[str, Any]:
         if not isinstance(getattr(p, name), bool):
             raise ValueError(f"{name} must be true or false; got {getattr(p, name)!r}")
     check_choice("engine", p.engine, ENGINES)
+    if p.elastic_equilibration and shear_rate != 0.0 and not p.thermostat:
+        raise ValueError("elastic_equilibration with a shear_rate needs the thermostat: elastic contacts leave the "
+                         "flow's heat nowhere to go, and the gas would heat up before the measurement")
     if p.thermostat and shear_rate == 0.0:
         raise ValueError("thermostat needs a shear_rate > 0 (it holds a sheared system at kT = 1)")
     if p.transport and shear_rate != 0.0:

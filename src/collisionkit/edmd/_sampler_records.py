@@ -156,7 +156,8 @@ def observables(sampler) -> dict:
     diffusion, diffusion_error = from_lags or _msd.diffusion_from_msd(msd_time, msd, record["msd_groups"], axes)
     omega_error = _msd.block_error(record["frequency"])
     diameter = 2.0 * float(np.max(system.radius))
-    contact, contact_error = _pair_distribution.contact_value(centres, rdf, sampler.histogram, diameter)
+    ideal = sampler.done * count * ((count - 1) / system.volume) * _shells(sampler)  # ordered pairs at g = 1
+    contact, contact_error = _pair_distribution.contact_value(centres, rdf, sampler.histogram, diameter, ideal)
     if np.ptp(system.radius) > 0:  # unlike diameters: g(r) sums pairs of several contact distances
         contact = contact_error = math.nan
     mixture = _partial_functions(sampler, centres)
@@ -316,10 +317,15 @@ def _pair_distribution_function(sampler):
     system, count = sampler.system, sampler.system.count
     edges = np.linspace(0.0, sampler.r_max, sampler.histogram.size + 1)
     centres = 0.5 * (edges[1:] + edges[:-1])
-    shells = _ball_volume(edges[1:], system.dim) - _ball_volume(edges[:-1], system.dim)
     # ordered pairs: each of the N particles sees the other N - 1 at density (N - 1) / V
-    rdf = sampler.histogram / (sampler.done * count * ((count - 1) / system.volume) * shells)
+    rdf = sampler.histogram / (sampler.done * count * ((count - 1) / system.volume) * _shells(sampler))
     return centres, rdf
+
+
+def _shells(sampler):
+    """The volumes of the g(r) bins' shells."""
+    edges = np.linspace(0.0, sampler.r_max, sampler.histogram.size + 1)
+    return _ball_volume(edges[1:], sampler.system.dim) - _ball_volume(edges[:-1], sampler.system.dim)
 
 
 def _partial_functions(sampler, centres) -> dict:
@@ -337,16 +343,18 @@ def _partial_functions(sampler, centres) -> dict:
     edges = np.linspace(0.0, sampler.r_max, sampler.histogram.size + 1)
     shells = _ball_volume(edges[1:], system.dim) - _ball_volume(edges[:-1], system.dim)
     partners = (counts[None, :] - np.eye(kinds)) / system.volume
+    ideal = sampler.done * counts[:, None, None] * partners[:, :, None] * shells  # pairs at g = 1, [a, b]
     with np.errstate(invalid="ignore", divide="ignore"):
-        rdf = sampler.partial_histograms / (sampler.done * counts[:, None, None] * partners[:, :, None] * shells)
+        rdf = sampler.partial_histograms / ideal
     contact = np.full((kinds, kinds), math.nan)
     error = np.full((kinds, kinds), math.nan)
     for a, b in np.ndindex(kinds, kinds):
         if counts[a] > 0 and counts[b] > (a == b):
             distance = float(radius[species == a][0] + radius[species == b][0])
             # the cross pairs counted once each: the fit's Poisson weights take the histogram counted twice
-            histogram = sampler.partial_histograms[a, b] * (1.0 if a == b else 2.0)
-            contact[a, b], error[a, b] = _pair_distribution.contact_value(centres, rdf[a, b], histogram, distance)
+            twice = 1.0 if a == b else 2.0
+            contact[a, b], error[a, b] = _pair_distribution.contact_value(
+                centres, rdf[a, b], sampler.partial_histograms[a, b] * twice, distance, ideal[a, b] * twice)
     return {"partial_rdf": rdf, "contact_values": contact, "contact_values_error": error}
 
 

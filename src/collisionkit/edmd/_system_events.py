@@ -229,6 +229,8 @@ def run_event_loop(system, collisions, t_stop):
                 system.leaves, system.acc, system.spin, *system._well_record(),
             )
         made = system.collisions - made
+        # the partner of the collision the call ended at (a snapshot then leaves that pair out: _pair_distribution)
+        system._last_partner = int(target) if stop == _k.STOP_COLLISIONS and made > 0 and target >= 0 else -1
         if stop == _k.STOP_STALLED:
             raise RuntimeError(stall_message(system, target))
         if longest >= collapse_warning_limit(system.count) and system._still < longest and loses_energy(system):

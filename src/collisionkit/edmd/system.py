@@ -272,6 +272,8 @@ class HardSphereSystem(SystemParameters, ParticleState, NeighbourLists, CellCros
     True
     """
 
+    _last_partner = -1  # the partner (memory slot) of the collision the last event call ended at; -1: none
+
     def __init__(
         self,
         positions,

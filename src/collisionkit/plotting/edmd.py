@@ -392,8 +392,11 @@ def plot_cooling(collisions, temperatures, rate=None, species=None, ax=None, spe
                             label=f"{name}, theory")
     if homogeneity_lost_after is not None:  # (grey: the species take C1, C2, ...)
         ax.axvline(homogeneity_lost_after, color="0.5", lw=1, ls="--", label="shear flows: not homogeneous")
-    measured = temperatures[np.isfinite(temperatures) & (temperatures > 0)]
-    if measured.size:  # the data's range: a theory cooling faster would stretch the axis to 1e-45
+    drawn = [temperatures] + ([np.asarray(rotation, dtype=float)] if rotation is not None else []) + (
+        [(species * temperatures[:, None]).ravel()] if species is not None else [])
+    measured = np.concatenate(drawn)
+    measured = measured[np.isfinite(measured) & (measured > 0)]
+    if measured.size:  # the data's range (every series drawn): a theory cooling faster would stretch it to 1e-45
         ax.set_ylim(bottom=0.5 * float(measured.min()))
     ax.set_xlabel("collisions per particle $C$ (measured)")
     ax.set_title("cooling")

@@ -152,10 +152,13 @@ def aggregate(table: Iterable[Mapping[str, Any]], key: str, by: Iterable[str]) -
     [(1, 2, 3.0, 1.0)]
     """
     by = list(by)
+    table = list(table)
+    present = [row.get(key) for row in table if row.get("status") == "ok" and row.get(key) is not None]
+    yes_no = bool(present) and all(isinstance(value, bool) for value in present)  # (not a bool among numbers)
     groups: dict[tuple, list[Mapping[str, Any]]] = {}
     for row in table:
         value = row.get(key)
-        if row.get("status") == "ok" and isinstance(value, bool):  # a yes/no result: the fraction of replicas
+        if row.get("status") == "ok" and yes_no:  # a yes/no result: the fraction of replicas
             groups.setdefault(group_key(row, by), []).append({**row, key: float(value)})
         elif row.get("status") == "ok" and _is_number(value) and math.isfinite(value):
             groups.setdefault(group_key(row, by), []).append(row)
@@ -211,7 +214,7 @@ def points_table(study: Study, table: list[Mapping[str, Any]]) -> list[dict[str,
             point[quantity], point[error_column(quantity)] = combined["mean"], combined["error"]
             if combined["disagree"]:
                 point["disagreeing"] = ";".join(filter(None, [point["disagreeing"], quantity]))
-    labels = [column for column in _columns(table) if column not in own and column not in quantities
+    labels = [column for column in _columns(table) if column not in own
               and any(isinstance(row.get(column), (str, bool)) for row in table)]
     for key, point in points.items():
         succeeded = [row for row in table if row.get("status") == "ok" and group_key(row, names) == key]
@@ -224,11 +227,13 @@ def _labels(rows: list[Mapping[str, Any]], labels: list[str]) -> dict[str, Any]:
     their value, or their distinct values joined by ``;``."""
     result = {}
     for label in labels:
-        values = [row[label] for row in rows if isinstance(row.get(label), (str, bool))]
-        if values and all(isinstance(value, bool) for value in values):
+        present = [row[label] for row in rows if row.get(label) is not None]
+        values = [value for value in present if isinstance(value, (str, bool))]
+        if values and len(values) == len(present) and all(isinstance(value, bool) for value in values):
             result[f"{label}_fraction"] = sum(values) / len(values)
-        elif values:
-            result[label] = ";".join(dict.fromkeys(map(str, values)))
+        elif values:  # text (beside numbers in some replicas: under its own name, the numbers' mean keeps the name)
+            name = label if len(values) == len(present) else f"{label}_text"
+            result[name] = ";".join(dict.fromkeys(map(str, values)))
     return result
 
 
