@@ -420,7 +420,7 @@ def homogeneity_wording(measured: dict, p) -> str:
     threshold, most, expected = (measured[key] for key in (
         "shear_mode_energy_threshold", "shear_mode_energy_max", "shear_mode_energy_expected"))
     compared = ("an uncorrelated gas's share" if expected == 1.0 else
-                f"an uncorrelated gas's share (the cooling state's in this box, {expected:.2g} times it, included)")
+                f"an uncorrelated gas's share (allowing for this box's cooling state, {expected:.2g} times it)")
     if measured["homogeneous"]:
         return (f"it stayed homogeneous, as the cooling theory assumes: its box-scale shear flows, the first to grow "
                 f"in a large box, kept below {threshold:.3g} times {compared} (at most {most:.3g})")

@@ -5,7 +5,7 @@ theories) only while it stays homogeneous. A large enough one is not: its
 transverse (shear) velocity modes of the longest wavelengths cool more
 slowly than the heat and grow, relative to it, into vortices, and density
 clusters follow (Goldhirsch & Zanetti 1993, PRL 70, 1619; McNamara & Young
-1996, PRE 53, 5089; Brey, Ruiz-Montero & Cubero 1998, PRE 60, 3150). The
+1996, PRE 53, 5089; Brey, Ruiz-Montero & Cubero 1999, PRE 60, 3150). The
 box sets the longest wavelength, so the box decides.
 
 :func:`shear_mode_energy` measures it: for each periodic axis a with
@@ -48,7 +48,7 @@ __all__ = ["DILUTE_INSTABILITY_LIMIT", "FALSE_ALARM", "VORTICES", "box_instabili
            "homogeneity_summary", "homogeneity_threshold", "instability_note", "shear_flow_fraction",
            "shear_instability_length", "shear_mode_count", "shear_mode_energy", "shear_mode_growth"]
 
-FALSE_ALARM = 1e-3  # a homogeneous gas's probability of crossing the threshold anywhere in a run
+FALSE_ALARM = 1e-3  # the compared gas's probability (uncorrelated or a stable cooling state's) of a crossing in a run
 
 
 def shear_mode_count(dim: int) -> int:
@@ -270,7 +270,7 @@ def shear_instability_length(restitution, packing_fraction, dim=3, diameter=1.0)
     :math:`\rho\,\partial_t u = -\eta k^2 u`, while the temperature falls as
     :math:`\partial_t T = -\zeta T`: relative to the thermal speed it grows if
     :math:`\zeta/2 > \eta k^2/\rho`, for :math:`k < k_c = \sqrt{\rho\zeta/(2\eta)}`
-    (Goldhirsch & Zanetti 1993; Brey, Ruiz-Montero & Cubero 1998). With
+    (Goldhirsch & Zanetti 1993; Brey, Ruiz-Montero & Cubero 1999). With
     :math:`\zeta = \zeta^* \nu_0`, :math:`\eta = \eta_0/(\nu_\eta^* -
     \zeta^*/2)` and :math:`\nu_0 = n kT/\eta_0`
     (:func:`~collisionkit.edmd.theory.dilute_granular_rates`),
