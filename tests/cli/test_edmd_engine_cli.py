@@ -42,6 +42,10 @@ def test_the_summary_names_the_engine_that_ran(tmp_path, given, used):
     assert data["engine"] == used and data["parameters"]["engine"] == (given[1] if given else "auto")
     table = {quantity: theory for quantity, _, theory in rows(data)}  # the cells, whatever the terminal's width
     assert table["collisions per second"].endswith(f"{used} engine")
+    # 64 discs at eta 0.1 over a few blocks leave under 25 pairs near contact: no contact value (JSON's null), said so
+    measured = {quantity: value for quantity, value, _ in rows(data)}
+    assert data["contact_value"] is None and measured["g(r) at contact"] == "-"
+    assert table["g(r) at contact"].startswith("too few pairs near contact")
 
 
 def test_auto_takes_the_lists_in_a_dense_fluid_and_a_config_file_sets_the_engine(tmp_path):

@@ -61,7 +61,9 @@ def rows(result: dict) -> list[tuple[str, str, str]]:
         return f"{result[key]:.5g} ± {result[key + '_error']:.2g}"
 
     z, omega, kT, lost = _theory_column(result)
-    contact = [("g(r) at contact", pm("contact_value"), "")] if "contact_value" in result else []
+    contact = [("g(r) at contact", _pm_or_dash(result["contact_value"], result["contact_value_error"]),
+                "" if _finite(result["contact_value"]) else "too few pairs near contact: more blocks or particles")
+               ] if "contact_value" in result else []
     contact += _partial_contact_rows(result)
     return _shear_rows(result, pm) + _transport_rows(result, pm) + _well_rows(result, pm) + _species_rows(result) + [
         ("compressibility factor Z = PV/NkT", pm("compressibility_factor"), z),
@@ -173,7 +175,12 @@ def _partial_contact_rows(result: dict) -> list[tuple[str, str, str]]:
 
 
 def _pm_or_dash(value, error) -> str:
-    return "-" if value is None or error is None else f"{value:.5g} ± {error:.2g}"
+    """value ± error, or "-" if either is missing (JSON's null) or not finite."""
+    return f"{value:.5g} ± {error:.2g}" if _finite(value) and _finite(error) else "-"
+
+
+def _finite(value) -> bool:
+    return value is not None and math.isfinite(value)
 
 
 def _species_rows(result: dict) -> list[tuple[str, str, str]]:
