@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import math
 import re
 from typing import get_args
 
@@ -128,3 +129,19 @@ def test_auto_takes_the_cells_just_below_the_threshold_and_the_lists_at_it(tmp_p
         result = invoke(*_dilute_with(**lattice, packing_fraction=eta), "--summary", summary)
         assert result.exit_code == 0, result.output
         assert json.loads(summary.read_text())["engine"] == engine, eta
+
+
+def test_a_mixture_s_contact_values_with_too_few_pairs_say_so():
+    # a mixture of equal diameters keeps its one contact value even when too few pairs make it null; a partial
+    # value without enough pairs says why instead of setting the theory beside a dash
+    from collisionkit.cli._edmd_report import _partial_contact_rows
+    from collisionkit.edmd import EdmdParameters, EdmdRun
+
+    few = EdmdRun(EdmdParameters(dim=2, particles=64, packing_fraction=0.1, fractions=(0.5, 0.5), masses=(1.0, 2.0),
+                                 equilibration=200, collisions=400, blocks=2, seed=1)).run().summary()
+    assert "contact_value" in few and not math.isfinite(few["contact_value"])
+    result = {"contact_values": [[None, 2.0], [2.0, 1.5]], "contact_values_error": [[None, 0.1], [0.1, 0.2]],
+              "contact_values_theory": [[1.4, 1.3], [1.3, 1.2]], "theory": "SYH (1990)"}
+    rows = {name: (value, beside) for name, value, beside in _partial_contact_rows(result)}
+    assert rows["g_AA at contact"] == ("-", "too few pairs near contact")
+    assert rows["g_AB at contact"] == ("2 ± 0.1", "1.3 (SYH)")

@@ -116,7 +116,8 @@ def test_the_pair_that_just_collided_is_left_out_of_the_snapshot(options):
     assert np.linalg.norm(separation) == pytest.approx(1.0, abs=1e-9)  # at contact at the last event
     raw = _pair_distribution._histogram(points, system, offset, 2.0, 200)
     kept = _pair_distribution.pair_histogram(system, 2.0, 200)
-    assert raw.sum() - kept.sum() == 2 and np.flatnonzero(raw - kept) == [100]  # the contact bin [1, 1.01)
+    # from the contact bin [1, 1.01), or the next if the pair has already flown past it by the snapshot
+    assert raw.sum() - kept.sum() == 2 and np.flatnonzero(raw - kept).tolist() in ([100], [101])
     system.run(time=0.01)  # a run that stops at a time, not a collision: nothing to leave out
     assert len(_pair_distribution._snapshot(system)[2]) == 0
 

@@ -169,8 +169,12 @@ def _partial_contact_rows(result: dict) -> list[tuple[str, str, str]]:
     values, errors = result["contact_values"], result["contact_values_error"]
     theory = result.get("contact_values_theory")
     names = type_names(list(range(len(values))))
-    return [(f"g_{names[a]}{names[b]} at contact", _pm_or_dash(values[a][b], errors[a][b]),
-             "" if theory is None else f"{theory[a][b]:.5g} ({result['theory'].split()[0]})")
+    def beside(a, b):
+        if not _finite(values[a][b]):
+            return "too few pairs near contact"
+        return "" if theory is None else f"{theory[a][b]:.5g} ({result['theory'].split()[0]})"
+
+    return [(f"g_{names[a]}{names[b]} at contact", _pm_or_dash(values[a][b], errors[a][b]), beside(a, b))
             for a in range(len(values)) for b in range(a, len(values))]
 
 

@@ -146,7 +146,7 @@ def edmd_summary(run, measurement, files: Sequence = ()) -> dict[str, Any]:
         result["self_diffusion_species_error"] = _nested([measurement.species_diffusion_error])[0]
     if p.fractions is not None:
         result["species_counts"] = list(p.species_counts)
-        if not math.isfinite(result["contact_value"]):  # unlike diameters: no one contact distance (Measurement)
+        if p.diameters is not None and len(set(p.diameters)) > 1:  # unlike diameters: no one contact distance
             del result["contact_value"], result["contact_value_error"]
     if measurement.transport is not None:
         result |= _transport_summary(run, measurement)

@@ -49,7 +49,9 @@ class Measurement:
     every block end as a time origin, lags up to ``blocks // 2`` blocks, at
     most 8; its error from the scatter of 8 groups of particles,
     ``_msd.MSD_GROUPS``, since overlapping origins give no independent blocks),
-    ``energy_lost``, ``contact_value`` (g at contact; NaN for unlike diameters, whose
+    ``energy_lost``, ``contact_value`` (g at contact; NaN with fewer than
+    ``_pair_distribution.MIN_CONTACT_PAIRS`` pairs near contact over the
+    snapshots, as are the partial ones, and for unlike diameters, whose
     pairs touch at several distances: a mixture of up to 4 species has
     ``partial_rdf`` [a, b] over ``rdf_r``, g_ab(r), and ``contact_values``
     g_ab(r_a + r_b) with ``contact_values_error``; any mixture ``species_diffusion``,
